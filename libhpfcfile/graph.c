@@ -1,0 +1,173 @@
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+
+int hpfc_graph_create(hpfc_graph **out)
+{
+    if (!out)
+        return HPFC_E_ARG;
+    *out = calloc(1, sizeof **out);
+    if (!*out)
+        return HPFC_E_NOMEM;
+    (*out)->eoff = calloc(1, sizeof(size_t));
+    if (!(*out)->eoff) {
+        free(*out);
+        *out = NULL;
+        return HPFC_E_NOMEM;
+    }
+    return HPFC_OK;
+}
+
+void hpfc_graph_free(hpfc_graph *g)
+{
+    if (!g)
+        return;
+    free(g->vxy);
+    free(g->vline);
+    free(g->eu);
+    free(g->ev);
+    free(g->eoff);
+    free(g->eline);
+    free(g->pts);
+    free(g);
+}
+
+int hpfc_graph_set_unit_exp10(hpfc_graph *g, int32_t exp10)
+{
+    if (!g || exp10 < -30 || exp10 > 30)
+        return HPFC_E_ARG;
+    g->unit_exp10 = exp10;
+    return HPFC_OK;
+}
+
+int32_t hpfc_graph_unit_exp10(const hpfc_graph *g)
+{
+    return g ? g->unit_exp10 : 0;
+}
+
+/* Capacity after growing `cap` to hold at least `need` elements, or 0 on
+ * overflow of `elem`-byte arrays. */
+static size_t grown_capacity(size_t cap, size_t need, size_t elem)
+{
+    size_t ncap = cap ? cap : 16;
+    while (ncap < need) {
+        if (ncap > SIZE_MAX / 4 / elem)
+            return 0;
+        ncap *= 2;
+    }
+    return ncap;
+}
+
+/* Reallocates *p to n elements of size elem. */
+static int resize(void **p, size_t n, size_t elem)
+{
+    void *np = realloc(*p, n * elem);
+    if (!np)
+        return HPFC_E_NOMEM;
+    *p = np;
+    return HPFC_OK;
+}
+
+static bool coord_ok(int64_t v)
+{
+    return v >= -HPFC_COORD_MAX && v <= HPFC_COORD_MAX;
+}
+
+int hpfc_graph_add_vertex(hpfc_graph *g, int64_t x, int64_t y, uint32_t *out_index)
+{
+    if (!g)
+        return HPFC_E_ARG;
+    if (!coord_ok(x) || !coord_ok(y))
+        return HPFC_E_EXTENT;
+    if (g->nv >= UINT32_MAX - 1)
+        return HPFC_E_LIMIT;
+    if (g->nv == g->cap_v) {
+        size_t cap = grown_capacity(g->cap_v, g->nv + 1, 2 * sizeof(int64_t));
+        if (!cap || resize((void **)&g->vxy, cap, 2 * sizeof(int64_t)) ||
+            resize((void **)&g->vline, cap, sizeof(uint32_t)))
+            return HPFC_E_NOMEM;
+        g->cap_v = cap;
+    }
+    g->vxy[2 * g->nv] = x;
+    g->vxy[2 * g->nv + 1] = y;
+    g->vline[g->nv] = 0;
+    if (out_index)
+        *out_index = (uint32_t)g->nv;
+    g->nv++;
+    return HPFC_OK;
+}
+
+int hpfc_graph_add_edge(hpfc_graph *g, uint32_t u, uint32_t v,
+                        const int64_t *interior_xy, size_t n_interior,
+                        uint32_t *out_index)
+{
+    if (!g || (n_interior && !interior_xy))
+        return HPFC_E_ARG;
+    if (u >= g->nv || v >= g->nv)
+        return HPFC_E_VERTEX_INDEX;
+    if (g->ne >= UINT32_MAX - 1 || n_interior > (SIZE_MAX / 64) - g->npts)
+        return HPFC_E_LIMIT;
+    for (size_t k = 0; k < 2 * n_interior; k++)
+        if (!coord_ok(interior_xy[k]))
+            return HPFC_E_EXTENT;
+    if (g->ne == g->cap_e) {
+        size_t cap = grown_capacity(g->cap_e, g->ne + 1, sizeof(size_t));
+        if (!cap || resize((void **)&g->eu, cap, sizeof(uint32_t)) ||
+            resize((void **)&g->ev, cap, sizeof(uint32_t)) ||
+            resize((void **)&g->eline, cap, sizeof(uint32_t)) ||
+            resize((void **)&g->eoff, cap + 1, sizeof(size_t)))
+            return HPFC_E_NOMEM;
+        g->cap_e = cap;
+    }
+    if (g->npts + n_interior > g->cap_pts) {
+        size_t cap = grown_capacity(g->cap_pts, g->npts + n_interior, 2 * sizeof(int64_t));
+        if (!cap || resize((void **)&g->pts, cap, 2 * sizeof(int64_t)))
+            return HPFC_E_NOMEM;
+        g->cap_pts = cap;
+    }
+    if (n_interior)
+        memcpy(g->pts + 2 * g->npts, interior_xy, 2 * n_interior * sizeof(int64_t));
+    g->npts += n_interior;
+    g->eu[g->ne] = u;
+    g->ev[g->ne] = v;
+    g->eline[g->ne] = 0;
+    g->eoff[g->ne + 1] = g->npts;
+    if (out_index)
+        *out_index = (uint32_t)g->ne;
+    g->ne++;
+    return HPFC_OK;
+}
+
+void hpfc_graph_set_last_vertex_line(hpfc_graph *g, uint32_t line)
+{
+    if (g && g->nv)
+        g->vline[g->nv - 1] = line;
+}
+
+void hpfc_graph_set_last_edge_line(hpfc_graph *g, uint32_t line)
+{
+    if (g && g->ne)
+        g->eline[g->ne - 1] = line;
+}
+
+size_t hpfc_graph_vertex_count(const hpfc_graph *g) { return g ? g->nv : 0; }
+size_t hpfc_graph_edge_count(const hpfc_graph *g) { return g ? g->ne : 0; }
+
+void hpfc_graph_vertex(const hpfc_graph *g, size_t i, int64_t *x, int64_t *y)
+{
+    *x = g->vxy[2 * i];
+    *y = g->vxy[2 * i + 1];
+}
+
+void hpfc_graph_edge(const hpfc_graph *g, size_t i, uint32_t *u, uint32_t *v,
+                     const int64_t **interior_xy, size_t *n_interior)
+{
+    *u = g->eu[i];
+    *v = g->ev[i];
+    *n_interior = g->eoff[i + 1] - g->eoff[i];
+    *interior_xy = g->pts + 2 * g->eoff[i];
+}
+
+uint32_t hpfc_graph_vertex_line(const hpfc_graph *g, size_t i) { return g->vline[i]; }
+uint32_t hpfc_graph_edge_line(const hpfc_graph *g, size_t i) { return g->eline[i]; }

@@ -1,0 +1,232 @@
+/*
+ * hpfc.h: the public interface of libhpfcfile.
+ *
+ * libhpfcfile stores the exact topology of a planar map as a hierarchical
+ * rasterized Planar Face Complex (hPFC; Damiand, Gonzalez-Lorenzo, Rossignac,
+ * Dupont, Computers & Graphics 74, 2018). It has three parts:
+ *
+ *   - the graph and its plain-text `.pfc` reader (spec/pfc-format.md);
+ *   - the builder, which turns a planar graph into an in-memory hPFC tree;
+ *   - the file writer and the zero-copy reader of `.hpfc` files
+ *     (spec/hpfc-format.md).
+ *
+ * Conventions used throughout:
+ *   - Every function that can fail returns an `int` status: HPFC_OK (0) or one
+ *     of the pinned HPFC_E_* codes below. Results come back through
+ *     out-parameters. hpfc_strerror() names every code.
+ *   - Objects are opaque handles with a create/free (or open/close) pair; the
+ *     free functions accept NULL.
+ *   - Functions that take a `hpfc_diag *` fill it (when non-NULL) with a
+ *     one-line human-readable explanation of a failure: which line of a
+ *     `.pfc` file, which edges and which point.
+ *   - Coordinates: a graph lives on an integer lattice. A lattice point
+ *     (x, y) stands for the user coordinates (x * 10^e, y * 10^e), where e is
+ *     the graph's decimal unit exponent (0 unless set). No floating-point
+ *     value ever decides anything topological.
+ *
+ * Thread safety: a graph or tree may be read from several threads at once
+ * but must not be modified concurrently. Functions keep no global state.
+ */
+#ifndef HPFC_H
+#define HPFC_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hpfc_version.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(HPFC_BUILDING_LIBRARY) && defined(__GNUC__)
+#define HPFC_API __attribute__((visibility("default")))
+#else
+#define HPFC_API
+#endif
+
+/* ------------------------------------------------------------------------
+ * Status codes. The numbers are pinned: they never change meaning.
+ * ------------------------------------------------------------------------ */
+enum {
+    HPFC_OK = 0,
+    HPFC_E_NOMEM = 1,           /* an allocation failed */
+    HPFC_E_ARG = 2,             /* a caller passed an invalid argument */
+    HPFC_E_IO = 3,              /* the operating system refused a read/write */
+
+    /* .pfc input (spec/pfc-format.md) */
+    HPFC_E_PFC_SYNTAX = 10,     /* unknown record, bad number, missing/extra field */
+    HPFC_E_PFC_VERSION = 11,    /* missing or unsupported `pfc` header record */
+    HPFC_E_VERTEX_INDEX = 12,   /* an edge names a vertex that does not exist */
+
+    /* graph validity (any input path) */
+    HPFC_E_DUPLICATE_POINT = 20,  /* two vertices / shape points at one point */
+    HPFC_E_ZERO_LENGTH = 21,      /* a segment whose two ends coincide */
+    HPFC_E_LOOP_INTERIOR = 22,    /* a loop edge with fewer than 2 interior points */
+    HPFC_E_ISOLATED_VERTEX = 23,  /* a vertex with no incident edge */
+    HPFC_E_NONPLANAR = 24,        /* edges cross or touch away from a shared end */
+    HPFC_E_EXTENT = 25,           /* coordinates too large for the lattice */
+    HPFC_E_EMPTY = 26,            /* a graph with no edge */
+    HPFC_E_TOO_MANY_PIXELS = 27,  /* the flat rPFC grid exceeds the pixel limit */
+    HPFC_E_LIMIT = 28,            /* an implementation limit (depth, word length) */
+
+    /* .hpfc files (spec/hpfc-format.md) */
+    HPFC_E_MAGIC = 40,          /* not an hpfc file */
+    HPFC_E_VERSION = 41,        /* unknown format major version */
+    HPFC_E_INCOMPATIBLE = 42,   /* an incompatible flag this reader does not know */
+    HPFC_E_TRUNCATED = 43,      /* the file ends before a structure it declares */
+    HPFC_E_CHECKSUM = 44,       /* a checksum does not match */
+    HPFC_E_HEADER = 45,         /* a header field is out of its range */
+    HPFC_E_LEVEL_TABLE = 46,    /* the level table is inconsistent */
+    HPFC_E_SECTION = 47,        /* the section directory is inconsistent */
+    HPFC_E_CORRUPT = 48,        /* pool contents contradict the format */
+    HPFC_E_NO_PIXEL = 49        /* a move leaves the domain, or no such pixel */
+};
+
+/* A short static English description of a status code. Never NULL. */
+HPFC_API const char *hpfc_strerror(int status);
+
+/* The library's version, "MAJOR.MINOR.PATCH". */
+HPFC_API const char *hpfc_version_string(void);
+
+/* Explanation of a failure, filled by functions that take one. */
+typedef struct hpfc_diag {
+    int status;           /* the status the function returned */
+    uint32_t line;        /* 1-based source line of the culprit, 0 if none */
+    int64_t edge[2];      /* the edges involved (graph indices), -1 if none */
+    double x, y;          /* the point involved, in user coordinates */
+    int has_point;        /* whether x, y are meaningful */
+    char message[320];    /* one line, no trailing newline */
+} hpfc_diag;
+
+/* ------------------------------------------------------------------------
+ * Graph: vertices and straight or polyline edges on the integer lattice.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_graph hpfc_graph;
+
+/* Largest |coordinate| a graph accepts; the builder may refuse smaller
+ * extents when the domain it needs exceeds HPFC_LATTICE_MAX. */
+#define HPFC_COORD_MAX ((int64_t)1 << 40)
+#define HPFC_LATTICE_MAX ((int64_t)1 << 42)
+
+HPFC_API int hpfc_graph_create(hpfc_graph **out);
+HPFC_API void hpfc_graph_free(hpfc_graph *graph);
+
+/* Coordinates are multiples of 10^exp10 user units (default 0). */
+HPFC_API int hpfc_graph_set_unit_exp10(hpfc_graph *graph, int32_t exp10);
+HPFC_API int32_t hpfc_graph_unit_exp10(const hpfc_graph *graph);
+
+/* Adds a vertex; its index (0, 1, 2, ...) goes to *out_index when non-NULL.
+ * Fails with HPFC_E_EXTENT when |x| or |y| exceeds HPFC_COORD_MAX. */
+HPFC_API int hpfc_graph_add_vertex(hpfc_graph *graph, int64_t x, int64_t y,
+                                   uint32_t *out_index);
+
+/* Adds an edge from vertex u to vertex v through n_interior interior points
+ * given as interior_xy[2*k], interior_xy[2*k+1]. u == v makes a loop.
+ * Only index ranges and coordinate bounds are checked here; the geometry
+ * (planarity, duplicates, ...) is checked by hpfc_graph_validate() and
+ * hpfc_build(). */
+HPFC_API int hpfc_graph_add_edge(hpfc_graph *graph, uint32_t u, uint32_t v,
+                                 const int64_t *interior_xy, size_t n_interior,
+                                 uint32_t *out_index);
+
+/* Records the 1-based source line of the last vertex / edge added, so that
+ * diagnostics can name it. */
+HPFC_API void hpfc_graph_set_last_vertex_line(hpfc_graph *graph, uint32_t line);
+HPFC_API void hpfc_graph_set_last_edge_line(hpfc_graph *graph, uint32_t line);
+
+HPFC_API size_t hpfc_graph_vertex_count(const hpfc_graph *graph);
+HPFC_API size_t hpfc_graph_edge_count(const hpfc_graph *graph);
+HPFC_API void hpfc_graph_vertex(const hpfc_graph *graph, size_t index,
+                                int64_t *x, int64_t *y);
+/* The edge's end vertices and its interior points (owned by the graph,
+ * valid until the next modification). */
+HPFC_API void hpfc_graph_edge(const hpfc_graph *graph, size_t index,
+                              uint32_t *u, uint32_t *v,
+                              const int64_t **interior_xy, size_t *n_interior);
+HPFC_API uint32_t hpfc_graph_vertex_line(const hpfc_graph *graph, size_t index);
+HPFC_API uint32_t hpfc_graph_edge_line(const hpfc_graph *graph, size_t index);
+
+/* Checks that the graph is a valid planar embedding: no isolated vertex, no
+ * duplicate point, no zero-length segment, loops with >= 2 interior points,
+ * no two edges crossing or touching except at a shared end vertex. Exact. */
+HPFC_API int hpfc_graph_validate(const hpfc_graph *graph, hpfc_diag *diag);
+
+/* ------------------------------------------------------------------------
+ * Plain-text .pfc reader (spec/pfc-format.md). Untrusted input is safe.
+ * Checks the syntax and the per-record rules; call hpfc_graph_validate()
+ * (or hpfc_build(), which does) for the geometric rules.
+ * ------------------------------------------------------------------------ */
+HPFC_API int hpfc_pfc_parse(const char *text, size_t length,
+                            hpfc_graph **out, hpfc_diag *diag);
+HPFC_API int hpfc_pfc_read_file(const char *path, hpfc_graph **out,
+                                hpfc_diag *diag);
+
+/* ------------------------------------------------------------------------
+ * Builder: planar graph to in-memory hPFC tree.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_build_params {
+    uint32_t root_cols, root_rows;  /* n0 x m0, each >= 1 (default 64 x 64) */
+    uint32_t cols, rows;            /* n x m of refined images, >= 2 (2 x 2) */
+    int flat;                       /* build a one-level rPFC instead */
+    uint64_t max_flat_pixels;       /* refuse a flat grid above this */
+} hpfc_build_params;
+
+#define HPFC_DEFAULT_MAX_FLAT_PIXELS ((uint64_t)1 << 28)
+
+HPFC_API void hpfc_build_params_default(hpfc_build_params *params);
+
+typedef struct hpfc_tree hpfc_tree;
+
+/* Validates the graph and builds its hPFC. The graph is not kept. */
+HPFC_API int hpfc_build(const hpfc_graph *graph,
+                        const hpfc_build_params *params, hpfc_tree **out,
+                        hpfc_diag *diag);
+HPFC_API void hpfc_tree_free(hpfc_tree *tree);
+
+/* Geometry of a tree. The domain is [x0, x0 + width) x [y0, y0 + height) in
+ * lattice units; level l has root_cols * cols^l columns of equal width
+ * (integers), and rows likewise. Row 0 of an image is its northern row. */
+typedef struct hpfc_tree_info {
+    uint32_t root_cols, root_rows, cols, rows;
+    uint32_t levels;           /* number of levels (depth + 1) */
+    int64_t x0, y0;            /* south-west corner of the domain (lattice) */
+    int64_t width, height;     /* domain size (lattice units) */
+    int32_t unit_exp10;        /* user coordinate = lattice * 10^unit_exp10 */
+    uint64_t vertices, edges, faces, components;
+    uint64_t word_pixels, refined_pixels, private_pixels;
+    uint32_t max_word_symbols;
+} hpfc_tree_info;
+
+HPFC_API void hpfc_tree_get_info(const hpfc_tree *tree, hpfc_tree_info *info);
+
+/* Images of a level are numbered 0, 1, ... in pool order: the children of
+ * level l's refined pixels, in the order those pixels appear in level l
+ * (image by image, each image in scanline order: j = 0 (north) first,
+ * i = 0 (west) first within a row). Level 0 has the root image only. */
+HPFC_API size_t hpfc_tree_image_count(const hpfc_tree *tree, uint32_t level);
+
+enum { HPFC_PIXEL_WORD = 0, HPFC_PIXEL_REFINED = 1 };
+
+typedef struct hpfc_tree_pixel {
+    int type;                  /* HPFC_PIXEL_WORD or HPFC_PIXEL_REFINED */
+    uint32_t child;            /* refined: image index at the next level */
+    const char *word;          /* word: symbols of "+=[]()Y", not 0-ended */
+    uint32_t word_len;
+    /* word: for crossing k (k-th non-'+' symbol), the input edge it lies on,
+     * and the index of the edge segment (0 = the one leaving vertex u). */
+    const uint32_t *cross_edge;
+    const uint32_t *cross_segment;
+    /* lattice bounds of the pixel: [x0, x1) x [y0, y1) */
+    int64_t x0, y0, x1, y1;
+} hpfc_tree_pixel;
+
+/* Pixel (i, j) of image `image` of level `level`. */
+HPFC_API int hpfc_tree_get_pixel(const hpfc_tree *tree, uint32_t level,
+                                 size_t image, uint32_t i, uint32_t j,
+                                 hpfc_tree_pixel *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* HPFC_H */

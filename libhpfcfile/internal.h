@@ -1,0 +1,58 @@
+/* Internal declarations shared by the library's translation units. */
+#ifndef HPFC_INTERNAL_H
+#define HPFC_INTERNAL_H
+
+#include <stdarg.h>
+#include <stdbool.h>
+
+#include "hpfc.h"
+
+struct hpfc_graph {
+    int32_t unit_exp10;
+    size_t nv, cap_v;
+    int64_t *vxy;          /* 2 per vertex */
+    uint32_t *vline;       /* source line per vertex, 0 if unknown */
+    size_t ne, cap_e;
+    uint32_t *eu, *ev;     /* end vertices */
+    size_t *eoff;          /* interior points of edge e: pts[eoff[e] .. eoff[e+1]) */
+    uint32_t *eline;
+    size_t npts, cap_pts;
+    int64_t *pts;          /* 2 per interior point */
+};
+
+/* Number of points of edge e, ends included. */
+static inline size_t graph_edge_point_count(const hpfc_graph *g, size_t e)
+{
+    return g->eoff[e + 1] - g->eoff[e] + 2;
+}
+
+/* Point k (0 = u, last = v) of edge e. */
+static inline void graph_edge_point(const hpfc_graph *g, size_t e, size_t k,
+                                    int64_t *x, int64_t *y)
+{
+    size_t last = graph_edge_point_count(g, e) - 1;
+    const int64_t *p;
+    if (k == 0)
+        p = g->vxy + 2 * (size_t)g->eu[e];
+    else if (k == last)
+        p = g->vxy + 2 * (size_t)g->ev[e];
+    else
+        p = g->pts + 2 * (g->eoff[e] + k - 1);
+    *x = p[0];
+    *y = p[1];
+}
+
+/* Resets diag (if non-NULL) to 'no culprit'. */
+void diag_clear(hpfc_diag *diag);
+
+/* Fills diag's status and message (if non-NULL) and returns status. */
+int diag_set(hpfc_diag *diag, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* User coordinate of a lattice value, for messages only. */
+double lattice_to_user(int64_t v, int32_t exp10);
+
+#endif

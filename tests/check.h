@@ -1,0 +1,40 @@
+/* Minimal assertion helpers for the test programs. Each failed check prints
+ * its location and is counted; a test program exits non-zero if any check
+ * failed. */
+#ifndef HPFC_TEST_CHECK_H
+#define HPFC_TEST_CHECK_H
+
+#include <stdio.h>
+#include <stdlib.h>
+
+static int check_failures;
+static long check_count;
+
+#define CHECK(cond)                                                        \
+    do {                                                                   \
+        check_count++;                                                     \
+        if (!(cond)) {                                                     \
+            check_failures++;                                              \
+            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__,         \
+                    __LINE__, #cond);                                      \
+        }                                                                  \
+    } while (0)
+
+#define CHECK_EQ_INT(a, b)                                                 \
+    do {                                                                   \
+        long long check_a_ = (long long)(a), check_b_ = (long long)(b);    \
+        check_count++;                                                     \
+        if (check_a_ != check_b_) {                                        \
+            check_failures++;                                              \
+            fprintf(stderr, "%s:%d: %s == %lld, expected %s == %lld\n",    \
+                    __FILE__, __LINE__, #a, check_a_, #b, check_b_);       \
+        }                                                                  \
+    } while (0)
+
+static inline int check_report(const char *name)
+{
+    printf("%s: %ld checks, %d failed\n", name, check_count, check_failures);
+    return check_failures ? EXIT_FAILURE : EXIT_SUCCESS;
+}
+
+#endif
