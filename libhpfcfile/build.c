@@ -1,1 +1,818 @@
-#include "internal.h"
+/*
+ * The builder: planar graph to hPFC tree (paper Sect. 3.2; spec/hpfc-format.md
+ * "Construction").
+ *
+ * Domain. The graph's lattice is translated so that the domain is
+ * [0, W) x [0, H) with W = n0 * n^K and H = m0 * m^K for the smallest K that
+ * leaves at least one lattice unit of margin on every side. Every grid line
+ * of every level down to K is then an integer, and a pixel of depth K
+ * (1 x 1) can hold no edge, so refinement stops by depth K at the latest.
+ *
+ * Refinement. An edge lies inside a pixel iff all its points lie in it, so
+ * the deepest pixel containing an edge follows from its bounding box alone.
+ * A pixel is refined iff it contains some edge.
+ *
+ * Words. The tree is built level by level. Each image carries the segments
+ * that meet it; they are handed down to the pixels they meet, and a word
+ * pixel's crossings come from intersecting those segments with its four
+ * roads under the perturbation of geom.h, so both sides of every road see
+ * the same crossings in the same order.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "geom.h"
+#include "tree.h"
+
+typedef struct seg {
+    lpoint a, b;      /* domain-relative end points */
+    uint32_t edge, k; /* edge and index of the segment within it */
+} seg;
+
+typedef struct builder {
+    const hpfc_graph *g;
+    hpfc_build_params p;
+    hpfc_tree *t;
+    int64_t ox, oy;           /* domain origin in graph coordinates */
+    seg *segs;
+    size_t nsegs;
+    int32_t *edge_level;      /* deepest level with a pixel holding the edge, -1 if none */
+    lpoint *edge_anchor;      /* one point of each edge (domain-relative) */
+    uint8_t *vertex_seen;     /* each vertex must land in exactly one word pixel */
+    /* per-level segment lists: image i's segments are list[start[i]..start[i+1]) */
+    uint32_t *cur_list, *next_list;
+    size_t *cur_start, *next_start;
+    size_t next_len, next_cap, next_images_cap;
+    uint32_t max_depth;       /* K: pixels of this depth are 1 x 1 */
+    hpfc_diag *diag;
+} builder;
+
+/* ---- small growable arrays ---------------------------------------------- */
+
+static int reserve(void **p, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap)
+        return HPFC_OK;
+    size_t ncap = *cap ? *cap : 64;
+    while (ncap < need) {
+        if (ncap > SIZE_MAX / 4 / elem)
+            return HPFC_E_NOMEM;
+        ncap *= 2;
+    }
+    void *np = realloc(*p, ncap * elem);
+    if (!np)
+        return HPFC_E_NOMEM;
+    *p = np;
+    *cap = ncap;
+    return HPFC_OK;
+}
+
+/* ---- domain and per-edge refinement depth -------------------------------- */
+
+static int choose_domain(builder *b)
+{
+    const hpfc_graph *g = b->g;
+    int64_t xmin = INT64_MAX, ymin = INT64_MAX, xmax = INT64_MIN, ymax = INT64_MIN;
+    for (size_t e = 0; e < g->ne; e++)
+        for (size_t k = 0; k < graph_edge_point_count(g, e); k++) {
+            int64_t x, y;
+            graph_edge_point(g, e, k, &x, &y);
+            xmin = x < xmin ? x : xmin, xmax = x > xmax ? x : xmax;
+            ymin = y < ymin ? y : ymin, ymax = y > ymax ? y : ymax;
+        }
+    int64_t ex = xmax - xmin, ey = ymax - ymin;
+    int64_t W = b->p.root_cols, H = b->p.root_rows;
+    uint32_t K = 0;
+    while (W < ex + 2 || H < ey + 2) {
+        if (W > HPFC_LATTICE_MAX / b->p.cols || H > HPFC_LATTICE_MAX / b->p.rows)
+            return diag_set(b->diag, HPFC_E_EXTENT,
+                            "the graph's extent (%lld x %lld lattice units) needs a domain larger than 2^41",
+                            (long long)ex, (long long)ey);
+        W *= b->p.cols;
+        H *= b->p.rows;
+        K++;
+    }
+    if (W > HPFC_LATTICE_MAX || H > HPFC_LATTICE_MAX)
+        return diag_set(b->diag, HPFC_E_EXTENT, "root image too large for the lattice");
+    b->ox = xmin - (W - ex) / 2;
+    b->oy = ymin - (H - ey) / 2;
+    hpfc_tree_info *info = &b->t->info;
+    info->x0 = b->ox;
+    info->y0 = b->oy;
+    info->width = W;
+    info->height = H;
+    info->unit_exp10 = g->unit_exp10;
+    b->max_depth = K;
+    return HPFC_OK;
+}
+
+static void compute_edge_levels(builder *b)
+{
+    const hpfc_graph *g = b->g;
+    const hpfc_tree_info *info = &b->t->info;
+    for (size_t e = 0; e < g->ne; e++) {
+        int64_t xmin = INT64_MAX, ymin = INT64_MAX, xmax = INT64_MIN, ymax = INT64_MIN;
+        for (size_t k = 0; k < graph_edge_point_count(g, e); k++) {
+            int64_t x, y;
+            graph_edge_point(g, e, k, &x, &y);
+            x -= b->ox, y -= b->oy;
+            xmin = x < xmin ? x : xmin, xmax = x > xmax ? x : xmax;
+            ymin = y < ymin ? y : ymin, ymax = y > ymax ? y : ymax;
+        }
+        b->edge_anchor[e] = (lpoint){xmin, ymin};
+        int32_t level = -1;
+        int64_t cw = info->width / b->p.root_cols, ch = info->height / b->p.root_rows;
+        while (xmin / cw == xmax / cw && ymin / ch == ymax / ch) {
+            level++;
+            if (cw % b->p.cols || ch % b->p.rows)
+                break; /* 1 x 1 pixels are reached: no deeper level exists */
+            cw /= b->p.cols;
+            ch /= b->p.rows;
+        }
+        b->edge_level[e] = level;
+    }
+}
+
+static int make_segments(builder *b)
+{
+    const hpfc_graph *g = b->g;
+    size_t n = 0;
+    for (size_t e = 0; e < g->ne; e++)
+        n += graph_edge_point_count(g, e) - 1;
+    if (n > UINT32_MAX - 1)
+        return diag_set(b->diag, HPFC_E_LIMIT, "more than 2^32 - 2 segments");
+    b->segs = malloc(n * sizeof *b->segs);
+    if (!b->segs)
+        return HPFC_E_NOMEM;
+    b->nsegs = n;
+    size_t s = 0;
+    for (size_t e = 0; e < g->ne; e++) {
+        int64_t x, y;
+        graph_edge_point(g, e, 0, &x, &y);
+        lpoint prev = {x - b->ox, y - b->oy};
+        for (size_t k = 1; k < graph_edge_point_count(g, e); k++, s++) {
+            graph_edge_point(g, e, k, &x, &y);
+            lpoint cur = {x - b->ox, y - b->oy};
+            b->segs[s] = (seg){prev, cur, (uint32_t)e, (uint32_t)(k - 1)};
+            prev = cur;
+        }
+    }
+    return HPFC_OK;
+}
+
+/* ---- tree storage ------------------------------------------------------- */
+
+static const char PRIVATE_WORD[4] = {'+', '+', '+', '+'};
+
+static int tree_init(builder *b, uint32_t max_levels)
+{
+    hpfc_tree *t = b->t;
+    t->levels = calloc(max_levels, sizeof *t->levels);
+    if (!t->levels)
+        return HPFC_E_NOMEM;
+    t->levels_cap = max_levels;
+    int st = reserve((void **)&t->syms, &t->cap_syms, 4, 1);
+    if (st)
+        return st;
+    memcpy(t->syms, PRIVATE_WORD, 4); /* every private pixel shares offset 0 */
+    t->nsyms = 4;
+    return HPFC_OK;
+}
+
+static int level_add_image(tlevel *lv, int64_t gx, int64_t gy, size_t *index)
+{
+    size_t per = (size_t)lv->cols * lv->rows;
+    if (lv->nimages == lv->cap) {
+        size_t ncap = lv->cap ? 2 * lv->cap : 16;
+        int64_t *ngx = realloc(lv->img_gx, ncap * sizeof *ngx);
+        if (!ngx)
+            return HPFC_E_NOMEM;
+        lv->img_gx = ngx;
+        int64_t *ngy = realloc(lv->img_gy, ncap * sizeof *ngy);
+        if (!ngy)
+            return HPFC_E_NOMEM;
+        lv->img_gy = ngy;
+        if (ncap > SIZE_MAX / per / sizeof(tpixel))
+            return HPFC_E_NOMEM;
+        tpixel *np = realloc(lv->pix, ncap * per * sizeof *np);
+        if (!np)
+            return HPFC_E_NOMEM;
+        lv->pix = np;
+        lv->cap = ncap;
+    }
+    lv->img_gx[lv->nimages] = gx;
+    lv->img_gy[lv->nimages] = gy;
+    *index = lv->nimages++;
+    return HPFC_OK;
+}
+
+/* ---- words -------------------------------------------------------------- */
+
+typedef struct crossing {
+    line_pos pos;
+    uint32_t seg;       /* index into b->segs */
+    uint8_t road;
+    uint8_t entering;
+    uint32_t comp;      /* component within the pixel */
+} crossing;
+
+typedef struct component {
+    int64_t vertex;     /* junction vertex, or -1 for a stabbing */
+    uint32_t size, seen;
+} component;
+
+typedef struct word_scratch {
+    crossing *cr;
+    size_t ncr, cap_cr;
+    component *comp;
+    size_t ncomp, cap_comp;
+} word_scratch;
+
+static const seg *g_sort_segs; /* qsort has no context argument in C11 */
+
+static int cmp_along_edge(const void *pa, const void *pb)
+{
+    const crossing *a = pa, *b = pb;
+    const seg *sa = &g_sort_segs[a->seg], *sb = &g_sort_segs[b->seg];
+    if (sa->edge != sb->edge)
+        return sa->edge < sb->edge ? -1 : 1;
+    if (sa->k != sb->k)
+        return sa->k < sb->k ? -1 : 1;
+    /* within one segment the entry (if any) precedes the exit */
+    return (int)b->entering - (int)a->entering;
+}
+
+/* Clockwise order around the pixel from its SW corner: W going north,
+ * N going east, E going south, S going west. */
+static int cmp_clockwise(const void *pa, const void *pb)
+{
+    const crossing *a = pa, *b = pb;
+    if (a->road != b->road)
+        return a->road < b->road ? -1 : 1;
+    int c = cmp_line_pos(&a->pos, &b->pos);
+    return a->road == ROAD_W || a->road == ROAD_N ? c : -c;
+}
+
+static int add_component(word_scratch *w, int64_t vertex, uint32_t *id)
+{
+    if (vertex >= 0)
+        for (size_t c = 0; c < w->ncomp; c++)
+            if (w->comp[c].vertex == vertex) {
+                *id = (uint32_t)c;
+                return HPFC_OK;
+            }
+    int st = reserve((void **)&w->comp, &w->cap_comp, w->ncomp + 1, sizeof *w->comp);
+    if (st)
+        return st;
+    w->comp[w->ncomp] = (component){vertex, 0, 0};
+    *id = (uint32_t)w->ncomp++;
+    return HPFC_OK;
+}
+
+static int join(word_scratch *w, crossing *c, int64_t vertex)
+{
+    int st = add_component(w, vertex, &c->comp);
+    if (!st)
+        w->comp[c->comp].size++;
+    return st;
+}
+
+static int internal_error(builder *b, const char *what, uint32_t edge)
+{
+    if (b->diag)
+        b->diag->edge[0] = edge;
+    return diag_set(b->diag, HPFC_E_LIMIT, "internal inconsistency (%s) at edge %u", what, edge);
+}
+
+/* Splits the crossings of each edge into pieces inside the pixel: a piece
+ * that reaches a vertex in the pixel joins that junction's component, a
+ * piece between two crossings is a stabbing. */
+static int assign_components(builder *b, word_scratch *w, const int64_t cell[4])
+{
+    g_sort_segs = b->segs;
+    qsort(w->cr, w->ncr, sizeof *w->cr, cmp_along_edge);
+    const hpfc_graph *g = b->g;
+    size_t i = 0;
+    while (i < w->ncr) {
+        uint32_t e = b->segs[w->cr[i].seg].edge;
+        int64_t ux, uy, vx, vy;
+        graph_edge_point(g, e, 0, &ux, &uy);
+        graph_edge_point(g, e, graph_edge_point_count(g, e) - 1, &vx, &vy);
+        bool u_in = point_in_cell((lpoint){ux - b->ox, uy - b->oy}, cell[0], cell[1], cell[2], cell[3]);
+        bool v_in = point_in_cell((lpoint){vx - b->ox, vy - b->oy}, cell[0], cell[1], cell[2], cell[3]);
+        bool inside = u_in, from_vertex = u_in;
+        crossing *open = NULL;
+        int st;
+        for (; i < w->ncr && b->segs[w->cr[i].seg].edge == e; i++) {
+            crossing *c = &w->cr[i];
+            if (c->entering == inside)
+                return internal_error(b, "crossing parity", e);
+            if (c->entering) {
+                open = c;
+                from_vertex = false;
+            } else if (from_vertex) {
+                if ((st = join(w, c, g->eu[e])))
+                    return st;
+            } else {
+                if ((st = join(w, open, -1)))
+                    return st;
+                c->comp = open->comp;
+                w->comp[c->comp].size++;
+            }
+            inside = c->entering;
+        }
+        if (inside != v_in || (inside && from_vertex))
+            return internal_error(b, "edge inside a word pixel", e);
+        if (inside && (st = join(w, open, g->ev[e])))
+            return st;
+    }
+    return HPFC_OK;
+}
+
+static int append_word(builder *b, word_scratch *w, tpixel *px)
+{
+    hpfc_tree *t = b->t;
+    qsort(w->cr, w->ncr, sizeof *w->cr, cmp_clockwise);
+    size_t len = w->ncr + 4;
+    int st = reserve((void **)&t->syms, &t->cap_syms, t->nsyms + len, 1);
+    if (!st)
+        st = reserve((void **)&t->cross_edge, &t->cap_cross, t->ncross + w->ncr, sizeof(uint32_t));
+    if (!st) {
+        size_t cap = t->cap_cross;
+        /* cross_seg follows cross_edge's capacity */
+        uint32_t *ns = realloc(t->cross_seg, cap * sizeof *ns);
+        if (!ns)
+            st = HPFC_E_NOMEM;
+        else
+            t->cross_seg = ns;
+    }
+    if (st)
+        return st;
+    if (len > UINT32_MAX)
+        return diag_set(b->diag, HPFC_E_LIMIT, "word too long");
+    px->word_off = t->nsyms;
+    px->word_len = (uint32_t)len;
+    px->cross_off = t->ncross;
+    px->child = 0;
+    char *out = t->syms + t->nsyms;
+    size_t k = 0;
+    for (int road = 0; road < 4; road++) {
+        for (; k < w->ncr && w->cr[k].road == road; k++) {
+            component *c = &w->comp[w->cr[k].comp];
+            c->seen++;
+            char sym;
+            if (c->vertex < 0)
+                sym = c->seen == 1 ? '[' : ']';
+            else if (c->size == 1)
+                sym = '=';
+            else
+                sym = c->seen == 1 ? '(' : c->seen == c->size ? ')' : 'Y';
+            *out++ = sym;
+            const seg *s = &b->segs[w->cr[k].seg];
+            t->cross_edge[t->ncross] = s->edge;
+            t->cross_seg[t->ncross] = s->k;
+            t->ncross++;
+        }
+        *out++ = '+';
+    }
+    t->nsyms += len;
+    if (len > t->info.max_word_symbols)
+        t->info.max_word_symbols = (uint32_t)len;
+    return HPFC_OK;
+}
+
+static int make_word(builder *b, word_scratch *w, const uint32_t *list, size_t n,
+                     const int64_t cell[4], tpixel *px)
+{
+    w->ncr = 0;
+    w->ncomp = 0;
+    for (size_t i = 0; i < n; i++) {
+        const seg *s = &b->segs[list[i]];
+        for (int road = 0; road < 4; road++) {
+            crossing c;
+            bool entering;
+            if (!cross_road(s->a, s->b, road, cell[0], cell[1], cell[2], cell[3], &c.pos, &entering))
+                continue;
+            int st = reserve((void **)&w->cr, &w->cap_cr, w->ncr + 1, sizeof *w->cr);
+            if (st)
+                return st;
+            c.seg = list[i];
+            c.road = (uint8_t)road;
+            c.entering = entering;
+            c.comp = 0;
+            w->cr[w->ncr++] = c;
+        }
+    }
+    if (w->ncr == 0) {
+        *px = (tpixel){0, b->t->ncross, 4, 0};
+        b->t->info.private_pixels++;
+        return HPFC_OK;
+    }
+    int st = assign_components(b, w, cell);
+    if (st)
+        return st;
+    for (size_t c = 0; c < w->ncomp; c++) {
+        int64_t v = w->comp[c].vertex;
+        if (v >= 0) {
+            if (b->vertex_seen[v])
+                return internal_error(b, "vertex in two pixels", b->segs[list[0]].edge);
+            b->vertex_seen[v] = 1;
+        }
+    }
+    return append_word(b, w, px);
+}
+
+/* ---- distributing segments to the pixels of an image -------------------- */
+
+typedef struct incidence {
+    uint32_t pixel; /* scanline index within the image */
+    uint32_t seg;
+} incidence;
+
+static int cmp_incidence(const void *pa, const void *pb)
+{
+    const incidence *a = pa, *b = pb;
+    if (a->pixel != b->pixel)
+        return a->pixel < b->pixel ? -1 : 1;
+    return (a->seg > b->seg) - (a->seg < b->seg);
+}
+
+typedef struct image_scratch {
+    incidence *inc;
+    size_t ninc, cap_inc;
+} image_scratch;
+
+static int64_t floor_div(int64_t a, int64_t b)
+{
+    return a / b - (a % b != 0 && (a < 0) != (b < 0));
+}
+
+/* Collects (pixel, segment) for every pixel of the image each segment
+ * meets, sorted by pixel. */
+static int distribute(builder *b, const tlevel *lv, int64_t gx0, int64_t gy0,
+                      const uint32_t *list, size_t n, image_scratch *is)
+{
+    is->ninc = 0;
+    int64_t cols = lv->cols, rows = lv->rows;
+    for (size_t i = 0; i < n; i++) {
+        const seg *s = &b->segs[list[i]];
+        int64_t c0 = floor_div(s->a.x < s->b.x ? s->a.x : s->b.x, lv->cell_w) - gx0;
+        int64_t c1 = floor_div(s->a.x > s->b.x ? s->a.x : s->b.x, lv->cell_w) - gx0;
+        int64_t r0 = floor_div(s->a.y < s->b.y ? s->a.y : s->b.y, lv->cell_h) - gy0;
+        int64_t r1 = floor_div(s->a.y > s->b.y ? s->a.y : s->b.y, lv->cell_h) - gy0;
+        bool single = c0 == c1 && r0 == r1;
+        c0 = c0 < 0 ? 0 : c0, r0 = r0 < 0 ? 0 : r0;
+        c1 = c1 >= cols ? cols - 1 : c1, r1 = r1 >= rows ? rows - 1 : r1;
+        for (int64_t r = r0; r <= r1; r++)
+            for (int64_t c = c0; c <= c1; c++) {
+                int64_t x0 = (gx0 + c) * lv->cell_w, y0 = (gy0 + r) * lv->cell_h;
+                if (!single && !segment_meets_cell(s->a, s->b, x0, y0, x0 + lv->cell_w, y0 + lv->cell_h))
+                    continue;
+                int st = reserve((void **)&is->inc, &is->cap_inc, is->ninc + 1, sizeof *is->inc);
+                if (st)
+                    return st;
+                /* scanline index: row j = 0 is the northern row */
+                int64_t j = rows - 1 - r;
+                is->inc[is->ninc++] = (incidence){(uint32_t)(j * cols + c), list[i]};
+            }
+    }
+    qsort(is->inc, is->ninc, sizeof *is->inc, cmp_incidence);
+    return HPFC_OK;
+}
+
+/* Is the pixel at level-wide cell (gx, gy) of `level` holding a whole edge? */
+static bool holds_edge(const builder *b, const tlevel *lv, uint32_t level, int64_t gx, int64_t gy,
+                       const uint32_t *list, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        uint32_t e = b->segs[list[i]].edge;
+        if (b->edge_level[e] >= (int32_t)level && b->edge_anchor[e].x / lv->cell_w == gx &&
+            b->edge_anchor[e].y / lv->cell_h == gy)
+            return true;
+    }
+    return false;
+}
+
+static int push_child(builder *b, tlevel *next, int64_t gx, int64_t gy, const uint32_t *list,
+                      size_t n, uint32_t *child)
+{
+    size_t index;
+    int st = level_add_image(next, gx * next->cols, gy * next->rows, &index);
+    if (st)
+        return st;
+    if (index > UINT32_MAX)
+        return diag_set(b->diag, HPFC_E_LIMIT, "too many images in one level");
+    *child = (uint32_t)index;
+    st = reserve((void **)&b->next_list, &b->next_cap, b->next_len + n, sizeof *b->next_list);
+    if (!st)
+        st = reserve((void **)&b->next_start, &b->next_images_cap, index + 2, sizeof *b->next_start);
+    if (st)
+        return st;
+    memcpy(b->next_list + b->next_len, list, n * sizeof *list);
+    b->next_len += n;
+    b->next_start[index] = b->next_len - n;
+    b->next_start[index + 1] = b->next_len;
+    return HPFC_OK;
+}
+
+static int build_image(builder *b, uint32_t level, size_t image, image_scratch *is,
+                       word_scratch *w)
+{
+    tlevel *lv = &b->t->levels[level];
+    int64_t gx0 = lv->img_gx[image], gy0 = lv->img_gy[image];
+    const uint32_t *list = b->cur_list + b->cur_start[image];
+    size_t n = b->cur_start[image + 1] - b->cur_start[image];
+    int st = distribute(b, lv, gx0, gy0, list, n, is);
+    if (st)
+        return st;
+    size_t per = (size_t)lv->cols * lv->rows, k = 0;
+    uint32_t *sub = NULL;
+    size_t sub_cap = 0;
+    for (size_t p = 0; p < per && !st; p++) {
+        size_t first = k;
+        while (k < is->ninc && is->inc[k].pixel == p)
+            k++;
+        st = reserve((void **)&sub, &sub_cap, k - first + 1, sizeof *sub);
+        if (st)
+            break;
+        for (size_t q = first; q < k; q++)
+            sub[q - first] = is->inc[q].seg;
+        size_t ns = k - first;
+        int64_t i = (int64_t)(p % lv->cols), j = (int64_t)(p / lv->cols);
+        int64_t gx = gx0 + i, gy = gy0 + (lv->rows - 1 - j);
+        tpixel *px = &lv->pix[image * per + p];
+        if (!b->p.flat && holds_edge(b, lv, level, gx, gy, sub, ns)) {
+            *px = (tpixel){0, 0, 0, 0};
+            b->t->info.refined_pixels++;
+            st = push_child(b, &b->t->levels[level + 1], gx, gy, sub, ns, &px->child);
+        } else {
+            int64_t cell[4] = {gx * lv->cell_w, gy * lv->cell_h, (gx + 1) * lv->cell_w, (gy + 1) * lv->cell_h};
+            b->t->info.word_pixels++;
+            st = make_word(b, w, sub, ns, cell, px);
+        }
+    }
+    free(sub);
+    return st;
+}
+
+/* ---- driver ------------------------------------------------------------- */
+
+static int check_params(const hpfc_build_params *p, hpfc_diag *diag)
+{
+    if (p->root_cols < 1 || p->root_rows < 1 || p->cols < 2 || p->rows < 2)
+        return diag_set(diag, HPFC_E_ARG, "image sizes must be root >= 1x1 and refined >= 2x2");
+    if ((uint64_t)p->root_cols * p->root_rows > ((uint64_t)1 << 31) ||
+        (uint64_t)p->cols * p->rows > ((uint64_t)1 << 20))
+        return diag_set(diag, HPFC_E_ARG, "image sizes too large (root <= 2^31 pixels, refined <= 2^20)");
+    return HPFC_OK;
+}
+
+/* The flat rPFC: the root is the hierarchical grid of the first depth at
+ * which no pixel holds an edge, so its pixels equal the finest hPFC leaves. */
+static int flatten_root(builder *b)
+{
+    int32_t deepest = -1;
+    for (size_t e = 0; e < b->g->ne; e++)
+        deepest = b->edge_level[e] > deepest ? b->edge_level[e] : deepest;
+    uint64_t cols = b->p.root_cols, rows = b->p.root_rows;
+    uint64_t limit = b->p.max_flat_pixels < ((uint64_t)1 << 31) ? b->p.max_flat_pixels : (uint64_t)1 << 31;
+    for (int32_t l = 0; l <= deepest; l++) {
+        cols *= b->p.cols;
+        rows *= b->p.rows;
+        if (cols * rows > limit)
+            break;
+    }
+    if (cols * rows > limit)
+        return diag_set(b->diag, HPFC_E_TOO_MANY_PIXELS,
+                        "the flat grid needs at least %llu x %llu pixels, above the limit of %llu",
+                        (unsigned long long)cols, (unsigned long long)rows,
+                        (unsigned long long)limit);
+    b->p.root_cols = (uint32_t)cols;
+    b->p.root_rows = (uint32_t)rows;
+    b->max_depth = 0;
+    return HPFC_OK;
+}
+
+static size_t find_root(uint32_t *parent, size_t v)
+{
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
+static int count_components(builder *b)
+{
+    const hpfc_graph *g = b->g;
+    uint32_t *parent = malloc(g->nv * sizeof *parent);
+    if (!parent)
+        return HPFC_E_NOMEM;
+    for (size_t v = 0; v < g->nv; v++)
+        parent[v] = (uint32_t)v;
+    uint64_t comps = g->nv;
+    for (size_t e = 0; e < g->ne; e++) {
+        size_t a = find_root(parent, g->eu[e]), c = find_root(parent, g->ev[e]);
+        if (a != c) {
+            parent[a] = (uint32_t)c;
+            comps--;
+        }
+    }
+    free(parent);
+    hpfc_tree_info *info = &b->t->info;
+    info->vertices = g->nv;
+    info->edges = g->ne;
+    info->components = comps;
+    info->faces = info->edges + 1 + comps - info->vertices; /* Euler: V - E + F = 1 + C */
+    return HPFC_OK;
+}
+
+static int setup_root(builder *b)
+{
+    hpfc_tree *t = b->t;
+    tlevel *root = &t->levels[0];
+    root->cols = b->p.root_cols;
+    root->rows = b->p.root_rows;
+    root->cell_w = t->info.width / root->cols;
+    root->cell_h = t->info.height / root->rows;
+    size_t index;
+    int st = level_add_image(root, 0, 0, &index);
+    if (st)
+        return st;
+    b->cur_list = malloc((b->nsegs ? b->nsegs : 1) * sizeof *b->cur_list);
+    b->cur_start = malloc(2 * sizeof *b->cur_start);
+    if (!b->cur_list || !b->cur_start)
+        return HPFC_E_NOMEM;
+    for (size_t s = 0; s < b->nsegs; s++)
+        b->cur_list[s] = (uint32_t)s;
+    b->cur_start[0] = 0;
+    b->cur_start[1] = b->nsegs;
+    return HPFC_OK;
+}
+
+static int build_levels(builder *b)
+{
+    hpfc_tree *t = b->t;
+    image_scratch is = {0};
+    word_scratch w = {0};
+    int st = HPFC_OK;
+    uint32_t level = 0;
+    for (;; level++) {
+        tlevel *lv = &t->levels[level];
+        if (level < b->max_depth) {
+            tlevel *next = &t->levels[level + 1];
+            next->cols = b->p.cols;
+            next->rows = b->p.rows;
+            next->cell_w = lv->cell_w / b->p.cols;
+            next->cell_h = lv->cell_h / b->p.rows;
+        }
+        b->next_len = 0;
+        for (size_t im = 0; im < lv->nimages && !st; im++)
+            st = build_image(b, level, im, &is, &w);
+        if (st || level >= b->max_depth || t->levels[level + 1].nimages == 0)
+            break;
+        uint32_t *tl = b->cur_list;
+        size_t *ts = b->cur_start;
+        b->cur_list = b->next_list, b->cur_start = b->next_start;
+        b->next_list = tl, b->next_start = ts;
+        /* the swapped-in buffers' capacities are unknown: start them afresh */
+        free(b->next_list);
+        free(b->next_start);
+        b->next_list = NULL, b->next_start = NULL;
+        b->next_cap = b->next_images_cap = 0;
+    }
+    t->info.levels = level + 1;
+    free(is.inc);
+    free(w.cr);
+    free(w.comp);
+    return st;
+}
+
+static void free_builder(builder *b)
+{
+    free(b->segs);
+    free(b->edge_level);
+    free(b->edge_anchor);
+    free(b->vertex_seen);
+    free(b->cur_list);
+    free(b->next_list);
+    free(b->cur_start);
+    free(b->next_start);
+}
+
+int hpfc_build(const hpfc_graph *g, const hpfc_build_params *params, hpfc_tree **out,
+               hpfc_diag *diag)
+{
+    if (!g || !params || !out)
+        return HPFC_E_ARG;
+    *out = NULL;
+    int st = check_params(params, diag);
+    if (st)
+        return st;
+    st = hpfc_graph_validate(g, diag);
+    if (st)
+        return st;
+    builder b = {.g = g, .p = *params, .diag = diag};
+    b.t = calloc(1, sizeof *b.t);
+    b.edge_level = malloc(g->ne * sizeof *b.edge_level);
+    b.edge_anchor = malloc(g->ne * sizeof *b.edge_anchor);
+    b.vertex_seen = calloc(g->nv, 1);
+    if (!b.t || !b.edge_level || !b.edge_anchor || !b.vertex_seen)
+        st = HPFC_E_NOMEM;
+    if (!st)
+        st = choose_domain(&b);
+    if (!st)
+        st = make_segments(&b);
+    if (!st) {
+        compute_edge_levels(&b);
+        if (b.p.flat)
+            st = flatten_root(&b);
+    }
+    if (!st) {
+        b.t->info.root_cols = b.p.root_cols;
+        b.t->info.root_rows = b.p.root_rows;
+        b.t->info.cols = b.p.cols;
+        b.t->info.rows = b.p.rows;
+        st = tree_init(&b, b.max_depth + 1);
+    }
+    if (!st)
+        st = setup_root(&b);
+    if (!st)
+        st = build_levels(&b);
+    for (size_t v = 0; v < g->nv && !st; v++)
+        if (!b.vertex_seen[v])
+            st = internal_error(&b, "vertex in no word pixel", 0);
+    if (!st)
+        st = count_components(&b);
+    if (st == HPFC_E_NOMEM)
+        diag_set(diag, st, "out of memory");
+    free_builder(&b);
+    if (st) {
+        hpfc_tree_free(b.t);
+        return st;
+    }
+    *out = b.t;
+    return HPFC_OK;
+}
+
+void hpfc_build_params_default(hpfc_build_params *p)
+{
+    p->root_cols = p->root_rows = 64;
+    p->cols = p->rows = 2;
+    p->flat = 0;
+    p->max_flat_pixels = HPFC_DEFAULT_MAX_FLAT_PIXELS;
+}
+
+void hpfc_tree_free(hpfc_tree *t)
+{
+    if (!t)
+        return;
+    for (uint32_t l = 0; l < t->levels_cap; l++) {
+        free(t->levels[l].img_gx);
+        free(t->levels[l].img_gy);
+        free(t->levels[l].pix);
+    }
+    free(t->levels);
+    free(t->syms);
+    free(t->cross_edge);
+    free(t->cross_seg);
+    free(t);
+}
+
+void hpfc_tree_get_info(const hpfc_tree *t, hpfc_tree_info *info)
+{
+    *info = t->info;
+}
+
+size_t hpfc_tree_image_count(const hpfc_tree *t, uint32_t level)
+{
+    return level < t->info.levels ? t->levels[level].nimages : 0;
+}
+
+int hpfc_tree_get_pixel(const hpfc_tree *t, uint32_t level, size_t image, uint32_t i,
+                        uint32_t j, hpfc_tree_pixel *out)
+{
+    if (!t || !out || level >= t->info.levels)
+        return HPFC_E_ARG;
+    const tlevel *lv = &t->levels[level];
+    if (image >= lv->nimages || i >= lv->cols || j >= lv->rows)
+        return HPFC_E_ARG;
+    const tpixel *px = &lv->pix[image * lv->cols * lv->rows + (size_t)j * lv->cols + i];
+    int64_t gx = lv->img_gx[image] + i, gy = lv->img_gy[image] + (lv->rows - 1 - j);
+    memset(out, 0, sizeof *out);
+    out->x0 = t->info.x0 + gx * lv->cell_w;
+    out->y0 = t->info.y0 + gy * lv->cell_h;
+    out->x1 = out->x0 + lv->cell_w;
+    out->y1 = out->y0 + lv->cell_h;
+    if (px->word_len == 0) {
+        out->type = HPFC_PIXEL_REFINED;
+        out->child = px->child;
+        return HPFC_OK;
+    }
+    out->type = HPFC_PIXEL_WORD;
+    out->word = t->syms + px->word_off;
+    out->word_len = px->word_len;
+    out->cross_edge = t->cross_edge + px->cross_off;
+    out->cross_segment = t->cross_seg + px->cross_off;
+    return HPFC_OK;
+}

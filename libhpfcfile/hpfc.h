@@ -217,7 +217,7 @@ typedef struct hpfc_tree_pixel {
      * and the index of the edge segment (0 = the one leaving vertex u). */
     const uint32_t *cross_edge;
     const uint32_t *cross_segment;
-    /* lattice bounds of the pixel: [x0, x1) x [y0, y1) */
+    /* bounds of the pixel in the graph's lattice: [x0, x1) x [y0, y1) */
     int64_t x0, y0, x1, y1;
 } hpfc_tree_pixel;
 

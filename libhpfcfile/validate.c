@@ -1,1 +1,388 @@
+/*
+ * Exact validation of a graph as a planar embedding (hpfc_graph_validate).
+ *
+ * Planarity is checked by bucketing segments into a uniform grid of about
+ * one cell per segment (with the same exact segment/cell test the builder
+ * uses, so a contact point always lies in a cell both segments meet) and
+ * testing the pairs inside each cell with exact orientation predicates.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "geom.h"
 #include "internal.h"
+
+/* Describes edge e for a message: "edge 3 (line 12)" or "edge 3". */
+static void describe_edge(const hpfc_graph *g, size_t e, char *buf, size_t size)
+{
+    if (g->eline[e])
+        snprintf(buf, size, "edge %zu (line %u)", e, g->eline[e]);
+    else
+        snprintf(buf, size, "edge %zu", e);
+}
+
+static void describe_vertex(const hpfc_graph *g, size_t v, char *buf, size_t size)
+{
+    if (g->vline[v])
+        snprintf(buf, size, "vertex %zu (line %u)", v, g->vline[v]);
+    else
+        snprintf(buf, size, "vertex %zu", v);
+}
+
+static void diag_point(hpfc_diag *diag, const hpfc_graph *g, double x, double y)
+{
+    if (diag) {
+        diag->has_point = 1;
+        diag->x = x * pow(10.0, g->unit_exp10);
+        diag->y = y * pow(10.0, g->unit_exp10);
+    }
+}
+
+static void diag_edges(hpfc_diag *diag, const hpfc_graph *g, int64_t e0, int64_t e1)
+{
+    if (diag) {
+        diag->edge[0] = e0;
+        diag->edge[1] = e1;
+        diag->line = e0 >= 0 ? g->eline[e0] : 0;
+    }
+}
+
+static int check_edges_locally(const hpfc_graph *g, hpfc_diag *diag)
+{
+    char what[64];
+    for (size_t e = 0; e < g->ne; e++) {
+        size_t np = graph_edge_point_count(g, e);
+        if (g->eu[e] == g->ev[e] && np < 4) {
+            describe_edge(g, e, what, sizeof what);
+            diag_edges(diag, g, (int64_t)e, -1);
+            return diag_set(diag, HPFC_E_LOOP_INTERIOR,
+                            "%s is a loop with fewer than two interior points", what);
+        }
+        for (size_t k = 0; k + 1 < np; k++) {
+            int64_t ax, ay, bx, by;
+            graph_edge_point(g, e, k, &ax, &ay);
+            graph_edge_point(g, e, k + 1, &bx, &by);
+            if (ax == bx && ay == by) {
+                describe_edge(g, e, what, sizeof what);
+                diag_edges(diag, g, (int64_t)e, -1);
+                diag_point(diag, g, (double)ax, (double)ay);
+                return diag_set(diag, HPFC_E_ZERO_LENGTH,
+                                "%s has a zero-length segment at (%.17g, %.17g)",
+                                what, diag ? diag->x : 0.0, diag ? diag->y : 0.0);
+            }
+        }
+    }
+    return HPFC_OK;
+}
+
+static int check_isolated(const hpfc_graph *g, hpfc_diag *diag)
+{
+    uint8_t *used = calloc(g->nv ? g->nv : 1, 1);
+    if (!used)
+        return diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    for (size_t e = 0; e < g->ne; e++)
+        used[g->eu[e]] = used[g->ev[e]] = 1;
+    int st = HPFC_OK;
+    for (size_t v = 0; v < g->nv && !st; v++) {
+        if (!used[v]) {
+            char what[64];
+            describe_vertex(g, v, what, sizeof what);
+            if (diag)
+                diag->line = g->vline[v];
+            st = diag_set(diag, HPFC_E_ISOLATED_VERTEX, "%s has no incident edge", what);
+        }
+    }
+    free(used);
+    return st;
+}
+
+/* A point of the graph: a vertex (edge < 0) or interior point k of edge. */
+typedef struct point_ref {
+    int64_t x, y;
+    int64_t edge;   /* -1 for a vertex */
+    size_t index;   /* vertex index, or interior point index */
+} point_ref;
+
+static int cmp_point_ref(const void *pa, const void *pb)
+{
+    const point_ref *a = pa, *b = pb;
+    if (a->x != b->x)
+        return a->x < b->x ? -1 : 1;
+    if (a->y != b->y)
+        return a->y < b->y ? -1 : 1;
+    return 0;
+}
+
+static void describe_point_ref(const hpfc_graph *g, const point_ref *p, char *buf, size_t size)
+{
+    char what[64];
+    if (p->edge < 0) {
+        describe_vertex(g, p->index, buf, size);
+        return;
+    }
+    describe_edge(g, (size_t)p->edge, what, sizeof what);
+    snprintf(buf, size, "interior point %zu of %s", p->index + 1, what);
+}
+
+static int check_duplicates(const hpfc_graph *g, hpfc_diag *diag)
+{
+    size_t n = g->nv + g->npts;
+    point_ref *refs = malloc((n ? n : 1) * sizeof *refs);
+    if (!refs)
+        return diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    size_t k = 0;
+    for (size_t v = 0; v < g->nv; v++)
+        refs[k++] = (point_ref){g->vxy[2 * v], g->vxy[2 * v + 1], -1, v};
+    for (size_t e = 0; e < g->ne; e++)
+        for (size_t p = g->eoff[e]; p < g->eoff[e + 1]; p++)
+            refs[k++] = (point_ref){g->pts[2 * p], g->pts[2 * p + 1], (int64_t)e, p - g->eoff[e]};
+    qsort(refs, n, sizeof *refs, cmp_point_ref);
+    int st = HPFC_OK;
+    for (size_t i = 1; i < n && !st; i++) {
+        if (cmp_point_ref(&refs[i - 1], &refs[i]) == 0) {
+            char a[96], b[96];
+            describe_point_ref(g, &refs[i - 1], a, sizeof a);
+            describe_point_ref(g, &refs[i], b, sizeof b);
+            if (diag) {
+                diag->edge[0] = refs[i - 1].edge;
+                diag->edge[1] = refs[i].edge;
+                diag->line = refs[i - 1].edge < 0 ? g->vline[refs[i - 1].index]
+                                                  : g->eline[refs[i - 1].edge];
+            }
+            diag_point(diag, g, (double)refs[i].x, (double)refs[i].y);
+            st = diag_set(diag, HPFC_E_DUPLICATE_POINT, "%s and %s are at the same point (%.17g, %.17g)",
+                          a, b, diag ? diag->x : 0.0, diag ? diag->y : 0.0);
+        }
+    }
+    free(refs);
+    return st;
+}
+
+/* ---- planarity ---------------------------------------------------------- */
+
+typedef struct seg_table {
+    size_t count;
+    uint32_t *edge;   /* edge of each segment */
+    uint32_t *k;      /* segment index within its edge */
+} seg_table;
+
+static bool on_segment(lpoint a, lpoint b, lpoint p)
+{
+    /* p is collinear with ab: is it within ab's bounding box? */
+    return p.x >= (a.x < b.x ? a.x : b.x) && p.x <= (a.x > b.x ? a.x : b.x) &&
+           p.y >= (a.y < b.y ? a.y : b.y) && p.y <= (a.y > b.y ? a.y : b.y);
+}
+
+static bool same_point(lpoint a, lpoint b)
+{
+    return a.x == b.x && a.y == b.y;
+}
+
+/* Do segments ab and cd meet anywhere other than at one shared end point
+ * (where they may only meet without overlapping)? On conflict *at is a
+ * contact point (approximate for a proper crossing, in lattice units). */
+static bool segments_conflict(lpoint a, lpoint b, lpoint c, lpoint d, double at[2])
+{
+    int shared = same_point(a, c) + same_point(a, d) + same_point(b, c) + same_point(b, d);
+    if (shared >= 2) {            /* the same segment twice */
+        at[0] = (double)a.x, at[1] = (double)a.y;
+        return true;
+    }
+    if (shared == 1) {
+        lpoint p = same_point(a, c) || same_point(a, d) ? a : b;
+        lpoint u = same_point(p, a) ? b : a;
+        lpoint v = same_point(p, c) ? d : c;
+        i128 dot = (i128)(u.x - p.x) * (v.x - p.x) + (i128)(u.y - p.y) * (v.y - p.y);
+        if (orient(p, u, v) == 0 && dot > 0) {
+            lpoint nearer = (i128)(u.x - p.x) * (u.x - p.x) + (i128)(u.y - p.y) * (u.y - p.y) <
+                                    (i128)(v.x - p.x) * (v.x - p.x) + (i128)(v.y - p.y) * (v.y - p.y)
+                                ? u
+                                : v;
+            at[0] = (double)nearer.x, at[1] = (double)nearer.y;
+            return true;
+        }
+        return false;
+    }
+    int o1 = orient(a, b, c), o2 = orient(a, b, d);
+    int o3 = orient(c, d, a), o4 = orient(c, d, b);
+    if (o1 * o2 < 0 && o3 * o4 < 0) {
+        /* proper crossing: the point is for the message only */
+        double den = (double)(b.x - a.x) * (double)(d.y - c.y) - (double)(b.y - a.y) * (double)(d.x - c.x);
+        double t = ((double)(c.x - a.x) * (double)(d.y - c.y) - (double)(c.y - a.y) * (double)(d.x - c.x)) / den;
+        at[0] = (double)a.x + t * (double)(b.x - a.x);
+        at[1] = (double)a.y + t * (double)(b.y - a.y);
+        return true;
+    }
+    const lpoint *cand[4] = {&c, &d, &a, &b};
+    int ors[4] = {o1, o2, o3, o4};
+    for (int i = 0; i < 4; i++) {
+        const lpoint *s0 = i < 2 ? &a : &c, *s1 = i < 2 ? &b : &d;
+        if (ors[i] == 0 && on_segment(*s0, *s1, *cand[i])) {
+            at[0] = (double)cand[i]->x, at[1] = (double)cand[i]->y;
+            return true;
+        }
+    }
+    return false;
+}
+
+static lpoint seg_point(const hpfc_graph *g, const seg_table *t, size_t s, int end, int64_t ox, int64_t oy)
+{
+    int64_t x, y;
+    graph_edge_point(g, t->edge[s], t->k[s] + (size_t)end, &x, &y);
+    return (lpoint){x - ox, y - oy};
+}
+
+typedef struct bucket_grid {
+    int64_t ox, oy, cw, ch;
+    size_t cols, rows;
+    size_t *start;     /* cols*rows + 1 offsets into items */
+    uint32_t *items;   /* segment ids */
+} bucket_grid;
+
+/* Calls fn(cell, segment) for every cell the segment meets. */
+static void for_each_cell(const bucket_grid *bg, lpoint p, lpoint q, uint32_t s,
+                          void (*fn)(bucket_grid *, size_t, uint32_t), bucket_grid *out)
+{
+    size_t c0 = (size_t)((p.x < q.x ? p.x : q.x) / bg->cw), c1 = (size_t)((p.x > q.x ? p.x : q.x) / bg->cw);
+    size_t r0 = (size_t)((p.y < q.y ? p.y : q.y) / bg->ch), r1 = (size_t)((p.y > q.y ? p.y : q.y) / bg->ch);
+    for (size_t r = r0; r <= r1; r++)
+        for (size_t c = c0; c <= c1; c++) {
+            int64_t x0 = (int64_t)c * bg->cw, y0 = (int64_t)r * bg->ch;
+            if ((c0 == c1 && r0 == r1) || segment_meets_cell(p, q, x0, y0, x0 + bg->cw, y0 + bg->ch))
+                fn(out, r * bg->cols + c, s);
+        }
+}
+
+static void count_incidence(bucket_grid *bg, size_t cell, uint32_t s)
+{
+    (void)s;
+    bg->start[cell + 1]++;
+}
+
+static void place_incidence(bucket_grid *bg, size_t cell, uint32_t s)
+{
+    bg->items[bg->start[cell]++] = s;
+}
+
+static int build_buckets(const hpfc_graph *g, const seg_table *t, bucket_grid *bg)
+{
+    int64_t xmin = INT64_MAX, ymin = INT64_MAX, xmax = INT64_MIN, ymax = INT64_MIN;
+    for (size_t v = 0; v < g->nv; v++) {
+        int64_t x = g->vxy[2 * v], y = g->vxy[2 * v + 1];
+        xmin = x < xmin ? x : xmin, xmax = x > xmax ? x : xmax;
+        ymin = y < ymin ? y : ymin, ymax = y > ymax ? y : ymax;
+    }
+    for (size_t p = 0; p < g->npts; p++) {
+        int64_t x = g->pts[2 * p], y = g->pts[2 * p + 1];
+        xmin = x < xmin ? x : xmin, xmax = x > xmax ? x : xmax;
+        ymin = y < ymin ? y : ymin, ymax = y > ymax ? y : ymax;
+    }
+    size_t side = (size_t)sqrt((double)t->count) + 1;
+    bg->ox = xmin, bg->oy = ymin;
+    bg->cols = bg->rows = side;
+    bg->cw = (xmax - xmin) / (int64_t)side + 1;
+    bg->ch = (ymax - ymin) / (int64_t)side + 1;
+    size_t cells = side * side;
+    bg->start = calloc(cells + 2, sizeof *bg->start);
+    if (!bg->start)
+        return HPFC_E_NOMEM;
+    for (size_t s = 0; s < t->count; s++)
+        for_each_cell(bg, seg_point(g, t, s, 0, xmin, ymin), seg_point(g, t, s, 1, xmin, ymin),
+                      (uint32_t)s, count_incidence, bg);
+    for (size_t c = 0; c < cells; c++)
+        bg->start[c + 1] += bg->start[c];
+    bg->items = malloc((bg->start[cells] ? bg->start[cells] : 1) * sizeof *bg->items);
+    if (!bg->items)
+        return HPFC_E_NOMEM;
+    for (size_t s = 0; s < t->count; s++)
+        for_each_cell(bg, seg_point(g, t, s, 0, xmin, ymin), seg_point(g, t, s, 1, xmin, ymin),
+                      (uint32_t)s, place_incidence, bg);
+    /* place_incidence advanced each start to the next cell's start */
+    memmove(bg->start + 1, bg->start, cells * sizeof *bg->start);
+    bg->start[0] = 0;
+    return HPFC_OK;
+}
+
+static int report_conflict(const hpfc_graph *g, const seg_table *t, uint32_t s1, uint32_t s2,
+                           const double at[2], const bucket_grid *bg, hpfc_diag *diag)
+{
+    char a[64], b[64];
+    uint32_t e1 = t->edge[s1], e2 = t->edge[s2];
+    if (e1 > e2) {
+        uint32_t tmp = e1;
+        e1 = e2, e2 = tmp;
+    }
+    describe_edge(g, e1, a, sizeof a);
+    describe_edge(g, e2, b, sizeof b);
+    diag_edges(diag, g, e1, e2);
+    diag_point(diag, g, at[0] + (double)bg->ox, at[1] + (double)bg->oy);
+    if (e1 == e2)
+        return diag_set(diag, HPFC_E_NONPLANAR, "%s intersects itself at (%.17g, %.17g)", a,
+                        diag ? diag->x : 0.0, diag ? diag->y : 0.0);
+    return diag_set(diag, HPFC_E_NONPLANAR, "%s and %s cross or touch at (%.17g, %.17g)", a, b,
+                    diag ? diag->x : 0.0, diag ? diag->y : 0.0);
+}
+
+static int check_planarity(const hpfc_graph *g, hpfc_diag *diag)
+{
+    seg_table t = {0, NULL, NULL};
+    for (size_t e = 0; e < g->ne; e++)
+        t.count += graph_edge_point_count(g, e) - 1;
+    if (t.count > UINT32_MAX)
+        return diag_set(diag, HPFC_E_LIMIT, "too many segments");
+    bucket_grid bg = {0};
+    int st = HPFC_E_NOMEM;
+    t.edge = malloc(t.count * sizeof *t.edge);
+    t.k = malloc(t.count * sizeof *t.k);
+    if (!t.edge || !t.k)
+        goto done;
+    size_t s = 0;
+    for (size_t e = 0; e < g->ne; e++)
+        for (size_t k = 0; k + 1 < graph_edge_point_count(g, e); k++, s++)
+            t.edge[s] = (uint32_t)e, t.k[s] = (uint32_t)k;
+    st = build_buckets(g, &t, &bg);
+    if (st)
+        goto done;
+    for (size_t c = 0; c < bg.cols * bg.rows && !st; c++) {
+        for (size_t i = bg.start[c]; i < bg.start[c + 1] && !st; i++) {
+            uint32_t s1 = bg.items[i];
+            lpoint a = seg_point(g, &t, s1, 0, bg.ox, bg.oy), b = seg_point(g, &t, s1, 1, bg.ox, bg.oy);
+            for (size_t j = i + 1; j < bg.start[c + 1]; j++) {
+                uint32_t s2 = bg.items[j];
+                double at[2];
+                if (segments_conflict(a, b, seg_point(g, &t, s2, 0, bg.ox, bg.oy),
+                                      seg_point(g, &t, s2, 1, bg.ox, bg.oy), at)) {
+                    st = report_conflict(g, &t, s1, s2, at, &bg, diag);
+                    break;
+                }
+            }
+        }
+    }
+done:
+    if (st == HPFC_E_NOMEM)
+        diag_set(diag, st, "out of memory");
+    free(t.edge);
+    free(t.k);
+    free(bg.start);
+    free(bg.items);
+    return st;
+}
+
+int hpfc_graph_validate(const hpfc_graph *g, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!g)
+        return diag_set(diag, HPFC_E_ARG, "no graph");
+    if (g->ne == 0)
+        return diag_set(diag, HPFC_E_EMPTY, "the graph has no edge");
+    int st = check_edges_locally(g, diag);
+    if (!st)
+        st = check_isolated(g, diag);
+    if (!st)
+        st = check_duplicates(g, diag);
+    if (!st)
+        st = check_planarity(g, diag);
+    return st;
+}
