@@ -107,7 +107,7 @@ typedef struct hpfc_graph hpfc_graph;
 /* Largest |coordinate| a graph accepts; the builder may refuse smaller
  * extents when the domain it needs exceeds HPFC_LATTICE_MAX. */
 #define HPFC_COORD_MAX ((int64_t)1 << 40)
-#define HPFC_LATTICE_MAX ((int64_t)1 << 42)
+#define HPFC_LATTICE_MAX ((int64_t)1 << 41)
 
 HPFC_API int hpfc_graph_create(hpfc_graph **out);
 HPFC_API void hpfc_graph_free(hpfc_graph *graph);
