@@ -211,6 +211,7 @@ static int level_add_image(tlevel *lv, int64_t gx, int64_t gy, size_t *index)
 typedef struct crossing {
     line_pos pos;
     uint32_t seg;       /* index into b->segs */
+    uint32_t edge, k;   /* the segment's edge and index within it */
     uint8_t road;
     uint8_t entering;
     uint32_t comp;      /* component within the pixel */
@@ -228,16 +229,13 @@ typedef struct word_scratch {
     size_t ncomp, cap_comp;
 } word_scratch;
 
-static const seg *g_sort_segs; /* qsort has no context argument in C11 */
-
 static int cmp_along_edge(const void *pa, const void *pb)
 {
     const crossing *a = pa, *b = pb;
-    const seg *sa = &g_sort_segs[a->seg], *sb = &g_sort_segs[b->seg];
-    if (sa->edge != sb->edge)
-        return sa->edge < sb->edge ? -1 : 1;
-    if (sa->k != sb->k)
-        return sa->k < sb->k ? -1 : 1;
+    if (a->edge != b->edge)
+        return a->edge < b->edge ? -1 : 1;
+    if (a->k != b->k)
+        return a->k < b->k ? -1 : 1;
     /* within one segment the entry (if any) precedes the exit */
     return (int)b->entering - (int)a->entering;
 }
@@ -289,12 +287,11 @@ static int internal_error(builder *b, const char *what, uint32_t edge)
  * piece between two crossings is a stabbing. */
 static int assign_components(builder *b, word_scratch *w, const int64_t cell[4])
 {
-    g_sort_segs = b->segs;
     qsort(w->cr, w->ncr, sizeof *w->cr, cmp_along_edge);
     const hpfc_graph *g = b->g;
     size_t i = 0;
     while (i < w->ncr) {
-        uint32_t e = b->segs[w->cr[i].seg].edge;
+        uint32_t e = w->cr[i].edge;
         int64_t ux, uy, vx, vy;
         graph_edge_point(g, e, 0, &ux, &uy);
         graph_edge_point(g, e, graph_edge_point_count(g, e) - 1, &vx, &vy);
@@ -303,7 +300,7 @@ static int assign_components(builder *b, word_scratch *w, const int64_t cell[4])
         bool inside = u_in, from_vertex = u_in;
         crossing *open = NULL;
         int st;
-        for (; i < w->ncr && b->segs[w->cr[i].seg].edge == e; i++) {
+        for (; i < w->ncr && w->cr[i].edge == e; i++) {
             crossing *c = &w->cr[i];
             if (c->entering == inside)
                 return internal_error(b, "crossing parity", e);
@@ -368,9 +365,8 @@ static int append_word(builder *b, word_scratch *w, tpixel *px)
             else
                 sym = c->seen == 1 ? '(' : c->seen == c->size ? ')' : 'Y';
             *out++ = sym;
-            const seg *s = &b->segs[w->cr[k].seg];
-            t->cross_edge[t->ncross] = s->edge;
-            t->cross_seg[t->ncross] = s->k;
+            t->cross_edge[t->ncross] = w->cr[k].edge;
+            t->cross_seg[t->ncross] = w->cr[k].k;
             t->ncross++;
         }
         *out++ = '+';
@@ -397,6 +393,8 @@ static int make_word(builder *b, word_scratch *w, const uint32_t *list, size_t n
             if (st)
                 return st;
             c.seg = list[i];
+            c.edge = s->edge;
+            c.k = s->k;
             c.road = (uint8_t)road;
             c.entering = entering;
             c.comp = 0;
