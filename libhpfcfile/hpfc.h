@@ -226,6 +226,185 @@ HPFC_API int hpfc_tree_get_pixel(const hpfc_tree *tree, uint32_t level,
                                  size_t image, uint32_t i, uint32_t j,
                                  hpfc_tree_pixel *out);
 
+
+/* ------------------------------------------------------------------------
+ * Writing .hpfc files (spec/hpfc-format.md).
+ * ------------------------------------------------------------------------ */
+
+/* Optional metadata recorded with a tree. */
+typedef struct hpfc_write_options {
+    const char *crs;          /* coordinate reference (e.g. "EPSG:32631" or a
+                                 projection description), NULL for none */
+} hpfc_write_options;
+
+/* Serialises the tree into a malloc'ed buffer (*out, *out_size); the caller
+ * frees it with free(). */
+HPFC_API int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts,
+                                 uint8_t **out, size_t *out_size, hpfc_diag *diag);
+
+/* Writes the tree to `path` atomically: a temporary file in the same
+ * directory, fsync, rename. On failure no partial file is left and an
+ * existing file at `path` is untouched. */
+HPFC_API int hpfc_tree_write_file(const hpfc_tree *tree, const hpfc_write_options *opts,
+                                  const char *path, hpfc_diag *diag);
+
+/* ------------------------------------------------------------------------
+ * Reading .hpfc files: a zero-copy reader over a memory-mapped file or a
+ * caller's buffer. Opening validates the header, level table and section
+ * directory in O(levels) and never decodes the pools; every later read is
+ * bounds-checked, so a corrupt file yields HPFC_E_CORRUPT (or another code),
+ * never a crash, an out-of-bounds read or an endless loop. Safe on
+ * untrusted input.
+ *
+ * Thread safety: an open hpfc_file is read-only; any number of threads may
+ * use one handle at once. hpfc_pixel values belong to their caller.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_file hpfc_file;
+
+/* Open flags. */
+#define HPFC_OPEN_SKIP_CHECKSUM 0x1u  /* do not verify the header checksum
+                                         (for fuzzing past it; all bounds are
+                                         still checked) */
+
+HPFC_API int hpfc_open(const char *path, unsigned flags, hpfc_file **out);
+/* The buffer must stay valid and unchanged until hpfc_close(). */
+HPFC_API int hpfc_open_memory(const void *data, size_t size, unsigned flags,
+                              hpfc_file **out);
+HPFC_API void hpfc_close(hpfc_file *file);
+
+/* Verifies every section checksum (reads the whole file). */
+HPFC_API int hpfc_verify_checksums(const hpfc_file *file);
+
+#define HPFC_MAX_LEVELS 48
+
+typedef struct hpfc_file_info {
+    uint16_t format_major, format_minor;
+    uint32_t compat_flags, incompat_flags;
+    uint32_t root_cols, root_rows, cols, rows;
+    uint32_t levels;
+    int64_t x0, y0, width, height;  /* domain, lattice units */
+    int32_t unit_exp10;             /* user coordinate = lattice * 10^unit_exp10 */
+    uint64_t file_size;
+    uint32_t section_count;
+    const char *crs;                /* NUL-free text, crs_len bytes; NULL if none */
+    size_t crs_len;
+} hpfc_file_info;
+
+typedef struct hpfc_level_info {
+    uint64_t word_pixels, refined_pixels, images;
+    uint32_t word_bits;     /* k_w: bits of one word slot */
+    uint32_t address_bits;  /* k_@: bits of one refined-pixel address */
+    uint64_t pool_offset;   /* byte offset of the level's pool in the file */
+    uint64_t pool_bits;     /* s^l */
+    int64_t cell_w, cell_h; /* pixel size at this level, lattice units */
+} hpfc_level_info;
+
+typedef struct hpfc_section_info {
+    char tag[5];            /* four characters, NUL-terminated */
+    uint32_t flags;
+    uint64_t offset, length;
+    uint32_t crc32c;
+} hpfc_section_info;
+
+HPFC_API void hpfc_file_get_info(const hpfc_file *file, hpfc_file_info *info);
+HPFC_API int hpfc_file_get_level(const hpfc_file *file, uint32_t level, hpfc_level_info *out);
+HPFC_API int hpfc_file_get_section(const hpfc_file *file, uint32_t index, hpfc_section_info *out);
+
+/* A pixel: the paper's stack of (image, i, j) triplets from the root. An
+ * image is named by its bit offset in its level's pool (the root is 0). */
+typedef struct hpfc_pixel {
+    uint32_t depth;  /* level of the pixel; path[0..depth] are valid */
+    struct {
+        uint64_t image;  /* bit offset of the image in its level's pool */
+        uint32_t i, j;   /* column (0 = west), row (0 = north) */
+    } path[HPFC_MAX_LEVELS];
+} hpfc_pixel;
+
+enum { HPFC_WEST = 0, HPFC_NORTH = 1, HPFC_EAST = 2, HPFC_SOUTH = 3 };
+
+/* Pixel (i, j) of the root image. */
+HPFC_API int hpfc_pixel_root(const hpfc_file *file, uint32_t i, uint32_t j, hpfc_pixel *out);
+/* HPFC_PIXEL_WORD or HPFC_PIXEL_REFINED. */
+HPFC_API int hpfc_pixel_type(const hpfc_file *file, const hpfc_pixel *px, int *type);
+/* Is the pixel a private word pixel (word "++++")? */
+HPFC_API int hpfc_pixel_is_private(const hpfc_file *file, const hpfc_pixel *px, int *is_private);
+/* Pixel (i, j) of the image a refined pixel points to (px may equal out). */
+HPFC_API int hpfc_pixel_child(const hpfc_file *file, const hpfc_pixel *px, uint32_t i,
+                              uint32_t j, hpfc_pixel *out);
+/* The refined pixel containing px (HPFC_E_NO_PIXEL at the root). */
+HPFC_API int hpfc_pixel_parent(const hpfc_pixel *px, hpfc_pixel *out);
+/* The first pixel adjacent to px in direction dir (paper Algorithm 1 and its
+ * three mirrors): at depths <= px's it keeps px's row (W/E) or column (N/S);
+ * deeper it takes the neighbour that comes first along the shared road in
+ * that neighbour's clockwise order. HPFC_E_NO_PIXEL at the domain border. */
+HPFC_API int hpfc_pixel_move(const hpfc_file *file, const hpfc_pixel *px, int dir,
+                             hpfc_pixel *out);
+/* The word pixel (leaf) containing lattice point (x, y), half-open cells. */
+HPFC_API int hpfc_locate(const hpfc_file *file, int64_t x, int64_t y, hpfc_pixel *out);
+/* Lattice bounds [x0, x1) x [y0, y1) of the pixel. */
+HPFC_API int hpfc_pixel_bounds(const hpfc_file *file, const hpfc_pixel *px, int64_t *x0,
+                               int64_t *y0, int64_t *x1, int64_t *y1);
+/* Decodes a word pixel's word in place into symbols "+=[]()Y". With
+ * buf == NULL (or too small), *len receives the length and HPFC_OK (or
+ * HPFC_E_ARG when cap is too small) is returned. */
+HPFC_API int hpfc_pixel_word(const hpfc_file *file, const hpfc_pixel *px, char *buf,
+                             size_t cap, size_t *len);
+
+/* ------------------------------------------------------------------------
+ * Graph traversal on an open file (spec/hpfc-format.md, "Traversal").
+ *
+ * The application sees the input graph's vertices and darts; crossings stay
+ * hidden. A dart is a directed edge u -> v; its handle is its first piece:
+ * the out-dart of crossing `crossing` in the word pixel holding u. Darts
+ * turn with the face on their right (rpfc-operators convention): next()
+ * follows a face's boundary clockwise around a bounded face.
+ *
+ * Traversal needs scratch memory sized by the file's longest word; it lives
+ * in an hpfc_walker, one per thread. Operators never allocate.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_walker hpfc_walker;
+
+HPFC_API int hpfc_walker_create(const hpfc_file *file, hpfc_walker **out);
+HPFC_API void hpfc_walker_free(hpfc_walker *walker);
+
+typedef struct hpfc_vertex {
+    hpfc_pixel pixel;   /* the word pixel holding the vertex */
+    uint32_t local;     /* rank of its component among the pixel's junctions */
+} hpfc_vertex;
+
+typedef struct hpfc_dart {
+    hpfc_pixel pixel;   /* the word pixel holding the dart's origin */
+    uint32_t crossing;  /* k: the dart leaves the pixel at its crossing k */
+} hpfc_dart;
+
+/* Number of vertices in a word pixel, and the index-th of them. */
+HPFC_API int hpfc_pixel_vertex_count(hpfc_walker *w, const hpfc_pixel *px, uint32_t *count);
+HPFC_API int hpfc_pixel_vertex(hpfc_walker *w, const hpfc_pixel *px, uint32_t index,
+                               hpfc_vertex *out);
+/* Degree (a loop counts twice) and the index-th outgoing dart, clockwise. */
+HPFC_API int hpfc_vertex_degree(hpfc_walker *w, const hpfc_vertex *v, uint32_t *degree);
+HPFC_API int hpfc_vertex_dart(hpfc_walker *w, const hpfc_vertex *v, uint32_t index,
+                              hpfc_dart *out);
+/* Opposite dart v -> u; next and previous dart along the same face. */
+HPFC_API int hpfc_dart_twin(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out);
+HPFC_API int hpfc_dart_next(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out);
+HPFC_API int hpfc_dart_prev(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out);
+/* Origin and target vertices. */
+HPFC_API int hpfc_dart_origin(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out);
+HPFC_API int hpfc_dart_target(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out);
+
+/* Stable identifiers, usable as hash keys: equal for the same vertex/dart
+ * whichever way it was reached, distinct otherwise, the same across opens
+ * of the same file. */
+HPFC_API uint64_t hpfc_vertex_key(const hpfc_file *file, const hpfc_vertex *v);
+HPFC_API uint64_t hpfc_dart_key(const hpfc_file *file, const hpfc_dart *d);
+
+/* Iteration over the word pixels of the file in depth-first order (each
+ * image in scanline order): start with hpfc_leaf_first, then call
+ * hpfc_leaf_next until it returns HPFC_E_NO_PIXEL. */
+HPFC_API int hpfc_leaf_first(const hpfc_file *file, hpfc_pixel *px);
+HPFC_API int hpfc_leaf_next(const hpfc_file *file, hpfc_pixel *px);
+
 #ifdef __cplusplus
 }
 #endif

@@ -659,6 +659,9 @@ static size_t load_expected(const char *root, expected_entry *list, size_t max)
     while (fgets(line, sizeof line, f)) {
         if (line[0] == '#' || line[0] == '\n')
             continue;
+        /* the .hpfc fixtures listed here belong to test_format */
+        if (sscanf(line, "%255s", name) == 1 && !has_pfc_suffix(name))
+            continue;
         int ok = sscanf(line, "%255s %63s", name, code) == 2 && code_of_name(code) >= 0;
         if (!ok)
             fprintf(stderr, "EXPECTED: bad line: %s", line);

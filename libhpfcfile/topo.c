@@ -1,0 +1,576 @@
+/*
+ * Graph traversal on an open file (spec/hpfc-format.md, "Traversal"):
+ * vertices and darts of the input graph, read straight from the pools.
+ *
+ * A word pixel's crossings are numbered k = 0..n-1 in word order. Each
+ * crossing carries an in-dart (entering the pixel) and an out-dart; inside a
+ * pixel next(in_k) = out_pred[k], where pred is the cyclic predecessor of k
+ * among its component's crossings (rpfc-operators §4).
+ *
+ * Crossing identification (paper Sect. 3.4) is done by one rule for its
+ * three cases: the crossings of the two sides of a shared road segment, read
+ * in opposite directions, are the same list. The leaves along a side are
+ * found by exact point location on the lattice, which is what the half-open
+ * pixels of the perturbation rule make possible.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+#include "reader.h"
+
+#define NONE UINT32_MAX
+
+/* The parsed structure of one word. */
+typedef struct local_word {
+    uint32_t n;              /* crossings */
+    uint32_t road_off[5];    /* first crossing of roads W, N, E, S; then n */
+    uint32_t ncomp, nvert;
+    uint32_t *comp;          /* per crossing */
+    uint32_t *pred, *succ;   /* per crossing, cyclic within its component */
+    uint32_t *comp_vertex;   /* per component: local vertex, NONE for a stabbing */
+    uint32_t *comp_first;    /* per component: first crossing (word order) */
+    uint32_t *comp_last;
+    uint32_t *comp_size;
+    uint32_t *vertex_comp;   /* per local vertex */
+    uint32_t *stack;
+    char *sym;
+} local_word;
+
+struct hpfc_walker {
+    const hpfc_file *file;
+    uint32_t cap;            /* most crossings of any word in the file */
+    uint64_t budget;         /* most stabbings a walk may follow */
+    local_word here, there;
+    char *scratch;           /* symbols of other leaves (road counts) */
+};
+
+static void local_free(local_word *lw)
+{
+    free(lw->comp), free(lw->pred), free(lw->succ), free(lw->comp_vertex);
+    free(lw->comp_first), free(lw->comp_last), free(lw->comp_size);
+    free(lw->vertex_comp), free(lw->stack), free(lw->sym);
+}
+
+static int local_alloc(local_word *lw, uint32_t cap)
+{
+    size_t n = (size_t)cap + 1;
+    lw->comp = malloc(n * sizeof(uint32_t));
+    lw->pred = malloc(n * sizeof(uint32_t));
+    lw->succ = malloc(n * sizeof(uint32_t));
+    lw->comp_vertex = malloc(n * sizeof(uint32_t));
+    lw->comp_first = malloc(n * sizeof(uint32_t));
+    lw->comp_last = malloc(n * sizeof(uint32_t));
+    lw->comp_size = malloc(n * sizeof(uint32_t));
+    lw->vertex_comp = malloc(n * sizeof(uint32_t));
+    lw->stack = malloc(n * sizeof(uint32_t));
+    lw->sym = malloc(n + 4);
+    if (!lw->comp || !lw->pred || !lw->succ || !lw->comp_vertex || !lw->comp_first ||
+        !lw->comp_last || !lw->comp_size || !lw->vertex_comp || !lw->stack || !lw->sym)
+        return HPFC_E_NOMEM;
+    return HPFC_OK;
+}
+
+int hpfc_walker_create(const hpfc_file *file, hpfc_walker **out)
+{
+    if (!file || !out)
+        return HPFC_E_ARG;
+    *out = NULL;
+    hpfc_walker *w = calloc(1, sizeof *w);
+    if (!w)
+        return HPFC_E_NOMEM;
+    w->file = file;
+    w->cap = reader_max_crossings(file);
+    w->budget = reader_total_crossings(file) + 1;
+    int st = local_alloc(&w->here, w->cap);
+    if (!st)
+        st = local_alloc(&w->there, w->cap);
+    if (!st && !(w->scratch = malloc((size_t)w->cap + 4)))
+        st = HPFC_E_NOMEM;
+    if (st) {
+        hpfc_walker_free(w);
+        return st;
+    }
+    *out = w;
+    return HPFC_OK;
+}
+
+void hpfc_walker_free(hpfc_walker *w)
+{
+    if (!w)
+        return;
+    local_free(&w->here);
+    local_free(&w->there);
+    free(w->scratch);
+    free(w);
+}
+
+/* ---- parsing a word ----------------------------------------------------- */
+
+static void add_crossing(local_word *lw, uint32_t k, uint32_t c)
+{
+    lw->comp[k] = c;
+    if (lw->comp_last[c] == NONE) {
+        lw->comp_first[c] = k;
+    } else {
+        lw->succ[lw->comp_last[c]] = k;
+        lw->pred[k] = lw->comp_last[c];
+    }
+    lw->comp_last[c] = k;
+    lw->comp_size[c]++;
+}
+
+static uint32_t new_component(local_word *lw, bool junction)
+{
+    uint32_t c = lw->ncomp++;
+    lw->comp_last[c] = NONE;
+    lw->comp_size[c] = 0;
+    lw->comp_vertex[c] = NONE;
+    if (junction) {
+        lw->vertex_comp[lw->nvert] = c;
+        lw->comp_vertex[c] = lw->nvert++;
+    }
+    return c;
+}
+
+/* Parses the grammar of rpfc-operators §2 with a stack; any violation is
+ * corruption of the file. */
+static int parse_symbols(local_word *lw, const char *sym, size_t len)
+{
+    uint32_t depth = 0, plus = 0;
+    lw->n = lw->ncomp = lw->nvert = 0;
+    lw->road_off[0] = 0;
+    for (size_t s = 0; s < len; s++) {
+        char c = sym[s];
+        if (c == '+') {
+            lw->road_off[++plus] = lw->n;
+            continue;
+        }
+        uint32_t k = lw->n++, top = depth ? lw->stack[depth - 1] : NONE;
+        switch (c) {
+        case '=': add_crossing(lw, k, new_component(lw, true)); break;
+        case '(':
+        case '[': {
+            uint32_t comp = new_component(lw, c == '(');
+            lw->stack[depth++] = comp;
+            add_crossing(lw, k, comp);
+            break;
+        }
+        case 'Y':
+            if (top == NONE || lw->comp_vertex[top] == NONE)
+                return HPFC_E_CORRUPT;
+            add_crossing(lw, k, top);
+            break;
+        default: /* ')' or ']' */
+            if (top == NONE || (lw->comp_vertex[top] == NONE) != (c == ']'))
+                return HPFC_E_CORRUPT;
+            depth--;
+            add_crossing(lw, k, top);
+        }
+    }
+    if (plus != 4 || depth != 0)
+        return HPFC_E_CORRUPT;
+    for (uint32_t comp = 0; comp < lw->ncomp; comp++) {
+        lw->pred[lw->comp_first[comp]] = lw->comp_last[comp];
+        lw->succ[lw->comp_last[comp]] = lw->comp_first[comp];
+    }
+    return HPFC_OK;
+}
+
+static int parse_pixel(const hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
+{
+    size_t len;
+    int st = hpfc_pixel_word(w->file, px, lw->sym, (size_t)w->cap + 4, &len);
+    if (st)
+        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+    return parse_symbols(lw, lw->sym, len);
+}
+
+/* Crossings on one road of a word pixel, from its symbols. */
+static int road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count)
+{
+    size_t len;
+    int st = hpfc_pixel_word(w->file, px, w->scratch, (size_t)w->cap + 4, &len);
+    if (st)
+        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+    int r = 0;
+    *count = 0;
+    for (size_t s = 0; s < len && r <= road; s++) {
+        if (w->scratch[s] == '+')
+            r++;
+        else if (r == road)
+            (*count)++;
+    }
+    return HPFC_OK;
+}
+
+/* ---- crossing identification -------------------------------------------- */
+
+typedef struct box {
+    int64_t x0, y0, x1, y1;
+} box;
+
+static int leaf_box(const hpfc_file *f, const hpfc_pixel *px, box *b)
+{
+    return hpfc_pixel_bounds(f, px, &b->x0, &b->y0, &b->x1, &b->y1);
+}
+
+/* The lattice point at position t along road `road` of box b, on b's side
+ * (inside = true) or just across the road. */
+static void road_point(const box *b, int road, int64_t t, bool inside, int64_t *x, int64_t *y)
+{
+    switch (road) {
+    case HPFC_WEST: *x = inside ? b->x0 : b->x0 - 1, *y = t; break;
+    case HPFC_EAST: *x = inside ? b->x1 - 1 : b->x1, *y = t; break;
+    case HPFC_NORTH: *x = t, *y = inside ? b->y1 - 1 : b->y1; break;
+    default: *x = t, *y = inside ? b->y0 : b->y0 - 1; break;
+    }
+}
+
+/* Extent of box b along the line of `road`: [lo, hi). */
+static void road_extent(const box *b, int road, int64_t *lo, int64_t *hi)
+{
+    bool vertical = road == HPFC_WEST || road == HPFC_EAST;
+    *lo = vertical ? b->y0 : b->x0;
+    *hi = vertical ? b->y1 : b->x1;
+}
+
+/* Does the road run toward increasing coordinates in its own clockwise
+ * order? W runs north, N east, E south, S west. */
+static bool road_ascends(int road)
+{
+    return road == HPFC_WEST || road == HPFC_NORTH;
+}
+
+static int locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, bool inside,
+                          hpfc_pixel *out, box *out_box)
+{
+    int64_t x, y;
+    road_point(b, road, t, inside, &x, &y);
+    int st = hpfc_locate(f, x, y, out);
+    if (!st)
+        st = leaf_box(f, out, out_box);
+    return st == HPFC_E_NO_PIXEL ? HPFC_E_CORRUPT : st;
+}
+
+/* Crossing k of word pixel P (parsed in lw), seen from the other side of its
+ * road: the word pixel Q and Q's crossing index *m. */
+static int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k,
+                      hpfc_pixel *q, uint32_t *m)
+{
+    const hpfc_file *f = w->file;
+    int road = 0;
+    while (road < 3 && k >= lw->road_off[road + 1])
+        road++;
+    int opposite = (road + 2) % 4;
+    uint32_t c = lw->road_off[road + 1] - lw->road_off[road];
+    uint32_t after = c - 1 - (k - lw->road_off[road]); /* crossings after k on P's road */
+    box pb, qb;
+    int st = leaf_box(f, p, &pb);
+    int64_t lo, hi, qlo, qhi;
+    road_extent(&pb, road, &lo, &hi);
+    if (!st)
+        st = locate_on_road(f, &pb, road, lo, false, q, &qb);
+    if (st)
+        return st;
+    road_extent(&qb, road, &qlo, &qhi);
+    uint32_t count;
+    if (qlo <= lo && qhi >= hi) {
+        /* Q spans P's whole side: add the crossings of the leaves on P's
+         * side that follow P along Q's side, in P's clockwise order */
+        uint64_t index = after;
+        bool up = road_ascends(road);
+        int64_t t = up ? hi : lo - 1;
+        for (uint64_t steps = 0; up ? t < qhi : t >= qlo; steps++) {
+            hpfc_pixel l;
+            box lb;
+            if (steps > w->budget || (st = locate_on_road(f, &pb, road, t, true, &l, &lb)))
+                return st ? st : HPFC_E_CORRUPT;
+            if ((st = road_count(w, &l, road, &count)))
+                return st;
+            index += count;
+            int64_t llo, lhi;
+            road_extent(&lb, road, &llo, &lhi);
+            t = up ? lhi : llo - 1;
+        }
+        if ((st = road_count(w, q, opposite, &count)))
+            return st;
+        if (index >= count)
+            return HPFC_E_CORRUPT;
+        *m = (uint32_t)index;
+        return HPFC_OK;
+    }
+    /* Smaller leaves across: walk them in their own clockwise order along
+     * P's side until the crossing's rank falls inside one of them. */
+    uint64_t rank = after;
+    bool up = road_ascends(opposite);
+    int64_t t = up ? lo : hi - 1;
+    for (uint64_t steps = 0; up ? t < hi : t >= lo; steps++) {
+        if (steps > w->budget || (st = locate_on_road(f, &pb, road, t, false, q, &qb)))
+            return st ? st : HPFC_E_CORRUPT;
+        if ((st = road_count(w, q, opposite, &count)))
+            return st;
+        if (rank < count) {
+            *m = (uint32_t)rank;
+            return HPFC_OK;
+        }
+        rank -= count;
+        road_extent(&qb, road, &qlo, &qhi);
+        t = up ? qhi : qlo - 1;
+    }
+    return HPFC_E_CORRUPT;
+}
+
+/* ---- darts -------------------------------------------------------------- */
+
+static int copy_pixel(hpfc_pixel *dst, const hpfc_pixel *src)
+{
+    if (src->depth >= HPFC_MAX_LEVELS)
+        return HPFC_E_ARG;
+    dst->depth = src->depth;
+    memcpy(dst->path, src->path, (src->depth + 1) * sizeof src->path[0]);
+    return HPFC_OK;
+}
+
+/* Parses the dart's pixel into w->here and checks the dart names a
+ * crossing of a junction there. */
+static int load_dart(hpfc_walker *w, const hpfc_dart *d)
+{
+    int st = parse_pixel(w, &w->here, &d->pixel);
+    if (st)
+        return st;
+    if (d->crossing >= w->here.n || w->here.comp_vertex[w->here.comp[d->crossing]] == NONE)
+        return HPFC_E_ARG;
+    return HPFC_OK;
+}
+
+/* Follows dart d (parsed in w->here) through its stabbings to the pixel of
+ * its target vertex: on return w->there holds that pixel, *end the pixel
+ * and *m the crossing where the edge enters it (in_m). */
+static int walk(hpfc_walker *w, const hpfc_dart *d, hpfc_pixel *end, uint32_t *m)
+{
+    hpfc_pixel cur;
+    int st = copy_pixel(&cur, &d->pixel);
+    uint32_t k = d->crossing;
+    const local_word *at = &w->here;
+    local_word *next = &w->there, *spare = &w->here;
+    for (uint64_t steps = 0; !st; steps++) {
+        if (steps > w->budget)
+            return HPFC_E_CORRUPT;
+        uint32_t index;
+        if ((st = cross_road(w, &cur, at, k, end, &index)))
+            break;
+        int road = 0;
+        while (road < 3 && k >= at->road_off[road + 1])
+            road++;
+        if ((st = parse_pixel(w, next, end)))
+            break;
+        uint32_t mm = next->road_off[(road + 2) % 4] + index;
+        if (mm >= next->road_off[(road + 2) % 4 + 1])
+            return HPFC_E_CORRUPT;
+        if (next->comp_vertex[next->comp[mm]] != NONE) {
+            if (next != &w->there) { /* keep the answer in w->there */
+                local_word t = w->there;
+                w->there = w->here;
+                w->here = t;
+            }
+            *m = mm;
+            return HPFC_OK;
+        }
+        /* a stabbing: leave through its other crossing */
+        k = next->succ[mm];
+        st = copy_pixel(&cur, end);
+        at = next;
+        local_word *t = next;
+        next = spare;
+        spare = t;
+    }
+    return st;
+}
+
+int hpfc_dart_twin(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
+{
+    if (!w || !d || !out)
+        return HPFC_E_ARG;
+    hpfc_pixel end;
+    uint32_t m;
+    int st = load_dart(w, d);
+    if (!st)
+        st = walk(w, d, &end, &m);
+    if (st)
+        return st;
+    out->crossing = m;
+    return copy_pixel(&out->pixel, &end);
+}
+
+int hpfc_dart_next(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
+{
+    if (!w || !d || !out)
+        return HPFC_E_ARG;
+    hpfc_pixel end;
+    uint32_t m;
+    int st = load_dart(w, d);
+    if (!st)
+        st = walk(w, d, &end, &m);
+    if (st)
+        return st;
+    out->crossing = w->there.pred[m];  /* next(in_m) = out_pred[m] */
+    return copy_pixel(&out->pixel, &end);
+}
+
+int hpfc_dart_prev(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
+{
+    if (!w || !d || !out)
+        return HPFC_E_ARG;
+    int st = load_dart(w, d);
+    if (st)
+        return st;
+    hpfc_dart before;  /* prev(out_k) = twin(out_succ[k]) */
+    before.crossing = w->here.succ[d->crossing];
+    if ((st = copy_pixel(&before.pixel, &d->pixel)))
+        return st;
+    return hpfc_dart_twin(w, &before, out);
+}
+
+int hpfc_dart_origin(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out)
+{
+    if (!w || !d || !out)
+        return HPFC_E_ARG;
+    int st = load_dart(w, d);
+    if (st)
+        return st;
+    out->local = w->here.comp_vertex[w->here.comp[d->crossing]];
+    return copy_pixel(&out->pixel, &d->pixel);
+}
+
+int hpfc_dart_target(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out)
+{
+    hpfc_dart t;
+    int st = hpfc_dart_twin(w, d, &t);
+    return st ? st : hpfc_dart_origin(w, &t, out);
+}
+
+/* ---- vertices ----------------------------------------------------------- */
+
+int hpfc_pixel_vertex_count(hpfc_walker *w, const hpfc_pixel *px, uint32_t *count)
+{
+    if (!w || !px || !count)
+        return HPFC_E_ARG;
+    int st = parse_pixel(w, &w->here, px);
+    if (!st)
+        *count = w->here.nvert;
+    return st;
+}
+
+int hpfc_pixel_vertex(hpfc_walker *w, const hpfc_pixel *px, uint32_t index, hpfc_vertex *out)
+{
+    uint32_t count;
+    int st = hpfc_pixel_vertex_count(w, px, &count);
+    if (st)
+        return st;
+    if (index >= count || !out)
+        return HPFC_E_ARG;
+    out->local = index;
+    return copy_pixel(&out->pixel, px);
+}
+
+static int load_vertex(hpfc_walker *w, const hpfc_vertex *v)
+{
+    int st = parse_pixel(w, &w->here, &v->pixel);
+    if (!st && v->local >= w->here.nvert)
+        st = HPFC_E_ARG;
+    return st;
+}
+
+int hpfc_vertex_degree(hpfc_walker *w, const hpfc_vertex *v, uint32_t *degree)
+{
+    if (!w || !v || !degree)
+        return HPFC_E_ARG;
+    int st = load_vertex(w, v);
+    if (!st)
+        *degree = w->here.comp_size[w->here.vertex_comp[v->local]];
+    return st;
+}
+
+int hpfc_vertex_dart(hpfc_walker *w, const hpfc_vertex *v, uint32_t index, hpfc_dart *out)
+{
+    if (!w || !v || !out)
+        return HPFC_E_ARG;
+    int st = load_vertex(w, v);
+    if (st)
+        return st;
+    uint32_t comp = w->here.vertex_comp[v->local];
+    if (index >= w->here.comp_size[comp])
+        return HPFC_E_ARG;
+    uint32_t k = w->here.comp_first[comp];
+    for (uint32_t s = 0; s < index; s++)  /* word order is clockwise around the vertex */
+        k = w->here.succ[k];
+    out->crossing = k;
+    return copy_pixel(&out->pixel, &v->pixel);
+}
+
+/* ---- identifiers and iteration ------------------------------------------ */
+
+uint64_t hpfc_vertex_key(const hpfc_file *f, const hpfc_vertex *v)
+{
+    uint64_t slot = 0;
+    reader_pixel_slot_bit(f, &v->pixel, &slot);
+    return slot << 20 | (v->local & 0xFFFFFu);
+}
+
+uint64_t hpfc_dart_key(const hpfc_file *f, const hpfc_dart *d)
+{
+    uint64_t slot = 0;
+    reader_pixel_slot_bit(f, &d->pixel, &slot);
+    return slot << 20 | (d->crossing & 0xFFFFFu);
+}
+
+/* Descends from px to the first leaf below it (pixel (0,0) of each image). */
+static int first_leaf_below(const hpfc_file *f, hpfc_pixel *px)
+{
+    for (;;) {
+        int type, st = hpfc_pixel_type(f, px, &type);
+        if (st || type == HPFC_PIXEL_WORD)
+            return st;
+        if ((st = hpfc_pixel_child(f, px, 0, 0, px)))
+            return st;
+    }
+}
+
+int hpfc_leaf_first(const hpfc_file *f, hpfc_pixel *px)
+{
+    if (!f || !px)
+        return HPFC_E_ARG;
+    int st = hpfc_pixel_root(f, 0, 0, px);
+    return st ? st : first_leaf_below(f, px);
+}
+
+int hpfc_leaf_next(const hpfc_file *f, hpfc_pixel *px)
+{
+    if (!f || !px || px->depth >= HPFC_MAX_LEVELS)
+        return HPFC_E_ARG;
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    for (;;) {
+        uint32_t d = px->depth;
+        uint32_t cols = d ? info.cols : info.root_cols, rows = d ? info.rows : info.root_rows;
+        uint32_t i = px->path[d].i, j = px->path[d].j;
+        if (i + 1 < cols || j + 1 < rows) {
+            i = i + 1 < cols ? i + 1 : 0;
+            j = i == 0 ? j + 1 : j;
+            int st;
+            if (d == 0) {
+                st = hpfc_pixel_root(f, i, j, px);
+            } else {
+                hpfc_pixel parent;
+                st = hpfc_pixel_parent(px, &parent);
+                if (!st)
+                    st = hpfc_pixel_child(f, &parent, i, j, px);
+            }
+            return st ? st : first_leaf_below(f, px);
+        }
+        if (d == 0)
+            return HPFC_E_NO_PIXEL;
+        px->depth--;
+    }
+}

@@ -1,0 +1,485 @@
+/*
+ * The .hpfc writer (spec/hpfc-format.md): lays an in-memory tree out as
+ * header, level table, section directory, then the POOL section (every
+ * level's pool, level 0 first) and the optional CRS section.
+ *
+ * The tree is read through the public hpfc_tree_* accessors only, in three
+ * passes: count (n_w, n_@, k_w and each image's refined pixels), size (k_@
+ * and s bottom-up, then each image's bit offset), and emit.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "format.h"
+#include "internal.h"
+
+typedef struct layout {
+    const hpfc_tree *tree;
+    hpfc_tree_info info;
+    format_level lv[HPFC_MAX_LEVELS];
+    /* Per level >= 1: first the refined pixels of each image, then (after
+     * sizing) the bit offset of each image in the level's pool. */
+    uint64_t *image_off[HPFC_MAX_LEVELS];
+    uint64_t pool_offset[HPFC_MAX_LEVELS]; /* byte offset in the file */
+    uint32_t section_count;
+    uint64_t meta_size, pool_section, pool_length, crs_offset, crs_length, file_size;
+    const char *crs;
+} layout;
+
+static uint32_t image_cols(const layout *L, uint32_t level)
+{
+    return level ? L->info.cols : L->info.root_cols;
+}
+
+static uint32_t image_rows(const layout *L, uint32_t level)
+{
+    return level ? L->info.rows : L->info.root_rows;
+}
+
+static void layout_free(layout *L)
+{
+    for (uint32_t l = 0; l < HPFC_MAX_LEVELS; l++)
+        free(L->image_off[l]);
+}
+
+/* ---- pass 1: counts ------------------------------------------------------ */
+
+/* Bits of a word's code; 0 when the word is not a sequence of symbols
+ * ending at its fourth '+' (the builder never makes one). */
+static uint64_t word_code_bits(const char *word, uint32_t len)
+{
+    uint64_t bits = 0;
+    unsigned plus = 0;
+    for (uint32_t k = 0; k < len; k++) {
+        if (plus == 4)
+            return 0;
+        if (word[k] == '+') {
+            plus++;
+            bits += 1;
+        } else if (format_symbol_code(word[k]) >= 0) {
+            bits += 4;
+        } else {
+            return 0;
+        }
+    }
+    return plus == 4 ? bits : 0;
+}
+
+static int count_pixel(layout *L, uint32_t level, size_t image, const hpfc_tree_pixel *px,
+                       hpfc_diag *diag)
+{
+    format_level *lv = &L->lv[level];
+    if (px->type == HPFC_PIXEL_REFINED) {
+        if (level + 1 >= L->info.levels || px->child >= hpfc_tree_image_count(L->tree, level + 1))
+            return diag_set(diag, HPFC_E_ARG, "tree: a refined pixel of level %u has no child image",
+                            level);
+        lv->refined_pixels++;
+        if (level > 0)
+            L->image_off[level][image]++;
+        return HPFC_OK;
+    }
+    uint64_t bits = word_code_bits(px->word, px->word_len);
+    if (bits == 0)
+        return diag_set(diag, HPFC_E_ARG, "tree: malformed word at level %u", level);
+    if (bits > FORMAT_MAX_WORD_BITS)
+        return diag_set(diag, HPFC_E_LIMIT, "a word of %llu bits exceeds the format's 2^24-bit slots",
+                        (unsigned long long)bits);
+    lv->word_pixels++;
+    if (bits > lv->word_bits)
+        lv->word_bits = (uint32_t)bits;
+    return HPFC_OK;
+}
+
+static int count_level(layout *L, uint32_t level, hpfc_diag *diag)
+{
+    size_t images = hpfc_tree_image_count(L->tree, level);
+    L->lv[level].images = images;
+    if (level > 0) {
+        L->image_off[level] = calloc(images ? images : 1, sizeof(uint64_t));
+        if (!L->image_off[level])
+            return diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    }
+    for (size_t im = 0; im < images; im++)
+        for (uint32_t j = 0; j < image_rows(L, level); j++)
+            for (uint32_t i = 0; i < image_cols(L, level); i++) {
+                hpfc_tree_pixel px;
+                int st = hpfc_tree_get_pixel(L->tree, level, im, i, j, &px);
+                if (st)
+                    return diag_set(diag, st, "tree: cannot read a pixel of level %u", level);
+                if ((st = count_pixel(L, level, im, &px, diag)))
+                    return st;
+            }
+    return HPFC_OK;
+}
+
+/* ---- pass 2: sizes and placement ------------------------------------------ */
+
+/* Turns each image's refined-pixel count into its bit offset in the pool. */
+static void place_images(layout *L, uint32_t level)
+{
+    const format_level *lv = &L->lv[level];
+    uint64_t ppi = (uint64_t)L->info.cols * L->info.rows, off = 0;
+    for (size_t im = 0; im < lv->images; im++) {
+        uint64_t refined = L->image_off[level][im];
+        L->image_off[level][im] = off;
+        off += ppi + refined * lv->address_bits + (ppi - refined) * lv->word_bits;
+    }
+}
+
+static int size_levels(layout *L, hpfc_diag *diag)
+{
+    uint64_t root = (uint64_t)L->info.root_cols * L->info.root_rows;
+    uint64_t ppi = (uint64_t)L->info.cols * L->info.rows;
+    if (!format_level_sizes(L->lv, L->info.levels, root, ppi))
+        return diag_set(diag, HPFC_E_LIMIT, "the pools exceed 2^64 bits");
+    for (uint32_t l = 1; l < L->info.levels; l++)
+        place_images(L, l);
+    return HPFC_OK;
+}
+
+/* Header, level table and directory, then the POOL section (pools on 8-byte
+ * boundaries, the section ending with the last pool's last byte), then CRS. */
+static int place_sections(layout *L, hpfc_diag *diag)
+{
+    L->section_count = 1 + (L->crs != NULL);
+    L->meta_size = FORMAT_HEADER_SIZE + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * L->info.levels +
+                   (uint64_t)FORMAT_SECTION_ENTRY_SIZE * L->section_count;
+    L->pool_section = format_align8(L->meta_size);
+    uint64_t at = L->pool_section, end = at;
+    for (uint32_t l = 0; l < L->info.levels; l++) {
+        uint64_t bytes = format_pool_bytes(L->lv[l].pool_bits);
+        L->pool_offset[l] = at;
+        if (!format_add(at, bytes, &end) || end > (uint64_t)1 << 62)
+            return diag_set(diag, HPFC_E_LIMIT, "the file would exceed 2^62 bytes");
+        at = format_align8(end);
+    }
+    L->pool_length = end - L->pool_section;
+    L->file_size = end;
+    if (L->crs) {
+        L->crs_offset = format_align8(end);
+        L->crs_length = strlen(L->crs);
+        L->file_size = L->crs_offset + L->crs_length;
+    }
+#if SIZE_MAX < UINT64_MAX
+    if (L->file_size > SIZE_MAX)
+        return diag_set(diag, HPFC_E_NOMEM, "the file does not fit in memory");
+#endif
+    return HPFC_OK;
+}
+
+/* ---- pass 3: emit ---------------------------------------------------------- */
+
+static void put_word(uint8_t *pool, uint64_t off, const hpfc_tree_pixel *px)
+{
+    for (uint32_t k = 0; k < px->word_len; k++) {
+        int code = format_symbol_code(px->word[k]);
+        if (code < 0) { /* '+' is the bit 0 of the zeroed pool */
+            off += 1;
+        } else {
+            format_put(pool, off, 4, (uint64_t)code);
+            off += 4;
+        }
+    }
+}
+
+static uint64_t child_address(const layout *L, uint32_t level, const hpfc_tree_pixel *px)
+{
+    return L->image_off[level + 1][px->child];
+}
+
+/* Level 0: fixed records of 1 + max(k_@, k_w) bits in scanline order. */
+static void emit_root(const layout *L, uint8_t *pool)
+{
+    const format_level *lv = &L->lv[0];
+    uint64_t record = 1 + (uint64_t)(lv->address_bits > lv->word_bits ? lv->address_bits : lv->word_bits);
+    for (uint32_t j = 0; j < L->info.root_rows; j++)
+        for (uint32_t i = 0; i < L->info.root_cols; i++) {
+            hpfc_tree_pixel px;
+            hpfc_tree_get_pixel(L->tree, 0, 0, i, j, &px);
+            uint64_t off = ((uint64_t)j * L->info.root_cols + i) * record;
+            if (px.type == HPFC_PIXEL_REFINED) {
+                format_put(pool, off, 1, 1);
+                format_put(pool, off + 1, lv->address_bits, child_address(L, 0, &px));
+            } else {
+                put_word(pool, off + 1, &px);
+            }
+        }
+}
+
+/* Levels >= 1: per image, the type mask, then the slots in scanline order. */
+static void emit_level(const layout *L, uint32_t level, uint8_t *pool)
+{
+    const format_level *lv = &L->lv[level];
+    uint32_t cols = L->info.cols, rows = L->info.rows;
+    for (size_t im = 0; im < lv->images; im++) {
+        uint64_t mask = L->image_off[level][im], slot = mask + (uint64_t)cols * rows;
+        for (uint32_t j = 0; j < rows; j++)
+            for (uint32_t i = 0; i < cols; i++, mask++) {
+                hpfc_tree_pixel px;
+                hpfc_tree_get_pixel(L->tree, level, im, i, j, &px);
+                if (px.type == HPFC_PIXEL_REFINED) {
+                    format_put(pool, mask, 1, 1);
+                    format_put(pool, slot, lv->address_bits, child_address(L, level, &px));
+                    slot += lv->address_bits;
+                } else {
+                    put_word(pool, slot, &px);
+                    slot += lv->word_bits;
+                }
+            }
+    }
+}
+
+static void emit_header(const layout *L, uint8_t *h)
+{
+    const hpfc_tree_info *t = &L->info;
+    memcpy(h + hdr_OFF_magic, FORMAT_MAGIC, FORMAT_MAGIC_SIZE);
+    hdr_set_format_major(h, FORMAT_MAJOR);
+    hdr_set_format_minor(h, FORMAT_MINOR);
+    hdr_set_header_size(h, FORMAT_HEADER_SIZE);
+    hdr_set_compat_flags(h, 0);
+    hdr_set_incompat_flags(h, 0);
+    hdr_set_root_cols(h, t->root_cols);
+    hdr_set_root_rows(h, t->root_rows);
+    hdr_set_cols(h, t->cols);
+    hdr_set_rows(h, t->rows);
+    hdr_set_levels(h, t->levels);
+    hdr_set_section_count(h, L->section_count);
+    hdr_set_x0(h, t->x0);
+    hdr_set_y0(h, t->y0);
+    hdr_set_width(h, t->width);
+    hdr_set_height(h, t->height);
+    hdr_set_unit_exp10(h, t->unit_exp10);
+    hdr_set_file_size(h, L->file_size);
+    hdr_set_meta_size(h, L->meta_size);
+}
+
+static void emit_level_table(const layout *L, uint8_t *file)
+{
+    for (uint32_t l = 0; l < L->info.levels; l++) {
+        uint8_t *e = file + FORMAT_HEADER_SIZE + (size_t)l * FORMAT_LEVEL_ENTRY_SIZE;
+        const format_level *lv = &L->lv[l];
+        lvl_set_word_pixels(e, lv->word_pixels);
+        lvl_set_refined_pixels(e, lv->refined_pixels);
+        lvl_set_images(e, lv->images);
+        lvl_set_word_bits(e, lv->word_bits);
+        lvl_set_address_bits(e, lv->address_bits);
+        lvl_set_pool_offset(e, L->pool_offset[l]);
+        lvl_set_pool_bits(e, lv->pool_bits);
+    }
+}
+
+static void emit_section(uint8_t *file, uint32_t index, const char *tag, uint32_t flags, uint64_t offset,
+                         uint64_t length, uint32_t levels)
+{
+    uint8_t *e = file + FORMAT_HEADER_SIZE + (size_t)levels * FORMAT_LEVEL_ENTRY_SIZE +
+                 (size_t)index * FORMAT_SECTION_ENTRY_SIZE;
+    memcpy(e + sec_OFF_tag, tag, sec_SIZE_tag);
+    sec_set_flags(e, flags);
+    sec_set_offset(e, offset);
+    sec_set_length(e, length);
+    sec_set_crc32c(e, crc32c_update(0, file + offset, (size_t)length));
+}
+
+static void emit(const layout *L, uint8_t *file)
+{
+    emit_root(L, file + L->pool_offset[0]);
+    for (uint32_t l = 1; l < L->info.levels; l++)
+        emit_level(L, l, file + L->pool_offset[l]);
+    if (L->crs)
+        memcpy(file + L->crs_offset, L->crs, (size_t)L->crs_length);
+    emit_header(L, file);
+    emit_level_table(L, file);
+    emit_section(file, 0, FORMAT_TAG_POOL, FORMAT_SECTION_REQUIRED, L->pool_section, L->pool_length,
+                 L->info.levels);
+    if (L->crs)
+        emit_section(file, 1, FORMAT_TAG_CRS, 0, L->crs_offset, L->crs_length, L->info.levels);
+    hdr_set_meta_crc32c(file, format_meta_crc(file, L->meta_size));
+}
+
+/* ---- entry points ------------------------------------------------------------ */
+
+static int check_tree_info(const hpfc_tree_info *t, hpfc_diag *diag)
+{
+    if (t->levels < 1 || t->levels > HPFC_MAX_LEVELS)
+        return diag_set(diag, HPFC_E_LIMIT, "a tree of %u levels (the format allows 1 to %d)", t->levels,
+                        HPFC_MAX_LEVELS);
+    if (t->root_cols < 1 || t->root_rows < 1 || t->cols < 2 || t->rows < 2 ||
+        (uint64_t)t->root_cols * t->root_rows > FORMAT_MAX_ROOT_PIXELS ||
+        (uint64_t)t->cols * t->rows > FORMAT_MAX_IMAGE_PIXELS)
+        return diag_set(diag, HPFC_E_LIMIT, "image sizes outside the format's range");
+    if (t->width < 1 || t->height < 1 || t->width > FORMAT_MAX_EXTENT || t->height > FORMAT_MAX_EXTENT ||
+        t->x0 < -FORMAT_MAX_ORIGIN || t->x0 > FORMAT_MAX_ORIGIN || t->y0 < -FORMAT_MAX_ORIGIN ||
+        t->y0 > FORMAT_MAX_ORIGIN || t->unit_exp10 < FORMAT_MIN_UNIT_EXP10 ||
+        t->unit_exp10 > FORMAT_MAX_UNIT_EXP10)
+        return diag_set(diag, HPFC_E_LIMIT, "domain or unit outside the format's range");
+    return HPFC_OK;
+}
+
+int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, uint8_t **out,
+                        size_t *out_size, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!tree || !out || !out_size)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: NULL argument");
+    *out = NULL;
+    *out_size = 0;
+    layout L = {.tree = tree, .crs = opts ? opts->crs : NULL};
+    hpfc_tree_get_info(tree, &L.info);
+    int st = check_tree_info(&L.info, diag);
+    for (uint32_t l = 0; l < L.info.levels && !st; l++)
+        st = count_level(&L, l, diag);
+    if (!st)
+        st = size_levels(&L, diag);
+    if (!st)
+        st = place_sections(&L, diag);
+    uint8_t *file = NULL;
+    if (!st && !(file = calloc(1, (size_t)L.file_size)))
+        st = diag_set(diag, HPFC_E_NOMEM, "out of memory for a %llu-byte file",
+                      (unsigned long long)L.file_size);
+    if (!st) {
+        emit(&L, file);
+        *out = file;
+        *out_size = (size_t)L.file_size;
+    }
+    layout_free(&L);
+    return st;
+}
+
+/* ---- atomic file output ------------------------------------------------------ */
+
+static int io_error(hpfc_diag *diag, const char *what, const char *path, int err)
+{
+    return diag_set(diag, HPFC_E_IO, "cannot %s %s: %s", what, path, strerror(err));
+}
+
+/* Splits path into its directory (".", "/" or "dir") and its last name. */
+static int split_path(const char *path, char **dir, const char **base)
+{
+    const char *slash = strrchr(path, '/');
+    size_t dlen = slash ? (size_t)(slash - path) : 1;
+    if (slash && dlen == 0)
+        dlen = 1; /* "/name": the root directory */
+    *dir = malloc(dlen + 1);
+    if (!*dir)
+        return HPFC_E_NOMEM;
+    memcpy(*dir, slash ? path : ".", dlen);
+    (*dir)[dlen] = '\0';
+    *base = slash ? slash + 1 : path;
+    return HPFC_OK;
+}
+
+static uint64_t mix64(uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+    return z ^ (z >> 31);
+}
+
+/* Creates "<dir>/.<base>.XXXXXXXXXXXX.tmp" exclusively, like mkstemp, but
+ * with mode 0666 so the umask gives the file its usual permissions. */
+static int create_temp(const char *dir, const char *base, char **tmp, int *fd)
+{
+    size_t cap = strlen(dir) + strlen(base) + 32;
+    *tmp = malloc(cap);
+    if (!*tmp)
+        return HPFC_E_NOMEM;
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    uint64_t seed = (uint64_t)ts.tv_nsec ^ (uint64_t)ts.tv_sec << 30 ^ (uint64_t)getpid() << 16 ^
+                    (uint64_t)(uintptr_t)&ts;
+    for (int attempt = 0; attempt < 64; attempt++) {
+        seed = mix64(seed + (uint64_t)attempt);
+        snprintf(*tmp, cap, "%s/.%s.%012llx.tmp", dir, base,
+                 (unsigned long long)(seed & 0xffffffffffffu));
+        *fd = open(*tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (*fd >= 0 || errno != EEXIST)
+            return HPFC_OK;
+    }
+    return HPFC_OK; /* *fd < 0 with errno == EEXIST */
+}
+
+static int write_all(int fd, const uint8_t *buf, size_t size)
+{
+    while (size > 0) {
+        ssize_t n = write(fd, buf, size);
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            return errno;
+        }
+        buf += n;
+        size -= (size_t)n;
+    }
+    return 0;
+}
+
+/* Makes the rename durable. Some file systems refuse fsync on a directory
+ * (EINVAL); the rename has happened by then, so only real errors count. */
+static int sync_dir(const char *dir)
+{
+    int fd = open(dir, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return errno;
+    int err = fsync(fd) ? errno : 0;
+    close(fd);
+    return err == EINVAL || err == ENOTSUP ? 0 : err;
+}
+
+/* Writes, syncs and closes the temporary file (fd is closed in any case). */
+static int fill_temp(int fd, const char *tmp, const uint8_t *buf, size_t size, hpfc_diag *diag)
+{
+    int err = write_all(fd, buf, size);
+    if (!err && fsync(fd))
+        err = errno;
+    if (close(fd) && !err)
+        err = errno;
+    return err ? io_error(diag, "write", tmp, err) : HPFC_OK;
+}
+
+static int write_atomic(const char *path, const uint8_t *buf, size_t size, hpfc_diag *diag)
+{
+    char *dir = NULL, *tmp = NULL;
+    const char *base;
+    if (split_path(path, &dir, &base))
+        return diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    int fd = -1, st, err;
+    if (*base == '\0') {
+        st = diag_set(diag, HPFC_E_ARG, "%s: not a file name", path);
+    } else if (create_temp(dir, base, &tmp, &fd)) {
+        st = diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    } else if (fd < 0) {
+        st = io_error(diag, "create a temporary file in", dir, errno);
+    } else {
+        st = fill_temp(fd, tmp, buf, size, diag);
+        if (!st && rename(tmp, path))
+            st = io_error(diag, "replace", path, errno);
+        if (st)
+            unlink(tmp); /* ours: created with O_EXCL, and not renamed */
+        else if ((err = sync_dir(dir)))
+            st = io_error(diag, "sync the directory of", path, err);
+    }
+    free(dir);
+    free(tmp);
+    return st;
+}
+
+int hpfc_tree_write_file(const hpfc_tree *tree, const hpfc_write_options *opts, const char *path,
+                         hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!path)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_write_file: NULL path");
+    uint8_t *buf;
+    size_t size;
+    int st = hpfc_tree_serialize(tree, opts, &buf, &size, diag);
+    if (st)
+        return st;
+    st = write_atomic(path, buf, size, diag);
+    free(buf);
+    return st;
+}
