@@ -1,0 +1,300 @@
+/*
+ * Traversal tests: the map read back from a file with the library's
+ * operators must be the input graph's combinatorial map. The oracle builds
+ * that map from the graph alone (exact angular order of darts around each
+ * vertex) and looks for an isomorphism that keeps every vertex inside the
+ * box the file gives it.
+ */
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "export.h"
+#include "gen.h"
+#include "hpfc.h"
+
+__extension__ typedef __int128 i128;
+
+/* ---- the input graph's combinatorial map --------------------------------- */
+
+typedef struct graph_map {
+    size_t nv, nd;
+    int64_t *xy;                 /* vertex positions */
+    uint32_t *origin, *twin, *next;
+    int64_t *dir;                /* 2 per dart: direction of its first segment */
+} graph_map;
+
+/* Counter-clockwise angular order of two directions, from the +x axis. */
+static int ccw_cmp(const int64_t *a, const int64_t *b)
+{
+    int ha = a[1] < 0 || (a[1] == 0 && a[0] < 0), hb = b[1] < 0 || (b[1] == 0 && b[0] < 0);
+    if (ha != hb)
+        return ha - hb;
+    i128 cross = (i128)a[0] * b[1] - (i128)a[1] * b[0];
+    return cross > 0 ? -1 : cross < 0;
+}
+
+static const graph_map *sort_map;
+static int cmp_darts_ccw(const void *pa, const void *pb)
+{
+    uint32_t a = *(const uint32_t *)pa, b = *(const uint32_t *)pb;
+    if (sort_map->origin[a] != sort_map->origin[b])
+        return sort_map->origin[a] < sort_map->origin[b] ? -1 : 1;
+    return ccw_cmp(sort_map->dir + 2 * a, sort_map->dir + 2 * b);
+}
+
+static void graph_map_build(const hpfc_graph *g, graph_map *m)
+{
+    m->nv = hpfc_graph_vertex_count(g);
+    m->nd = 2 * hpfc_graph_edge_count(g);
+    m->xy = malloc(2 * m->nv * sizeof *m->xy);
+    m->origin = malloc(m->nd * sizeof *m->origin);
+    m->twin = malloc(m->nd * sizeof *m->twin);
+    m->next = malloc(m->nd * sizeof *m->next);
+    m->dir = malloc(2 * m->nd * sizeof *m->dir);
+    for (size_t v = 0; v < m->nv; v++)
+        hpfc_graph_vertex(g, v, &m->xy[2 * v], &m->xy[2 * v + 1]);
+    for (size_t e = 0; e < m->nd / 2; e++) {
+        uint32_t u, v;
+        const int64_t *pts;
+        size_t n;
+        hpfc_graph_edge(g, e, &u, &v, &pts, &n);
+        int64_t first[2], last[2];
+        first[0] = n ? pts[0] : m->xy[2 * v], first[1] = n ? pts[1] : m->xy[2 * v + 1];
+        last[0] = n ? pts[2 * n - 2] : m->xy[2 * u], last[1] = n ? pts[2 * n - 1] : m->xy[2 * u + 1];
+        m->origin[2 * e] = u, m->origin[2 * e + 1] = v;
+        m->twin[2 * e] = (uint32_t)(2 * e + 1), m->twin[2 * e + 1] = (uint32_t)(2 * e);
+        m->dir[4 * e] = first[0] - m->xy[2 * u], m->dir[4 * e + 1] = first[1] - m->xy[2 * u + 1];
+        m->dir[4 * e + 2] = last[0] - m->xy[2 * v], m->dir[4 * e + 3] = last[1] - m->xy[2 * v + 1];
+    }
+    /* next(d) = the dart after twin(d) counter-clockwise around d's target */
+    uint32_t *order = malloc(m->nd * sizeof *order);
+    for (size_t d = 0; d < m->nd; d++)
+        order[d] = (uint32_t)d;
+    sort_map = m;
+    qsort(order, m->nd, sizeof *order, cmp_darts_ccw);
+    uint32_t *ccw_next = malloc(m->nd * sizeof *ccw_next);
+    for (size_t s = 0; s < m->nd;) {
+        size_t e = s;
+        while (e < m->nd && m->origin[order[e]] == m->origin[order[s]])
+            e++;
+        for (size_t k = s; k < e; k++)
+            ccw_next[order[k]] = order[k + 1 < e ? k + 1 : s];
+        s = e;
+    }
+    for (size_t d = 0; d < m->nd; d++)
+        m->next[d] = ccw_next[m->twin[d]];
+    free(order);
+    free(ccw_next);
+}
+
+static void graph_map_free(graph_map *m)
+{
+    free(m->xy), free(m->origin), free(m->twin), free(m->next), free(m->dir);
+}
+
+/* ---- isomorphism under the box constraint -------------------------------- */
+
+static bool inside(const int64_t *box, const int64_t *p)
+{
+    return p[0] >= box[0] && p[0] < box[2] && p[1] >= box[1] && p[1] < box[3];
+}
+
+/* Tries to extend f (file dart -> graph dart) from seed -> cand over the
+ * seed's connected component. On failure undoes what it set. */
+static bool try_map(const exported_map *fm, const graph_map *gm, uint32_t seed, uint32_t cand,
+                    uint32_t *f, uint32_t *finv, uint32_t *queue)
+{
+    size_t head = 0, tail = 0, set = 0;
+    bool ok = true;
+    f[seed] = cand, finv[cand] = seed, queue[tail++] = seed;
+    while (head < tail && ok) {
+        uint32_t d = queue[head++], g = f[d];
+        if (!inside(fm->box + 4 * fm->origin[d], gm->xy + 2 * gm->origin[g])) {
+            ok = false;
+            break;
+        }
+        uint32_t pairs[2][2] = {{fm->twin[d], gm->twin[g]}, {fm->next[d], gm->next[g]}};
+        for (int k = 0; k < 2 && ok; k++) {
+            uint32_t fd = pairs[k][0], gd = pairs[k][1];
+            if (f[fd] == UINT32_MAX && finv[gd] == UINT32_MAX) {
+                f[fd] = gd, finv[gd] = fd, queue[tail++] = fd;
+            } else if (f[fd] != gd || finv[gd] != fd) {
+                ok = false;
+            }
+        }
+    }
+    set = tail;
+    if (!ok)
+        for (size_t k = 0; k < set; k++) {
+            finv[f[queue[k]]] = UINT32_MAX;
+            f[queue[k]] = UINT32_MAX;
+        }
+    return ok;
+}
+
+/* Returns the number of file darts left without an image. */
+static size_t isomorphism_failures(const exported_map *fm, const graph_map *gm)
+{
+    if (fm->nd != gm->nd || fm->nv != gm->nv)
+        return fm->nd + 1;
+    uint32_t *f = malloc(fm->nd * sizeof *f), *finv = malloc(gm->nd * sizeof *finv);
+    uint32_t *queue = malloc(fm->nd * sizeof *queue);
+    memset(f, 0xff, fm->nd * sizeof *f);
+    memset(finv, 0xff, gm->nd * sizeof *finv);
+    size_t failures = 0;
+    for (uint32_t s = 0; s < fm->nd; s++) {
+        if (f[s] != UINT32_MAX)
+            continue;
+        bool found = false;
+        for (uint32_t c = 0; c < gm->nd && !found; c++)
+            if (finv[c] == UINT32_MAX && inside(fm->box + 4 * fm->origin[s], gm->xy + 2 * gm->origin[c]))
+                found = try_map(fm, gm, s, c, f, finv, queue);
+        failures += !found;
+    }
+    free(f), free(finv), free(queue);
+    return failures;
+}
+
+/* ---- per-graph checks ---------------------------------------------------- */
+
+static hpfc_file *pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, uint8_t **buf)
+{
+    hpfc_build_params p;
+    hpfc_build_params_default(&p);
+    p.root_cols = p.root_rows = n0;
+    p.cols = p.rows = n;
+    p.flat = flat;
+    hpfc_tree *t = NULL;
+    hpfc_file *f = NULL;
+    size_t size;
+    *buf = NULL;
+    if (hpfc_build(g, &p, &t, NULL) == HPFC_OK && hpfc_tree_serialize(t, NULL, buf, &size, NULL) == HPFC_OK)
+        CHECK_EQ_INT(hpfc_open_memory(*buf, size, 0, &f), HPFC_OK);
+    hpfc_tree_free(t);
+    return f;
+}
+
+/* opposite(opposite(d)) == d and next(prev(d)) == prev(next(d)) == d on
+ * every dart; origin(next(d)) == target(d). */
+static void check_involutions(const hpfc_file *f)
+{
+    hpfc_walker *w;
+    CHECK_EQ_INT(hpfc_walker_create(f, &w), HPFC_OK);
+    hpfc_pixel px;
+    int st = hpfc_leaf_first(f, &px);
+    size_t bad = 0, darts = 0;
+    while (!st) {
+        uint32_t nv = 0;
+        hpfc_pixel_vertex_count(w, &px, &nv);
+        for (uint32_t v = 0; v < nv; v++) {
+            hpfc_vertex vx;
+            uint32_t deg = 0;
+            hpfc_pixel_vertex(w, &px, v, &vx);
+            hpfc_vertex_degree(w, &vx, &deg);
+            for (uint32_t k = 0; k < deg; k++) {
+                hpfc_dart d, a, b, c;
+                hpfc_vertex tv, ov;
+                hpfc_vertex_dart(w, &vx, k, &d);
+                uint64_t key = hpfc_dart_key(f, &d);
+                darts++;
+                bad += hpfc_dart_twin(w, &d, &a) || hpfc_dart_twin(w, &a, &b) || hpfc_dart_key(f, &b) != key;
+                bad += hpfc_dart_prev(w, &d, &a) || hpfc_dart_next(w, &a, &c) || hpfc_dart_key(f, &c) != key;
+                bad += hpfc_dart_next(w, &d, &a) || hpfc_dart_prev(w, &a, &c) || hpfc_dart_key(f, &c) != key;
+                bad += hpfc_dart_target(w, &d, &tv) || hpfc_dart_origin(w, &a, &ov) ||
+                       hpfc_vertex_key(f, &tv) != hpfc_vertex_key(f, &ov);
+            }
+        }
+        st = hpfc_leaf_next(f, &px);
+    }
+    CHECK_EQ_INT(st, HPFC_E_NO_PIXEL);
+    CHECK(darts > 0);
+    CHECK_EQ_INT(bad, 0);
+    hpfc_walker_free(w);
+}
+
+static void check_graph(const hpfc_graph *g, const char *what)
+{
+    static const uint32_t shapes[][3] = {{1, 2, 0}, {4, 2, 0}, {16, 2, 0}, {5, 3, 0}, {4, 2, 1}};
+    graph_map gm;
+    graph_map_build(g, &gm);
+    for (size_t s = 0; s < sizeof shapes / sizeof *shapes; s++) {
+        uint8_t *buf;
+        hpfc_file *f = pack(g, shapes[s][0], shapes[s][1], (int)shapes[s][2], &buf);
+        if (!f) {
+            free(buf);
+            CHECK(shapes[s][2] == 1); /* only a flat grid may exceed its limit */
+            continue;
+        }
+        exported_map fm;
+        int st = export_map(f, &fm);
+        CHECK_EQ_INT(st, HPFC_OK);
+        if (!st) {
+            CHECK_EQ_INT(fm.nv, gm.nv);
+            CHECK_EQ_INT(fm.nd, gm.nd);
+            size_t fails = isomorphism_failures(&fm, &gm);
+            if (fails)
+                fprintf(stderr, "%s, root %u refine %u%s: %zu darts unmatched\n", what, shapes[s][0],
+                        shapes[s][1], shapes[s][2] ? " flat" : "", fails);
+            CHECK_EQ_INT(fails, 0);
+            exported_map_free(&fm);
+        }
+        check_involutions(f);
+        hpfc_close(f);
+        free(buf);
+    }
+    graph_map_free(&gm);
+}
+
+static void test_generated(void)
+{
+    for (int which = 0; which < GEN_SPECIAL_COUNT; which++) {
+        hpfc_graph *g = NULL;
+        CHECK_EQ_INT(gen_special(which, &g), HPFC_OK);
+        if (g)
+            check_graph(g, gen_special_name(which));
+        hpfc_graph_free(g);
+    }
+    for (uint64_t seed = 1; seed <= 3; seed++) {
+        hpfc_graph *g = NULL;
+        CHECK_EQ_INT(gen_delaunay(seed, 80 * seed, 1 << 16, 0.2, &g), HPFC_OK);
+        if (g)
+            check_graph(g, "delaunay");
+        hpfc_graph_free(g);
+        g = NULL;
+        CHECK_EQ_INT(gen_polyline(seed, 150, 1 << 16, 0.5, &g), HPFC_OK);
+        if (g)
+            check_graph(g, "polyline");
+        hpfc_graph_free(g);
+    }
+}
+
+/* The oracle itself must reject a map that differs from the graph. */
+static void test_oracle_detects_difference(void)
+{
+    hpfc_graph *g = NULL;
+    CHECK_EQ_INT(gen_delaunay(5, 60, 1 << 16, 0.2, &g), HPFC_OK);
+    graph_map gm;
+    graph_map_build(g, &gm);
+    uint8_t *buf;
+    hpfc_file *f = pack(g, 4, 2, 0, &buf);
+    exported_map fm;
+    CHECK_EQ_INT(export_map(f, &fm), HPFC_OK);
+    uint32_t t = fm.next[0];  /* swap two next links: a different map */
+    fm.next[0] = fm.next[1];
+    fm.next[1] = t;
+    CHECK(isomorphism_failures(&fm, &gm) > 0);
+    exported_map_free(&fm);
+    hpfc_close(f);
+    free(buf);
+    graph_map_free(&gm);
+    hpfc_graph_free(g);
+}
+
+int main(void)
+{
+    test_oracle_detects_difference();
+    test_generated();
+    return check_report("topo");
+}
