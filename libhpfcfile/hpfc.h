@@ -405,6 +405,25 @@ HPFC_API uint64_t hpfc_dart_key(const hpfc_file *file, const hpfc_dart *d);
 HPFC_API int hpfc_leaf_first(const hpfc_file *file, hpfc_pixel *px);
 HPFC_API int hpfc_leaf_next(const hpfc_file *file, hpfc_pixel *px);
 
+/* ------------------------------------------------------------------------
+ * Faces (spec/hpfc-format.md, "Faces"). A face with holes is one face with
+ * several boundary loops. hpfc_faces_build groups every dart and every
+ * private pixel into its face by a flood fill over the file's pixels (O(file),
+ * no table written by the writer): sidewalks that continue each other,
+ * stretches of a pixel's boundary between two crossings, and crossing-free
+ * stretches of roads all join one face. Face 0 is the unbounded face.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_faces hpfc_faces;
+
+HPFC_API int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out);
+HPFC_API void hpfc_faces_free(hpfc_faces *faces);
+HPFC_API uint64_t hpfc_faces_count(const hpfc_faces *faces);
+/* The face on the right of dart d. */
+HPFC_API int hpfc_faces_of_dart(const hpfc_faces *faces, const hpfc_dart *d, uint64_t *face);
+/* The face holding a private pixel (HPFC_E_ARG if px is not private). */
+HPFC_API int hpfc_faces_of_private_pixel(const hpfc_faces *faces, const hpfc_pixel *px,
+                                         uint64_t *face);
+
 #ifdef __cplusplus
 }
 #endif

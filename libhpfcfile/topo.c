@@ -19,31 +19,7 @@
 #include "internal.h"
 #include "reader.h"
 
-#define NONE UINT32_MAX
-
-/* The parsed structure of one word. */
-typedef struct local_word {
-    uint32_t n;              /* crossings */
-    uint32_t road_off[5];    /* first crossing of roads W, N, E, S; then n */
-    uint32_t ncomp, nvert;
-    uint32_t *comp;          /* per crossing */
-    uint32_t *pred, *succ;   /* per crossing, cyclic within its component */
-    uint32_t *comp_vertex;   /* per component: local vertex, NONE for a stabbing */
-    uint32_t *comp_first;    /* per component: first crossing (word order) */
-    uint32_t *comp_last;
-    uint32_t *comp_size;
-    uint32_t *vertex_comp;   /* per local vertex */
-    uint32_t *stack;
-    char *sym;
-} local_word;
-
-struct hpfc_walker {
-    const hpfc_file *file;
-    uint32_t cap;            /* most crossings of any word in the file */
-    uint64_t budget;         /* most stabbings a walk may follow */
-    local_word here, there;
-    char *scratch;           /* symbols of other leaves (road counts) */
-};
+#include "topo.h"
 
 static void local_free(local_word *lw)
 {
@@ -177,7 +153,7 @@ static int parse_symbols(local_word *lw, const char *sym, size_t len)
     return HPFC_OK;
 }
 
-static int parse_pixel(const hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
+int parse_pixel(const hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
 {
     size_t len;
     int st = hpfc_pixel_word(w->file, px, lw->sym, (size_t)w->cap + 4, &len);
@@ -187,7 +163,7 @@ static int parse_pixel(const hpfc_walker *w, local_word *lw, const hpfc_pixel *p
 }
 
 /* Crossings on one road of a word pixel, from its symbols. */
-static int road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count)
+int road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count)
 {
     size_t len;
     int st = hpfc_pixel_word(w->file, px, w->scratch, (size_t)w->cap + 4, &len);
@@ -206,11 +182,7 @@ static int road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *
 
 /* ---- crossing identification -------------------------------------------- */
 
-typedef struct box {
-    int64_t x0, y0, x1, y1;
-} box;
-
-static int leaf_box(const hpfc_file *f, const hpfc_pixel *px, box *b)
+int leaf_box(const hpfc_file *f, const hpfc_pixel *px, box *b)
 {
     return hpfc_pixel_bounds(f, px, &b->x0, &b->y0, &b->x1, &b->y1);
 }
@@ -228,7 +200,7 @@ static void road_point(const box *b, int road, int64_t t, bool inside, int64_t *
 }
 
 /* Extent of box b along the line of `road`: [lo, hi). */
-static void road_extent(const box *b, int road, int64_t *lo, int64_t *hi)
+void road_extent(const box *b, int road, int64_t *lo, int64_t *hi)
 {
     bool vertical = road == HPFC_WEST || road == HPFC_EAST;
     *lo = vertical ? b->y0 : b->x0;
@@ -237,12 +209,12 @@ static void road_extent(const box *b, int road, int64_t *lo, int64_t *hi)
 
 /* Does the road run toward increasing coordinates in its own clockwise
  * order? W runs north, N east, E south, S west. */
-static bool road_ascends(int road)
+bool road_ascends(int road)
 {
     return road == HPFC_WEST || road == HPFC_NORTH;
 }
 
-static int locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, bool inside,
+int locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, bool inside,
                           hpfc_pixel *out, box *out_box)
 {
     int64_t x, y;
@@ -253,9 +225,33 @@ static int locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t,
     return st == HPFC_E_NO_PIXEL ? HPFC_E_CORRUPT : st;
 }
 
+int crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi, uint64_t *sum)
+{
+    int64_t lo, hi;
+    road_extent(b, road, &lo, &hi);
+    bool up = road_ascends(road);
+    int64_t t = up ? hi : lo - 1;
+    *sum = 0;
+    for (uint64_t steps = 0; up ? t < qhi : t >= qlo; steps++) {
+        hpfc_pixel l;
+        box lb;
+        uint32_t count;
+        int st = steps > w->budget ? HPFC_E_CORRUPT : locate_on_road(w->file, b, road, t, true, &l, &lb);
+        if (!st)
+            st = road_count(w, &l, road, &count);
+        if (st)
+            return st;
+        *sum += count;
+        int64_t llo, lhi;
+        road_extent(&lb, road, &llo, &lhi);
+        t = up ? lhi : llo - 1;
+    }
+    return HPFC_OK;
+}
+
 /* Crossing k of word pixel P (parsed in lw), seen from the other side of its
  * road: the word pixel Q and Q's crossing index *m. */
-static int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k,
+int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k,
                       hpfc_pixel *q, uint32_t *m)
 {
     const hpfc_file *f = w->file;
@@ -278,21 +274,10 @@ static int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw,
     if (qlo <= lo && qhi >= hi) {
         /* Q spans P's whole side: add the crossings of the leaves on P's
          * side that follow P along Q's side, in P's clockwise order */
-        uint64_t index = after;
-        bool up = road_ascends(road);
-        int64_t t = up ? hi : lo - 1;
-        for (uint64_t steps = 0; up ? t < qhi : t >= qlo; steps++) {
-            hpfc_pixel l;
-            box lb;
-            if (steps > w->budget || (st = locate_on_road(f, &pb, road, t, true, &l, &lb)))
-                return st ? st : HPFC_E_CORRUPT;
-            if ((st = road_count(w, &l, road, &count)))
-                return st;
-            index += count;
-            int64_t llo, lhi;
-            road_extent(&lb, road, &llo, &lhi);
-            t = up ? lhi : llo - 1;
-        }
+        uint64_t index;
+        if ((st = crossings_after(w, &pb, road, qlo, qhi, &index)))
+            return st;
+        index += after;
         if ((st = road_count(w, q, opposite, &count)))
             return st;
         if (index >= count)

@@ -214,6 +214,79 @@ static void check_involutions(const hpfc_file *f)
     hpfc_walker_free(w);
 }
 
+/* Faces with holes: the count obeys Euler (V - E + F = 1 + C), there are
+ * F + C - 1 boundary loops, every loop has one face and every face a loop. */
+static void check_faces(const hpfc_file *f, const exported_map *fm, const hpfc_graph *g)
+{
+    hpfc_faces *faces;
+    CHECK_EQ_INT(hpfc_faces_build(f, &faces), HPFC_OK);
+    if (!faces)
+        return;
+    size_t nv = hpfc_graph_vertex_count(g), ne = hpfc_graph_edge_count(g);
+    /* components, from the input graph */
+    uint32_t *root = malloc(nv * sizeof *root);
+    for (size_t v = 0; v < nv; v++)
+        root[v] = (uint32_t)v;
+    size_t comps = nv;
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t u, v;
+        const int64_t *pts;
+        size_t n;
+        hpfc_graph_edge(g, e, &u, &v, &pts, &n);
+        while (root[u] != u) u = root[u];
+        while (root[v] != v) v = root[v];
+        if (u != v)
+            root[u] = v, comps--;
+    }
+    free(root);
+    uint64_t F = hpfc_faces_count(faces);
+    CHECK_EQ_INT(F, ne + 1 + comps - nv);
+    /* loops = orbits of next; each must carry a single face id */
+    hpfc_walker *w;
+    hpfc_walker_create(f, &w);
+    uint64_t *face_of = malloc(fm->nd * sizeof *face_of);
+    hpfc_pixel px;
+    size_t d = 0, bad = 0;
+    for (int st = hpfc_leaf_first(f, &px); !st; st = hpfc_leaf_next(f, &px)) {
+        uint32_t count = 0;
+        hpfc_pixel_vertex_count(w, &px, &count);
+        for (uint32_t v = 0; v < count; v++) {
+            hpfc_vertex vx;
+            uint32_t deg = 0;
+            hpfc_pixel_vertex(w, &px, v, &vx);
+            hpfc_vertex_degree(w, &vx, &deg);
+            for (uint32_t k = 0; k < deg && d < fm->nd; k++, d++) {
+                hpfc_dart dt;
+                hpfc_vertex_dart(w, &vx, k, &dt);
+                bad += hpfc_faces_of_dart(faces, &dt, &face_of[d]) != HPFC_OK || face_of[d] >= F;
+            }
+        }
+    }
+    CHECK_EQ_INT(d, fm->nd);
+    CHECK_EQ_INT(bad, 0);
+    uint8_t *seen = calloc(fm->nd, 1), *face_seen = calloc(F + 1, 1);
+    size_t loops = 0;
+    for (size_t s = 0; s < fm->nd; s++) {
+        if (seen[s])
+            continue;
+        loops++;
+        for (size_t x = s; !seen[x]; x = fm->next[x]) {
+            seen[x] = 1;
+            bad += face_of[x] != face_of[s];
+            face_seen[face_of[x] < F ? face_of[x] : F] = 1;
+        }
+    }
+    CHECK_EQ_INT(bad, 0);
+    CHECK_EQ_INT(loops, F + comps - 1);
+    size_t faces_with_loops = 0;
+    for (uint64_t x = 0; x < F; x++)
+        faces_with_loops += face_seen[x];
+    CHECK_EQ_INT(faces_with_loops, F);
+    free(seen), free(face_seen), free(face_of);
+    hpfc_walker_free(w);
+    hpfc_faces_free(faces);
+}
+
 static void check_graph(const hpfc_graph *g, const char *what)
 {
     static const uint32_t shapes[][3] = {{1, 2, 0}, {4, 2, 0}, {16, 2, 0}, {5, 3, 0}, {4, 2, 1}};
@@ -238,6 +311,7 @@ static void check_graph(const hpfc_graph *g, const char *what)
                 fprintf(stderr, "%s, root %u refine %u%s: %zu darts unmatched\n", what, shapes[s][0],
                         shapes[s][1], shapes[s][2] ? " flat" : "", fails);
             CHECK_EQ_INT(fails, 0);
+            check_faces(f, &fm, g);
             exported_map_free(&fm);
         }
         check_involutions(f);

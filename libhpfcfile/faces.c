@@ -1,0 +1,322 @@
+/*
+ * Faces with holes (spec/hpfc-format.md, "Faces").
+ *
+ * Every word pixel with n crossings contributes 2n nodes, its local darts
+ * in_k (2k) and out_k (2k + 1); a private pixel contributes one node. A
+ * union-find joins the nodes that lie on one face:
+ *   - next(in_k) = out_pred[k]: one sidewalk inside the pixel;
+ *   - out_a and in_b for consecutive crossings a, b of the pixel: the
+ *     stretch of the pixel's boundary between them is one region;
+ *   - out_k of P and in_m of Q where the same crossing is seen from both
+ *     sides of a road: one sidewalk across the road;
+ *   - a road stretch without crossings between two leaves: the regions on
+ *     both sides. Every such stretch is the whole side of the smaller leaf,
+ *     so each leaf only looks at the neighbour that spans its side.
+ * The classes are the faces.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "reader.h"
+#include "topo.h"
+
+typedef struct pixel_entry {
+    uint64_t slot;    /* reader_pixel_slot_bit of the leaf, + 1 (0 = empty) */
+    uint64_t base;    /* its first node */
+} pixel_entry;
+
+struct hpfc_faces {
+    const hpfc_file *file;
+    pixel_entry *table;   /* open addressing by slot */
+    size_t mask;
+    uint64_t *parent;     /* union-find, then node -> face id */
+    uint64_t nodes, count;
+};
+
+static size_t hash_slot(uint64_t slot, size_t mask)
+{
+    return (size_t)((slot * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+}
+
+static pixel_entry *find_entry(const hpfc_faces *fc, uint64_t slot)
+{
+    size_t h = hash_slot(slot + 1, fc->mask);
+    while (fc->table[h].slot && fc->table[h].slot != slot + 1)
+        h = (h + 1) & fc->mask;
+    return &fc->table[h];
+}
+
+static int node_base(const hpfc_faces *fc, const hpfc_pixel *px, uint64_t *base)
+{
+    uint64_t slot;
+    int st = reader_pixel_slot_bit(fc->file, px, &slot);
+    if (st)
+        return st;
+    const pixel_entry *e = find_entry(fc, slot);
+    if (!e->slot)
+        return HPFC_E_CORRUPT;
+    *base = e->base;
+    return HPFC_OK;
+}
+
+static uint64_t find(uint64_t *parent, uint64_t x)
+{
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+static void unite(uint64_t *parent, uint64_t a, uint64_t b)
+{
+    a = find(parent, a), b = find(parent, b);
+    if (a != b)
+        parent[a > b ? a : b] = a < b ? a : b; /* the smaller root wins: face 0 stays outer */
+}
+
+/* Node of the boundary region of a parsed pixel that holds the stretch of
+ * road `road` after its first `t` crossings (in the pixel's clockwise
+ * order): the out-dart of the crossing just before, cyclically. */
+static uint64_t gap_node(const local_word *lw, uint64_t base, int road, uint64_t t)
+{
+    if (lw->n == 0)
+        return base;
+    uint64_t k = lw->road_off[road] + t;
+    k = k == 0 ? lw->n - 1 : k - 1;
+    return base + 2 * k + 1;
+}
+
+/* Pass 1: give every leaf its nodes. */
+static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
+{
+    hpfc_pixel px;
+    uint64_t leaves = 0;
+    int st = hpfc_leaf_first(fc->file, &px);
+    for (; !st; st = hpfc_leaf_next(fc->file, &px))
+        leaves++;
+    if (st != HPFC_E_NO_PIXEL)
+        return st;
+    size_t cap = 16;
+    while (cap < 2 * leaves + 16)
+        cap *= 2;
+    fc->table = calloc(cap, sizeof *fc->table);
+    if (!fc->table)
+        return HPFC_E_NOMEM;
+    fc->mask = cap - 1;
+    for (st = hpfc_leaf_first(fc->file, &px); !st; st = hpfc_leaf_next(fc->file, &px)) {
+        uint64_t slot;
+        if ((st = reader_pixel_slot_bit(fc->file, &px, &slot)) || (st = parse_pixel(w, &w->here, &px)))
+            return st;
+        pixel_entry *e = find_entry(fc, slot);
+        if (e->slot)
+            return HPFC_E_CORRUPT;
+        e->slot = slot + 1;
+        e->base = fc->nodes;
+        fc->nodes += w->here.n ? 2 * (uint64_t)w->here.n : 1;
+    }
+    return st == HPFC_E_NO_PIXEL ? HPFC_OK : st;
+}
+
+/* The unions that stay inside one pixel. */
+static void unite_inside(uint64_t *parent, const local_word *lw, uint64_t base)
+{
+    for (uint32_t k = 0; k < lw->n; k++) {
+        unite(parent, base + 2 * k, base + 2 * lw->pred[k] + 1);
+        unite(parent, base + 2 * k + 1, base + 2 * ((k + 1) % lw->n));
+    }
+}
+
+/* Global index of crossing m of road `road` in Q's word. */
+static int crossing_index(hpfc_walker *w, const hpfc_pixel *q, int road, uint32_t m, uint32_t *k)
+{
+    *k = m;
+    for (int r = 0; r < road; r++) {
+        uint32_t c;
+        int st = road_count(w, q, r, &c);
+        if (st)
+            return st;
+        *k += c;
+    }
+    return HPFC_OK;
+}
+
+static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
+{
+    const local_word *lw = &w->here;
+    for (uint32_t k = 0; k < lw->n; k++) {
+        int road = 0;
+        while (road < 3 && k >= lw->road_off[road + 1])
+            road++;
+        hpfc_pixel q;
+        uint32_t m, mk;
+        uint64_t qbase;
+        int st = cross_road(w, p, lw, k, &q, &m);
+        if (!st)
+            st = crossing_index(w, &q, (road + 2) % 4, m, &mk);
+        if (!st)
+            st = node_base(fc, &q, &qbase);
+        if (st)
+            return st;
+        unite(fc->parent, base + 2 * k + 1, qbase + 2 * (uint64_t)mk);
+    }
+    return HPFC_OK;
+}
+
+/* Crossing-free road stretches: for each road of P without crossings whose
+ * neighbour spans P's whole side, join P's region there with Q's. */
+static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
+{
+    box pb, qb;
+    int st = leaf_box(fc->file, p, &pb);
+    for (int road = 0; road < 4 && !st; road++) {
+        if (w->here.road_off[road + 1] != w->here.road_off[road])
+            continue; /* crossings link both sides through the sidewalks */
+        int64_t lo, hi, qlo, qhi;
+        road_extent(&pb, road, &lo, &hi);
+        hpfc_pixel q;
+        st = locate_on_road(fc->file, &pb, road, lo, false, &q, &qb);
+        if (st == HPFC_E_CORRUPT) { /* the domain's border: nothing across */
+            st = HPFC_OK;
+            continue;
+        }
+        if (st)
+            break;
+        road_extent(&qb, road, &qlo, &qhi);
+        if (qlo > lo || qhi < hi)
+            continue; /* smaller leaves across: each handles its own side */
+        uint64_t before, qbase;
+        uint64_t pnode = gap_node(&w->here, base, road, 0);
+        if ((st = crossings_after(w, &pb, road, qlo, qhi, &before)) || (st = node_base(fc, &q, &qbase)) ||
+            (st = parse_pixel(w, &w->there, &q)))
+            break;
+        unite(fc->parent, pnode, gap_node(&w->there, qbase, (road + 2) % 4, before));
+    }
+    return st;
+}
+
+/* Pass 2: all unions. */
+static int unite_all(hpfc_faces *fc, hpfc_walker *w)
+{
+    hpfc_pixel px;
+    int st;
+    for (st = hpfc_leaf_first(fc->file, &px); !st; st = hpfc_leaf_next(fc->file, &px)) {
+        uint64_t base;
+        if ((st = node_base(fc, &px, &base)) || (st = parse_pixel(w, &w->here, &px)))
+            return st;
+        unite_inside(fc->parent, &w->here, base);
+        if ((st = unite_across(fc, w, &px, base)) || (st = parse_pixel(w, &w->here, &px)) ||
+            (st = unite_empty_roads(fc, w, &px, base)))
+            return st;
+    }
+    return st == HPFC_E_NO_PIXEL ? HPFC_OK : st;
+}
+
+/* Numbers the classes densely, the unbounded face first: the domain's
+ * north-west corner lies in it. */
+static int number_faces(hpfc_faces *fc, hpfc_walker *w)
+{
+    hpfc_file_info info;
+    hpfc_file_get_info(fc->file, &info);
+    hpfc_pixel corner;
+    uint64_t base;
+    int st = hpfc_locate(fc->file, info.x0, info.y0 + info.height - 1, &corner);
+    if (!st)
+        st = node_base(fc, &corner, &base);
+    if (!st)
+        st = parse_pixel(w, &w->here, &corner);
+    if (st)
+        return st;
+    uint64_t outer = find(fc->parent, gap_node(&w->here, base, HPFC_NORTH, 0));
+    uint64_t *id = malloc(fc->nodes * sizeof *id);
+    if (!id)
+        return HPFC_E_NOMEM;
+    for (uint64_t x = 0; x < fc->nodes; x++) /* every node now points at its root */
+        fc->parent[x] = find(fc->parent, x);
+    memset(id, 0xff, fc->nodes * sizeof *id);
+    id[outer] = 0;
+    fc->count = 1;
+    for (uint64_t x = 0; x < fc->nodes; x++)
+        if (id[fc->parent[x]] == UINT64_MAX)
+            id[fc->parent[x]] = fc->count++;
+    for (uint64_t x = 0; x < fc->nodes; x++)
+        fc->parent[x] = id[fc->parent[x]];
+    free(id);
+    return HPFC_OK;
+}
+
+int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out)
+{
+    if (!file || !out)
+        return HPFC_E_ARG;
+    *out = NULL;
+    hpfc_faces *fc = calloc(1, sizeof *fc);
+    hpfc_walker *w = NULL;
+    if (!fc)
+        return HPFC_E_NOMEM;
+    fc->file = file;
+    int st = hpfc_walker_create(file, &w);
+    if (!st)
+        st = number_leaves(fc, w);
+    if (!st && !(fc->parent = malloc((fc->nodes + 1) * sizeof *fc->parent)))
+        st = HPFC_E_NOMEM;
+    if (!st) {
+        for (uint64_t x = 0; x < fc->nodes; x++)
+            fc->parent[x] = x;
+        st = unite_all(fc, w);
+    }
+    if (!st)
+        st = number_faces(fc, w);
+    hpfc_walker_free(w);
+    if (st) {
+        hpfc_faces_free(fc);
+        return st;
+    }
+    *out = fc;
+    return HPFC_OK;
+}
+
+void hpfc_faces_free(hpfc_faces *fc)
+{
+    if (!fc)
+        return;
+    free(fc->table);
+    free(fc->parent);
+    free(fc);
+}
+
+uint64_t hpfc_faces_count(const hpfc_faces *fc)
+{
+    return fc ? fc->count : 0;
+}
+
+int hpfc_faces_of_dart(const hpfc_faces *fc, const hpfc_dart *d, uint64_t *face)
+{
+    uint64_t base;
+    if (!fc || !d || !face)
+        return HPFC_E_ARG;
+    int st = node_base(fc, &d->pixel, &base);
+    if (st)
+        return st;
+    uint64_t node = base + 2 * (uint64_t)d->crossing + 1;
+    if (node >= fc->nodes)
+        return HPFC_E_ARG;
+    *face = fc->parent[node];
+    return HPFC_OK;
+}
+
+int hpfc_faces_of_private_pixel(const hpfc_faces *fc, const hpfc_pixel *px, uint64_t *face)
+{
+    int is_private = 0;
+    uint64_t base;
+    if (!fc || !px || !face)
+        return HPFC_E_ARG;
+    int st = hpfc_pixel_is_private(fc->file, px, &is_private);
+    if (!st && !is_private)
+        st = HPFC_E_ARG;
+    if (!st)
+        st = node_base(fc, px, &base);
+    if (!st)
+        *face = fc->parent[base];
+    return st;
+}
