@@ -127,33 +127,14 @@ static void unite_inside(uint64_t *parent, const local_word *lw, uint64_t base)
     }
 }
 
-/* Global index of crossing m of road `road` in Q's word. */
-static int crossing_index(hpfc_walker *w, const hpfc_pixel *q, int road, uint32_t m, uint32_t *k)
-{
-    *k = m;
-    for (int r = 0; r < road; r++) {
-        uint32_t c;
-        int st = road_count(w, q, r, &c);
-        if (st)
-            return st;
-        *k += c;
-    }
-    return HPFC_OK;
-}
-
 static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
 {
     const local_word *lw = &w->here;
     for (uint32_t k = 0; k < lw->n; k++) {
-        int road = 0;
-        while (road < 3 && k >= lw->road_off[road + 1])
-            road++;
         hpfc_pixel q;
-        uint32_t m, mk;
+        uint32_t mk;
         uint64_t qbase;
-        int st = cross_road(w, p, lw, k, &q, &m);
-        if (!st)
-            st = crossing_index(w, &q, (road + 2) % 4, m, &mk);
+        int st = cross_road(w, p, lw, k, &q, &w->there, &mk);
         if (!st)
             st = node_base(fc, &q, &qbase);
         if (st)
@@ -205,8 +186,7 @@ static int unite_all(hpfc_faces *fc, hpfc_walker *w)
         if ((st = node_base(fc, &px, &base)) || (st = parse_pixel(w, &w->here, &px)))
             return st;
         unite_inside(fc->parent, &w->here, base);
-        if ((st = unite_across(fc, w, &px, base)) || (st = parse_pixel(w, &w->here, &px)) ||
-            (st = unite_empty_roads(fc, w, &px, base)))
+        if ((st = unite_across(fc, w, &px, base)) || (st = unite_empty_roads(fc, w, &px, base)))
             return st;
     }
     return st == HPFC_E_NO_PIXEL ? HPFC_OK : st;

@@ -366,6 +366,9 @@ typedef struct hpfc_walker hpfc_walker;
 
 HPFC_API int hpfc_walker_create(const hpfc_file *file, hpfc_walker **out);
 HPFC_API void hpfc_walker_free(hpfc_walker *walker);
+/* Word pixels whose word this walker has decoded so far (the paper's
+ * "pixels visited", Sect. 5.1). */
+HPFC_API uint64_t hpfc_walker_pixels_visited(const hpfc_walker *walker);
 
 typedef struct hpfc_vertex {
     hpfc_pixel pixel;   /* the word pixel holding the vertex */

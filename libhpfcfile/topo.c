@@ -71,6 +71,11 @@ int hpfc_walker_create(const hpfc_file *file, hpfc_walker **out)
     return HPFC_OK;
 }
 
+uint64_t hpfc_walker_pixels_visited(const hpfc_walker *w)
+{
+    return w ? w->visited : 0;
+}
+
 void hpfc_walker_free(hpfc_walker *w)
 {
     if (!w)
@@ -153,9 +158,12 @@ static int parse_symbols(local_word *lw, const char *sym, size_t len)
     return HPFC_OK;
 }
 
-int parse_pixel(const hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
+int parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
 {
     size_t len;
+    w->visited++;
+    if (lw == &w->here)
+        w->here_valid = false; /* parse_here revalidates it */
     int st = hpfc_pixel_word(w->file, px, lw->sym, (size_t)w->cap + 4, &len);
     if (st)
         return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
@@ -166,6 +174,7 @@ int parse_pixel(const hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
 int road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count)
 {
     size_t len;
+    w->visited++;
     int st = hpfc_pixel_word(w->file, px, w->scratch, (size_t)w->cap + 4, &len);
     if (st)
         return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
@@ -250,9 +259,9 @@ int crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t
 }
 
 /* Crossing k of word pixel P (parsed in lw), seen from the other side of its
- * road: the word pixel Q and Q's crossing index *m. */
-int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k,
-                      hpfc_pixel *q, uint32_t *m)
+ * road: the word pixel Q (parsed into qlw) and Q's crossing *m. */
+int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k, hpfc_pixel *q,
+               local_word *qlw, uint32_t *m)
 {
     const hpfc_file *f = w->file;
     int road = 0;
@@ -265,38 +274,42 @@ int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32
     int st = leaf_box(f, p, &pb);
     int64_t lo, hi, qlo, qhi;
     road_extent(&pb, road, &lo, &hi);
+    /* Algorithm 1's first neighbour: the leaf across that spans P's side,
+     * or the first of the smaller ones in their clockwise order */
+    if (!st && (st = hpfc_pixel_move(f, p, road, q)) == HPFC_E_NO_PIXEL)
+        st = HPFC_E_CORRUPT; /* a crossing on the domain's border */
     if (!st)
-        st = locate_on_road(f, &pb, road, lo, false, q, &qb);
+        st = leaf_box(f, q, &qb);
     if (st)
         return st;
     road_extent(&qb, road, &qlo, &qhi);
-    uint32_t count;
+    uint64_t rank = after;
     if (qlo <= lo && qhi >= hi) {
         /* Q spans P's whole side: add the crossings of the leaves on P's
          * side that follow P along Q's side, in P's clockwise order */
-        uint64_t index;
-        if ((st = crossings_after(w, &pb, road, qlo, qhi, &index)))
+        uint64_t sum;
+        if ((st = crossings_after(w, &pb, road, qlo, qhi, &sum)) || (st = parse_pixel(w, qlw, q)))
             return st;
-        index += after;
-        if ((st = road_count(w, q, opposite, &count)))
-            return st;
-        if (index >= count)
+        rank += sum;
+        if (rank >= qlw->road_off[opposite + 1] - qlw->road_off[opposite])
             return HPFC_E_CORRUPT;
-        *m = (uint32_t)index;
+        *m = qlw->road_off[opposite] + (uint32_t)rank;
         return HPFC_OK;
     }
     /* Smaller leaves across: walk them in their own clockwise order along
      * P's side until the crossing's rank falls inside one of them. */
-    uint64_t rank = after;
     bool up = road_ascends(opposite);
     int64_t t = up ? lo : hi - 1;
     for (uint64_t steps = 0; up ? t < hi : t >= lo; steps++) {
-        if (steps > w->budget || (st = locate_on_road(f, &pb, road, t, false, q, &qb)))
-            return st ? st : HPFC_E_CORRUPT;
-        if ((st = road_count(w, q, opposite, &count)))
+        if (steps > w->budget)
+            return HPFC_E_CORRUPT;
+        if (steps && (st = locate_on_road(f, &pb, road, t, false, q, &qb)))
             return st;
+        if ((st = parse_pixel(w, qlw, q)))
+            return st;
+        uint32_t count = qlw->road_off[opposite + 1] - qlw->road_off[opposite];
         if (rank < count) {
-            *m = (uint32_t)rank;
+            *m = qlw->road_off[opposite] + (uint32_t)rank;
             return HPFC_OK;
         }
         rank -= count;
@@ -307,6 +320,24 @@ int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32
 }
 
 /* ---- darts -------------------------------------------------------------- */
+
+/* Parses px into w->here unless it is already there: operators on one dart
+ * or vertex in a row parse its pixel once. */
+static int parse_here(hpfc_walker *w, const hpfc_pixel *px)
+{
+    uint64_t slot;
+    int st = reader_pixel_slot_bit(w->file, px, &slot);
+    if (st)
+        return st;
+    if (w->here_valid && w->here_slot == slot)
+        return HPFC_OK;
+    w->here_valid = false;
+    if ((st = parse_pixel(w, &w->here, px)))
+        return st;
+    w->here_valid = true;
+    w->here_slot = slot;
+    return HPFC_OK;
+}
 
 static int copy_pixel(hpfc_pixel *dst, const hpfc_pixel *src)
 {
@@ -321,7 +352,7 @@ static int copy_pixel(hpfc_pixel *dst, const hpfc_pixel *src)
  * crossing of a junction there. */
 static int load_dart(hpfc_walker *w, const hpfc_dart *d)
 {
-    int st = parse_pixel(w, &w->here, &d->pixel);
+    int st = parse_here(w, &d->pixel);
     if (st)
         return st;
     if (d->crossing >= w->here.n || w->here.comp_vertex[w->here.comp[d->crossing]] == NONE)
@@ -337,39 +368,31 @@ static int walk(hpfc_walker *w, const hpfc_dart *d, hpfc_pixel *end, uint32_t *m
     hpfc_pixel cur;
     int st = copy_pixel(&cur, &d->pixel);
     uint32_t k = d->crossing;
-    const local_word *at = &w->here;
-    local_word *next = &w->there, *spare = &w->here;
+    local_word *at = &w->here, *next = &w->there;
     for (uint64_t steps = 0; !st; steps++) {
         if (steps > w->budget)
             return HPFC_E_CORRUPT;
-        uint32_t index;
-        if ((st = cross_road(w, &cur, at, k, end, &index)))
+        uint32_t mm;
+        if ((st = cross_road(w, &cur, at, k, end, next, &mm)))
             break;
-        int road = 0;
-        while (road < 3 && k >= at->road_off[road + 1])
-            road++;
-        if ((st = parse_pixel(w, next, end)))
-            break;
-        uint32_t mm = next->road_off[(road + 2) % 4] + index;
-        if (mm >= next->road_off[(road + 2) % 4 + 1])
-            return HPFC_E_CORRUPT;
         if (next->comp_vertex[next->comp[mm]] != NONE) {
             if (next != &w->there) { /* keep the answer in w->there */
                 local_word t = w->there;
                 w->there = w->here;
                 w->here = t;
             }
+            w->here_valid = false;
             *m = mm;
             return HPFC_OK;
         }
         /* a stabbing: leave through its other crossing */
         k = next->succ[mm];
         st = copy_pixel(&cur, end);
+        local_word *t = at;
         at = next;
-        local_word *t = next;
-        next = spare;
-        spare = t;
+        next = t;
     }
+    w->here_valid = false;
     return st;
 }
 
@@ -441,7 +464,7 @@ int hpfc_pixel_vertex_count(hpfc_walker *w, const hpfc_pixel *px, uint32_t *coun
 {
     if (!w || !px || !count)
         return HPFC_E_ARG;
-    int st = parse_pixel(w, &w->here, px);
+    int st = parse_here(w, px);
     if (!st)
         *count = w->here.nvert;
     return st;
@@ -461,7 +484,7 @@ int hpfc_pixel_vertex(hpfc_walker *w, const hpfc_pixel *px, uint32_t index, hpfc
 
 static int load_vertex(hpfc_walker *w, const hpfc_vertex *v)
 {
-    int st = parse_pixel(w, &w->here, &v->pixel);
+    int st = parse_here(w, &v->pixel);
     if (!st && v->local >= w->here.nvert)
         st = HPFC_E_ARG;
     return st;

@@ -30,6 +30,9 @@ struct hpfc_walker {
     uint64_t budget;         /* most stabbings a walk may follow */
     local_word here, there;
     char *scratch;           /* symbols of other leaves (road counts) */
+    uint64_t visited;        /* words decoded */
+    bool here_valid;         /* `here` holds the pixel at bit here_slot */
+    uint64_t here_slot;
 };
 
 typedef struct box {
@@ -37,7 +40,7 @@ typedef struct box {
 } box;
 
 /* Decodes and parses px's word into lw (HPFC_E_CORRUPT if malformed). */
-int parse_pixel(const hpfc_walker *w, local_word *lw, const hpfc_pixel *px);
+int parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px);
 /* Crossings on road `road` of a word pixel. */
 int road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count);
 int leaf_box(const hpfc_file *f, const hpfc_pixel *px, box *b);
@@ -48,10 +51,10 @@ bool road_ascends(int road);
 /* The leaf at position t along b's road, on b's side (inside) or across. */
 int locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, bool inside,
                    hpfc_pixel *out, box *out_box);
-/* Crossing k of P (parsed in lw) seen from across its road: pixel Q and the
- * crossing's index *m on Q's opposite road. */
+/* Crossing k of P (parsed in lw) seen from across its road: pixel Q (parsed
+ * into qlw, which must differ from lw) and the crossing's index *m in Q. */
 int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k,
-               hpfc_pixel *q, uint32_t *m);
+               hpfc_pixel *q, local_word *qlw, uint32_t *m);
 /* Sum of road-`road` crossings of the leaves on b's side that follow b, in
  * b's clockwise order, up to the end of the extent [qlo, qhi). */
 int crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi,
