@@ -46,7 +46,8 @@ enum {
 #define FORMAT_MAX_ORIGIN ((int64_t)1 << 62)        /* |x0|, |y0| */
 #define FORMAT_MIN_UNIT_EXP10 (-30)
 #define FORMAT_MAX_UNIT_EXP10 30
-#define FORMAT_MAX_WORD_BITS ((uint32_t)1 << 24)    /* k_w */
+#define FORMAT_MAX_WORD_BITS ((uint32_t)1 << 22)    /* k_w: under 2^20 crossings a word */
+#define FORMAT_MAX_FILE_SIZE ((uint64_t)1 << 41)    /* bit positions fit in 44 bits */
 #define FORMAT_MIN_WORD_BITS 4                      /* a word has four '+' */
 
 /* ---- little-endian integers ---------------------------------------------- */

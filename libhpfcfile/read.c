@@ -137,6 +137,8 @@ static int read_header(hpfc_file *f)
     if (f->meta_size != header_size + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * in->levels +
                             (uint64_t)FORMAT_SECTION_ENTRY_SIZE * in->section_count)
         return HPFC_E_HEADER;
+    if (in->file_size > FORMAT_MAX_FILE_SIZE)
+        return HPFC_E_HEADER;
     if (in->file_size > f->size)
         return HPFC_E_TRUNCATED;
     if (in->file_size < f->size)
@@ -513,7 +515,7 @@ static int refined_image_pixel(const file_level *lv, uint64_t image, uint64_t p,
     }
     if (total && lv->last)
         return HPFC_E_CORRUPT;
-    /* at most 2^20 * (2^24 + 64) bits: no overflow */
+    /* at most 2^20 * (2^22 + 64) bits: no overflow */
     uint64_t slots = total * lv->address_bits + (per - total) * lv->word_bits;
     if (slots > bits - image - per)
         return HPFC_E_CORRUPT;

@@ -87,7 +87,7 @@ static int count_pixel(layout *L, uint32_t level, size_t image, const hpfc_tree_
     if (bits == 0)
         return diag_set(diag, HPFC_E_ARG, "tree: malformed word at level %u", level);
     if (bits > FORMAT_MAX_WORD_BITS)
-        return diag_set(diag, HPFC_E_LIMIT, "a word of %llu bits exceeds the format's 2^24-bit slots",
+        return diag_set(diag, HPFC_E_LIMIT, "a word of %llu bits exceeds the format's 2^22-bit slots (2^20 - 1 crossings)",
                         (unsigned long long)bits);
     lv->word_pixels++;
     if (bits > lv->word_bits)
@@ -165,6 +165,8 @@ static int place_sections(layout *L, hpfc_diag *diag)
         L->crs_length = strlen(L->crs);
         L->file_size = L->crs_offset + L->crs_length;
     }
+    if (L->file_size > FORMAT_MAX_FILE_SIZE)
+        return diag_set(diag, HPFC_E_LIMIT, "the file would exceed the format's 2^41 bytes");
 #if SIZE_MAX < UINT64_MAX
     if (L->file_size > SIZE_MAX)
         return diag_set(diag, HPFC_E_NOMEM, "the file does not fit in memory");
