@@ -24,7 +24,7 @@
 
 static void usage(void)
 {
-    fprintf(stderr, "usage: gen-pfc delaunay|polyline|grid|special SEED N OUT.pfc\n");
+    fprintf(stderr, "usage: gen-pfc delaunay|polyline|grid|special SEED N OUT.pfc [COORD_MAX]\n");
 }
 
 /* Parses a whole decimal (or 0x hex) unsigned number; 0 on failure. */
@@ -61,19 +61,22 @@ static int special_index(const char *arg)
     return -1;
 }
 
-static int generate(const char *kind, uint64_t seed, const char *narg, hpfc_graph **g)
+/* COORD_MAX bounds the random points' coordinates; 0 picks about 16
+ * lattice units between neighbouring points. */
+static int generate(const char *kind, uint64_t seed, const char *narg, uint64_t coord_max, hpfc_graph **g)
 {
     uint64_t n = 0;
     if (strcmp(kind, "special") == 0) {
         int k = special_index(narg);
         return k < 0 ? HPFC_E_ARG : gen_special(k, g);
     }
-    if (!parse_u64(narg, &n) || n > ((uint64_t)1 << 28))
+    if (!parse_u64(narg, &n) || n > ((uint64_t)1 << 28) || coord_max > (uint64_t)GEN_COORD_MAX_DELAUNAY)
         return HPFC_E_ARG;
+    int64_t cmax = coord_max ? (int64_t)coord_max : coord_max_for(n);
     if (strcmp(kind, "delaunay") == 0)
-        return gen_delaunay(seed, (size_t)n, coord_max_for(n), 0.2, g);
+        return gen_delaunay(seed, (size_t)n, cmax, 0.2, g);
     if (strcmp(kind, "polyline") == 0)
-        return gen_polyline(seed, (size_t)n, coord_max_for(n), 0.5, g);
+        return gen_polyline(seed, (size_t)n, cmax, 0.5, g);
     if (strcmp(kind, "grid") == 0)
         return gen_grid_mesh(seed, (size_t)n, (size_t)n, 16, g);
     return HPFC_E_ARG;
@@ -81,13 +84,13 @@ static int generate(const char *kind, uint64_t seed, const char *narg, hpfc_grap
 
 int main(int argc, char **argv)
 {
-    uint64_t seed;
-    if (argc != 5 || !parse_u64(argv[2], &seed)) {
+    uint64_t seed, coord_max = 0;
+    if ((argc != 5 && argc != 6) || !parse_u64(argv[2], &seed) || (argc == 6 && !parse_u64(argv[5], &coord_max))) {
         usage();
         return 2;
     }
     hpfc_graph *g = NULL;
-    int st = generate(argv[1], seed, argv[3], &g);
+    int st = generate(argv[1], seed, argv[3], coord_max, &g);
     if (st) {
         fprintf(stderr, "gen-pfc: %s\n", hpfc_strerror(st));
         if (st == HPFC_E_ARG)

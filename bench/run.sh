@@ -1,0 +1,30 @@
+#!/bin/sh
+# Builds the benchmarks in release mode (build-bench/) and runs them all,
+# printing the tables recorded in bench/README.md. Takes about a minute.
+# One case per process: peak RSS (getrusage) is a whole-process figure.
+set -eu
+cd "$(dirname "$0")/.."
+[ -d build-bench ] || meson setup build-bench --buildtype=release >/dev/null
+ninja -C build-bench bench/bench_build >/dev/null
+B=build-bench/bench/bench_build
+
+cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -1)
+mem=$(awk '/^MemTotal/ { printf "%.0f GiB", $2 / 1048576 }' /proc/meminfo 2>/dev/null || true)
+echo "machine: ${cpu:-unknown CPU}, $(nproc) cores, ${mem:-? GiB} RAM, $(uname -sr)"
+echo "compiler: $(cc --version | head -1); meson --buildtype=release; date $(date -u +%Y-%m-%d)"
+echo
+
+echo "(a) builder throughput: hpfc_build (validation included) on one core, median of 3;"
+echo "    rss_in = peak RSS after generating the graph, rss = peak after the builds,"
+echo "    B/seg = (rss - rss_in) / segments; (n0, n) = (64, 2)"
+$B --header grid
+for c in "grid 424" "grid 600" "delaunay 150000" "delaunay 300000"; do
+    # shellcheck disable=SC2086 # $c is a kind and a size
+    $B $c
+done
+echo
+
+echo "(b) the paper's experiment (Sect. 6): 4000 random points, Delaunay, 20% of edges"
+echo "    removed, (n0, n) = (64, 2); rPFC = the flat grid in which no edge lies in one pixel"
+$B --header paper
+$B paper 5

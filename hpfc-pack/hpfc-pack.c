@@ -1,0 +1,572 @@
+/*
+ * hpfc-pack: packs a planar map into an .hpfc file and prints the build
+ * report (contracts §2).
+ *
+ *   hpfc-pack [options] INPUT -o OUTPUT.hpfc
+ *
+ * Exit status: 0 on success, 1 when the input cannot be read or built or the
+ * output cannot be written, 2 for a usage error (an input format this build
+ * cannot read counts as one). Every failure is exactly one
+ * line "hpfc-pack: <reason>" on standard error, and leaves no OUTPUT behind
+ * (an existing OUTPUT is untouched): the library's writer is atomic, and the
+ * report is gathered from the serialised bytes before OUTPUT is written.
+ */
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include "hpfc.h"
+#include "jsonw.h"
+
+enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
+
+typedef struct pack_args {
+    const char *input, *output;
+    hpfc_build_params params;
+    int json, quiet;
+} pack_args;
+
+/* What the report needs about one level: counts and widths come from the
+ * serialised file (what a reader sees), private pixels from the tree. */
+typedef struct level_report {
+    uint64_t images, word, refined, private_;
+    uint32_t word_bits, address_bits;
+    uint64_t pool_bits;
+} level_report;
+
+typedef struct pack_report {
+    hpfc_tree_info tree;
+    level_report *levels;      /* tree.levels entries */
+    uint64_t file_bytes;
+    double read_s, build_s, write_s;
+} pack_report;
+
+/* ---- messages ------------------------------------------------------------ */
+
+/* Prints "hpfc-pack: <message>" as exactly one line: control characters a
+ * message might carry from its input are replaced. */
+static void complain(const char *fmt, ...)
+{
+    char msg[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    for (char *c = msg; *c; c++)
+        if ((unsigned char)*c < 0x20 || *c == 0x7F)
+            *c = '?';
+    fprintf(stderr, "hpfc-pack: %s\n", msg);
+}
+
+/* The library's explanation of a failure, or the code's name when the
+ * function left no message. */
+static const char *diag_text(const hpfc_diag *diag, int status)
+{
+    return diag->message[0] ? diag->message : hpfc_strerror(status);
+}
+
+static void print_help(void)
+{
+    printf("usage: hpfc-pack [options] INPUT -o OUTPUT.hpfc\n"
+           "\n"
+           "Packs a planar map into a hierarchical rasterized Planar Face Complex and\n"
+           "prints the build report. INPUT is a .pfc file (known by its suffix or its\n"
+           "first record 'pfc'), or - for standard input.\n"
+           "\n"
+           "options:\n"
+           "  -o, --output FILE     the .hpfc file to write (atomically)\n"
+           "  --root N | NxM        root image size (default 64)\n"
+           "  --refine N | NxM      refined image size, each side >= 2 (default 2)\n"
+           "  --flat                build a one-level rPFC: the coarsest regular grid in\n"
+           "                        which no edge lies inside a single pixel\n"
+           "  --max-pixels N        refuse a --flat grid of more than N pixels\n"
+           "                        (default %llu)\n"
+           "  --json                print the build report as one JSON object\n"
+           "  --quiet               print no report\n"
+           "  -h, --help            show this help\n"
+           "  --version             show the version\n"
+           "\n"
+           "Exit status: 0 success, 1 input, build or write error, 2 usage error or\n"
+           "unsupported input format.\n",
+           (unsigned long long)HPFC_DEFAULT_MAX_FLAT_PIXELS);
+}
+
+/* ---- option parsing -------------------------------------------------------- */
+
+/* A whole unsigned decimal number in [1, max]: digits only, so signs, spaces,
+ * hex and trailing garbage are refused, and so is overflow. */
+static int parse_positive(const char *s, size_t len, uint64_t max, uint64_t *out)
+{
+    uint64_t v = 0;
+    if (len == 0)
+        return 0;
+    for (size_t k = 0; k < len; k++) {
+        if (s[k] < '0' || s[k] > '9')
+            return 0;
+        unsigned d = (unsigned)(s[k] - '0');
+        if (v > (max - d) / 10)
+            return 0;
+        v = v * 10 + d;
+    }
+    if (v == 0)
+        return 0;
+    *out = v;
+    return 1;
+}
+
+/* "N" (a square) or "NxM" (N columns, M rows), each side in [min, 2^32 - 1]. */
+static int parse_size(const char *s, uint32_t min, uint32_t *cols, uint32_t *rows)
+{
+    const char *x = strpbrk(s, "xX");
+    size_t n1 = x ? (size_t)(x - s) : strlen(s);
+    uint64_t c, r;
+    if (!parse_positive(s, n1, UINT32_MAX, &c))
+        return 0;
+    if (!x)
+        r = c;
+    else if (!parse_positive(x + 1, strlen(x + 1), UINT32_MAX, &r))
+        return 0;
+    if (c < min || r < min)
+        return 0;
+    *cols = (uint32_t)c;
+    *rows = (uint32_t)r;
+    return 1;
+}
+
+/* The value of option `name` given as "--name=value" or "--name value".
+ * Returns the value, or NULL when `arg` is not this option; *missing is set
+ * when the option came without a value. */
+static const char *option_value(char **argv, int argc, int *i, const char *name, int *missing)
+{
+    const char *arg = argv[*i];
+    size_t n = strlen(name);
+    if (strncmp(arg, name, n) != 0)
+        return NULL;
+    if (arg[n] == '=')
+        return arg + n + 1;
+    if (arg[n] != '\0')
+        return NULL;
+    if (*i + 1 >= argc) {
+        *missing = 1;
+        return NULL;
+    }
+    return argv[++*i];
+}
+
+/* Stores the value of option `name`; NULL on success, else what a valid
+ * value looks like. */
+static const char *apply_value(pack_args *a, const char *name, const char *v)
+{
+    hpfc_build_params *p = &a->params;
+    if (strcmp(name, "--root") == 0)
+        return parse_size(v, 1, &p->root_cols, &p->root_rows) ? NULL
+                                                               : "N or NxM, each at least 1";
+    if (strcmp(name, "--refine") == 0)
+        return parse_size(v, 2, &p->cols, &p->rows) ? NULL : "N or NxM, each at least 2";
+    if (strcmp(name, "--max-pixels") == 0)
+        return parse_positive(v, strlen(v), UINT64_MAX, &p->max_flat_pixels)
+                   ? NULL
+                   : "a positive integer";
+    a->output = v; /* -o, --output */
+    return v[0] ? NULL : "a file name";
+}
+
+/* Handles an option that takes a value; returns 1 if argv[*i] was one
+ * (*status is set to EXIT_USAGE when its value is missing or invalid). */
+static int value_option(pack_args *a, char **argv, int argc, int *i, int *status)
+{
+    static const char *const names[] = {"--root", "--refine", "--max-pixels", "--output", "-o"};
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+        int missing = 0;
+        const char *v = option_value(argv, argc, i, names[k], &missing);
+        if (missing) {
+            complain("%s needs a value", names[k]);
+            *status = EXIT_USAGE;
+            return 1;
+        }
+        if (!v)
+            continue;
+        const char *expected = apply_value(a, names[k], v);
+        if (expected) {
+            complain("%s: invalid value '%s' (expected %s)", names[k], v, expected);
+            *status = EXIT_USAGE;
+        }
+        return 1;
+    }
+    return 0;
+}
+
+/* Returns -1 to go on, or the exit status (0 after --help / --version). */
+static int parse_args(int argc, char **argv, pack_args *a)
+{
+    int status = -1, only_files = 0;
+    memset(a, 0, sizeof *a);
+    hpfc_build_params_default(&a->params);
+    for (int i = 1; i < argc && status < 0; i++) {
+        const char *arg = argv[i];
+        if (only_files || arg[0] != '-' || strcmp(arg, "-") == 0) {
+            if (a->input) {
+                complain("more than one INPUT ('%s' and '%s')", a->input, arg);
+                return EXIT_USAGE;
+            }
+            a->input = arg;
+        } else if (strcmp(arg, "--") == 0)
+            only_files = 1;
+        else if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
+            print_help();
+            return 0;
+        } else if (strcmp(arg, "--version") == 0) {
+            printf("hpfc-pack %s\n", hpfc_version_string());
+            return 0;
+        } else if (strcmp(arg, "--flat") == 0)
+            a->params.flat = 1;
+        else if (strcmp(arg, "--json") == 0)
+            a->json = 1;
+        else if (strcmp(arg, "--quiet") == 0)
+            a->quiet = 1;
+        else if (!value_option(a, argv, argc, &i, &status)) {
+            complain("unknown option '%s' (see --help)", arg);
+            return EXIT_USAGE;
+        }
+    }
+    if (status >= 0)
+        return status;
+    if (!a->input) {
+        complain("missing INPUT (usage: hpfc-pack [options] INPUT -o OUTPUT.hpfc)");
+        return EXIT_USAGE;
+    }
+    if (!a->output) {
+        complain("missing -o OUTPUT (usage: hpfc-pack [options] INPUT -o OUTPUT.hpfc)");
+        return EXIT_USAGE;
+    }
+    return -1;
+}
+
+/* ---- input --------------------------------------------------------------- */
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* Reads a whole file (or standard input for "-"); reads in chunks so that
+ * pipes work too. */
+static int read_all(const char *path, char **out, size_t *out_len)
+{
+    FILE *f = strcmp(path, "-") == 0 ? stdin : fopen(path, "rb");
+    if (!f)
+        return errno ? errno : EIO;
+    size_t len = 0, cap = 1 << 16;
+    char *buf = malloc(cap);
+    int err = buf ? 0 : ENOMEM;
+    while (!err) {
+        if (len == cap) {
+            char *nb = cap > SIZE_MAX / 2 ? NULL : realloc(buf, cap * 2);
+            if (!nb) {
+                err = ENOMEM;
+                break;
+            }
+            buf = nb;
+            cap *= 2;
+        }
+        size_t n = fread(buf + len, 1, cap - len, f);
+        len += n;
+        if (n == 0) {
+            err = ferror(f) ? (errno ? errno : EIO) : 0;
+            break;
+        }
+    }
+    if (f != stdin)
+        fclose(f);
+    if (err) {
+        free(buf);
+        return err;
+    }
+    *out = buf;
+    *out_len = len;
+    return 0;
+}
+
+static int has_suffix(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcmp(s + n - m, suffix) == 0;
+}
+
+/* Is the first record (after blank and comment lines) the `pfc` magic word? */
+static int looks_like_pfc(const char *s, size_t len)
+{
+    size_t i = 0;
+    while (i < len) {
+        while (i < len && (s[i] == ' ' || s[i] == '\t' || s[i] == '\r' || s[i] == '\n'))
+            i++;
+        if (i < len && s[i] == '#') {
+            while (i < len && s[i] != '\n')
+                i++;
+            continue;
+        }
+        break;
+    }
+    if (len - i < 3 || memcmp(s + i, "pfc", 3) != 0)
+        return 0;
+    i += 3;
+    return i == len || strchr(" \t\r\n#", s[i]) != NULL;
+}
+
+/* Reads INPUT into a graph; 0 or an exit status (the message is printed). */
+static int read_graph(const pack_args *a, hpfc_graph **g)
+{
+    char *text;
+    size_t len;
+    int err = read_all(a->input, &text, &len);
+    if (err) {
+        complain("%s: %s", a->input, strerror(err));
+        return EXIT_FAIL;
+    }
+    if (!has_suffix(a->input, ".pfc") && !looks_like_pfc(text, len)) {
+        free(text);
+        complain("%s: unsupported input format (GDAL and Draco inputs are not built in yet)",
+                 a->input);
+        return EXIT_USAGE;
+    }
+    hpfc_diag diag = {0};
+    int st = hpfc_pfc_parse(text, len, g, &diag);
+    free(text);
+    if (st) {
+        complain("%s: %s", a->input, diag_text(&diag, st));
+        return EXIT_FAIL;
+    }
+    return 0;
+}
+
+/* ---- report ------------------------------------------------------------------ */
+
+/* Word pixels with the word "++++" (no crossing), per level, by walking the
+ * tree: the file format does not count them. */
+static int count_private(const hpfc_tree *t, const hpfc_tree_info *info, level_report *lv)
+{
+    for (uint32_t l = 0; l < info->levels; l++) {
+        uint32_t cols = l ? info->cols : info->root_cols;
+        uint32_t rows = l ? info->rows : info->root_rows;
+        size_t images = hpfc_tree_image_count(t, l);
+        lv[l].private_ = 0;
+        for (size_t im = 0; im < images; im++)
+            for (uint32_t j = 0; j < rows; j++)
+                for (uint32_t i = 0; i < cols; i++) {
+                    hpfc_tree_pixel px;
+                    int st = hpfc_tree_get_pixel(t, l, im, i, j, &px);
+                    if (st)
+                        return st;
+                    if (px.type == HPFC_PIXEL_WORD && px.word_len == 4 &&
+                        memcmp(px.word, "++++", 4) == 0)
+                        lv[l].private_++;
+                }
+    }
+    return HPFC_OK;
+}
+
+/* Per-level counts and bit widths as a reader sees them in the serialised
+ * bytes; fails when they disagree with the tree, so that a writer bug never
+ * reaches OUTPUT. */
+static int read_levels(const uint8_t *bytes, size_t size, pack_report *r)
+{
+    hpfc_file *f;
+    int st = hpfc_open_memory(bytes, size, 0, &f);
+    if (st)
+        return st;
+    hpfc_file_info fi;
+    hpfc_file_get_info(f, &fi);
+    uint64_t word = 0, refined = 0;
+    if (fi.levels != r->tree.levels)
+        st = HPFC_E_LEVEL_TABLE;
+    for (uint32_t l = 0; l < fi.levels && !st; l++) {
+        hpfc_level_info li;
+        st = hpfc_file_get_level(f, l, &li);
+        if (st)
+            break;
+        level_report *lv = &r->levels[l];
+        lv->images = li.images;
+        lv->word = li.word_pixels;
+        lv->refined = li.refined_pixels;
+        lv->word_bits = li.word_bits;
+        lv->address_bits = li.address_bits;
+        lv->pool_bits = li.pool_bits;
+        word += li.word_pixels;
+        refined += li.refined_pixels;
+    }
+    if (!st && (word != r->tree.word_pixels || refined != r->tree.refined_pixels))
+        st = HPFC_E_LEVEL_TABLE;
+    r->file_bytes = fi.file_size;
+    hpfc_close(f);
+    return st;
+}
+
+static double bits_per_edge(const pack_report *r)
+{
+    return r->tree.edges ? (double)r->file_bytes * 8.0 / (double)r->tree.edges : 0.0;
+}
+
+static void print_json(const pack_args *a, const pack_report *r)
+{
+    const hpfc_tree_info *t = &r->tree;
+    jsonw w;
+    jsonw_init(&w, stdout);
+    jsonw_object_begin(&w, NULL);
+    jsonw_string(&w, "input", a->input);
+    jsonw_string(&w, "output", a->output);
+    jsonw_string(&w, "input_format", "pfc");
+    jsonw_u64(&w, "vertices", t->vertices);
+    jsonw_u64(&w, "edges", t->edges);
+    jsonw_u64(&w, "faces", t->faces);
+    jsonw_u64(&w, "components", t->components);
+    jsonw_bool(&w, "flat", a->params.flat);
+    jsonw_u64(&w, "root_cols", t->root_cols);
+    jsonw_u64(&w, "root_rows", t->root_rows);
+    jsonw_u64(&w, "refine_cols", t->cols);
+    jsonw_u64(&w, "refine_rows", t->rows);
+    jsonw_u64(&w, "depth", t->levels - 1);
+    jsonw_u64(&w, "level_count", t->levels);
+    jsonw_array_begin(&w, "levels");
+    for (uint32_t l = 0; l < t->levels; l++) {
+        const level_report *lv = &r->levels[l];
+        jsonw_object_begin(&w, NULL);
+        jsonw_u64(&w, "level", l);
+        jsonw_u64(&w, "images", lv->images);
+        jsonw_u64(&w, "word_pixels", lv->word);
+        jsonw_u64(&w, "refined_pixels", lv->refined);
+        jsonw_u64(&w, "private_pixels", lv->private_);
+        jsonw_u64(&w, "word_bits", lv->word_bits);
+        jsonw_u64(&w, "address_bits", lv->address_bits);
+        jsonw_u64(&w, "pool_bits", lv->pool_bits);
+        jsonw_object_end(&w);
+    }
+    jsonw_array_end(&w);
+    jsonw_u64(&w, "word_pixels", t->word_pixels);
+    jsonw_u64(&w, "refined_pixels", t->refined_pixels);
+    jsonw_u64(&w, "private_pixels", t->private_pixels);
+    jsonw_u64(&w, "total_pixels", t->word_pixels + t->refined_pixels);
+    jsonw_u64(&w, "max_word_symbols", t->max_word_symbols);
+    jsonw_u64(&w, "file_bytes", r->file_bytes);
+    jsonw_double(&w, "bits_per_edge", bits_per_edge(r), 3);
+    jsonw_double(&w, "build_seconds", r->build_s, 6);
+    jsonw_double(&w, "read_seconds", r->read_s, 6);
+    jsonw_double(&w, "write_seconds", r->write_s, 6);
+    jsonw_object_end(&w);
+    jsonw_finish(&w);
+}
+
+static void print_text(const pack_args *a, const pack_report *r)
+{
+    const hpfc_tree_info *t = &r->tree;
+    uint64_t total = t->word_pixels + t->refined_pixels;
+    printf("%s -> %s\n", a->input, a->output);
+    printf("graph      %llu vertices, %llu edges, %llu faces, %llu component%s\n",
+           (unsigned long long)t->vertices, (unsigned long long)t->edges,
+           (unsigned long long)t->faces, (unsigned long long)t->components,
+           t->components == 1 ? "" : "s");
+    printf("images     root %ux%u, refined %ux%u%s\n", t->root_cols, t->root_rows, t->cols,
+           t->rows, a->params.flat ? " (flat rPFC)" : "");
+    printf("depth      %u (%u level%s)\n", t->levels - 1, t->levels, t->levels == 1 ? "" : "s");
+    printf("\n%5s %10s %12s %12s %12s %5s %5s %14s\n", "level", "images", "word", "refined",
+           "private", "k_w", "k_@", "pool bits");
+    for (uint32_t l = 0; l < t->levels; l++) {
+        const level_report *lv = &r->levels[l];
+        printf("%5u %10llu %12llu %12llu %12llu %5u %5u %14llu\n", l,
+               (unsigned long long)lv->images, (unsigned long long)lv->word,
+               (unsigned long long)lv->refined, (unsigned long long)lv->private_, lv->word_bits,
+               lv->address_bits, (unsigned long long)lv->pool_bits);
+    }
+    printf("%5s %10s %12llu %12llu %12llu\n\n", "all", "", (unsigned long long)t->word_pixels,
+           (unsigned long long)t->refined_pixels, (unsigned long long)t->private_pixels);
+    printf("pixels     %llu (%.1f%% private)\n", (unsigned long long)total,
+           total ? 100.0 * (double)t->private_pixels / (double)total : 0.0);
+    printf("max word   %u symbols\n", t->max_word_symbols);
+    printf("file       %llu bytes, %.2f bits per edge\n", (unsigned long long)r->file_bytes,
+           bits_per_edge(r));
+    printf("time       build %.6f s (read %.6f s, write %.6f s)\n", r->build_s, r->read_s,
+           r->write_s);
+}
+
+/* ---- main ------------------------------------------------------------------ */
+
+/* Packing over INPUT itself would destroy it. */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+/* Builds, checks the serialised bytes, then writes OUTPUT; 0 or an exit
+ * status (the message is printed). */
+static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report *r)
+{
+    hpfc_diag diag = {0};
+    hpfc_tree *t = NULL;
+    double t0 = now_seconds();
+    int st = hpfc_build(g, &a->params, &t, &diag);
+    r->build_s = now_seconds() - t0;
+    if (st) {
+        complain("%s: %s", a->input, diag_text(&diag, st));
+        return st == HPFC_E_ARG ? EXIT_USAGE : EXIT_FAIL;
+    }
+    hpfc_tree_get_info(t, &r->tree);
+    r->levels = calloc(r->tree.levels, sizeof *r->levels);
+    st = r->levels ? count_private(t, &r->tree, r->levels) : HPFC_E_NOMEM;
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    t0 = now_seconds();
+    if (!st && (st = hpfc_tree_serialize(t, NULL, &bytes, &size, &diag)) == HPFC_OK &&
+        (st = read_levels(bytes, size, r)) != HPFC_OK)
+        snprintf(diag.message, sizeof diag.message,
+                 "internal error: the serialised file does not read back (%s)",
+                 hpfc_strerror(st));
+    if (!st)
+        st = hpfc_tree_write_file(t, NULL, a->output, &diag);
+    r->write_s = now_seconds() - t0;
+    free(bytes);
+    hpfc_tree_free(t);
+    if (st) {
+        complain("%s: %s", a->output, diag_text(&diag, st));
+        return EXIT_FAIL;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    pack_args a;
+    int status = parse_args(argc, argv, &a);
+    if (status >= 0)
+        return status;
+    if (same_file(a.input, a.output)) {
+        complain("%s: OUTPUT is the same file as INPUT", a.output);
+        return EXIT_USAGE;
+    }
+    pack_report r = {0};
+    hpfc_graph *g = NULL;
+    double t0 = now_seconds();
+    status = read_graph(&a, &g);
+    r.read_s = now_seconds() - t0;
+    if (!status)
+        status = build_and_write(&a, g, &r);
+    hpfc_graph_free(g);
+    if (!status && !a.quiet) {
+        if (a.json)
+            print_json(&a, &r);
+        else
+            print_text(&a, &r);
+        if (fflush(stdout) != 0) {
+            complain("cannot write the report: %s", strerror(errno));
+            status = EXIT_FAIL;
+        }
+    }
+    free(r.levels);
+    return status;
+}

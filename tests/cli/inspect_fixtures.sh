@@ -1,0 +1,43 @@
+#!/bin/sh
+# hpfc-inspect on the .hpfc fixtures: every tests/data/valid/*.hpfc gives
+# exit 0, a level table, and valid JSON with --json; every
+# tests/data/invalid/*.hpfc gives the verdict of inspect_fixtures.expect:
+# exit 1 with exactly one line "hpfc-inspect: FILE: <reason>" when opening
+# refuses it, exit 0 when only the pools are bad (hpfc-inspect never decodes
+# them; --verify will). A fixture missing from the list must not crash.
+# shellcheck source=tests/cli/lib.sh
+. "$(dirname "$0")/lib.sh"
+
+for f in "$TESTS"/data/valid/*.hpfc; do
+    [ -e "$f" ] || continue
+    name=$(basename "$f")
+    run "$INSPECT" "$f"
+    expect_ok "$name"
+    grep -q '^level' "$tmp/out" || fail "$name: no level table"
+    run "$INSPECT" --json "$f"
+    expect_ok "$name --json"
+    check json "$tmp/out" || fail "$name: bad JSON"
+done
+
+for f in "$TESTS"/data/invalid/*.hpfc; do
+    [ -e "$f" ] || continue
+    name=$(basename "$f")
+    line=$(awk -v n="$name" '$1 == n { sub(/^[^ ]+ +/, ""); print }' "$HERE/inspect_fixtures.expect")
+    status=${line%% *}
+    reason=${line#* }
+    [ "$reason" = "$line" ] && reason=""
+    for json in "" --json; do
+        run "$INSPECT" $json "$f"
+        case $status in
+            0) expect_ok "$name $json" ;;
+            1)
+                expect_error "$name $json" "hpfc-inspect: $f: " 1
+                grep -qF -- "$reason" "$tmp/err" || fail "$name: reason lacks '$reason'"
+                [ -s "$tmp/out" ] && fail "$name $json: printed a summary"
+                ;;
+            *) [ "$rc" -le 1 ] || fail "$name $json: exit status $rc (crash?)" ;;
+        esac
+    done
+done
+
+finish

@@ -1,0 +1,15 @@
+#!/bin/sh
+# Installs what building and testing hpfc needs on Debian 12, skipping
+# packages that are already there. Runs apt-get as root, or through sudo.
+set -eu
+PACKAGES="gcc meson ninja-build pkg-config python3"
+missing=""
+for p in $PACKAGES; do
+    dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"
+done
+[ -z "$missing" ] && exit 0
+SUDO=""
+[ "$(id -u)" -ne 0 ] && SUDO="sudo"
+echo "installing:$missing" >&2
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq $missing >/dev/null

@@ -1,0 +1,24 @@
+#!/bin/sh
+# Builds hpfc from scratch with AddressSanitizer and UndefinedBehaviorSanitizer
+# and runs the whole test suite; ends with one "N passed, N failed" line.
+set -eu
+cd "$(dirname "$0")/.."
+sh tools/install-deps.sh
+rm -rf build-test
+meson setup build-test -Db_sanitize=address,undefined -Db_lundef=false -Dwerror=true >/dev/null
+ninja -C build-test
+status=0
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+    meson test -C build-test --print-errorlogs --num-processes 2 || status=$?
+python3 - build-test/meson-logs/testlog.json <<'PY'
+import json, sys
+ok = bad = 0
+for line in open(sys.argv[1]):
+    r = json.loads(line)["result"]
+    if r in ("OK", "EXPECTEDFAIL"):
+        ok += 1
+    elif r != "SKIP":
+        bad += 1
+print(f"tests: {ok} passed, {bad} failed")
+PY
+exit $status
