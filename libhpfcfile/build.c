@@ -36,6 +36,7 @@ typedef struct builder {
     int64_t ox, oy;           /* domain origin in graph coordinates */
     seg *segs;
     size_t nsegs;
+    size_t *edge_seg0;        /* first segment of each edge; edge_seg0[ne] = nsegs */
     int32_t *edge_level;      /* deepest level with a pixel holding the edge, -1 if none */
     lpoint *edge_anchor;      /* one point of each edge (domain-relative) */
     uint8_t *vertex_seen;     /* each vertex must land in exactly one word pixel */
@@ -142,12 +143,14 @@ static int make_segments(builder *b)
     if (n > UINT32_MAX - 1)
         return diag_set(b->diag, HPFC_E_LIMIT, "more than 2^32 - 2 segments");
     b->segs = malloc(n * sizeof *b->segs);
-    if (!b->segs)
+    b->edge_seg0 = malloc((g->ne + 1) * sizeof *b->edge_seg0);
+    if (!b->segs || !b->edge_seg0)
         return HPFC_E_NOMEM;
     b->nsegs = n;
     size_t s = 0;
     for (size_t e = 0; e < g->ne; e++) {
         int64_t x, y;
+        b->edge_seg0[e] = s;
         graph_edge_point(g, e, 0, &x, &y);
         lpoint prev = {x - b->ox, y - b->oy};
         for (size_t k = 1; k < graph_edge_point_count(g, e); k++, s++) {
@@ -157,6 +160,7 @@ static int make_segments(builder *b)
             prev = cur;
         }
     }
+    b->edge_seg0[g->ne] = s;
     return HPFC_OK;
 }
 
@@ -183,7 +187,8 @@ static int level_add_image(tlevel *lv, int64_t gx, int64_t gy, size_t *index)
 {
     size_t per = (size_t)lv->cols * lv->rows;
     if (lv->nimages == lv->cap) {
-        size_t ncap = lv->cap ? 2 * lv->cap : 16;
+        /* a large image (the root, or a flat grid) is allocated alone */
+        size_t ncap = lv->cap ? 2 * lv->cap : per > 4096 ? 1 : 16;
         int64_t *ngx = realloc(lv->img_gx, ncap * sizeof *ngx);
         if (!ngx)
             return HPFC_E_NOMEM;
@@ -251,6 +256,23 @@ static int cmp_clockwise(const void *pa, const void *pb)
     return a->road == ROAD_W || a->road == ROAD_N ? c : -c;
 }
 
+/* Sorts a pixel's crossings: most pixels have a handful, where insertion
+ * sort beats qsort's overhead. */
+static void sort_crossings(crossing *cr, size_t n, int (*cmp)(const void *, const void *))
+{
+    if (n > 16) {
+        qsort(cr, n, sizeof *cr, cmp);
+        return;
+    }
+    for (size_t i = 1; i < n; i++) {
+        crossing c = cr[i];
+        size_t j = i;
+        for (; j > 0 && cmp(&cr[j - 1], &c) > 0; j--)
+            cr[j] = cr[j - 1];
+        cr[j] = c;
+    }
+}
+
 static int add_component(word_scratch *w, int64_t vertex, uint32_t *id)
 {
     if (vertex >= 0)
@@ -287,16 +309,14 @@ static int internal_error(builder *b, const char *what, uint32_t edge)
  * piece between two crossings is a stabbing. */
 static int assign_components(builder *b, word_scratch *w, const int64_t cell[4])
 {
-    qsort(w->cr, w->ncr, sizeof *w->cr, cmp_along_edge);
+    sort_crossings(w->cr, w->ncr, cmp_along_edge);
     const hpfc_graph *g = b->g;
     size_t i = 0;
     while (i < w->ncr) {
         uint32_t e = w->cr[i].edge;
-        int64_t ux, uy, vx, vy;
-        graph_edge_point(g, e, 0, &ux, &uy);
-        graph_edge_point(g, e, graph_edge_point_count(g, e) - 1, &vx, &vy);
-        bool u_in = point_in_cell((lpoint){ux - b->ox, uy - b->oy}, cell[0], cell[1], cell[2], cell[3]);
-        bool v_in = point_in_cell((lpoint){vx - b->ox, vy - b->oy}, cell[0], cell[1], cell[2], cell[3]);
+        lpoint u = b->segs[b->edge_seg0[e]].a, v = b->segs[b->edge_seg0[e + 1] - 1].b;
+        bool u_in = point_in_cell(u, cell[0], cell[1], cell[2], cell[3]);
+        bool v_in = point_in_cell(v, cell[0], cell[1], cell[2], cell[3]);
         bool inside = u_in, from_vertex = u_in;
         crossing *open = NULL;
         int st;
@@ -329,15 +349,14 @@ static int assign_components(builder *b, word_scratch *w, const int64_t cell[4])
 static int append_word(builder *b, word_scratch *w, tpixel *px)
 {
     hpfc_tree *t = b->t;
-    qsort(w->cr, w->ncr, sizeof *w->cr, cmp_clockwise);
+    sort_crossings(w->cr, w->ncr, cmp_clockwise);
     size_t len = w->ncr + 4;
     int st = reserve((void **)&t->syms, &t->cap_syms, t->nsyms + len, 1);
+    size_t old_cap = t->cap_cross;
     if (!st)
         st = reserve((void **)&t->cross_edge, &t->cap_cross, t->ncross + w->ncr, sizeof(uint32_t));
-    if (!st) {
-        size_t cap = t->cap_cross;
-        /* cross_seg follows cross_edge's capacity */
-        uint32_t *ns = realloc(t->cross_seg, cap * sizeof *ns);
+    if (!st && t->cap_cross != old_cap) { /* cross_seg follows cross_edge's capacity */
+        uint32_t *ns = realloc(t->cross_seg, t->cap_cross * sizeof *ns);
         if (!ns)
             st = HPFC_E_NOMEM;
         else
@@ -436,9 +455,37 @@ static int cmp_incidence(const void *pa, const void *pb)
 }
 
 typedef struct image_scratch {
-    incidence *inc;
-    size_t ninc, cap_inc;
+    incidence *inc, *sorted;
+    size_t ninc, cap_inc, cap_sorted;
+    size_t *count;
+    size_t cap_count;
 } image_scratch;
+
+/* Orders the incidences by pixel, keeping each pixel's segments in list
+ * order: a counting sort when the image is not much larger than the
+ * incidences, qsort (by pixel, then segment) for sparse large images. */
+static int group_by_pixel(image_scratch *is, size_t pixels)
+{
+    if (pixels > 4 * is->ninc + 1024) {
+        qsort(is->inc, is->ninc, sizeof *is->inc, cmp_incidence);
+        return HPFC_OK;
+    }
+    if (reserve((void **)&is->count, &is->cap_count, pixels + 1, sizeof *is->count) ||
+        reserve((void **)&is->sorted, &is->cap_sorted, is->ninc + 1, sizeof *is->sorted))
+        return HPFC_E_NOMEM;
+    memset(is->count, 0, (pixels + 1) * sizeof *is->count);
+    for (size_t k = 0; k < is->ninc; k++)
+        is->count[is->inc[k].pixel + 1]++;
+    for (size_t p = 0; p < pixels; p++)
+        is->count[p + 1] += is->count[p];
+    for (size_t k = 0; k < is->ninc; k++)
+        is->sorted[is->count[is->inc[k].pixel]++] = is->inc[k];
+    incidence *t = is->inc;  /* swap buffers: the sorted one becomes inc */
+    size_t tc = is->cap_inc;
+    is->inc = is->sorted, is->cap_inc = is->cap_sorted;
+    is->sorted = t, is->cap_sorted = tc;
+    return HPFC_OK;
+}
 
 static int64_t floor_div(int64_t a, int64_t b)
 {
@@ -474,8 +521,7 @@ static int distribute(builder *b, const tlevel *lv, int64_t gx0, int64_t gy0,
                 is->inc[is->ninc++] = (incidence){(uint32_t)(j * cols + c), list[i]};
             }
     }
-    qsort(is->inc, is->ninc, sizeof *is->inc, cmp_incidence);
-    return HPFC_OK;
+    return group_by_pixel(is, (size_t)cols * (size_t)rows);
 }
 
 /* Is the pixel at level-wide cell (gx, gy) of `level` holding a whole edge? */
@@ -681,6 +727,8 @@ static int build_levels(builder *b)
     }
     t->info.levels = level + 1;
     free(is.inc);
+    free(is.sorted);
+    free(is.count);
     free(w.cr);
     free(w.comp);
     return st;
@@ -689,6 +737,7 @@ static int build_levels(builder *b)
 static void free_builder(builder *b)
 {
     free(b->segs);
+    free(b->edge_seg0);
     free(b->edge_level);
     free(b->edge_anchor);
     free(b->vertex_seen);

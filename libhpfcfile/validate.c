@@ -166,6 +166,7 @@ typedef struct seg_table {
     size_t count;
     uint32_t *edge;   /* edge of each segment */
     uint32_t *k;      /* segment index within its edge */
+    lpoint *end;      /* 2 per segment, relative to the bucket grid's origin */
 } seg_table;
 
 static bool on_segment(lpoint a, lpoint b, lpoint p)
@@ -227,11 +228,9 @@ static bool segments_conflict(lpoint a, lpoint b, lpoint c, lpoint d, double at[
     return false;
 }
 
-static lpoint seg_point(const hpfc_graph *g, const seg_table *t, size_t s, int end, int64_t ox, int64_t oy)
+static lpoint seg_point(const seg_table *t, size_t s, int end)
 {
-    int64_t x, y;
-    graph_edge_point(g, t->edge[s], t->k[s] + (size_t)end, &x, &y);
-    return (lpoint){x - ox, y - oy};
+    return t->end[2 * s + (size_t)end];
 }
 
 typedef struct bucket_grid {
@@ -266,7 +265,7 @@ static void place_incidence(bucket_grid *bg, size_t cell, uint32_t s)
     bg->items[bg->start[cell]++] = s;
 }
 
-static int build_buckets(const hpfc_graph *g, const seg_table *t, bucket_grid *bg)
+static int build_buckets(const hpfc_graph *g, seg_table *t, bucket_grid *bg)
 {
     int64_t xmin = INT64_MAX, ymin = INT64_MAX, xmax = INT64_MIN, ymax = INT64_MIN;
     for (size_t v = 0; v < g->nv; v++) {
@@ -279,6 +278,12 @@ static int build_buckets(const hpfc_graph *g, const seg_table *t, bucket_grid *b
         xmin = x < xmin ? x : xmin, xmax = x > xmax ? x : xmax;
         ymin = y < ymin ? y : ymin, ymax = y > ymax ? y : ymax;
     }
+    for (size_t s = 0; s < t->count; s++)
+        for (int end = 0; end < 2; end++) {
+            int64_t x, y;
+            graph_edge_point(g, t->edge[s], t->k[s] + (size_t)end, &x, &y);
+            t->end[2 * s + (size_t)end] = (lpoint){x - xmin, y - ymin};
+        }
     size_t side = (size_t)sqrt((double)t->count) + 1;
     bg->ox = xmin, bg->oy = ymin;
     bg->cols = bg->rows = side;
@@ -289,16 +294,14 @@ static int build_buckets(const hpfc_graph *g, const seg_table *t, bucket_grid *b
     if (!bg->start)
         return HPFC_E_NOMEM;
     for (size_t s = 0; s < t->count; s++)
-        for_each_cell(bg, seg_point(g, t, s, 0, xmin, ymin), seg_point(g, t, s, 1, xmin, ymin),
-                      (uint32_t)s, count_incidence, bg);
+        for_each_cell(bg, seg_point(t, s, 0), seg_point(t, s, 1), (uint32_t)s, count_incidence, bg);
     for (size_t c = 0; c < cells; c++)
         bg->start[c + 1] += bg->start[c];
     bg->items = malloc((bg->start[cells] ? bg->start[cells] : 1) * sizeof *bg->items);
     if (!bg->items)
         return HPFC_E_NOMEM;
     for (size_t s = 0; s < t->count; s++)
-        for_each_cell(bg, seg_point(g, t, s, 0, xmin, ymin), seg_point(g, t, s, 1, xmin, ymin),
-                      (uint32_t)s, place_incidence, bg);
+        for_each_cell(bg, seg_point(t, s, 0), seg_point(t, s, 1), (uint32_t)s, place_incidence, bg);
     /* place_incidence advanced each start to the next cell's start */
     memmove(bg->start + 1, bg->start, cells * sizeof *bg->start);
     bg->start[0] = 0;
@@ -327,7 +330,7 @@ static int report_conflict(const hpfc_graph *g, const seg_table *t, uint32_t s1,
 
 static int check_planarity(const hpfc_graph *g, hpfc_diag *diag)
 {
-    seg_table t = {0, NULL, NULL};
+    seg_table t = {0};
     for (size_t e = 0; e < g->ne; e++)
         t.count += graph_edge_point_count(g, e) - 1;
     if (t.count > UINT32_MAX)
@@ -336,7 +339,8 @@ static int check_planarity(const hpfc_graph *g, hpfc_diag *diag)
     int st = HPFC_E_NOMEM;
     t.edge = malloc(t.count * sizeof *t.edge);
     t.k = malloc(t.count * sizeof *t.k);
-    if (!t.edge || !t.k)
+    t.end = malloc(2 * t.count * sizeof *t.end);
+    if (!t.edge || !t.k || !t.end)
         goto done;
     size_t s = 0;
     for (size_t e = 0; e < g->ne; e++)
@@ -348,12 +352,11 @@ static int check_planarity(const hpfc_graph *g, hpfc_diag *diag)
     for (size_t c = 0; c < bg.cols * bg.rows && !st; c++) {
         for (size_t i = bg.start[c]; i < bg.start[c + 1] && !st; i++) {
             uint32_t s1 = bg.items[i];
-            lpoint a = seg_point(g, &t, s1, 0, bg.ox, bg.oy), b = seg_point(g, &t, s1, 1, bg.ox, bg.oy);
+            lpoint a = seg_point(&t, s1, 0), b = seg_point(&t, s1, 1);
             for (size_t j = i + 1; j < bg.start[c + 1]; j++) {
                 uint32_t s2 = bg.items[j];
                 double at[2];
-                if (segments_conflict(a, b, seg_point(g, &t, s2, 0, bg.ox, bg.oy),
-                                      seg_point(g, &t, s2, 1, bg.ox, bg.oy), at)) {
+                if (segments_conflict(a, b, seg_point(&t, s2, 0), seg_point(&t, s2, 1), at)) {
                     st = report_conflict(g, &t, s1, s2, at, &bg, diag);
                     break;
                 }
@@ -365,6 +368,7 @@ done:
         diag_set(diag, st, "out of memory");
     free(t.edge);
     free(t.k);
+    free(t.end);
     free(bg.start);
     free(bg.items);
     return st;
