@@ -5,7 +5,7 @@
 set -eu
 cd "$(dirname "$0")/.."
 [ -d build-bench ] || meson setup build-bench --buildtype=release >/dev/null
-ninja -C build-bench bench/bench_build >/dev/null
+ninja -C build-bench bench/bench_build bench/bench_traverse bench/bench_read >/dev/null
 B=build-bench/bench/bench_build
 
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -1)
@@ -28,3 +28,12 @@ echo "(b) the paper's experiment (Sect. 6): 4000 random points, Delaunay, 20% of
 echo "    removed, (n0, n) = (64, 2); rPFC = the flat grid in which no edge lies in one pixel"
 $B --header paper
 $B paper 5
+echo
+
+echo "(c) traversal (issue 4): BFS over all darts by next and twin on the hPFC file, the"
+echo "    flat rPFC file and a half-edge array (next[], twin[]) of the same map"
+build-bench/bench/bench_traverse 5 1
+echo
+
+echo "(d) reader (issue 3): open cost on a 671 MB file, pixel fetch + decode, deep locate"
+build-bench/bench/bench_read
