@@ -396,30 +396,32 @@ static int walk(hpfc_walker *w, const hpfc_dart *d, hpfc_pixel *end, uint32_t *m
     return st;
 }
 
+/* Loads dart d and follows it to the pixel of its target: on return
+ * w->there holds that pixel, *end names it and in_m is where d arrives. */
+static int follow(hpfc_walker *w, const hpfc_dart *d, hpfc_pixel *end, uint32_t *m)
+{
+    if (!w || !d)
+        return HPFC_E_ARG;
+    int st = load_dart(w, d);
+    return st ? st : walk(w, d, end, m);
+}
+
 int hpfc_dart_twin(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
 {
-    if (!w || !d || !out)
-        return HPFC_E_ARG;
     hpfc_pixel end;
     uint32_t m;
-    int st = load_dart(w, d);
-    if (!st)
-        st = walk(w, d, &end, &m);
+    int st = out ? follow(w, d, &end, &m) : HPFC_E_ARG;
     if (st)
         return st;
-    out->crossing = m;
+    out->crossing = m;  /* twin(d) = out_m where d arrives */
     return copy_pixel(&out->pixel, &end);
 }
 
 int hpfc_dart_next(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
 {
-    if (!w || !d || !out)
-        return HPFC_E_ARG;
     hpfc_pixel end;
     uint32_t m;
-    int st = load_dart(w, d);
-    if (!st)
-        st = walk(w, d, &end, &m);
+    int st = out ? follow(w, d, &end, &m) : HPFC_E_ARG;
     if (st)
         return st;
     out->crossing = w->there.pred[m];  /* next(in_m) = out_pred[m] */
