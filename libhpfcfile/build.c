@@ -457,6 +457,8 @@ static int cmp_incidence(const void *pa, const void *pb)
 typedef struct image_scratch {
     incidence *inc, *sorted;
     size_t ninc, cap_inc, cap_sorted;
+    uint32_t *sub;            /* one pixel's segments */
+    size_t cap_sub;
     size_t *count;
     size_t cap_count;
 } image_scratch;
@@ -570,15 +572,13 @@ static int build_image(builder *b, uint32_t level, size_t image, image_scratch *
     if (st)
         return st;
     size_t per = (size_t)lv->cols * lv->rows, k = 0;
-    uint32_t *sub = NULL;
-    size_t sub_cap = 0;
+    if (reserve((void **)&is->sub, &is->cap_sub, is->ninc + 1, sizeof *is->sub))
+        return HPFC_E_NOMEM;
+    uint32_t *sub = is->sub;
     for (size_t p = 0; p < per && !st; p++) {
         size_t first = k;
         while (k < is->ninc && is->inc[k].pixel == p)
             k++;
-        st = reserve((void **)&sub, &sub_cap, k - first + 1, sizeof *sub);
-        if (st)
-            break;
         for (size_t q = first; q < k; q++)
             sub[q - first] = is->inc[q].seg;
         size_t ns = k - first;
@@ -595,7 +595,6 @@ static int build_image(builder *b, uint32_t level, size_t image, image_scratch *
             st = make_word(b, w, sub, ns, cell, px);
         }
     }
-    free(sub);
     return st;
 }
 
@@ -715,13 +714,10 @@ static int build_levels(builder *b)
             st = build_image(b, level, im, &is, &w);
         if (st || level >= b->max_depth || t->levels[level + 1].nimages == 0)
             break;
-        uint32_t *tl = b->cur_list;
-        size_t *ts = b->cur_start;
+        /* the next level's segment lists become the current ones */
+        free(b->cur_list);
+        free(b->cur_start);
         b->cur_list = b->next_list, b->cur_start = b->next_start;
-        b->next_list = tl, b->next_start = ts;
-        /* the swapped-in buffers' capacities are unknown: start them afresh */
-        free(b->next_list);
-        free(b->next_start);
         b->next_list = NULL, b->next_start = NULL;
         b->next_cap = b->next_images_cap = 0;
     }
@@ -729,6 +725,7 @@ static int build_levels(builder *b)
     free(is.inc);
     free(is.sorted);
     free(is.count);
+    free(is.sub);
     free(w.cr);
     free(w.comp);
     return st;
