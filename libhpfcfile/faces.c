@@ -106,7 +106,7 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
     fc->mask = cap - 1;
     for (st = hpfc_leaf_first(fc->file, &px); !st; st = hpfc_leaf_next(fc->file, &px)) {
         uint64_t slot;
-        if ((st = reader_pixel_slot_bit(fc->file, &px, &slot)) || (st = parse_pixel(w, &w->here, &px)))
+        if ((st = reader_pixel_slot_bit(fc->file, &px, &slot)) || (st = topo_parse_pixel(w, &w->here, &px)))
             return st;
         pixel_entry *e = find_entry(fc, slot);
         if (e->slot)
@@ -134,7 +134,7 @@ static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uin
         hpfc_pixel q;
         uint32_t mk;
         uint64_t qbase;
-        int st = cross_road(w, p, lw, k, &q, &w->there, &mk);
+        int st = topo_cross_road(w, p, lw, k, &q, &w->there, &mk);
         if (!st)
             st = node_base(fc, &q, &qbase);
         if (st)
@@ -149,27 +149,27 @@ static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uin
 static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
 {
     box pb, qb;
-    int st = leaf_box(fc->file, p, &pb);
+    int st = topo_leaf_box(fc->file, p, &pb);
     for (int road = 0; road < 4 && !st; road++) {
         if (w->here.road_off[road + 1] != w->here.road_off[road])
             continue; /* crossings link both sides through the sidewalks */
         int64_t lo, hi, qlo, qhi;
-        road_extent(&pb, road, &lo, &hi);
+        topo_road_extent(&pb, road, &lo, &hi);
         hpfc_pixel q;
-        st = locate_on_road(fc->file, &pb, road, lo, false, &q, &qb);
+        st = topo_locate_on_road(fc->file, &pb, road, lo, false, &q, &qb);
         if (st == HPFC_E_CORRUPT) { /* the domain's border: nothing across */
             st = HPFC_OK;
             continue;
         }
         if (st)
             break;
-        road_extent(&qb, road, &qlo, &qhi);
+        topo_road_extent(&qb, road, &qlo, &qhi);
         if (qlo > lo || qhi < hi)
             continue; /* smaller leaves across: each handles its own side */
         uint64_t before, qbase;
         uint64_t pnode = gap_node(&w->here, base, road, 0);
-        if ((st = crossings_after(w, &pb, road, qlo, qhi, &before)) || (st = node_base(fc, &q, &qbase)) ||
-            (st = parse_pixel(w, &w->there, &q)))
+        if ((st = topo_crossings_after(w, &pb, road, qlo, qhi, &before)) || (st = node_base(fc, &q, &qbase)) ||
+            (st = topo_parse_pixel(w, &w->there, &q)))
             break;
         unite(fc->parent, pnode, gap_node(&w->there, qbase, (road + 2) % 4, before));
     }
@@ -183,7 +183,7 @@ static int unite_all(hpfc_faces *fc, hpfc_walker *w)
     int st;
     for (st = hpfc_leaf_first(fc->file, &px); !st; st = hpfc_leaf_next(fc->file, &px)) {
         uint64_t base;
-        if ((st = node_base(fc, &px, &base)) || (st = parse_pixel(w, &w->here, &px)))
+        if ((st = node_base(fc, &px, &base)) || (st = topo_parse_pixel(w, &w->here, &px)))
             return st;
         unite_inside(fc->parent, &w->here, base);
         if ((st = unite_across(fc, w, &px, base)) || (st = unite_empty_roads(fc, w, &px, base)))
@@ -204,7 +204,7 @@ static int number_faces(hpfc_faces *fc, hpfc_walker *w)
     if (!st)
         st = node_base(fc, &corner, &base);
     if (!st)
-        st = parse_pixel(w, &w->here, &corner);
+        st = topo_parse_pixel(w, &w->here, &corner);
     if (st)
         return st;
     uint64_t outer = find(fc->parent, gap_node(&w->here, base, HPFC_NORTH, 0));

@@ -158,7 +158,7 @@ static int parse_symbols(local_word *lw, const char *sym, size_t len)
     return HPFC_OK;
 }
 
-int parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
+int topo_parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
 {
     size_t len;
     w->visited++;
@@ -171,7 +171,7 @@ int parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
 }
 
 /* Crossings on one road of a word pixel, from its symbols. */
-int road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count)
+int topo_road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count)
 {
     size_t len;
     w->visited++;
@@ -191,7 +191,7 @@ int road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count)
 
 /* ---- crossing identification -------------------------------------------- */
 
-int leaf_box(const hpfc_file *f, const hpfc_pixel *px, box *b)
+int topo_leaf_box(const hpfc_file *f, const hpfc_pixel *px, box *b)
 {
     return hpfc_pixel_bounds(f, px, &b->x0, &b->y0, &b->x1, &b->y1);
 }
@@ -209,7 +209,7 @@ static void road_point(const box *b, int road, int64_t t, bool inside, int64_t *
 }
 
 /* Extent of box b along the line of `road`: [lo, hi). */
-void road_extent(const box *b, int road, int64_t *lo, int64_t *hi)
+void topo_road_extent(const box *b, int road, int64_t *lo, int64_t *hi)
 {
     bool vertical = road == HPFC_WEST || road == HPFC_EAST;
     *lo = vertical ? b->y0 : b->x0;
@@ -218,41 +218,41 @@ void road_extent(const box *b, int road, int64_t *lo, int64_t *hi)
 
 /* Does the road run toward increasing coordinates in its own clockwise
  * order? W runs north, N east, E south, S west. */
-bool road_ascends(int road)
+bool topo_road_ascends(int road)
 {
     return road == HPFC_WEST || road == HPFC_NORTH;
 }
 
-int locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, bool inside,
+int topo_locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, bool inside,
                           hpfc_pixel *out, box *out_box)
 {
     int64_t x, y;
     road_point(b, road, t, inside, &x, &y);
     int st = hpfc_locate(f, x, y, out);
     if (!st)
-        st = leaf_box(f, out, out_box);
+        st = topo_leaf_box(f, out, out_box);
     return st == HPFC_E_NO_PIXEL ? HPFC_E_CORRUPT : st;
 }
 
-int crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi, uint64_t *sum)
+int topo_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi, uint64_t *sum)
 {
     int64_t lo, hi;
-    road_extent(b, road, &lo, &hi);
-    bool up = road_ascends(road);
+    topo_road_extent(b, road, &lo, &hi);
+    bool up = topo_road_ascends(road);
     int64_t t = up ? hi : lo - 1;
     *sum = 0;
     for (uint64_t steps = 0; up ? t < qhi : t >= qlo; steps++) {
         hpfc_pixel l;
         box lb;
         uint32_t count;
-        int st = steps > w->budget ? HPFC_E_CORRUPT : locate_on_road(w->file, b, road, t, true, &l, &lb);
+        int st = steps > w->budget ? HPFC_E_CORRUPT : topo_locate_on_road(w->file, b, road, t, true, &l, &lb);
         if (!st)
-            st = road_count(w, &l, road, &count);
+            st = topo_road_count(w, &l, road, &count);
         if (st)
             return st;
         *sum += count;
         int64_t llo, lhi;
-        road_extent(&lb, road, &llo, &lhi);
+        topo_road_extent(&lb, road, &llo, &lhi);
         t = up ? lhi : llo - 1;
     }
     return HPFC_OK;
@@ -260,7 +260,7 @@ int crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t
 
 /* Crossing k of word pixel P (parsed in lw), seen from the other side of its
  * road: the word pixel Q (parsed into qlw) and Q's crossing *m. */
-int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k, hpfc_pixel *q,
+int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k, hpfc_pixel *q,
                local_word *qlw, uint32_t *m)
 {
     const hpfc_file *f = w->file;
@@ -271,24 +271,24 @@ int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32
     uint32_t c = lw->road_off[road + 1] - lw->road_off[road];
     uint32_t after = c - 1 - (k - lw->road_off[road]); /* crossings after k on P's road */
     box pb, qb;
-    int st = leaf_box(f, p, &pb);
+    int st = topo_leaf_box(f, p, &pb);
     int64_t lo, hi, qlo, qhi;
-    road_extent(&pb, road, &lo, &hi);
+    topo_road_extent(&pb, road, &lo, &hi);
     /* Algorithm 1's first neighbour: the leaf across that spans P's side,
      * or the first of the smaller ones in their clockwise order */
     if (!st && (st = hpfc_pixel_move(f, p, road, q)) == HPFC_E_NO_PIXEL)
         st = HPFC_E_CORRUPT; /* a crossing on the domain's border */
     if (!st)
-        st = leaf_box(f, q, &qb);
+        st = topo_leaf_box(f, q, &qb);
     if (st)
         return st;
-    road_extent(&qb, road, &qlo, &qhi);
+    topo_road_extent(&qb, road, &qlo, &qhi);
     uint64_t rank = after;
     if (qlo <= lo && qhi >= hi) {
         /* Q spans P's whole side: add the crossings of the leaves on P's
          * side that follow P along Q's side, in P's clockwise order */
         uint64_t sum;
-        if ((st = crossings_after(w, &pb, road, qlo, qhi, &sum)) || (st = parse_pixel(w, qlw, q)))
+        if ((st = topo_crossings_after(w, &pb, road, qlo, qhi, &sum)) || (st = topo_parse_pixel(w, qlw, q)))
             return st;
         rank += sum;
         if (rank >= qlw->road_off[opposite + 1] - qlw->road_off[opposite])
@@ -298,14 +298,14 @@ int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32
     }
     /* Smaller leaves across: walk them in their own clockwise order along
      * P's side until the crossing's rank falls inside one of them. */
-    bool up = road_ascends(opposite);
+    bool up = topo_road_ascends(opposite);
     int64_t t = up ? lo : hi - 1;
     for (uint64_t steps = 0; up ? t < hi : t >= lo; steps++) {
         if (steps > w->budget)
             return HPFC_E_CORRUPT;
-        if (steps && (st = locate_on_road(f, &pb, road, t, false, q, &qb)))
+        if (steps && (st = topo_locate_on_road(f, &pb, road, t, false, q, &qb)))
             return st;
-        if ((st = parse_pixel(w, qlw, q)))
+        if ((st = topo_parse_pixel(w, qlw, q)))
             return st;
         uint32_t count = qlw->road_off[opposite + 1] - qlw->road_off[opposite];
         if (rank < count) {
@@ -313,7 +313,7 @@ int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32
             return HPFC_OK;
         }
         rank -= count;
-        road_extent(&qb, road, &qlo, &qhi);
+        topo_road_extent(&qb, road, &qlo, &qhi);
         t = up ? qhi : qlo - 1;
     }
     return HPFC_E_CORRUPT;
@@ -332,7 +332,7 @@ static int parse_here(hpfc_walker *w, const hpfc_pixel *px)
     if (w->here_valid && w->here_slot == slot)
         return HPFC_OK;
     w->here_valid = false;
-    if ((st = parse_pixel(w, &w->here, px)))
+    if ((st = topo_parse_pixel(w, &w->here, px)))
         return st;
     w->here_valid = true;
     w->here_slot = slot;
@@ -373,7 +373,7 @@ static int walk(hpfc_walker *w, const hpfc_dart *d, hpfc_pixel *end, uint32_t *m
         if (steps > w->budget)
             return HPFC_E_CORRUPT;
         uint32_t mm;
-        if ((st = cross_road(w, &cur, at, k, end, next, &mm)))
+        if ((st = topo_cross_road(w, &cur, at, k, end, next, &mm)))
             break;
         if (next->comp_vertex[next->comp[mm]] != NONE) {
             if (next != &w->there) { /* keep the answer in w->there */

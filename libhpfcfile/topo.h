@@ -40,24 +40,24 @@ typedef struct box {
 } box;
 
 /* Decodes and parses px's word into lw (HPFC_E_CORRUPT if malformed). */
-int parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px);
+int topo_parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px);
 /* Crossings on road `road` of a word pixel. */
-int road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count);
-int leaf_box(const hpfc_file *f, const hpfc_pixel *px, box *b);
+int topo_road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count);
+int topo_leaf_box(const hpfc_file *f, const hpfc_pixel *px, box *b);
 /* Extent [lo, hi) of box b along the line of `road`. */
-void road_extent(const box *b, int road, int64_t *lo, int64_t *hi);
+void topo_road_extent(const box *b, int road, int64_t *lo, int64_t *hi);
 /* Whether the road's clockwise order runs toward increasing coordinates. */
-bool road_ascends(int road);
+bool topo_road_ascends(int road);
 /* The leaf at position t along b's road, on b's side (inside) or across. */
-int locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, bool inside,
+int topo_locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, bool inside,
                    hpfc_pixel *out, box *out_box);
 /* Crossing k of P (parsed in lw) seen from across its road: pixel Q (parsed
  * into qlw, which must differ from lw) and the crossing's index *m in Q. */
-int cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k,
+int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k,
                hpfc_pixel *q, local_word *qlw, uint32_t *m);
 /* Sum of road-`road` crossings of the leaves on b's side that follow b, in
  * b's clockwise order, up to the end of the extent [qlo, qhi). */
-int crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi,
+int topo_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi,
                     uint64_t *sum);
 
 #endif
