@@ -171,7 +171,7 @@ static void print_decimal(FILE *out, int64_t v, int32_t e)
 {
     if (e >= 0) {
         fprintf(out, "%" PRId64, v);
-        for (int32_t k = 0; k < e; k++)
+        for (int32_t k = 0; k < e && v != 0; k++) /* "0", never "000" */
             fputc('0', out);
         return;
     }

@@ -1,29 +1,41 @@
 /*
- * hpfc-inspect: shows the header, section directory and level table of an
- * .hpfc file (contracts §3).
+ * hpfc-inspect: shows, checks and exports an .hpfc file (contracts §3).
  *
- *   hpfc-inspect FILE              summary and per-level table
- *   hpfc-inspect --json FILE       the same as one JSON object
+ *   hpfc-inspect FILE                       summary and per-level table
+ *   hpfc-inspect --json FILE                the same as one JSON object
+ *   hpfc-inspect --verify [--json] FILE     full structural and topological check
+ *   hpfc-inspect --export-graph OUT FILE    the map as hpfc-graph JSON
  *
- * Only what hpfc_open() validates is shown: opening checks the header, the
- * level table and the section directory without decoding the pools, so this
- * runs in O(levels + sections) on any file size. Exit status: 0 success,
- * 1 when FILE cannot be opened ("hpfc-inspect: FILE: <reason>"), 2 for a
- * usage error.
+ * The summary shows only what hpfc_open() validates: opening checks the
+ * header, the level table and the section directory without decoding the
+ * pools, so it runs in O(levels + sections) on any file size. --verify
+ * decodes everything (verify.c); --export-graph walks the map with the
+ * library's operators (export.c). Exit status: 0 success (for --verify: the
+ * file is valid), 1 when FILE cannot be opened, is invalid or OUT cannot be
+ * written ("hpfc-inspect: FILE: <reason>"), 2 for a usage error.
  */
 #include <errno.h>
+#include <fcntl.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
 
+#include "export.h"
 #include "hpfc.h"
 #include "jsonw.h"
+#include "verify.h"
 
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
 
 typedef struct inspect_args {
     const char *file;
     int json;
+    int verify;
+    const char *graph_out;  /* --export-graph OUT */
 } inspect_args;
 
 /* Everything shown, read once so that the printers cannot fail. */
@@ -37,16 +49,26 @@ typedef struct summary {
 static void print_help(void)
 {
     printf("usage: hpfc-inspect [--json] FILE\n"
+           "       hpfc-inspect --verify [--json] FILE\n"
+           "       hpfc-inspect --export-graph OUT.json [--json] FILE\n"
            "\n"
            "Shows the header, the section directory and the per-level table of an\n"
-           ".hpfc file.\n"
+           ".hpfc file; or checks it; or exports the planar map it encodes.\n"
            "\n"
            "options:\n"
-           "  --json         print one JSON object instead of text\n"
-           "  -h, --help     show this help\n"
-           "  --version      show the version\n"
+           "  --json                 print one JSON object instead of text\n"
+           "  --verify               full check: section checksums, every pixel of\n"
+           "                         every level (decoding, word grammar, image layout,\n"
+           "                         level counts, zero padding), both sides of every\n"
+           "                         road, and the map the traversal operators rebuild\n"
+           "                         (twin, next, prev, origin, target, faces, Euler)\n"
+           "  --export-graph OUT     write the map as hpfc-graph JSON to OUT (atomic:\n"
+           "                         no partial OUT on failure)\n"
+           "  -h, --help             show this help\n"
+           "  --version              show the version\n"
            "\n"
-           "Exit status: 0 success, 1 FILE cannot be opened, 2 usage error.\n");
+           "Exit status: 0 success (--verify: the file is valid), 1 FILE cannot be\n"
+           "opened, is invalid, or OUT cannot be written, 2 usage error.\n");
 }
 
 static int usage_error(const char *what, const char *arg)
@@ -55,15 +77,38 @@ static int usage_error(const char *what, const char *arg)
     return EXIT_USAGE;
 }
 
+/* The value of option `name` at argv[*i], as "--name VALUE" or
+ * "--name=VALUE"; NULL when argv[*i] is another option. *missing is set when
+ * the option is there without its value. A separate VALUE that looks like an
+ * option counts as missing: "--export-graph --json FILE" is a slip, and
+ * writing a file named "--json" would hide it (--name=-x still works). */
+static const char *option_value(int argc, char **argv, int *i, const char *name, int *missing)
+{
+    size_t n = strlen(name);
+    const char *arg = argv[*i];
+    if (strncmp(arg, name, n) != 0)
+        return NULL;
+    if (arg[n] == '=')
+        return arg + n + 1;
+    if (arg[n] != '\0')
+        return NULL;
+    if (*i + 1 >= argc || (argv[*i + 1][0] == '-' && argv[*i + 1][1] != '\0')) {
+        *missing = 1;
+        return NULL;
+    }
+    return argv[++*i];
+}
+
 /* Returns -1 to go on, or the exit status (0 after --help / --version). */
 static int parse_args(int argc, char **argv, inspect_args *a)
 {
-    static const char *const later[] = {"--verify", "--export-graph", "--locate",
-                                        "--locate-lonlat", "--locate-batch", "--lonlat"};
+    static const char *const later[] = {"--locate", "--locate-lonlat", "--locate-batch",
+                                        "--lonlat"};
     int only_files = 0;
     memset(a, 0, sizeof *a);
     for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
+        const char *arg = argv[i], *value;
+        int missing = 0;
         if (only_files || arg[0] != '-' || strcmp(arg, "-") == 0) {
             if (a->file)
                 return usage_error("more than one FILE", arg);
@@ -78,9 +123,19 @@ static int parse_args(int argc, char **argv, inspect_args *a)
         } else if (strcmp(arg, "--version") == 0) {
             printf("hpfc-inspect %s\n", hpfc_version_string());
             return 0;
-        } else if (strcmp(arg, "--json") == 0)
+        } else if (strcmp(arg, "--json") == 0) {
             a->json = 1;
-        else {
+        } else if (strcmp(arg, "--verify") == 0) {
+            a->verify = 1;
+        } else if ((value = option_value(argc, argv, &i, "--export-graph", &missing)) || missing) {
+            if (missing)
+                return usage_error("missing OUT", "--export-graph");
+            if (a->graph_out)
+                return usage_error("given twice", "--export-graph");
+            if (*value == '\0')
+                return usage_error("empty OUT", "--export-graph");
+            a->graph_out = value;
+        } else {
             for (size_t k = 0; k < sizeof later / sizeof later[0]; k++)
                 if (strncmp(arg, later[k], strlen(later[k])) == 0 &&
                     (arg[strlen(later[k])] == '\0' || arg[strlen(later[k])] == '='))
@@ -90,6 +145,8 @@ static int parse_args(int argc, char **argv, inspect_args *a)
     }
     if (!a->file)
         return usage_error("missing FILE", NULL);
+    if (a->verify && a->graph_out)
+        return usage_error("use one of --verify and --export-graph", NULL);
     return -1;
 }
 
@@ -259,30 +316,248 @@ static int open_error(const char *path, int st, int err)
     return EXIT_FAIL;
 }
 
+/* ---- --verify ------------------------------------------------------------------- */
+
+/* The report on stdout, and when the file is invalid its first problem as
+ * the one line on stderr that every failure of the tool prints. */
+static int run_verify(const inspect_args *a)
+{
+    verify_report *r = malloc(sizeof *r); /* ~8 KiB of problem text */
+    if (!r) {
+        fprintf(stderr, "hpfc-inspect: %s: %s\n", a->file, hpfc_strerror(HPFC_E_NOMEM));
+        return EXIT_FAIL;
+    }
+    int valid = verify_file(a->file, 0, r);
+    if (a->json)
+        verify_print_json(stdout, a->file, r);
+    else
+        verify_print_text(stdout, a->file, r);
+    if (!valid)
+        fprintf(stderr, "hpfc-inspect: %s: %s\n", a->file, r->problems[0]);
+    free(r);
+    return valid ? 0 : EXIT_FAIL;
+}
+
+/* ---- --export-graph ------------------------------------------------------------ */
+
+/* Splits path into its directory (".", "/" or "dir") and its last name. */
+static char *dir_of(const char *path, const char **base)
+{
+    const char *slash = strrchr(path, '/');
+    size_t dlen = slash ? (size_t)(slash - path) : 1;
+    if (slash && dlen == 0)
+        dlen = 1; /* "/name": the root directory */
+    char *dir = malloc(dlen + 1);
+    if (dir) {
+        memcpy(dir, slash ? path : ".", dlen);
+        dir[dlen] = '\0';
+    }
+    *base = slash ? slash + 1 : path;
+    return dir;
+}
+
+/* Opens a fresh "<dir>/.<base>.XXXXXXXXXXXX.tmp" for writing (O_EXCL, mode
+ * 0666 so that the umask gives OUT its usual permissions, which mkstemp's
+ * 0600 would not). NULL with errno set on failure. */
+static FILE *create_temp(const char *dir, const char *base, char **tmp)
+{
+    size_t cap = strlen(dir) + strlen(base) + 32;
+    if (!(*tmp = malloc(cap)))
+        return NULL;
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    uint64_t seed = (uint64_t)ts.tv_nsec ^ (uint64_t)ts.tv_sec << 30 ^ (uint64_t)getpid() << 16;
+    for (int attempt = 0; attempt < 64; attempt++) {
+        seed = seed * 6364136223846793005u + 1442695040888963407u;
+        snprintf(*tmp, cap, "%s/.%s.%012llx.tmp", dir, base,
+                 (unsigned long long)(seed >> 16 & 0xffffffffffffu));
+        int fd = open(*tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd >= 0) {
+            FILE *fp = fdopen(fd, "w");
+            if (!fp) {
+                int err = errno;
+                close(fd);
+                unlink(*tmp);
+                errno = err;
+            }
+            return fp;
+        }
+        if (errno != EEXIST)
+            return NULL;
+    }
+    return NULL; /* errno == EEXIST */
+}
+
+/* Writes the map's JSON to the temporary file and makes it durable; 0 or
+ * an errno value. fp is closed in any case. */
+static int fill_temp(FILE *fp, const hpfc_file *f, const exported_map *m)
+{
+    int err = 0;
+    errno = 0;
+    if (export_map_json(f, m, fp) != HPFC_OK || fflush(fp) != 0)
+        err = errno ? errno : EIO;
+    if (!err && fsync(fileno(fp)) != 0)
+        err = errno;
+    if (fclose(fp) != 0 && !err)
+        err = errno ? errno : EIO;
+    return err;
+}
+
+/* Makes the rename durable. Some file systems refuse fsync on a directory
+ * (EINVAL); the rename has happened by then, so only real errors count. */
+static int sync_dir(const char *dir)
+{
+    int fd = open(dir, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return errno;
+    int err = fsync(fd) ? errno : 0;
+    close(fd);
+    return err == EINVAL || err == ENOTSUP ? 0 : err;
+}
+
+/* Writes OUT atomically: a temporary file in OUT's directory, renamed over
+ * OUT only once complete, so a failure leaves no partial OUT and an existing
+ * OUT untouched. Returns 0 or EXIT_FAIL after printing the reason. */
+static int write_graph(const char *out, const hpfc_file *f, const exported_map *m)
+{
+    const char *base, *what;
+    char *tmp = NULL, *dir = dir_of(out, &base);
+    int err = 0;
+    FILE *fp;
+    errno = 0;
+    if (!dir) {
+        what = "cannot write", err = ENOMEM;
+    } else if (*base == '\0') {
+        what = "not a file name";
+    } else if (!(fp = create_temp(dir, base, &tmp))) {
+        what = "cannot create a temporary file", err = errno ? errno : ENOMEM;
+    } else {
+        if ((err = fill_temp(fp, f, m)))
+            what = "cannot write";
+        else if (rename(tmp, out) != 0)
+            what = "cannot replace", err = errno;
+        if (err)
+            unlink(tmp); /* ours: created with O_EXCL and not renamed */
+        else if ((err = sync_dir(dir)))
+            what = "cannot sync its directory";
+    }
+    int failed = !dir || *base == '\0' || err;
+    if (failed && err)
+        fprintf(stderr, "hpfc-inspect: %s: %s: %s\n", out, what, strerror(err));
+    else if (failed)
+        fprintf(stderr, "hpfc-inspect: %s: %s\n", out, what);
+    free(tmp);
+    free(dir);
+    return failed ? EXIT_FAIL : 0;
+}
+
+/* Whether two paths name one existing file (exporting over the input would
+ * destroy it). */
+static int same_file(const char *p, const char *q)
+{
+    struct stat a, b;
+    return stat(p, &a) == 0 && stat(q, &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}
+
+static void print_export_summary(const inspect_args *a, const exported_map *m)
+{
+    if (a->json) {
+        jsonw w;
+        jsonw_init(&w, stdout);
+        jsonw_object_begin(&w, NULL);
+        jsonw_string(&w, "file", a->file);
+        jsonw_string(&w, "output", a->graph_out);
+        jsonw_u64(&w, "vertices", m->nv);
+        jsonw_u64(&w, "edges", m->nd / 2);
+        jsonw_u64(&w, "darts", m->nd);
+        jsonw_object_end(&w);
+        jsonw_finish(&w);
+    } else {
+        printf("%s: %zu vertices, %zu edges (%zu darts)\n", a->graph_out, m->nv, m->nd / 2, m->nd);
+    }
+}
+
+/* FILE's checksums and structure verify (verify.c): a damaged file must
+ * not yield a plausible but wrong graph, and a tree whose images alias one
+ * another would make export_map's walks over the tree explode. The check is
+ * linear in the file and cheaper than the export. Returns 0 or EXIT_FAIL
+ * after printing the first problem. */
+static int check_before_export(const char *path)
+{
+    verify_report *r = malloc(sizeof *r);
+    int valid = r && verify_file(path, VERIFY_STRUCTURE_ONLY, r);
+    if (!valid)
+        fprintf(stderr, "hpfc-inspect: %s: %s\n", path,
+                r ? r->problems[0] : hpfc_strerror(HPFC_E_NOMEM));
+    free(r);
+    return valid ? 0 : EXIT_FAIL;
+}
+
+/* The map as the reader rebuilds it, once the file's structure verifies. */
+static int run_export(const inspect_args *a)
+{
+    if (same_file(a->file, a->graph_out))
+        return usage_error("OUT is FILE; refusing to overwrite the input", a->graph_out);
+    if (check_before_export(a->file))
+        return EXIT_FAIL;
+    hpfc_file *f = NULL;
+    errno = 0;
+    int st = hpfc_open(a->file, 0, &f);
+    if (st)
+        return open_error(a->file, st, errno);
+    exported_map m;
+    int status;
+    if ((st = export_map(f, &m))) {
+        status = open_error(a->file, st, 0);
+    } else {
+        status = write_graph(a->graph_out, f, &m);
+        if (!status)
+            print_export_summary(a, &m);
+        exported_map_free(&m);
+    }
+    hpfc_close(f);
+    return status;
+}
+
+/* The default mode: the summary that hpfc_open validates. */
+static int run_summary(const inspect_args *a)
+{
+    hpfc_file *f = NULL;
+    errno = 0;
+    int st = hpfc_open(a->file, 0, &f);
+    if (st)
+        return open_error(a->file, st, errno);
+    summary s = {0};
+    int status = 0;
+    st = read_summary(f, &s);
+    if (st)
+        status = open_error(a->file, st, 0);
+    else if (a->json)
+        print_json(a->file, &s);
+    else
+        print_text(a->file, &s);
+    free(s.sections);
+    hpfc_close(f);
+    return status;
+}
+
 int main(int argc, char **argv)
 {
     inspect_args a;
     int status = parse_args(argc, argv, &a);
     if (status >= 0)
         return status;
-    hpfc_file *f = NULL;
-    errno = 0;
-    int st = hpfc_open(a.file, 0, &f);
-    if (st)
-        return open_error(a.file, st, errno);
-    summary s = {0};
-    st = read_summary(f, &s);
-    if (st)
-        status = open_error(a.file, st, 0);
-    else if (a.json)
-        print_json(a.file, &s);
+    if (a.verify)
+        status = run_verify(&a);
+    else if (a.graph_out)
+        status = run_export(&a);
     else
-        print_text(a.file, &s);
-    if (!st && fflush(stdout) != 0) {
+        status = run_summary(&a);
+    /* A report that did not reach its reader is a failure (a full disk, a
+     * closed pipe). */
+    if (fflush(stdout) != 0 && status != EXIT_USAGE) {
         fprintf(stderr, "hpfc-inspect: cannot write the output: %s\n", strerror(errno));
         status = EXIT_FAIL;
     }
-    free(s.sections);
-    hpfc_close(f);
-    return status < 0 ? 0 : status;
+    return status;
 }

@@ -3,8 +3,9 @@
 # exit 0, a level table, and valid JSON with --json; every
 # tests/data/invalid/*.hpfc gives the verdict of inspect_fixtures.expect:
 # exit 1 with exactly one line "hpfc-inspect: FILE: <reason>" when opening
-# refuses it, exit 0 when only the pools are bad (hpfc-inspect never decodes
-# them; --verify will). A fixture missing from the list must not crash.
+# refuses it, exit 0 when only the pools are bad (the summary never decodes
+# them; --verify does, see verify.sh). A fixture missing from the list must
+# not crash.
 # shellcheck source=tests/cli/lib.sh
 . "$(dirname "$0")/lib.sh"
 
