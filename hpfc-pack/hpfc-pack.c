@@ -18,7 +18,10 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
+#include "draco_input.h"
+#include "gis_input.h"
 #include "hpfc.h"
 #include "jsonw.h"
 
@@ -28,6 +31,12 @@ typedef struct pack_args {
     const char *input, *output;
     hpfc_build_params params;
     int json, quiet;
+    /* GIS input (gis_input.h) */
+    const char *layers[64];
+    size_t n_layers;
+    const char *projection;
+    int vertex_model;
+    int invalid_mode;
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -43,6 +52,10 @@ typedef struct pack_report {
     level_report *levels;      /* tree.levels entries */
     uint64_t file_bytes;
     double read_s, build_s, write_s;
+    int gis;                   /* INPUT was read by gis_read_graph() */
+    gis_info gis_info;
+    int draco;                 /* INPUT was a Draco mesh (draco_input.h) */
+    mesh_graph_stats mesh;
 } pack_report;
 
 /* ---- messages ------------------------------------------------------------ */
@@ -75,7 +88,9 @@ static void print_help(void)
            "\n"
            "Packs a planar map into a hierarchical rasterized Planar Face Complex and\n"
            "prints the build report. INPUT is a .pfc file (known by its suffix or its\n"
-           "first record 'pfc'), or - for standard input.\n"
+           "first record 'pfc'), a Draco mesh (.drc, or data starting 'DRACO'; its\n"
+           "triangle edges in x, y), or - for standard input; any other INPUT is a\n"
+           "vector dataset read with GDAL/OGR (lines and polygons, see --layer).\n"
            "\n"
            "options:\n"
            "  -o, --output FILE     the .hpfc file to write (atomically)\n"
@@ -85,6 +100,14 @@ static void print_help(void)
            "                        which no edge lies inside a single pixel\n"
            "  --max-pixels N        refuse a --flat grid of more than N pixels\n"
            "                        (default %llu)\n"
+           "  --layer NAME          GIS input: read layer NAME (repeatable; default: all)\n"
+           "  --projection P        GIS input: auto (default), none (keep coordinates),\n"
+           "                        tm, lcc, aea or eqc\n"
+           "  --vertices all|junctions\n"
+           "                        GIS input: every shape point is a vertex (default), or\n"
+           "                        only points where other than two edges meet\n"
+           "  --invalid reject|node GIS input: refuse invalid polygons (default), or node\n"
+           "                        their rings as linework\n"
            "  --json                print the build report as one JSON object\n"
            "  --quiet               print no report\n"
            "  -h, --help            show this help\n"
@@ -171,6 +194,24 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         return parse_positive(v, strlen(v), UINT64_MAX, &p->max_flat_pixels)
                    ? NULL
                    : "a positive integer";
+    if (strcmp(name, "--layer") == 0) {
+        if (a->n_layers == sizeof a->layers / sizeof a->layers[0])
+            return "at most 64 layers";
+        a->layers[a->n_layers++] = v;
+        return v[0] ? NULL : "a layer name";
+    }
+    if (strcmp(name, "--projection") == 0) {
+        a->projection = v;
+        return gis_projection_valid(v) ? NULL : "auto, none, tm, lcc, aea or eqc";
+    }
+    if (strcmp(name, "--invalid") == 0) {
+        a->invalid_mode = strcmp(v, "node") == 0 ? GIS_INVALID_NODE : GIS_INVALID_REJECT;
+        return strcmp(v, "node") == 0 || strcmp(v, "reject") == 0 ? NULL : "reject or node";
+    }
+    if (strcmp(name, "--vertices") == 0) {
+        a->vertex_model = strcmp(v, "junctions") == 0 ? GIS_VERTICES_JUNCTIONS : GIS_VERTICES_ALL;
+        return strcmp(v, "all") == 0 || strcmp(v, "junctions") == 0 ? NULL : "all or junctions";
+    }
     a->output = v; /* -o, --output */
     return v[0] ? NULL : "a file name";
 }
@@ -179,7 +220,9 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
  * (*status is set to EXIT_USAGE when its value is missing or invalid). */
 static int value_option(pack_args *a, char **argv, int argc, int *i, int *status)
 {
-    static const char *const names[] = {"--root", "--refine", "--max-pixels", "--output", "-o"};
+    static const char *const names[] = {"--root",  "--refine",     "--max-pixels", "--layer",
+                                        "--projection", "--vertices", "--invalid",    "--output",
+                                        "-o"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -319,9 +362,52 @@ static int looks_like_pfc(const char *s, size_t len)
     return i == len || strchr(" \t\r\n#", s[i]) != NULL;
 }
 
-/* Reads INPUT into a graph; 0 or an exit status (the message is printed). */
-static int read_graph(const pack_args *a, hpfc_graph **g)
+/* Is INPUT for GDAL: not standard input, not named .pfc or .drc, and not
+ * starting with the `pfc` record (a directory, e.g. of shapefiles, is)? */
+static int is_gis_input(const char *path)
 {
+    if (strcmp(path, "-") == 0 || has_suffix(path, ".pfc") || has_suffix(path, ".drc"))
+        return 0;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 1; /* GDAL opens directories and reports unreadable files */
+    char head[4096];
+    size_t n = fread(head, 1, sizeof head, f);
+    fclose(f);
+    return !looks_like_pfc(head, n) && !draco_has_magic(head, n);
+}
+
+/* Decodes a Draco mesh; 0 or an exit status (the message is printed). */
+static int read_draco(const pack_args *a, const char *bytes, size_t len, hpfc_graph **g,
+                      pack_report *r)
+{
+    draco_options opt = {.stats = &r->mesh};
+    hpfc_diag diag = {0};
+    r->draco = 1;
+    int st = draco_graph_from_memory(bytes, len, &opt, g, &diag);
+    if (st)
+        complain("%s: %s", a->input, diag_text(&diag, st));
+    return st == 0 ? 0 : st == DRACO_E_NOT_BUILT ? EXIT_USAGE : EXIT_FAIL;
+}
+
+/* Reads a GDAL dataset; 0 or an exit status (the message is printed). */
+static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
+{
+    gis_options opt = {a->layers,      a->n_layers, a->projection, a->vertex_model,
+                       isatty(2),      a->invalid_mode};
+    char err[1024];
+    r->gis = 1;
+    int st = gis_read_graph(a->input, &opt, g, &r->gis_info, err, sizeof err);
+    if (st)
+        complain("%s: %s", a->input, err);
+    return st == 0 ? 0 : st == 2 ? EXIT_USAGE : EXIT_FAIL;
+}
+
+/* Reads INPUT into a graph; 0 or an exit status (the message is printed). */
+static int read_graph(const pack_args *a, hpfc_graph **g, pack_report *r)
+{
+    if (is_gis_input(a->input))
+        return read_gis(a, g, r);
     char *text;
     size_t len;
     int err = read_all(a->input, &text, &len);
@@ -329,9 +415,14 @@ static int read_graph(const pack_args *a, hpfc_graph **g)
         complain("%s: %s", a->input, strerror(err));
         return EXIT_FAIL;
     }
+    if (draco_has_magic(text, len) || has_suffix(a->input, ".drc")) {
+        int status = read_draco(a, text, len, g, r);
+        free(text);
+        return status;
+    }
     if (!has_suffix(a->input, ".pfc") && !looks_like_pfc(text, len)) {
         free(text);
-        complain("%s: unsupported input format (GDAL and Draco inputs are not built in yet)",
+        complain("%s: unsupported input format (standard input takes .pfc or Draco data)",
                  a->input);
         return EXIT_USAGE;
     }
@@ -420,7 +511,33 @@ static void print_json(const pack_args *a, const pack_report *r)
     jsonw_object_begin(&w, NULL);
     jsonw_string(&w, "input", a->input);
     jsonw_string(&w, "output", a->output);
-    jsonw_string(&w, "input_format", "pfc");
+    jsonw_string(&w, "input_format", r->gis ? r->gis_info.driver : r->draco ? "draco" : "pfc");
+    if (r->draco) {
+        const mesh_graph_stats *m = &r->mesh;
+        jsonw_i64(&w, "unit_exp10", m->unit_exp10);
+        jsonw_bool(&w, "unit_exact", m->exact);
+        jsonw_u64(&w, "mesh_points_used", m->points_used);
+        jsonw_u64(&w, "mesh_points_merged", m->merged_points);
+        jsonw_u64(&w, "mesh_triangles_degenerate", m->degenerate_triangles);
+        jsonw_u64(&w, "mesh_triangles_duplicate", m->duplicate_triangles);
+        jsonw_u64(&w, "mesh_triangles_collinear", m->collinear_triangles);
+        jsonw_u64(&w, "mesh_edges_split", m->split_edges);
+    }
+    if (r->gis) {
+        const gis_info *gi = &r->gis_info;
+        jsonw_string(&w, "projection", gi->projection);
+        if (gi->crs)
+            jsonw_string(&w, "crs", gi->crs);
+        else
+            jsonw_null(&w, "crs");
+        jsonw_i64(&w, "unit_exp10", gi->unit_exp10);
+        jsonw_string(&w, "vertex_model", a->vertex_model ? "junctions" : "all");
+        jsonw_u64(&w, "layers_read", gi->layers);
+        jsonw_u64(&w, "features", gi->features);
+        jsonw_u64(&w, "skipped_empty", gi->skipped_empty);
+        jsonw_u64(&w, "skipped_points", gi->skipped_points);
+        jsonw_u64(&w, "invalid_polygons_noded", gi->invalid_noded);
+    }
     jsonw_u64(&w, "vertices", t->vertices);
     jsonw_u64(&w, "edges", t->edges);
     jsonw_u64(&w, "faces", t->faces);
@@ -466,6 +583,18 @@ static void print_text(const pack_args *a, const pack_report *r)
     const hpfc_tree_info *t = &r->tree;
     uint64_t total = t->word_pixels + t->refined_pixels;
     printf("%s -> %s\n", a->input, a->output);
+    if (r->gis)
+        printf("input      %s, %llu features in %llu layer%s, projection %s, unit 1e%d\n",
+               r->gis_info.driver, (unsigned long long)r->gis_info.features,
+               (unsigned long long)r->gis_info.layers, r->gis_info.layers == 1 ? "" : "s",
+               r->gis_info.projection, (int)r->gis_info.unit_exp10);
+    if (r->draco)
+        printf("input      Draco mesh, unit 1e%d%s, %zu points (%zu merged), %zu triangles "
+               "dropped\n",
+               (int)r->mesh.unit_exp10, r->mesh.exact ? " (exact)" : "", r->mesh.points_used,
+               r->mesh.merged_points,
+               r->mesh.degenerate_triangles + r->mesh.duplicate_triangles +
+                   r->mesh.collinear_triangles);
     printf("graph      %llu vertices, %llu edges, %llu faces, %llu component%s\n",
            (unsigned long long)t->vertices, (unsigned long long)t->edges,
            (unsigned long long)t->faces, (unsigned long long)t->components,
@@ -507,6 +636,7 @@ static int same_file(const char *a, const char *b)
  * status (the message is printed). */
 static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report *r)
 {
+    hpfc_write_options wopts = {r->gis ? r->gis_info.crs : NULL};
     hpfc_diag diag = {0};
     hpfc_tree *t = NULL;
     double t0 = now_seconds();
@@ -522,13 +652,13 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     uint8_t *bytes = NULL;
     size_t size = 0;
     t0 = now_seconds();
-    if (!st && (st = hpfc_tree_serialize(t, NULL, &bytes, &size, &diag)) == HPFC_OK &&
+    if (!st && (st = hpfc_tree_serialize(t, &wopts, &bytes, &size, &diag)) == HPFC_OK &&
         (st = read_levels(bytes, size, r)) != HPFC_OK)
         snprintf(diag.message, sizeof diag.message,
                  "internal error: the serialised file does not read back (%s)",
                  hpfc_strerror(st));
     if (!st)
-        st = hpfc_tree_write_file(t, NULL, a->output, &diag);
+        st = hpfc_tree_write_file(t, &wopts, a->output, &diag);
     r->write_s = now_seconds() - t0;
     free(bytes);
     hpfc_tree_free(t);
@@ -552,7 +682,7 @@ int main(int argc, char **argv)
     pack_report r = {0};
     hpfc_graph *g = NULL;
     double t0 = now_seconds();
-    status = read_graph(&a, &g);
+    status = read_graph(&a, &g, &r);
     r.read_s = now_seconds() - t0;
     if (!status)
         status = build_and_write(&a, g, &r);
@@ -568,5 +698,6 @@ int main(int argc, char **argv)
         }
     }
     free(r.levels);
+    gis_info_free(&r.gis_info);
     return status;
 }

@@ -1,0 +1,944 @@
+/*
+ * gis_input.c: see gis_input.h. The pipeline:
+ *
+ *   1. read every selected layer's lines and polygon rings into flat
+ *      arrays, checking coordinates (finite; in range and not wrapping the
+ *      antimeridian when geographic) and polygon validity (GEOS);
+ *   2. choose the projection from the geographic extent, project;
+ *   3. choose the lattice unit from the projected extent, snap by rounding;
+ *   4. node the snapped linework with GEOS's snap-rounding unary union on a
+ *      unit grid: the output's coordinates are lattice integers, crossings
+ *      are nodes, duplicate borders are dissolved;
+ *   5. collect the distinct non-degenerate segments on integers and build
+ *      the graph in the chosen vertex model.
+ */
+#include "gis_input.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef HPFC_HAVE_GIS
+
+#include <errno.h>
+#include <math.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <gdal.h>
+#include <ogr_api.h>
+#include <ogr_srs_api.h>
+#include <geos_c.h>
+
+#include "lattice.h"
+#include "projection.h"
+
+/* ---- progress bar ----------------------------------------------------------- */
+
+typedef struct progress {
+    int on;
+    double last;
+    int drawn;
+} progress;
+
+static double mono_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* total <= 0 draws the stage name alone. At most ten redraws a second. */
+static void progress_show(progress *p, const char *stage, double done, double total, int force)
+{
+    if (!p->on)
+        return;
+    double t = mono_now();
+    if (!force && t - p->last < 0.1)
+        return;
+    p->last = t;
+    if (total > 0) {
+        double r = done / total;
+        r = r < 0 ? 0 : r > 1 ? 1 : r;
+        char bar[31];
+        int n = (int)(r * 30);
+        for (int i = 0; i < 30; i++)
+            bar[i] = i < n ? '#' : '.';
+        bar[30] = 0;
+        fprintf(stderr, "\rhpfc-pack: %-10s [%s] %3d%%\033[K", stage, bar, (int)(r * 100));
+    } else
+        fprintf(stderr, "\rhpfc-pack: %-10s ...\033[K", stage);
+    fflush(stderr);
+    p->drawn = 1;
+}
+
+static void progress_end(progress *p)
+{
+    if (p->on && p->drawn) {
+        fprintf(stderr, "\r\033[K");
+        fflush(stderr);
+        p->drawn = 0;
+    }
+}
+
+/* ---- state ---------------------------------------------------------------------- */
+
+typedef struct part_ref {
+    uint32_t layer;
+    int64_t fid;
+} part_ref;
+
+typedef struct reader {
+    const gis_options *opt;
+    gis_info *info;
+    char *err;
+    size_t err_len;
+    progress bar;
+
+    GEOSContextHandle_t geos;
+    char geos_msg[256];
+
+    /* the current layer and feature, for messages */
+    const char *layer_name;
+    uint32_t layer_index;
+    int64_t fid;
+
+    int geographic;   /* coordinates are (lon, lat) degrees */
+    int swap_xy;      /* the data store (lat, lon) */
+    double a, f;      /* ellipsoid of a geographic SRS */
+
+    double *xy;       /* every point, x then y */
+    size_t n_points, cap_points;
+    size_t *start;    /* part k: points start[k] .. start[k+1]-1 */
+    part_ref *refs;
+    size_t n_parts, cap_parts, cap_start;
+    double xmin, ymin, xmax, ymax;
+} reader;
+
+static int fail(reader *r, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(r->err, r->err_len, fmt, ap);
+    va_end(ap);
+    return 1;
+}
+
+/* "layer 'NAME' feature FID" for messages. */
+static const char *where(const reader *r, char *buf, size_t n)
+{
+    snprintf(buf, n, "layer '%s' feature %lld", r->layer_name, (long long)r->fid);
+    return buf;
+}
+
+static void geos_message(const char *msg, void *user)
+{
+    reader *r = user;
+    snprintf(r->geos_msg, sizeof r->geos_msg, "%s", msg);
+}
+
+static void geos_notice(const char *msg, void *user)
+{
+    (void)msg;
+    (void)user;
+}
+
+/* ---- step 1: reading -------------------------------------------------------------- */
+
+static int grow(void **p, size_t *cap, size_t need, size_t size)
+{
+    if (need <= *cap)
+        return 1;
+    size_t c = *cap ? *cap : 1024;
+    while (c < need)
+        c *= 2;
+    void *np = realloc(*p, c * size);
+    if (!np)
+        return 0;
+    *p = np;
+    *cap = c;
+    return 1;
+}
+
+/* Appends one line string or ring of `g`. */
+static int add_part(reader *r, OGRGeometryH g, int closed)
+{
+    int n = OGR_G_GetPointCount(g);
+    if (n <= 0)
+        return 0;
+    if (!grow((void **)&r->xy, &r->cap_points, r->n_points + (size_t)n + 1, 2 * sizeof(double)) ||
+        !grow((void **)&r->start, &r->cap_start, r->n_parts + 2, sizeof(size_t)) ||
+        !grow((void **)&r->refs, &r->cap_parts, r->n_parts + 1, sizeof(part_ref)))
+        return fail(r, "out of memory");
+    double *x = r->xy + 2 * r->n_points;
+    OGR_G_GetPoints(g, x, 2 * sizeof(double), x + 1, 2 * sizeof(double), NULL, 0);
+    char wb[200];
+    for (int i = 0; i < n; i++) {
+        double px = x[2 * i], py = x[2 * i + 1];
+        if (!isfinite(px) || !isfinite(py))
+            return fail(r, "%s: invalid geometry: coordinate (%g, %g) is not finite",
+                        where(r, wb, sizeof wb), px, py);
+        if (r->swap_xy) {
+            x[2 * i] = py;
+            x[2 * i + 1] = px;
+            px = x[2 * i];
+            py = x[2 * i + 1];
+        }
+        if (r->geographic) {
+            if (px < -180.0 || px > 180.0 || py < -90.0 || py > 90.0)
+                return fail(r, "%s: point (%.9g, %.9g) is outside the longitude/latitude range "
+                               "of its geographic SRS",
+                            where(r, wb, sizeof wb), px, py);
+            if (i > 0 && fabs(px - x[2 * i - 2]) > 180.0)
+                return fail(r, "%s: a line or ring wraps the antimeridian (a segment from "
+                               "longitude %.9g to %.9g); cut it at +-180 degrees first "
+                               "(ogr2ogr -wrapdateline)",
+                            where(r, wb, sizeof wb), x[2 * i - 2], px);
+        }
+        if (px < r->xmin) r->xmin = px;
+        if (px > r->xmax) r->xmax = px;
+        if (py < r->ymin) r->ymin = py;
+        if (py > r->ymax) r->ymax = py;
+    }
+    size_t end = r->n_points + (size_t)n;
+    if (closed && n > 1 && (x[0] != x[2 * n - 2] || x[1] != x[2 * n - 1])) {
+        x[2 * n] = x[0];
+        x[2 * n + 1] = x[1];
+        end++;
+    }
+    r->start[r->n_parts] = r->n_points;
+    r->refs[r->n_parts].layer = r->layer_index;
+    r->refs[r->n_parts].fid = r->fid;
+    r->n_parts++;
+    r->n_points = end;
+    r->start[r->n_parts] = end;
+    return 0;
+}
+
+/* Why a polygon is invalid, from GEOS; 0 when it is valid. */
+static int check_polygon(reader *r, OGRGeometryH g)
+{
+    size_t size = (size_t)OGR_G_WkbSize(g);
+    unsigned char *wkb = malloc(size ? size : 1);
+    if (!wkb)
+        return fail(r, "out of memory");
+    GEOSGeometry *gg = NULL;
+    if (OGR_G_ExportToWkb(g, wkbNDR, wkb) == OGRERR_NONE)
+        gg = GEOSGeomFromWKB_buf_r(r->geos, wkb, size);
+    free(wkb);
+    char wb[200];
+    if (!gg)
+        return fail(r, "%s: invalid geometry (%s)", where(r, wb, sizeof wb),
+                    r->geos_msg[0] ? r->geos_msg : "GEOS cannot read it");
+    int st = 0;
+    if (GEOSisValid_r(r->geos, gg) != 1) {
+        if (r->opt->invalid_mode == GIS_INVALID_NODE)
+            r->info->invalid_noded++;
+        else {
+            char *why = GEOSisValidReason_r(r->geos, gg);
+            st = fail(r, "%s: invalid polygon: %s (--invalid node packs its rings as noded "
+                         "linework)",
+                      where(r, wb, sizeof wb), why ? why : "rejected by GEOS");
+            GEOSFree_r(r->geos, why);
+        }
+    }
+    GEOSGeom_destroy_r(r->geos, gg);
+    return st;
+}
+
+/* Adds every line and ring of g; *lines counts what was added. */
+static int add_geometry(reader *r, OGRGeometryH g, uint64_t *lines)
+{
+    if (OGR_G_IsEmpty(g))
+        return 0;
+    OGRwkbGeometryType t = wkbFlatten(OGR_G_GetGeometryType(g));
+    switch (t) {
+    case wkbPoint:
+    case wkbMultiPoint:
+        r->info->skipped_points++;
+        return 0;
+    case wkbLineString:
+    case wkbLinearRing:
+        ++*lines;
+        return add_part(r, g, t == wkbLinearRing);
+    case wkbPolygon:
+    case wkbTriangle:
+        for (int i = 0; i < OGR_G_GetGeometryCount(g); i++) {
+            int st = add_part(r, OGR_G_GetGeometryRef(g, i), 1);
+            if (st)
+                return st;
+            ++*lines;
+        }
+        return 0;
+    default:
+        for (int i = 0; i < OGR_G_GetGeometryCount(g); i++) {
+            int st = add_geometry(r, OGR_G_GetGeometryRef(g, i), lines);
+            if (st)
+                return st;
+        }
+        return 0;
+    }
+}
+
+static int has_polygon(OGRGeometryH g)
+{
+    OGRwkbGeometryType t = wkbFlatten(OGR_G_GetGeometryType(g));
+    if (t == wkbPolygon || t == wkbTriangle)
+        return 1;
+    for (int i = 0; t != wkbLineString && t != wkbLinearRing && t != wkbPoint &&
+                    i < OGR_G_GetGeometryCount(g);
+         i++)
+        if (has_polygon(OGR_G_GetGeometryRef(g, i)))
+            return 1;
+    return 0;
+}
+
+static int read_feature(reader *r, OGRFeatureH f, uint64_t *lines)
+{
+    OGRGeometryH g = OGR_F_GetGeometryRef(f);
+    r->fid = OGR_F_GetFID(f);
+    if (!g || OGR_G_IsEmpty(g)) {
+        r->info->skipped_empty++;
+        return 0;
+    }
+    OGRGeometryH lin = NULL;
+    if (OGR_G_HasCurveGeometry(g, TRUE)) {
+        lin = OGR_G_GetLinearGeometry(g, 0, NULL);
+        if (!lin) {
+            char wb[200];
+            return fail(r, "%s: cannot linearise a curved geometry", where(r, wb, sizeof wb));
+        }
+        g = lin;
+    }
+    size_t parts_before = r->n_parts;
+    int st = add_geometry(r, g, lines);
+    /* after add_part's checks, so that GEOS never sees NaN */
+    if (!st && r->n_parts > parts_before && has_polygon(g))
+        st = check_polygon(r, g);
+    if (lin)
+        OGR_G_DestroyGeometry(lin);
+    return st;
+}
+
+/* Decides how coordinates are read from the SRS of the first layer. */
+static int setup_srs(reader *r, OGRSpatialReferenceH srs)
+{
+    r->geographic = 0;
+    r->swap_xy = 0;
+    r->a = 6378137.0;
+    r->f = 1.0 / 298.257223563;
+    if (!srs)
+        return 0;
+    if (OSRIsGeographic(srs)) {
+        r->geographic = 1;
+        OGRErr e1 = OGRERR_NONE, e2 = OGRERR_NONE;
+        double a = OSRGetSemiMajor(srs, &e1), rf = OSRGetInvFlattening(srs, &e2);
+        if (e1 == OGRERR_NONE && e2 == OGRERR_NONE && a > 0) {
+            r->a = a;
+            r->f = rf > 0 ? 1.0 / rf : 0.0;
+        }
+        int count = 0;
+        const int *map = OSRGetDataAxisToSRSAxisMapping(srs, &count);
+        if (map && count >= 2) {
+            OGRAxisOrientation o = OAO_Other;
+            int axis = abs(map[0]) - 1;
+            OSRGetAxis(srs, "GEOGCS", axis, &o);
+            r->swap_xy = o == OAO_North || o == OAO_South;
+        }
+    }
+    return 0;
+}
+
+/* "EPSG:4326" or the SRS's name. */
+static void srs_label(OGRSpatialReferenceH srs, char *buf, size_t n)
+{
+    const char *auth = OSRGetAuthorityName(srs, NULL), *code = OSRGetAuthorityCode(srs, NULL);
+    const char *name = OSRGetName(srs);
+    if (auth && code)
+        snprintf(buf, n, "%s:%s%s%s%s", auth, code, name ? " (" : "", name ? name : "",
+                 name ? ")" : "");
+    else
+        snprintf(buf, n, "%s", name ? name : "unnamed SRS");
+}
+
+static int read_layer(reader *r, OGRLayerH layer, int chosen)
+{
+    r->layer_name = OGR_L_GetName(layer);
+    GIntBig total = r->bar.on ? OGR_L_GetFeatureCount(layer, TRUE) : -1;
+    uint64_t features = 0, lines = 0, done = 0;
+    OGR_L_ResetReading(layer);
+    OGRFeatureH f;
+    CPLErrorReset();
+    while ((f = OGR_L_GetNextFeature(layer)) != NULL) {
+        features++;
+        int st = read_feature(r, f, &lines);
+        OGR_F_Destroy(f);
+        if (st)
+            return st;
+        if (++done % 256 == 0)
+            progress_show(&r->bar, "reading", (double)done, (double)total, 0);
+    }
+    if (CPLGetLastErrorType() >= CE_Failure)
+        return fail(r, "layer '%s': %s", r->layer_name, CPLGetLastErrorMsg());
+    r->info->features += features;
+    if (features == 0)
+        return fail(r, "layer '%s' is empty (no features)", r->layer_name);
+    if (lines == 0)
+        return fail(r, "layer '%s' has no line or polygon geometry%s", r->layer_name,
+                    chosen ? "" : " (choose layers with --layer)");
+    return 0;
+}
+
+/* Opens the dataset and reads the selected layers. */
+static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatialReferenceH *srs_out)
+{
+    GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL, NULL, NULL);
+    if (!ds) {
+        if (access(path, R_OK) != 0)
+            return fail(r, "cannot read: %s", strerror(errno));
+        const char *msg = CPLGetLastErrorMsg();
+        if (msg && msg[0])
+            return fail(r, "not a vector dataset GDAL can read: %s", msg);
+        return fail(r, "unknown format: not a vector dataset GDAL can read");
+    }
+    GDALDriverH drv = GDALGetDatasetDriver(ds);
+    snprintf(r->info->driver, sizeof r->info->driver, "%s",
+             drv ? GDALGetDriverShortName(drv) : "GDAL");
+    int st = 0, n = GDALDatasetGetLayerCount(ds);
+    size_t want = r->opt->n_layers ? r->opt->n_layers : (size_t)n;
+    OGRSpatialReferenceH srs0 = NULL;
+    const char *name0 = NULL;
+    if (want == 0)
+        st = fail(r, "the dataset has no layer");
+    for (size_t k = 0; k < want && !st; k++) {
+        OGRLayerH layer;
+        if (r->opt->n_layers) {
+            layer = GDALDatasetGetLayerByName(ds, r->opt->layers[k]);
+            if (!layer) {
+                char names[200] = "";
+                for (int i = 0; i < n; i++) {
+                    size_t len = strlen(names);
+                    snprintf(names + len, sizeof names - len, "%s'%s'", i ? ", " : "",
+                             OGR_L_GetName(GDALDatasetGetLayer(ds, i)));
+                }
+                st = fail(r, "no layer '%s' (layers: %s)", r->opt->layers[k], names);
+                break;
+            }
+        } else
+            layer = GDALDatasetGetLayer(ds, (int)k);
+        if (!r->opt->n_layers && OGR_L_GetGeomType(layer) == wkbNone)
+            continue; /* a table without geometry */
+        OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
+        if (!name0) {
+            name0 = OGR_L_GetName(layer);
+            srs0 = srs ? OSRClone(srs) : NULL;
+            setup_srs(r, srs0);
+        } else if ((srs0 == NULL) != (srs == NULL) || (srs && !OSRIsSame(srs0, srs))) {
+            st = fail(r, "layers '%s' and '%s' have different spatial reference systems; "
+                         "reproject them to one first",
+                      name0, OGR_L_GetName(layer));
+            break;
+        }
+        r->layer_index = (uint32_t)k;
+        st = read_layer(r, layer, r->opt->n_layers != 0);
+        r->info->layers++;
+    }
+    if (!st && !name0)
+        st = fail(r, "the dataset has no layer with geometry");
+    if (!st && srs0) {
+        char *p4 = NULL;
+        if (OSRExportToProj4(srs0, &p4) == OGRERR_NONE && p4) {
+            *srs_text = strdup(p4);
+        }
+        CPLFree(p4);
+    }
+    GDALClose(ds);
+    *srs_out = srs0;
+    return st;
+}
+
+/* ---- steps 2-3: projection and lattice ------------------------------------------------ */
+
+static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs_p4,
+                            int64_t *lat)
+{
+    mapproj_kind kind = MAPPROJ_AUTO;
+    const char *pname = r->opt->projection ? r->opt->projection : "auto";
+    if (!mapproj_parse_kind(pname, &kind))
+        return fail(r, "unknown projection '%s'", pname);
+    char label[256] = "";
+    if (srs)
+        srs_label(srs, label, sizeof label);
+    mapproj_plan *plan = NULL;
+    const char *ellps_note = "";
+    if (!srs && kind != MAPPROJ_AUTO && kind != MAPPROJ_NONE) {
+        /* no SRS but a projection asked for: take the data as WGS 84 lon/lat */
+        r->geographic = 1;
+        ellps_note = " (assumed: the input has no SRS)";
+        snprintf(label, sizeof label, "EPSG:4326 (WGS 84)");
+        for (size_t i = 0; i < r->n_points; i++) {
+            double px = r->xy[2 * i], py = r->xy[2 * i + 1];
+            if (px < -180.0 || px > 180.0 || py < -90.0 || py > 90.0)
+                return fail(r, "--projection %s: the input has no SRS and point (%g, %g) is "
+                               "not a longitude/latitude",
+                            pname, px, py);
+        }
+    }
+    if (!r->geographic && kind != MAPPROJ_AUTO && kind != MAPPROJ_NONE)
+        return fail(r, "--projection %s: the input is already projected (%s); use auto or none",
+                    pname, label);
+    if (!r->geographic || kind == MAPPROJ_NONE) {
+        snprintf(r->info->projection, sizeof r->info->projection, "none");
+        if (srs_p4 || label[0]) {
+            size_t n = strlen(srs_p4 ? srs_p4 : "") + strlen(label) + 32;
+            r->info->crs = malloc(n);
+            if (!r->info->crs)
+                return fail(r, "out of memory");
+            snprintf(r->info->crs, n, "%s; source %s", srs_p4 ? srs_p4 : "", label);
+        }
+    } else {
+        plan = mapproj_create(kind, r->xmin, r->ymin, r->xmax, r->ymax, r->a, r->f);
+        if (!plan)
+            return fail(r, "cannot set up the projection '%s'", pname);
+        snprintf(r->info->projection, sizeof r->info->projection, "%s",
+                 mapproj_kind_name(mapproj_plan_kind(plan)));
+        const char *d = mapproj_describe(plan);
+        size_t n = strlen(d) + strlen(label) + strlen(ellps_note) + 32;
+        r->info->crs = malloc(n);
+        if (!r->info->crs) {
+            mapproj_free(plan);
+            return fail(r, "out of memory");
+        }
+        snprintf(r->info->crs, n, "%s; source %s%s", d, label, ellps_note);
+        double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
+        size_t part = 0;
+        for (size_t i = 0; i < r->n_points; i++) {
+            while (r->start[part + 1] <= i)
+                part++;
+            double x, y, lon = r->xy[2 * i], la = r->xy[2 * i + 1];
+            if (mapproj_forward(plan, lon, la, &x, &y) != 0) {
+                mapproj_free(plan);
+                return fail(r, "layer %u feature %lld: point (%.9g, %.9g) cannot be projected "
+                               "with %s; try another --projection",
+                            r->refs[part].layer, (long long)r->refs[part].fid, lon, la,
+                            r->info->projection);
+            }
+            r->xy[2 * i] = x;
+            r->xy[2 * i + 1] = y;
+            xmin = fmin(xmin, x), xmax = fmax(xmax, x);
+            ymin = fmin(ymin, y), ymax = fmax(ymax, y);
+            if (i % 65536 == 0)
+                progress_show(&r->bar, "projecting", (double)i, (double)r->n_points, 0);
+        }
+        mapproj_free(plan);
+        r->xmin = xmin, r->xmax = xmax, r->ymin = ymin, r->ymax = ymax;
+    }
+    char why[256];
+    if (lattice_choose(r->xmin, r->ymin, r->xmax, r->ymax, &r->info->unit_exp10, why,
+                       sizeof why) != 0)
+        return fail(r, "%s", why);
+    for (size_t i = 0; i < 2 * r->n_points; i++)
+        lat[i] = lattice_snap(r->xy[i], r->info->unit_exp10);
+    return 0;
+}
+
+/* ---- step 4: noding ---------------------------------------------------------------- */
+
+typedef struct seg {
+    int64_t ax, ay, bx, by;
+} seg;
+
+typedef struct pt {
+    int64_t x, y;
+} pt;
+
+static int cmp_pt(const void *a, const void *b)
+{
+    const pt *p = a, *q = b;
+    if (p->x != q->x)
+        return p->x < q->x ? -1 : 1;
+    return (p->y > q->y) - (p->y < q->y);
+}
+
+static int cmp_seg(const void *a, const void *b)
+{
+    const seg *p = a, *q = b;
+    int c = cmp_pt(&p->ax, &q->ax);
+    return c ? c : cmp_pt(&p->bx, &q->bx);
+}
+
+/* Nodes the snapped parts; fills *segs with the distinct segments, each
+ * with a < b. */
+static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out)
+{
+    GEOSGeometry **lines = malloc((r->n_parts ? r->n_parts : 1) * sizeof *lines);
+    double *buf = malloc((r->n_points ? r->n_points : 1) * 2 * sizeof(double));
+    if (!lines || !buf) {
+        free(lines);
+        free(buf);
+        return fail(r, "out of memory");
+    }
+    size_t n_lines = 0;
+    int st = 0;
+    for (size_t k = 0; k < r->n_parts && !st; k++) {
+        size_t m = 0;
+        for (size_t i = r->start[k]; i < r->start[k + 1]; i++) {
+            double x = (double)lat[2 * i], y = (double)lat[2 * i + 1];
+            if (m && buf[2 * m - 2] == x && buf[2 * m - 1] == y)
+                continue; /* a zero-length piece */
+            buf[2 * m] = x;
+            buf[2 * m + 1] = y;
+            m++;
+        }
+        if (m < 2)
+            continue;
+        GEOSCoordSequence *cs =
+            GEOSCoordSeq_copyFromBuffer_r(r->geos, buf, (unsigned)m, 0, 0);
+        GEOSGeometry *ls = cs ? GEOSGeom_createLineString_r(r->geos, cs) : NULL;
+        if (!ls)
+            st = fail(r, "GEOS: %s", r->geos_msg[0] ? r->geos_msg : "cannot make a line");
+        else
+            lines[n_lines++] = ls;
+    }
+    free(buf);
+    if (st || n_lines == 0) {
+        for (size_t k = 0; k < n_lines; k++)
+            GEOSGeom_destroy_r(r->geos, lines[k]);
+        free(lines);
+        return st ? st : fail(r, "nothing left after snapping to the lattice (every line "
+                                 "collapsed to a point)");
+    }
+    progress_show(&r->bar, "noding", 0, 0, 1);
+    GEOSGeometry *all =
+        GEOSGeom_createCollection_r(r->geos, GEOS_MULTILINESTRING, lines, (unsigned)n_lines);
+    free(lines);
+    if (!all)
+        return fail(r, "GEOS: %s", r->geos_msg[0] ? r->geos_msg : "cannot collect the lines");
+    GEOSGeometry *noded = GEOSUnaryUnionPrec_r(r->geos, all, 1.0);
+    GEOSGeom_destroy_r(r->geos, all);
+    if (!noded)
+        return fail(r, "GEOS could not node the linework: %s",
+                    r->geos_msg[0] ? r->geos_msg : "unknown error");
+
+    /* collect segments from every line string of the result */
+    seg *segs = NULL;
+    size_t n = 0, cap = 0;
+    int ng = GEOSGetNumGeometries_r(r->geos, noded);
+    for (int gi = 0; gi < ng && !st; gi++) {
+        const GEOSGeometry *g = GEOSGetGeometryN_r(r->geos, noded, gi);
+        if (GEOSGeomTypeId_r(r->geos, g) != GEOS_LINESTRING)
+            continue;
+        const GEOSCoordSequence *cs = GEOSGeom_getCoordSeq_r(r->geos, g);
+        unsigned m = 0;
+        if (!cs || !GEOSCoordSeq_getSize_r(r->geos, cs, &m))
+            continue;
+        int64_t px = 0, py = 0;
+        for (unsigned i = 0; i < m; i++) {
+            double x, y;
+            GEOSCoordSeq_getXY_r(r->geos, cs, i, &x, &y);
+            int64_t ix = (int64_t)llround(x), iy = (int64_t)llround(y);
+            if ((double)ix != x || (double)iy != y) {
+                st = fail(r, "internal error: GEOS left a point off the lattice (%.17g, %.17g)",
+                          x, y);
+                break;
+            }
+            if (i > 0 && (ix != px || iy != py)) {
+                if (!grow((void **)&segs, &cap, n + 1, sizeof *segs)) {
+                    st = fail(r, "out of memory");
+                    break;
+                }
+                pt a = {px, py}, b = {ix, iy};
+                int c = cmp_pt(&a, &b);
+                segs[n].ax = c < 0 ? a.x : b.x;
+                segs[n].ay = c < 0 ? a.y : b.y;
+                segs[n].bx = c < 0 ? b.x : a.x;
+                segs[n].by = c < 0 ? b.y : a.y;
+                n++;
+            }
+            px = ix;
+            py = iy;
+        }
+    }
+    GEOSGeom_destroy_r(r->geos, noded);
+    if (st) {
+        free(segs);
+        return st;
+    }
+    qsort(segs, n, sizeof *segs, cmp_seg);
+    size_t u = 0;
+    for (size_t i = 0; i < n; i++)
+        if (u == 0 || cmp_seg(&segs[u - 1], &segs[i]) != 0)
+            segs[u++] = segs[i];
+    *segs_out = segs;
+    *n_out = u;
+    return 0;
+}
+
+/* ---- step 5: the graph ------------------------------------------------------------- */
+
+static size_t find_pt(const pt *pts, size_t n, int64_t x, int64_t y)
+{
+    pt key = {x, y};
+    const pt *p = bsearch(&key, pts, n, sizeof *pts, cmp_pt);
+    return (size_t)(p - pts);
+}
+
+typedef struct graph_builder {
+    reader *r;
+    hpfc_graph *g;
+    const seg *segs;
+    size_t n_segs;
+    pt *pts;
+    size_t n_pts;
+    uint32_t *seg_a, *seg_b;    /* point index of each segment's ends */
+    size_t *adj_start, *adj;    /* incident segments of each point (CSR) */
+    uint32_t *vertex;           /* point -> graph vertex, UINT32_MAX if none */
+    unsigned char *used;
+    int64_t *interior;
+    size_t cap_interior;
+} graph_builder;
+
+static int gb_vertex(graph_builder *b, size_t p, uint32_t *out)
+{
+    if (b->vertex[p] == UINT32_MAX) {
+        int st = hpfc_graph_add_vertex(b->g, b->pts[p].x, b->pts[p].y, &b->vertex[p]);
+        if (st)
+            return fail(b->r, "graph: %s", hpfc_strerror(st));
+    }
+    *out = b->vertex[p];
+    return 0;
+}
+
+static size_t degree(const graph_builder *b, size_t p)
+{
+    return b->adj_start[p + 1] - b->adj_start[p];
+}
+
+/* Follows the chain from point p along segment s through degree-2 points,
+ * up to a junction (or back to p), and adds it as one edge. */
+static int gb_chain(graph_builder *b, size_t p, size_t s)
+{
+    size_t n_int = 0, cur = p;
+    for (;;) {
+        b->used[s] = 1;
+        size_t q = b->seg_a[s] == cur ? b->seg_b[s] : b->seg_a[s];
+        if (q == p || degree(b, q) != 2) {
+            uint32_t u, v;
+            int st = gb_vertex(b, p, &u);
+            if (!st)
+                st = gb_vertex(b, q, &v);
+            if (!st && (st = hpfc_graph_add_edge(b->g, u, v, b->interior, n_int, NULL)) != 0)
+                return fail(b->r, "graph: %s", hpfc_strerror(st));
+            return st;
+        }
+        if (!grow((void **)&b->interior, &b->cap_interior, 2 * n_int + 2, sizeof(int64_t)))
+            return fail(b->r, "out of memory");
+        b->interior[2 * n_int] = b->pts[q].x;
+        b->interior[2 * n_int + 1] = b->pts[q].y;
+        n_int++;
+        size_t s0 = b->adj[b->adj_start[q]], s1 = b->adj[b->adj_start[q] + 1];
+        s = s0 == s ? s1 : s0;
+        cur = q;
+    }
+}
+
+static int make_graph(reader *r, const seg *segs, size_t n_segs, hpfc_graph **out)
+{
+    graph_builder b = {.r = r, .segs = segs, .n_segs = n_segs};
+    int st = 0;
+    if (n_segs >= UINT32_MAX / 2)
+        return fail(r, "too many segments (%zu) for one graph", n_segs);
+    b.pts = malloc(2 * n_segs * sizeof *b.pts);
+    b.seg_a = malloc(n_segs * sizeof *b.seg_a);
+    b.seg_b = malloc(n_segs * sizeof *b.seg_b);
+    b.used = calloc(n_segs ? n_segs : 1, 1);
+    if (!b.pts || !b.seg_a || !b.seg_b || !b.used) {
+        st = fail(r, "out of memory");
+        goto done;
+    }
+    for (size_t i = 0; i < n_segs; i++) {
+        b.pts[2 * i] = (pt){segs[i].ax, segs[i].ay};
+        b.pts[2 * i + 1] = (pt){segs[i].bx, segs[i].by};
+    }
+    qsort(b.pts, 2 * n_segs, sizeof *b.pts, cmp_pt);
+    for (size_t i = 0; i < 2 * n_segs; i++)
+        if (b.n_pts == 0 || cmp_pt(&b.pts[b.n_pts - 1], &b.pts[i]) != 0)
+            b.pts[b.n_pts++] = b.pts[i];
+    b.adj_start = calloc(b.n_pts + 1, sizeof *b.adj_start);
+    b.adj = malloc(2 * n_segs * sizeof *b.adj);
+    b.vertex = malloc(b.n_pts * sizeof *b.vertex);
+    if (!b.adj_start || !b.adj || !b.vertex) {
+        st = fail(r, "out of memory");
+        goto done;
+    }
+    for (size_t i = 0; i < n_segs; i++) {
+        b.seg_a[i] = (uint32_t)find_pt(b.pts, b.n_pts, segs[i].ax, segs[i].ay);
+        b.seg_b[i] = (uint32_t)find_pt(b.pts, b.n_pts, segs[i].bx, segs[i].by);
+        b.adj_start[b.seg_a[i] + 1]++;
+        b.adj_start[b.seg_b[i] + 1]++;
+    }
+    for (size_t p = 0; p < b.n_pts; p++) {
+        b.adj_start[p + 1] += b.adj_start[p];
+        b.vertex[p] = UINT32_MAX;
+    }
+    {
+        size_t *fill = malloc((b.n_pts + 1) * sizeof *fill);
+        if (!fill) {
+            st = fail(r, "out of memory");
+            goto done;
+        }
+        memcpy(fill, b.adj_start, (b.n_pts + 1) * sizeof *fill);
+        for (size_t i = 0; i < n_segs; i++) {
+            b.adj[fill[b.seg_a[i]]++] = i;
+            b.adj[fill[b.seg_b[i]]++] = i;
+        }
+        free(fill);
+    }
+    if ((st = hpfc_graph_create(&b.g)) != 0 ||
+        (st = hpfc_graph_set_unit_exp10(b.g, r->info->unit_exp10)) != 0) {
+        st = fail(r, "graph: %s", hpfc_strerror(st));
+        goto done;
+    }
+    progress_show(&r->bar, "graph", 0, 0, 1);
+    if (r->opt->vertex_model == GIS_VERTICES_ALL) {
+        for (size_t p = 0; p < b.n_pts && !st; p++) {
+            uint32_t v;
+            st = gb_vertex(&b, p, &v);
+        }
+        for (size_t i = 0; i < n_segs && !st; i++)
+            if ((st = hpfc_graph_add_edge(b.g, b.seg_a[i], b.seg_b[i], NULL, 0, NULL)) != 0)
+                st = fail(r, "graph: %s", hpfc_strerror(st));
+    } else {
+        /* chains between junctions, then the closed chains with none */
+        for (size_t p = 0; p < b.n_pts && !st; p++)
+            if (degree(&b, p) != 2)
+                for (size_t k = b.adj_start[p]; k < b.adj_start[p + 1] && !st; k++)
+                    if (!b.used[b.adj[k]])
+                        st = gb_chain(&b, p, b.adj[k]);
+        for (size_t p = 0; p < b.n_pts && !st; p++)
+            if (degree(&b, p) == 2 && !b.used[b.adj[b.adj_start[p]]])
+                st = gb_chain(&b, p, b.adj[b.adj_start[p]]);
+    }
+done:
+    if (!st)
+        *out = b.g;
+    else
+        hpfc_graph_free(b.g);
+    free(b.pts);
+    free(b.seg_a);
+    free(b.seg_b);
+    free(b.used);
+    free(b.adj_start);
+    free(b.adj);
+    free(b.vertex);
+    free(b.interior);
+    return st;
+}
+
+/* ---- entry point ----------------------------------------------------------------- */
+
+int gis_available(void)
+{
+    return 1;
+}
+
+int gis_projection_valid(const char *name)
+{
+    mapproj_kind k;
+    return mapproj_parse_kind(name, &k);
+}
+
+int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, gis_info *info,
+                   char *err, size_t err_len)
+{
+    memset(info, 0, sizeof *info);
+    reader r = {.opt = opt, .info = info, .err = err, .err_len = err_len};
+    r.bar.on = opt->progress;
+    r.xmin = r.ymin = INFINITY;
+    r.xmax = r.ymax = -INFINITY;
+    err[0] = 0;
+
+    /* GDAL speaks through our one-line messages only; GeoJSON objects of
+     * any size are read. */
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    CPLSetConfigOption("OGR_GEOJSON_MAX_OBJ_SIZE", "0");
+    GDALAllRegister();
+    r.geos = GEOS_init_r();
+    GEOSContext_setErrorMessageHandler_r(r.geos, geos_message, &r);
+    GEOSContext_setNoticeMessageHandler_r(r.geos, geos_notice, &r);
+
+    char *srs_p4 = NULL;
+    OGRSpatialReferenceH srs = NULL;
+    int64_t *lat = NULL;
+    seg *segs = NULL;
+    size_t n_segs = 0;
+    int st = read_dataset(&r, path, &srs_p4, &srs);
+    if (!st) {
+        lat = malloc((r.n_points ? r.n_points : 1) * 2 * sizeof *lat);
+        st = lat ? project_and_snap(&r, srs, srs_p4, lat) : fail(&r, "out of memory");
+    }
+    free(r.xy);
+    r.xy = NULL;
+    if (!st)
+        st = node(&r, lat, &segs, &n_segs);
+    free(lat);
+    if (!st)
+        st = make_graph(&r, segs, n_segs, out);
+    progress_end(&r.bar);
+    free(segs);
+    free(r.start);
+    free(r.refs);
+    free(srs_p4);
+    if (srs)
+        OSRDestroySpatialReference(srs);
+    GEOS_finish_r(r.geos);
+    CPLPopErrorHandler();
+    if (st) {
+        gis_info_free(info);
+        for (char *c = err; *c; c++)
+            if (*c == '\n' || *c == '\r')
+                *c = ' ';
+        return 1;
+    }
+    return 0;
+}
+
+#else /* !HPFC_HAVE_GIS */
+
+int gis_available(void)
+{
+    return 0;
+}
+
+int gis_projection_valid(const char *name)
+{
+    static const char *const names[] = {"auto", "none", "tm", "lcc", "aea", "eqc"};
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
+        if (strcmp(name, names[k]) == 0)
+            return 1;
+    return 0;
+}
+
+int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, gis_info *info,
+                   char *err, size_t err_len)
+{
+    (void)path;
+    (void)opt;
+    (void)out;
+    memset(info, 0, sizeof *info);
+    snprintf(err, err_len, "GIS input needs GDAL, not built in");
+    return 2;
+}
+
+#endif
+
+void gis_info_free(gis_info *info)
+{
+    if (info) {
+        free(info->crs);
+        info->crs = NULL;
+    }
+}

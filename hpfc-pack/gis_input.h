@@ -1,0 +1,62 @@
+/*
+ * gis_input.h: hpfc-pack's GIS input. Reads the line and polygon layers of
+ * any vector dataset GDAL/OGR opens, projects geographic coordinates with
+ * GeographicLib (projection.h), snaps them to a power-of-ten lattice
+ * (lattice.h) and nodes the linework with GEOS (snap rounding), so that the
+ * result is always a valid planar graph: every intersection is a vertex,
+ * every shared border is stored once, zero-length pieces are gone.
+ *
+ * Without GDAL, GEOS and GeographicLib at build time, gis_read_graph() only
+ * reports that GIS input is not built in.
+ */
+#ifndef HPFC_PACK_GIS_INPUT_H
+#define HPFC_PACK_GIS_INPUT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hpfc.h"
+
+enum { GIS_VERTICES_ALL = 0, GIS_VERTICES_JUNCTIONS = 1 };
+/* What to do with a polygon GEOS finds invalid (a self-intersecting ring,
+ * a hole outside its shell, ...): refuse the input, or node its rings like
+ * any other linework (the planar graph is then still exact; only the
+ * polygon's own area is ill-defined). */
+enum { GIS_INVALID_REJECT = 0, GIS_INVALID_NODE = 1 };
+
+typedef struct gis_options {
+    const char *const *layers; /* layer names to read; all layers when n_layers == 0 */
+    size_t n_layers;
+    const char *projection;    /* "auto" (when NULL), "none", "tm", "lcc", "aea", "eqc" */
+    int vertex_model;          /* GIS_VERTICES_ALL or GIS_VERTICES_JUNCTIONS */
+    int progress;              /* draw a progress bar on stderr */
+    int invalid_mode;          /* GIS_INVALID_REJECT or GIS_INVALID_NODE */
+} gis_options;
+
+typedef struct gis_info {
+    char driver[64];           /* GDAL driver short name, e.g. "GeoJSON" */
+    char projection[8];        /* projection used: "none", "tm", ... */
+    char *crs;                 /* text for the CRS section (malloc'ed), NULL if unknown */
+    int32_t unit_exp10;        /* lattice unit: 10^e of the coordinate unit */
+    uint64_t layers, features;
+    uint64_t skipped_empty;    /* features without geometry, or with an empty one */
+    uint64_t skipped_points;   /* point geometries (not part of a planar map) */
+    uint64_t invalid_noded;    /* invalid polygons noded (GIS_INVALID_NODE) */
+} gis_info;
+
+/* Is GIS input built in? */
+int gis_available(void);
+
+/* Is `name` a --projection value? */
+int gis_projection_valid(const char *name);
+
+/* Reads `path` into a new graph (*out, freed by the caller) and fills
+ * *info (release with gis_info_free()). Returns 0; 1 when the input cannot
+ * be read or is invalid; 2 when GIS input is not built in. On failure `err`
+ * holds one line without the input's name. */
+int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out,
+                   gis_info *info, char *err, size_t err_len);
+
+void gis_info_free(gis_info *info);
+
+#endif

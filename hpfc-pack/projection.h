@@ -1,0 +1,58 @@
+/*
+ * projection.h: a small C interface over GeographicLib's map projections,
+ * for hpfc-pack's GIS input (projection.cc). Geographic (lon, lat) degrees
+ * go to plane metres; the PROJ-style description of the projection is what
+ * the .hpfc file's CRS section records, so that a reader can map (lon, lat)
+ * back to user coordinates with any PROJ-compatible library.
+ */
+#ifndef HPFC_PACK_PROJECTION_H
+#define HPFC_PACK_PROJECTION_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum mapproj_kind {
+    MAPPROJ_AUTO = 0, /* chosen from the data's extent, see mapproj_create() */
+    MAPPROJ_NONE,     /* keep the coordinates as they are */
+    MAPPROJ_TM,       /* transverse Mercator centred on the data */
+    MAPPROJ_LCC,      /* Lambert conformal conic, two standard parallels */
+    MAPPROJ_AEA,      /* Albers equal-area conic, two standard parallels */
+    MAPPROJ_EQC       /* equirectangular (plate carree), for world extents */
+} mapproj_kind;
+
+/* Parses "auto", "none", "tm", "lcc", "aea" or "eqc"; 0 if unknown. */
+int mapproj_parse_kind(const char *name, mapproj_kind *out);
+const char *mapproj_kind_name(mapproj_kind kind);
+
+typedef struct mapproj_plan mapproj_plan;
+
+/* A projection for geographic data with the given extent (degrees) on the
+ * ellipsoid (a, f). MAPPROJ_AUTO picks transverse Mercator when the longitude
+ * span is at most 12 degrees, a Lambert conformal conic when the data stay
+ * within 84 degrees of the equator and span at most 150 degrees of
+ * longitude, and the equirectangular projection otherwise. MAPPROJ_NONE is not
+ * a projection: the caller keeps the coordinates. Returns NULL when
+ * memory runs out. */
+mapproj_plan *mapproj_create(mapproj_kind kind, double lon_min, double lat_min, double lon_max,
+                       double lat_max, double a, double f);
+void mapproj_free(mapproj_plan *plan);
+
+/* The kind actually used (never MAPPROJ_AUTO). */
+mapproj_kind mapproj_plan_kind(const mapproj_plan *plan);
+
+/* Projects (lon, lat) to (x, y) metres; 0 on success, -1 when the result is
+ * not finite (for example a point on the far side of a conic's apex). */
+int mapproj_forward(const mapproj_plan *plan, double lon, double lat, double *x, double *y);
+
+/* "+proj=tmerc +lat_0=... +lon_0=... +k=1 +x_0=0 +y_0=0 +ellps=WGS84
+ * +units=m +no_defs", owned by the plan. */
+const char *mapproj_describe(const mapproj_plan *plan);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
