@@ -23,6 +23,7 @@
 typedef struct pixel_entry {
     uint64_t slot;    /* reader_pixel_slot_bit of the leaf, + 1 (0 = empty) */
     uint64_t base;    /* its first node */
+    uint64_t nodes;   /* its node count: 2 per crossing, 1 when private */
 } pixel_entry;
 
 struct hpfc_faces {
@@ -87,14 +88,27 @@ static uint64_t gap_node(const local_word *lw, uint64_t base, int road, uint64_t
     return base + 2 * k + 1;
 }
 
+/* The word pixels the level table declares: a tree has exactly that many
+ * leaves. Addresses that alias one child image make the tree a DAG whose
+ * leaf paths can number n^L in a small file, so counting stops there. */
+static uint64_t declared_leaves(const hpfc_file *f)
+{
+    hpfc_level_info lv;
+    uint64_t total = 0;
+    for (uint32_t l = 0; hpfc_file_get_level(f, l, &lv) == HPFC_OK; l++)
+        total += lv.word_pixels; /* each < 2^42 (k_w >= 4 bits each, in the file) */
+    return total;
+}
+
 /* Pass 1: give every leaf its nodes. */
 static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
 {
     hpfc_pixel px;
-    uint64_t leaves = 0;
+    uint64_t leaves = 0, most = declared_leaves(fc->file);
     int st = hpfc_leaf_first(fc->file, &px);
     for (; !st; st = hpfc_leaf_next(fc->file, &px))
-        leaves++;
+        if (++leaves > most)
+            return HPFC_E_CORRUPT;
     if (st != HPFC_E_NO_PIXEL)
         return st;
     size_t cap = 16;
@@ -113,7 +127,8 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
             return HPFC_E_CORRUPT;
         e->slot = slot + 1;
         e->base = fc->nodes;
-        fc->nodes += w->here.n ? 2 * (uint64_t)w->here.n : 1;
+        e->nodes = w->here.n ? 2 * (uint64_t)w->here.n : 1;
+        fc->nodes += e->nodes;
     }
     return st == HPFC_E_NO_PIXEL ? HPFC_OK : st;
 }
@@ -171,7 +186,12 @@ static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p
         if ((st = topo_crossings_after(w, &pb, road, qlo, qhi, &before)) || (st = node_base(fc, &q, &qbase)) ||
             (st = topo_parse_pixel(w, &w->there, &q)))
             break;
-        unite(fc->parent, pnode, gap_node(&w->there, qbase, (road + 2) % 4, before));
+        int opposite = (road + 2) % 4;
+        if (before > w->there.road_off[opposite + 1] - w->there.road_off[opposite]) {
+            st = HPFC_E_CORRUPT; /* more crossings on P's side than on Q's road */
+            break;
+        }
+        unite(fc->parent, pnode, gap_node(&w->there, qbase, opposite, before));
     }
     return st;
 }
@@ -272,16 +292,18 @@ uint64_t hpfc_faces_count(const hpfc_faces *fc)
 
 int hpfc_faces_of_dart(const hpfc_faces *fc, const hpfc_dart *d, uint64_t *face)
 {
-    uint64_t base;
+    uint64_t slot;
     if (!fc || !d || !face)
         return HPFC_E_ARG;
-    int st = node_base(fc, &d->pixel, &base);
+    int st = reader_pixel_slot_bit(fc->file, &d->pixel, &slot);
     if (st)
         return st;
-    uint64_t node = base + 2 * (uint64_t)d->crossing + 1;
-    if (node >= fc->nodes)
-        return HPFC_E_ARG;
-    *face = fc->parent[node];
+    const pixel_entry *e = find_entry(fc, slot);
+    if (!e->slot)
+        return HPFC_E_CORRUPT;
+    if (2 * (uint64_t)d->crossing + 1 >= e->nodes)
+        return HPFC_E_ARG; /* no such crossing in the dart's pixel */
+    *face = fc->parent[e->base + 2 * (uint64_t)d->crossing + 1];
     return HPFC_OK;
 }
 

@@ -404,7 +404,9 @@ HPFC_API uint64_t hpfc_dart_key(const hpfc_file *file, const hpfc_dart *d);
 
 /* Iteration over the word pixels of the file in depth-first order (each
  * image in scanline order): start with hpfc_leaf_first, then call
- * hpfc_leaf_next until it returns HPFC_E_NO_PIXEL. */
+ * hpfc_leaf_next until it returns HPFC_E_NO_PIXEL. On an untrusted file,
+ * stop with an error after more leaves than the levels' word_pixels add up
+ * to: a corrupt file can point several refined pixels at one image. */
 HPFC_API int hpfc_leaf_first(const hpfc_file *file, hpfc_pixel *px);
 HPFC_API int hpfc_leaf_next(const hpfc_file *file, hpfc_pixel *px);
 
