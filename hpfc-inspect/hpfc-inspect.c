@@ -5,14 +5,21 @@
  *   hpfc-inspect --json FILE                the same as one JSON object
  *   hpfc-inspect --verify [--json] FILE     full structural and topological check
  *   hpfc-inspect --export-graph OUT FILE    the map as hpfc-graph JSON
+ *   hpfc-inspect --sections FILE            the file's map, with checksum status
+ *   hpfc-inspect --pixel PATH FILE          one pixel taken apart
+ *   hpfc-inspect --locate X,Y FILE          the leaf and faces at a point (contracts §4)
+ *   hpfc-inspect --stats FILE               histograms of words, depths, stabbings
+ *   hpfc-inspect --render OUT.svg|OUT.png FILE   a picture of the grid and the graph
  *
  * The summary shows only what hpfc_open() validates: opening checks the
  * header, the level table and the section directory without decoding the
  * pools, so it runs in O(levels + sections) on any file size. --verify
  * decodes everything (verify.c); --export-graph walks the map with the
- * library's operators (export.c). Exit status: 0 success (for --verify: the
- * file is valid), 1 when FILE cannot be opened, is invalid or OUT cannot be
- * written ("hpfc-inspect: FILE: <reason>"), 2 for a usage error.
+ * library's operators (export.c). The queries live in views.c and render.c.
+ * Exit status: 0 success (for --verify: the file is valid), 1 when FILE
+ * cannot be opened, is invalid, a query fails (no such pixel, a checksum that
+ * --sections finds wrong) or OUT cannot be written ("hpfc-inspect: FILE:
+ * <reason>"), 2 for a usage error. Every query takes --json.
  */
 #include <errno.h>
 #include <fcntl.h>
@@ -27,15 +34,27 @@
 #include "export.h"
 #include "hpfc.h"
 #include "jsonw.h"
+#include "render.h"
 #include "verify.h"
+#include "views.h"
 
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
+
+/* The options with a value that the queries of views.c and render.c take. */
+enum { V_PIXEL, V_LOCATE, V_RENDER, V_WINDOW, V_SIZE, V_COUNT };
+static const char *const value_names[V_COUNT] = {"--pixel", "--locate", "--render", "--window",
+                                                 "--size"};
 
 typedef struct inspect_args {
     const char *file;
     int json;
     int verify;
     const char *graph_out;  /* --export-graph OUT */
+    int sections, stats;
+    const char *values[V_COUNT];
+    pixel_path path;        /* --pixel, parsed */
+    decimal point[2];       /* --locate, parsed */
+    render_params render;   /* --render, --window, --size, parsed */
 } inspect_args;
 
 /* Everything shown, read once so that the printers cannot fail. */
@@ -51,12 +70,17 @@ static void print_help(void)
     printf("usage: hpfc-inspect [--json] FILE\n"
            "       hpfc-inspect --verify [--json] FILE\n"
            "       hpfc-inspect --export-graph OUT.json [--json] FILE\n"
+           "       hpfc-inspect --sections | --stats [--json] FILE\n"
+           "       hpfc-inspect --pixel PATH | --locate X,Y [--json] FILE\n"
+           "       hpfc-inspect --render OUT.svg|OUT.png [--window X0,Y0,X1,Y1] [--size W[xH]]\n"
+           "                    [--json] FILE\n"
            "\n"
            "Shows the header, the section directory and the per-level table of an\n"
-           ".hpfc file; or checks it; or exports the planar map it encodes.\n"
+           ".hpfc file; or checks it; or exports the planar map it encodes; or\n"
+           "answers one query about it (one query a run).\n"
            "\n"
            "options:\n"
-           "  --json                 print one JSON object instead of text\n"
+           "  --json                 print one JSON object instead of text (every query)\n"
            "  --verify               full check: section checksums, every pixel of\n"
            "                         every level (decoding, word grammar, image layout,\n"
            "                         level counts, zero padding), both sides of every\n"
@@ -64,11 +88,40 @@ static void print_help(void)
            "                         (twin, next, prev, origin, target, faces, Euler)\n"
            "  --export-graph OUT     write the map as hpfc-graph JSON to OUT (atomic:\n"
            "                         no partial OUT on failure)\n"
+           "  --sections             the file's map: header, level table, directory, every\n"
+           "                         section with offset, length and stored / computed\n"
+           "                         CRC-32C, each level's pool with its bits, k_w, k_@\n"
+           "  --pixel PATH           one pixel by its path from the root, i,j per level\n"
+           "                         joined by '/' (i = column from the west, j = row\n"
+           "                         from the north): type, word and code bits, crossings\n"
+           "                         per road, components, vertices, bounds, neighbours\n"
+           "  --locate X,Y           the leaf holding point X,Y (input coordinates): path,\n"
+           "                         depth, word, and its faces: the one face of a private\n"
+           "                         leaf, else every face that meets the leaf\n"
+           "  --stats                histograms of word length, leaf depth, crossings per\n"
+           "                         pixel and stabbings per edge (pixels an edge passes\n"
+           "                         without a vertex)\n"
+           "  --render OUT           draw the grid (leaves shaded by depth) and the graph\n"
+           "                         through its crossings into OUT.svg, or OUT.png when\n"
+           "                         built with cairo\n"
+           "  --window X0,Y0,X1,Y1   with --render: the part of the domain to draw\n"
+           "  --size W[xH]           with --render: image size in pixels (default 1024 on\n"
+           "                         the longer side; W alone keeps the window's aspect)\n"
            "  -h, --help             show this help\n"
            "  --version              show the version\n"
            "\n"
-           "Exit status: 0 success (--verify: the file is valid), 1 FILE cannot be\n"
-           "opened, is invalid, or OUT cannot be written, 2 usage error.\n");
+           "examples:\n"
+           "  hpfc-inspect --sections map.hpfc\n"
+           "  hpfc-inspect --pixel 3,5/1,0/0,1 map.hpfc\n"
+           "  hpfc-inspect --locate 1.5,-2.25 --json map.hpfc\n"
+           "  hpfc-inspect --stats --json map.hpfc\n"
+           "  hpfc-inspect --render map.png --window 0,0,500,300 --size 1600x960 map.hpfc\n"
+           "\n"
+           "Exit status: 0 success (--verify: the file is valid; --locate: also for a\n"
+           "point outside the domain, with no faces), 1 FILE cannot be opened or is\n"
+           "invalid, a query fails (--pixel: no such pixel; --sections: a checksum does\n"
+           "not match), or OUT cannot be written, 2 usage error (a malformed PATH,\n"
+           "point, window or size, or several queries at once).\n");
 }
 
 static int usage_error(const char *what, const char *arg)
@@ -99,16 +152,76 @@ static const char *option_value(int argc, char **argv, int *i, const char *name,
     return argv[++*i];
 }
 
+/* A value that starts with '-' and then a digit or a point is a negative
+ * number, not a slip: "--locate -5,3 FILE". */
+static const char *numeric_value(int argc, char **argv, int *i, const char *name, int *missing)
+{
+    const char *next = *i + 1 < argc ? argv[*i + 1] : "";
+    if (strcmp(argv[*i], name) == 0 && next[0] == '-' &&
+        ((next[1] >= '0' && next[1] <= '9') || next[1] == '.'))
+        return argv[++*i];
+    return option_value(argc, argv, i, name, missing);
+}
+
+/* One of the value options of the queries at argv[*i]: -1 when it is not
+ * one, 0 when taken, or the usage exit status. */
+static int query_option(int argc, char **argv, int *i, inspect_args *a)
+{
+    for (int k = 0; k < V_COUNT; k++) {
+        int missing = 0, numeric = k == V_LOCATE || k == V_WINDOW;
+        const char *value = numeric ? numeric_value(argc, argv, i, value_names[k], &missing)
+                                    : option_value(argc, argv, i, value_names[k], &missing);
+        if (!value && !missing)
+            continue;
+        if (missing)
+            return usage_error("missing its value", value_names[k]);
+        if (a->values[k])
+            return usage_error("given twice", value_names[k]);
+        a->values[k] = value;
+        return 0;
+    }
+    return -1;
+}
+
+/* Checks and converts the queries' values; -1 to go on, or EXIT_USAGE. */
+static int parse_queries(inspect_args *a)
+{
+    char why[VIEW_WHY];
+    const char **v = a->values;
+    int queries = a->verify + !!a->graph_out + a->sections + a->stats + !!v[V_PIXEL] +
+                  !!v[V_LOCATE] + !!v[V_RENDER];
+    if (queries > 1)
+        return usage_error("use one of --verify, --export-graph, --sections, --stats, --pixel, "
+                           "--locate and --render", NULL);
+    if ((v[V_WINDOW] || v[V_SIZE]) && !v[V_RENDER])
+        return usage_error("only with --render", v[V_WINDOW] ? "--window" : "--size");
+    if (v[V_PIXEL] && pixel_path_parse(v[V_PIXEL], &a->path, why, sizeof why))
+        return usage_error(why, "--pixel");
+    if (v[V_LOCATE] && decimal_list_parse(v[V_LOCATE], a->point, 2))
+        return usage_error("expected X,Y: two decimal numbers", "--locate");
+    if (!v[V_RENDER])
+        return -1;
+    render_params *r = &a->render;
+    r->output = v[V_RENDER];
+    if (!(r->format = render_format_of(r->output)))
+        return usage_error("OUT must end in .svg or .png", "--render");
+    if (v[V_WINDOW] && render_window_parse(v[V_WINDOW], r->window))
+        return usage_error("expected X0,Y0,X1,Y1 with X0 < X1 and Y0 < Y1", "--window");
+    r->have_window = v[V_WINDOW] != NULL;
+    if (v[V_SIZE] && render_size_parse(v[V_SIZE], &r->width, &r->height))
+        return usage_error("expected W or WxH, from 1 to 16384", "--size");
+    return -1;
+}
+
 /* Returns -1 to go on, or the exit status (0 after --help / --version). */
 static int parse_args(int argc, char **argv, inspect_args *a)
 {
-    static const char *const later[] = {"--locate", "--locate-lonlat", "--locate-batch",
-                                        "--lonlat"};
+    static const char *const later[] = {"--locate-lonlat", "--locate-batch", "--lonlat"};
     int only_files = 0;
     memset(a, 0, sizeof *a);
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i], *value;
-        int missing = 0;
+        int missing = 0, status;
         if (only_files || arg[0] != '-' || strcmp(arg, "-") == 0) {
             if (a->file)
                 return usage_error("more than one FILE", arg);
@@ -127,6 +240,13 @@ static int parse_args(int argc, char **argv, inspect_args *a)
             a->json = 1;
         } else if (strcmp(arg, "--verify") == 0) {
             a->verify = 1;
+        } else if (strcmp(arg, "--sections") == 0) {
+            a->sections = 1;
+        } else if (strcmp(arg, "--stats") == 0) {
+            a->stats = 1;
+        } else if ((status = query_option(argc, argv, &i, a)) >= 0) {
+            if (status)
+                return status;
         } else if ((value = option_value(argc, argv, &i, "--export-graph", &missing)) || missing) {
             if (missing)
                 return usage_error("missing OUT", "--export-graph");
@@ -147,7 +267,7 @@ static int parse_args(int argc, char **argv, inspect_args *a)
         return usage_error("missing FILE", NULL);
     if (a->verify && a->graph_out)
         return usage_error("use one of --verify and --export-graph", NULL);
-    return -1;
+    return parse_queries(a);
 }
 
 /* Reads the header, levels and sections; HPFC_OK or the first failure. */
@@ -519,6 +639,46 @@ static int run_export(const inspect_args *a)
     return status;
 }
 
+/* ---- queries (views.c, render.c) ---------------------------------------------- */
+
+static int run_render(const inspect_args *a, const hpfc_file *f, char *why)
+{
+    render_report rep;
+    int status = render_file(f, &a->render, &rep, why);
+    if (!status)
+        render_print_report(stdout, a->json, &a->render, &rep);
+    return status ? EXIT_FAIL : 0;
+}
+
+/* One query on the open file; a failure is one line naming FILE. */
+static int run_query(const inspect_args *a)
+{
+    const char *out = a->values[V_RENDER];
+    if (out && same_file(a->file, out))
+        return usage_error("OUT is FILE; refusing to overwrite the input", out);
+    hpfc_file *f = NULL;
+    errno = 0;
+    int st = hpfc_open(a->file, 0, &f);
+    if (st)
+        return open_error(a->file, st, errno);
+    char why[VIEW_WHY] = "";
+    int status;
+    if (a->sections)
+        status = view_sections(f, a->file, stdout, a->json, why);
+    else if (a->stats)
+        status = view_stats(f, stdout, a->json, why);
+    else if (a->values[V_PIXEL])
+        status = view_pixel(f, &a->path, stdout, a->json, why);
+    else if (a->values[V_LOCATE])
+        status = view_locate(f, a->point, stdout, a->json, why);
+    else
+        status = run_render(a, f, why);
+    if (status)
+        fprintf(stderr, "hpfc-inspect: %s: %s\n", a->file, why);
+    hpfc_close(f);
+    return status;
+}
+
 /* The default mode: the summary that hpfc_open validates. */
 static int run_summary(const inspect_args *a)
 {
@@ -551,6 +711,9 @@ int main(int argc, char **argv)
         status = run_verify(&a);
     else if (a.graph_out)
         status = run_export(&a);
+    else if (a.sections || a.stats || a.values[V_PIXEL] || a.values[V_LOCATE] ||
+             a.values[V_RENDER])
+        status = run_query(&a);
     else
         status = run_summary(&a);
     /* A report that did not reach its reader is a failure (a full disk, a

@@ -1,0 +1,76 @@
+/*
+ * render.h: `hpfc-inspect --render OUT.svg|OUT.png` (issue 7): a picture of
+ * the hierarchical grid and of the graph as the file encodes it.
+ *
+ * What is drawn, from the file alone (public reader API):
+ *   - every leaf (word pixel) meeting the window, filled with a shade of its
+ *     depth so refined areas stand out, and outlined when it is at least a
+ *     few image pixels wide;
+ *   - the graph: each crossing at a point of its road, the crossings of every
+ *     stretch of grid line shared by two leaves spread evenly along it in
+ *     word order (roads.h: both sides agree, so edges join up across roads);
+ *     inside each leaf every stabbing as a line between its two crossings
+ *     (bent a little toward the leaf's centre so that a stabbing along one
+ *     road stays visible) and every junction as a star from its vertex to its
+ *     crossings. A vertex sits at its leaf's centre when it is the leaf's only
+ *     component, otherwise at the centroid of its crossings (inside their
+ *     convex hull, which keeps the stars and chords of one leaf apart since
+ *     its components do not cross, spec §3.8);
+ *   - the word of each leaf that is large on screen (no text on small ones).
+ * Leaves smaller than an image pixel are drawn as one dot of ink when
+ * stabbed, and a refined pixel whose children would be smaller than that is
+ * shaded as a whole: the output stays proportional to the image, not to the
+ * file, so a map of 10^5 edges renders in about a second.
+ *
+ * SVG is written directly; PNG goes through cairo when the build has it
+ * (HPFC_HAVE_CAIRO).
+ */
+#ifndef HPFC_INSPECT_RENDER_H
+#define HPFC_INSPECT_RENDER_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "hpfc.h"
+
+enum { RENDER_SVG = 1, RENDER_PNG = 2 };
+
+#define RENDER_DEFAULT_SIZE 1024u
+#define RENDER_MAX_SIZE 16384u
+
+typedef struct render_params {
+    const char *output;
+    int format;                /* RENDER_SVG or RENDER_PNG */
+    int have_window;
+    double window[4];          /* x0, y0, x1, y1 in user coordinates */
+    uint32_t width, height;    /* 0, 0: RENDER_DEFAULT_SIZE on the longer side;
+                                  width only: height from the window's aspect */
+} render_params;
+
+typedef struct render_report {
+    uint32_t width, height;
+    double window[4];          /* the window drawn, user coordinates */
+    uint64_t leaves, outlined, segments, vertices, labels, ink;
+    double seconds;
+} render_report;
+
+/* RENDER_SVG / RENDER_PNG from the output's suffix (case-insensitive), 0 if
+ * neither. */
+int render_format_of(const char *path);
+/* Whether this build can write PNG. */
+int render_png_available(void);
+
+/* "W" or "WxH", each 1 .. RENDER_MAX_SIZE: 0, or -1. *h is 0 for "W". */
+int render_size_parse(const char *text, uint32_t *w, uint32_t *h);
+/* "x0,y0,x1,y1" with x0 < x1 and y0 < y1: 0, or -1. */
+int render_window_parse(const char *text, double window[4]);
+
+/* Draws the file into p->output. Returns 0, or 1 with a one-line reason in
+ * why[] (VIEW_WHY bytes). */
+int render_file(const hpfc_file *f, const render_params *p, render_report *report, char *why);
+
+/* The one-line text or JSON summary of a rendering. */
+void render_print_report(FILE *out, int json, const render_params *p, const render_report *r);
+
+#endif
