@@ -10,6 +10,16 @@ ninja -C build-test
 status=0
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     meson test -C build-test --print-errorlogs --num-processes 2 || status=$?
+# A bounded libFuzzer run of every harness (fuzz/README.md), only where clang
+# and its libFuzzer runtime exist: a missing clang skips it, a finding fails.
+# HPFC_FUZZ_SECONDS (default 30 per harness; 0 skips) sets its length.
+fuzz_seconds=${HPFC_FUZZ_SECONDS:-30}
+if [ "$fuzz_seconds" -gt 0 ] && sh fuzz/run.sh --check; then
+    rm -rf build-fuzz-ci
+    HPFC_FUZZ_BUILD=build-fuzz-ci sh fuzz/run.sh "$fuzz_seconds" || { echo "fuzz: FAILED"; status=1; }
+else
+    echo "fuzz: skipped (no clang with libFuzzer, or HPFC_FUZZ_SECONDS=0)"
+fi
 python3 - build-test/meson-logs/testlog.json <<'PY'
 import json, sys
 ok = bad = 0

@@ -1,0 +1,83 @@
+/*
+ * open_buffer: the whole input is an .hpfc file, opened from memory
+ * (hpfc_open_memory) twice: with the header checksum verified, then with
+ * HPFC_OPEN_SKIP_CHECKSUM so mutated metadata gets past the checksum to the
+ * header, level table and section directory checks. An opened file is then
+ * queried through every metadata accessor and its section checksums
+ * verified.
+ *
+ * Oracle: open fails only with a file code (MAGIC .. SECTION, or NOMEM) and
+ * never with CORRUPT (open decodes no pool); opening with the checksum
+ * verified succeeds only if opening without it does, with the same info;
+ * the info a handle reports is inside the ranges open promises to check.
+ */
+#include "input.h"
+
+static int open_status_ok(int st)
+{
+    return st == HPFC_OK || st == HPFC_E_NOMEM || (st >= HPFC_E_MAGIC && st <= HPFC_E_SECTION);
+}
+
+static void query(const hpfc_file *f)
+{
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    FUZZ_CHECK(info.format_major == 1);
+    FUZZ_CHECK(info.levels >= 1 && info.levels <= HPFC_MAX_LEVELS);
+    FUZZ_CHECK(info.root_cols >= 1 && info.root_rows >= 1 && info.cols >= 2 && info.rows >= 2);
+    FUZZ_CHECK(info.width >= 1 && info.height >= 1);
+    FUZZ_CHECK(info.section_count >= 1);
+    if (info.crs) {
+        /* the text lies in the buffer and holds no NUL (R15) */
+        FUZZ_CHECK(memchr(info.crs, '\0', info.crs_len) == NULL);
+    }
+    int64_t cell_w = info.width, cell_h = info.height;
+    for (uint32_t l = 0; l < info.levels; l++) {
+        hpfc_level_info lv;
+        FUZZ_CHECK(hpfc_file_get_level(f, l, &lv) == HPFC_OK);
+        FUZZ_CHECK(lv.cell_w >= 1 && lv.cell_h >= 1 && lv.cell_w <= cell_w && lv.cell_h <= cell_h);
+        FUZZ_CHECK(lv.pool_offset + (lv.pool_bits + 7) / 8 <= info.file_size);
+        FUZZ_CHECK(lv.images >= 1 && lv.address_bits <= 64);
+        FUZZ_CHECK(l + 1 < info.levels || lv.refined_pixels == 0);
+        cell_w = lv.cell_w, cell_h = lv.cell_h;
+    }
+    hpfc_level_info lv;
+    FUZZ_CHECK(hpfc_file_get_level(f, info.levels, &lv) == HPFC_E_ARG);
+    for (uint32_t k = 0; k < info.section_count; k++) {
+        hpfc_section_info s;
+        FUZZ_CHECK(hpfc_file_get_section(f, k, &s) == HPFC_OK);
+        FUZZ_CHECK(s.tag[4] == '\0' && s.offset + s.length <= info.file_size);
+    }
+    hpfc_section_info s;
+    FUZZ_CHECK(hpfc_file_get_section(f, info.section_count, &s) == HPFC_E_ARG);
+    int st = hpfc_verify_checksums(f);
+    FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_CHECKSUM);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    hpfc_file *checked = NULL, *skipped = NULL;
+    int st_checked = hpfc_open_memory(data, size, 0, &checked);
+    int st_skipped = hpfc_open_memory(data, size, HPFC_OPEN_SKIP_CHECKSUM, &skipped);
+    FUZZ_CHECK(open_status_ok(st_checked) && open_status_ok(st_skipped));
+    FUZZ_CHECK(hpfc_strerror(st_checked) != NULL && hpfc_strerror(st_skipped) != NULL);
+    FUZZ_CHECK(strcmp(hpfc_version_string(), HPFC_VERSION_STRING) == 0);
+    FUZZ_CHECK((st_checked == HPFC_OK) == (checked != NULL));
+    FUZZ_CHECK((st_skipped == HPFC_OK) == (skipped != NULL));
+    /* the checksum is the only check the flag skips */
+    FUZZ_CHECK(st_checked != HPFC_OK || st_skipped == HPFC_OK);
+    FUZZ_CHECK(st_skipped == HPFC_OK || st_checked == st_skipped ||
+               st_checked == HPFC_E_CHECKSUM);
+    if (skipped)
+        query(skipped);
+    if (checked) {
+        query(checked);
+        hpfc_file_info a, b;
+        hpfc_file_get_info(checked, &a);
+        hpfc_file_get_info(skipped, &b);
+        FUZZ_CHECK(memcmp(&a, &b, sizeof a) == 0);
+    }
+    hpfc_close(checked);
+    hpfc_close(skipped);
+    return 0;
+}

@@ -1,0 +1,279 @@
+/*
+ * traverse_darts: the traversal operators and the face builder on an opened
+ * file.
+ *
+ * The input is an .hpfc file followed by command bytes (input.h), opened
+ * with HPFC_OPEN_SKIP_CHECKSUM so mutated pools reach the word parser and
+ * the crossing identification. The harness first collects the vertices and
+ * darts of the leaves (in hpfc_leaf_first/next order). Without commands it
+ * applies twin, next, prev, origin, target and the keys to every collected
+ * dart, then builds the faces; with commands each byte picks the next
+ * operator from an input-chosen start (a collected dart, a vertex's k-th
+ * dart, or a dart naming an arbitrary crossing, which the API must treat
+ * as untrusted). At most FUZZ_STEPS operator calls per input.
+ *
+ * Oracle: statuses are known codes; every dart an operator returns is one
+ * the operators accept (its origin exists), with a face when the faces were
+ * built, and every private leaf has a face. (The identities of a consistent
+ * map, twin an involution and so on, are roundtrip_graph's oracle: a file
+ * with matching checksums can still be a crafted inconsistent fixture.)
+ */
+#include "input.h"
+
+#define FUZZ_STEPS 2000
+#define MAX_DARTS 512
+#define MAX_LEAVES 512
+
+typedef struct trav {
+    const hpfc_file *f;
+    hpfc_walker *w;
+    long steps;
+    bool complete;    /* every leaf and dart was collected */
+    hpfc_dart darts[MAX_DARTS];
+    size_t nd;
+    hpfc_pixel leaves[MAX_LEAVES];
+    size_t nleaves, nvertices;
+    hpfc_faces *faces;
+    int faces_status; /* -1: not built yet */
+} trav;
+
+static bool spend(trav *t)
+{
+    return t->steps-- > 0;
+}
+
+/* A status from an operator: a known code. */
+static int status(int st)
+{
+    FUZZ_CHECK(fuzz_known_status(st));
+    return st;
+}
+
+/* A dart an operator returned must be usable. */
+static void check_result(trav *t, const hpfc_dart *d)
+{
+    hpfc_vertex v;
+    FUZZ_CHECK(hpfc_dart_origin(t->w, d, &v) == HPFC_OK);
+    if (t->faces) {
+        uint64_t face;
+        FUZZ_CHECK(hpfc_faces_of_dart(t->faces, d, &face) == HPFC_OK);
+        FUZZ_CHECK(face < hpfc_faces_count(t->faces));
+    }
+}
+
+static void collect(trav *t)
+{
+    hpfc_pixel px;
+    int st = status(hpfc_leaf_first(t->f, &px));
+    t->complete = true;
+    while (!st) {
+        if (!spend(t) || t->nleaves == MAX_LEAVES) {
+            t->complete = false;
+            return;
+        }
+        t->leaves[t->nleaves++] = px;
+        uint32_t count = 0;
+        st = status(hpfc_pixel_vertex_count(t->w, &px, &count));
+        for (uint32_t k = 0; k < count && !st; k++) {
+            hpfc_vertex v;
+            uint32_t degree = 0;
+            if (!spend(t)) {
+                t->complete = false;
+                return;
+            }
+            if ((st = status(hpfc_pixel_vertex(t->w, &px, k, &v))) ||
+                (st = status(hpfc_vertex_degree(t->w, &v, &degree))))
+                break;
+            t->nvertices++;
+            for (uint32_t e = 0; e < degree && !st; e++) {
+                if (t->nd == MAX_DARTS || !spend(t)) {
+                    t->complete = false;
+                    return;
+                }
+                st = status(hpfc_vertex_dart(t->w, &v, e, &t->darts[t->nd]));
+                if (!st)
+                    t->nd++;
+            }
+            hpfc_dart beyond;
+            FUZZ_CHECK(hpfc_vertex_dart(t->w, &v, degree, &beyond) == HPFC_E_ARG);
+        }
+        if (st)
+            t->complete = false;
+        st = hpfc_leaf_next(t->f, &px);
+        FUZZ_CHECK(fuzz_known_status(st));
+    }
+    if (st != HPFC_E_NO_PIXEL)
+        t->complete = false;
+}
+
+static void build_faces(trav *t)
+{
+    if (t->faces_status >= 0)
+        return;
+    t->faces_status = hpfc_faces_build(t->f, &t->faces);
+    status(t->faces_status);
+    FUZZ_CHECK((t->faces_status == HPFC_OK) == (t->faces != NULL));
+    if (!t->faces)
+        return;
+    uint64_t count = hpfc_faces_count(t->faces);
+    FUZZ_CHECK(count >= 1);
+    for (size_t k = 0; k < t->nleaves; k++) {
+        int is_private = 0;
+        uint64_t face;
+        if (hpfc_pixel_is_private(t->f, &t->leaves[k], &is_private) == HPFC_OK && is_private) {
+            FUZZ_CHECK(hpfc_faces_of_private_pixel(t->faces, &t->leaves[k], &face) == HPFC_OK);
+            FUZZ_CHECK(face < count);
+        }
+    }
+}
+
+/* All operators on one dart. */
+static void all_operators(trav *t, const hpfc_dart *d)
+{
+    hpfc_dart tw, nx, pv;
+    hpfc_vertex o, g;
+    if (!spend(t))
+        return;
+    int st_twin = status(hpfc_dart_twin(t->w, d, &tw));
+    int st_next = status(hpfc_dart_next(t->w, d, &nx));
+    int st_prev = status(hpfc_dart_prev(t->w, d, &pv));
+    if (!status(hpfc_dart_origin(t->w, d, &o)))
+        (void)hpfc_vertex_key(t->f, &o);
+    if (!status(hpfc_dart_target(t->w, d, &g)))
+        (void)hpfc_vertex_key(t->f, &g);
+    (void)hpfc_dart_key(t->f, d);
+    t->steps -= 4;
+    if (!st_twin)
+        check_result(t, &tw);
+    if (!st_next)
+        check_result(t, &nx);
+    if (!st_prev)
+        check_result(t, &pv);
+}
+
+static void explore(trav *t)
+{
+    for (size_t k = 0; k < t->nd && t->steps > 0; k++)
+        all_operators(t, &t->darts[k]);
+    build_faces(t);
+    if (!t->faces || !t->complete)
+        return;
+    for (size_t k = 0; k < t->nd && spend(t); k++)
+        check_result(t, &t->darts[k]);
+}
+
+static void run_commands(trav *t, fuzz_bytes *in)
+{
+    hpfc_dart cur = t->darts[0];
+    hpfc_dart out;
+    hpfc_vertex v;
+    while (!fuzz_empty(in) && spend(t)) {
+        uint8_t op = fuzz_u8(in);
+        int st;
+        switch (op % 10) {
+        case 0:
+            cur = t->darts[fuzz_u16(in) % t->nd];
+            break;
+        case 1:
+        case 2:
+        case 3:
+            st = op % 10 == 1   ? hpfc_dart_twin(t->w, &cur, &out)
+                 : op % 10 == 2 ? hpfc_dart_next(t->w, &cur, &out)
+                                : hpfc_dart_prev(t->w, &cur, &out);
+            if (!status(st)) {
+                check_result(t, &out);
+                cur = out;
+            }
+            break;
+        case 4:
+        case 5: {
+            st = op % 10 == 4 ? hpfc_dart_origin(t->w, &cur, &v) : hpfc_dart_target(t->w, &cur, &v);
+            uint32_t degree = 0;
+            if (status(st) || status(hpfc_vertex_degree(t->w, &v, &degree)))
+                break;
+            FUZZ_CHECK(degree >= 1);
+            uint32_t k = fuzz_u8(in) % (degree + 1);
+            st = hpfc_vertex_dart(t->w, &v, k, &out);
+            FUZZ_CHECK((st == HPFC_OK) == (k < degree));
+            if (!st) {
+                check_result(t, &out);
+                cur = out;
+            }
+            break;
+        }
+        case 6:
+            FUZZ_CHECK(hpfc_dart_key(t->f, &cur) == hpfc_dart_key(t->f, &cur));
+            if (!hpfc_dart_origin(t->w, &cur, &v))
+                (void)hpfc_vertex_key(t->f, &v);
+            (void)hpfc_walker_pixels_visited(t->w);
+            break;
+        case 7: { /* an untrusted dart: any crossing of a collected leaf */
+            hpfc_dart raw = {.pixel = t->leaves[fuzz_u16(in) % t->nleaves], .crossing = fuzz_u8(in)};
+            if (op & 0x80)
+                raw.crossing = fuzz_u32(in);
+            FUZZ_CHECK(fuzz_known_status(hpfc_dart_twin(t->w, &raw, &out)));
+            FUZZ_CHECK(fuzz_known_status(hpfc_dart_next(t->w, &raw, &out)));
+            FUZZ_CHECK(fuzz_known_status(hpfc_dart_prev(t->w, &raw, &out)));
+            FUZZ_CHECK(fuzz_known_status(hpfc_dart_target(t->w, &raw, &v)));
+            if (t->faces) {
+                uint64_t face;
+                FUZZ_CHECK(fuzz_known_status(hpfc_faces_of_dart(t->faces, &raw, &face)));
+            }
+            t->steps -= 3;
+            break;
+        }
+        case 8: { /* an untrusted vertex index */
+            const hpfc_pixel *px = &t->leaves[fuzz_u16(in) % t->nleaves];
+            uint32_t count = 0, index = fuzz_u8(in);
+            if (!status(hpfc_pixel_vertex_count(t->w, px, &count))) {
+                st = hpfc_pixel_vertex(t->w, px, index, &v);
+                FUZZ_CHECK((st == HPFC_OK) == (index < count));
+            }
+            break;
+        }
+        default:
+            build_faces(t);
+            if (t->faces) {
+                uint64_t face;
+                st = hpfc_faces_of_dart(t->faces, &cur, &face);
+                FUZZ_CHECK(st == HPFC_OK && face < hpfc_faces_count(t->faces));
+            }
+            break;
+        }
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    uint8_t *file;
+    size_t file_size;
+    fuzz_bytes cmds;
+    if (!fuzz_split_file(data, size, &file, &file_size, &cmds))
+        return 0;
+    hpfc_file *f = NULL;
+    trav *t = NULL;
+    if (hpfc_open_memory(file, file_size, HPFC_OPEN_SKIP_CHECKSUM, &f) != HPFC_OK)
+        goto done;
+    t = calloc(1, sizeof *t);
+    if (!t)
+        goto done;
+    *t = (trav){.f = f, .steps = FUZZ_STEPS, .faces_status = -1};
+    int st = hpfc_walker_create(f, &t->w);
+    FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NOMEM);
+    if (st)
+        goto done;
+    collect(t);
+    if (fuzz_empty(&cmds) || t->nd == 0)
+        explore(t);
+    else
+        run_commands(t, &cmds);
+done:
+    if (t) {
+        hpfc_faces_free(t->faces);
+        hpfc_walker_free(t->w);
+    }
+    free(t);
+    hpfc_close(f);
+    free(file);
+    return 0;
+}

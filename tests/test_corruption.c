@@ -1,0 +1,481 @@
+/*
+ * The corruption campaign: every single-bit flip and every truncation of a
+ * few small valid files (the .hpfc fixtures of $HPFC_TEST_DATA/valid and a
+ * few generated ones).
+ *
+ * Every byte is also set to 0x00 and to 0xFF (many bits of a count, an
+ * offset or a mask wrong at once). For each damaged copy:
+ *   - opening it (hpfc_open_memory with the checksum verified, then
+ *     hpfc_verify_checksums) must fail with a file code; a flip is allowed
+ *     through only in bytes no checksum covers (the zero padding between
+ *     sections, spec/hpfc-format.md §4), and a truncation never;
+ *   - opened with HPFC_OPEN_SKIP_CHECKSUM, it must traverse without a crash
+ *     within a step budget: every leaf walked, every word decoded, the four
+ *     moves from every leaf, twin / next / prev / origin / target and the
+ *     keys on every dart, then hpfc_faces_build and the face of every dart.
+ *     Every status is OK, NO_PIXEL or CORRUPT.
+ * Each copy lives in a buffer of exactly its size, so AddressSanitizer (the
+ * CI build, tools/run-tests.sh) sees any read past its end. A truncation is
+ * also tried with the header's file_size patched to the cut, so the
+ * shortened file gets past the size check to the level table and directory.
+ *
+ * It also checks the fuzz regressions: every line of fuzz/regressions/
+ * EXPECTED names an input and the status a call on it must give.
+ */
+#include <dirent.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "format.h"
+#include "gen.h"
+#include "hpfc.h"
+
+#define BIT(code) ((uint64_t)1 << (code))
+#define STEP_BUDGET 4000 /* operator calls per damaged copy */
+#define MAX_DARTS 256
+
+static const uint64_t ALLOWED = BIT(HPFC_OK) | BIT(HPFC_E_NO_PIXEL) | BIT(HPFC_E_CORRUPT);
+
+/* What the campaign saw, for the summary line and the checks. */
+static struct {
+    long files, flips, flips_accepted, byte_sets, cuts, patched_cuts, skipped_opens, traversals;
+    long budget_exhausted, corrupt, steps;
+    uint64_t open_codes, walk_codes;
+} seen;
+
+typedef struct walk {
+    const hpfc_file *f;
+    hpfc_walker *w;
+    long steps;
+    uint64_t codes;
+    hpfc_dart darts[MAX_DARTS];
+    size_t nd;
+} walk;
+
+static bool spend(walk *k)
+{
+    if (k->steps <= 0)
+        return false;
+    k->steps--;
+    return true;
+}
+
+static int note(walk *k, int st)
+{
+    k->codes |= st >= 0 && st < 64 ? BIT(st) : BIT(63);
+    return st;
+}
+
+static void walk_dart(walk *k, const hpfc_dart *d)
+{
+    hpfc_dart out;
+    hpfc_vertex v;
+    if (!spend(k))
+        return;
+    note(k, hpfc_dart_twin(k->w, d, &out));
+    note(k, hpfc_dart_next(k->w, d, &out));
+    note(k, hpfc_dart_prev(k->w, d, &out));
+    if (!note(k, hpfc_dart_origin(k->w, d, &v)))
+        (void)hpfc_vertex_key(k->f, &v);
+    if (!note(k, hpfc_dart_target(k->w, d, &v)))
+        (void)hpfc_vertex_key(k->f, &v);
+    (void)hpfc_dart_key(k->f, d);
+    k->steps -= 4;
+}
+
+static void walk_leaf(walk *k, const hpfc_pixel *px)
+{
+    char word[512];
+    size_t len;
+    int is_private;
+    int64_t x0, y0, x1, y1;
+    note(k, hpfc_pixel_word(k->f, px, NULL, 0, &len));
+    int st = hpfc_pixel_word(k->f, px, word, sizeof word, &len);
+    note(k, st == HPFC_E_ARG && len > sizeof word ? HPFC_OK : st); /* a long word: fine */
+    note(k, hpfc_pixel_is_private(k->f, px, &is_private));
+    note(k, hpfc_pixel_bounds(k->f, px, &x0, &y0, &x1, &y1));
+    for (int dir = HPFC_WEST; dir <= HPFC_SOUTH && spend(k); dir++) {
+        hpfc_pixel q;
+        note(k, hpfc_pixel_move(k->f, px, dir, &q));
+    }
+    uint32_t count = 0;
+    if (note(k, hpfc_pixel_vertex_count(k->w, px, &count)))
+        return;
+    for (uint32_t i = 0; i < count && spend(k); i++) {
+        hpfc_vertex v;
+        uint32_t degree = 0;
+        if (note(k, hpfc_pixel_vertex(k->w, px, i, &v)) || note(k, hpfc_vertex_degree(k->w, &v, &degree)))
+            continue;
+        for (uint32_t e = 0; e < degree && spend(k); e++) {
+            hpfc_dart d;
+            if (note(k, hpfc_vertex_dart(k->w, &v, e, &d)))
+                continue;
+            if (k->nd < MAX_DARTS)
+                k->darts[k->nd++] = d;
+            walk_dart(k, &d);
+        }
+    }
+}
+
+/* The traversal of one opened (possibly corrupt) file: the statuses seen. */
+static uint64_t traverse(const hpfc_file *f)
+{
+    walk k = {.f = f, .steps = STEP_BUDGET};
+    if (note(&k, hpfc_walker_create(f, &k.w)))
+        goto done;
+    hpfc_pixel px;
+    int st = note(&k, hpfc_leaf_first(f, &px));
+    while (!st && spend(&k)) {
+        walk_leaf(&k, &px);
+        st = note(&k, hpfc_leaf_next(f, &px));
+    }
+    /* a few point locations across the domain */
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    for (int i = 0; i < 8 && spend(&k); i++) {
+        hpfc_pixel at;
+        note(&k, hpfc_locate(f, info.x0 + info.width * i / 8, info.y0 + info.height * (i * 5 % 8) / 8, &at));
+    }
+    hpfc_faces *faces = NULL;
+    if (k.steps > 0 && !note(&k, hpfc_faces_build(f, &faces))) {
+        uint64_t count = hpfc_faces_count(faces), face;
+        CHECK(count >= 1);
+        for (size_t d = 0; d < k.nd; d++) {
+            if (!note(&k, hpfc_faces_of_dart(faces, &k.darts[d], &face)))
+                CHECK(face < count);
+        }
+    }
+    hpfc_faces_free(faces);
+done:
+    hpfc_walker_free(k.w);
+    seen.traversals++;
+    seen.steps += STEP_BUDGET - (k.steps > 0 ? k.steps : 0);
+    seen.budget_exhausted += k.steps <= 0;
+    seen.corrupt += (k.codes & BIT(HPFC_E_CORRUPT)) != 0;
+    seen.walk_codes |= k.codes;
+    if (k.codes & ~ALLOWED)
+        fprintf(stderr, "traversal statuses 0x%llx outside OK, NO_PIXEL, CORRUPT\n",
+                (unsigned long long)k.codes);
+    CHECK((k.codes & ~ALLOWED) == 0);
+    return k.codes;
+}
+
+static bool is_file_code(int st)
+{
+    return st >= HPFC_E_MAGIC && st <= HPFC_E_SECTION;
+}
+
+/* Opens with the checksums verified: the first failing status. */
+static int open_checked(const uint8_t *data, size_t size)
+{
+    hpfc_file *f = NULL;
+    int st = hpfc_open_memory(data, size, 0, &f);
+    if (!st)
+        st = hpfc_verify_checksums(f);
+    hpfc_close(f);
+    return st;
+}
+
+static void open_skipped(const uint8_t *data, size_t size)
+{
+    hpfc_file *f = NULL;
+    int st = hpfc_open_memory(data, size, HPFC_OPEN_SKIP_CHECKSUM, &f);
+    seen.open_codes |= BIT(st);
+    CHECK(st == HPFC_OK || is_file_code(st));
+    if (!st) {
+        seen.skipped_opens++;
+        traverse(f);
+    }
+    hpfc_close(f);
+}
+
+/* Which bytes a checksum covers: the metadata block and every section. */
+static uint8_t *coverage(const uint8_t *buf, size_t size)
+{
+    uint8_t *covered = calloc(size, 1);
+    hpfc_file *f = NULL;
+    CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
+    if (!covered || !f) {
+        hpfc_close(f);
+        return covered;
+    }
+    memset(covered, 1, (size_t)hdr_get_meta_size(buf));
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    for (uint32_t k = 0; k < info.section_count; k++) {
+        hpfc_section_info s;
+        CHECK_EQ_INT(hpfc_file_get_section(f, k, &s), HPFC_OK);
+        memset(covered + s.offset, 1, (size_t)s.length);
+    }
+    hpfc_close(f);
+    return covered;
+}
+
+static void campaign(const char *name, const uint8_t *buf, size_t size)
+{
+    CHECK_EQ_INT(open_checked(buf, size), HPFC_OK);
+    hpfc_file *f = NULL;
+    CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
+    if (!f)
+        return;
+    /* the intact file traverses cleanly */
+    long corrupt_before = seen.corrupt;
+    traverse(f);
+    CHECK_EQ_INT(seen.corrupt, corrupt_before);
+    hpfc_close(f);
+    uint8_t *covered = coverage(buf, size);
+    uint8_t *copy = malloc(size);
+    if (!covered || !copy) {
+        free(covered), free(copy);
+        return;
+    }
+    seen.files++;
+    long accepted = 0;
+    for (size_t bit = 0; bit < 8 * size; bit++) {
+        memcpy(copy, buf, size);
+        copy[bit / 8] ^= (uint8_t)(0x80 >> (bit % 8));
+        int st = open_checked(copy, size);
+        seen.open_codes |= BIT(st);
+        if (covered[bit / 8]) {
+            if (st == HPFC_OK || !is_file_code(st))
+                fprintf(stderr, "%s: flip of bit %zu: %s\n", name, bit, hpfc_strerror(st));
+            CHECK(is_file_code(st));
+        } else {
+            CHECK(st == HPFC_OK || is_file_code(st));
+            accepted += st == HPFC_OK;
+        }
+        open_skipped(copy, size);
+        seen.flips++;
+    }
+    seen.flips_accepted += accepted;
+    /* every byte set to 0x00 and to 0xFF: counts, offsets and masks with
+     * many bits wrong at once */
+    for (size_t byte = 0; byte < size; byte++)
+        for (int v = 0; v < 2; v++) {
+            memcpy(copy, buf, size);
+            if (copy[byte] == (v ? 0xFF : 0x00))
+                continue;
+            copy[byte] = v ? 0xFF : 0x00;
+            int st = open_checked(copy, size);
+            CHECK(covered[byte] ? is_file_code(st) : st == HPFC_OK || is_file_code(st));
+            open_skipped(copy, size);
+            seen.byte_sets++;
+        }
+    free(copy);
+    for (size_t cut = 0; cut < size; cut++) {
+        uint8_t *part = malloc(cut ? cut : 1); /* exact size */
+        if (!part)
+            break;
+        memcpy(part, buf, cut);
+        int st = open_checked(part, cut);
+        if (st != HPFC_E_TRUNCATED)
+            fprintf(stderr, "%s: cut at %zu: %s\n", name, cut, hpfc_strerror(st));
+        CHECK_EQ_INT(st, HPFC_E_TRUNCATED);
+        open_skipped(part, cut);
+        seen.cuts++;
+        if (cut >= hdr_get_meta_size(buf)) {
+            /* the header believes the cut: the pools or sections now end
+             * past the file */
+            hdr_set_file_size(part, cut);
+            hpfc_file *g = NULL;
+            st = hpfc_open_memory(part, cut, HPFC_OPEN_SKIP_CHECKSUM, &g);
+            if (st == HPFC_OK)
+                fprintf(stderr, "%s: cut at %zu with file_size patched opens\n", name, cut);
+            CHECK(is_file_code(st));
+            hpfc_close(g);
+            seen.patched_cuts++;
+        }
+        free(part);
+    }
+    free(covered);
+    printf("%s: %zu bytes, %ld flips accepted (all in uncovered padding)\n", name, size, accepted);
+    fflush(stdout);
+}
+
+/* ---- fuzz regressions (fuzz/regressions/EXPECTED) ------------------------------ */
+
+static const struct {
+    const char *name;
+    int code;
+} CODES[] = {
+    {"HPFC_E_MAGIC", HPFC_E_MAGIC},     {"HPFC_E_VERSION", HPFC_E_VERSION},
+    {"HPFC_E_INCOMPATIBLE", HPFC_E_INCOMPATIBLE}, {"HPFC_E_TRUNCATED", HPFC_E_TRUNCATED},
+    {"HPFC_E_CHECKSUM", HPFC_E_CHECKSUM}, {"HPFC_E_HEADER", HPFC_E_HEADER},
+    {"HPFC_E_LEVEL_TABLE", HPFC_E_LEVEL_TABLE}, {"HPFC_E_SECTION", HPFC_E_SECTION},
+    {"HPFC_E_CORRUPT", HPFC_E_CORRUPT}, {"HPFC_E_NO_PIXEL", HPFC_E_NO_PIXEL},
+};
+
+static int code_of(const char *name)
+{
+    for (size_t k = 0; k < sizeof CODES / sizeof *CODES; k++)
+        if (strcmp(CODES[k].name, name) == 0)
+            return CODES[k].code;
+    return -1;
+}
+
+static uint8_t *read_all(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    uint8_t *buf = malloc(1 << 16);
+    *size = buf ? fread(buf, 1, 1 << 16, f) : 0;
+    fclose(f);
+    return buf;
+}
+
+/* One line of EXPECTED: the call on the file must give the status. */
+static void check_regression(const char *dir, const char *file, const char *call, int code)
+{
+    char path[4096 + 256];
+    snprintf(path, sizeof path, "%s/%s", dir, file);
+    size_t size = 0;
+    uint8_t *buf = read_all(path, &size);
+    CHECK(buf != NULL);
+    if (!buf)
+        return;
+    uint8_t *exact = malloc(size ? size : 1);
+    memcpy(exact, buf, size);
+    free(buf);
+    hpfc_file *f = NULL;
+    int st = hpfc_open_memory(exact, size, HPFC_OPEN_SKIP_CHECKSUM, &f);
+    bool ok;
+    if (strcmp(call, "open") == 0) {
+        ok = st == code;
+    } else if (st) {
+        ok = false;
+    } else if (strcmp(call, "faces") == 0) {
+        hpfc_faces *faces = NULL;
+        st = hpfc_faces_build(f, &faces);
+        hpfc_faces_free(faces);
+        ok = st == code;
+    } else if (strcmp(call, "walk") == 0) {
+        uint64_t codes = traverse(f);
+        ok = (codes & BIT(code)) != 0;
+        st = code;
+    } else {
+        fprintf(stderr, "EXPECTED: unknown call %s\n", call);
+        ok = false;
+    }
+    if (!ok)
+        fprintf(stderr, "%s: %s gives %s, expected %s\n", file, call, hpfc_strerror(st), hpfc_strerror(code));
+    CHECK(ok);
+    hpfc_close(f);
+    free(exact);
+}
+
+static void fuzz_regressions(const char *data_root)
+{
+    /* $HPFC_TEST_DATA is tests/data of the source tree */
+    char dir[4096], path[4200], line[512], file[256], call[32], code[64];
+    snprintf(dir, sizeof dir, "%s/../../fuzz/regressions", data_root);
+    snprintf(path, sizeof path, "%s/EXPECTED", dir);
+    FILE *list = fopen(path, "r");
+    CHECK(list != NULL);
+    int lines = 0;
+    while (list && fgets(line, sizeof line, list)) {
+        if (line[0] == '#' || sscanf(line, "%255s %31s %63s", file, call, code) != 3)
+            continue;
+        CHECK(code_of(code) >= 0);
+        check_regression(dir, file, call, code_of(code));
+        lines++;
+    }
+    if (list)
+        fclose(list);
+    CHECK(lines >= 2);
+}
+
+/* ---- the files ------------------------------------------------------------------ */
+
+static void fixture_campaigns(const char *root)
+{
+    static const char *names[] = {"square_diagonal.hpfc", "loop_quadtree.hpfc",
+                                  "two_components_hole_crs.hpfc"};
+    for (size_t k = 0; k < sizeof names / sizeof *names; k++) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/valid/%s", root, names[k]);
+        size_t size = 0;
+        uint8_t *buf = read_all(path, &size);
+        CHECK(buf != NULL && size > 128);
+        if (buf && size > 128) {
+            uint8_t *exact = malloc(size);
+            memcpy(exact, buf, size);
+            campaign(names[k], exact, size);
+            free(exact);
+        }
+        free(buf);
+    }
+}
+
+typedef struct generated {
+    const char *name;
+    int kind;            /* -1: Delaunay, -2: polyline, else a gen_special kind */
+    uint32_t root_cols, root_rows, cols, rows;
+    int flat;
+    const char *crs;
+} generated;
+
+static void generated_campaigns(void)
+{
+    static const generated list[] = {
+        {"hole, 2x2 root, 3x2 images, CRS", GEN_SPECIAL_HOLE, 2, 2, 3, 2, 0, "EPSG:4326"},
+        {"loop, 1x1 root, 2x3 images", GEN_SPECIAL_LOOP, 1, 1, 2, 3, 0, NULL},
+        {"multi-edges, 3x1 root, 2x2 images", GEN_SPECIAL_MULTI, 3, 1, 2, 2, 0, NULL},
+        {"crack, flat", GEN_SPECIAL_CRACK, 4, 4, 2, 2, 1, NULL},
+        {"Delaunay 10 points, 2x3 root, 3x3 images", -1, 2, 3, 3, 3, 0, NULL},
+        {"polyline 16 points, 1x1 root, 2x2 images", -2, 1, 1, 2, 2, 0, NULL},
+        {"triangle, 1x2 root, 4x2 images", GEN_SPECIAL_TRIANGLE, 1, 2, 4, 2, 0, NULL},
+    };
+    for (size_t k = 0; k < sizeof list / sizeof *list; k++) {
+        const generated *gd = &list[k];
+        hpfc_graph *g = NULL;
+        int st = gd->kind == -1   ? gen_delaunay(11, 10, 64, 0.2, &g)
+                 : gd->kind == -2 ? gen_polyline(7, 16, 256, 0.5, &g)
+                                  : gen_special(gd->kind, &g);
+        CHECK_EQ_INT(st, HPFC_OK);
+        hpfc_build_params p;
+        hpfc_build_params_default(&p);
+        p.root_cols = gd->root_cols, p.root_rows = gd->root_rows;
+        p.cols = gd->cols, p.rows = gd->rows, p.flat = gd->flat;
+        hpfc_tree *t = NULL;
+        if (!st)
+            CHECK_EQ_INT(hpfc_build(g, &p, &t, NULL), HPFC_OK);
+        uint8_t *buf = NULL;
+        size_t size = 0;
+        hpfc_write_options opts = {.crs = gd->crs};
+        if (t)
+            CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, NULL), HPFC_OK);
+        CHECK(buf == NULL || size <= 4096); /* keep the campaign fast */
+        if (buf && size <= 4096)
+            campaign(gd->name, buf, size);
+        free(buf);
+        hpfc_tree_free(t);
+        hpfc_graph_free(g);
+    }
+}
+
+int main(void)
+{
+    const char *root = getenv("HPFC_TEST_DATA");
+    CHECK(root != NULL);
+    if (root) {
+        fuzz_regressions(root);
+        fixture_campaigns(root);
+    }
+    generated_campaigns();
+    CHECK(seen.files >= 10);
+    /* the campaign must reach the decoder: some damaged copies open without
+     * their checksum and then fail while traversing */
+    CHECK(seen.skipped_opens > 1000);
+    CHECK(seen.corrupt > 100);
+    printf("corruption: %ld files, %ld bit flips (%ld accepted: padding), %ld bytes set to "
+           "0x00/0xFF, %ld truncations (%ld with file_size patched); %ld opened without "
+           "checksum and traversed, %ld of them found corrupt, %ld ran out of the %d-step "
+           "budget, %ld steps in all; open codes 0x%llx, traversal codes 0x%llx\n",
+           seen.files, seen.flips, seen.flips_accepted, seen.byte_sets, seen.cuts, seen.patched_cuts, seen.skipped_opens,
+           seen.corrupt, seen.budget_exhausted, STEP_BUDGET, seen.steps,
+           (unsigned long long)seen.open_codes, (unsigned long long)seen.walk_codes);
+    return check_report("corruption");
+}
