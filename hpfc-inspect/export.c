@@ -85,7 +85,7 @@ static int number_vertex(hpfc_walker *w, const hpfc_file *f, const hpfc_vertex *
     size_t vi = m->nv++;
     int64_t *b = m->box + 4 * vi;
     int st = hpfc_pixel_bounds(f, &v->pixel, &b[0], &b[1], &b[2], &b[3]);
-    uint32_t degree;
+    uint32_t degree = 0;
     if (!st)
         st = hpfc_vertex_degree(w, v, &degree);
     for (uint32_t k = 0; k < degree && !st; k++) {

@@ -166,7 +166,9 @@ void hpfc_graph_edge(const hpfc_graph *g, size_t i, uint32_t *u, uint32_t *v,
     *u = g->eu[i];
     *v = g->ev[i];
     *n_interior = g->eoff[i + 1] - g->eoff[i];
-    *interior_xy = g->pts + 2 * g->eoff[i];
+    /* a graph without interior points has no pts array: no NULL + 0 */
+    static const int64_t none[2] = {0, 0};
+    *interior_xy = g->pts ? g->pts + 2 * g->eoff[i] : none;
 }
 
 uint32_t hpfc_graph_vertex_line(const hpfc_graph *g, size_t i) { return g->vline[i]; }
