@@ -636,7 +636,7 @@ static int same_file(const char *a, const char *b)
  * status (the message is printed). */
 static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report *r)
 {
-    hpfc_write_options wopts = {r->gis ? r->gis_info.crs : NULL};
+    hpfc_write_options wopts = {.crs = r->gis ? r->gis_info.crs : NULL};
     hpfc_diag diag = {0};
     hpfc_tree *t = NULL;
     double t0 = now_seconds();

@@ -33,6 +33,7 @@ const char *hpfc_strerror(int status)
     case HPFC_E_SECTION: return "inconsistent section directory";
     case HPFC_E_CORRUPT: return "corrupt pixel data";
     case HPFC_E_NO_PIXEL: return "no such pixel";
+    case HPFC_E_NO_SECTION: return "the file has no such section";
     default: return "unknown status code";
     }
 }

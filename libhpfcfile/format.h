@@ -26,7 +26,7 @@
 
 enum {
     FORMAT_MAJOR = 1,
-    FORMAT_MINOR = 0,
+    FORMAT_MINOR = 1,               /* 1.1: the FEAT section */
     FORMAT_HEADER_SIZE = 128,       /* header_size written by this library */
     FORMAT_LEVEL_ENTRY_SIZE = 64,
     FORMAT_SECTION_ENTRY_SIZE = 32,
@@ -39,6 +39,7 @@ enum {
 #define FORMAT_MAGIC_SIZE 8
 #define FORMAT_TAG_POOL "POOL"
 #define FORMAT_TAG_CRS "CRS "
+#define FORMAT_TAG_FEAT "FEAT"
 
 #define FORMAT_MAX_ROOT_PIXELS ((uint64_t)1 << 31)  /* n0 * m0 */
 #define FORMAT_MAX_IMAGE_PIXELS ((uint64_t)1 << 20) /* n * m */
@@ -124,6 +125,27 @@ FORMAT_FIELD(sec, flags, 4, 4, uint32_t)
 FORMAT_FIELD(sec, offset, 8, 8, uint64_t)
 FORMAT_FIELD(sec, length, 16, 8, uint64_t)
 FORMAT_FIELD(sec, crc32c, 24, 4, uint32_t)
+
+/* FEAT section header (32 bytes; spec/hpfc-format.md §7.1). */
+enum { FEAT_HEADER_SIZE = 32, FEAT_LAYER_SIZE = 8, FEAT_FEATURE_SIZE = 24 };
+#define FEAT_NONE UINT32_MAX /* a length meaning "no value" */
+FORMAT_FIELD(feat, feature_count, 0, 4, uint32_t)
+FORMAT_FIELD(feat, face_count, 4, 4, uint32_t)
+FORMAT_FIELD(feat, link_count, 8, 4, uint32_t)
+FORMAT_FIELD(feat, layer_count, 12, 4, uint32_t)
+FORMAT_FIELD(feat, string_bytes, 16, 4, uint32_t)
+FORMAT_FIELD(feat, key_field_offset, 20, 4, uint32_t)
+FORMAT_FIELD(feat, key_field_length, 24, 4, uint32_t)
+FORMAT_FIELD(feat, reserved, 28, 4, uint32_t)
+/* Layer entry (8 bytes). */
+FORMAT_FIELD(featl, name_offset, 0, 4, uint32_t)
+FORMAT_FIELD(featl, name_length, 4, 4, uint32_t)
+/* Feature entry (24 bytes). */
+FORMAT_FIELD(featf, fid, 0, 8, int64_t)
+FORMAT_FIELD(featf, layer, 8, 4, uint32_t)
+FORMAT_FIELD(featf, key_offset, 12, 4, uint32_t)
+FORMAT_FIELD(featf, key_length, 16, 4, uint32_t)
+FORMAT_FIELD(featf, reserved, 20, 4, uint32_t)
 
 static inline bool format_all_zero(const uint8_t *p, size_t n)
 {

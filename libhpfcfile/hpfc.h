@@ -80,7 +80,8 @@ enum {
     HPFC_E_LEVEL_TABLE = 46,    /* the level table is inconsistent */
     HPFC_E_SECTION = 47,        /* the section directory is inconsistent */
     HPFC_E_CORRUPT = 48,        /* pool contents contradict the format */
-    HPFC_E_NO_PIXEL = 49        /* a move leaves the domain, or no such pixel */
+    HPFC_E_NO_PIXEL = 49,       /* a move leaves the domain, or no such pixel */
+    HPFC_E_NO_SECTION = 50      /* the file has no section of the kind asked for */
 };
 
 /* A short static English description of a status code. Never NULL. */
@@ -231,10 +232,32 @@ HPFC_API int hpfc_tree_get_pixel(const hpfc_tree *tree, uint32_t level,
  * Writing .hpfc files (spec/hpfc-format.md).
  * ------------------------------------------------------------------------ */
 
+/* The source features of a file's faces, for the FEAT section
+ * (spec/hpfc-format.md §7.1): a GIS layer's polygons, each face of the map
+ * linked to the features that cover it. Face ids are those of
+ * hpfc_faces_build() on the written file, which depend on the pools only:
+ * serialise once without features, number the faces, then serialise again
+ * with them. */
+typedef struct hpfc_feature_table {
+    uint32_t feature_count;
+    const int64_t *fid;             /* per feature: its id in the source layer */
+    const uint32_t *layer;          /* per feature: index into layer_name */
+    const char *key_field;          /* the key attribute's name, NULL for none */
+    const char *const *key;         /* per feature: its key value (UTF-8), NULL
+                                       for a null value; NULL when key_field is */
+    uint32_t layer_count;
+    const char *const *layer_name;  /* per layer: its name (UTF-8) */
+    uint32_t face_count;
+    const uint32_t *face_start;     /* face_count + 1 non-decreasing offsets */
+    const uint32_t *face_feature;   /* face f's features: face_feature[face_start[f]
+                                       .. face_start[f + 1]), ascending */
+} hpfc_feature_table;
+
 /* Optional metadata recorded with a tree. */
 typedef struct hpfc_write_options {
     const char *crs;          /* coordinate reference (e.g. "EPSG:32631" or a
                                  projection description), NULL for none */
+    const hpfc_feature_table *features; /* FEAT section, NULL for none */
 } hpfc_write_options;
 
 /* Serialises the tree into a malloc'ed buffer (*out, *out_size); the caller
@@ -428,6 +451,38 @@ HPFC_API int hpfc_faces_of_dart(const hpfc_faces *faces, const hpfc_dart *d, uin
 /* The face holding a private pixel (HPFC_E_ARG if px is not private). */
 HPFC_API int hpfc_faces_of_private_pixel(const hpfc_faces *faces, const hpfc_pixel *px,
                                          uint64_t *face);
+
+/* ------------------------------------------------------------------------
+ * Source features (spec/hpfc-format.md §7.1, the FEAT section): which
+ * feature of the packed GIS layers each face belongs to. Read in place from
+ * the file; every access is bounds-checked (HPFC_E_CORRUPT on a corrupt
+ * table). Without a FEAT section these return HPFC_E_NO_SECTION. Strings
+ * point into the file and are not NUL-terminated.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_features_info {
+    uint32_t features, faces, layers;
+    uint32_t links;               /* face-to-feature links in all */
+    const char *key_field;        /* NULL when packed without a key field */
+    size_t key_field_len;
+} hpfc_features_info;
+
+typedef struct hpfc_feature {
+    int64_t fid;                  /* the feature's id in its source layer */
+    uint32_t layer;
+    const char *key;              /* NULL for no key field or a null value */
+    size_t key_len;
+} hpfc_feature;
+
+HPFC_API int hpfc_file_features(const hpfc_file *file, hpfc_features_info *out);
+HPFC_API int hpfc_feature_get(const hpfc_file *file, uint32_t index, hpfc_feature *out);
+HPFC_API int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name,
+                             size_t *len);
+/* The features of face `face` (an id of hpfc_faces_build): *count of them,
+ * then each by hpfc_face_feature (ascending feature indices). A face id at
+ * or beyond the table's face count is HPFC_E_ARG. */
+HPFC_API int hpfc_face_feature_count(const hpfc_file *file, uint64_t face, uint32_t *count);
+HPFC_API int hpfc_face_feature(const hpfc_file *file, uint64_t face, uint32_t k,
+                               uint32_t *feature);
 
 #ifdef __cplusplus
 }

@@ -20,6 +20,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "feat.h"
 #include "format.h"
 #include "reader.h"
 
@@ -45,6 +46,8 @@ struct hpfc_file {
     uint64_t meta_size;
     hpfc_file_info info;
     file_level lv[HPFC_MAX_LEVELS];
+    const uint8_t *feat;    /* the FEAT section, NULL if none */
+    uint64_t feat_len;
 };
 
 /* ---- open: header ---------------------------------------------------------- */
@@ -297,7 +300,7 @@ static int check_section_entry(const hpfc_file *f, const uint8_t *e, span *out)
     if (offset % FORMAT_SECTION_ALIGN || offset < f->meta_size || offset > f->info.file_size ||
         length > f->info.file_size - offset)
         return HPFC_E_SECTION;
-    bool known = tag_is(e, FORMAT_TAG_POOL) || tag_is(e, FORMAT_TAG_CRS);
+    bool known = tag_is(e, FORMAT_TAG_POOL) || tag_is(e, FORMAT_TAG_CRS) || tag_is(e, FORMAT_TAG_FEAT);
     if (!known && (flags & FORMAT_SECTION_REQUIRED))
         return HPFC_E_INCOMPATIBLE;
     *out = (span){offset, offset + length, (uint32_t)le_load(e + sec_OFF_tag, sec_SIZE_tag)};
@@ -342,13 +345,25 @@ static int read_crs(hpfc_file *f, const uint8_t *crs)
     return HPFC_OK;
 }
 
+static int read_feat(hpfc_file *f, const uint8_t *feat)
+{
+    const uint8_t *s = f->data + sec_get_offset(feat);
+    uint64_t length = sec_get_length(feat);
+    int st = feat_section_check(s, length);
+    if (!st) {
+        f->feat = s;
+        f->feat_len = length;
+    }
+    return st;
+}
+
 static int read_directory(hpfc_file *f)
 {
     uint32_t count = f->info.section_count;
     span *spans = malloc((count ? count : 1) * sizeof *spans);
     if (!spans)
         return HPFC_E_NOMEM;
-    const uint8_t *pool = NULL, *crs = NULL;
+    const uint8_t *pool = NULL, *crs = NULL, *feat = NULL;
     int st = HPFC_OK;
     for (uint32_t k = 0; k < count && !st; k++) {
         const uint8_t *e = section_entry(f, k);
@@ -357,6 +372,8 @@ static int read_directory(hpfc_file *f)
             pool = e;
         else if (tag_is(e, FORMAT_TAG_CRS))
             crs = e;
+        else if (tag_is(e, FORMAT_TAG_FEAT))
+            feat = e;
     }
     if (!st)
         st = check_section_set(spans, count);
@@ -365,6 +382,8 @@ static int read_directory(hpfc_file *f)
         st = HPFC_E_SECTION;
     if (!st && crs)
         st = read_crs(f, crs);
+    if (!st && feat)
+        st = read_feat(f, feat);
     if (!st)
         st = check_pools_in_section(f, pool);
     return st;
@@ -459,6 +478,12 @@ int hpfc_verify_checksums(const hpfc_file *f)
             return HPFC_E_CHECKSUM;
     }
     return HPFC_OK;
+}
+
+const uint8_t *reader_feat_section(const hpfc_file *f, uint64_t *length)
+{
+    *length = f->feat_len;
+    return f->feat;
 }
 
 /* ---- metadata queries -------------------------------------------------------------- */

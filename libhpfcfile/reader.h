@@ -11,5 +11,7 @@ uint64_t reader_total_crossings(const hpfc_file *file);
 /* Absolute bit position in the file of a word pixel's record or slot: a
  * unique, stable number per pixel. */
 int reader_pixel_slot_bit(const hpfc_file *file, const hpfc_pixel *px, uint64_t *bit);
+/* The FEAT section (checked at open), NULL when the file has none. */
+const uint8_t *reader_feat_section(const hpfc_file *file, uint64_t *length);
 
 #endif

@@ -1,7 +1,7 @@
 /*
  * The .hpfc writer (spec/hpfc-format.md): lays an in-memory tree out as
  * header, level table, section directory, then the POOL section (every
- * level's pool, level 0 first) and the optional CRS section.
+ * level's pool, level 0 first) and the optional CRS and FEAT sections.
  *
  * The tree is read through the public hpfc_tree_* accessors only, in three
  * passes: count (n_w, n_@, k_w and each image's refined pixels), size (k_@
@@ -15,6 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "feat.h"
 #include "format.h"
 #include "internal.h"
 
@@ -28,7 +29,9 @@ typedef struct layout {
     uint64_t pool_offset[HPFC_MAX_LEVELS]; /* byte offset in the file */
     uint32_t section_count;
     uint64_t meta_size, pool_section, pool_length, crs_offset, crs_length, file_size;
+    uint64_t feat_offset, feat_length;
     const char *crs;
+    const hpfc_feature_table *features;
 } layout;
 
 static uint32_t image_cols(const layout *L, uint32_t level)
@@ -143,10 +146,16 @@ static int size_levels(layout *L, hpfc_diag *diag)
 }
 
 /* Header, level table and directory, then the POOL section (pools on 8-byte
- * boundaries, the section ending with the last pool's last byte), then CRS. */
+ * boundaries, the section ending with the last pool's last byte), then CRS,
+ * then FEAT. */
 static int place_sections(layout *L, hpfc_diag *diag)
 {
-    L->section_count = 1 + (L->crs != NULL);
+    if (L->features) {
+        int st = feat_section_length(L->features, &L->feat_length, diag);
+        if (st)
+            return st;
+    }
+    L->section_count = 1 + (L->crs != NULL) + (L->features != NULL);
     L->meta_size = FORMAT_HEADER_SIZE + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * L->info.levels +
                    (uint64_t)FORMAT_SECTION_ENTRY_SIZE * L->section_count;
     L->pool_section = format_align8(L->meta_size);
@@ -164,6 +173,10 @@ static int place_sections(layout *L, hpfc_diag *diag)
         L->crs_offset = format_align8(end);
         L->crs_length = strlen(L->crs);
         L->file_size = L->crs_offset + L->crs_length;
+    }
+    if (L->features) {
+        L->feat_offset = format_align8(L->file_size);
+        L->file_size = L->feat_offset + L->feat_length;
     }
     if (L->file_size > FORMAT_MAX_FILE_SIZE)
         return diag_set(diag, HPFC_E_LIMIT, "the file would exceed the format's 2^41 bytes");
@@ -294,12 +307,17 @@ static void emit(const layout *L, uint8_t *file)
         emit_level(L, l, file + L->pool_offset[l]);
     if (L->crs)
         memcpy(file + L->crs_offset, L->crs, (size_t)L->crs_length);
+    if (L->features)
+        feat_section_emit(L->features, file + L->feat_offset);
     emit_header(L, file);
     emit_level_table(L, file);
     emit_section(file, 0, FORMAT_TAG_POOL, FORMAT_SECTION_REQUIRED, L->pool_section, L->pool_length,
                  L->info.levels);
+    uint32_t next = 1;
     if (L->crs)
-        emit_section(file, 1, FORMAT_TAG_CRS, 0, L->crs_offset, L->crs_length, L->info.levels);
+        emit_section(file, next++, FORMAT_TAG_CRS, 0, L->crs_offset, L->crs_length, L->info.levels);
+    if (L->features)
+        emit_section(file, next, FORMAT_TAG_FEAT, 0, L->feat_offset, L->feat_length, L->info.levels);
     hdr_set_meta_crc32c(file, format_meta_crc(file, L->meta_size));
 }
 
@@ -330,7 +348,8 @@ int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, u
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: NULL argument");
     *out = NULL;
     *out_size = 0;
-    layout L = {.tree = tree, .crs = opts ? opts->crs : NULL};
+    layout L = {.tree = tree, .crs = opts ? opts->crs : NULL,
+                .features = opts ? opts->features : NULL};
     hpfc_tree_get_info(tree, &L.info);
     int st = check_tree_info(&L.info, diag);
     for (uint32_t l = 0; l < L.info.levels && !st; l++)

@@ -56,7 +56,7 @@ static hpfc_tree *build(const hpfc_graph *g, const shape *sh)
 
 static uint8_t *serialize(const hpfc_tree *t, const char *crs, size_t *size)
 {
-    hpfc_write_options opts = {crs};
+    hpfc_write_options opts = {.crs = crs};
     uint8_t *buf = NULL;
     hpfc_diag d;
     int st = hpfc_tree_serialize(t, &opts, &buf, size, &d);
@@ -440,7 +440,7 @@ static void check_file_info(const walk *w, const uint8_t *buf, size_t size, cons
     hpfc_file_get_info(w->f, &fi);
     const hpfc_tree_info *ti = &w->info;
     CHECK_EQ_INT(fi.format_major, 1);
-    CHECK_EQ_INT(fi.format_minor, 0);
+    CHECK_EQ_INT(fi.format_minor, 1);
     CHECK(fi.root_cols == ti->root_cols && fi.root_rows == ti->root_rows && fi.cols == ti->cols &&
           fi.rows == ti->rows && fi.levels == ti->levels);
     CHECK(fi.x0 == ti->x0 && fi.y0 == ti->y0 && fi.width == ti->width && fi.height == ti->height);
@@ -1225,7 +1225,7 @@ static void test_write_file(void)
     CHECK_EQ_INT(hpfc_tree_write_file(a, NULL, path, &d), HPFC_OK);
     CHECK(file_equals(path, buf_a, size_a));
     CHECK_EQ_INT(dir_entries(dir), 1);
-    hpfc_write_options opts = {"EPSG:4326"};
+    hpfc_write_options opts = {.crs = "EPSG:4326"};
     CHECK_EQ_INT(hpfc_tree_write_file(b, &opts, path, &d), HPFC_OK);
     CHECK(file_equals(path, buf_b, size_b));
     CHECK_EQ_INT(dir_entries(dir), 1);
@@ -1385,6 +1385,207 @@ static void test_small_shapes(void)
     }
 }
 
+/* ---- the FEAT section ---------------------------------------------------------------------- */
+
+/* A feature table for `faces` faces, derived from the face number so that
+ * reading it back can be checked against this same rule: face 0 has no
+ * feature, face f the features f % 5 and, for odd f, also 5 + f % 2. */
+typedef struct feat_fixture {
+    int64_t fid[7];
+    uint32_t layer[7];
+    const char *key[7];
+    const char *layer_name[2];
+    uint32_t *start, *link;
+    hpfc_feature_table t;
+} feat_fixture;
+
+static void feat_fixture_make(feat_fixture *x, uint32_t faces)
+{
+    static const char *keys[7] = {"Travis", NULL, "Z\xc3\xbcrich", "", "a \"quoted\" key", "7", NULL};
+    memset(x, 0, sizeof *x);
+    for (uint32_t k = 0; k < 7; k++) {
+        x->fid[k] = k == 3 ? INT64_MIN : (int64_t)k * 1000003 - 2;
+        x->layer[k] = k >= 5;
+        x->key[k] = keys[k];
+    }
+    x->layer_name[0] = "counties";
+    x->layer_name[1] = "lakes";
+    x->start = calloc(faces + 1, sizeof *x->start);
+    x->link = calloc(2 * (size_t)faces + 1, sizeof *x->link);
+    uint32_t n = 0;
+    for (uint32_t f = 0; f < faces; f++) {
+        x->start[f] = n;
+        if (f > 0) {
+            x->link[n++] = f % 5;
+            if (f % 2)
+                x->link[n++] = 5 + f % 2;
+        }
+    }
+    x->start[faces] = n;
+    x->t = (hpfc_feature_table){.feature_count = 7, .fid = x->fid, .layer = x->layer,
+                                .key_field = "NAME", .key = x->key, .layer_count = 2,
+                                .layer_name = x->layer_name, .face_count = faces,
+                                .face_start = x->start, .face_feature = x->link};
+}
+
+static bool same_string(const char *s, size_t len, const char *want)
+{
+    return want ? s && len == strlen(want) && memcmp(s, want, len) == 0 : s == NULL;
+}
+
+/* Everything the reader gives back equals the table that was written. */
+static void check_features_read_back(const hpfc_file *f, const feat_fixture *x)
+{
+    hpfc_features_info fi;
+    CHECK_EQ_INT(hpfc_file_features(f, &fi), HPFC_OK);
+    CHECK(fi.features == 7 && fi.layers == 2 && fi.faces == x->t.face_count &&
+          fi.links == x->start[x->t.face_count]);
+    CHECK(same_string(fi.key_field, fi.key_field_len, "NAME"));
+    for (uint32_t k = 0; k < 7; k++) {
+        hpfc_feature ft;
+        CHECK_EQ_INT(hpfc_feature_get(f, k, &ft), HPFC_OK);
+        CHECK(ft.fid == x->fid[k] && ft.layer == x->layer[k]);
+        CHECK(same_string(ft.key, ft.key_len, x->key[k]));
+    }
+    for (uint32_t l = 0; l < 2; l++) {
+        const char *name;
+        size_t len;
+        CHECK_EQ_INT(hpfc_layer_name(f, l, &name, &len), HPFC_OK);
+        CHECK(same_string(name, len, x->layer_name[l]));
+    }
+    for (uint32_t face = 0; face < x->t.face_count; face++) {
+        uint32_t count = 99, feature = 99;
+        CHECK_EQ_INT(hpfc_face_feature_count(f, face, &count), HPFC_OK);
+        CHECK_EQ_INT(count, face == 0 ? 0 : 1 + face % 2);
+        for (uint32_t k = 0; k < count; k++) {
+            CHECK_EQ_INT(hpfc_face_feature(f, face, k, &feature), HPFC_OK);
+            CHECK_EQ_INT(feature, k == 0 ? face % 5 : 5 + face % 2);
+        }
+        CHECK_EQ_INT(hpfc_face_feature(f, face, count, &feature), HPFC_E_ARG);
+    }
+    hpfc_feature ft;
+    uint32_t count;
+    const char *name;
+    size_t len;
+    CHECK_EQ_INT(hpfc_feature_get(f, 7, &ft), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_layer_name(f, 2, &name, &len), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_face_feature_count(f, x->t.face_count, &count), HPFC_E_ARG);
+}
+
+/* Every accessor on a file whose FEAT bytes were changed: a status, never
+ * a read outside the section (AddressSanitizer watches the exact buffer). */
+static void probe_features(const hpfc_file *f)
+{
+    hpfc_features_info fi;
+    if (hpfc_file_features(f, &fi) != HPFC_OK)
+        return;
+    for (uint32_t k = 0; k <= fi.features && k < 64; k++) {
+        hpfc_feature ft;
+        int st = hpfc_feature_get(f, k, &ft);
+        CHECK(st == HPFC_OK || st == HPFC_E_ARG || st == HPFC_E_CORRUPT);
+        if (st == HPFC_OK && ft.key)
+            (void)memchr(ft.key, 0, ft.key_len);
+    }
+    for (uint32_t l = 0; l <= fi.layers && l < 8; l++) {
+        const char *name;
+        size_t len;
+        int st = hpfc_layer_name(f, l, &name, &len);
+        CHECK(st == HPFC_OK || st == HPFC_E_ARG || st == HPFC_E_CORRUPT);
+        if (st == HPFC_OK)
+            (void)memchr(name, 0, len);
+    }
+    for (uint32_t face = 0; face <= fi.faces && face < 64; face++) {
+        uint32_t count = 0, feature;
+        int st = hpfc_face_feature_count(f, face, &count);
+        CHECK(st == HPFC_OK || st == HPFC_E_ARG || st == HPFC_E_CORRUPT);
+        for (uint32_t k = 0; st == HPFC_OK && k < count && k < 16; k++) {
+            int s2 = hpfc_face_feature(f, face, k, &feature);
+            CHECK(s2 == HPFC_OK || s2 == HPFC_E_CORRUPT);
+            CHECK(s2 != HPFC_OK || feature < fi.features);
+        }
+    }
+}
+
+static void test_features(void)
+{
+    hpfc_tree *t = special_tree(GEN_SPECIAL_HOLE, 3);
+    if (!t)
+        return;
+    size_t plain_size, size;
+    uint8_t *plain = serialize(t, "EPSG:4326", &plain_size);
+    hpfc_file *f = NULL;
+    hpfc_faces *fc = NULL;
+    CHECK_EQ_INT(hpfc_open_memory(plain, plain_size, 0, &f), HPFC_OK);
+    CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
+    uint32_t faces = (uint32_t)hpfc_faces_count(fc);
+    hpfc_features_info fi;
+    CHECK_EQ_INT(hpfc_file_features(f, &fi), HPFC_E_NO_SECTION);
+    hpfc_faces_free(fc);
+    hpfc_close(f);
+    CHECK(faces >= 3);
+
+    feat_fixture x;
+    feat_fixture_make(&x, faces);
+    hpfc_write_options opts = {.crs = "EPSG:4326", .features = &x.t};
+    uint8_t *buf = NULL;
+    hpfc_diag d;
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, &d), HPFC_OK);
+    /* the same pools, so the same faces; FEAT only adds a section */
+    CHECK(buf && size > plain_size);
+    f = NULL;
+    CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
+    if (f) {
+        CHECK_EQ_INT(hpfc_verify_checksums(f), HPFC_OK);
+        CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
+        CHECK_EQ_INT(hpfc_faces_count(fc), faces);
+        hpfc_faces_free(fc);
+        check_features_read_back(f, &x);
+        hpfc_close(f);
+    }
+
+    /* every byte of the section set to 0x00, 0xFF and bit-flipped: open
+     * refuses the file with a named code or every access stays in bounds */
+    hpfc_section_info si = {0};
+    CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
+    for (uint32_t k = 0; f && k < 3; k++)
+        if (hpfc_file_get_section(f, k, &si) == HPFC_OK && memcmp(si.tag, "FEAT", 4) == 0)
+            break;
+    hpfc_close(f);
+    CHECK(memcmp(si.tag, "FEAT", 4) == 0 && si.offset + si.length == size);
+    for (uint64_t at = si.offset; at < si.offset + si.length; at++)
+        for (int how = 0; how < 10; how++) {
+            uint8_t *m = malloc(size);
+            memcpy(m, buf, size);
+            m[at] = how == 0 ? 0x00 : how == 1 ? 0xff : (uint8_t)(m[at] ^ (1u << (how - 2)));
+            f = NULL;
+            int st = hpfc_open_memory(m, size, HPFC_OPEN_SKIP_CHECKSUM, &f);
+            CHECK(st == HPFC_OK || st == HPFC_E_SECTION);
+            if (f) {
+                CHECK_EQ_INT(hpfc_verify_checksums(f), m[at] == buf[at] ? HPFC_OK : HPFC_E_CHECKSUM);
+                probe_features(f);
+                hpfc_close(f);
+            }
+            free(m);
+        }
+
+    /* inconsistent tables are refused by the writer */
+    free(buf);
+    uint32_t saved = x.link[0];
+    x.link[0] = 7; /* no such feature */
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, &d), HPFC_E_ARG);
+    x.link[0] = saved;
+    x.layer[2] = 2; /* no such layer */
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, &d), HPFC_E_ARG);
+    x.layer[2] = 0;
+    x.start[1] = 3, x.start[2] = 2; /* decreasing offsets */
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, &d), HPFC_E_ARG);
+    CHECK(buf == NULL);
+    free(x.start);
+    free(x.link);
+    free(plain);
+    hpfc_tree_free(t);
+}
+
 /* ---- fixtures ------------------------------------------------------------------------------ */
 
 static const struct {
@@ -1533,6 +1734,7 @@ int main(void)
     test_truncation();
     test_pool_corruption();
     test_write_file();
+    test_features();
     const char *root = getenv("HPFC_TEST_DATA");
     CHECK(root != NULL);
     if (root) {

@@ -1,0 +1,19 @@
+/* The FEAT section (spec/hpfc-format.md §7.1), shared by the writer
+ * (write.c) and the reader (read.c, features.c). */
+#ifndef HPFC_FEAT_H
+#define HPFC_FEAT_H
+
+#include "internal.h"
+
+/* Checks a feature table for the writer and computes the section's length
+ * (HPFC_E_ARG on an inconsistent table, HPFC_E_LIMIT beyond 32-bit counts). */
+int feat_section_length(const hpfc_feature_table *t, uint64_t *length, hpfc_diag *diag);
+/* Writes the section (feat_section_length() bytes) at out. */
+void feat_section_emit(const hpfc_feature_table *t, uint8_t *out);
+/* The open-time check: the header's reserved field is zero, the lengths of
+ * the parts add up to the section's length, the key field's name lies in
+ * the strings. HPFC_E_SECTION otherwise. O(1): the tables are checked at
+ * each access. */
+int feat_section_check(const uint8_t *section, uint64_t length);
+
+#endif

@@ -1,0 +1,282 @@
+/*
+ * Source features: the FEAT section (spec/hpfc-format.md §7.1).
+ *
+ * Layout, after a 32-byte header: the layer table (8 bytes a layer), the
+ * feature table (24 bytes a feature), the face index (face_count + 1
+ * 32-bit offsets into the links), the links (32-bit feature indices) and
+ * the strings (UTF-8, not NUL-terminated). Open checks only that these
+ * parts add up to the section's length (O(1)); every access checks the
+ * entries it reads, so a corrupt table gives HPFC_E_CORRUPT, never a read
+ * outside the section.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "feat.h"
+#include "format.h"
+#include "reader.h"
+
+/* ---- layout ----------------------------------------------------------------- */
+
+typedef struct feat_parts {
+    uint64_t layers, features, face_index, links, strings, end;
+} feat_parts;
+
+/* Offsets of the parts for the given counts (all below 2^32: no overflow
+ * in 64 bits). */
+static feat_parts feat_layout(uint64_t layers, uint64_t features, uint64_t faces, uint64_t links,
+                              uint64_t string_bytes)
+{
+    feat_parts p;
+    p.layers = FEAT_HEADER_SIZE;
+    p.features = p.layers + FEAT_LAYER_SIZE * layers;
+    p.face_index = p.features + FEAT_FEATURE_SIZE * features;
+    p.links = p.face_index + 4 * (faces + 1);
+    p.strings = p.links + 4 * links;
+    p.end = p.strings + string_bytes;
+    return p;
+}
+
+/* ---- writer ------------------------------------------------------------------- */
+
+static uint64_t key_bytes(const hpfc_feature_table *t, uint32_t k)
+{
+    return t->key && t->key[k] ? strlen(t->key[k]) : 0;
+}
+
+int feat_section_length(const hpfc_feature_table *t, uint64_t *length, hpfc_diag *diag)
+{
+    if ((t->feature_count && (!t->fid || !t->layer)) || (t->layer_count && !t->layer_name) ||
+        !t->face_start || (t->key && !t->key_field))
+        return diag_set(diag, HPFC_E_ARG, "feature table: a NULL array");
+    if (t->face_count == UINT32_MAX || t->face_start[0] != 0)
+        return diag_set(diag, HPFC_E_ARG, "feature table: bad face count or first offset");
+    uint64_t strings = t->key_field ? strlen(t->key_field) : 0;
+    for (uint32_t l = 0; l < t->layer_count; l++)
+        strings += t->layer_name[l] ? strlen(t->layer_name[l]) : 0;
+    for (uint32_t k = 0; k < t->feature_count; k++) {
+        if (t->layer[k] >= t->layer_count)
+            return diag_set(diag, HPFC_E_ARG, "feature table: feature %u names layer %u of %u", k,
+                            t->layer[k], t->layer_count);
+        strings += key_bytes(t, k);
+    }
+    for (uint32_t f = 0; f < t->face_count; f++) {
+        if (t->face_start[f + 1] < t->face_start[f])
+            return diag_set(diag, HPFC_E_ARG, "feature table: face offsets decrease at face %u", f);
+        for (uint32_t i = t->face_start[f]; i < t->face_start[f + 1]; i++)
+            if (t->face_feature[i] >= t->feature_count ||
+                (i > t->face_start[f] && t->face_feature[i] <= t->face_feature[i - 1]))
+                return diag_set(diag, HPFC_E_ARG,
+                                "feature table: face %u's features not ascending feature indices", f);
+    }
+    if (strings >= FEAT_NONE)
+        return diag_set(diag, HPFC_E_LIMIT, "feature table: over 4 GiB of names and keys");
+    *length = feat_layout(t->layer_count, t->feature_count, t->face_count, t->face_start[t->face_count],
+                          strings)
+                  .end;
+    return HPFC_OK;
+}
+
+/* Appends s (NULL: nothing) to the strings; its offset and length, or
+ * (0, FEAT_NONE) for NULL. */
+static void put_string(uint8_t *strings, uint32_t *used, const char *s, uint32_t *off, uint32_t *len)
+{
+    if (!s) {
+        *off = 0;
+        *len = FEAT_NONE;
+        return;
+    }
+    size_t n = strlen(s);
+    memcpy(strings + *used, s, n);
+    *off = *used;
+    *len = (uint32_t)n;
+    *used += (uint32_t)n;
+}
+
+void feat_section_emit(const hpfc_feature_table *t, uint8_t *out)
+{
+    uint32_t links = t->face_start[t->face_count];
+    feat_parts p = feat_layout(t->layer_count, t->feature_count, t->face_count, links, 0);
+    uint8_t *strings = out + p.strings;
+    uint32_t used = 0, off, len;
+    memset(out, 0, FEAT_HEADER_SIZE);
+    feat_set_feature_count(out, t->feature_count);
+    feat_set_face_count(out, t->face_count);
+    feat_set_link_count(out, links);
+    feat_set_layer_count(out, t->layer_count);
+    put_string(strings, &used, t->key_field, &off, &len);
+    feat_set_key_field_offset(out, off);
+    feat_set_key_field_length(out, len);
+    for (uint32_t l = 0; l < t->layer_count; l++) {
+        uint8_t *e = out + p.layers + (size_t)l * FEAT_LAYER_SIZE;
+        put_string(strings, &used, t->layer_name[l] ? t->layer_name[l] : "", &off, &len);
+        featl_set_name_offset(e, off);
+        featl_set_name_length(e, len);
+    }
+    for (uint32_t k = 0; k < t->feature_count; k++) {
+        uint8_t *e = out + p.features + (size_t)k * FEAT_FEATURE_SIZE;
+        featf_set_fid(e, t->fid[k]);
+        featf_set_layer(e, t->layer[k]);
+        put_string(strings, &used, t->key ? t->key[k] : NULL, &off, &len);
+        featf_set_key_offset(e, off);
+        featf_set_key_length(e, len);
+        featf_set_reserved(e, 0);
+    }
+    for (uint32_t f = 0; f <= t->face_count; f++)
+        le_store(out + p.face_index + 4 * (size_t)f, 4, t->face_start[f]);
+    for (uint32_t i = 0; i < links; i++)
+        le_store(out + p.links + 4 * (size_t)i, 4, t->face_feature[i]);
+    feat_set_string_bytes(out, used);
+}
+
+/* ---- reader -------------------------------------------------------------------- */
+
+static feat_parts section_parts(const uint8_t *s)
+{
+    return feat_layout(feat_get_layer_count(s), feat_get_feature_count(s), feat_get_face_count(s),
+                       feat_get_link_count(s), feat_get_string_bytes(s));
+}
+
+/* Does the string (off, len) lie in the strings part? FEAT_NONE is "no
+ * value" and always fine. */
+static bool string_fits(const uint8_t *s, uint32_t off, uint32_t len)
+{
+    return len == FEAT_NONE || (uint64_t)off + len <= feat_get_string_bytes(s);
+}
+
+int feat_section_check(const uint8_t *s, uint64_t length)
+{
+    if (length < FEAT_HEADER_SIZE || feat_get_reserved(s) != 0 || feat_get_face_count(s) == UINT32_MAX)
+        return HPFC_E_SECTION;
+    if (section_parts(s).end != length)
+        return HPFC_E_SECTION;
+    if (!string_fits(s, feat_get_key_field_offset(s), feat_get_key_field_length(s)))
+        return HPFC_E_SECTION;
+    return HPFC_OK;
+}
+
+static int section_of(const hpfc_file *file, const uint8_t **s)
+{
+    uint64_t length;
+    if (!file)
+        return HPFC_E_ARG;
+    *s = reader_feat_section(file, &length);
+    return *s ? HPFC_OK : HPFC_E_NO_SECTION;
+}
+
+static const char *string_at(const uint8_t *s, uint32_t off)
+{
+    return (const char *)(s + section_parts(s).strings + off);
+}
+
+int hpfc_file_features(const hpfc_file *file, hpfc_features_info *out)
+{
+    const uint8_t *s;
+    if (!out)
+        return HPFC_E_ARG;
+    int st = section_of(file, &s);
+    if (st)
+        return st;
+    memset(out, 0, sizeof *out);
+    out->features = feat_get_feature_count(s);
+    out->faces = feat_get_face_count(s);
+    out->layers = feat_get_layer_count(s);
+    out->links = feat_get_link_count(s);
+    uint32_t len = feat_get_key_field_length(s);
+    if (len != FEAT_NONE) {
+        out->key_field = string_at(s, feat_get_key_field_offset(s));
+        out->key_field_len = len;
+    }
+    return HPFC_OK;
+}
+
+int hpfc_feature_get(const hpfc_file *file, uint32_t index, hpfc_feature *out)
+{
+    const uint8_t *s;
+    if (!out)
+        return HPFC_E_ARG;
+    int st = section_of(file, &s);
+    if (st)
+        return st;
+    if (index >= feat_get_feature_count(s))
+        return HPFC_E_ARG;
+    const uint8_t *e = s + section_parts(s).features + (size_t)index * FEAT_FEATURE_SIZE;
+    uint32_t off = featf_get_key_offset(e), len = featf_get_key_length(e);
+    if (featf_get_layer(e) >= feat_get_layer_count(s) || featf_get_reserved(e) != 0 ||
+        !string_fits(s, off, len))
+        return HPFC_E_CORRUPT;
+    memset(out, 0, sizeof *out);
+    out->fid = featf_get_fid(e);
+    out->layer = featf_get_layer(e);
+    if (len != FEAT_NONE) {
+        out->key = string_at(s, off);
+        out->key_len = len;
+    }
+    return HPFC_OK;
+}
+
+int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name, size_t *len)
+{
+    const uint8_t *s;
+    if (!name || !len)
+        return HPFC_E_ARG;
+    int st = section_of(file, &s);
+    if (st)
+        return st;
+    if (layer >= feat_get_layer_count(s))
+        return HPFC_E_ARG;
+    const uint8_t *e = s + section_parts(s).layers + (size_t)layer * FEAT_LAYER_SIZE;
+    uint32_t off = featl_get_name_offset(e), n = featl_get_name_length(e);
+    if (n == FEAT_NONE || !string_fits(s, off, n))
+        return HPFC_E_CORRUPT;
+    *name = string_at(s, off);
+    *len = n;
+    return HPFC_OK;
+}
+
+/* Face `face`'s links [*first, *end), checked against the link count. */
+static int face_links(const uint8_t *s, uint64_t face, uint32_t *first, uint32_t *end)
+{
+    if (face >= feat_get_face_count(s))
+        return HPFC_E_ARG;
+    const uint8_t *index = s + section_parts(s).face_index + 4 * (size_t)face;
+    *first = (uint32_t)le_load(index, 4);
+    *end = (uint32_t)le_load(index + 4, 4);
+    if (*first > *end || *end > feat_get_link_count(s))
+        return HPFC_E_CORRUPT;
+    return HPFC_OK;
+}
+
+int hpfc_face_feature_count(const hpfc_file *file, uint64_t face, uint32_t *count)
+{
+    const uint8_t *s;
+    uint32_t first, end;
+    if (!count)
+        return HPFC_E_ARG;
+    int st = section_of(file, &s);
+    if (!st)
+        st = face_links(s, face, &first, &end);
+    if (!st)
+        *count = end - first;
+    return st;
+}
+
+int hpfc_face_feature(const hpfc_file *file, uint64_t face, uint32_t k, uint32_t *feature)
+{
+    const uint8_t *s;
+    uint32_t first, end;
+    if (!feature)
+        return HPFC_E_ARG;
+    int st = section_of(file, &s);
+    if (!st)
+        st = face_links(s, face, &first, &end);
+    if (st)
+        return st;
+    if (k >= end - first)
+        return HPFC_E_ARG;
+    uint32_t v = (uint32_t)le_load(s + section_parts(s).links + 4 * ((size_t)first + k), 4);
+    if (v >= feat_get_feature_count(s))
+        return HPFC_E_CORRUPT;
+    *feature = v;
+    return HPFC_OK;
+}
