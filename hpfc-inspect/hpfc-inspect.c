@@ -34,6 +34,7 @@
 #include "export.h"
 #include "hpfc.h"
 #include "jsonw.h"
+#include "locate.h"
 #include "render.h"
 #include "verify.h"
 #include "views.h"
@@ -41,9 +42,9 @@
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
 
 /* The options with a value that the queries of views.c and render.c take. */
-enum { V_PIXEL, V_LOCATE, V_RENDER, V_WINDOW, V_SIZE, V_COUNT };
-static const char *const value_names[V_COUNT] = {"--pixel", "--locate", "--render", "--window",
-                                                 "--size"};
+enum { V_PIXEL, V_LOCATE, V_LOCATE_LONLAT, V_LOCATE_BATCH, V_RENDER, V_WINDOW, V_SIZE, V_COUNT };
+static const char *const value_names[V_COUNT] = {
+    "--pixel", "--locate", "--locate-lonlat", "--locate-batch", "--render", "--window", "--size"};
 
 typedef struct inspect_args {
     const char *file;
@@ -51,9 +52,10 @@ typedef struct inspect_args {
     int verify;
     const char *graph_out;  /* --export-graph OUT */
     int sections, stats;
+    int lonlat;             /* --lonlat: --locate-batch reads lon,lat */
     const char *values[V_COUNT];
     pixel_path path;        /* --pixel, parsed */
-    decimal point[2];       /* --locate, parsed */
+    decimal point[2];       /* --locate or --locate-lonlat, parsed */
     render_params render;   /* --render, --window, --size, parsed */
 } inspect_args;
 
@@ -71,7 +73,8 @@ static void print_help(void)
            "       hpfc-inspect --verify [--json] FILE\n"
            "       hpfc-inspect --export-graph OUT.json [--json] FILE\n"
            "       hpfc-inspect --sections | --stats [--json] FILE\n"
-           "       hpfc-inspect --pixel PATH | --locate X,Y [--json] FILE\n"
+           "       hpfc-inspect --pixel PATH | --locate X,Y | --locate-lonlat LON,LAT [--json] FILE\n"
+           "       hpfc-inspect --locate-batch POINTS [--lonlat] FILE\n"
            "       hpfc-inspect --render OUT.svg|OUT.png [--window X0,Y0,X1,Y1] [--size W[xH]]\n"
            "                    [--json] FILE\n"
            "\n"
@@ -97,7 +100,15 @@ static void print_help(void)
            "                         per road, components, vertices, bounds, neighbours\n"
            "  --locate X,Y           the leaf holding point X,Y (input coordinates): path,\n"
            "                         depth, word, and its faces: the one face of a private\n"
-           "                         leaf, else every face that meets the leaf\n"
+           "                         leaf, else every face that meets the leaf; and the\n"
+           "                         source features of those faces (files packed from\n"
+           "                         GIS polygons: id, layer, --key value)\n"
+           "  --locate-lonlat LON,LAT the same for a point in degrees, placed with the\n"
+           "                         projection the file's CRS records\n"
+           "  --locate-batch POINTS  many points, one \"x,y\" a line (or \"lon,lat\" with\n"
+           "                         --lonlat; POINTS '-' is standard input): one JSON\n"
+           "                         object a line, in input order; the faces are\n"
+           "                         numbered once for all\n"
            "  --stats                histograms of word length, leaf depth, crossings per\n"
            "                         pixel and stabbings per edge (pixels an edge passes\n"
            "                         without a vertex)\n"
@@ -114,6 +125,8 @@ static void print_help(void)
            "  hpfc-inspect --sections map.hpfc\n"
            "  hpfc-inspect --pixel 3,5/1,0/0,1 map.hpfc\n"
            "  hpfc-inspect --locate 1.5,-2.25 --json map.hpfc\n"
+           "  hpfc-inspect --locate-lonlat -97.74,30.27 --json counties.hpfc\n"
+           "  hpfc-inspect --locate-batch points.txt --lonlat counties.hpfc\n"
            "  hpfc-inspect --stats --json map.hpfc\n"
            "  hpfc-inspect --render map.png --window 0,0,500,300 --size 1600x960 map.hpfc\n"
            "\n"
@@ -168,7 +181,7 @@ static const char *numeric_value(int argc, char **argv, int *i, const char *name
 static int query_option(int argc, char **argv, int *i, inspect_args *a)
 {
     for (int k = 0; k < V_COUNT; k++) {
-        int missing = 0, numeric = k == V_LOCATE || k == V_WINDOW;
+        int missing = 0, numeric = k == V_LOCATE || k == V_LOCATE_LONLAT || k == V_WINDOW;
         const char *value = numeric ? numeric_value(argc, argv, i, value_names[k], &missing)
                                     : option_value(argc, argv, i, value_names[k], &missing);
         if (!value && !missing)
@@ -189,16 +202,22 @@ static int parse_queries(inspect_args *a)
     char why[VIEW_WHY];
     const char **v = a->values;
     int queries = a->verify + !!a->graph_out + a->sections + a->stats + !!v[V_PIXEL] +
-                  !!v[V_LOCATE] + !!v[V_RENDER];
+                  !!v[V_LOCATE] + !!v[V_LOCATE_LONLAT] + !!v[V_LOCATE_BATCH] + !!v[V_RENDER];
     if (queries > 1)
         return usage_error("use one of --verify, --export-graph, --sections, --stats, --pixel, "
-                           "--locate and --render", NULL);
+                           "--locate, --locate-lonlat, --locate-batch and --render", NULL);
+    if (a->lonlat && !v[V_LOCATE_BATCH])
+        return usage_error("only with --locate-batch", "--lonlat");
+    if (v[V_LOCATE_BATCH] && a->json)
+        return usage_error("--locate-batch always prints JSON lines", "--json");
     if ((v[V_WINDOW] || v[V_SIZE]) && !v[V_RENDER])
         return usage_error("only with --render", v[V_WINDOW] ? "--window" : "--size");
     if (v[V_PIXEL] && pixel_path_parse(v[V_PIXEL], &a->path, why, sizeof why))
         return usage_error(why, "--pixel");
     if (v[V_LOCATE] && decimal_list_parse(v[V_LOCATE], a->point, 2))
         return usage_error("expected X,Y: two decimal numbers", "--locate");
+    if (v[V_LOCATE_LONLAT] && decimal_list_parse(v[V_LOCATE_LONLAT], a->point, 2))
+        return usage_error("expected LON,LAT: two decimal numbers", "--locate-lonlat");
     if (!v[V_RENDER])
         return -1;
     render_params *r = &a->render;
@@ -216,7 +235,6 @@ static int parse_queries(inspect_args *a)
 /* Returns -1 to go on, or the exit status (0 after --help / --version). */
 static int parse_args(int argc, char **argv, inspect_args *a)
 {
-    static const char *const later[] = {"--locate-lonlat", "--locate-batch", "--lonlat"};
     int only_files = 0;
     memset(a, 0, sizeof *a);
     for (int i = 1; i < argc; i++) {
@@ -244,6 +262,8 @@ static int parse_args(int argc, char **argv, inspect_args *a)
             a->sections = 1;
         } else if (strcmp(arg, "--stats") == 0) {
             a->stats = 1;
+        } else if (strcmp(arg, "--lonlat") == 0) {
+            a->lonlat = 1;
         } else if ((status = query_option(argc, argv, &i, a)) >= 0) {
             if (status)
                 return status;
@@ -256,10 +276,6 @@ static int parse_args(int argc, char **argv, inspect_args *a)
                 return usage_error("empty OUT", "--export-graph");
             a->graph_out = value;
         } else {
-            for (size_t k = 0; k < sizeof later / sizeof later[0]; k++)
-                if (strncmp(arg, later[k], strlen(later[k])) == 0 &&
-                    (arg[strlen(later[k])] == '\0' || arg[strlen(later[k])] == '='))
-                    return usage_error("not implemented yet", later[k]);
             return usage_error("unknown option", arg);
         }
     }
@@ -650,6 +666,21 @@ static int run_render(const inspect_args *a, const hpfc_file *f, char *why)
     return status ? EXIT_FAIL : 0;
 }
 
+/* --locate-batch POINTS ('-': standard input). */
+static int run_batch(const inspect_args *a, const hpfc_file *f, char *why)
+{
+    const char *name = a->values[V_LOCATE_BATCH];
+    FILE *in = strcmp(name, "-") == 0 ? stdin : fopen(name, "r");
+    if (!in) {
+        snprintf(why, VIEW_WHY, "%s: %s", name, strerror(errno));
+        return EXIT_FAIL;
+    }
+    int status = view_locate_batch(f, in, name, a->lonlat, stdout, why);
+    if (in != stdin)
+        fclose(in);
+    return status;
+}
+
 /* One query on the open file; a failure is one line naming FILE. */
 static int run_query(const inspect_args *a)
 {
@@ -671,6 +702,10 @@ static int run_query(const inspect_args *a)
         status = view_pixel(f, &a->path, stdout, a->json, why);
     else if (a->values[V_LOCATE])
         status = view_locate(f, a->point, stdout, a->json, why);
+    else if (a->values[V_LOCATE_LONLAT])
+        status = view_locate_lonlat(f, a->point, stdout, a->json, why);
+    else if (a->values[V_LOCATE_BATCH])
+        status = run_batch(a, f, why);
     else
         status = run_render(a, f, why);
     if (status)
@@ -712,7 +747,7 @@ int main(int argc, char **argv)
     else if (a.graph_out)
         status = run_export(&a);
     else if (a.sections || a.stats || a.values[V_PIXEL] || a.values[V_LOCATE] ||
-             a.values[V_RENDER])
+             a.values[V_LOCATE_LONLAT] || a.values[V_LOCATE_BATCH] || a.values[V_RENDER])
         status = run_query(&a);
     else
         status = run_summary(&a);

@@ -64,7 +64,6 @@ int pixel_path_parse(const char *text, pixel_path *out, char *why, size_t cap);
  * (the API verifies them all at once only). VIEW_FAIL when one mismatches. */
 int view_sections(const hpfc_file *f, const char *path, FILE *out, int json, char *why);
 int view_pixel(const hpfc_file *f, const pixel_path *pp, FILE *out, int json, char *why);
-int view_locate(const hpfc_file *f, const decimal xy[2], FILE *out, int json, char *why);
 int view_stats(const hpfc_file *f, FILE *out, int json, char *why);
 
 /* ---- helpers shared with render.c and the tests --------------------------- */

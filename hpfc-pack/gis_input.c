@@ -89,7 +89,10 @@ static void progress_end(progress *p)
 typedef struct part_ref {
     uint32_t layer;
     int64_t fid;
+    uint32_t feature; /* the polygon feature of a ring, NO_FEATURE for a line */
 } part_ref;
+
+#define NO_FEATURE UINT32_MAX
 
 typedef struct reader {
     const gis_options *opt;
@@ -105,6 +108,8 @@ typedef struct reader {
     const char *layer_name;
     uint32_t layer_index;
     int64_t fid;
+    int key_index;    /* the --key field of the current layer, -1 for none */
+    uint32_t feature; /* the current polygon feature, NO_FEATURE if none */
 
     int geographic;   /* coordinates are (lon, lat) degrees */
     int swap_xy;      /* the data store (lat, lon) */
@@ -212,6 +217,7 @@ static int add_part(reader *r, OGRGeometryH g, int closed)
     r->start[r->n_parts] = r->n_points;
     r->refs[r->n_parts].layer = r->layer_index;
     r->refs[r->n_parts].fid = r->fid;
+    r->refs[r->n_parts].feature = closed ? r->feature : NO_FEATURE;
     r->n_parts++;
     r->n_points = end;
     r->start[r->n_parts] = end;
@@ -296,6 +302,18 @@ static int has_polygon(OGRGeometryH g)
     return 0;
 }
 
+/* Records a polygon feature: its id, layer and --key value. */
+static int add_feature(reader *r, OGRFeatureH f)
+{
+    const char *key = NULL;
+    if (r->key_index >= 0 && OGR_F_IsFieldSetAndNotNull(f, r->key_index))
+        key = OGR_F_GetFieldAsString(f, r->key_index);
+    r->feature = gis_features_count(r->info->polygons);
+    if (gis_features_add(r->info->polygons, r->fid, r->layer_index, key) != 0)
+        return fail(r, "out of memory");
+    return 0;
+}
+
 static int read_feature(reader *r, OGRFeatureH f, uint64_t *lines)
 {
     OGRGeometryH g = OGR_F_GetGeometryRef(f);
@@ -314,7 +332,12 @@ static int read_feature(reader *r, OGRFeatureH f, uint64_t *lines)
         g = lin;
     }
     size_t parts_before = r->n_parts;
-    int st = add_geometry(r, g, lines);
+    int st = 0;
+    r->feature = NO_FEATURE;
+    if (has_polygon(g))
+        st = add_feature(r, f);
+    if (!st)
+        st = add_geometry(r, g, lines);
     /* after add_part's checks, so that GEOS never sees NaN */
     if (!st && r->n_parts > parts_before && has_polygon(g))
         st = check_polygon(r, g);
@@ -364,9 +387,32 @@ static void srs_label(OGRSpatialReferenceH srs, char *buf, size_t n)
         snprintf(buf, n, "%s", name ? name : "unnamed SRS");
 }
 
+/* The --key field's index in the layer, or a failure naming the fields. */
+static int find_key_field(reader *r, OGRLayerH layer)
+{
+    r->key_index = -1;
+    if (!r->opt->key_field)
+        return 0;
+    OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
+    r->key_index = OGR_FD_GetFieldIndex(defn, r->opt->key_field);
+    if (r->key_index >= 0)
+        return 0;
+    char names[200] = "";
+    for (int i = 0; i < OGR_FD_GetFieldCount(defn); i++) {
+        size_t len = strlen(names);
+        snprintf(names + len, sizeof names - len, "%s'%s'", i ? ", " : "",
+                 OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn, i)));
+    }
+    return fail(r, "--key %s: layer '%s' has no such field (fields: %s)", r->opt->key_field,
+                OGR_L_GetName(layer), names[0] ? names : "none");
+}
+
 static int read_layer(reader *r, OGRLayerH layer, int chosen)
 {
     r->layer_name = OGR_L_GetName(layer);
+    if (find_key_field(r, layer) != 0 ||
+        gis_features_set_layer(r->info->polygons, r->layer_index, r->layer_name) != 0)
+        return r->err[0] ? 1 : fail(r, "out of memory");
     GIntBig total = r->bar.on ? OGR_L_GetFeatureCount(layer, TRUE) : -1;
     uint64_t features = 0, lines = 0, done = 0;
     OGR_L_ResetReading(layer);
@@ -542,6 +588,17 @@ static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs
         return fail(r, "%s", why);
     for (size_t i = 0; i < 2 * r->n_points; i++)
         lat[i] = lattice_snap(r->xy[i], r->info->unit_exp10);
+    return 0;
+}
+
+/* The snapped rings of the polygon features, for the faces' features. */
+static int keep_rings(reader *r, const int64_t *lat)
+{
+    for (size_t k = 0; k < r->n_parts; k++)
+        if (r->refs[k].feature != NO_FEATURE &&
+            gis_features_add_ring(r->info->polygons, r->refs[k].feature, lat + 2 * r->start[k],
+                                  r->start[k + 1] - r->start[k]) != 0)
+            return fail(r, "out of memory");
     return 0;
 }
 
@@ -860,6 +917,10 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     r.xmin = r.ymin = INFINITY;
     r.xmax = r.ymax = -INFINITY;
     err[0] = 0;
+    if (!(info->polygons = gis_features_create(opt->key_field))) {
+        snprintf(err, err_len, "out of memory");
+        return 1;
+    }
 
     /* GDAL speaks through our one-line messages only; GeoJSON objects of
      * any size are read. */
@@ -882,6 +943,8 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     }
     free(r.xy);
     r.xy = NULL;
+    if (!st)
+        st = keep_rings(&r, lat);
     if (!st)
         st = node(&r, lat, &segs, &n_segs);
     free(lat);
@@ -940,5 +1003,7 @@ void gis_info_free(gis_info *info)
     if (info) {
         free(info->crs);
         info->crs = NULL;
+        gis_features_free(info->polygons);
+        info->polygons = NULL;
     }
 }

@@ -15,6 +15,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "gis_features.h"
 #include "hpfc.h"
 
 enum { GIS_VERTICES_ALL = 0, GIS_VERTICES_JUNCTIONS = 1 };
@@ -31,6 +32,7 @@ typedef struct gis_options {
     int vertex_model;          /* GIS_VERTICES_ALL or GIS_VERTICES_JUNCTIONS */
     int progress;              /* draw a progress bar on stderr */
     int invalid_mode;          /* GIS_INVALID_REJECT or GIS_INVALID_NODE */
+    const char *key_field;     /* attribute kept with each polygon feature, NULL for none */
 } gis_options;
 
 typedef struct gis_info {
@@ -42,6 +44,7 @@ typedef struct gis_info {
     uint64_t skipped_empty;    /* features without geometry, or with an empty one */
     uint64_t skipped_points;   /* point geometries (not part of a planar map) */
     uint64_t invalid_noded;    /* invalid polygons noded (GIS_INVALID_NODE) */
+    gis_features *polygons;    /* the polygon features and their rings */
 } gis_info;
 
 /* Is GIS input built in? */

@@ -21,6 +21,8 @@
 #include <unistd.h>
 
 #include "draco_input.h"
+#include "face_witness.h"
+#include "gis_features.h"
 #include "gis_input.h"
 #include "hpfc.h"
 #include "jsonw.h"
@@ -37,6 +39,7 @@ typedef struct pack_args {
     const char *projection;
     int vertex_model;
     int invalid_mode;
+    const char *key_field;
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -56,6 +59,10 @@ typedef struct pack_report {
     gis_info gis_info;
     int draco;                 /* INPUT was a Draco mesh (draco_input.h) */
     mesh_graph_stats mesh;
+    /* GIS polygon features (FEAT section) */
+    uint32_t features;
+    uint64_t faces_with_features, faces_without_witness;
+    double features_s;
 } pack_report;
 
 /* ---- messages ------------------------------------------------------------ */
@@ -108,6 +115,8 @@ static void print_help(void)
            "                        only points where other than two edges meet\n"
            "  --invalid reject|node GIS input: refuse invalid polygons (default), or node\n"
            "                        their rings as linework\n"
+           "  --key FIELD           GIS input: record attribute FIELD of every polygon\n"
+           "                        feature with its id (hpfc-inspect --locate shows it)\n"
            "  --json                print the build report as one JSON object\n"
            "  --quiet               print no report\n"
            "  -h, --help            show this help\n"
@@ -208,6 +217,10 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->invalid_mode = strcmp(v, "node") == 0 ? GIS_INVALID_NODE : GIS_INVALID_REJECT;
         return strcmp(v, "node") == 0 || strcmp(v, "reject") == 0 ? NULL : "reject or node";
     }
+    if (strcmp(name, "--key") == 0) {
+        a->key_field = v;
+        return v[0] ? NULL : "a field name";
+    }
     if (strcmp(name, "--vertices") == 0) {
         a->vertex_model = strcmp(v, "junctions") == 0 ? GIS_VERTICES_JUNCTIONS : GIS_VERTICES_ALL;
         return strcmp(v, "all") == 0 || strcmp(v, "junctions") == 0 ? NULL : "all or junctions";
@@ -221,8 +234,8 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
 static int value_option(pack_args *a, char **argv, int argc, int *i, int *status)
 {
     static const char *const names[] = {"--root",  "--refine",     "--max-pixels", "--layer",
-                                        "--projection", "--vertices", "--invalid",    "--output",
-                                        "-o"};
+                                        "--projection", "--vertices", "--invalid",    "--key",
+                                        "--output",     "-o"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -393,8 +406,13 @@ static int read_draco(const pack_args *a, const char *bytes, size_t len, hpfc_gr
 /* Reads a GDAL dataset; 0 or an exit status (the message is printed). */
 static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
 {
-    gis_options opt = {a->layers,      a->n_layers, a->projection, a->vertex_model,
-                       isatty(2),      a->invalid_mode};
+    gis_options opt = {.layers = a->layers,
+                       .n_layers = a->n_layers,
+                       .projection = a->projection,
+                       .vertex_model = a->vertex_model,
+                       .progress = isatty(2),
+                       .invalid_mode = a->invalid_mode,
+                       .key_field = a->key_field};
     char err[1024];
     r->gis = 1;
     int st = gis_read_graph(a->input, &opt, g, &r->gis_info, err, sizeof err);
@@ -537,6 +555,14 @@ static void print_json(const pack_args *a, const pack_report *r)
         jsonw_u64(&w, "skipped_empty", gi->skipped_empty);
         jsonw_u64(&w, "skipped_points", gi->skipped_points);
         jsonw_u64(&w, "invalid_polygons_noded", gi->invalid_noded);
+        jsonw_u64(&w, "polygon_features", r->features);
+        if (a->key_field)
+            jsonw_string(&w, "key_field", a->key_field);
+        else
+            jsonw_null(&w, "key_field");
+        jsonw_u64(&w, "faces_with_features", r->faces_with_features);
+        jsonw_u64(&w, "faces_without_witness", r->faces_without_witness);
+        jsonw_double(&w, "features_seconds", r->features_s, 6);
     }
     jsonw_u64(&w, "vertices", t->vertices);
     jsonw_u64(&w, "edges", t->edges);
@@ -588,6 +614,10 @@ static void print_text(const pack_args *a, const pack_report *r)
                r->gis_info.driver, (unsigned long long)r->gis_info.features,
                (unsigned long long)r->gis_info.layers, r->gis_info.layers == 1 ? "" : "s",
                r->gis_info.projection, (int)r->gis_info.unit_exp10);
+    if (r->gis && r->features)
+        printf("features   %u polygon features%s%s%s; %llu faces lie in one or more\n",
+               r->features, a->key_field ? " (key " : "", a->key_field ? a->key_field : "",
+               a->key_field ? ")" : "", (unsigned long long)r->faces_with_features);
     if (r->draco)
         printf("input      Draco mesh, unit 1e%d%s, %zu points (%zu merged), %zu triangles "
                "dropped\n",
@@ -632,11 +662,48 @@ static int same_file(const char *a, const char *b)
            sa.st_ino == sb.st_ino;
 }
 
+/* Links every face of the serialised map to the polygon features that
+ * cover it, for the FEAT section; 0, or 1 with a message in err. */
+static int link_features(const hpfc_graph *g, const hpfc_tree *t, const uint8_t *bytes,
+                         size_t size, pack_report *r, gis_feature_table *ft, char *err,
+                         size_t err_len)
+{
+    hpfc_file *f = NULL;
+    hpfc_faces *faces = NULL;
+    face_witness *w = NULL;
+    double t0 = now_seconds();
+    int st = hpfc_open_memory(bytes, size, 0, &f);
+    if (!st)
+        st = hpfc_faces_build(f, &faces);
+    uint64_t n = faces ? hpfc_faces_count(faces) : 0;
+    if (!st && !(w = malloc((n ? n : 1) * sizeof *w)))
+        st = HPFC_E_NOMEM;
+    if (!st)
+        st = face_witnesses(g, t, f, faces, w);
+    if (st)
+        snprintf(err, err_len, "internal error: cannot find the faces' features (%s)",
+                 hpfc_strerror(st));
+    else if (gis_feature_table_make(r->gis_info.polygons, w, n, ft, err, err_len) != 0)
+        st = 1;
+    if (!st) {
+        r->features = ft->table.feature_count;
+        r->faces_without_witness = ft->faces_without_witness;
+        for (uint64_t k = 0; k < n; k++)
+            r->faces_with_features += ft->face_start[k + 1] > ft->face_start[k];
+    }
+    free(w);
+    hpfc_faces_free(faces);
+    hpfc_close(f);
+    r->features_s = now_seconds() - t0;
+    return st ? 1 : 0;
+}
+
 /* Builds, checks the serialised bytes, then writes OUTPUT; 0 or an exit
  * status (the message is printed). */
 static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report *r)
 {
     hpfc_write_options wopts = {.crs = r->gis ? r->gis_info.crs : NULL};
+    gis_feature_table ft = {0};
     hpfc_diag diag = {0};
     hpfc_tree *t = NULL;
     double t0 = now_seconds();
@@ -657,10 +724,15 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
         snprintf(diag.message, sizeof diag.message,
                  "internal error: the serialised file does not read back (%s)",
                  hpfc_strerror(st));
+    if (!st && r->gis && gis_features_count(r->gis_info.polygons) > 0) {
+        st = link_features(g, t, bytes, size, r, &ft, diag.message, sizeof diag.message);
+        wopts.features = &ft.table;
+    }
     if (!st)
         st = hpfc_tree_write_file(t, &wopts, a->output, &diag);
     r->write_s = now_seconds() - t0;
     free(bytes);
+    gis_feature_table_free(&ft);
     hpfc_tree_free(t);
     if (st) {
         complain("%s: %s", a->output, diag_text(&diag, st));

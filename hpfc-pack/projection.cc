@@ -13,6 +13,7 @@
 #include <cstring>
 #include <exception>
 #include <new>
+#include <stdexcept>
 #include <string>
 
 struct mapproj_plan {
@@ -20,6 +21,7 @@ struct mapproj_plan {
     double lon0, lat0;   // central meridian, latitude of the origin
     double y0;           // northing of (lon0, lat0) in the library's frame
     double a, f;
+    double x_0, y_0;     // false easting and northing (parsed plans only)
     GeographicLib::TransverseMercator *tm;
     GeographicLib::LambertConformalConic *lcc;
     GeographicLib::AlbersEqualArea *aea;
@@ -177,10 +179,163 @@ extern "C" int mapproj_forward(const mapproj_plan *p, double lon, double lat, do
     }
     }
     *y -= p->y0;
+    *x += p->x_0;
+    *y += p->y_0;
     return std::isfinite(*x) && std::isfinite(*y) ? 0 : -1;
 }
 
 extern "C" const char *mapproj_describe(const mapproj_plan *p)
 {
     return p->text.c_str();
+}
+
+// ---- reading a description back ------------------------------------------------
+
+namespace {
+
+// The +key=value parameters of a PROJ-style string, up to its first ';'.
+struct proj_params {
+    std::string proj, ellps, datum, units;
+    double lat_0 = 0, lon_0 = 0, lat_1 = NAN, lat_2 = NAN, k = 1, x_0 = 0, y_0 = 0;
+    double a = NAN, rf = NAN, R = NAN;
+    int zone = 0;
+    bool south = false;
+};
+
+bool parse_number(const std::string &v, double *out)
+{
+    char *end = nullptr;
+    *out = std::strtod(v.c_str(), &end);
+    return !v.empty() && end && *end == '\0' && std::isfinite(*out);
+}
+
+// One "+key=value" (or "+key"); false on a number that does not parse.
+bool take(proj_params *p, const std::string &key, const std::string &v)
+{
+    struct { const char *name; double *slot; } numbers[] = {
+        {"lat_0", &p->lat_0}, {"lon_0", &p->lon_0}, {"lat_1", &p->lat_1}, {"lat_2", &p->lat_2},
+        {"k", &p->k},         {"k_0", &p->k},       {"x_0", &p->x_0},     {"y_0", &p->y_0},
+        {"a", &p->a},         {"rf", &p->rf},       {"R", &p->R},         {"lat_ts", nullptr}};
+    for (auto &n : numbers)
+        if (key == n.name) {
+            double d;
+            if (!parse_number(v, &d))
+                return false;
+            if (n.slot)
+                *n.slot = d;
+            return true;
+        }
+    if (key == "proj") p->proj = v;
+    else if (key == "ellps") p->ellps = v;
+    else if (key == "datum") p->datum = v;
+    else if (key == "units") p->units = v;
+    else if (key == "south") p->south = true;
+    else if (key == "zone") {
+        double d;
+        if (!parse_number(v, &d) || d < 1 || d > 60 || d != std::floor(d))
+            return false;
+        p->zone = (int)d;
+    }
+    return true; // +no_defs, +towgs84, +wktext ...: no bearing on the plane
+}
+
+bool parse_params(const char *text, size_t len, proj_params *p)
+{
+    std::string s(text, len);
+    s = s.substr(0, s.find(';'));
+    size_t at = 0;
+    while ((at = s.find('+', at)) != std::string::npos) {
+        size_t end = s.find(' ', at);
+        std::string tok = s.substr(at + 1, end == std::string::npos ? std::string::npos : end - at - 1);
+        size_t eq = tok.find('=');
+        if (!take(p, tok.substr(0, eq), eq == std::string::npos ? "" : tok.substr(eq + 1)))
+            return false;
+        at = end == std::string::npos ? s.size() : end;
+    }
+    return !p->proj.empty();
+}
+
+// The ellipsoid of the parameters, WGS 84 unless they say otherwise.
+bool ellipsoid_of(const proj_params &p, double *a, double *f)
+{
+    *a = 6378137.0;
+    *f = 1.0 / 298.257223563;
+    if (p.ellps == "GRS80")
+        *f = 1.0 / 298.257222101;
+    else if (!p.ellps.empty() && p.ellps != "WGS84")
+        return false;
+    if (!p.datum.empty() && p.datum != "WGS84")
+        return false;
+    if (std::isfinite(p.R)) {
+        *a = p.R;
+        *f = 0.0;
+    } else if (std::isfinite(p.a)) {
+        *a = p.a;
+        *f = std::isfinite(p.rf) && p.rf > 0 ? 1.0 / p.rf : 0.0;
+    }
+    return *a > 0;
+}
+
+} // namespace
+
+extern "C" mapproj_plan *mapproj_from_text(const char *text, size_t len, char *why, size_t why_len)
+{
+    proj_params pp;
+    auto refuse = [&](const char *reason) -> mapproj_plan * {
+        std::snprintf(why, why_len, "%s", reason);
+        return nullptr;
+    };
+    if (!parse_params(text, len, &pp))
+        return refuse("the CRS is not a PROJ-style description (+proj=...)");
+    if (!pp.units.empty() && pp.units != "m" && pp.proj != "longlat")
+        return refuse("the CRS's unit is not the metre");
+    double a, f;
+    if (!ellipsoid_of(pp, &a, &f))
+        return refuse("the CRS's ellipsoid or datum is not WGS 84, GRS 80 or given by +a/+R");
+    mapproj_plan *p = new (std::nothrow) mapproj_plan();
+    if (!p)
+        return refuse("out of memory");
+    p->a = a, p->f = f, p->lat0 = pp.lat_0, p->lon0 = pp.lon_0, p->x_0 = pp.x_0, p->y_0 = pp.y_0;
+    p->text.assign(text, len);
+    try {
+        if (pp.proj == "longlat" || pp.proj == "latlong") {
+            p->kind = MAPPROJ_NONE;
+        } else if (pp.proj == "tmerc" || pp.proj == "utm") {
+            if (pp.proj == "utm") {
+                if (!pp.zone)
+                    throw std::invalid_argument("utm without +zone");
+                p->lon0 = pp.zone * 6.0 - 183.0, p->lat0 = 0, pp.k = 0.9996;
+                p->x_0 = 500000.0, p->y_0 = pp.south ? 10000000.0 : 0.0;
+            }
+            p->kind = MAPPROJ_TM;
+            p->tm = new GeographicLib::TransverseMercator(a, f, pp.k);
+        } else if (pp.proj == "lcc" || pp.proj == "aea") {
+            double s1 = std::isfinite(pp.lat_1) ? pp.lat_1 : pp.lat_0;
+            double s2 = std::isfinite(pp.lat_2) ? pp.lat_2 : s1;
+            if (pp.proj == "lcc") {
+                p->kind = MAPPROJ_LCC;
+                p->lcc = s1 == s2 ? new GeographicLib::LambertConformalConic(a, f, s1, pp.k)
+                                  : new GeographicLib::LambertConformalConic(a, f, s1, s2, pp.k);
+            } else {
+                p->kind = MAPPROJ_AEA;
+                p->aea = s1 == s2 ? new GeographicLib::AlbersEqualArea(a, f, s1, pp.k)
+                                  : new GeographicLib::AlbersEqualArea(a, f, s1, s2, pp.k);
+            }
+        } else if (pp.proj == "eqc") {
+            p->kind = MAPPROJ_EQC;
+        } else {
+            mapproj_free(p);
+            return refuse("the CRS's projection is not one of longlat, tmerc, utm, lcc, aea, eqc");
+        }
+    } catch (const std::exception &) {
+        mapproj_free(p);
+        return refuse("the CRS's parameters are out of range");
+    }
+    // the origin's northing, as build() computes it for the plans it makes
+    double x, y, x_0 = p->x_0, y_0 = p->y_0;
+    p->x_0 = p->y_0 = 0;
+    if (p->kind != MAPPROJ_EQC && p->kind != MAPPROJ_NONE && mapproj_forward(p, p->lon0, p->lat0, &x, &y) == 0)
+        p->y0 = y;
+    p->x_0 = x_0, p->y_0 = y_0;
+    return p;
 }

@@ -51,6 +51,13 @@ int mapproj_forward(const mapproj_plan *plan, double lon, double lat, double *x,
  * +units=m +no_defs", owned by the plan. */
 const char *mapproj_describe(const mapproj_plan *plan);
 
+/* A plan from a description such as mapproj_describe() makes, or a PROJ
+ * string of a longlat, tmerc, utm, lcc, aea or eqc projection on WGS 84,
+ * GRS 80 or an explicit ellipsoid, in metres (read up to the first ';', as
+ * the CRS section records "DESCRIPTION; source ..."). NULL with a reason in
+ * `why` otherwise. */
+mapproj_plan *mapproj_from_text(const char *text, size_t len, char *why, size_t why_len);
+
 #ifdef __cplusplus
 }
 #endif

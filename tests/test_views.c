@@ -21,6 +21,7 @@
 #include "hpfc.h"
 #include "render.h"
 #include "roads.h"
+#include "locate.h"
 #include "views.h"
 #include "word.h"
 

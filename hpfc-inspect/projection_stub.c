@@ -1,0 +1,29 @@
+/*
+ * projection_stub.c: hpfc-inspect built without GeographicLib. Points in
+ * (lon, lat) cannot be placed; everything else works.
+ */
+#include <stdio.h>
+
+#include "projection.h"
+
+mapproj_plan *mapproj_from_text(const char *text, size_t len, char *why, size_t why_len)
+{
+    (void)text;
+    (void)len;
+    snprintf(why, why_len, "projections need GeographicLib, not built in");
+    return NULL;
+}
+
+int mapproj_forward(const mapproj_plan *plan, double lon, double lat, double *x, double *y)
+{
+    (void)plan;
+    (void)lon;
+    (void)lat;
+    *x = *y = 0;
+    return -1;
+}
+
+void mapproj_free(mapproj_plan *plan)
+{
+    (void)plan;
+}

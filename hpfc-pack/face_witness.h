@@ -1,0 +1,37 @@
+/*
+ * face_witness.h: for every face of a freshly built map, a point the file
+ * proves to lie inside it (spec/hpfc-format.md §7.1, "What a feature
+ * covers"), so that hpfc-pack can ask which source features cover the face.
+ *
+ * Two kinds of places are inside a face by the file's own rules:
+ *   - a private leaf lies wholly in one face: its centre is a witness, as
+ *     far from every edge as half the leaf's smaller side;
+ *   - in a word leaf, the stretch of the leaf's boundary between two
+ *     consecutive crossings lies in the face on the right of the first
+ *     one's out-dart (§3.11 rule 2): its middle is a witness, nudged by a
+ *     tiny amount across the road the way the perturbation rule of §3.5
+ *     moves the road, so that it never sits on an edge lying along the road.
+ * Each face keeps its best witness: the centre of its largest private leaf,
+ * else the middle of its longest stretch. Coordinates are long doubles in
+ * lattice units, exact to far below one lattice unit.
+ */
+#ifndef HPFC_PACK_FACE_WITNESS_H
+#define HPFC_PACK_FACE_WITNESS_H
+
+#include <stdint.h>
+
+#include "hpfc.h"
+
+typedef struct face_witness {
+    long double x, y;   /* lattice units */
+    long double reach;  /* how far the witness is known (or guessed) to be
+                           from the face's edges; 0 when the face has none */
+} face_witness;
+
+/* Fills w[0 .. hpfc_faces_count(faces)) for the map `file`, serialised from
+ * `tree`, built from `graph`. HPFC_OK, or the status of a failing call
+ * (HPFC_E_CORRUPT if the three disagree). */
+int face_witnesses(const hpfc_graph *graph, const hpfc_tree *tree, const hpfc_file *file,
+                   const hpfc_faces *faces, face_witness *w);
+
+#endif

@@ -1,0 +1,328 @@
+/*
+ * Source features of a GIS pack and the faces they cover (gis_features.h).
+ */
+#include "gis_features.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct gis_features {
+    char *key_field;
+    char **layer_name;
+    uint32_t layers;
+    /* features */
+    int64_t *fid;
+    uint32_t *layer;
+    char **key;
+    uint32_t n, cap;
+    /* rings: points xy[2 * ring_start[r] .. 2 * ring_start[r + 1]) */
+    uint32_t *ring_feature;
+    size_t *ring_start;
+    size_t rings, cap_rings, cap_ring_start;
+    int64_t *xy;
+    size_t points, cap_points;
+};
+
+static char *dup_or_null(const char *s)
+{
+    return s ? strdup(s) : NULL;
+}
+
+/* Grows *p to hold `need` elements of `size` bytes. */
+static int grow(void **p, size_t *cap, size_t need, size_t size)
+{
+    if (need <= *cap)
+        return 1;
+    size_t c = *cap ? *cap : 16;
+    while (c < need)
+        c *= 2;
+    void *np = realloc(*p, c * size);
+    if (!np)
+        return 0;
+    *p = np;
+    *cap = c;
+    return 1;
+}
+
+gis_features *gis_features_create(const char *key_field)
+{
+    gis_features *fs = calloc(1, sizeof *fs);
+    if (fs && key_field && !(fs->key_field = strdup(key_field))) {
+        free(fs);
+        return NULL;
+    }
+    if (fs && !(fs->ring_start = calloc(1, sizeof *fs->ring_start))) {
+        free(fs->key_field);
+        free(fs);
+        return NULL;
+    }
+    if (fs)
+        fs->cap_ring_start = 1; /* ring_start holds rings + 1 entries */
+    return fs;
+}
+
+void gis_features_free(gis_features *fs)
+{
+    if (!fs)
+        return;
+    for (uint32_t l = 0; l < fs->layers; l++)
+        free(fs->layer_name[l]);
+    for (uint32_t k = 0; k < fs->n; k++)
+        free(fs->key[k]);
+    free(fs->layer_name);
+    free(fs->key_field);
+    free(fs->fid);
+    free(fs->layer);
+    free(fs->key);
+    free(fs->ring_feature);
+    free(fs->ring_start);
+    free(fs->xy);
+    free(fs);
+}
+
+int gis_features_set_layer(gis_features *fs, uint32_t index, const char *name)
+{
+    if (index >= fs->layers) {
+        char **p = realloc(fs->layer_name, ((size_t)index + 1) * sizeof *p);
+        if (!p)
+            return -1;
+        for (uint32_t l = fs->layers; l <= index; l++)
+            p[l] = NULL;
+        fs->layer_name = p;
+        fs->layers = index + 1;
+    }
+    free(fs->layer_name[index]);
+    fs->layer_name[index] = strdup(name ? name : "");
+    return fs->layer_name[index] ? 0 : -1;
+}
+
+int gis_features_add(gis_features *fs, int64_t fid, uint32_t layer, const char *key)
+{
+    if (fs->n == UINT32_MAX - 1)
+        return -1;
+    if (fs->n == fs->cap) {
+        uint32_t c = fs->cap ? 2 * fs->cap : 64;
+        int64_t *f = realloc(fs->fid, c * sizeof *f);
+        if (f)
+            fs->fid = f;
+        uint32_t *l = realloc(fs->layer, c * sizeof *l);
+        if (l)
+            fs->layer = l;
+        char **k = realloc(fs->key, c * sizeof *k);
+        if (k)
+            fs->key = k;
+        if (!f || !l || !k)
+            return -1;
+        fs->cap = c;
+    }
+    char *copy = dup_or_null(key);
+    if (key && !copy)
+        return -1;
+    fs->fid[fs->n] = fid;
+    fs->layer[fs->n] = layer;
+    fs->key[fs->n] = copy;
+    fs->n++;
+    return 0;
+}
+
+uint32_t gis_features_count(const gis_features *fs)
+{
+    return fs ? fs->n : 0;
+}
+
+int gis_features_add_ring(gis_features *fs, uint32_t feature, const int64_t *xy, size_t n)
+{
+    if (n < 3)
+        return 0; /* no area */
+    if (!grow((void **)&fs->ring_feature, &fs->cap_rings, fs->rings + 1, sizeof *fs->ring_feature) ||
+        !grow((void **)&fs->ring_start, &fs->cap_ring_start, fs->rings + 2, sizeof *fs->ring_start) ||
+        !grow((void **)&fs->xy, &fs->cap_points, 2 * (fs->points + n), sizeof *fs->xy))
+        return -1;
+    memcpy(fs->xy + 2 * fs->points, xy, 2 * n * sizeof *xy);
+    fs->points += n;
+    fs->ring_feature[fs->rings] = feature;
+    fs->ring_start[++fs->rings] = fs->points;
+    return 0;
+}
+
+/* Does the horizontal ray from (x, y) eastward cross ring r an odd number
+ * of times? Half-open in y, so a vertex on the ray counts once. */
+static int ring_holds(const gis_features *fs, size_t r, long double x, long double y)
+{
+    const int64_t *p = fs->xy + 2 * fs->ring_start[r];
+    size_t n = fs->ring_start[r + 1] - fs->ring_start[r];
+    int inside = 0;
+    for (size_t i = 0, j = n - 1; i < n; j = i++) {
+        long double xi = (long double)p[2 * i], yi = (long double)p[2 * i + 1];
+        long double xj = (long double)p[2 * j], yj = (long double)p[2 * j + 1];
+        if ((yi > y) != (yj > y) && x < xi + (xj - xi) * ((y - yi) / (yj - yi)))
+            inside = !inside;
+    }
+    return inside;
+}
+
+#ifdef HPFC_HAVE_GIS
+
+#include <geos_c.h>
+
+typedef struct candidates {
+    size_t *ring;
+    size_t n, cap;
+    int failed;
+} candidates;
+
+static void collect(void *item, void *user)
+{
+    candidates *c = user;
+    if (!grow((void **)&c->ring, &c->cap, c->n + 1, sizeof *c->ring)) {
+        c->failed = 1;
+        return;
+    }
+    c->ring[c->n++] = (size_t)(uintptr_t)item - 1;
+}
+
+static int cmp_size(const void *a, const void *b)
+{
+    size_t x = *(const size_t *)a, y = *(const size_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The rings' boxes in an STRtree; their geometries in *boxes (the tree
+ * keeps pointers to their envelopes). */
+static GEOSSTRtree *ring_index(GEOSContextHandle_t ctx, const gis_features *fs, GEOSGeometry ***boxes)
+{
+    GEOSSTRtree *tree = GEOSSTRtree_create_r(ctx, 10);
+    *boxes = calloc(fs->rings ? fs->rings : 1, sizeof **boxes);
+    if (!tree || !*boxes)
+        return tree;
+    for (size_t r = 0; r < fs->rings; r++) {
+        const int64_t *p = fs->xy + 2 * fs->ring_start[r];
+        size_t n = fs->ring_start[r + 1] - fs->ring_start[r];
+        double x0 = (double)p[0], x1 = x0, y0 = (double)p[1], y1 = y0;
+        for (size_t i = 1; i < n; i++) {
+            double x = (double)p[2 * i], y = (double)p[2 * i + 1];
+            x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+            y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
+        }
+        /* one unit of margin: the witness is a long double, the query a double */
+        (*boxes)[r] = GEOSGeom_createRectangle_r(ctx, x0 - 1, y0 - 1, x1 + 1, y1 + 1);
+        if (!(*boxes)[r])
+            return tree;
+        GEOSSTRtree_insert_r(ctx, tree, (*boxes)[r], (void *)(uintptr_t)(r + 1));
+    }
+    return tree;
+}
+
+/* A growable list of links. */
+typedef struct link_list {
+    uint32_t *v;
+    size_t n, cap;
+} link_list;
+
+/* Appends the features whose rings hold witness w an odd number of times,
+ * in ascending order. */
+static int face_features(GEOSContextHandle_t ctx, GEOSSTRtree *tree, const gis_features *fs,
+                         const face_witness *w, candidates *c, link_list *links)
+{
+    c->n = 0;
+    GEOSGeometry *pt = GEOSGeom_createPointFromXY_r(ctx, (double)w->x, (double)w->y);
+    if (!pt)
+        return -1;
+    GEOSSTRtree_query_r(ctx, tree, pt, collect, c);
+    GEOSGeom_destroy_r(ctx, pt);
+    if (c->failed || !grow((void **)&links->v, &links->cap, links->n + c->n, sizeof *links->v))
+        return -1;
+    qsort(c->ring, c->n, sizeof *c->ring, cmp_size); /* rings, hence features, in order */
+    for (size_t i = 0; i < c->n;) {
+        uint32_t feature = fs->ring_feature[c->ring[i]];
+        int odd = 0;
+        for (; i < c->n && fs->ring_feature[c->ring[i]] == feature; i++)
+            odd ^= ring_holds(fs, c->ring[i], w->x, w->y);
+        if (odd)
+            links->v[links->n++] = feature;
+    }
+    return 0;
+}
+
+static void free_index(GEOSContextHandle_t ctx, GEOSSTRtree *tree, GEOSGeometry **boxes, size_t n)
+{
+    if (tree)
+        GEOSSTRtree_destroy_r(ctx, tree);
+    for (size_t r = 0; boxes && r < n; r++)
+        if (boxes[r])
+            GEOSGeom_destroy_r(ctx, boxes[r]);
+    free(boxes);
+}
+
+int gis_feature_table_make(const gis_features *fs, const face_witness *w, uint64_t faces,
+                           gis_feature_table *out, char *err, size_t err_len)
+{
+    memset(out, 0, sizeof *out);
+    if (faces >= UINT32_MAX) {
+        snprintf(err, err_len, "too many faces (%llu) for a feature table",
+                 (unsigned long long)faces);
+        return 1;
+    }
+    GEOSContextHandle_t ctx = GEOS_init_r();
+    GEOSGeometry **boxes = NULL;
+    GEOSSTRtree *tree = ctx ? ring_index(ctx, fs, &boxes) : NULL;
+    candidates c = {0};
+    link_list links = {0};
+    int st = tree && boxes && (fs->rings == 0 || boxes[fs->rings - 1]) ? 0 : -1;
+    out->face_start = calloc(faces + 1, sizeof *out->face_start);
+    if (!out->face_start)
+        st = -1;
+    for (uint64_t f = 0; f < faces && !st; f++) {
+        if (links.n >= UINT32_MAX - fs->n) {
+            st = -1;
+            break;
+        }
+        out->face_start[f] = (uint32_t)links.n;
+        if (w[f].reach <= 0)
+            out->faces_without_witness++;
+        else
+            st = face_features(ctx, tree, fs, &w[f], &c, &links);
+    }
+    out->face_feature = links.v;
+    if (!st)
+        out->face_start[faces] = (uint32_t)links.n;
+    free(c.ring);
+    free_index(ctx, tree, boxes, fs->rings);
+    if (ctx)
+        GEOS_finish_r(ctx);
+    if (st) {
+        gis_feature_table_free(out);
+        snprintf(err, err_len, "out of memory linking faces to features");
+        return 1;
+    }
+    out->table = (hpfc_feature_table){
+        .feature_count = fs->n, .fid = fs->fid, .layer = fs->layer, .key_field = fs->key_field,
+        .key = fs->key_field ? (const char *const *)fs->key : NULL, .layer_count = fs->layers,
+        .layer_name = (const char *const *)fs->layer_name, .face_count = (uint32_t)faces,
+        .face_start = out->face_start, .face_feature = out->face_feature};
+    return 0;
+}
+
+#else /* !HPFC_HAVE_GIS */
+
+int gis_feature_table_make(const gis_features *fs, const face_witness *w, uint64_t faces,
+                           gis_feature_table *out, char *err, size_t err_len)
+{
+    (void)fs;
+    (void)w;
+    (void)faces;
+    (void)ring_holds;
+    memset(out, 0, sizeof *out);
+    snprintf(err, err_len, "GIS features need GEOS, not built in");
+    return 1;
+}
+
+#endif
+
+void gis_feature_table_free(gis_feature_table *t)
+{
+    free(t->face_start);
+    free(t->face_feature);
+    memset(t, 0, sizeof *t);
+}
