@@ -3,15 +3,57 @@
  * (hpfc_open_memory) twice: with the header checksum verified, then with
  * HPFC_OPEN_SKIP_CHECKSUM so mutated metadata gets past the checksum to the
  * header, level table and section directory checks. An opened file is then
- * queried through every metadata accessor and its section checksums
- * verified.
+ * queried through every metadata accessor, its FEAT section (when it has
+ * one) through every feature accessor, and its section checksums verified.
  *
  * Oracle: open fails only with a file code (MAGIC .. SECTION, or NOMEM) and
  * never with CORRUPT (open decodes no pool); opening with the checksum
  * verified succeeds only if opening without it does, with the same info;
- * the info a handle reports is inside the ranges open promises to check.
+ * the info a handle reports is inside the ranges open promises to check;
+ * feature accessors give OK, ARG (out of range, exactly) or CORRUPT, and
+ * every link they give names a feature.
  */
 #include "input.h"
+
+static int feature_status_ok(int st)
+{
+    return st == HPFC_OK || st == HPFC_E_CORRUPT;
+}
+
+/* The FEAT accessors over the first entries of each table (a file may
+ * declare 2^32 of them). */
+static void probe_features(const hpfc_file *f)
+{
+    hpfc_features_info fi;
+    int st = hpfc_file_features(f, &fi);
+    FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
+    if (st)
+        return;
+    FUZZ_CHECK(fi.key_field == NULL || fi.key_field_len < UINT32_MAX);
+    hpfc_feature ft;
+    const char *name;
+    size_t len;
+    uint32_t count, feature;
+    for (uint32_t k = 0; k < fi.features && k < 256; k++) {
+        FUZZ_CHECK(feature_status_ok(hpfc_feature_get(f, k, &ft)));
+    }
+    FUZZ_CHECK(hpfc_feature_get(f, fi.features, &ft) == HPFC_E_ARG);
+    for (uint32_t l = 0; l < fi.layers && l < 256; l++)
+        FUZZ_CHECK(feature_status_ok(hpfc_layer_name(f, l, &name, &len)));
+    FUZZ_CHECK(hpfc_layer_name(f, fi.layers, &name, &len) == HPFC_E_ARG);
+    for (uint32_t face = 0; face < fi.faces && face < 256; face++) {
+        st = hpfc_face_feature_count(f, face, &count);
+        FUZZ_CHECK(feature_status_ok(st));
+        for (uint32_t k = 0; st == HPFC_OK && k < count && k < 64; k++) {
+            int s2 = hpfc_face_feature(f, face, k, &feature);
+            FUZZ_CHECK(feature_status_ok(s2));
+            FUZZ_CHECK(s2 != HPFC_OK || feature < fi.features);
+        }
+        if (st == HPFC_OK)
+            FUZZ_CHECK(hpfc_face_feature(f, face, count, &feature) == HPFC_E_ARG);
+    }
+    FUZZ_CHECK(hpfc_face_feature_count(f, fi.faces, &count) == HPFC_E_ARG);
+}
 
 static int open_status_ok(int st)
 {
@@ -50,6 +92,7 @@ static void query(const hpfc_file *f)
     }
     hpfc_section_info s;
     FUZZ_CHECK(hpfc_file_get_section(f, info.section_count, &s) == HPFC_E_ARG);
+    probe_features(f);
     int st = hpfc_verify_checksums(f);
     FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_CHECKSUM);
 }

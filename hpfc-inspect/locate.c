@@ -133,7 +133,8 @@ static int gather_features(locator *L, answer *a)
         if (st)
             return st;
     }
-    qsort(L->feat, a->nfeat, sizeof *L->feat, cmp_u32);
+    if (a->nfeat > 1)
+        qsort(L->feat, a->nfeat, sizeof *L->feat, cmp_u32);
     size_t u = 0;
     for (size_t k = 0; k < a->nfeat; k++)
         if (u == 0 || L->feat[u - 1] != L->feat[k])

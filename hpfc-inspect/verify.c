@@ -786,6 +786,43 @@ static void check_euler(verifier *v, uint64_t loops)
                 r->faces + r->components - 1);
 }
 
+/* The FEAT section against the faces just numbered: its face count, and
+ * every feature, layer and link readable (an access checks each entry). */
+static void check_features(verifier *v, uint64_t faces)
+{
+    verify_report *r = v->r;
+    hpfc_features_info fi;
+    int st = hpfc_file_features(v->f, &fi);
+    if (st == HPFC_E_NO_SECTION)
+        return;
+    size_t before = r->problem_count;
+    if (st)
+        problem(r, "features: %s", hpfc_strerror(st));
+    else if (fi.faces != faces)
+        problem(r, "features: the FEAT section lists %u faces, the map has %" PRIu64, fi.faces,
+                faces);
+    for (uint32_t k = 0; !st && k < fi.features && r->problem_count == before; k++) {
+        hpfc_feature ft;
+        if ((st = hpfc_feature_get(v->f, k, &ft)))
+            problem(r, "features: feature %u: %s", k, hpfc_strerror(st));
+    }
+    for (uint32_t l = 0; !st && l < fi.layers && r->problem_count == before; l++) {
+        const char *name;
+        size_t len;
+        if ((st = hpfc_layer_name(v->f, l, &name, &len)))
+            problem(r, "features: layer %u: %s", l, hpfc_strerror(st));
+    }
+    for (uint64_t f = 0; !st && f < fi.faces && r->problem_count == before; f++) {
+        uint32_t count, feature;
+        st = hpfc_face_feature_count(v->f, f, &count);
+        for (uint32_t k = 0; !st && k < count; k++)
+            st = hpfc_face_feature(v->f, f, k, &feature);
+        if (st)
+            problem(r, "features: face %" PRIu64 ": %s", f, hpfc_strerror(st));
+    }
+    r->features = r->problem_count == before ? CHECK_OK : CHECK_FAILED;
+}
+
 static int check_topology(verifier *v)
 {
     verify_report *r = v->r;
@@ -799,6 +836,7 @@ static int check_topology(verifier *v)
     } else {
         size_t nv = tp.m.nv + 1, nd = tp.m.nd + 1;
         tp.nfaces = hpfc_faces_count(tp.faces);
+        check_features(v, tp.nfaces);
         tp.face = malloc(nd * sizeof *tp.face);
         tp.degree = calloc(nv, sizeof *tp.degree);
         uint32_t *scratch = calloc(nv, sizeof *scratch);
@@ -879,7 +917,7 @@ int verify_file(const char *path, unsigned flags, verify_report *r)
 {
     memset(r, 0, sizeof *r);
     r->format = r->checksums = r->structure = r->roads = r->topology = CHECK_SKIPPED;
-    r->euler = r->loops_ok = CHECK_SKIPPED;
+    r->euler = r->loops_ok = r->features = CHECK_SKIPPED;
     double t0 = now_seconds();
     mapped_file mf;
     int err, st = map_file(path, &mf, &err);
@@ -945,6 +983,8 @@ void verify_print_text(FILE *out, const char *path, const verify_report *r)
         if (r->euler != CHECK_SKIPPED)
             fprintf(out, "Euler           V - E + F = 1 + C: %s\n", state_word(r->euler));
     }
+    if (r->features != CHECK_SKIPPED)
+        fprintf(out, "features        FEAT section: %s\n", state_word(r->features));
     fprintf(out, "time            %.3f s\n", r->seconds);
     if (r->problem_count == 0) {
         fprintf(out, "verdict         valid\n");
@@ -973,6 +1013,8 @@ void verify_print_json(FILE *out, const char *path, const verify_report *r)
     jsonw_string(&w, "topology", state_json(r->topology));
     jsonw_string(&w, "euler", state_json(r->euler));
     jsonw_string(&w, "boundary_loops", state_json(r->loops_ok));
+    if (r->features != CHECK_SKIPPED) /* only files with a FEAT section */
+        jsonw_string(&w, "features", state_json(r->features));
     jsonw_object_end(&w);
     if (r->format == CHECK_OK) {
         jsonw_u64(&w, "levels", r->levels);

@@ -34,6 +34,7 @@ typedef struct verify_report {
     int topology;   /* operators, twin / next / prev, faces */
     int euler;      /* V - E + F = 1 + C */
     int loops_ok;   /* boundary loops = F + C - 1 */
+    int features;   /* the FEAT section: its face count, every entry readable */
 
     uint16_t format_major, format_minor;
     uint32_t levels;

@@ -233,7 +233,8 @@ static int face_features(GEOSContextHandle_t ctx, GEOSSTRtree *tree, const gis_f
     GEOSGeom_destroy_r(ctx, pt);
     if (c->failed || !grow((void **)&links->v, &links->cap, links->n + c->n, sizeof *links->v))
         return -1;
-    qsort(c->ring, c->n, sizeof *c->ring, cmp_size); /* rings, hence features, in order */
+    if (c->n > 1)
+        qsort(c->ring, c->n, sizeof *c->ring, cmp_size); /* rings, hence features, in order */
     for (size_t i = 0; i < c->n;) {
         uint32_t feature = fs->ring_feature[c->ring[i]];
         int odd = 0;

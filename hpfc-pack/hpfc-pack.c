@@ -730,6 +730,9 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     }
     if (!st)
         st = hpfc_tree_write_file(t, &wopts, a->output, &diag);
+    struct stat written;
+    if (!st && wopts.features && stat(a->output, &written) == 0)
+        r->file_bytes = (uint64_t)written.st_size; /* with the FEAT section */
     r->write_s = now_seconds() - t0;
     free(bytes);
     gis_feature_table_free(&ft);

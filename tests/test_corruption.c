@@ -392,7 +392,7 @@ static void fuzz_regressions(const char *data_root)
 static void fixture_campaigns(const char *root)
 {
     static const char *names[] = {"square_diagonal.hpfc", "loop_quadtree.hpfc",
-                                  "two_components_hole_crs.hpfc"};
+                                  "two_components_hole_crs.hpfc", "borders_features.hpfc"};
     for (size_t k = 0; k < sizeof names / sizeof *names; k++) {
         char path[4096];
         snprintf(path, sizeof path, "%s/valid/%s", root, names[k]);

@@ -1,0 +1,111 @@
+#!/bin/sh
+# GIS features (FEAT section, contracts §4): every polygon feature of the
+# counties fixture is found again by hpfc-inspect --locate-batch --lonlat on
+# random points away from borders, against an independent GDAL/GEOS answer
+# (feature_oracle.py): in a private leaf exactly the features containing the
+# point, in a stabbed leaf a candidate list that includes them. Also the
+# single-point forms, --verify's FEAT check, and a file without features.
+# Skipped (exit 77) without GIS input or without Python's GDAL bindings.
+# shellcheck source=tests/cli/lib.sh
+. "$(dirname "$0")/lib.sh"
+GIS=$TESTS/data/gis
+counties=$GIS/counties_ne.geojson
+
+run "$PACK" "$GIS/ok/duplicate_borders.geojson" -o "$tmp/probe.hpfc"
+if grep -q "not built in" "$tmp/err"; then
+    echo "GIS input not built in: skipped"
+    exit 77
+fi
+# The oracle needs Python's GDAL bindings (Debian: python3-gdal), which
+# belong to the system interpreter.
+py=
+for cand in python3 /usr/bin/python3; do
+    if "$cand" -c 'from osgeo import ogr' 2>/dev/null; then
+        py=$cand
+        break
+    fi
+done
+if [ -z "$py" ]; then
+    echo "no python3 with osgeo (python3-gdal): skipped"
+    exit 77
+fi
+
+run "$PACK" --json --invalid node --key name "$counties" -o "$tmp/c.hpfc"
+expect_ok "pack --key name"
+python3 - "$tmp/out" <<'PY' || fail "pack report: features"
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["polygon_features"] == 54, r["polygon_features"]
+assert r["key_field"] == "name", r["key_field"]
+assert r["faces_with_features"] == r["faces"] - 1, (r["faces_with_features"], r["faces"])
+assert r["faces_without_witness"] == 0, r["faces_without_witness"]
+PY
+
+run "$INSPECT" --verify "$tmp/c.hpfc"
+expect_ok "--verify with FEAT"
+grep -q "features        FEAT section: ok" "$tmp/out" || fail "--verify does not check FEAT"
+
+"$py" "$HERE/feature_oracle.py" "$counties" name 7 400 "$tmp/points.txt" "$tmp/expected.json" ||
+    fail "feature_oracle.py failed"
+run "$INSPECT" --locate-batch "$tmp/points.txt" --lonlat "$tmp/c.hpfc"
+expect_ok "--locate-batch --lonlat"
+python3 - "$tmp/out" "$tmp/expected.json" <<'PY' || fail "--locate-batch disagrees with GDAL/GEOS"
+import json, sys
+answers = [json.loads(line) for line in open(sys.argv[1])]
+expected = json.load(open(sys.argv[2]))
+assert len(answers) == len(expected), (len(answers), len(expected))
+private = covered = 0
+for k, (a, want) in enumerate(zip(answers, expected)):
+    got = sorted(({"fid": f["fid"], "key": f["key"]} for f in a["features"]),
+                 key=lambda d: d["fid"])
+    assert a["inside"], f"point {k} outside the domain"
+    if a["private"]:
+        private += 1
+        assert len(a["faces"]) == 1, a
+        assert got == want, f"point {k} ({a['lon']}, {a['lat']}): got {got}, want {want}"
+    else:
+        assert all(w in got for w in want), f"point {k}: {want} not among {got}"
+    covered += bool(want)
+# the test means something only if most answers are exact and most points
+# fall in some county
+assert private >= len(answers) // 4, f"only {private} private answers"
+assert covered >= len(answers) // 2, f"only {covered} points in a county"
+print(f"{len(answers)} points, {private} private, {covered} in a county")
+PY
+
+# the single-point forms agree with the batch
+first=$(head -1 "$tmp/points.txt")
+run "$INSPECT" --locate-lonlat "$first" --json "$tmp/c.hpfc"
+expect_ok "--locate-lonlat"
+head -1 "$tmp/out" >"$tmp/one.json"
+run "$INSPECT" --locate-batch - --lonlat "$tmp/c.hpfc"
+"$INSPECT" --locate-batch - --lonlat "$tmp/c.hpfc" <"$tmp/points.txt" | head -1 >"$tmp/batch1.json"
+cmp -s "$tmp/one.json" "$tmp/batch1.json" || fail "--locate-lonlat and --locate-batch differ"
+x=$(python3 -c 'import json,sys; a=json.load(open(sys.argv[1])); print(repr(a["x"]) + "," + repr(a["y"]))' "$tmp/one.json")
+run "$INSPECT" --locate "$x" --json "$tmp/c.hpfc"
+expect_ok "--locate X,Y"
+python3 - "$tmp/out" "$tmp/one.json" <<'PY' || fail "--locate X,Y and --locate-lonlat differ"
+import json, sys
+a, b = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+assert a["faces"] == b["faces"] and a["features"] == b["features"], (a, b)
+PY
+
+# a malformed line is one error naming its line
+printf '%s\nnot a point\n' "$first" >"$tmp/bad.txt"
+run "$INSPECT" --locate-batch "$tmp/bad.txt" --lonlat "$tmp/c.hpfc"
+expect_error "--locate-batch bad line" "hpfc-inspect: $tmp/c.hpfc: $tmp/bad.txt line 2:" 1
+
+# without --key: features without keys; a .pfc file has no FEAT at all
+run "$PACK" --invalid node "$counties" -o "$tmp/nokey.hpfc"
+run "$INSPECT" --locate-lonlat "$first" --json "$tmp/nokey.hpfc"
+python3 -c 'import json,sys; a=json.load(open(sys.argv[1])); assert a["features"] and all("key" not in f for f in a["features"]), a' \
+    "$tmp/out" || fail "features without --key carry a key"
+run "$PACK" "$TESTS/data/valid/square_diagonal.pfc" -o "$tmp/plain.hpfc"
+run "$INSPECT" --locate 1,1 --json "$tmp/plain.hpfc"
+python3 -c 'import json,sys; a=json.load(open(sys.argv[1])); assert a["features"] == [], a' \
+    "$tmp/out" || fail "a .pfc file reports features"
+run "$PACK" --key nosuchfield "$counties" --invalid node -o "$tmp/nofield.hpfc"
+expect_error "--key unknown field" "hpfc-pack: $counties: --key nosuchfield: layer" 1
+[ -e "$tmp/nofield.hpfc" ] && fail "--key unknown field left an output"
+
+finish
