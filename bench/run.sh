@@ -37,3 +37,21 @@ echo
 
 echo "(d) reader (issue 3): open cost on a 671 MB file, pixel fetch + decode, deep locate"
 build-bench/bench/bench_read
+echo
+
+# (e) needs the GIS dependencies (bench_locate is built only with them)
+if [ -x build-bench/bench/bench_locate ]; then
+    echo "(e) point in feature (issue 5): hpfc --locate path (hpfc_locate, the leaf's faces, their"
+    echo "    FEAT features) against GEOS prepared polygons in an STRtree, same random points of"
+    echo "    the projected extent; set-up ms (faces numbered / polygons prepared), ns per point,"
+    echo "    share of private leaves, share of answers that agree"
+    ninja -C build-bench hpfc-pack/hpfc-pack >/dev/null
+    tmp=$(mktemp -d)
+    printf '%-28s %8s %9s | %9s %9s | %9s %9s | %7s %7s\n' layer features points \
+        hpfc_ms hpfc_ns geos_ms geos_ns private agree
+    for layer in tests/data/gis/counties_ne.geojson; do
+        build-bench/hpfc-pack/hpfc-pack --quiet --invalid node --key name "$layer" -o "$tmp/l.hpfc"
+        build-bench/bench/bench_locate "$layer" "$tmp/l.hpfc" 200000 1
+    done
+    rm -rf "$tmp"
+fi
