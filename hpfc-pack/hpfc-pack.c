@@ -26,6 +26,7 @@
 #include "gis_input.h"
 #include "hpfc.h"
 #include "jsonw.h"
+#include "progress.h"
 
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
 
@@ -698,16 +699,30 @@ static int link_features(const hpfc_graph *g, const hpfc_tree *t, const uint8_t 
     return st ? 1 : 0;
 }
 
+/* hpfc_build's progress, as a bar per level. */
+static void show_build_progress(void *user, uint32_t level, uint64_t done, uint64_t total)
+{
+    char stage[24];
+    snprintf(stage, sizeof stage, "level %u", level);
+    progress_show(user, stage, (double)done, (double)total, done == total);
+}
+
 /* Builds, checks the serialised bytes, then writes OUTPUT; 0 or an exit
  * status (the message is printed). */
 static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report *r)
 {
+    progress bar = {.on = isatty(2) && !a->quiet};
+    hpfc_build_params params = a->params;
+    params.progress = show_build_progress;
+    params.progress_user = &bar;
     hpfc_write_options wopts = {.crs = r->gis ? r->gis_info.crs : NULL};
     gis_feature_table ft = {0};
     hpfc_diag diag = {0};
     hpfc_tree *t = NULL;
     double t0 = now_seconds();
-    int st = hpfc_build(g, &a->params, &t, &diag);
+    progress_show(&bar, "building", 0, 0, 1);
+    int st = hpfc_build(g, &params, &t, &diag);
+    progress_end(&bar);
     r->build_s = now_seconds() - t0;
     if (st) {
         complain("%s: %s", a->input, diag_text(&diag, st));

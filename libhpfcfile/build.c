@@ -710,8 +710,11 @@ static int build_levels(builder *b)
             next->cell_h = lv->cell_h / b->p.rows;
         }
         b->next_len = 0;
-        for (size_t im = 0; im < lv->nimages && !st; im++)
+        for (size_t im = 0; im < lv->nimages && !st; im++) {
             st = build_image(b, level, im, &is, &w);
+            if (b->p.progress && ((im + 1) % 4096 == 0 || im + 1 == lv->nimages))
+                b->p.progress(b->p.progress_user, level, im + 1, lv->nimages);
+        }
         if (st || level >= b->max_depth || t->levels[level + 1].nimages == 0)
             break;
         /* the next level's segment lists become the current ones */
@@ -805,6 +808,8 @@ void hpfc_build_params_default(hpfc_build_params *p)
     p->cols = p->rows = 2;
     p->flat = 0;
     p->max_flat_pixels = HPFC_DEFAULT_MAX_FLAT_PIXELS;
+    p->progress = NULL;
+    p->progress_user = NULL;
 }
 
 void hpfc_tree_free(hpfc_tree *t)

@@ -442,6 +442,54 @@ static void test_generated(void)
     CHECK(flat_compared >= 20); /* the comparison must not be skipped wholesale */
 }
 
+/* The progress callback: per level, images done rising to the level's
+ * image count (the tree's), the levels in order, the last one reported. */
+typedef struct progress_log {
+    uint32_t level;
+    uint64_t done, total, calls, levels_ended;
+    bool ordered;
+} progress_log;
+
+static void log_progress(void *user, uint32_t level, uint64_t done, uint64_t total)
+{
+    progress_log *log = user;
+    bool same = level == log->level && done > log->done && total == log->total;
+    bool next = level == log->level + 1 && log->done == log->total && done >= 1;
+    if (log->calls == 0)
+        next = level == 0 && done >= 1;
+    log->ordered &= (same || next) && done <= total;
+    log->levels_ended += done == total;
+    log->level = level, log->done = done, log->total = total;
+    log->calls++;
+}
+
+static void test_progress(void)
+{
+    hpfc_graph *g = NULL;
+    CHECK_EQ_INT(gen_grid_mesh(5, 200, 200, 20, &g), HPFC_OK);
+    hpfc_build_params p;
+    hpfc_build_params_default(&p);
+    CHECK(p.progress == NULL && p.progress_user == NULL);
+    progress_log log = {.ordered = true};
+    p.root_cols = p.root_rows = 4;
+    p.progress = log_progress;
+    p.progress_user = &log;
+    hpfc_tree *t = NULL;
+    hpfc_diag d;
+    CHECK_EQ_INT(hpfc_build(g, &p, &t, &d), HPFC_OK);
+    if (t) {
+        hpfc_tree_info info;
+        hpfc_tree_get_info(t, &info);
+        CHECK(log.ordered);
+        CHECK_EQ_INT(log.levels_ended, info.levels);
+        CHECK_EQ_INT(log.level, info.levels - 1);
+        CHECK_EQ_INT(log.total, hpfc_tree_image_count(t, info.levels - 1));
+        CHECK(log.calls > info.levels); /* some level has over 4096 images */
+    }
+    hpfc_tree_free(t);
+    hpfc_graph_free(g);
+}
+
 int main(void)
 {
     test_every_symbol();
@@ -451,5 +499,6 @@ int main(void)
     test_edge_through_crossroad();
     test_invalid_graphs();
     test_generated();
+    test_progress();
     return check_report("build");
 }
