@@ -505,8 +505,8 @@ static int refined_image_pixel(const file_level *lv, uint64_t image, uint64_t p,
     uint64_t before, total;
     if (per <= 57) { /* the common small image: one load holds the mask */
         uint64_t mask = format_peek(&lv->pool, image, (unsigned)per);
-        total = (uint64_t)__builtin_popcountll(mask);
-        before = (uint64_t)__builtin_popcountll(mask & ~(UINT64_MAX >> p));
+        total = format_ones(mask);
+        before = format_ones(mask & ~(UINT64_MAX >> p));
         *type = (int)(mask >> (63 - p) & 1);
     } else {
         before = format_popcount(&lv->pool, image, p);
