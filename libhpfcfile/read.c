@@ -496,7 +496,7 @@ int hpfc_file_get_section(const hpfc_file *f, uint32_t index, hpfc_section_info 
 /* Where pixel p (scanline index) of a refined image starts, after checking
  * the image: its mask and every slot the mask implies lie inside the pool,
  * and no pixel of the last level is refined. */
-static int refined_image_pixel(const file_level *lv, uint64_t image, uint64_t p, int *type,
+static inline int refined_image_pixel(const file_level *lv, uint64_t image, uint64_t p, int *type,
                                uint64_t *slot)
 {
     uint64_t per = lv->image_pixels, bits = lv->pool.bits;
@@ -525,7 +525,7 @@ static int refined_image_pixel(const file_level *lv, uint64_t image, uint64_t p,
 
 /* The type of pixel (i, j) of the image at bit `image` of `level`, and the
  * bit offset of its slot (address or word). */
-static int image_pixel(const hpfc_file *f, uint32_t level, uint64_t image, uint32_t i, uint32_t j,
+static inline int image_pixel(const hpfc_file *f, uint32_t level, uint64_t image, uint32_t i, uint32_t j,
                        int *type, uint64_t *slot)
 {
     const file_level *lv = &f->lv[level];
