@@ -156,10 +156,17 @@ static uint64_t path_hash(const hpfc_pixel *px)
     return h ^ h >> 29;
 }
 
+/* Compared from the pixel's own level up: a different pixel differs there
+ * at once, and paths are short (a loop beats a call to memcmp). */
 static bool same_path(cached_word *e, const hpfc_pixel *px)
 {
-    return e->depth == px->depth &&
-           memcmp(word_path(e), px->path, ((size_t)px->depth + 1) * sizeof(path_step)) == 0;
+    if (e->depth != px->depth)
+        return false;
+    const path_step *p = word_path(e);
+    for (uint32_t l = px->depth + 1; l-- > 0;)
+        if (p[l].image != px->path[l].image || p[l].i != px->path[l].i || p[l].j != px->path[l].j)
+            return false;
+    return true;
 }
 
 static uint32_t cache_find(const word_cache *c, const hpfc_pixel *px, uint64_t h)
