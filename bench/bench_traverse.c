@@ -5,10 +5,11 @@
  * of the same graph, and on an explicit half-edge array holding the same
  * map. Reports pixels visited per edge and nanoseconds per operation.
  *
- * Each file is walked three times by one walker: without its cache (every
+ * Each file is walked by one walker in three ways: without its cache (every
  * operator decodes the words it needs: the paper's "pixels visited"), with
  * an empty cache (cold: the words are decoded and the crossings identified
- * during the walk) and again with the cache the cold walk filled (warm).
+ * during the walk) and again with the cache a cold walk filled (warm); each
+ * way three times, reporting the median.
  * The memory the walks write (queue, visited set, the cache's arena) is
  * touched before the clock starts, as the half-edge array is.
  */
@@ -120,6 +121,30 @@ static size_t collect(const hpfc_file *f, hpfc_walker *w, hpfc_dart *all, size_t
     return n;
 }
 
+/* The median of RUNS walks (the machine's speed drifts): with the cache
+ * emptied before each when `empty`, with the cache of the walks before
+ * otherwise. */
+enum { RUNS = 3 };
+
+static int by_time(const void *a, const void *b)
+{
+    double x = ((const timing *)a)->ns_per_op, y = ((const timing *)b)->ns_per_op;
+    return (x > y) - (x < y);
+}
+
+static timing median_bfs(bfs *b, size_t cache, bool empty)
+{
+    timing t[RUNS];
+    hpfc_walker_set_cache_size(b->w, cache);
+    for (int r = 0; r < RUNS; r++) {
+        if (empty && r)
+            hpfc_walker_set_cache_size(b->w, cache);
+        t[r] = run_bfs(b);
+    }
+    qsort(t, RUNS, sizeof *t, by_time);
+    return t[RUNS / 2];
+}
+
 static file_result walk_file(const hpfc_file *f, size_t nd)
 {
     file_result r = {{0, 0}, {0, 0}, {0, 0}};
@@ -136,11 +161,9 @@ static file_result walk_file(const hpfc_file *f, size_t nd)
     b.n = collect(f, b.w, b.all, nd);
     /* a warm-up walk maps the cache's pages; emptying keeps them */
     run_bfs(&b);
-    hpfc_walker_set_cache_size(b.w, HPFC_WALKER_DEFAULT_CACHE);
-    r.cold = run_bfs(&b);
-    r.warm = run_bfs(&b);
-    hpfc_walker_set_cache_size(b.w, 0);
-    r.plain = run_bfs(&b);
+    r.cold = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, true);
+    r.warm = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, false);
+    r.plain = median_bfs(&b, 0, true);
     free(b.all), free(b.queue), free(b.seen.keys);
     hpfc_walker_free(b.w);
     return r;
