@@ -121,9 +121,9 @@ static size_t collect(const hpfc_file *f, hpfc_walker *w, hpfc_dart *all, size_t
     return n;
 }
 
-/* The median of RUNS walks (the machine's speed drifts): with the cache
- * emptied before each when `empty`, with the cache of the walks before
- * otherwise. */
+/* The median of RUNS walks (the machine's speed drifts): with a cache of
+ * `cache` bytes emptied before each when `empty`, else with the cache the
+ * walks before left. */
 enum { RUNS = 3 };
 
 static int by_time(const void *a, const void *b)
@@ -135,9 +135,8 @@ static int by_time(const void *a, const void *b)
 static timing median_bfs(bfs *b, size_t cache, bool empty)
 {
     timing t[RUNS];
-    hpfc_walker_set_cache_size(b->w, cache);
     for (int r = 0; r < RUNS; r++) {
-        if (empty && r)
+        if (empty)
             hpfc_walker_set_cache_size(b->w, cache);
         t[r] = run_bfs(b);
     }
