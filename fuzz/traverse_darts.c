@@ -14,7 +14,9 @@
  *
  * Oracle: statuses are known codes; every dart an operator returns is one
  * the operators accept (its origin exists), with a face when the faces were
- * built, and every private leaf has a face. (The identities of a consistent
+ * built, and every private leaf has a face. The walker's cache changes no
+ * answer: a second walker without cache gives the same status and the same
+ * dart (whole pixel path) for every dart operator. (The identities of a consistent
  * map, twin an involution and so on, are roundtrip_graph's oracle: a file
  * with matching checksums can still be a crafted inconsistent fixture.)
  */
@@ -27,6 +29,7 @@
 typedef struct trav {
     const hpfc_file *f;
     hpfc_walker *w;
+    hpfc_walker *plain; /* the same file without the cache */
     long steps;
     bool complete;    /* every leaf and dart was collected */
     hpfc_dart darts[MAX_DARTS];
@@ -127,6 +130,35 @@ static void build_faces(trav *t)
     }
 }
 
+static bool same_pixel(const hpfc_pixel *a, const hpfc_pixel *b)
+{
+    return a->depth == b->depth && a->depth < HPFC_MAX_LEVELS &&
+           memcmp(a->path, b->path, (a->depth + 1) * sizeof a->path[0]) == 0;
+}
+
+/* Operator op (0 twin, 1 next, 2 prev, 3 target) on d by the cached walker:
+ * the plain walker must give the very same answer. */
+static int dart_op(trav *t, int op, const hpfc_dart *d, hpfc_dart *out, hpfc_vertex *v)
+{
+    hpfc_dart plain_out;
+    hpfc_vertex plain_v;
+    int st, plain_st;
+    if (op == 3) {
+        st = hpfc_dart_target(t->w, d, v);
+        plain_st = hpfc_dart_target(t->plain, d, &plain_v);
+        FUZZ_CHECK(st == plain_st && (st || (same_pixel(&v->pixel, &plain_v.pixel) && v->local == plain_v.local)));
+        return st;
+    }
+    hpfc_walker *w[2] = {t->w, t->plain};
+    hpfc_dart *o[2] = {out, &plain_out};
+    int *s[2] = {&st, &plain_st};
+    for (int k = 0; k < 2; k++)
+        *s[k] = op == 0 ? hpfc_dart_twin(w[k], d, o[k]) : op == 1 ? hpfc_dart_next(w[k], d, o[k])
+                                                                 : hpfc_dart_prev(w[k], d, o[k]);
+    FUZZ_CHECK(st == plain_st && (st || (same_pixel(&out->pixel, &plain_out.pixel) && out->crossing == plain_out.crossing)));
+    return st;
+}
+
 /* All operators on one dart. */
 static void all_operators(trav *t, const hpfc_dart *d)
 {
@@ -134,12 +166,12 @@ static void all_operators(trav *t, const hpfc_dart *d)
     hpfc_vertex o, g;
     if (!spend(t))
         return;
-    int st_twin = status(hpfc_dart_twin(t->w, d, &tw));
-    int st_next = status(hpfc_dart_next(t->w, d, &nx));
-    int st_prev = status(hpfc_dart_prev(t->w, d, &pv));
+    int st_twin = status(dart_op(t, 0, d, &tw, NULL));
+    int st_next = status(dart_op(t, 1, d, &nx, NULL));
+    int st_prev = status(dart_op(t, 2, d, &pv, NULL));
     if (!status(hpfc_dart_origin(t->w, d, &o)))
         (void)hpfc_vertex_key(t->f, &o);
-    if (!status(hpfc_dart_target(t->w, d, &g)))
+    if (!status(dart_op(t, 3, d, NULL, &g)))
         (void)hpfc_vertex_key(t->f, &g);
     (void)hpfc_dart_key(t->f, d);
     t->steps -= 4;
@@ -177,9 +209,7 @@ static void run_commands(trav *t, fuzz_bytes *in)
         case 1:
         case 2:
         case 3:
-            st = op % 10 == 1   ? hpfc_dart_twin(t->w, &cur, &out)
-                 : op % 10 == 2 ? hpfc_dart_next(t->w, &cur, &out)
-                                : hpfc_dart_prev(t->w, &cur, &out);
+            st = dart_op(t, op % 10 - 1, &cur, &out, NULL);
             if (!status(st)) {
                 check_result(t, &out);
                 cur = out;
@@ -211,10 +241,8 @@ static void run_commands(trav *t, fuzz_bytes *in)
             hpfc_dart raw = {.pixel = t->leaves[fuzz_u16(in) % t->nleaves], .crossing = fuzz_u8(in)};
             if (op & 0x80)
                 raw.crossing = fuzz_u32(in);
-            FUZZ_CHECK(fuzz_known_status(hpfc_dart_twin(t->w, &raw, &out)));
-            FUZZ_CHECK(fuzz_known_status(hpfc_dart_next(t->w, &raw, &out)));
-            FUZZ_CHECK(fuzz_known_status(hpfc_dart_prev(t->w, &raw, &out)));
-            FUZZ_CHECK(fuzz_known_status(hpfc_dart_target(t->w, &raw, &v)));
+            for (int k = 0; k < 4; k++)
+                FUZZ_CHECK(fuzz_known_status(dart_op(t, k, &raw, &out, &v)));
             if (t->faces) {
                 uint64_t face;
                 FUZZ_CHECK(fuzz_known_status(hpfc_faces_of_dart(t->faces, &raw, &face)));
@@ -259,6 +287,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         goto done;
     *t = (trav){.f = f, .steps = FUZZ_STEPS, .faces_status = -1};
     int st = hpfc_walker_create(f, &t->w);
+    if (!st)
+        st = hpfc_walker_create(f, &t->plain);
+    if (!st)
+        st = hpfc_walker_set_cache_size(t->plain, 0);
     FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NOMEM);
     if (st)
         goto done;
@@ -271,6 +303,7 @@ done:
     if (t) {
         hpfc_faces_free(t->faces);
         hpfc_walker_free(t->w);
+        hpfc_walker_free(t->plain);
     }
     free(t);
     hpfc_close(f);

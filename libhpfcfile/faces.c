@@ -256,6 +256,8 @@ int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out)
         return HPFC_E_NOMEM;
     fc->file = file;
     int st = hpfc_walker_create(file, &w);
+    if (!st) /* the flood fill parses each leaf into the walker's scratch words */
+        st = hpfc_walker_set_cache_size(w, 0);
     if (!st)
         st = number_leaves(fc, w);
     if (!st && !(fc->parent = malloc((fc->nodes + 1) * sizeof *fc->parent)))

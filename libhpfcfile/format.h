@@ -319,16 +319,32 @@ static inline uint64_t format_get(const format_bits *b, uint64_t off, unsigned k
     return format_get(b, off, k - 32) << 32 | format_get(b, off + k - 32, 32);
 }
 
+/* Number of 1 bits in x. Without a popcount instruction in the target,
+ * __builtin_popcountll is a call into the compiler's runtime; the
+ * arithmetic version inlines to a dozen instructions, and every pixel
+ * access counts bits twice. */
+static inline uint64_t format_ones(uint64_t x)
+{
+#if defined(__POPCNT__)
+    return (uint64_t)__builtin_popcountll(x);
+#else
+    x -= (x >> 1) & 0x5555555555555555ull;
+    x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+    x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+    return (x * 0x0101010101010101ull) >> 56;
+#endif
+}
+
 /* Number of 1 bits among the n bits at off (MSB-first). */
 static inline uint64_t format_popcount(const format_bits *b, uint64_t off, uint64_t n)
 {
     uint64_t ones = 0;
     while (n > 56) {
-        ones += (uint64_t)__builtin_popcountll(format_peek(b, off, 56));
+        ones += format_ones(format_peek(b, off, 56));
         off += 56;
         n -= 56;
     }
-    return ones + (uint64_t)__builtin_popcountll(format_peek(b, off, (unsigned)n));
+    return ones + format_ones(format_peek(b, off, (unsigned)n));
 }
 
 /* Writes the low k bits of v (0 <= k <= 64) at bit offset off of a zeroed

@@ -386,15 +386,35 @@ HPFC_API int hpfc_pixel_word(const hpfc_file *file, const hpfc_pixel *px, char *
  * turn with the face on their right (rpfc-operators convention): next()
  * follows a face's boundary clockwise around a bounded face.
  *
- * Traversal needs scratch memory sized by the file's longest word; it lives
- * in an hpfc_walker, one per thread. Operators never allocate.
+ * Traversal needs scratch memory sized by the file's longest word and a
+ * cache; both live in an hpfc_walker, one per thread. Operators never
+ * allocate.
+ *
+ * The cache keeps the words the walker has parsed and the crossings it has
+ * identified across roads, so that an operator on a dart near darts already
+ * visited follows a few links instead of decoding the words of about four
+ * pixels: a full traversal decodes each word about once. Answers never
+ * depend on the cache (size, contents or being off), and its entries are
+ * checked as a fresh decode is, so the file may still be untrusted.
  * ------------------------------------------------------------------------ */
 typedef struct hpfc_walker hpfc_walker;
 
+/* The cache size a new walker gets (bytes). */
+#define HPFC_WALKER_DEFAULT_CACHE ((size_t)8 << 20)
+
+/* A new walker with a cache of HPFC_WALKER_DEFAULT_CACHE bytes (or none,
+ * when that much memory cannot be had). */
 HPFC_API int hpfc_walker_create(const hpfc_file *file, hpfc_walker **out);
 HPFC_API void hpfc_walker_free(hpfc_walker *walker);
-/* Word pixels whose word this walker has decoded so far (the paper's
- * "pixels visited", Sect. 5.1). */
+/* Empties the walker's cache and gives it at most `bytes` bytes from now on
+ * (never more than caching every word of the file can use); 0 turns it off.
+ * When the cache is full it is emptied and filled again, so any size works:
+ * a small one only makes the walker decode words again. HPFC_E_NOMEM leaves
+ * the walker without a cache. */
+HPFC_API int hpfc_walker_set_cache_size(hpfc_walker *walker, size_t bytes);
+/* Word pixels whose word this walker has decoded so far. Without the cache
+ * this is the paper's "pixels visited" (Sect. 5.1): every word an operator
+ * reads; with it, a word read again from the cache does not count. */
 HPFC_API uint64_t hpfc_walker_pixels_visited(const hpfc_walker *walker);
 
 typedef struct hpfc_vertex {

@@ -521,7 +521,7 @@ int hpfc_file_get_section(const hpfc_file *f, uint32_t index, hpfc_section_info 
 /* Where pixel p (scanline index) of a refined image starts, after checking
  * the image: its mask and every slot the mask implies lie inside the pool,
  * and no pixel of the last level is refined. */
-static int refined_image_pixel(const file_level *lv, uint64_t image, uint64_t p, int *type,
+static inline int refined_image_pixel(const file_level *lv, uint64_t image, uint64_t p, int *type,
                                uint64_t *slot)
 {
     uint64_t per = lv->image_pixels, bits = lv->pool.bits;
@@ -530,8 +530,8 @@ static int refined_image_pixel(const file_level *lv, uint64_t image, uint64_t p,
     uint64_t before, total;
     if (per <= 57) { /* the common small image: one load holds the mask */
         uint64_t mask = format_peek(&lv->pool, image, (unsigned)per);
-        total = (uint64_t)__builtin_popcountll(mask);
-        before = (uint64_t)__builtin_popcountll(mask & ~(UINT64_MAX >> p));
+        total = format_ones(mask);
+        before = format_ones(mask & ~(UINT64_MAX >> p));
         *type = (int)(mask >> (63 - p) & 1);
     } else {
         before = format_popcount(&lv->pool, image, p);
@@ -550,7 +550,7 @@ static int refined_image_pixel(const file_level *lv, uint64_t image, uint64_t p,
 
 /* The type of pixel (i, j) of the image at bit `image` of `level`, and the
  * bit offset of its slot (address or word). */
-static int image_pixel(const hpfc_file *f, uint32_t level, uint64_t image, uint32_t i, uint32_t j,
+static inline int image_pixel(const hpfc_file *f, uint32_t level, uint64_t image, uint32_t i, uint32_t j,
                        int *type, uint64_t *slot)
 {
     const file_level *lv = &f->lv[level];

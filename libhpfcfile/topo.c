@@ -63,6 +63,10 @@ int hpfc_walker_create(const hpfc_file *file, hpfc_walker **out)
         st = local_alloc(&w->there, w->cap);
     if (!st && !(w->scratch = malloc((size_t)w->cap + 4)))
         st = HPFC_E_NOMEM;
+    if (!st)
+        st = topo_cache_init(w, HPFC_WALKER_DEFAULT_CACHE);
+    if (st == HPFC_E_NOMEM && w->solo)
+        st = HPFC_OK; /* no room for the default cache: walk without it */
     if (st) {
         hpfc_walker_free(w);
         return st;
@@ -83,6 +87,7 @@ void hpfc_walker_free(hpfc_walker *w)
     local_free(&w->here);
     local_free(&w->there);
     free(w->scratch);
+    topo_cache_free(w);
     free(w);
 }
 
@@ -116,7 +121,7 @@ static uint32_t new_component(local_word *lw, bool junction)
 
 /* Parses the grammar of rpfc-operators §2 with a stack; any violation is
  * corruption of the file. */
-static int parse_symbols(local_word *lw, const char *sym, size_t len)
+int topo_parse_symbols(local_word *lw, const char *sym, size_t len)
 {
     uint32_t depth = 0, plus = 0;
     lw->n = lw->ncomp = lw->nvert = 0;
@@ -158,16 +163,36 @@ static int parse_symbols(local_word *lw, const char *sym, size_t len)
     return HPFC_OK;
 }
 
-int topo_parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
+/* What the grammar does not decide: the crossings of each road. */
+void topo_count_roads(local_word *lw, const char *sym, size_t len)
 {
-    size_t len;
+    uint32_t plus = 0;
+    lw->n = 0;
+    lw->road_off[0] = 0;
+    for (size_t s = 0; s < len && plus < 4; s++) {
+        if (sym[s] == '+')
+            lw->road_off[++plus] = lw->n;
+        else
+            lw->n++;
+    }
+    while (plus < 4) /* not reached: a decoded word has four '+' */
+        lw->road_off[++plus] = lw->n;
+}
+
+int topo_decode_word(hpfc_walker *w, local_word *lw, const hpfc_pixel *px, size_t *len)
+{
     w->visited++;
     if (lw == &w->here)
         w->here_valid = false; /* parse_here revalidates it */
-    int st = hpfc_pixel_word(w->file, px, lw->sym, (size_t)w->cap + 4, &len);
-    if (st)
-        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
-    return parse_symbols(lw, lw->sym, len);
+    int st = hpfc_pixel_word(w->file, px, lw->sym, (size_t)w->cap + 4, len);
+    return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+}
+
+int topo_parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
+{
+    size_t len;
+    int st = topo_decode_word(w, lw, px, &len);
+    return st ? st : topo_parse_symbols(lw, lw->sym, len);
 }
 
 /* Crossings on one road of a word pixel, from its symbols. */
@@ -319,7 +344,7 @@ int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, u
     return HPFC_E_CORRUPT;
 }
 
-/* ---- darts -------------------------------------------------------------- */
+/* ---- darts without the cache ---------------------------------------------- */
 
 /* Parses px into w->here unless it is already there: operators on one dart
  * or vertex in a row parse its pixel once. */
@@ -396,79 +421,111 @@ static int walk(hpfc_walker *w, const hpfc_dart *d, hpfc_pixel *end, uint32_t *m
     return st;
 }
 
-/* Loads dart d and follows it to the pixel of its target: on return
- * w->there holds that pixel, *end names it and in_m is where d arrives. */
-static int follow(hpfc_walker *w, const hpfc_dart *d, hpfc_pixel *end, uint32_t *m)
+/* Dart d, or with from_succ the dart out_succ(k) of its origin (prev(d) is
+ * that dart's twin), followed to its target without the cache: *end gets
+ * the target's pixel, written only on success. */
+static int plain_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
+                        arrival *a)
+{
+    int st = load_dart(w, d);
+    if (st)
+        return st;
+    hpfc_dart from;
+    hpfc_pixel there;
+    uint32_t m;
+    from.crossing = from_succ ? w->here.succ[d->crossing] : d->crossing;
+    if ((st = copy_pixel(&from.pixel, &d->pixel)) || (st = walk(w, &from, &there, &m)))
+        return st;
+    a->m = m;
+    a->pred = w->there.pred[m];
+    a->vertex = w->there.comp_vertex[w->there.comp[m]];
+    return copy_pixel(end, &there);
+}
+
+/* Through the cache when it can hold what the walk needs: a walk that
+ * empties it starts again once, in the emptied cache; then, or for a word
+ * the cache cannot hold, without it. The answers are the same. */
+static int arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end, arrival *a)
 {
     if (!w || !d)
         return HPFC_E_ARG;
-    int st = load_dart(w, d);
-    return st ? st : walk(w, d, end, m);
+    for (int tries = 0; tries < 2; tries++) {
+        int st = topo_cached_arrive(w, d, from_succ, end, a);
+        if (st >= 0)
+            return st;
+        if (st == TOPO_UNCACHED)
+            break;
+    }
+    return plain_arrive(w, d, from_succ, end, a);
 }
 
 int hpfc_dart_twin(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
 {
-    hpfc_pixel end;
-    uint32_t m;
-    int st = out ? follow(w, d, &end, &m) : HPFC_E_ARG;
-    if (st)
-        return st;
-    out->crossing = m;  /* twin(d) = out_m where d arrives */
-    return copy_pixel(&out->pixel, &end);
+    arrival a;
+    int st = out ? arrive(w, d, false, &out->pixel, &a) : HPFC_E_ARG;
+    if (!st)
+        out->crossing = a.m; /* twin(d) = out_m where d arrives */
+    return st;
 }
 
 int hpfc_dart_next(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
 {
-    hpfc_pixel end;
-    uint32_t m;
-    int st = out ? follow(w, d, &end, &m) : HPFC_E_ARG;
-    if (st)
-        return st;
-    out->crossing = w->there.pred[m];  /* next(in_m) = out_pred[m] */
-    return copy_pixel(&out->pixel, &end);
+    arrival a;
+    int st = out ? arrive(w, d, false, &out->pixel, &a) : HPFC_E_ARG;
+    if (!st)
+        out->crossing = a.pred; /* next(in_m) = out_pred[m] */
+    return st;
 }
 
 int hpfc_dart_prev(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
 {
-    if (!w || !d || !out)
-        return HPFC_E_ARG;
-    int st = load_dart(w, d);
-    if (st)
-        return st;
-    hpfc_dart before;  /* prev(out_k) = twin(out_succ[k]) */
-    before.crossing = w->here.succ[d->crossing];
-    if ((st = copy_pixel(&before.pixel, &d->pixel)))
-        return st;
-    return hpfc_dart_twin(w, &before, out);
+    arrival a; /* prev(out_k) = twin(out_succ[k]) */
+    int st = out ? arrive(w, d, true, &out->pixel, &a) : HPFC_E_ARG;
+    if (!st)
+        out->crossing = a.m;
+    return st;
+}
+
+int hpfc_dart_target(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out)
+{
+    arrival a;
+    int st = out ? arrive(w, d, false, &out->pixel, &a) : HPFC_E_ARG;
+    if (!st)
+        out->local = a.vertex;
+    return st;
+}
+
+/* ---- one word at a time: origins and vertices ------------------------------- */
+
+/* The parsed word of a caller's pixel (from the cache, or built alone). */
+static int parsed_word(hpfc_walker *w, const hpfc_pixel *px, cached_word **e)
+{
+    int st = topo_word_view(w, px, e);
+    return st ? st : (*e)->parse_status;
 }
 
 int hpfc_dart_origin(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out)
 {
     if (!w || !d || !out)
         return HPFC_E_ARG;
-    int st = load_dart(w, d);
+    cached_word *e;
+    int st = parsed_word(w, &d->pixel, &e);
     if (st)
         return st;
-    out->local = w->here.comp_vertex[w->here.comp[d->crossing]];
+    if (d->crossing >= e->n || word_crossings(e)[d->crossing].vertex == NONE)
+        return HPFC_E_ARG;
+    out->local = word_crossings(e)[d->crossing].vertex;
     return copy_pixel(&out->pixel, &d->pixel);
 }
-
-int hpfc_dart_target(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out)
-{
-    hpfc_dart t;
-    int st = hpfc_dart_twin(w, d, &t);
-    return st ? st : hpfc_dart_origin(w, &t, out);
-}
-
-/* ---- vertices ----------------------------------------------------------- */
 
 int hpfc_pixel_vertex_count(hpfc_walker *w, const hpfc_pixel *px, uint32_t *count)
 {
     if (!w || !px || !count)
         return HPFC_E_ARG;
-    int st = parse_here(w, px);
+    cached_word *e;
+    int st = parsed_word(w, px, &e);
     if (!st)
-        *count = w->here.nvert;
+        *count = e->nvert;
     return st;
 }
 
@@ -484,11 +541,14 @@ int hpfc_pixel_vertex(hpfc_walker *w, const hpfc_pixel *px, uint32_t index, hpfc
     return copy_pixel(&out->pixel, px);
 }
 
-static int load_vertex(hpfc_walker *w, const hpfc_vertex *v)
+/* The parsed word of a vertex's pixel, and the vertex in it. */
+static int load_vertex(hpfc_walker *w, const hpfc_vertex *v, cached_word **e, cached_vertex *out)
 {
-    int st = parse_here(w, &v->pixel);
-    if (!st && v->local >= w->here.nvert)
+    int st = parsed_word(w, &v->pixel, e);
+    if (!st && v->local >= (*e)->nvert)
         st = HPFC_E_ARG;
+    if (!st)
+        *out = word_vertices(*e)[v->local];
     return st;
 }
 
@@ -496,9 +556,11 @@ int hpfc_vertex_degree(hpfc_walker *w, const hpfc_vertex *v, uint32_t *degree)
 {
     if (!w || !v || !degree)
         return HPFC_E_ARG;
-    int st = load_vertex(w, v);
+    cached_word *e;
+    cached_vertex cv;
+    int st = load_vertex(w, v, &e, &cv);
     if (!st)
-        *degree = w->here.comp_size[w->here.vertex_comp[v->local]];
+        *degree = cv.degree;
     return st;
 }
 
@@ -506,15 +568,16 @@ int hpfc_vertex_dart(hpfc_walker *w, const hpfc_vertex *v, uint32_t index, hpfc_
 {
     if (!w || !v || !out)
         return HPFC_E_ARG;
-    int st = load_vertex(w, v);
+    cached_word *e;
+    cached_vertex cv;
+    int st = load_vertex(w, v, &e, &cv);
     if (st)
         return st;
-    uint32_t comp = w->here.vertex_comp[v->local];
-    if (index >= w->here.comp_size[comp])
+    if (index >= cv.degree)
         return HPFC_E_ARG;
-    uint32_t k = w->here.comp_first[comp];
+    uint32_t k = cv.first;
     for (uint32_t s = 0; s < index; s++)  /* word order is clockwise around the vertex */
-        k = w->here.succ[k];
+        k = word_crossings(e)[k].succ;
     out->crossing = k;
     return copy_pixel(&out->pixel, &v->pixel);
 }

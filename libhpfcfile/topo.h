@@ -1,4 +1,4 @@
-/* Traversal internals shared by topo.c and faces.c. */
+/* Traversal internals shared by topo.c, topo_cache.c and faces.c. */
 #ifndef HPFC_TOPO_H
 #define HPFC_TOPO_H
 
@@ -24,8 +24,89 @@ typedef struct local_word {
     char *sym;
 } local_word;
 
+/* ---- the walker's cache (topo_cache.c) ------------------------------------
+ *
+ * A word pixel's parsed word, stored once per walker and reused by every
+ * operator that needs it, with the crossings across its roads filled in as
+ * they are identified. Entries live in one arena of bounded size and are
+ * found by the pixel's full path (the path, not only its slot, decides
+ * where Algorithm 1 and point location lead, so an entry reached by another
+ * path on a corrupt file is another entry). When the arena or its index is
+ * full, everything is dropped at once: links between entries then never
+ * point at a dropped entry. */
+
+/* Statuses of the cached operators that never reach a caller: the cache was
+ * emptied under the operator, which must start again; or one word is too
+ * big for the cache, so the operator must run without it. */
+enum { TOPO_RETRY = -1, TOPO_UNCACHED = -2 };
+
+/* One level of a pixel's path, laid out as hpfc_pixel's path entries. */
+typedef struct path_step {
+    uint64_t image;
+    uint32_t i, j;
+} path_step;
+
+/* One crossing of a cached word. */
+typedef struct cached_crossing {
+    /* the crossing seen from across its road: entry `link` (a cache
+     * reference) and its crossing `link_m`; link == 0: not identified yet;
+     * link_m == NONE: identification failed with status `link` */
+    uint32_t link, link_m;
+    /* for a junction's crossing: where its out-dart's edge arrives (entry,
+     * crossing), once a walk has followed it; arrival == 0: not yet */
+    uint32_t arrival, arrival_m;
+    uint32_t pred, succ;     /* cyclic within its component */
+    uint32_t vertex;         /* local vertex of its component, NONE for a stabbing */
+} cached_crossing;
+
+typedef struct cached_vertex {
+    uint32_t first;          /* first crossing of its component (word order) */
+    uint32_t degree;         /* crossings of its component */
+} cached_vertex;
+
+/* Header of an entry; path_step[depth + 1], cached_crossing[n] and
+ * cached_vertex[nvert] follow. A word whose grammar is broken is kept for
+ * its road counts (the part that does not depend on the grammar): its
+ * parse_status says why any other use must fail. */
+typedef struct cached_word {
+    uint32_t depth;
+    uint32_t n, nvert;
+    int32_t parse_status;
+    uint32_t road_off[5];    /* as in local_word */
+    uint32_t unused;         /* keeps the path that follows 8-byte aligned */
+} cached_word;
+
+static inline path_step *word_path(cached_word *e)
+{
+    return (path_step *)(e + 1);
+}
+
+static inline cached_crossing *word_crossings(cached_word *e)
+{
+    return (cached_crossing *)(word_path(e) + e->depth + 1);
+}
+
+static inline cached_vertex *word_vertices(cached_word *e)
+{
+    return (cached_vertex *)(word_crossings(e) + e->n);
+}
+
+typedef struct cache_bucket {
+    uint32_t ref;            /* entry reference, 0 = empty */
+    uint32_t check;          /* high bits of the path's hash */
+} cache_bucket;
+
+typedef struct word_cache {
+    size_t limit;            /* bytes allowed (arena + index), 0 = no cache */
+    uint8_t *arena;          /* entries, 8-byte aligned */
+    size_t arena_bytes, used;
+    cache_bucket *index;     /* open addressing, at most half full */
+    size_t mask, entries, max_entries;
+} word_cache;
+
 struct hpfc_walker {
     const hpfc_file *file;
+    uint32_t levels;
     uint32_t cap;            /* most crossings of any word in the file */
     uint64_t budget;         /* most stabbings a walk may follow */
     local_word here, there;
@@ -33,12 +114,59 @@ struct hpfc_walker {
     uint64_t visited;        /* words decoded */
     bool here_valid;         /* `here` holds the pixel at bit here_slot */
     uint64_t here_slot;
+    word_cache cache;
+    cached_word *solo;       /* one word built outside the cache */
+    bool solo_valid;
 };
+
+/* Reference of a cache entry: its offset in the arena in 8-byte units, + 1. */
+static inline cached_word *cache_entry(const word_cache *c, uint32_t ref)
+{
+    return (cached_word *)(void *)(c->arena + (size_t)(ref - 1) * 8);
+}
+
+/* Allocates the cache (limit bytes, 0 = none) and the solo entry. */
+int topo_cache_init(hpfc_walker *w, size_t limit);
+void topo_cache_free(hpfc_walker *w);
+/* The entry of word pixel px (full path), decoded into the cache if it is
+ * not there: HPFC_OK, a decoding status (as topo_parse_pixel's; the entry
+ * of a word with a broken grammar is returned with its parse_status set),
+ * TOPO_RETRY or TOPO_UNCACHED. `own`: px comes from the caller, so a bad
+ * path is an argument error (as reader_pixel_slot_bit says), not
+ * corruption. */
+int topo_cache_load(hpfc_walker *w, const hpfc_pixel *px, bool own, uint32_t *ref);
+/* px's entry from the cache, or else built in the walker's solo entry (valid
+ * until the next call): for operators that look at one word. */
+int topo_word_view(hpfc_walker *w, const hpfc_pixel *px, cached_word **out);
+/* The pixel of an entry. */
+void topo_entry_pixel(cached_word *e, hpfc_pixel *px);
+
+/* Where an edge arrives: crossing m of its target's pixel (twin = out_m),
+ * pred(m) (next = out_pred(m)) and the target vertex. */
+typedef struct arrival {
+    uint32_t m, pred, vertex;
+} arrival;
+
+/* Dart d, or with from_succ the dart out_succ(k) of its origin (prev(d) is
+ * that dart's twin), followed to its target through the cache
+ * (topo_links.c): *end gets the target's pixel, written only on success.
+ * The same answers as without the cache, or TOPO_RETRY / TOPO_UNCACHED. */
+int topo_cached_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
+                       arrival *a);
+
+/* ---- parsing and crossing identification (topo.c) ------------------------- */
 
 typedef struct box {
     int64_t x0, y0, x1, y1;
 } box;
 
+/* Decodes px's word into lw->sym, *len symbols (HPFC_E_CORRUPT if the slot
+ * holds no word that fits the walker). */
+int topo_decode_word(hpfc_walker *w, local_word *lw, const hpfc_pixel *px, size_t *len);
+/* Parses decoded symbols into lw (HPFC_E_CORRUPT if the grammar fails). */
+int topo_parse_symbols(local_word *lw, const char *sym, size_t len);
+/* Road offsets and crossing count of decoded symbols, grammar or not. */
+void topo_count_roads(local_word *lw, const char *sym, size_t len);
 /* Decodes and parses px's word into lw (HPFC_E_CORRUPT if malformed). */
 int topo_parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px);
 /* Crossings on road `road` of a word pixel. */

@@ -13,7 +13,8 @@
  *     within a step budget: every leaf walked, every word decoded, the four
  *     moves from every leaf, twin / next / prev / origin / target and the
  *     keys on every dart, then hpfc_faces_build and the face of every dart.
- *     Every status is OK, NO_PIXEL or CORRUPT.
+ *     Every status is OK, NO_PIXEL or CORRUPT. The same walk without the
+ *     walker's cache and with a tiny one must give the very same answers.
  * Each copy lives in a buffer of exactly its size, so AddressSanitizer (the
  * CI build, tools/run-tests.sh) sees any read past its end. A truncation is
  * also tried with the header's file_size patched to the cut, so the
@@ -41,7 +42,7 @@ static const uint64_t ALLOWED = BIT(HPFC_OK) | BIT(HPFC_E_NO_PIXEL) | BIT(HPFC_E
 /* What the campaign saw, for the summary line and the checks. */
 static struct {
     long files, flips, flips_accepted, byte_sets, cuts, patched_cuts, skipped_opens, traversals;
-    long budget_exhausted, corrupt, steps;
+    long budget_exhausted, corrupt, steps, cache_mismatches;
     uint64_t open_codes, walk_codes;
 } seen;
 
@@ -50,6 +51,7 @@ typedef struct walk {
     hpfc_walker *w;
     long steps;
     uint64_t codes;
+    uint64_t digest;  /* of every answer the walker gave, in order */
     hpfc_dart darts[MAX_DARTS];
     size_t nd;
 } walk;
@@ -68,18 +70,38 @@ static int note(walk *k, int st)
     return st;
 }
 
+static void mix(walk *k, uint64_t v)
+{
+    k->digest ^= v + 0x9E3779B97F4A7C15ull + (k->digest << 6) + (k->digest >> 2);
+    k->digest *= 0xBF58476D1CE4E5B9ull;
+}
+
+/* A walker's answer: its status and, on success, the whole pixel path and
+ * the crossing or local vertex (read through a pointer: only after the
+ * call has written it). */
+static int answer(walk *k, int st, const hpfc_pixel *px, const uint32_t *local)
+{
+    mix(k, (uint64_t)note(k, st));
+    if (!st) {
+        for (uint32_t l = 0; l <= px->depth && l < HPFC_MAX_LEVELS; l++)
+            mix(k, px->path[l].image ^ (uint64_t)px->path[l].i << 32 ^ px->path[l].j);
+        mix(k, *local);
+    }
+    return st;
+}
+
 static void walk_dart(walk *k, const hpfc_dart *d)
 {
     hpfc_dart out;
     hpfc_vertex v;
     if (!spend(k))
         return;
-    note(k, hpfc_dart_twin(k->w, d, &out));
-    note(k, hpfc_dart_next(k->w, d, &out));
-    note(k, hpfc_dart_prev(k->w, d, &out));
-    if (!note(k, hpfc_dart_origin(k->w, d, &v)))
+    answer(k, hpfc_dart_twin(k->w, d, &out), &out.pixel, &out.crossing);
+    answer(k, hpfc_dart_next(k->w, d, &out), &out.pixel, &out.crossing);
+    answer(k, hpfc_dart_prev(k->w, d, &out), &out.pixel, &out.crossing);
+    if (!answer(k, hpfc_dart_origin(k->w, d, &v), &v.pixel, &v.local))
         (void)hpfc_vertex_key(k->f, &v);
-    if (!note(k, hpfc_dart_target(k->w, d, &v)))
+    if (!answer(k, hpfc_dart_target(k->w, d, &v), &v.pixel, &v.local))
         (void)hpfc_vertex_key(k->f, &v);
     (void)hpfc_dart_key(k->f, d);
     k->steps -= 4;
@@ -101,21 +123,50 @@ static void walk_leaf(walk *k, const hpfc_pixel *px)
         note(k, hpfc_pixel_move(k->f, px, dir, &q));
     }
     uint32_t count = 0;
-    if (note(k, hpfc_pixel_vertex_count(k->w, px, &count)))
+    if (answer(k, hpfc_pixel_vertex_count(k->w, px, &count), px, &count))
         return;
     for (uint32_t i = 0; i < count && spend(k); i++) {
         hpfc_vertex v;
         uint32_t degree = 0;
-        if (note(k, hpfc_pixel_vertex(k->w, px, i, &v)) || note(k, hpfc_vertex_degree(k->w, &v, &degree)))
+        if (answer(k, hpfc_pixel_vertex(k->w, px, i, &v), &v.pixel, &v.local) ||
+            answer(k, hpfc_vertex_degree(k->w, &v, &degree), px, &degree))
             continue;
         for (uint32_t e = 0; e < degree && spend(k); e++) {
             hpfc_dart d;
-            if (note(k, hpfc_vertex_dart(k->w, &v, e, &d)))
+            if (answer(k, hpfc_vertex_dart(k->w, &v, e, &d), &d.pixel, &d.crossing))
                 continue;
             if (k->nd < MAX_DARTS)
                 k->darts[k->nd++] = d;
             walk_dart(k, &d);
         }
+    }
+}
+
+static void walk_leaves(walk *k)
+{
+    hpfc_pixel px;
+    int st = note(k, hpfc_leaf_first(k->f, &px));
+    while (!st && spend(k)) {
+        walk_leaf(k, &px);
+        st = note(k, hpfc_leaf_next(k->f, &px));
+    }
+}
+
+/* The walker's cache never changes an answer, even on a corrupt file: the
+ * same walk without the cache, and with one so small that it is emptied or
+ * bypassed all the time, gives the same digest. */
+static void compare_caches(const hpfc_file *f, uint64_t digest)
+{
+    static const size_t sizes[] = {0, 700};
+    for (size_t s = 0; s < sizeof sizes / sizeof *sizes; s++) {
+        walk k = {.f = f, .steps = STEP_BUDGET};
+        if (hpfc_walker_create(f, &k.w) || hpfc_walker_set_cache_size(k.w, sizes[s])) {
+            hpfc_walker_free(k.w);
+            continue;
+        }
+        walk_leaves(&k);
+        seen.cache_mismatches += k.digest != digest;
+        hpfc_walker_free(k.w);
     }
 }
 
@@ -125,12 +176,8 @@ static uint64_t traverse(const hpfc_file *f)
     walk k = {.f = f, .steps = STEP_BUDGET};
     if (note(&k, hpfc_walker_create(f, &k.w)))
         goto done;
-    hpfc_pixel px;
-    int st = note(&k, hpfc_leaf_first(f, &px));
-    while (!st && spend(&k)) {
-        walk_leaf(&k, &px);
-        st = note(&k, hpfc_leaf_next(f, &px));
-    }
+    walk_leaves(&k);
+    compare_caches(f, k.digest);
     /* a few point locations across the domain */
     hpfc_file_info info;
     hpfc_file_get_info(f, &info);
@@ -470,6 +517,7 @@ int main(void)
      * their checksum and then fail while traversing */
     CHECK(seen.skipped_opens > 1000);
     CHECK(seen.corrupt > 100);
+    CHECK_EQ_INT(seen.cache_mismatches, 0);
     printf("corruption: %ld files, %ld bit flips (%ld accepted: padding), %ld bytes set to "
            "0x00/0xFF, %ld truncations (%ld with file_size patched); %ld opened without "
            "checksum and traversed, %ld of them found corrupt, %ld ran out of the %d-step "

@@ -344,6 +344,242 @@ static void test_generated(void)
     }
 }
 
+/* ---- the walker's cache -------------------------------------------------- */
+
+/* Cache sizes that must all give the same answers: off, so small that
+ * almost every operator empties it (or runs without it), small, default. */
+static const size_t cache_sizes[] = {0, 700, 2048, 16384, HPFC_WALKER_DEFAULT_CACHE};
+#define CACHE_SIZES (sizeof cache_sizes / sizeof *cache_sizes)
+
+static uint64_t mix(uint64_t h, uint64_t v)
+{
+    h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    return h * 0xBF58476D1CE4E5B9ull;
+}
+
+/* Everything an operator returns: status, and the full pixel path (not only
+ * the key) and crossing or local vertex. */
+static uint64_t pixel_digest(uint64_t h, const hpfc_pixel *px)
+{
+    h = mix(h, px->depth);
+    for (uint32_t l = 0; l <= px->depth && l < HPFC_MAX_LEVELS; l++)
+        h = mix(mix(mix(h, px->path[l].image), px->path[l].i), px->path[l].j);
+    return h;
+}
+
+static uint64_t dart_result(uint64_t h, int st, const hpfc_dart *d)
+{
+    h = mix(h, (uint64_t)st);
+    return st ? h : mix(pixel_digest(h, &d->pixel), d->crossing);
+}
+
+static uint64_t vertex_result(uint64_t h, int st, const hpfc_vertex *v)
+{
+    h = mix(h, (uint64_t)st);
+    return st ? h : mix(pixel_digest(h, &v->pixel), v->local);
+}
+
+/* Every dart of the file, from leaf order (darts[] holds up to max). */
+static size_t collect_darts(const hpfc_file *f, hpfc_walker *w, hpfc_dart *darts, size_t max)
+{
+    hpfc_pixel px;
+    size_t n = 0;
+    for (int st = hpfc_leaf_first(f, &px); !st; st = hpfc_leaf_next(f, &px)) {
+        uint32_t nv = 0;
+        hpfc_pixel_vertex_count(w, &px, &nv);
+        for (uint32_t v = 0; v < nv; v++) {
+            hpfc_vertex vx;
+            uint32_t deg = 0;
+            hpfc_pixel_vertex(w, &px, v, &vx);
+            hpfc_vertex_degree(w, &vx, &deg);
+            for (uint32_t k = 0; k < deg && n < max; k++)
+                CHECK_EQ_INT(hpfc_vertex_dart(w, &vx, k, &darts[n++]), HPFC_OK);
+        }
+    }
+    return n;
+}
+
+/* Digests of every operator on every dart, in order, with a cache of
+ * `bytes`; *decodes gets the words decoded. */
+static void operator_digests(const hpfc_file *f, size_t bytes, const hpfc_dart *darts, size_t n,
+                             uint64_t *digest, uint64_t *decodes)
+{
+    hpfc_walker *w;
+    CHECK_EQ_INT(hpfc_walker_create(f, &w), HPFC_OK);
+    CHECK_EQ_INT(hpfc_walker_set_cache_size(w, bytes), HPFC_OK);
+    uint64_t before = hpfc_walker_pixels_visited(w);
+    for (size_t k = 0; k < n; k++) {
+        hpfc_dart d;
+        hpfc_vertex v;
+        uint64_t h = 0;
+        h = dart_result(h, hpfc_dart_twin(w, &darts[k], &d), &d);
+        h = dart_result(h, hpfc_dart_next(w, &darts[k], &d), &d);
+        h = dart_result(h, hpfc_dart_prev(w, &darts[k], &d), &d);
+        h = vertex_result(h, hpfc_dart_origin(w, &darts[k], &v), &v);
+        h = vertex_result(h, hpfc_dart_target(w, &darts[k], &v), &v);
+        digest[k] = h;
+    }
+    *decodes = hpfc_walker_pixels_visited(w) - before;
+    hpfc_walker_free(w);
+}
+
+/* Every cache size gives every operator's answer unchanged; the default
+ * cache decodes each word about once in the whole pass. */
+static void check_cache_sizes(const hpfc_file *f, size_t nd)
+{
+    hpfc_walker *w;
+    CHECK_EQ_INT(hpfc_walker_create(f, &w), HPFC_OK);
+    hpfc_dart *darts = malloc((nd + 1) * sizeof *darts);
+    size_t n = collect_darts(f, w, darts, nd);
+    hpfc_walker_free(w);
+    CHECK_EQ_INT(n, nd);
+    uint64_t *digest[CACHE_SIZES], decodes[CACHE_SIZES];
+    for (size_t s = 0; s < CACHE_SIZES; s++) {
+        digest[s] = malloc((n + 1) * sizeof(uint64_t));
+        operator_digests(f, cache_sizes[s], darts, n, digest[s], &decodes[s]);
+    }
+    size_t differ = 0;
+    for (size_t s = 1; s < CACHE_SIZES; s++)
+        for (size_t k = 0; k < n; k++)
+            differ += digest[s][k] != digest[0][k];
+    CHECK_EQ_INT(differ, 0);
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    uint64_t leaves = 0;
+    hpfc_level_info lv;
+    for (uint32_t l = 0; hpfc_file_get_level(f, l, &lv) == HPFC_OK; l++)
+        leaves += lv.word_pixels;
+    CHECK(decodes[CACHE_SIZES - 1] <= leaves);       /* each word at most once */
+    CHECK(decodes[CACHE_SIZES - 1] <= decodes[0]);   /* and never more than without */
+    for (size_t s = 0; s < CACHE_SIZES; s++)
+        free(digest[s]);
+    free(darts);
+}
+
+/* Two breadth-first traversals (one by next and twin, one by prev and twin)
+ * advanced in turn on one walker give, step by step, what a walker without
+ * cache gives. */
+static void check_interleaved(const hpfc_file *f, size_t nd, size_t bytes)
+{
+    hpfc_walker *w, *plain;
+    CHECK_EQ_INT(hpfc_walker_create(f, &w), HPFC_OK);
+    CHECK_EQ_INT(hpfc_walker_create(f, &plain), HPFC_OK);
+    CHECK_EQ_INT(hpfc_walker_set_cache_size(w, bytes), HPFC_OK);
+    CHECK_EQ_INT(hpfc_walker_set_cache_size(plain, 0), HPFC_OK);
+    hpfc_dart *darts = malloc((nd + 1) * sizeof *darts);
+    size_t n = collect_darts(f, plain, darts, nd);
+    hpfc_dart *queue[2] = {malloc((2 * n + 2) * sizeof(hpfc_dart)), malloc((2 * n + 2) * sizeof(hpfc_dart))};
+    size_t head[2] = {0, 0}, tail[2] = {0, 0}, differ = 0, steps = 0;
+    if (n) {
+        queue[0][tail[0]++] = darts[0];
+        queue[1][tail[1]++] = darts[n - 1];
+    }
+    /* each queue visits darts again (no visited set) until 2n entries */
+    while (head[0] < tail[0] || head[1] < tail[1]) {
+        for (int t = 0; t < 2; t++) {
+            if (head[t] == tail[t])
+                continue;
+            const hpfc_dart *d = &queue[t][head[t]++];
+            hpfc_dart a, b;
+            int sa = t ? hpfc_dart_prev(w, d, &a) : hpfc_dart_next(w, d, &a);
+            int sb = t ? hpfc_dart_prev(plain, d, &b) : hpfc_dart_next(plain, d, &b);
+            differ += dart_result(0, sa, &a) != dart_result(0, sb, &b);
+            if (!sa && tail[t] < 2 * n)
+                queue[t][tail[t]++] = a;
+            sa = hpfc_dart_twin(w, d, &a);
+            sb = hpfc_dart_twin(plain, d, &b);
+            differ += dart_result(0, sa, &a) != dart_result(0, sb, &b);
+            if (!sa && tail[t] < 2 * n && head[t] % 3 == 0)
+                queue[t][tail[t]++] = a;
+            steps++;
+        }
+    }
+    CHECK(steps > 0);
+    CHECK_EQ_INT(differ, 0);
+    free(queue[0]), free(queue[1]), free(darts);
+    hpfc_walker_free(w);
+    hpfc_walker_free(plain);
+}
+
+/* A caller's dart whose path says another image at some level above its
+ * pixel (the pixel itself and its bounds unchanged): the operators follow
+ * that path, so the answers differ from the true dart's; they must not
+ * differ between walkers with and without the cache, whatever order real
+ * and altered darts come in. */
+static void check_altered_paths(const hpfc_file *f, size_t nd)
+{
+    hpfc_walker *w, *plain;
+    CHECK_EQ_INT(hpfc_walker_create(f, &w), HPFC_OK);
+    CHECK_EQ_INT(hpfc_walker_create(f, &plain), HPFC_OK);
+    CHECK_EQ_INT(hpfc_walker_set_cache_size(plain, 0), HPFC_OK);
+    hpfc_dart *darts = malloc((nd + 1) * sizeof *darts);
+    size_t n = collect_darts(f, plain, darts, nd), altered = 0, differ = 0;
+    for (size_t k = 0; k < n; k++) {
+        hpfc_dart d = darts[k];
+        const hpfc_dart *other = &darts[(k * 7 + 3) % n];
+        if (k % 2) { /* another image at a level above */
+            for (uint32_t l = 1; l < d.pixel.depth && l <= other->pixel.depth; l++)
+                if (other->pixel.path[l].image != d.pixel.path[l].image) {
+                    d.pixel.path[l].image = other->pixel.path[l].image;
+                    altered++;
+                    break;
+                }
+        } else if (d.pixel.depth > 0) { /* another column or row: moved bounds */
+            uint32_t l = (uint32_t)(k / 2 % d.pixel.depth);
+            if (k % 4)
+                d.pixel.path[l].i ^= 1;
+            else
+                d.pixel.path[l].j ^= 1;
+            altered++;
+        }
+        const hpfc_dart *both[2] = {&darts[k], &d};
+        for (int b = 0; b < 2; b++) {
+            uint64_t h[2] = {0, 0};
+            hpfc_walker *ws[2] = {w, plain};
+            for (int s = 0; s < 2; s++) {
+                hpfc_dart o;
+                hpfc_vertex v;
+                h[s] = dart_result(h[s], hpfc_dart_twin(ws[s], both[b], &o), &o);
+                h[s] = dart_result(h[s], hpfc_dart_next(ws[s], both[b], &o), &o);
+                h[s] = dart_result(h[s], hpfc_dart_prev(ws[s], both[b], &o), &o);
+                h[s] = vertex_result(h[s], hpfc_dart_origin(ws[s], both[b], &v), &v);
+                h[s] = vertex_result(h[s], hpfc_dart_target(ws[s], both[b], &v), &v);
+            }
+            differ += h[0] != h[1];
+        }
+    }
+    CHECK_EQ_INT(differ, 0);
+    CHECK(altered > n / 4);
+    free(darts);
+    hpfc_walker_free(w);
+    hpfc_walker_free(plain);
+}
+
+static void test_cache(void)
+{
+    CHECK_EQ_INT(hpfc_walker_set_cache_size(NULL, 1024), HPFC_E_ARG);
+    for (uint64_t seed = 1; seed <= 2; seed++) {
+        hpfc_graph *g = NULL;
+        CHECK_EQ_INT(seed == 1 ? gen_delaunay(seed, 300, 1 << 16, 0.2, &g)
+                               : gen_polyline(seed, 300, 1 << 16, 0.5, &g), HPFC_OK);
+        static const uint32_t shapes[][2] = {{1, 2}, {4, 2}, {5, 3}};
+        for (size_t s = 0; g && s < sizeof shapes / sizeof *shapes; s++) {
+            uint8_t *buf;
+            hpfc_file *f = pack(g, shapes[s][0], shapes[s][1], 0, &buf);
+            size_t nd = 2 * hpfc_graph_edge_count(g);
+            if (f) {
+                check_cache_sizes(f, nd);
+                check_interleaved(f, nd, 2048);
+                check_interleaved(f, nd, HPFC_WALKER_DEFAULT_CACHE);
+                check_altered_paths(f, nd);
+            }
+            hpfc_close(f);
+            free(buf);
+        }
+        hpfc_graph_free(g);
+    }
+}
+
 /* The oracle itself must reject a map that differs from the graph. */
 static void test_oracle_detects_difference(void)
 {
@@ -373,5 +609,6 @@ int main(void)
 {
     test_oracle_detects_difference();
     test_generated();
+    test_cache();
     return check_report("topo");
 }
