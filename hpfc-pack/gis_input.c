@@ -2,8 +2,9 @@
  * gis_input.c: see gis_input.h. The pipeline:
  *
  *   1. read every selected layer's lines and polygon rings into flat
- *      arrays, checking coordinates (finite; in range and not wrapping the
- *      antimeridian when geographic) and polygon validity (GEOS);
+ *      arrays, checking coordinates (finite; in range when geographic),
+ *      cutting geographic features that cross the antimeridian
+ *      (dateline.h), and checking polygon validity (GEOS);
  *   2. choose the projection from the geographic extent, project;
  *   3. choose the lattice unit from the projected extent, snap by rounding;
  *   4. node the snapped linework with GEOS's snap-rounding unary union on a
@@ -33,6 +34,7 @@
 #include <ogr_srs_api.h>
 #include <geos_c.h>
 
+#include "dateline.h"
 #include "lattice.h"
 #include "projection.h"
 
@@ -107,6 +109,7 @@ typedef struct reader {
     int64_t fid;
 
     int geographic;   /* coordinates are (lon, lat) degrees */
+    int saw_wrap;     /* the current feature has a segment crossing the antimeridian */
     int swap_xy;      /* the data store (lat, lon) */
     double a, f;      /* ellipsoid of a geographic SRS */
 
@@ -192,11 +195,14 @@ static int add_part(reader *r, OGRGeometryH g, int closed)
                 return fail(r, "%s: point (%.9g, %.9g) is outside the longitude/latitude range "
                                "of its geographic SRS",
                             where(r, wb, sizeof wb), px, py);
-            if (i > 0 && fabs(px - x[2 * i - 2]) > 180.0)
-                return fail(r, "%s: a line or ring wraps the antimeridian (a segment from "
-                               "longitude %.9g to %.9g); cut it at +-180 degrees first "
-                               "(ogr2ogr -wrapdateline)",
-                            where(r, wb, sizeof wb), x[2 * i - 2], px);
+            if (i > 0 && dateline_segment_wraps(x[2 * i - 2], x[2 * i - 1], px, py)) {
+                if (r->opt->dateline == GIS_DATELINE_REJECT)
+                    return fail(r, "%s: a line or ring crosses the antimeridian (a segment "
+                                   "from longitude %.9g to %.9g); --wrap-dateline yes cuts "
+                                   "it at +-180 degrees",
+                                where(r, wb, sizeof wb), x[2 * i - 2], px);
+                r->saw_wrap = 1; /* read_feature cuts the feature and reads it again */
+            }
         }
         if (px < r->xmin) r->xmin = px;
         if (px > r->xmax) r->xmax = px;
@@ -296,6 +302,34 @@ static int has_polygon(OGRGeometryH g)
     return 0;
 }
 
+/* Adds the lines and rings of g; a geographic feature that crosses the
+ * antimeridian is taken back and its cut added instead, which then replaces
+ * *owned (the geometry the caller frees). */
+static int read_geometry(reader *r, OGRGeometryH g, uint64_t *lines, OGRGeometryH *owned)
+{
+    size_t parts = r->n_parts, points = r->n_points;
+    r->saw_wrap = 0;
+    int st = add_geometry(r, g, lines);
+    if (st || !r->saw_wrap)
+        return st;
+    r->n_parts = parts;
+    r->n_points = points;
+    char wb[200], why[512];
+    OGRGeometryH cut = NULL;
+    if (dateline_cut(g, r->swap_xy, &cut, why, sizeof why) != 0)
+        return fail(r, "%s: %s", where(r, wb, sizeof wb), why);
+    if (*owned)
+        OGR_G_DestroyGeometry(*owned);
+    *owned = cut;
+    r->info->dateline_cut++;
+    r->saw_wrap = 0;
+    st = add_geometry(r, cut, lines);
+    if (!st && r->saw_wrap)
+        st = fail(r, "%s: internal error: still crosses the antimeridian after the cut",
+                  where(r, wb, sizeof wb));
+    return st;
+}
+
 static int read_feature(reader *r, OGRFeatureH f, uint64_t *lines)
 {
     OGRGeometryH g = OGR_F_GetGeometryRef(f);
@@ -314,7 +348,9 @@ static int read_feature(reader *r, OGRFeatureH f, uint64_t *lines)
         g = lin;
     }
     size_t parts_before = r->n_parts;
-    int st = add_geometry(r, g, lines);
+    int st = read_geometry(r, g, lines, &lin);
+    if (lin)
+        g = lin; /* the linearised geometry, or the cut */
     /* after add_part's checks, so that GEOS never sees NaN */
     if (!st && r->n_parts > parts_before && has_polygon(g))
         st = check_polygon(r, g);
@@ -462,6 +498,29 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
 
 /* ---- steps 2-3: projection and lattice ------------------------------------------------ */
 
+/* Data without an SRS taken as longitude/latitude: every point must be one,
+ * and since the features were read without cutting, none may cross the
+ * antimeridian. */
+static int check_assumed_lonlat(reader *r, const char *pname)
+{
+    for (size_t k = 0; k < r->n_parts; k++)
+        for (size_t i = r->start[k]; i < r->start[k + 1]; i++) {
+            double px = r->xy[2 * i], py = r->xy[2 * i + 1];
+            if (px < -180.0 || px > 180.0 || py < -90.0 || py > 90.0)
+                return fail(r, "--projection %s: the input has no SRS and point (%g, %g) is "
+                               "not a longitude/latitude",
+                            pname, px, py);
+            if (i > r->start[k] &&
+                dateline_segment_wraps(r->xy[2 * i - 2], r->xy[2 * i - 1], px, py))
+                return fail(r, "--projection %s: the input has no SRS and a segment from "
+                               "longitude %.9g to %.9g crosses the antimeridian; give the "
+                               "input a geographic SRS (ogr2ogr -a_srs EPSG:4326) so that "
+                               "it is cut",
+                            pname, r->xy[2 * i - 2], px);
+        }
+    return 0;
+}
+
 static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs_p4,
                             int64_t *lat)
 {
@@ -479,13 +538,8 @@ static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs
         r->geographic = 1;
         ellps_note = " (assumed: the input has no SRS)";
         snprintf(label, sizeof label, "EPSG:4326 (WGS 84)");
-        for (size_t i = 0; i < r->n_points; i++) {
-            double px = r->xy[2 * i], py = r->xy[2 * i + 1];
-            if (px < -180.0 || px > 180.0 || py < -90.0 || py > 90.0)
-                return fail(r, "--projection %s: the input has no SRS and point (%g, %g) is "
-                               "not a longitude/latitude",
-                            pname, px, py);
-        }
+        if (check_assumed_lonlat(r, pname))
+            return 1;
     }
     if (!r->geographic && kind != MAPPROJ_AUTO && kind != MAPPROJ_NONE)
         return fail(r, "--projection %s: the input is already projected (%s); use auto or none",

@@ -23,6 +23,9 @@ enum { GIS_VERTICES_ALL = 0, GIS_VERTICES_JUNCTIONS = 1 };
  * any other linework (the planar graph is then still exact; only the
  * polygon's own area is ill-defined). */
 enum { GIS_INVALID_REJECT = 0, GIS_INVALID_NODE = 1 };
+/* Geographic lines and rings with a segment spanning more than 180 degrees
+ * of longitude: cut them at the antimeridian (dateline.h), or refuse them. */
+enum { GIS_DATELINE_CUT = 0, GIS_DATELINE_REJECT = 1 };
 
 typedef struct gis_options {
     const char *const *layers; /* layer names to read; all layers when n_layers == 0 */
@@ -31,6 +34,7 @@ typedef struct gis_options {
     int vertex_model;          /* GIS_VERTICES_ALL or GIS_VERTICES_JUNCTIONS */
     int progress;              /* draw a progress bar on stderr */
     int invalid_mode;          /* GIS_INVALID_REJECT or GIS_INVALID_NODE */
+    int dateline;              /* GIS_DATELINE_CUT or GIS_DATELINE_REJECT */
 } gis_options;
 
 typedef struct gis_info {
@@ -42,6 +46,7 @@ typedef struct gis_info {
     uint64_t skipped_empty;    /* features without geometry, or with an empty one */
     uint64_t skipped_points;   /* point geometries (not part of a planar map) */
     uint64_t invalid_noded;    /* invalid polygons noded (GIS_INVALID_NODE) */
+    uint64_t dateline_cut;     /* features cut at the antimeridian */
 } gis_info;
 
 /* Is GIS input built in? */

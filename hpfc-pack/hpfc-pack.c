@@ -37,6 +37,7 @@ typedef struct pack_args {
     const char *projection;
     int vertex_model;
     int invalid_mode;
+    int dateline;
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -108,6 +109,10 @@ static void print_help(void)
            "                        only points where other than two edges meet\n"
            "  --invalid reject|node GIS input: refuse invalid polygons (default), or node\n"
            "                        their rings as linework\n"
+           "  --wrap-dateline yes|no\n"
+           "                        GIS input: cut longitude/latitude lines and polygons\n"
+           "                        that cross the antimeridian (a segment spanning more\n"
+           "                        than 180 degrees) at +-180 (default), or refuse them\n"
            "  --json                print the build report as one JSON object\n"
            "  --quiet               print no report\n"
            "  -h, --help            show this help\n"
@@ -208,6 +213,10 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->invalid_mode = strcmp(v, "node") == 0 ? GIS_INVALID_NODE : GIS_INVALID_REJECT;
         return strcmp(v, "node") == 0 || strcmp(v, "reject") == 0 ? NULL : "reject or node";
     }
+    if (strcmp(name, "--wrap-dateline") == 0) {
+        a->dateline = strcmp(v, "no") == 0 ? GIS_DATELINE_REJECT : GIS_DATELINE_CUT;
+        return strcmp(v, "yes") == 0 || strcmp(v, "no") == 0 ? NULL : "yes or no";
+    }
     if (strcmp(name, "--vertices") == 0) {
         a->vertex_model = strcmp(v, "junctions") == 0 ? GIS_VERTICES_JUNCTIONS : GIS_VERTICES_ALL;
         return strcmp(v, "all") == 0 || strcmp(v, "junctions") == 0 ? NULL : "all or junctions";
@@ -220,8 +229,9 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
  * (*status is set to EXIT_USAGE when its value is missing or invalid). */
 static int value_option(pack_args *a, char **argv, int argc, int *i, int *status)
 {
-    static const char *const names[] = {"--root",  "--refine",     "--max-pixels", "--layer",
-                                        "--projection", "--vertices", "--invalid",    "--output",
+    static const char *const names[] = {"--root",     "--refine",   "--max-pixels",
+                                        "--layer",    "--projection", "--vertices",
+                                        "--invalid",  "--wrap-dateline", "--output",
                                         "-o"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
@@ -393,8 +403,8 @@ static int read_draco(const pack_args *a, const char *bytes, size_t len, hpfc_gr
 /* Reads a GDAL dataset; 0 or an exit status (the message is printed). */
 static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
 {
-    gis_options opt = {a->layers,      a->n_layers, a->projection, a->vertex_model,
-                       isatty(2),      a->invalid_mode};
+    gis_options opt = {a->layers,   a->n_layers,     a->projection, a->vertex_model,
+                       isatty(2),   a->invalid_mode, a->dateline};
     char err[1024];
     r->gis = 1;
     int st = gis_read_graph(a->input, &opt, g, &r->gis_info, err, sizeof err);
@@ -537,6 +547,7 @@ static void print_json(const pack_args *a, const pack_report *r)
         jsonw_u64(&w, "skipped_empty", gi->skipped_empty);
         jsonw_u64(&w, "skipped_points", gi->skipped_points);
         jsonw_u64(&w, "invalid_polygons_noded", gi->invalid_noded);
+        jsonw_u64(&w, "antimeridian_cut", gi->dateline_cut);
     }
     jsonw_u64(&w, "vertices", t->vertices);
     jsonw_u64(&w, "edges", t->edges);

@@ -1,6 +1,8 @@
-"""Independent counts for a GeoJSON line/polygon fixture (tests/cli/gis_*.sh).
+"""Independent counts for GeoJSON line/polygon fixtures (tests/cli/gis_*.sh).
 
-    gis_oracle.py FILE.geojson     prints {"all": {...}, "junctions": {...}}
+    gis_oracle.py FILE.geojson...  prints {"all": {...}, "junctions": {...}}
+
+Several files are one planar graph, as hpfc-pack merges several layers.
 
 The oracle shares no code with hpfc-pack and uses neither GDAL nor GEOS: it
 reads the GeoJSON with Python's json module, takes every line and ring as
@@ -18,25 +20,112 @@ vertex on it, and identical pieces count once. Then
 hpfc-pack projects and snaps to a lattice before noding; for data whose
 features are much farther apart than the lattice unit, as in the fixtures,
 neither changes the arrangement's topology, so the counts must agree.
+
+Longitude/latitude files (no "crs" member, or CRS84 / EPSG:4326) are cut at
+the antimeridian first, as hpfc-pack --wrap-dateline yes does (dateline.h),
+but on linework only: a segment whose longitudes are more than 180 apart
+(neither end a pole) becomes two, to (+-180, lat) on each side, lat exact;
+each polygon adds, on both meridians, the latitude intervals inside it (its
+crossings sorted, parity starting inside at -90 when it holds the south
+pole), and the pole line it holds. A ring crossing an odd number of times
+holds the pole of the hemisphere all its points are in.
 """
 import json
 import sys
 from fractions import Fraction as Q
 
 
-def parts(geom):
+def geographic(data):
+    crs = ((data.get("crs") or {}).get("properties") or {}).get("name", "")
+    return crs == "" or crs.endswith(("CRS84", "EPSG::4326", "EPSG:4326"))
+
+
+def wraps(p, q):
+    return abs(p[0] - q[0]) > 180 and abs(p[1]) != 90 and abs(q[1]) != 90
+
+
+def side(p):
+    return Q(180) if p[0] > 0 else Q(-180)
+
+
+def crossing(p, q):
+    e, w = (p, q) if p[0] > 0 else (q, p)
+    de, dw = 180 - e[0], w[0] + 180
+    return e[1] if de == 0 else w[1] if dw == 0 else e[1] + (w[1] - e[1]) * de / (de + dw)
+
+
+def cut_path(pts, lats):
+    """The segments of a path, each wrapping one split at the meridian;
+    appends the crossing latitudes to lats."""
+    out = []
+    for p, q in zip(pts, pts[1:]):
+        if wraps(p, q):
+            c = crossing(p, q)
+            lats.append(c)
+            out += [(p, (side(p), c)), ((side(q), c), q)]
+        else:
+            out.append((p, q))
+    return out
+
+
+def cut_polygon(rings):
+    """The linework of a polygon (its rings, closed) cut at the meridian."""
+    out, lats, south, winding = [], [], False, 0
+    for ring in rings:
+        n = len(lats)
+        out += cut_path(ring, lats)
+        if (len(lats) - n) % 2:
+            winding += 1
+            ys = [p[1] for p in ring]
+            if winding > 1 or (max(ys) > 0 and min(ys) < 0):
+                sys.exit("gis_oracle: a ring winding around a pole is ambiguous")
+            south = max(ys) <= 0
+    if not lats:
+        return out
+    inside, prev = south, Q(-90)
+    for lat in sorted(lats) + [Q(90)]:
+        if inside and lat > prev:
+            out += [((Q(x), prev), (Q(x), lat)) for x in (180, -180)]
+        inside, prev = not inside, lat
+    if south:
+        out.append(((Q(180), Q(-90)), (Q(-180), Q(-90))))
+    if not inside:  # toggled once past +90: inside there
+        out.append(((Q(180), Q(90)), (Q(-180), Q(90))))
+    return out
+
+
+def polygons(geom):
+    """Each polygon (list of rings) and each line (a one-ring list, open)."""
     t = geom["type"] if geom else None
     c = geom.get("coordinates") if geom else None
-    if t == "LineString":
-        yield c
-    elif t == "MultiLineString" or t == "Polygon":
-        yield from c
+    if t == "Polygon":
+        yield c, True
     elif t == "MultiPolygon":
         for poly in c:
-            yield from poly
+            yield poly, True
+    elif t == "LineString":
+        yield [c], False
+    elif t == "MultiLineString":
+        for line in c:
+            yield [line], False
     elif t == "GeometryCollection":
         for g in geom["geometries"]:
-            yield from parts(g)
+            yield from polygons(g)
+
+
+def segments(geom, cut):
+    for rings, closed in polygons(geom):
+        rings = [[(Q(x), Q(y)) for x, y, *_ in r] for r in rings if r]
+        if closed:
+            rings = [r + [r[0]] if r[0] != r[-1] else r for r in rings]
+        if cut and closed:
+            yield from cut_polygon(rings)
+        elif cut:
+            for r in rings:
+                yield from cut_path(r, [])
+        else:
+            for r in rings:
+                yield from zip(r, r[1:])
 
 
 def cross(o, a, b):
@@ -62,13 +151,13 @@ def intersections(a, b, c, d):
 
 
 def main():
-    data = json.load(open(sys.argv[1]))
-    feats = data["features"] if data.get("type") == "FeatureCollection" else [data]
     segs = set()
-    for f in feats:
-        for line in parts(f.get("geometry")):
-            pts = [(Q(x), Q(y)) for x, y, *_ in line]
-            for p, q in zip(pts, pts[1:]):
+    for path in sys.argv[1:]:
+        data = json.load(open(path))
+        feats = data["features"] if data.get("type") == "FeatureCollection" else [data]
+        cut = geographic(data)
+        for f in feats:
+            for p, q in segments(f.get("geometry"), cut):
                 if p != q:
                     segs.add((min(p, q), max(p, q)))
     segs = sorted(segs)
