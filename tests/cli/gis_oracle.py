@@ -7,7 +7,10 @@ Several files are one planar graph, as hpfc-pack merges several layers.
 The oracle shares no code with hpfc-pack and uses neither GDAL nor GEOS: it
 reads the GeoJSON with Python's json module, takes every line and ring as
 straight segments in the file's own coordinates, and computes their exact
-arrangement with rational arithmetic (fractions): distinct points, proper
+arrangement with rational arithmetic: every coordinate (a double, so a dyadic
+rational) times one common power of two is an integer, and crossings are
+fractions of those (Python ints are far faster than fractions for the bulk
+of the comparisons). Distinct points, proper
 crossings and touchings become vertices, each segment is split at every
 vertex on it, and identical pieces count once. Then
 
@@ -34,6 +37,8 @@ import json
 import sys
 from fractions import Fraction as Q
 
+S = 1  # every coordinate times S is an integer (set by main)
+
 
 def geographic(data):
     crs = ((data.get("crs") or {}).get("properties") or {}).get("name", "")
@@ -41,17 +46,17 @@ def geographic(data):
 
 
 def wraps(p, q):
-    return abs(p[0] - q[0]) > 180 and abs(p[1]) != 90 and abs(q[1]) != 90
+    return abs(p[0] - q[0]) > 180 * S and abs(p[1]) != 90 * S and abs(q[1]) != 90 * S
 
 
 def side(p):
-    return Q(180) if p[0] > 0 else Q(-180)
+    return 180 * S if p[0] > 0 else -180 * S
 
 
 def crossing(p, q):
     e, w = (p, q) if p[0] > 0 else (q, p)
-    de, dw = 180 - e[0], w[0] + 180
-    return e[1] if de == 0 else w[1] if dw == 0 else e[1] + (w[1] - e[1]) * de / (de + dw)
+    de, dw = 180 * S - e[0], w[0] + 180 * S
+    return e[1] if de == 0 else w[1] if dw == 0 else e[1] + (w[1] - e[1]) * Q(de, de + dw)
 
 
 def cut_path(pts, lats):
@@ -82,15 +87,16 @@ def cut_polygon(rings):
             south = max(ys) <= 0
     if not lats:
         return out
-    inside, prev = south, Q(-90)
-    for lat in sorted(lats) + [Q(90)]:
+    e, w, pole = 180 * S, -180 * S, 90 * S
+    inside, prev = south, -pole
+    for lat in sorted(lats) + [pole]:
         if inside and lat > prev:
-            out += [((Q(x), prev), (Q(x), lat)) for x in (180, -180)]
+            out += [((x, prev), (x, lat)) for x in (e, w)]
         inside, prev = not inside, lat
     if south:
-        out.append(((Q(180), Q(-90)), (Q(-180), Q(-90))))
+        out.append(((e, -pole), (w, -pole)))
     if not inside:  # toggled once past +90: inside there
-        out.append(((Q(180), Q(90)), (Q(-180), Q(90))))
+        out.append(((e, pole), (w, pole)))
     return out
 
 
@@ -115,7 +121,7 @@ def polygons(geom):
 
 def segments(geom, cut):
     for rings, closed in polygons(geom):
-        rings = [[(Q(x), Q(y)) for x, y, *_ in r] for r in rings if r]
+        rings = [[(exact(x), exact(y)) for x, y, *_ in r] for r in rings if r]
         if closed:
             rings = [r + [r[0]] if r[0] != r[-1] else r for r in rings]
         if cut and closed:
@@ -126,6 +132,33 @@ def segments(geom, cut):
         else:
             for r in rings:
                 yield from zip(r, r[1:])
+
+
+def exact(v):
+    n, d = v.as_integer_ratio()
+    return n * (S // d)
+
+
+def scale(datas):
+    """The least power of two that makes every coordinate an integer."""
+    bits = 0
+
+    def walk(c):
+        nonlocal bits
+        if isinstance(c, (int, float)):
+            bits = max(bits, c.as_integer_ratio()[1].bit_length() - 1)
+        elif isinstance(c, list):
+            for x in c:
+                walk(x)
+        elif isinstance(c, dict):
+            walk(c.get("coordinates"))
+            walk(c.get("geometries"))
+            walk(c.get("geometry"))
+            walk(c.get("features"))
+
+    for d in datas:
+        walk(d)
+    return 1 << bits
 
 
 def cross(o, a, b):
@@ -146,14 +179,16 @@ def intersections(a, b, c, d):
                [p for p in (c, d) if on_segment(p, a, b)]
     if (d1 > 0 and d2 > 0) or (d1 < 0 and d2 < 0) or (d3 > 0 and d4 > 0) or (d3 < 0 and d4 < 0):
         return []
-    t = d1 / (d1 - d2)
+    t = Q(d1, d1 - d2)
     return [(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))]
 
 
 def main():
+    global S
+    datas = [json.load(open(path)) for path in sys.argv[1:]]
+    S = scale(datas)
     segs = set()
-    for path in sys.argv[1:]:
-        data = json.load(open(path))
+    for data in datas:
         feats = data["features"] if data.get("type") == "FeatureCollection" else [data]
         cut = geographic(data)
         for f in feats:
@@ -164,7 +199,8 @@ def main():
     on = {s: {s[0], s[1]} for s in segs}
     # sweep on x: pairs whose x ranges overlap
     for i, s in enumerate(segs):
-        for t in segs[i + 1:]:
+        for k in range(i + 1, len(segs)):  # no slice: a copy per segment is quadratic
+            t = segs[k]
             if t[0][0] > s[1][0]:
                 break
             if max(s[0][1], s[1][1]) < min(t[0][1], t[1][1]) or \
