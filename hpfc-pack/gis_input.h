@@ -47,6 +47,11 @@ typedef struct gis_info {
     uint64_t skipped_points;   /* point geometries (not part of a planar map) */
     uint64_t invalid_noded;    /* invalid polygons noded (GIS_INVALID_NODE) */
     uint64_t dateline_cut;     /* features cut at the antimeridian */
+    uint64_t points_read;      /* shape points read (after any cut) */
+    char noding[8];            /* GEOS noded "none" of the segments, "partial", "all" */
+    uint64_t noded_segments;   /* segments GEOS noded (its input when partial, output when all) */
+    /* wall time of each stage of gis_read_graph(), seconds */
+    double read_s, project_s, node_s, graph_s;
 } gis_info;
 
 /* Is GIS input built in? */

@@ -548,6 +548,16 @@ static void print_json(const pack_args *a, const pack_report *r)
         jsonw_u64(&w, "skipped_points", gi->skipped_points);
         jsonw_u64(&w, "invalid_polygons_noded", gi->invalid_noded);
         jsonw_u64(&w, "antimeridian_cut", gi->dateline_cut);
+        jsonw_u64(&w, "points_read", gi->points_read);
+        jsonw_string(&w, "noding", gi->noding);
+        jsonw_u64(&w, "noding_segments", gi->noded_segments);
+        /* the stages inside read_seconds */
+        jsonw_object_begin(&w, "gis_seconds");
+        jsonw_double(&w, "read", gi->read_s, 6);
+        jsonw_double(&w, "project", gi->project_s, 6);
+        jsonw_double(&w, "node", gi->node_s, 6);
+        jsonw_double(&w, "graph", gi->graph_s, 6);
+        jsonw_object_end(&w);
     }
     jsonw_u64(&w, "vertices", t->vertices);
     jsonw_u64(&w, "edges", t->edges);
@@ -631,6 +641,12 @@ static void print_text(const pack_args *a, const pack_report *r)
            bits_per_edge(r));
     printf("time       build %.6f s (read %.6f s, write %.6f s)\n", r->build_s, r->read_s,
            r->write_s);
+    if (r->gis)
+        printf("read       %.3f s: read %.3f s, project %.3f s, node %.3f s, graph %.3f s "
+               "(%llu shape points, noding %s)\n",
+               r->read_s, r->gis_info.read_s, r->gis_info.project_s, r->gis_info.node_s,
+               r->gis_info.graph_s, (unsigned long long)r->gis_info.points_read,
+               r->gis_info.noding);
 }
 
 /* ---- main ------------------------------------------------------------------ */

@@ -1,9 +1,10 @@
 """Generated GIS inputs for tests/cli/gis_messy.sh (too large, or too many
 files, to commit).
 
-    gis_gen.py big OUT.geojson N     one feature: a MultiPolygon of N small
-                                     squares (about 190 bytes each), larger
-                                     than a lowered OGR_GEOJSON_MAX_OBJ_SIZE
+    gis_gen.py big OUT.geojson N     a MultiPolygon of N small squares (about
+                                     190 bytes each), larger than a lowered
+                                     OGR_GEOJSON_MAX_OBJ_SIZE, and a line
+                                     through a few of them
     gis_gen.py layers DIR            DIR/{parcels,borders,roads}.geojson, three
                                      layers of one planar map
 
@@ -35,8 +36,12 @@ def big(path, n):
     for k in range(n):
         x, y = round(-100 + k * 2e-4, 9), round(35 + (k % 7) * 1e-5, 9)
         squares.append([[[x, y], [x + 1e-4, y], [x + 1e-4, y + 1e-4], [x, y + 1e-4], [x, y]]])
+    # and a line through the first 40: crossing sides, and running along the
+    # bottoms of the squares it meets at y = 35.00005, so that a few
+    # segments of many need noding
+    line = {"type": "LineString", "coordinates": [[-100.00005, 35.00005], [-99.99205, 35.00005]]}
     with open(path, "w") as f:
-        json.dump(collection([{"type": "MultiPolygon", "coordinates": squares}]), f,
+        json.dump(collection([{"type": "MultiPolygon", "coordinates": squares}, line]), f,
                   separators=(",", ":"))
 
 
