@@ -1,6 +1,7 @@
 #!/bin/sh
 # Builds the benchmarks in release mode (build-bench/) and runs them all,
-# printing the tables recorded in bench/README.md. Takes about a minute.
+# printing the tables recorded in bench/README.md. Takes a few minutes
+# (the GIS data is generated on the first run).
 # One case per process: peak RSS (getrusage) is a whole-process figure.
 set -eu
 cd "$(dirname "$0")/.."
@@ -37,3 +38,8 @@ echo
 
 echo "(d) reader (issue 3): open cost on a 671 MB file, pixel fetch + decode, deep locate"
 build-bench/bench/bench_read
+echo
+
+echo "(e) GIS packing (issue 5): hpfc-pack on a synthetic continental coverage, stages in"
+echo "    seconds, peak RSS against the input file's size"
+sh bench/run-gis.sh
