@@ -7,6 +7,10 @@ files, to commit).
                                      through a few of them
     gis_gen.py layers DIR            DIR/{parcels,borders,roads}.geojson, three
                                      layers of one planar map
+    gis_gen.py dateline OUT SEED     random features across the antimeridian:
+                                     spiky star polygons (crossing it many
+                                     times) with star holes, rings around a
+                                     pole, lines
 
 The layers, around (10 E, 50 N):
   parcels  a 4 x 4 grid of 0.01 degree squares sharing their borders;
@@ -20,7 +24,9 @@ Axis-parallel sides make the midpoints exactly collinear in (lon, lat), so the
 oracle sees the same borders as hpfc-pack's snap rounding.
 """
 import json
+import math
 import os
+import random
 import sys
 
 
@@ -85,7 +91,49 @@ def layers(d):
             json.dump(collection(feats), f)
 
 
+def wrap(lon):
+    return lon - 360 if lon > 180 else lon + 360 if lon < -180 else lon
+
+
+def star(rng, cx, cy, rmin, rmax, n):
+    """A ring star-shaped around (cx, cy): no two sides cross. Angles step
+    evenly, jittered by 40 %, so that with n >= 8 no side comes nearer the
+    centre than rmin cos(81 / 2 degrees), 0.76 rmin: room for a hole."""
+    step = 2 * math.pi / n
+    angles = [k * step + rng.uniform(-0.4, 0.4) * step for k in range(n)]
+    ring = []
+    for a in angles:
+        r = rng.uniform(rmin, rmax)
+        ring.append([wrap(cx + r * math.cos(a)), cy + r * math.sin(a)])
+    return ring + [ring[0]]
+
+
+def dateline(path, seed):
+    rng = random.Random(seed)
+    feats = []
+    for band in range(3):  # stars in separate latitude bands, never overlapping
+        cx, cy = rng.choice([180, -180]) + rng.uniform(-3, 3), -40 + 30 * band
+        rings = [star(rng, cx, cy, 4, 10, rng.randint(8, 60))]
+        if rng.random() < 0.7:
+            rings.append(star(rng, cx, cy, 1, 3, rng.randint(3, 20))[::-1])
+        feats.append({"type": "Polygon", "coordinates": rings})
+    for sign in (-1, 1):  # rings around the poles, at most one each
+        if rng.random() < 0.6:
+            lon, ring = -180 + rng.uniform(0, 10), []
+            while lon < 180:
+                ring.append([lon, sign * (75 + rng.uniform(-5, 5))])
+                lon += rng.uniform(1, 30)
+            feats.append({"type": "Polygon", "coordinates": [ring + [ring[0]]]})
+    line = [[wrap(rng.choice([180, -180]) + rng.uniform(-8, 8)), rng.uniform(-60, 60)]
+            for _ in range(rng.randint(2, 12))]
+    feats.append({"type": "LineString", "coordinates": line})
+    with open(path, "w") as f:
+        json.dump(collection(feats), f)
+
+
 if sys.argv[1] == "big":
     big(sys.argv[2], int(sys.argv[3]))
+elif sys.argv[1] == "dateline":
+    dateline(sys.argv[2], int(sys.argv[3]))
 else:
     layers(sys.argv[2])

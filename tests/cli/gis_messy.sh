@@ -4,6 +4,8 @@
 #    to 1 MB through the environment, as GDAL itself then refuses it): read
 #    all the same, since hpfc-pack lifts the limit; a line across some of it
 #    makes GEOS node only those segments (noding "partial");
+#  - random polygons crossing the antimeridian many times, with holes, rings
+#    around a pole, lines: cut as gis_oracle.py cuts them;
 #  - three layers of one map in a GeoPackage (made with ogr2ogr; skipped when
 #    gdal-bin is missing): borders stored twice non-identically, lines along
 #    and across them, null / empty geometries and a point; merged into one
@@ -68,7 +70,14 @@ unset OGR_GEOJSON_MAX_OBJ_SIZE
 # the line makes a few segments of thousands need noding: GEOS nodes those
 want "big feature" noding partial
 
-# 2. layers, first each GeoJSON on its own
+# 2. random features across the antimeridian: the cut against the oracle's
+for seed in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20; do
+    $GEN dateline "$tmp/dl.geojson" "$seed"
+    python3 "$HERE/gis_oracle.py" "$tmp/dl.geojson" >"$tmp/dl.json"
+    packs "dateline seed $seed" "$tmp/dl.json" "$tmp/dl.geojson"
+done
+
+# 3. layers, first each GeoJSON on its own
 mkdir "$tmp/lay"
 $GEN layers "$tmp/lay"
 for f in parcels borders roads; do
