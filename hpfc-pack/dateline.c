@@ -389,12 +389,33 @@ static void clear_chains(cutter *c)
     c->n_cross = 0;
 }
 
+/* A ring crossing the antimeridian k (odd) times winds around a pole: the
+ * pole of the hemisphere holding its points. All such rings of a polygon must
+ * wind around the same pole (a band between two parallels of one hemisphere
+ * is fine; across the equator, which side is inside is a guess). *pole is 0
+ * until the first; *south toggles for each ring around the south pole. */
+static int winding_ring(cutter *c, const ll *q, size_t m, size_t k, int *pole, int *south)
+{
+    int p = enclosed_pole(q, m);
+    if (p == 0)
+        return fail(c, "a polygon ring winds around a pole (it crosses the antimeridian %s) "
+                       "and has points on both sides of the equator: which pole it encloses "
+                       "is ambiguous",
+                    k == 1 ? "once" : "an odd number of times");
+    if (*pole && p != *pole)
+        return fail(c, "a polygon has rings winding around the north pole and around the "
+                       "south pole: which pole it encloses is ambiguous");
+    *pole = p;
+    *south ^= p < 0;
+    return 0;
+}
+
 /* Splits the rings of `poly` into chains (pieces) or whole rings; *south
  * tells whether the polygon holds the south pole. */
 static int split_rings(cutter *c, OGRGeometryH poly, OGRGeometryH whole, int *shell_whole,
                        int *south)
 {
-    int winding = 0, st = 0;
+    int pole = 0, st = 0;
     *south = 0;
     *shell_whole = 0;
     for (int r = 0; r < OGR_G_GetGeometryCount(poly) && !st; r++) {
@@ -418,18 +439,15 @@ static int split_rings(cutter *c, OGRGeometryH poly, OGRGeometryH whole, int *sh
             *shell_whole |= r == 0;
             if (OGR_G_AddGeometry(whole, ring) != OGRERR_NONE)
                 st = fail(c, "cannot store a ring");
-        } else if (k % 2 == 1 && (winding++ || (*south = enclosed_pole(q, m)) == 0))
-            st = fail(c, "a polygon ring winds around a pole (it crosses the antimeridian %s), "
-                         "and which pole it encloses is ambiguous%s",
-                      k == 1 ? "once" : "an odd number of times",
-                      winding > 1 ? " (more than one such ring)"
-                                  : " (it has points on both sides of the equator)");
-        else
-            st = ring_pieces(c, q, m, wrap, k);
+        } else {
+            if (k % 2 == 1)
+                st = winding_ring(c, q, m, k, &pole, south);
+            if (!st)
+                st = ring_pieces(c, q, m, wrap, k);
+        }
         free(wrap);
         free(q);
     }
-    *south = *south == -1;
     return st;
 }
 

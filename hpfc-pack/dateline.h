@@ -16,7 +16,8 @@
  *     encloses the pole of the hemisphere that holds all its points, and is
  *     closed through that pole (along latitude +-90, a line in the
  *     equirectangular projection). A winding ring with points in both
- *     hemispheres is ambiguous and refused.
+ *     hemispheres, or a polygon with rings winding around both poles, is
+ *     ambiguous and refused.
  *
  * The crossing latitude is interpolated linearly in (lon, lat) from the
  * segment's east end, so that a border two features store bit-identically

@@ -75,16 +75,18 @@ def cut_path(pts, lats):
 
 def cut_polygon(rings):
     """The linework of a polygon (its rings, closed) cut at the meridian."""
-    out, lats, south, winding = [], [], False, 0
+    out, lats, south, poles = [], [], False, set()
     for ring in rings:
         n = len(lats)
         out += cut_path(ring, lats)
-        if (len(lats) - n) % 2:
-            winding += 1
+        if (len(lats) - n) % 2:  # winds around the pole of its hemisphere
             ys = [p[1] for p in ring]
-            if winding > 1 or (max(ys) > 0 and min(ys) < 0):
-                sys.exit("gis_oracle: a ring winding around a pole is ambiguous")
-            south = max(ys) <= 0
+            if max(ys) > 0 and min(ys) < 0 or min(ys) == max(ys) == 0:
+                sys.exit("gis_oracle: a ring winding around a pole crosses the equator")
+            poles.add(max(ys) <= 0)
+            south ^= max(ys) <= 0
+    if len(poles) > 1:
+        sys.exit("gis_oracle: rings winding around both poles")
     if not lats:
         return out
     e, w, pole = 180 * S, -180 * S, 90 * S
