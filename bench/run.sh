@@ -1,6 +1,7 @@
 #!/bin/sh
 # Builds the benchmarks in release mode (build-bench/) and runs them all,
-# printing the tables recorded in bench/README.md. Takes about a minute.
+# printing the tables recorded in bench/README.md. Takes a few minutes
+# (the GIS data is generated on the first run).
 # One case per process: peak RSS (getrusage) is a whole-process figure.
 set -eu
 cd "$(dirname "$0")/.."
@@ -39,9 +40,14 @@ echo "(d) reader (issue 3): open cost on a 671 MB file, pixel fetch + decode, de
 build-bench/bench/bench_read
 echo
 
+echo "(e) GIS packing (issue 5): hpfc-pack on a synthetic continental coverage, stages in"
+echo "    seconds, peak RSS against the input file's size"
+sh bench/run-gis.sh
+echo
+
 # (e) needs the GIS dependencies (bench_locate is built only with them)
 if [ -x build-bench/bench/bench_locate ]; then
-    echo "(e) point in feature (issue 5): hpfc --locate path (hpfc_locate, the leaf's faces, their"
+    echo "(f) point in feature (issue 5): hpfc --locate path (hpfc_locate, the leaf's faces, their"
     echo "    FEAT features) against GEOS prepared polygons in an STRtree, same random points of"
     echo "    the projected extent; set-up ms (faces numbered / polygons prepared), ns per point,"
     echo "    share of private leaves, share of answers that agree"

@@ -2,15 +2,18 @@
  * gis_input.c: see gis_input.h. The pipeline:
  *
  *   1. read every selected layer's lines and polygon rings into flat
- *      arrays, checking coordinates (finite; in range and not wrapping the
- *      antimeridian when geographic) and polygon validity (GEOS);
+ *      arrays, checking coordinates (finite; in range when geographic),
+ *      cutting geographic features that cross the antimeridian
+ *      (dateline.h), and checking polygon validity (GEOS);
  *   2. choose the projection from the geographic extent, project;
  *   3. choose the lattice unit from the projected extent, snap by rounding;
- *   4. node the snapped linework with GEOS's snap-rounding unary union on a
- *      unit grid: the output's coordinates are lattice integers, crossings
- *      are nodes, duplicate borders are dissolved;
- *   5. collect the distinct non-degenerate segments on integers and build
- *      the graph in the chosen vertex model.
+ *   4. collect the distinct snapped segments, find exactly those that need
+ *      noding (segnode.h) and node them (or, failing that, all the
+ *      linework) with GEOS's snap-rounding unary union on a unit grid: the
+ *      output's coordinates are lattice integers, crossings are nodes,
+ *      duplicate borders are dissolved;
+ *   5. build the graph from the distinct segments in the chosen vertex
+ *      model.
  */
 #include "gis_input.h"
 
@@ -33,8 +36,10 @@
 #include <ogr_srs_api.h>
 #include <geos_c.h>
 
+#include "dateline.h"
 #include "lattice.h"
 #include "projection.h"
+#include "segnode.h"
 
 /* ---- progress bar ----------------------------------------------------------- */
 
@@ -49,6 +54,14 @@ static double mono_now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* Seconds since *t, which moves on to now: one stage's wall time. */
+static double lap(double *t)
+{
+    double now = mono_now(), d = now - *t;
+    *t = now;
+    return d;
 }
 
 /* total <= 0 draws the stage name alone. At most ten redraws a second. */
@@ -112,6 +125,7 @@ typedef struct reader {
     uint32_t feature; /* the current polygon feature, NO_FEATURE if none */
 
     int geographic;   /* coordinates are (lon, lat) degrees */
+    int saw_wrap;     /* the current feature has a segment crossing the antimeridian */
     int swap_xy;      /* the data store (lat, lon) */
     double a, f;      /* ellipsoid of a geographic SRS */
 
@@ -197,11 +211,14 @@ static int add_part(reader *r, OGRGeometryH g, int closed)
                 return fail(r, "%s: point (%.9g, %.9g) is outside the longitude/latitude range "
                                "of its geographic SRS",
                             where(r, wb, sizeof wb), px, py);
-            if (i > 0 && fabs(px - x[2 * i - 2]) > 180.0)
-                return fail(r, "%s: a line or ring wraps the antimeridian (a segment from "
-                               "longitude %.9g to %.9g); cut it at +-180 degrees first "
-                               "(ogr2ogr -wrapdateline)",
-                            where(r, wb, sizeof wb), x[2 * i - 2], px);
+            if (i > 0 && dateline_segment_wraps(x[2 * i - 2], x[2 * i - 1], px, py)) {
+                if (r->opt->dateline == GIS_DATELINE_REJECT)
+                    return fail(r, "%s: a line or ring crosses the antimeridian (a segment "
+                                   "from longitude %.9g to %.9g); --wrap-dateline yes cuts "
+                                   "it at +-180 degrees",
+                                where(r, wb, sizeof wb), x[2 * i - 2], px);
+                r->saw_wrap = 1; /* read_feature cuts the feature and reads it again */
+            }
         }
         if (px < r->xmin) r->xmin = px;
         if (px > r->xmax) r->xmax = px;
@@ -314,6 +331,34 @@ static int add_feature(reader *r, OGRFeatureH f)
     return 0;
 }
 
+/* Adds the lines and rings of g; a geographic feature that crosses the
+ * antimeridian is taken back and its cut added instead, which then replaces
+ * *owned (the geometry the caller frees). */
+static int read_geometry(reader *r, OGRGeometryH g, uint64_t *lines, OGRGeometryH *owned)
+{
+    size_t parts = r->n_parts, points = r->n_points;
+    r->saw_wrap = 0;
+    int st = add_geometry(r, g, lines);
+    if (st || !r->saw_wrap)
+        return st;
+    r->n_parts = parts;
+    r->n_points = points;
+    char wb[200], why[512];
+    OGRGeometryH cut = NULL;
+    if (dateline_cut(g, r->swap_xy, &cut, why, sizeof why) != 0)
+        return fail(r, "%s: %s", where(r, wb, sizeof wb), why);
+    if (*owned)
+        OGR_G_DestroyGeometry(*owned);
+    *owned = cut;
+    r->info->dateline_cut++;
+    r->saw_wrap = 0;
+    st = add_geometry(r, cut, lines);
+    if (!st && r->saw_wrap)
+        st = fail(r, "%s: internal error: still crosses the antimeridian after the cut",
+                  where(r, wb, sizeof wb));
+    return st;
+}
+
 static int read_feature(reader *r, OGRFeatureH f, uint64_t *lines)
 {
     OGRGeometryH g = OGR_F_GetGeometryRef(f);
@@ -337,7 +382,9 @@ static int read_feature(reader *r, OGRFeatureH f, uint64_t *lines)
     if (has_polygon(g))
         st = add_feature(r, f);
     if (!st)
-        st = add_geometry(r, g, lines);
+        st = read_geometry(r, g, lines, &lin);
+    if (lin)
+        g = lin; /* the linearised geometry, or the cut */
     /* after add_part's checks, so that GEOS never sees NaN */
     if (!st && r->n_parts > parts_before && has_polygon(g))
         st = check_polygon(r, g);
@@ -508,6 +555,29 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
 
 /* ---- steps 2-3: projection and lattice ------------------------------------------------ */
 
+/* Data without an SRS taken as longitude/latitude: every point must be one,
+ * and since the features were read without cutting, none may cross the
+ * antimeridian. */
+static int check_assumed_lonlat(reader *r, const char *pname)
+{
+    for (size_t k = 0; k < r->n_parts; k++)
+        for (size_t i = r->start[k]; i < r->start[k + 1]; i++) {
+            double px = r->xy[2 * i], py = r->xy[2 * i + 1];
+            if (px < -180.0 || px > 180.0 || py < -90.0 || py > 90.0)
+                return fail(r, "--projection %s: the input has no SRS and point (%g, %g) is "
+                               "not a longitude/latitude",
+                            pname, px, py);
+            if (i > r->start[k] &&
+                dateline_segment_wraps(r->xy[2 * i - 2], r->xy[2 * i - 1], px, py))
+                return fail(r, "--projection %s: the input has no SRS and a segment from "
+                               "longitude %.9g to %.9g crosses the antimeridian; give the "
+                               "input a geographic SRS (ogr2ogr -a_srs EPSG:4326) so that "
+                               "it is cut",
+                            pname, r->xy[2 * i - 2], px);
+        }
+    return 0;
+}
+
 static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs_p4,
                             int64_t *lat)
 {
@@ -525,13 +595,8 @@ static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs
         r->geographic = 1;
         ellps_note = " (assumed: the input has no SRS)";
         snprintf(label, sizeof label, "EPSG:4326 (WGS 84)");
-        for (size_t i = 0; i < r->n_points; i++) {
-            double px = r->xy[2 * i], py = r->xy[2 * i + 1];
-            if (px < -180.0 || px > 180.0 || py < -90.0 || py > 90.0)
-                return fail(r, "--projection %s: the input has no SRS and point (%g, %g) is "
-                               "not a longitude/latitude",
-                            pname, px, py);
-        }
+        if (check_assumed_lonlat(r, pname))
+            return 1;
     }
     if (!r->geographic && kind != MAPPROJ_AUTO && kind != MAPPROJ_NONE)
         return fail(r, "--projection %s: the input is already projected (%s); use auto or none",
@@ -604,9 +669,7 @@ static int keep_rings(reader *r, const int64_t *lat)
 
 /* ---- step 4: noding ---------------------------------------------------------------- */
 
-typedef struct seg {
-    int64_t ax, ay, bx, by;
-} seg;
+typedef segnode_seg seg;
 
 typedef struct pt {
     int64_t x, y;
@@ -627,18 +690,68 @@ static int cmp_seg(const void *a, const void *b)
     return c ? c : cmp_pt(&p->bx, &q->bx);
 }
 
-/* Nodes the snapped parts; fills *segs with the distinct segments, each
- * with a < b. */
-static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out)
+/* Appends segment p-q (p != q) with its ends in order. */
+static int push_seg(reader *r, seg **segs, size_t *n, size_t *cap, pt a, pt b)
 {
-    GEOSGeometry **lines = malloc((r->n_parts ? r->n_parts : 1) * sizeof *lines);
-    double *buf = malloc((r->n_points ? r->n_points : 1) * 2 * sizeof(double));
-    if (!lines || !buf) {
-        free(lines);
-        free(buf);
+    if (!grow((void **)segs, cap, *n + 1, sizeof **segs))
         return fail(r, "out of memory");
-    }
-    size_t n_lines = 0;
+    int c = cmp_pt(&a, &b);
+    (*segs)[*n] = (seg){c < 0 ? a.x : b.x, c < 0 ? a.y : b.y, c < 0 ? b.x : a.x,
+                        c < 0 ? b.y : a.y};
+    ++*n;
+    return 0;
+}
+
+static void sort_unique(seg *segs, size_t *n)
+{
+    qsort(segs, *n, sizeof *segs, cmp_seg);
+    size_t u = 0;
+    for (size_t i = 0; i < *n; i++)
+        if (u == 0 || cmp_seg(&segs[u - 1], &segs[i]) != 0)
+            segs[u++] = segs[i];
+    *n = u;
+}
+
+/* The distinct non-degenerate segments of the snapped parts, sorted. */
+static int collect_segments(reader *r, const int64_t *lat, seg **out, size_t *n_out)
+{
+    /* at most one segment a point: one allocation, no doubling */
+    size_t n = 0, cap = r->n_points ? r->n_points : 1;
+    seg *segs = malloc(cap * sizeof *segs);
+    if (!segs)
+        return fail(r, "out of memory");
+    for (size_t k = 0; k < r->n_parts; k++)
+        for (size_t i = r->start[k] + 1; i < r->start[k + 1]; i++) {
+            pt a = {lat[2 * i - 2], lat[2 * i - 1]}, b = {lat[2 * i], lat[2 * i + 1]};
+            if (cmp_pt(&a, &b) != 0 && push_seg(r, &segs, &n, &cap, a, b)) {
+                free(segs);
+                return 1;
+            }
+        }
+    sort_unique(segs, &n);
+    *out = segs;
+    *n_out = n;
+    return n ? 0 : fail(r, "nothing left after snapping to the lattice (every line collapsed "
+                           "to a point)");
+}
+
+/* A GEOS line string of m points (x, y doubles), appended to lines[]. */
+static int geos_line(reader *r, const double *xy, unsigned m, GEOSGeometry **lines, size_t *n)
+{
+    GEOSCoordSequence *cs = GEOSCoordSeq_copyFromBuffer_r(r->geos, xy, m, 0, 0);
+    GEOSGeometry *ls = cs ? GEOSGeom_createLineString_r(r->geos, cs) : NULL;
+    if (!ls)
+        return fail(r, "GEOS: %s", r->geos_msg[0] ? r->geos_msg : "cannot make a line");
+    lines[(*n)++] = ls;
+    return 0;
+}
+
+/* The parts as GEOS line strings (lines[] holds r->n_parts). */
+static int lines_of_parts(reader *r, const int64_t *lat, GEOSGeometry **lines, size_t *n_lines)
+{
+    double *buf = malloc((r->n_points ? r->n_points : 1) * 2 * sizeof(double));
+    if (!buf)
+        return fail(r, "out of memory");
     int st = 0;
     for (size_t k = 0; k < r->n_parts && !st; k++) {
         size_t m = 0;
@@ -650,41 +763,34 @@ static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out)
             buf[2 * m + 1] = y;
             m++;
         }
-        if (m < 2)
-            continue;
-        GEOSCoordSequence *cs =
-            GEOSCoordSeq_copyFromBuffer_r(r->geos, buf, (unsigned)m, 0, 0);
-        GEOSGeometry *ls = cs ? GEOSGeom_createLineString_r(r->geos, cs) : NULL;
-        if (!ls)
-            st = fail(r, "GEOS: %s", r->geos_msg[0] ? r->geos_msg : "cannot make a line");
-        else
-            lines[n_lines++] = ls;
+        if (m >= 2)
+            st = geos_line(r, buf, (unsigned)m, lines, n_lines);
     }
     free(buf);
-    if (st || n_lines == 0) {
-        for (size_t k = 0; k < n_lines; k++)
-            GEOSGeom_destroy_r(r->geos, lines[k]);
-        free(lines);
-        return st ? st : fail(r, "nothing left after snapping to the lattice (every line "
-                                 "collapsed to a point)");
-    }
-    progress_show(&r->bar, "noding", 0, 0, 1);
-    GEOSGeometry *all =
-        GEOSGeom_createCollection_r(r->geos, GEOS_MULTILINESTRING, lines, (unsigned)n_lines);
-    free(lines);
-    if (!all)
-        return fail(r, "GEOS: %s", r->geos_msg[0] ? r->geos_msg : "cannot collect the lines");
-    GEOSGeometry *noded = GEOSUnaryUnionPrec_r(r->geos, all, 1.0);
-    GEOSGeom_destroy_r(r->geos, all);
-    if (!noded)
-        return fail(r, "GEOS could not node the linework: %s",
-                    r->geos_msg[0] ? r->geos_msg : "unknown error");
+    return st;
+}
 
-    /* collect segments from every line string of the result */
-    seg *segs = NULL;
-    size_t n = 0, cap = 0;
+/* The segments marked in pick[] as two-point GEOS line strings. */
+static int lines_of_segments(reader *r, const seg *segs, size_t n, const unsigned char *pick,
+                             GEOSGeometry **lines, size_t *n_lines)
+{
+    int st = 0;
+    for (size_t i = 0; i < n && !st; i++)
+        if (pick[i]) {
+            double xy[4] = {(double)segs[i].ax, (double)segs[i].ay, (double)segs[i].bx,
+                            (double)segs[i].by};
+            st = geos_line(r, xy, 2, lines, n_lines);
+        }
+    return st;
+}
+
+/* Appends the segments of GEOS's noded result to *segs; every point must be
+ * a lattice point. */
+static int collect_noded(reader *r, const GEOSGeometry *noded, seg **segs, size_t *n,
+                         size_t *cap)
+{
     int ng = GEOSGetNumGeometries_r(r->geos, noded);
-    for (int gi = 0; gi < ng && !st; gi++) {
+    for (int gi = 0; gi < ng; gi++) {
         const GEOSGeometry *g = GEOSGetGeometryN_r(r->geos, noded, gi);
         if (GEOSGeomTypeId_r(r->geos, g) != GEOS_LINESTRING)
             continue;
@@ -692,45 +798,140 @@ static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out)
         unsigned m = 0;
         if (!cs || !GEOSCoordSeq_getSize_r(r->geos, cs, &m))
             continue;
-        int64_t px = 0, py = 0;
+        pt prev = {0, 0};
         for (unsigned i = 0; i < m; i++) {
             double x, y;
             GEOSCoordSeq_getXY_r(r->geos, cs, i, &x, &y);
-            int64_t ix = (int64_t)llround(x), iy = (int64_t)llround(y);
-            if ((double)ix != x || (double)iy != y) {
-                st = fail(r, "internal error: GEOS left a point off the lattice (%.17g, %.17g)",
-                          x, y);
-                break;
-            }
-            if (i > 0 && (ix != px || iy != py)) {
-                if (!grow((void **)&segs, &cap, n + 1, sizeof *segs)) {
-                    st = fail(r, "out of memory");
-                    break;
-                }
-                pt a = {px, py}, b = {ix, iy};
-                int c = cmp_pt(&a, &b);
-                segs[n].ax = c < 0 ? a.x : b.x;
-                segs[n].ay = c < 0 ? a.y : b.y;
-                segs[n].bx = c < 0 ? b.x : a.x;
-                segs[n].by = c < 0 ? b.y : a.y;
-                n++;
-            }
-            px = ix;
-            py = iy;
+            pt p = {(int64_t)llround(x), (int64_t)llround(y)};
+            if ((double)p.x != x || (double)p.y != y)
+                return fail(r, "internal error: GEOS left a point off the lattice (%.17g, %.17g)",
+                            x, y);
+            if (i > 0 && cmp_pt(&prev, &p) != 0 && push_seg(r, segs, n, cap, prev, p))
+                return 1;
+            prev = p;
         }
     }
+    return 0;
+}
+
+/* Nodes lines[0..n_lines-1] (taken over) with GEOS's snap-rounding union
+ * on the unit grid and appends the result's segments to *segs. */
+static int geos_node(reader *r, GEOSGeometry **lines, size_t n_lines, seg **segs, size_t *n,
+                     size_t *cap)
+{
+    progress_show(&r->bar, "noding", 0, 0, 1);
+    GEOSGeometry *all =
+        GEOSGeom_createCollection_r(r->geos, GEOS_MULTILINESTRING, lines, (unsigned)n_lines);
+    if (!all) {
+        for (size_t k = 0; k < n_lines; k++)
+            GEOSGeom_destroy_r(r->geos, lines[k]);
+        return fail(r, "GEOS: %s", r->geos_msg[0] ? r->geos_msg : "cannot collect the lines");
+    }
+    GEOSGeometry *noded = GEOSUnaryUnionPrec_r(r->geos, all, 1.0);
+    GEOSGeom_destroy_r(r->geos, all);
+    if (!noded)
+        return fail(r, "GEOS could not node the linework: %s",
+                    r->geos_msg[0] ? r->geos_msg : "unknown error");
+    int st = collect_noded(r, noded, segs, n, cap);
     GEOSGeom_destroy_r(r->geos, noded);
+    return st;
+}
+
+/* GEOS nodes the segments marked dirty; the clean ones are kept as they
+ * are. Fills *out when the result is a planar graph (checked exactly), else
+ * leaves it NULL. */
+static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char *dirty,
+                       size_t n_dirty, seg **out, size_t *n_out)
+{
+    GEOSGeometry **lines = malloc(n_dirty * sizeof *lines);
+    seg *merged = NULL;
+    size_t n_lines = 0, m = 0, cap = 0;
+    int st = lines ? lines_of_segments(r, segs, n, dirty, lines, &n_lines)
+                   : fail(r, "out of memory");
+    if (st) {
+        for (size_t k = 0; k < n_lines; k++)
+            GEOSGeom_destroy_r(r->geos, lines[k]);
+    } else
+        st = geos_node(r, lines, n_lines, &merged, &m, &cap);
+    free(lines);
+    for (size_t i = 0; i < n && !st; i++)
+        if (!dirty[i] && !grow((void **)&merged, &cap, m + 1, sizeof *merged))
+            st = fail(r, "out of memory");
+        else if (!dirty[i])
+            merged[m++] = segs[i];
+    unsigned char *again = st ? NULL : calloc(m ? m : 1, 1);
+    if (!st && !again)
+        st = fail(r, "out of memory");
+    if (!st) {
+        sort_unique(merged, &m);
+        long long left = segnode_find_dirty(merged, m, again);
+        if (left < 0)
+            st = fail(r, "out of memory");
+        else if (left == 0) {
+            *out = merged;
+            *n_out = m;
+            merged = NULL;
+        }
+    }
+    free(again);
+    free(merged);
+    return st;
+}
+
+/* Nodes the snapped parts; fills *segs with the distinct segments, each
+ * with a < b. Most segments of a topologically built layer need no noding
+ * (segnode.h): when none does, GEOS is not called; when a few do, GEOS nodes
+ * those; when that leaves the graph non-planar, or when many do, GEOS nodes
+ * all the linework, as it always did. */
+static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out)
+{
+    seg *segs = NULL;
+    size_t n = 0;
+    int st = collect_segments(r, lat, &segs, &n);
+    unsigned char *dirty = st ? NULL : calloc(n, 1);
+    if (!st && !dirty)
+        st = fail(r, "out of memory");
+    long long n_dirty = st ? 0 : segnode_find_dirty(segs, n, dirty);
+    if (n_dirty < 0)
+        st = fail(r, "out of memory");
+    *segs_out = NULL;
+    if (!st && n_dirty == 0) {
+        snprintf(r->info->noding, sizeof r->info->noding, "none");
+        *segs_out = segs;
+        *n_out = n;
+        segs = NULL;
+    } else if (!st && (size_t)n_dirty <= n / 4) {
+        st = node_partly(r, segs, n, dirty, (size_t)n_dirty, segs_out, n_out);
+        snprintf(r->info->noding, sizeof r->info->noding, "partial");
+        r->info->noded_segments = (uint64_t)n_dirty;
+    }
+    free(dirty);
+    free(segs);
+    segs = NULL;
+    if (st || *segs_out)
+        return st;
+    /* all the linework, part by part */
+    GEOSGeometry **lines = malloc((r->n_parts ? r->n_parts : 1) * sizeof *lines);
+    size_t n_lines = 0, cap = 0;
+    n = 0;
+    if (!lines)
+        return fail(r, "out of memory");
+    st = lines_of_parts(r, lat, lines, &n_lines);
+    if (st) {
+        for (size_t k = 0; k < n_lines; k++)
+            GEOSGeom_destroy_r(r->geos, lines[k]);
+    } else
+        st = geos_node(r, lines, n_lines, &segs, &n, &cap);
+    free(lines);
     if (st) {
         free(segs);
         return st;
     }
-    qsort(segs, n, sizeof *segs, cmp_seg);
-    size_t u = 0;
-    for (size_t i = 0; i < n; i++)
-        if (u == 0 || cmp_seg(&segs[u - 1], &segs[i]) != 0)
-            segs[u++] = segs[i];
+    sort_unique(segs, &n);
+    snprintf(r->info->noding, sizeof r->info->noding, "all");
+    r->info->noded_segments = n;
     *segs_out = segs;
-    *n_out = u;
+    *n_out = n;
     return 0;
 }
 
@@ -783,7 +984,7 @@ static int gb_chain(graph_builder *b, size_t p, size_t s)
         b->used[s] = 1;
         size_t q = b->seg_a[s] == cur ? b->seg_b[s] : b->seg_a[s];
         if (q == p || degree(b, q) != 2) {
-            uint32_t u, v;
+            uint32_t u = 0, v = 0; /* set when st == 0; -O3 cannot tell */
             int st = gb_vertex(b, p, &u);
             if (!st)
                 st = gb_vertex(b, q, &v);
@@ -936,20 +1137,26 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     int64_t *lat = NULL;
     seg *segs = NULL;
     size_t n_segs = 0;
+    double t = mono_now();
     int st = read_dataset(&r, path, &srs_p4, &srs);
+    info->points_read = r.n_points;
+    info->read_s = lap(&t);
     if (!st) {
         lat = malloc((r.n_points ? r.n_points : 1) * 2 * sizeof *lat);
         st = lat ? project_and_snap(&r, srs, srs_p4, lat) : fail(&r, "out of memory");
     }
     free(r.xy);
     r.xy = NULL;
+    info->project_s = lap(&t);
     if (!st)
         st = keep_rings(&r, lat);
     if (!st)
         st = node(&r, lat, &segs, &n_segs);
     free(lat);
+    info->node_s = lap(&t);
     if (!st)
         st = make_graph(&r, segs, n_segs, out);
+    info->graph_s = lap(&t);
     progress_end(&r.bar);
     free(segs);
     free(r.start);

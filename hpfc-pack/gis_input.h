@@ -24,6 +24,9 @@ enum { GIS_VERTICES_ALL = 0, GIS_VERTICES_JUNCTIONS = 1 };
  * any other linework (the planar graph is then still exact; only the
  * polygon's own area is ill-defined). */
 enum { GIS_INVALID_REJECT = 0, GIS_INVALID_NODE = 1 };
+/* Geographic lines and rings with a segment spanning more than 180 degrees
+ * of longitude: cut them at the antimeridian (dateline.h), or refuse them. */
+enum { GIS_DATELINE_CUT = 0, GIS_DATELINE_REJECT = 1 };
 
 typedef struct gis_options {
     const char *const *layers; /* layer names to read; all layers when n_layers == 0 */
@@ -33,6 +36,7 @@ typedef struct gis_options {
     int progress;              /* draw a progress bar on stderr */
     int invalid_mode;          /* GIS_INVALID_REJECT or GIS_INVALID_NODE */
     const char *key_field;     /* attribute kept with each polygon feature, NULL for none */
+    int dateline;              /* GIS_DATELINE_CUT or GIS_DATELINE_REJECT */
 } gis_options;
 
 typedef struct gis_info {
@@ -45,6 +49,12 @@ typedef struct gis_info {
     uint64_t skipped_points;   /* point geometries (not part of a planar map) */
     uint64_t invalid_noded;    /* invalid polygons noded (GIS_INVALID_NODE) */
     gis_features *polygons;    /* the polygon features and their rings */
+    uint64_t dateline_cut;     /* features cut at the antimeridian */
+    uint64_t points_read;      /* shape points read (after any cut) */
+    char noding[8];            /* GEOS noded "none" of the segments, "partial", "all" */
+    uint64_t noded_segments;   /* segments GEOS noded (its input when partial, output when all) */
+    /* wall time of each stage of gis_read_graph(), seconds */
+    double read_s, project_s, node_s, graph_s;
 } gis_info;
 
 /* Is GIS input built in? */

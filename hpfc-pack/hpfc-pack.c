@@ -41,6 +41,7 @@ typedef struct pack_args {
     int vertex_model;
     int invalid_mode;
     const char *key_field;
+    int dateline;
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -118,6 +119,10 @@ static void print_help(void)
            "                        their rings as linework\n"
            "  --key FIELD           GIS input: record attribute FIELD of every polygon\n"
            "                        feature with its id (hpfc-inspect --locate shows it)\n"
+           "  --wrap-dateline yes|no\n"
+           "                        GIS input: cut longitude/latitude lines and polygons\n"
+           "                        that cross the antimeridian (a segment spanning more\n"
+           "                        than 180 degrees) at +-180 (default), or refuse them\n"
            "  --json                print the build report as one JSON object\n"
            "  --quiet               print no report\n"
            "  -h, --help            show this help\n"
@@ -222,6 +227,10 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->key_field = v;
         return v[0] ? NULL : "a field name";
     }
+    if (strcmp(name, "--wrap-dateline") == 0) {
+        a->dateline = strcmp(v, "no") == 0 ? GIS_DATELINE_REJECT : GIS_DATELINE_CUT;
+        return strcmp(v, "yes") == 0 || strcmp(v, "no") == 0 ? NULL : "yes or no";
+    }
     if (strcmp(name, "--vertices") == 0) {
         a->vertex_model = strcmp(v, "junctions") == 0 ? GIS_VERTICES_JUNCTIONS : GIS_VERTICES_ALL;
         return strcmp(v, "all") == 0 || strcmp(v, "junctions") == 0 ? NULL : "all or junctions";
@@ -234,9 +243,10 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
  * (*status is set to EXIT_USAGE when its value is missing or invalid). */
 static int value_option(pack_args *a, char **argv, int argc, int *i, int *status)
 {
-    static const char *const names[] = {"--root",  "--refine",     "--max-pixels", "--layer",
-                                        "--projection", "--vertices", "--invalid",    "--key",
-                                        "--output",     "-o"};
+    static const char *const names[] = {"--root",     "--refine",   "--max-pixels",
+                                        "--layer",    "--projection", "--vertices",
+                                        "--invalid",  "--wrap-dateline", "--key",
+                                        "--output",   "-o"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -413,6 +423,7 @@ static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
                        .vertex_model = a->vertex_model,
                        .progress = isatty(2),
                        .invalid_mode = a->invalid_mode,
+                       .dateline = a->dateline,
                        .key_field = a->key_field};
     char err[1024];
     r->gis = 1;
@@ -564,6 +575,17 @@ static void print_json(const pack_args *a, const pack_report *r)
         jsonw_u64(&w, "faces_with_features", r->faces_with_features);
         jsonw_u64(&w, "faces_without_witness", r->faces_without_witness);
         jsonw_double(&w, "features_seconds", r->features_s, 6);
+        jsonw_u64(&w, "antimeridian_cut", gi->dateline_cut);
+        jsonw_u64(&w, "points_read", gi->points_read);
+        jsonw_string(&w, "noding", gi->noding);
+        jsonw_u64(&w, "noding_segments", gi->noded_segments);
+        /* the stages inside read_seconds */
+        jsonw_object_begin(&w, "gis_seconds");
+        jsonw_double(&w, "read", gi->read_s, 6);
+        jsonw_double(&w, "project", gi->project_s, 6);
+        jsonw_double(&w, "node", gi->node_s, 6);
+        jsonw_double(&w, "graph", gi->graph_s, 6);
+        jsonw_object_end(&w);
     }
     jsonw_u64(&w, "vertices", t->vertices);
     jsonw_u64(&w, "edges", t->edges);
@@ -651,6 +673,12 @@ static void print_text(const pack_args *a, const pack_report *r)
            bits_per_edge(r));
     printf("time       build %.6f s (read %.6f s, write %.6f s)\n", r->build_s, r->read_s,
            r->write_s);
+    if (r->gis)
+        printf("read       %.3f s: read %.3f s, project %.3f s, node %.3f s, graph %.3f s "
+               "(%llu shape points, noding %s)\n",
+               r->read_s, r->gis_info.read_s, r->gis_info.project_s, r->gis_info.node_s,
+               r->gis_info.graph_s, (unsigned long long)r->gis_info.points_read,
+               r->gis_info.noding);
 }
 
 /* ---- main ------------------------------------------------------------------ */

@@ -2,7 +2,7 @@
 # Installs what building and testing hpfc needs on Debian 12, skipping
 # packages that are already there. Runs apt-get as root, or through sudo.
 set -eu
-PACKAGES="gcc meson ninja-build pkg-config python3 libcairo2-dev g++ libgdal-dev libgeos-dev libgeographiclib-dev libdraco-dev draco python3-gdal"
+PACKAGES="gcc meson ninja-build pkg-config python3 libcairo2-dev g++ libgdal-dev gdal-bin libgeos-dev libgeographiclib-dev libdraco-dev draco python3-gdal"
 missing=""
 for p in $PACKAGES; do
     dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"

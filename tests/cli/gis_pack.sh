@@ -75,4 +75,20 @@ expect_ok "counties_ne twice"
 python3 "$HERE/gis_oracle.py" "$GIS/counties_ne.geojson" >"$tmp/oracle.json"
 [ "$rc" -eq 0 ] && compare "$tmp/out" "$tmp/oracle.json" all "counties_ne twice"
 
+# the antimeridian: a ring crossing it packs to the very map of the same ring
+# stored cut at +-180, as Natural Earth stores its countries
+for f in antimeridian_ring antimeridian_split; do
+    run "$PACK" --json "$GIS/ok/$f.geojson" -o "$tmp/$f.hpfc"
+    expect_ok "$f"
+    run "$INSPECT" --export-graph "$tmp/$f.json" "$tmp/$f.hpfc"
+    expect_ok "$f: --export-graph"
+done
+cmp -s "$tmp/antimeridian_ring.json" "$tmp/antimeridian_split.json" ||
+    fail "antimeridian_ring and antimeridian_split export different maps"
+# world-atlas's Fiji, Russia and Antarctica are the features cut
+run "$PACK" --json "$GIS/countries_world.geojson" -o "$tmp/world.hpfc"
+expect_ok "countries_world"
+[ "$(field "$tmp/out" antimeridian_cut)" = 3 ] ||
+    fail "countries_world: antimeridian_cut $(field "$tmp/out" antimeridian_cut), expected 3"
+
 finish

@@ -1,0 +1,166 @@
+/*
+ * segnode.c: see segnode.h.
+ */
+#include "segnode.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+__extension__ typedef __int128 i128;
+
+/* A segment covering more grid cells than this is marked dirty untested:
+ * long segments are rare in real layers, and GEOS nodes them. */
+enum { MAX_CELLS_PER_SEGMENT = 4096 };
+
+/* Sign of the turn a -> b -> c. */
+static int orient(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t cx, int64_t cy)
+{
+    i128 d = (i128)(bx - ax) * (cy - ay) - (i128)(by - ay) * (cx - ax);
+    return (d > 0) - (d < 0);
+}
+
+static int lex_less(int64_t x1, int64_t y1, int64_t x2, int64_t y2)
+{
+    return x1 < x2 || (x1 == x2 && y1 < y2);
+}
+
+static int64_t min64(int64_t a, int64_t b)
+{
+    return a < b ? a : b;
+}
+
+static int64_t max64(int64_t a, int64_t b)
+{
+    return a > b ? a : b;
+}
+
+int segnode_interact(const segnode_seg *a, const segnode_seg *b)
+{
+    if (a->bx < b->ax || b->bx < a->ax || max64(a->ay, a->by) < min64(b->ay, b->by) ||
+        max64(b->ay, b->by) < min64(a->ay, a->by))
+        return 0;
+    int o1 = orient(a->ax, a->ay, a->bx, a->by, b->ax, b->ay);
+    int o2 = orient(a->ax, a->ay, a->bx, a->by, b->bx, b->by);
+    int o3 = orient(b->ax, b->ay, b->bx, b->by, a->ax, a->ay);
+    int o4 = orient(b->ax, b->ay, b->bx, b->by, a->bx, a->by);
+    if ((o1 && o1 == o2) || (o3 && o3 == o4))
+        return 0; /* one lies wholly on one side of the other's line */
+    if (o1 == 0 && o2 == 0) {
+        /* collinear: ends are sorted along the line, so they overlap when the
+         * later start comes before the earlier end */
+        int a_starts_later = lex_less(b->ax, b->ay, a->ax, a->ay);
+        int64_t sx = a_starts_later ? a->ax : b->ax, sy = a_starts_later ? a->ay : b->ay;
+        int b_ends_first = lex_less(b->bx, b->by, a->bx, a->by);
+        int64_t ex = b_ends_first ? b->bx : a->bx, ey = b_ends_first ? b->by : a->by;
+        return lex_less(sx, sy, ex, ey);
+    }
+    /* one common point: fine only if it is an end of both */
+    int shared = (a->ax == b->ax && a->ay == b->ay) || (a->ax == b->bx && a->ay == b->by) ||
+                 (a->bx == b->ax && a->by == b->ay) || (a->bx == b->bx && a->by == b->by);
+    return !shared;
+}
+
+/* The uniform grid: cell (i, j) covers x0 + [i, i+1) * size, y0 + ... */
+typedef struct grid {
+    int64_t x0, y0, size;
+    size_t cols, rows;
+} grid;
+
+static void cell_range(const grid *g, const segnode_seg *s, size_t *i0, size_t *i1, size_t *j0,
+                       size_t *j1)
+{
+    *i0 = (size_t)((s->ax - g->x0) / g->size);
+    *i1 = (size_t)((s->bx - g->x0) / g->size);
+    *j0 = (size_t)((min64(s->ay, s->by) - g->y0) / g->size);
+    *j1 = (size_t)((max64(s->ay, s->by) - g->y0) / g->size);
+}
+
+/* Cells of about twice the mean segment extent, but no more cells than
+ * segments (plus a row and a column), and at most 2^20 a side. */
+static grid make_grid(const segnode_seg *s, size_t n)
+{
+    int64_t x0 = s[0].ax, x1 = s[0].bx, y0 = min64(s[0].ay, s[0].by), y1 = max64(s[0].ay, s[0].by);
+    double len = 0;
+    for (size_t i = 0; i < n; i++) {
+        x0 = min64(x0, s[i].ax);
+        x1 = max64(x1, s[i].bx);
+        y0 = min64(y0, min64(s[i].ay, s[i].by));
+        y1 = max64(y1, max64(s[i].ay, s[i].by));
+        int64_t dy = s[i].by - s[i].ay;
+        len += (double)max64(s[i].bx - s[i].ax, dy < 0 ? -dy : dy);
+    }
+    double w = (double)(x1 - x0) + 1, h = (double)(y1 - y0) + 1;
+    double size = fmax(2 * len / (double)n, sqrt(w * h / (double)n));
+    size = fmax(fmax(size, fmax(w, h) / 1048576.0), 1.0);
+    grid g = {x0, y0, (int64_t)ceil(size), 0, 0};
+    g.cols = (size_t)((x1 - x0) / g.size) + 1;
+    g.rows = (size_t)((y1 - y0) / g.size) + 1;
+    return g;
+}
+
+/* Tests every pair of segments sharing cell c. */
+static void test_cell(const segnode_seg *s, const uint32_t *ids, size_t k, unsigned char *dirty)
+{
+    for (size_t p = 0; p < k; p++)
+        for (size_t q = p + 1; q < k; q++) {
+            uint32_t a = ids[p], b = ids[q];
+            if ((!dirty[a] || !dirty[b]) && segnode_interact(&s[a], &s[b]))
+                dirty[a] = dirty[b] = 1;
+        }
+}
+
+long long segnode_find_dirty(const segnode_seg *s, size_t n, unsigned char *dirty)
+{
+    long long marked = 0;
+    if (n >= UINT32_MAX) /* beyond 32-bit ids: let GEOS node them all */
+        for (size_t i = 0; i < n; i++)
+            dirty[i] = 1;
+    if (n >= 2 && n < UINT32_MAX) {
+        grid g = make_grid(s, n);
+        size_t cells = g.cols * g.rows, entries = 0;
+        size_t *start = calloc(cells + 1, sizeof *start);
+        if (!start)
+            return -1;
+        /* count, then place: a counting sort of (cell, segment) */
+        for (size_t i = 0; i < n; i++) {
+            size_t i0, i1, j0, j1;
+            cell_range(&g, &s[i], &i0, &i1, &j0, &j1);
+            if ((i1 - i0 + 1) * (j1 - j0 + 1) > MAX_CELLS_PER_SEGMENT) {
+                dirty[i] = 1;
+                continue;
+            }
+            for (size_t j = j0; j <= j1; j++)
+                for (size_t c = i0; c <= i1; c++)
+                    start[j * g.cols + c + 1]++, entries++;
+        }
+        for (size_t c = 0; c < cells; c++)
+            start[c + 1] += start[c];
+        uint32_t *ids = malloc((entries ? entries : 1) * sizeof *ids);
+        size_t *fill = malloc((cells + 1) * sizeof *fill);
+        if (!ids || !fill) {
+            free(start);
+            free(ids);
+            free(fill);
+            return -1;
+        }
+        for (size_t c = 0; c <= cells; c++)
+            fill[c] = start[c];
+        for (size_t i = 0; i < n; i++) {
+            size_t i0, i1, j0, j1;
+            cell_range(&g, &s[i], &i0, &i1, &j0, &j1);
+            if ((i1 - i0 + 1) * (j1 - j0 + 1) > MAX_CELLS_PER_SEGMENT)
+                continue;
+            for (size_t j = j0; j <= j1; j++)
+                for (size_t c = i0; c <= i1; c++)
+                    ids[fill[j * g.cols + c]++] = (uint32_t)i;
+        }
+        free(fill);
+        for (size_t c = 0; c < cells; c++)
+            test_cell(s, ids + start[c], start[c + 1] - start[c], dirty);
+        free(ids);
+        free(start);
+    }
+    for (size_t i = 0; i < n; i++)
+        marked += dirty[i] != 0;
+    return marked;
+}

@@ -1,0 +1,37 @@
+/*
+ * segnode.h: which lattice segments need noding, decided exactly on
+ * integers, for hpfc-pack's GIS input (gis_input.c).
+ *
+ * A layer built topologically (shared borders stored bit-identically, as in
+ * census or Natural Earth boundaries) is already a planar graph once its
+ * segments are snapped to the lattice and the duplicates removed: no two
+ * segments meet but at a shared end. Handing millions of such segments to
+ * GEOS's snap-rounding union costs minutes and gigabytes for nothing, so
+ * gis_input.c first asks which segments meet another otherwise (a crossing,
+ * an end on another's interior, an overlap) and nodes only those.
+ */
+#ifndef HPFC_PACK_SEGNODE_H
+#define HPFC_PACK_SEGNODE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* A segment between lattice points, with (ax, ay) < (bx, by)
+ * lexicographically; coordinates within +-2^40. */
+typedef struct segnode_seg {
+    int64_t ax, ay, bx, by;
+} segnode_seg;
+
+/* Sets dirty[i] to 1 for every segment s[i] that meets another segment
+ * other than at an end point of both, leaving the others as they are (so a
+ * caller can pre-mark segments). The segments must be distinct and
+ * non-degenerate. Buckets the segments in a uniform grid and tests the pairs
+ * that share a cell with exact orientation tests (128-bit products); a
+ * segment whose box covers too many cells is marked dirty without tests.
+ * Returns the number of dirty segments, or -1 when memory runs out. */
+long long segnode_find_dirty(const segnode_seg *s, size_t n, unsigned char *dirty);
+
+/* Does segment a meet segment b other than at an end point of both? Exact. */
+int segnode_interact(const segnode_seg *a, const segnode_seg *b);
+
+#endif
