@@ -10,7 +10,10 @@ POINTS_OUT and, for each, the polygon features that contain it (fid, KEY
 value), computed by GDAL/OGR with GEOS, to EXPECTED_OUT (JSON). Points near
 borders are left out: there the lattice snapping of hpfc-pack may decide
 differently from the source's floating-point geometry, and the test is
-about attribution, not about sub-lattice geometry.
+about attribution, not about sub-lattice geometry. Features whose rings cross
+the antimeridian (their envelope spans over 180 degrees of longitude) mean
+something else in the plane than on the sphere, so no point is drawn inside
+their envelopes: hpfc-pack cuts them, GEOS here would not.
 """
 import json
 import random
@@ -34,11 +37,16 @@ def main():
         if ogr.GT_Flatten(g.GetGeometryType()) not in (ogr.wkbPolygon, ogr.wkbMultiPolygon):
             continue
         feats.append((f.GetFID(), f.GetField(key), g.Clone(), g.GetBoundary()))
+    wrapping = [g.GetEnvelope() for _, _, g, _ in feats
+                if g.GetEnvelope()[1] - g.GetEnvelope()[0] > 180]
+    plain = [f for f in feats if f[2].GetEnvelope()[1] - f[2].GetEnvelope()[0] <= 180]
     rng = random.Random(int(seed))
     points, expected = [], []
     while len(points) < int(n):
-        xmin, xmax, ymin, ymax = rng.choice(feats)[2].GetEnvelope()
+        xmin, xmax, ymin, ymax = rng.choice(plain)[2].GetEnvelope()
         x, y = rng.uniform(xmin, xmax), rng.uniform(ymin, ymax)
+        if any(e[2] <= y <= e[3] for e in wrapping):
+            continue
         p = ogr.Geometry(ogr.wkbPoint)
         p.AddPoint_2D(x, y)
         if any(b.Distance(p) < MARGIN for _, _, _, b in feats):
