@@ -11,7 +11,6 @@
 #include "locate.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,14 +20,6 @@
 
 #define PATH_TEXT 1200
 
-static int fail(char *why, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(why, VIEW_WHY, fmt, ap);
-    va_end(ap);
-    return VIEW_FAIL;
-}
 
 /* ---- the locator ------------------------------------------------------------- */
 
@@ -68,11 +59,11 @@ static void locator_close(locator *L)
 static int open_projection(locator *L, char *why)
 {
     if (!L->info.crs)
-        return fail(why, "the file records no CRS, so no (lon, lat) can be placed in it");
+        return view_fail(why, "the file records no CRS, so no (lon, lat) can be placed in it");
     char reason[200];
     L->plan = mapproj_from_text(L->info.crs, L->info.crs_len, reason, sizeof reason);
     if (!L->plan)
-        return fail(why, "cannot place (lon, lat) points: %s (use --locate X,Y)", reason);
+        return view_fail(why, "cannot place (lon, lat) points: %s (use --locate X,Y)", reason);
     return VIEW_OK;
 }
 
@@ -85,15 +76,15 @@ static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
         return VIEW_FAIL;
     int st = hpfc_faces_build(f, &L->faces);
     if (st)
-        return fail(why, "faces: %s", hpfc_strerror(st));
+        return view_fail(why, "faces: %s", hpfc_strerror(st));
     st = hpfc_file_features(f, &L->fi);
     if (st == HPFC_OK) {
         if (L->fi.faces != hpfc_faces_count(L->faces))
-            return fail(why, "features: the FEAT section lists %u faces, the map has %llu",
+            return view_fail(why, "features: the FEAT section lists %u faces, the map has %llu",
                         L->fi.faces, (unsigned long long)hpfc_faces_count(L->faces));
         L->features = 1;
     } else if (st != HPFC_E_NO_SECTION)
-        return fail(why, "features: %s", hpfc_strerror(st));
+        return view_fail(why, "features: %s", hpfc_strerror(st));
     return VIEW_OK;
 }
 
@@ -190,16 +181,16 @@ static int project_lonlat(const locator *L, const decimal ll[2], decimal xy[2], 
     double x, y;
     char text[2][40];
     if (ll[0].value < -180 || ll[0].value > 180 || ll[1].value < -90 || ll[1].value > 90)
-        return fail(why, "(%g, %g) is not a longitude and latitude in degrees", ll[0].value,
+        return view_fail(why, "(%g, %g) is not a longitude and latitude in degrees", ll[0].value,
                     ll[1].value);
     if (mapproj_forward(L->plan, ll[0].value, ll[1].value, &x, &y) != 0)
-        return fail(why, "(%g, %g) cannot be projected with the file's CRS", ll[0].value,
+        return view_fail(why, "(%g, %g) cannot be projected with the file's CRS", ll[0].value,
                     ll[1].value);
     snprintf(text[0], sizeof text[0], "%.17g", x);
     snprintf(text[1], sizeof text[1], "%.17g", y);
     if (decimal_parse(text[0], strlen(text[0]), &xy[0]) ||
         decimal_parse(text[1], strlen(text[1]), &xy[1]))
-        return fail(why, "(%g, %g) projects to no finite point", ll[0].value, ll[1].value);
+        return view_fail(why, "(%g, %g) projects to no finite point", ll[0].value, ll[1].value);
     return VIEW_OK;
 }
 
@@ -325,7 +316,7 @@ static int answer_one(const hpfc_file *f, const decimal *ll, const decimal *give
         memcpy(xy, given, sizeof xy);
     int st = status ? HPFC_OK : locate_decimal(&L, xy, &a);
     if (st)
-        status = fail(why, "locate: %s", hpfc_strerror(st));
+        status = view_fail(why, "locate: %s", hpfc_strerror(st));
     else if (!status && json)
         print_json(out, &L, ll, xy, &a);
     else if (!status)
@@ -365,7 +356,7 @@ int view_locate_batch(const hpfc_file *f, FILE *in, const char *in_name, int lon
         n++;
         size_t len = strlen(line);
         if (len == sizeof line - 1 && line[len - 1] != '\n') {
-            status = fail(why, "%s line %lu: longer than %zu bytes", in_name, n, sizeof line - 2);
+            status = view_fail(why, "%s line %lu: longer than %zu bytes", in_name, n, sizeof line - 2);
             break;
         }
         line[strcspn(line, "\r\n")] = '\0';
@@ -374,25 +365,25 @@ int view_locate_batch(const hpfc_file *f, FILE *in, const char *in_name, int lon
         decimal given[2], xy[2];
         const char *p = line + strspn(line, " \t");
         if (decimal_list_parse(p, given, 2)) {
-            status = fail(why, "%s line %lu: expected %s: two decimal numbers", in_name, n,
+            status = view_fail(why, "%s line %lu: expected %s: two decimal numbers", in_name, n,
                           lonlat ? "lon,lat" : "x,y");
             break;
         }
         if (lonlat && (status = project_lonlat(&L, given, xy, why)) != VIEW_OK) {
             char inner[VIEW_WHY];
             snprintf(inner, sizeof inner, "%s", why);
-            status = fail(why, "%s line %lu: %s", in_name, n, inner);
+            status = view_fail(why, "%s line %lu: %s", in_name, n, inner);
             break;
         }
         int st = locate_decimal(&L, lonlat ? xy : given, &a);
         if (st) {
-            status = fail(why, "%s line %lu: locate: %s", in_name, n, hpfc_strerror(st));
+            status = view_fail(why, "%s line %lu: locate: %s", in_name, n, hpfc_strerror(st));
             break;
         }
         print_json(out, &L, lonlat ? given : NULL, lonlat ? xy : given, &a);
     }
     if (!status && ferror(in))
-        status = fail(why, "%s: read error", in_name);
+        status = view_fail(why, "%s: read error", in_name);
     free(a.word);
     locator_close(&L);
     return status;

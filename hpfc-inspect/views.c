@@ -13,7 +13,7 @@
 
 static const char *const road_names[4] = {"W", "N", "E", "S"};
 
-static int fail(char *why, const char *fmt, ...)
+int view_fail(char *why, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -24,7 +24,7 @@ static int fail(char *why, const char *fmt, ...)
 
 static int fail_status(char *why, const char *what, int st)
 {
-    return fail(why, "%s: %s", what, hpfc_strerror(st));
+    return view_fail(why, "%s: %s", what, hpfc_strerror(st));
 }
 
 /* ---- decimals ----------------------------------------------------------------- */
@@ -231,13 +231,13 @@ static int resolve_path(const hpfc_file *f, const pixel_path *pp, hpfc_pixel *px
         uint32_t i = pp->ij[l][0], j = pp->ij[l][1];
         uint32_t n = l ? info.cols : info.root_cols, m = l ? info.rows : info.root_rows;
         if (i >= n || j >= m)
-            return fail(why, "no pixel %u,%u at depth %u: images there are %ux%u", i, j, l, n, m);
+            return view_fail(why, "no pixel %u,%u at depth %u: images there are %ux%u", i, j, l, n, m);
         int type, st;
         if (l > 0) {
             if ((st = hpfc_pixel_type(f, px, &type)))
                 return fail_status(why, "pixel type", st);
             if (type != HPFC_PIXEL_REFINED)
-                return fail(why, "the pixel at depth %u is a word pixel: the path goes no deeper",
+                return view_fail(why, "the pixel at depth %u is a word pixel: the path goes no deeper",
                             l - 1);
         }
         st = l ? hpfc_pixel_child(f, px, i, j, px) : hpfc_pixel_root(f, i, j, px);
@@ -332,13 +332,13 @@ static int read_map(const hpfc_file *f, const char *path, file_map *m, char *why
     hpfc_file_get_info(f, &m->info);
     for (uint32_t l = 0; l < m->info.levels && l < HPFC_MAX_LEVELS; l++)
         if (hpfc_file_get_level(f, l, &m->levels[l]))
-            return fail(why, "level %u: cannot be read", l);
+            return view_fail(why, "level %u: cannot be read", l);
     m->sections = calloc(m->info.section_count + 1, sizeof *m->sections);
     if (!m->sections)
         return fail_status(why, "sections", HPFC_E_NOMEM);
     FILE *in = fopen(path, "rb");
     if (!in)
-        return fail(why, "cannot reread the file: %s", strerror(errno));
+        return view_fail(why, "cannot reread the file: %s", strerror(errno));
     unsigned char hdr[128];
     int bad_io = fread(hdr, 1, sizeof hdr, in) != sizeof hdr;
     if (!bad_io) {
@@ -358,7 +358,7 @@ static int read_map(const hpfc_file *f, const char *path, file_map *m, char *why
     }
     fclose(in);
     if (bad_io)
-        return fail(why, "cannot reread the file (changed since it was opened?)");
+        return view_fail(why, "cannot reread the file (changed since it was opened?)");
     m->bad += m->meta_computed != m->meta_crc;
     m->api_status = hpfc_verify_checksums(f);
     return VIEW_OK;
@@ -542,7 +542,7 @@ int view_sections(const hpfc_file *f, const char *path, FILE *out, int json, cha
         else
             print_map_text(out, path, &m);
         if (m.bad)
-            status = fail(why, "%u checksum%s do%s not match", m.bad, m.bad == 1 ? "" : "s",
+            status = view_fail(why, "%u checksum%s do%s not match", m.bad, m.bad == 1 ? "" : "s",
                           m.bad == 1 ? "es" : "");
     }
     free(m.sections);

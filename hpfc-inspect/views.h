@@ -28,6 +28,13 @@ enum { VIEW_OK = 0, VIEW_FAIL = 1, VIEW_USAGE = 2 };
 
 #define VIEW_WHY 256
 
+/* Writes the reason (printf-style, one line) into why; returns VIEW_FAIL. */
+int view_fail(char *why, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
 /* ---- arguments ------------------------------------------------------------ */
 
 /* A decimal number as written, kept exact: value = digits * 10^exp10. */

@@ -13,6 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "grow.h"
+
 typedef struct ll {
     double lon, lat;
 } ll;
@@ -42,21 +44,6 @@ static int fail(cutter *c, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(c->err, c->err_len, fmt, ap);
     va_end(ap);
-    return 1;
-}
-
-static int grow(void **p, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap)
-        return 1;
-    size_t n = *cap ? *cap : 16;
-    while (n < need)
-        n *= 2;
-    void *np = realloc(*p, n * size);
-    if (!np)
-        return 0;
-    *p = np;
-    *cap = n;
     return 1;
 }
 
@@ -173,7 +160,7 @@ static int cut_line_into(cutter *c, OGRGeometryH g, OGRGeometryH multi)
 
 static int add_chain(cutter *c, ll *p, size_t n)
 {
-    if (!grow((void **)&c->chains, &c->cap_chains, c->n_chains + 1, sizeof *c->chains)) {
+    if (!array_grow((void **)&c->chains, &c->cap_chains, c->n_chains + 1, sizeof *c->chains)) {
         free(p);
         return fail(c, "out of memory");
     }
@@ -223,7 +210,7 @@ static int ring_pieces(cutter *c, const ll *q, size_t m, const size_t *wrap, siz
         push(buf, &n, (ll){side(q[w2].lon), lat2});
         if (add_chain(c, buf, n))
             return 1;
-        if (!grow((void **)&c->cross, &c->cap_cross, c->n_cross + 1, sizeof *c->cross))
+        if (!array_grow((void **)&c->cross, &c->cap_cross, c->n_cross + 1, sizeof *c->cross))
             return fail(c, "out of memory");
         c->cross[c->n_cross++] = lat;
     }

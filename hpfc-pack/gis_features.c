@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "grow.h"
+
 struct gis_features {
     char *key_field;
     char **layer_name;
@@ -27,22 +29,6 @@ struct gis_features {
 static char *dup_or_null(const char *s)
 {
     return s ? strdup(s) : NULL;
-}
-
-/* Grows *p to hold `need` elements of `size` bytes. */
-static int grow(void **p, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap)
-        return 1;
-    size_t c = *cap ? *cap : 16;
-    while (c < need)
-        c *= 2;
-    void *np = realloc(*p, c * size);
-    if (!np)
-        return 0;
-    *p = np;
-    *cap = c;
-    return 1;
 }
 
 gis_features *gis_features_create(const char *key_field)
@@ -135,9 +121,9 @@ int gis_features_add_ring(gis_features *fs, uint32_t feature, const int64_t *xy,
 {
     if (n < 3)
         return 0; /* no area */
-    if (!grow((void **)&fs->ring_feature, &fs->cap_rings, fs->rings + 1, sizeof *fs->ring_feature) ||
-        !grow((void **)&fs->ring_start, &fs->cap_ring_start, fs->rings + 2, sizeof *fs->ring_start) ||
-        !grow((void **)&fs->xy, &fs->cap_points, 2 * (fs->points + n), sizeof *fs->xy))
+    if (!array_grow((void **)&fs->ring_feature, &fs->cap_rings, fs->rings + 1, sizeof *fs->ring_feature) ||
+        !array_grow((void **)&fs->ring_start, &fs->cap_ring_start, fs->rings + 2, sizeof *fs->ring_start) ||
+        !array_grow((void **)&fs->xy, &fs->cap_points, 2 * (fs->points + n), sizeof *fs->xy))
         return -1;
     memcpy(fs->xy + 2 * fs->points, xy, 2 * n * sizeof *xy);
     fs->points += n;
@@ -175,7 +161,7 @@ typedef struct candidates {
 static void collect(void *item, void *user)
 {
     candidates *c = user;
-    if (!grow((void **)&c->ring, &c->cap, c->n + 1, sizeof *c->ring)) {
+    if (!array_grow((void **)&c->ring, &c->cap, c->n + 1, sizeof *c->ring)) {
         c->failed = 1;
         return;
     }
@@ -231,7 +217,7 @@ static int face_features(GEOSContextHandle_t ctx, GEOSSTRtree *tree, const gis_f
         return -1;
     GEOSSTRtree_query_r(ctx, tree, pt, collect, c);
     GEOSGeom_destroy_r(ctx, pt);
-    if (c->failed || !grow((void **)&links->v, &links->cap, links->n + c->n, sizeof *links->v))
+    if (c->failed || !array_grow((void **)&links->v, &links->cap, links->n + c->n, sizeof *links->v))
         return -1;
     if (c->n > 1)
         qsort(c->ring, c->n, sizeof *c->ring, cmp_size); /* rings, hence features, in order */

@@ -37,6 +37,7 @@
 #include <geos_c.h>
 
 #include "dateline.h"
+#include "grow.h"
 #include "lattice.h"
 #include "progress.h"
 #include "projection.h"
@@ -129,30 +130,15 @@ static void geos_notice(const char *msg, void *user)
 
 /* ---- step 1: reading -------------------------------------------------------------- */
 
-static int grow(void **p, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap)
-        return 1;
-    size_t c = *cap ? *cap : 1024;
-    while (c < need)
-        c *= 2;
-    void *np = realloc(*p, c * size);
-    if (!np)
-        return 0;
-    *p = np;
-    *cap = c;
-    return 1;
-}
-
 /* Appends one line string or ring of `g`. */
 static int add_part(reader *r, OGRGeometryH g, int closed)
 {
     int n = OGR_G_GetPointCount(g);
     if (n <= 0)
         return 0;
-    if (!grow((void **)&r->xy, &r->cap_points, r->n_points + (size_t)n + 1, 2 * sizeof(double)) ||
-        !grow((void **)&r->start, &r->cap_start, r->n_parts + 2, sizeof(size_t)) ||
-        !grow((void **)&r->refs, &r->cap_parts, r->n_parts + 1, sizeof(part_ref)))
+    if (!array_grow((void **)&r->xy, &r->cap_points, r->n_points + (size_t)n + 1, 2 * sizeof(double)) ||
+        !array_grow((void **)&r->start, &r->cap_start, r->n_parts + 2, sizeof(size_t)) ||
+        !array_grow((void **)&r->refs, &r->cap_parts, r->n_parts + 1, sizeof(part_ref)))
         return fail(r, "out of memory");
     double *x = r->xy + 2 * r->n_points;
     OGR_G_GetPoints(g, x, 2 * sizeof(double), x + 1, 2 * sizeof(double), NULL, 0);
@@ -655,7 +641,7 @@ static int cmp_seg(const void *a, const void *b)
 /* Appends segment p-q (p != q) with its ends in order. */
 static int push_seg(reader *r, seg **segs, size_t *n, size_t *cap, pt a, pt b)
 {
-    if (!grow((void **)segs, cap, *n + 1, sizeof **segs))
+    if (!array_grow((void **)segs, cap, *n + 1, sizeof **segs))
         return fail(r, "out of memory");
     int c = cmp_pt(&a, &b);
     (*segs)[*n] = (seg){c < 0 ? a.x : b.x, c < 0 ? a.y : b.y, c < 0 ? b.x : a.x,
@@ -817,7 +803,7 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
         st = geos_node(r, lines, n_lines, &merged, &m, &cap);
     free(lines);
     for (size_t i = 0; i < n && !st; i++)
-        if (!dirty[i] && !grow((void **)&merged, &cap, m + 1, sizeof *merged))
+        if (!dirty[i] && !array_grow((void **)&merged, &cap, m + 1, sizeof *merged))
             st = fail(r, "out of memory");
         else if (!dirty[i])
             merged[m++] = segs[i];
@@ -954,7 +940,7 @@ static int gb_chain(graph_builder *b, size_t p, size_t s)
                 return fail(b->r, "graph: %s", hpfc_strerror(st));
             return st;
         }
-        if (!grow((void **)&b->interior, &b->cap_interior, 2 * n_int + 2, sizeof(int64_t)))
+        if (!array_grow((void **)&b->interior, &b->cap_interior, 2 * n_int + 2, sizeof(int64_t)))
             return fail(b->r, "out of memory");
         b->interior[2 * n_int] = b->pts[q].x;
         b->interior[2 * n_int + 1] = b->pts[q].y;

@@ -1,0 +1,34 @@
+/*
+ * grow.h: amortised growth of a malloc'ed array, for hpfc-pack's readers
+ * (GIS input, the antimeridian cut, the features). Header-only.
+ */
+#ifndef HPFC_PACK_GROW_H
+#define HPFC_PACK_GROW_H
+
+#include <stdint.h>
+#include <stdlib.h>
+
+/* Makes *p (of *cap elements of `size` bytes) hold at least `need`,
+ * doubling; 1 on success, 0 when memory or size_t runs out (*p is then
+ * unchanged). */
+static inline int array_grow(void **p, size_t *cap, size_t need, size_t size)
+{
+    if (need <= *cap)
+        return 1;
+    size_t c = *cap ? *cap : 16;
+    while (c < need) {
+        if (c > SIZE_MAX / 2)
+            return 0;
+        c *= 2;
+    }
+    if (c > SIZE_MAX / size)
+        return 0;
+    void *np = realloc(*p, c * size);
+    if (!np)
+        return 0;
+    *p = np;
+    *cap = c;
+    return 1;
+}
+
+#endif
