@@ -27,10 +27,10 @@
 #include <errno.h>
 #include <math.h>
 #include <time.h>
-#include <unistd.h>
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
+#include <cpl_vsi.h>
 #include <gdal.h>
 #include <ogr_api.h>
 #include <ogr_srs_api.h>
@@ -436,10 +436,20 @@ static int read_layer(reader *r, OGRLayerH layer, int chosen)
 /* Opens the dataset and reads the selected layers. */
 static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatialReferenceH *srs_out)
 {
-    GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL, NULL, NULL);
+    /* Reading never writes: GDAL's GML driver would otherwise leave a .gfs
+     * schema beside the input, and read it back the next time, so that the
+     * same file could pack differently twice. */
+    static const char *const open_options[] = {"WRITE_GFS=NO", NULL};
+    GDALDatasetH ds =
+        GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL, open_options, NULL);
     if (!ds) {
-        if (access(path, R_OK) != 0)
-            return fail(r, "cannot read: %s", strerror(errno));
+        /* through GDAL's file layer, so /vsimem/ and /vsizip/ paths are
+         * judged as GDAL sees them */
+        errno = 0;
+        VSILFILE *probe = VSIFOpenL(path, "rb");
+        if (!probe)
+            return fail(r, "cannot read: %s", errno ? strerror(errno) : "no such file");
+        VSIFCloseL(probe);
         const char *msg = CPLGetLastErrorMsg();
         if (msg && msg[0])
             return fail(r, "not a vector dataset GDAL can read: %s", msg);

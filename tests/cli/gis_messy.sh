@@ -9,7 +9,8 @@
 #  - three layers of one map in a GeoPackage (made with ogr2ogr; skipped when
 #    gdal-bin is missing): borders stored twice non-identically, lines along
 #    and across them, null / empty geometries and a point; merged into one
-#    planar graph, and one or two of them chosen with --layer.
+#    planar graph, and one or two of them chosen with --layer;
+#  - a GML file packed twice: the same bytes, and nothing written beside it.
 # Counts are checked against gis_oracle.py on the same GeoJSON files, with the
 # linear projections (eqc, none): the oracle works in longitude/latitude, and
 # only they keep a vertex lying on another feature's side in (lon, lat) on it.
@@ -116,5 +117,18 @@ run "$PACK" --layer rivers "$gpkg" -o "$tmp/m.hpfc"
 expect_error "map.gpkg --layer rivers" "hpfc-pack: " 1
 grep -q "no layer 'rivers' (layers: 'parcels', 'borders', 'roads')" "$tmp/err" ||
     fail "map.gpkg --layer rivers: $(cat "$tmp/err")"
+
+# 4. packing reads only: GDAL's GML driver, left to itself, writes a .gfs
+#    schema beside a GML file without one and reads it back the next time
+#    (so a second pack of the same file differed from the first)
+mkdir "$tmp/gml"
+ogr2ogr -f GML -dsco XSISCHEMA=OFF "$tmp/gml/borders.gml" "$tmp/lay/borders.geojson" \
+    2>"$tmp/ogr.err" || fail "ogr2ogr GML: $(cat "$tmp/ogr.err")"
+before=$(ls "$tmp/gml")
+packs "borders.gml" "$tmp/borders.json" --projection eqc "$tmp/gml/borders.gml"
+cp "$tmp/m.hpfc" "$tmp/first.hpfc"
+packs "borders.gml, again" "$tmp/borders.json" --projection eqc "$tmp/gml/borders.gml"
+[ "$(ls "$tmp/gml")" = "$before" ] || fail "borders.gml: packing wrote $(ls "$tmp/gml" | tr '\n' ' ')"
+cmp -s "$tmp/m.hpfc" "$tmp/first.hpfc" || fail "borders.gml: two packs of one file differ"
 
 finish
