@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdarg>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -52,6 +53,140 @@ bool position_type_ok(draco::DataType t)
     }
 }
 
+// ---- declared sizes ----------------------------------------------------------
+//
+// Draco sizes its tables from the counts of the connectivity header before it
+// reads anything behind them, and a metadata entry's buffer from its declared
+// length: a 150-byte file declaring 155 million faces made it allocate 3 GB.
+// So the counts are read first, as the Draco bitstream defines them (versions
+// 1.0 to 2.2), and a mesh declaring more faces or vertices than
+// kMaxCountPerByte per byte of the file is refused. Real meshes stay far
+// below: a perfectly regular 1000 x 1000 grid at Draco's strongest settings
+// takes 68 faces per byte (684 when its positions are quantized to 1 bit,
+// which leaves a mesh hpfc-pack cannot use). Bytes this reading cannot make
+// sense of are left to Draco, which then refuses them with its own reason.
+
+constexpr uint64_t kMaxCountPerByte = 1024;
+constexpr int kMaxMetadataDepth = 32;
+
+// A bounds-checked reader over the file, little-endian, LEB128 varints.
+struct Cursor {
+    const unsigned char *p;
+    size_t n;
+    bool ok = true;
+
+    uint64_t bytes(size_t k)
+    {
+        uint64_t v = 0;
+        if (!ok || n < k) {
+            ok = false;
+            return 0;
+        }
+        for (size_t i = 0; i < k; i++)
+            v |= static_cast<uint64_t>(p[i]) << (8 * i);
+        p += k;
+        n -= k;
+        return v;
+    }
+    void skip(uint64_t k)
+    {
+        if (!ok || k > n) {
+            ok = false;
+            return;
+        }
+        p += k;
+        n -= static_cast<size_t>(k);
+    }
+    uint64_t varint() // Draco's uint32 varint: at most 5 bytes
+    {
+        uint64_t v = 0;
+        for (int i = 0; i < 5 && ok; i++) {
+            uint64_t b = bytes(1);
+            v |= (b & 0x7f) << (7 * i);
+            if (!(b & 0x80))
+                return v;
+        }
+        ok = false;
+        return 0;
+    }
+    uint64_t count(bool fixed32) { return fixed32 ? bytes(4) : varint(); }
+};
+
+// Skips one metadata element (entries, then named sub-elements); false when
+// it nests too deep or an entry claims more bytes than the file holds.
+bool skip_metadata(Cursor &c, int depth, hpfc_diag *diag, int *status)
+{
+    if (depth > kMaxMetadataDepth) {
+        *status = fail(diag, DRACO_E_DECODE, "corrupt Draco metadata: nested deeper than %d "
+                                             "levels", kMaxMetadataDepth);
+        return false;
+    }
+    for (uint64_t k = 0, entries = c.varint(); c.ok && k < entries; k++) {
+        c.skip(c.bytes(1)); // name
+        uint64_t len = c.varint();
+        if (c.ok && len > c.n) {
+            *status = fail(diag, DRACO_E_DECODE, "corrupt Draco metadata: an entry of %llu "
+                                                 "bytes, with %zu left in the file",
+                           static_cast<unsigned long long>(len), c.n);
+            return false;
+        }
+        c.skip(len);
+    }
+    for (uint64_t k = 0, subs = c.varint(); c.ok && k < subs; k++) {
+        c.skip(c.bytes(1)); // name
+        if (!skip_metadata(c, depth + 1, diag, status))
+            return false;
+    }
+    return true;
+}
+
+// HPFC_OK, or DRACO_E_DECODE when the declared counts or metadata sizes are
+// impossible for a file of this size.
+int check_declared_sizes(const void *data, size_t size, hpfc_diag *diag)
+{
+    Cursor c{static_cast<const unsigned char *>(data), size};
+    c.skip(5); // "DRACO"
+    const uint64_t major = c.bytes(1), minor = c.bytes(1);
+    const uint64_t version = major << 8 | minor;
+    const uint64_t type = c.bytes(1), method = c.bytes(1), flags = c.bytes(2);
+    if (!c.ok || type != draco::TRIANGULAR_MESH)
+        return HPFC_OK;
+    int status = HPFC_OK;
+    if (version >= 0x0103 && (flags & 0x8000)) { // geometry metadata
+        for (uint64_t k = 0, atts = c.varint(); c.ok && k < atts; k++) {
+            c.varint(); // attribute id
+            if (!skip_metadata(c, 0, diag, &status))
+                return status;
+        }
+        if (!skip_metadata(c, 0, diag, &status))
+            return status;
+    }
+    const bool fixed32 = version < 0x0200; // counts were uint32 before 2.0
+    uint64_t faces = 0, vertices = 0;
+    if (method == draco::MESH_SEQUENTIAL_ENCODING) {
+        // uint32 counts up to 2.1, varints from 2.2
+        faces = c.count(version < 0x0202);
+        vertices = c.count(version < 0x0202);
+    } else if (method == draco::MESH_EDGEBREAKER_ENCODING) {
+        c.skip(1); // traversal decoder type
+        if (version < 0x0202)
+            c.count(fixed32); // number of new vertices
+        vertices = c.count(fixed32);
+        faces = c.count(fixed32);
+    }
+    if (!c.ok)
+        return HPFC_OK;
+    const uint64_t limit = kMaxCountPerByte * size;
+    if (faces > limit || vertices > limit)
+        return fail(diag, DRACO_E_DECODE,
+                    "implausible Draco mesh: it declares %llu faces and %llu vertices in %zu "
+                    "bytes (hpfc-pack accepts at most %llu of each per byte)",
+                    static_cast<unsigned long long>(faces),
+                    static_cast<unsigned long long>(vertices), size,
+                    static_cast<unsigned long long>(kMaxCountPerByte));
+    return HPFC_OK;
+}
+
 int decode(const void *data, size_t size, const draco_options *opts, hpfc_graph **out,
            hpfc_diag *diag)
 {
@@ -69,6 +204,9 @@ int decode(const void *data, size_t size, const draco_options *opts, hpfc_graph 
     if (type.value() != draco::TRIANGULAR_MESH)
         return fail(diag, DRACO_E_NOT_MESH, "not a Draco triangle mesh (geometry type %d)",
                     static_cast<int>(type.value()));
+    const int sizes = check_declared_sizes(data, size, diag);
+    if (sizes != HPFC_OK)
+        return sizes;
     draco::Decoder decoder;
     auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
     if (!decoded.ok())

@@ -34,3 +34,6 @@ enc -i cluster.obj -o cluster_lossless.drc -qp 0
 enc -i cluster.obj -o cluster_q11.drc
 enc -i fold.obj -o fold.drc -qp 0
 enc -i flat.obj -o flat.drc -qp 0
+
+# hand-made hostile headers (refused before Draco decodes them)
+python3 craft_bad.py .
