@@ -12,6 +12,8 @@
  *   any read past its end, even with commands behind it.
  * - FUZZ_CHECK: the harness's oracle; a failed check aborts with a message,
  *   which libFuzzer (and the replay test) report as a finding.
+ * - fuzz_check_graph, fuzz_same_graph: the checks every harness that makes
+ *   an hpfc_graph (the .pfc parser, the mesh and GIS inputs) applies to it.
  */
 #ifndef HPFC_FUZZ_INPUT_H
 #define HPFC_FUZZ_INPUT_H
@@ -110,6 +112,63 @@ static inline bool fuzz_known_status(int st)
     default:
         return false;
     }
+}
+
+/* The shape every graph handed out must have, whatever the input: edges name
+ * existing vertices, a loop has at least two shape points, and every vertex
+ * and shape point lies within the lattice bound. */
+static inline void fuzz_check_graph(const hpfc_graph *g)
+{
+    size_t nv = hpfc_graph_vertex_count(g), ne = hpfc_graph_edge_count(g);
+    for (size_t v = 0; v < nv; v++) {
+        int64_t x, y;
+        hpfc_graph_vertex(g, v, &x, &y);
+        FUZZ_CHECK(x >= -HPFC_COORD_MAX && x <= HPFC_COORD_MAX && y >= -HPFC_COORD_MAX &&
+                   y <= HPFC_COORD_MAX);
+    }
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t u, v;
+        const int64_t *pts;
+        size_t n;
+        hpfc_graph_edge(g, e, &u, &v, &pts, &n);
+        FUZZ_CHECK(u < nv && v < nv);
+        FUZZ_CHECK(u != v || n >= 2);
+        for (size_t k = 0; k < 2 * n; k++)
+            FUZZ_CHECK(pts[k] >= -HPFC_COORD_MAX && pts[k] <= HPFC_COORD_MAX);
+    }
+}
+
+/* Same vertices, edges, shape points and unit, in the same order. */
+static inline bool fuzz_same_graph(const hpfc_graph *a, const hpfc_graph *b)
+{
+    size_t nv = hpfc_graph_vertex_count(a), ne = hpfc_graph_edge_count(a);
+    if (nv != hpfc_graph_vertex_count(b) || ne != hpfc_graph_edge_count(b) ||
+        hpfc_graph_unit_exp10(a) != hpfc_graph_unit_exp10(b))
+        return false;
+    for (size_t v = 0; v < nv; v++) {
+        int64_t ax, ay, bx, by;
+        hpfc_graph_vertex(a, v, &ax, &ay);
+        hpfc_graph_vertex(b, v, &bx, &by);
+        if (ax != bx || ay != by)
+            return false;
+    }
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t au, av, bu, bv;
+        const int64_t *ap, *bp;
+        size_t an, bn;
+        hpfc_graph_edge(a, e, &au, &av, &ap, &an);
+        hpfc_graph_edge(b, e, &bu, &bv, &bp, &bn);
+        if (au != bu || av != bv || an != bn || (an && memcmp(ap, bp, 2 * an * sizeof *ap)))
+            return false;
+    }
+    return true;
+}
+
+/* A diagnostic filled for status st: the same status, a terminated message. */
+static inline void fuzz_check_diag(const hpfc_diag *d, int st)
+{
+    FUZZ_CHECK(d->status == st);
+    FUZZ_CHECK(memchr(d->message, '\0', sizeof d->message) != NULL);
 }
 
 #endif

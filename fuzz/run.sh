@@ -21,10 +21,10 @@
 set -eu
 cd "$(dirname "$0")/.."
 build=${HPFC_FUZZ_BUILD:-build-fuzz-clang}
-all="open_buffer navigate_pixels traverse_darts parse_pfc roundtrip_graph"
+all="open_buffer navigate_pixels traverse_darts parse_pfc roundtrip_graph decode_drc read_gis"
 
 have_libfuzzer() {
-    command -v clang >/dev/null 2>&1 || return 1
+    command -v clang >/dev/null 2>&1 && command -v clang++ >/dev/null 2>&1 || return 1
     tmp=$(mktemp -d)
     printf '%s\n' '#include <stddef.h>' '#include <stdint.h>' \
         'int LLVMFuzzerTestOneInput(const uint8_t *d, size_t n) { (void)d; (void)n; return 0; }' \
@@ -72,15 +72,26 @@ if ! have_libfuzzer; then
 fi
 
 if [ ! -f "$build/build.ninja" ]; then
-    CC=clang meson setup "$build" -Dbuildtype=debugoptimized \
+    # C++ too (hpfc-pack's Draco and projection sources), with the same flags
+    flags="-fsanitize=fuzzer-no-link -fno-sanitize-recover=all -fsanitize-ignorelist=$PWD/fuzz/ubsan-ignorelist.txt"
+    CC=clang CXX=clang++ meson setup "$build" -Dbuildtype=debugoptimized \
         -Db_sanitize=address,undefined -Db_lundef=false \
-        "-Dc_args=-fsanitize=fuzzer-no-link -fno-sanitize-recover=all -fsanitize-ignorelist=$PWD/fuzz/ubsan-ignorelist.txt" \
-        >/dev/null
+        "-Dc_args=$flags" "-Dcpp_args=$flags" >/dev/null
 fi
+# read_gis exists only in builds with GIS input (GDAL, GEOS, GeographicLib)
+built=$(ninja -C "$build" -t targets all | sed -n 's|^fuzz/fuzz_\([a-z_]*\): .*|\1|p' | tr '\n' ' ')
 targets=""
+kept=""
 for h in $harnesses; do
-    targets="$targets fuzz/fuzz_$h"
+    case " $built " in
+    *" $h "*)
+        targets="$targets fuzz/fuzz_$h"
+        kept="$kept $h"
+        ;;
+    *) echo "$h: not in this build (no GIS input): skipped" >&2 ;;
+    esac
 done
+harnesses=$kept
 # shellcheck disable=SC2086
 ninja -C "$build" $targets >/dev/null
 

@@ -1,0 +1,182 @@
+/*
+ * read_gis: hpfc-pack's GIS input (hpfc-pack/gis_input.h) on a dataset held
+ * in memory, then, for small maps, the rest of a pack: the build, the
+ * features of the faces (face_witness.h, gis_features.h) and the file that
+ * records them.
+ *
+ * The input is written to a GDAL in-memory file (/vsimem/) and read with
+ * gis_read_graph, so any driver that recognises the bytes by their content
+ * takes part (GeoJSON, TopoJSON, ESRI JSON, CSV with WKT, GML, KML,
+ * FlatGeobuf, GeoPackage, ...). An input that starts with the byte 0x01,
+ * which starts no dataset, carries an options byte after it; the dataset
+ * follows. Without it the options are hpfc-pack's defaults:
+ *
+ *   bit 0  --vertices junctions (else all)
+ *   bit 1  --invalid node (else reject)
+ *   bit 2  --wrap-dateline no (refuse wrapping rings; else cut them)
+ *   bit 3  --projection none (else auto)
+ *   bit 4  --key name
+ *   bit 5  the in-memory file is named *.csv (GDAL's CSV driver goes by the
+ *          name; the others by content)
+ *
+ * Oracle: gis_read_graph returns 0 with a graph or 1 with a one-line
+ * message and no graph; the graph passes hpfc_graph_validate (the promise
+ * of gis_input.h: the builder always receives a planar graph) and the shape
+ * checks of input.h, at the unit gis_info reports; reading twice gives the
+ * same graph. When the map has at most PACK_MAX_EDGES edges it is built,
+ * serialised, reopened with checksums, and its faces are linked to the
+ * polygon features as hpfc-pack does: every face gets features that exist,
+ * and the file records exactly the table the pack made.
+ */
+#include <cpl_vsi.h>
+
+#include "face_witness.h"
+#include "gis_features.h"
+#include "gis_input.h"
+#include "input.h"
+
+enum { PACK_MAX_EDGES = 200, OPTIONS_MARK = 0x01 };
+
+static const char *const fuzz_paths[2] = {"/vsimem/read_gis_input", "/vsimem/read_gis_input.csv"};
+
+static void options_from_byte(uint8_t b, gis_options *o, const char **path)
+{
+    memset(o, 0, sizeof *o);
+    *path = fuzz_paths[b >> 5 & 1];
+    o->vertex_model = b & 1 ? GIS_VERTICES_JUNCTIONS : GIS_VERTICES_ALL;
+    o->invalid_mode = b & 2 ? GIS_INVALID_NODE : GIS_INVALID_REJECT;
+    o->dateline = b & 4 ? GIS_DATELINE_REJECT : GIS_DATELINE_CUT;
+    o->projection = b & 8 ? "none" : "auto";
+    o->key_field = b & 16 ? "name" : NULL;
+}
+
+/* Reads the in-memory dataset; 0 with *g, or 1 (checked message, no graph). */
+static int read_graph(const char *path, const gis_options *o, hpfc_graph **g, gis_info *info)
+{
+    char err[512];
+    memset(err, 'x', sizeof err);
+    *g = NULL;
+    int st = gis_read_graph(path, o, g, info, err, sizeof err);
+    FUZZ_CHECK(st == 0 || st == 1);
+    FUZZ_CHECK((st == 0) == (*g != NULL));
+    FUZZ_CHECK(memchr(err, '\0', sizeof err) != NULL);
+    if (st) {
+        FUZZ_CHECK(err[0] != '\0');
+        FUZZ_CHECK(strpbrk(err, "\r\n") == NULL);
+    }
+    return st;
+}
+
+/* The FEAT section read back is the table that was written. */
+static void check_recorded_features(const hpfc_file *f, const gis_feature_table *ft)
+{
+    hpfc_features_info fi;
+    FUZZ_CHECK(hpfc_file_features(f, &fi) == HPFC_OK);
+    FUZZ_CHECK(fi.features == ft->table.feature_count && fi.faces == ft->table.face_count);
+    for (uint32_t face = 0; face < fi.faces; face++) {
+        uint32_t n;
+        FUZZ_CHECK(hpfc_face_feature_count(f, face, &n) == HPFC_OK);
+        FUZZ_CHECK(n == ft->face_start[face + 1] - ft->face_start[face]);
+        for (uint32_t k = 0; k < n; k++) {
+            uint32_t feature;
+            FUZZ_CHECK(hpfc_face_feature(f, face, k, &feature) == HPFC_OK);
+            FUZZ_CHECK(feature == ft->face_feature[ft->face_start[face] + k]);
+        }
+    }
+}
+
+/* Links the faces of the serialised map to the features, writes the map
+ * again with them and reads them back. */
+static void pack_features(const hpfc_graph *g, const hpfc_tree *t, const uint8_t *bytes,
+                          size_t size, const gis_info *info)
+{
+    hpfc_file *f = NULL;
+    hpfc_faces *faces = NULL;
+    FUZZ_CHECK(hpfc_open_memory(bytes, size, 0, &f) == HPFC_OK);
+    FUZZ_CHECK(hpfc_faces_build(f, &faces) == HPFC_OK);
+    uint64_t n = hpfc_faces_count(faces);
+    face_witness *w = malloc((n ? n : 1) * sizeof *w);
+    FUZZ_CHECK(w != NULL);
+    FUZZ_CHECK(face_witnesses(g, t, f, faces, w) == HPFC_OK);
+    gis_feature_table ft = {0};
+    char err[256];
+    FUZZ_CHECK(gis_feature_table_make(info->polygons, w, n, &ft, err, sizeof err) == 0);
+    uint32_t features = gis_features_count(info->polygons);
+    FUZZ_CHECK(ft.table.feature_count == features && ft.table.face_count == n);
+    for (uint64_t face = 0; face < n; face++)
+        for (uint32_t k = ft.face_start[face]; k < ft.face_start[face + 1]; k++)
+            FUZZ_CHECK(ft.face_feature[k] < features);
+
+    hpfc_write_options wopts = {.crs = info->crs, .features = &ft.table};
+    uint8_t *with_feat = NULL;
+    size_t with_size = 0;
+    FUZZ_CHECK(hpfc_tree_serialize(t, &wopts, &with_feat, &with_size, NULL) == HPFC_OK);
+    hpfc_file *f2 = NULL;
+    FUZZ_CHECK(hpfc_open_memory(with_feat, with_size, 0, &f2) == HPFC_OK);
+    check_recorded_features(f2, &ft);
+    hpfc_close(f2);
+    free(with_feat);
+    gis_feature_table_free(&ft);
+    free(w);
+    hpfc_faces_free(faces);
+    hpfc_close(f);
+}
+
+/* Builds and serialises the map with a small root image, as a pack does. */
+static void pack(const hpfc_graph *g, const gis_info *info)
+{
+    hpfc_build_params params;
+    hpfc_build_params_default(&params);
+    params.root_cols = params.root_rows = 4;
+    hpfc_tree *t = NULL;
+    int st = hpfc_build(g, &params, &t, NULL);
+    /* a valid graph builds, unless it needs more pixels or levels than allowed */
+    FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_LIMIT || st == HPFC_E_TOO_MANY_PIXELS ||
+               st == HPFC_E_NOMEM);
+    if (st)
+        return;
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    hpfc_write_options wopts = {.crs = info->crs};
+    FUZZ_CHECK(hpfc_tree_serialize(t, &wopts, &bytes, &size, NULL) == HPFC_OK);
+    if (gis_features_count(info->polygons) > 0)
+        pack_features(g, t, bytes, size, info);
+    free(bytes);
+    hpfc_tree_free(t);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    gis_options o;
+    const char *path;
+    bool has_options = size >= 2 && data[0] == OPTIONS_MARK;
+    options_from_byte(has_options ? data[1] : 0, &o, &path);
+    if (has_options) {
+        data += 2;
+        size -= 2;
+    }
+    /* GDAL reads the bytes in place (no copy, not freed by GDAL) */
+    VSILFILE *mem = VSIFileFromMemBuffer(path, (GByte *)data, (vsi_l_offset)size, FALSE);
+    FUZZ_CHECK(mem != NULL);
+    VSIFCloseL(mem);
+
+    hpfc_graph *g = NULL;
+    gis_info info;
+    if (read_graph(path, &o, &g, &info) == 0) {
+        fuzz_check_graph(g);
+        FUZZ_CHECK(hpfc_graph_validate(g, NULL) == HPFC_OK);
+        FUZZ_CHECK(hpfc_graph_unit_exp10(g) == info.unit_exp10);
+        hpfc_graph *again = NULL;
+        gis_info info2;
+        FUZZ_CHECK(read_graph(path, &o, &again, &info2) == 0);
+        FUZZ_CHECK(fuzz_same_graph(g, again));
+        hpfc_graph_free(again);
+        gis_info_free(&info2);
+        if (hpfc_graph_edge_count(g) <= PACK_MAX_EDGES)
+            pack(g, &info);
+        hpfc_graph_free(g);
+        gis_info_free(&info);
+    }
+    VSIUnlink(path);
+    return 0;
+}
