@@ -183,8 +183,8 @@ static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p
             continue; /* smaller leaves across: each handles its own side */
         uint64_t before, qbase;
         uint64_t pnode = gap_node(&w->here, base, road, 0);
-        if ((st = topo_crossings_after(w, &pb, road, qlo, qhi, &before)) || (st = node_base(fc, &q, &qbase)) ||
-            (st = topo_parse_pixel(w, &w->there, &q)))
+        if ((st = topo_crossings_after(w, &pb, road, qlo, qhi, topo_road_count, &before)) ||
+            (st = node_base(fc, &q, &qbase)) || (st = topo_parse_pixel(w, &w->there, &q)))
             break;
         int opposite = (road + 2) % 4;
         if (before > w->there.road_off[opposite + 1] - w->there.road_off[opposite]) {

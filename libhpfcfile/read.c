@@ -682,6 +682,28 @@ static void entry_pixel(const file_level *lv, const hpfc_pixel *p, uint32_t leve
     }
 }
 
+/* One step down a pixel path: records pixel (i, j) of `image` at `level` in
+ * out. A word pixel ends the path there (*word, out->depth = level); a
+ * refined one replaces *image by its child image. */
+static inline int descend(const hpfc_file *f, uint32_t level, uint64_t *image, uint32_t i, uint32_t j,
+                          hpfc_pixel *out, bool *word)
+{
+    int type;
+    uint64_t slot;
+    int st = image_pixel(f, level, *image, i, j, &type, &slot);
+    if (st)
+        return st;
+    out->path[level].image = *image;
+    out->path[level].i = i;
+    out->path[level].j = j;
+    *word = type == HPFC_PIXEL_WORD;
+    if (*word)
+        out->depth = level;
+    else
+        *image = child_address(f, level, slot);
+    return HPFC_OK;
+}
+
 int hpfc_pixel_move(const hpfc_file *f, const hpfc_pixel *px, int dir, hpfc_pixel *out)
 {
     if (!f || !px || !out || px->depth >= f->info.levels || dir < HPFC_WEST || dir > HPFC_SOUTH)
@@ -698,19 +720,10 @@ int hpfc_pixel_move(const hpfc_file *f, const hpfc_pixel *px, int dir, hpfc_pixe
     uint64_t image = px->path[k].image;
     copy_path(out, px, k);
     for (uint32_t level = k;; level++) {
-        int type;
-        uint64_t slot;
-        int st = image_pixel(f, level, image, i, j, &type, &slot);
-        if (st)
+        bool word;
+        int st = descend(f, level, &image, i, j, out, &word);
+        if (st || word)
             return st;
-        out->path[level].image = image;
-        out->path[level].i = i;
-        out->path[level].j = j;
-        if (type == HPFC_PIXEL_WORD) {
-            out->depth = level;
-            return HPFC_OK;
-        }
-        image = child_address(f, level, slot);
         /* px->path[level + 1] is read before out->path[level + 1] is written */
         entry_pixel(&f->lv[level + 1], px, level + 1, dir, &i, &j);
     }
@@ -737,19 +750,10 @@ int hpfc_locate(const hpfc_file *f, int64_t x, int64_t y, hpfc_pixel *out)
         rx -= gx * cw;
         ry -= gy * ch;
         uint32_t i = (uint32_t)gx, j = lv->rows - 1 - (uint32_t)gy; /* j = 0 is the northern row */
-        int type;
-        uint64_t slot;
-        int st = image_pixel(f, level, image, i, j, &type, &slot);
-        if (st)
+        bool word;
+        int st = descend(f, level, &image, i, j, out, &word);
+        if (st || word)
             return st;
-        out->path[level].image = image;
-        out->path[level].i = i;
-        out->path[level].j = j;
-        if (type == HPFC_PIXEL_WORD) {
-            out->depth = level;
-            return HPFC_OK;
-        }
-        image = child_address(f, level, slot);
     }
 }
 

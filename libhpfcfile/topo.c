@@ -259,7 +259,8 @@ int topo_locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, b
     return st == HPFC_E_NO_PIXEL ? HPFC_E_CORRUPT : st;
 }
 
-int topo_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi, uint64_t *sum)
+int topo_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi,
+                         topo_road_counter count_of, uint64_t *sum)
 {
     int64_t lo, hi;
     topo_road_extent(b, road, &lo, &hi);
@@ -272,7 +273,7 @@ int topo_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, in
         uint32_t count;
         int st = steps > w->budget ? HPFC_E_CORRUPT : topo_locate_on_road(w->file, b, road, t, true, &l, &lb);
         if (!st)
-            st = topo_road_count(w, &l, road, &count);
+            st = count_of(w, &l, road, &count);
         if (st)
             return st;
         *sum += count;
@@ -313,7 +314,8 @@ int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, u
         /* Q spans P's whole side: add the crossings of the leaves on P's
          * side that follow P along Q's side, in P's clockwise order */
         uint64_t sum;
-        if ((st = topo_crossings_after(w, &pb, road, qlo, qhi, &sum)) || (st = topo_parse_pixel(w, qlw, q)))
+        if ((st = topo_crossings_after(w, &pb, road, qlo, qhi, topo_road_count, &sum)) ||
+            (st = topo_parse_pixel(w, qlw, q)))
             return st;
         rank += sum;
         if (rank >= qlw->road_off[opposite + 1] - qlw->road_off[opposite])

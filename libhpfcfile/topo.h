@@ -183,9 +183,13 @@ int topo_locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, b
  * into qlw, which must differ from lw) and the crossing's index *m in Q. */
 int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k,
                hpfc_pixel *q, local_word *qlw, uint32_t *m);
+/* How many crossings a word pixel has on a road: topo_road_count, or the
+ * walker cache's answer (topo_links.c). */
+typedef int (*topo_road_counter)(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count);
 /* Sum of road-`road` crossings of the leaves on b's side that follow b, in
- * b's clockwise order, up to the end of the extent [qlo, qhi). */
+ * b's clockwise order, up to the end of the extent [qlo, qhi), each leaf's
+ * count taken from `count`. */
 int topo_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi,
-                    uint64_t *sum);
+                         topo_road_counter count, uint64_t *sum);
 
 #endif

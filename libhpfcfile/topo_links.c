@@ -58,30 +58,14 @@ static uint32_t road_crossings(const hpfc_walker *w, uint32_t ref, int road)
     return e->road_off[road + 1] - e->road_off[road];
 }
 
-/* topo_crossings_after with the leaves' words from the cache. */
-static int cached_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi,
-                                  uint64_t *sum)
+/* topo_road_counter from the cache: the leaf's word parsed once. */
+static int cached_road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count)
 {
-    int64_t lo, hi;
-    topo_road_extent(b, road, &lo, &hi);
-    bool up = topo_road_ascends(road);
-    int64_t t = up ? hi : lo - 1;
-    *sum = 0;
-    for (uint64_t steps = 0; up ? t < qhi : t >= qlo; steps++) {
-        hpfc_pixel l;
-        box lb;
-        uint32_t ref;
-        int st = steps > w->budget ? HPFC_E_CORRUPT : topo_locate_on_road(w->file, b, road, t, true, &l, &lb);
-        if (!st)
-            st = topo_cache_load(w, &l, false, &ref);
-        if (st)
-            return st;
-        *sum += road_crossings(w, ref, road);
-        int64_t llo, lhi;
-        topo_road_extent(&lb, road, &llo, &lhi);
-        t = up ? lhi : llo - 1;
-    }
-    return HPFC_OK;
+    uint32_t ref;
+    int st = topo_cache_load(w, px, false, &ref);
+    if (!st)
+        *count = road_crossings(w, ref, road);
+    return st;
 }
 
 /* The parsed entry of a neighbour: its grammar must hold. */
@@ -159,7 +143,7 @@ static int link_to_spanning(hpfc_walker *w, const road_job *j, const hpfc_pixel 
     topo_road_extent(qb, j->road, &qlo, &qhi);
     uint64_t sum;
     uint32_t qref;
-    int st = cached_crossings_after(w, &j->pb, j->road, qlo, qhi, &sum);
+    int st = topo_crossings_after(w, &j->pb, j->road, qlo, qhi, cached_road_count, &sum);
     if (!st)
         st = load_neighbour(w, q, &qref);
     if (st)
