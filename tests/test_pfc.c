@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "fixtures.h"
 #include "hpfc.h"
 
 /* ------------------------------------------------------------------------
@@ -567,37 +568,6 @@ static void test_read_file(void)
  * Fixture files
  * ------------------------------------------------------------------------ */
 
-static const struct {
-    const char *name;
-    int code;
-} code_names[] = {
-    {"HPFC_E_PFC_SYNTAX", HPFC_E_PFC_SYNTAX},
-    {"HPFC_E_PFC_VERSION", HPFC_E_PFC_VERSION},
-    {"HPFC_E_VERTEX_INDEX", HPFC_E_VERTEX_INDEX},
-    {"HPFC_E_DUPLICATE_POINT", HPFC_E_DUPLICATE_POINT},
-    {"HPFC_E_ZERO_LENGTH", HPFC_E_ZERO_LENGTH},
-    {"HPFC_E_LOOP_INTERIOR", HPFC_E_LOOP_INTERIOR},
-    {"HPFC_E_ISOLATED_VERTEX", HPFC_E_ISOLATED_VERTEX},
-    {"HPFC_E_NONPLANAR", HPFC_E_NONPLANAR},
-    {"HPFC_E_EXTENT", HPFC_E_EXTENT},
-    {"HPFC_E_EMPTY", HPFC_E_EMPTY},
-    {"HPFC_E_LIMIT", HPFC_E_LIMIT},
-};
-
-static int code_of_name(const char *name)
-{
-    for (size_t k = 0; k < sizeof code_names / sizeof code_names[0]; k++)
-        if (strcmp(code_names[k].name, name) == 0)
-            return code_names[k].code;
-    return -1;
-}
-
-static int has_pfc_suffix(const char *name)
-{
-    size_t n = strlen(name);
-    return n > 4 && strcmp(name + n - 4, ".pfc") == 0;
-}
-
 /* Reads a fixture and validates it; returns the first failing status. */
 static int read_and_validate(const char *path, hpfc_diag *diag)
 {
@@ -626,7 +596,7 @@ static void test_valid_fixtures(const char *root)
     if (!dir)
         return;
     for (struct dirent *de; (de = readdir(dir));) {
-        if (!has_pfc_suffix(de->d_name))
+        if (!fixture_has_suffix(de->d_name, ".pfc"))
             continue;
         hpfc_diag diag;
         snprintf(path, sizeof path, "%s/valid/%s", root, de->d_name);
@@ -640,82 +610,17 @@ static void test_valid_fixtures(const char *root)
     CHECK(files >= 6);
 }
 
-/* One line of EXPECTED: "filename HPFC_E_NAME". */
-typedef struct expected_entry {
-    char file[256];
-    int code;
-    int seen;
-} expected_entry;
-
-static size_t load_expected(const char *root, expected_entry *list, size_t max)
+static int check_invalid_pfc(const char *path, char *detail, size_t n)
 {
-    char path[4096], line[512], name[256], code[64];
-    size_t n = 0;
-    snprintf(path, sizeof path, "%s/invalid/EXPECTED", root);
-    FILE *f = fopen(path, "r");
-    CHECK(f != NULL);
-    if (!f)
-        return 0;
-    while (fgets(line, sizeof line, f)) {
-        if (line[0] == '#' || line[0] == '\n')
-            continue;
-        /* the .hpfc fixtures listed here belong to test_format */
-        if (sscanf(line, "%255s", name) == 1 && !has_pfc_suffix(name))
-            continue;
-        int ok = sscanf(line, "%255s %63s", name, code) == 2 && code_of_name(code) >= 0;
-        if (!ok)
-            fprintf(stderr, "EXPECTED: bad line: %s", line);
-        CHECK(ok);
-        CHECK(n < max);
-        if (!ok || n >= max)
-            continue;
-        snprintf(list[n].file, sizeof list[n].file, "%s", name);
-        list[n].code = code_of_name(code);
-        list[n].seen = 0;
-        n++;
-    }
-    fclose(f);
-    return n;
+    hpfc_diag diag;
+    int st = read_and_validate(path, &diag);
+    snprintf(detail, n, "%s", diag.message);
+    return st;
 }
 
 static void test_invalid_fixtures(const char *root)
 {
-    static expected_entry list[256];
-    size_t n = load_expected(root, list, 256);
-    char path[4096];
-    snprintf(path, sizeof path, "%s/invalid", root);
-    DIR *dir = opendir(path);
-    CHECK(dir != NULL);
-    if (!dir)
-        return;
-    for (struct dirent *de; (de = readdir(dir));) {
-        if (!has_pfc_suffix(de->d_name))
-            continue;
-        expected_entry *want = NULL;
-        for (size_t k = 0; k < n; k++)
-            if (strcmp(list[k].file, de->d_name) == 0)
-                want = &list[k];
-        if (!want)
-            fprintf(stderr, "%s has no line in EXPECTED\n", de->d_name);
-        CHECK(want != NULL);
-        if (!want)
-            continue;
-        want->seen = 1;
-        hpfc_diag diag;
-        snprintf(path, sizeof path, "%s/invalid/%s", root, de->d_name);
-        int st = read_and_validate(path, &diag);
-        if (st != want->code)
-            fprintf(stderr, "%s: status %d (%s), expected %d\n", de->d_name, st,
-                    diag.message, want->code);
-        CHECK_EQ_INT(st, want->code);
-    }
-    closedir(dir);
-    for (size_t k = 0; k < n; k++) {
-        if (!list[k].seen)
-            fprintf(stderr, "EXPECTED names %s, which does not exist\n", list[k].file);
-        CHECK(list[k].seen);
-    }
-    CHECK(n >= 15);
+    check_invalid_fixtures(root, ".pfc", check_invalid_pfc, 15);
 }
 
 int main(void)
