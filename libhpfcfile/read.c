@@ -880,6 +880,15 @@ uint64_t reader_total_crossings(const hpfc_file *f)
     return total;
 }
 
+uint64_t reader_total_leaves(const hpfc_file *f)
+{
+    uint64_t total = 0;
+    for (uint32_t l = 0; l < f->info.levels; l++)
+        if (!format_add(total, f->lv[l].info.word_pixels, &total))
+            return UINT64_MAX;
+    return total;
+}
+
 int reader_pixel_slot_bit(const hpfc_file *f, const hpfc_pixel *px, uint64_t *bit)
 {
     int type;

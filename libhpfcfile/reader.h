@@ -8,6 +8,8 @@
 uint32_t reader_max_crossings(const hpfc_file *file);
 /* An upper bound on all crossings of the file, to bound walks. */
 uint64_t reader_total_crossings(const hpfc_file *file);
+/* Word pixels (leaves) in all levels, as the level table declares them. */
+uint64_t reader_total_leaves(const hpfc_file *file);
 /* Absolute bit position in the file of a word pixel's record or slot: a
  * unique, stable number per pixel. */
 int reader_pixel_slot_bit(const hpfc_file *file, const hpfc_pixel *px, uint64_t *bit);

@@ -58,6 +58,9 @@ int hpfc_walker_create(const hpfc_file *file, hpfc_walker **out)
     w->file = file;
     w->cap = reader_max_crossings(file);
     w->budget = reader_total_crossings(file) + 1;
+    /* a road can border more leaves than the file has crossings (private
+     * leaves around a deep refinement), never more than it has leaves */
+    w->leaf_budget = reader_total_leaves(file) + 1;
     int st = local_alloc(&w->here, w->cap);
     if (!st)
         st = local_alloc(&w->there, w->cap);
@@ -271,7 +274,8 @@ int topo_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, in
         hpfc_pixel l;
         box lb;
         uint32_t count;
-        int st = steps > w->budget ? HPFC_E_CORRUPT : topo_locate_on_road(w->file, b, road, t, true, &l, &lb);
+        int st = steps > w->leaf_budget ? HPFC_E_CORRUPT
+                                        : topo_locate_on_road(w->file, b, road, t, true, &l, &lb);
         if (!st)
             st = count_of(w, &l, road, &count);
         if (st)
@@ -328,7 +332,7 @@ int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, u
     bool up = topo_road_ascends(opposite);
     int64_t t = up ? lo : hi - 1;
     for (uint64_t steps = 0; up ? t < hi : t >= lo; steps++) {
-        if (steps > w->budget)
+        if (steps > w->leaf_budget)
             return HPFC_E_CORRUPT;
         if (steps && (st = topo_locate_on_road(f, &pb, road, t, false, q, &qb)))
             return st;

@@ -109,6 +109,7 @@ struct hpfc_walker {
     uint32_t levels;
     uint32_t cap;            /* most crossings of any word in the file */
     uint64_t budget;         /* most stabbings a walk may follow */
+    uint64_t leaf_budget;    /* most leaves a walk along one road may meet */
     local_word here, there;
     char *scratch;           /* symbols of other leaves (road counts) */
     uint64_t visited;        /* words decoded */

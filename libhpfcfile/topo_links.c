@@ -186,7 +186,7 @@ static int link_along(hpfc_walker *w, const road_job *j, hpfc_pixel *q, box *qb)
     bool whole = true; /* every leaf so far is in leaves[] */
     for (uint64_t steps = 0; (base < j->count || whole) && (up ? t < hi : t >= lo); steps++) {
         uint32_t qref;
-        if (steps > w->budget) {
+        if (steps > w->leaf_budget) {
             st = HPFC_E_CORRUPT;
             whole = false;
             break;

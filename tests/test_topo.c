@@ -159,6 +159,18 @@ static size_t isomorphism_failures(const exported_map *fm, const graph_map *gm)
 
 /* ---- per-graph checks ---------------------------------------------------- */
 
+static hpfc_file *pack_with(const hpfc_graph *g, const hpfc_build_params *p, uint8_t **buf)
+{
+    hpfc_tree *t = NULL;
+    hpfc_file *f = NULL;
+    size_t size;
+    *buf = NULL;
+    if (hpfc_build(g, p, &t, NULL) == HPFC_OK && hpfc_tree_serialize(t, NULL, buf, &size, NULL) == HPFC_OK)
+        CHECK_EQ_INT(hpfc_open_memory(*buf, size, 0, &f), HPFC_OK);
+    hpfc_tree_free(t);
+    return f;
+}
+
 static hpfc_file *pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, uint8_t **buf)
 {
     hpfc_build_params p;
@@ -166,14 +178,7 @@ static hpfc_file *pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, u
     p.root_cols = p.root_rows = n0;
     p.cols = p.rows = n;
     p.flat = flat;
-    hpfc_tree *t = NULL;
-    hpfc_file *f = NULL;
-    size_t size;
-    *buf = NULL;
-    if (hpfc_build(g, &p, &t, NULL) == HPFC_OK && hpfc_tree_serialize(t, NULL, buf, &size, NULL) == HPFC_OK)
-        CHECK_EQ_INT(hpfc_open_memory(*buf, size, 0, &f), HPFC_OK);
-    hpfc_tree_free(t);
-    return f;
+    return pack_with(g, &p, buf);
 }
 
 /* opposite(opposite(d)) == d and next(prev(d)) == prev(next(d)) == d on
@@ -342,6 +347,46 @@ static void test_generated(void)
             check_graph(g, "polyline");
         hpfc_graph_free(g);
     }
+}
+
+/* A 3 x 6 root refined 2 x 8: cells thousands of times taller than wide,
+ * refined nine levels deep around two short edges, so that a road borders
+ * more leaves (private ones) than the whole file has crossings. Walks along
+ * a road were bounded by the crossings and hpfc_faces_build answered
+ * CORRUPT on this valid file (found by the roundtrip_graph fuzzer). */
+static void test_road_with_many_leaves(void)
+{
+    static const int64_t xy[4][2] = {{8320, 896}, {0, 128}, {0, -128}, {6528, 6272}};
+    hpfc_graph *g = NULL;
+    CHECK_EQ_INT(hpfc_graph_create(&g), HPFC_OK);
+    uint32_t v[4];
+    for (int k = 0; k < 4; k++)
+        CHECK_EQ_INT(hpfc_graph_add_vertex(g, xy[k][0], xy[k][1], &v[k]), HPFC_OK);
+    CHECK_EQ_INT(hpfc_graph_add_edge(g, v[1], v[2], NULL, 0, NULL), HPFC_OK);
+    CHECK_EQ_INT(hpfc_graph_add_edge(g, v[3], v[0], NULL, 0, NULL), HPFC_OK);
+    hpfc_build_params p;
+    hpfc_build_params_default(&p);
+    p.root_cols = 3, p.root_rows = 6, p.cols = 2, p.rows = 8;
+    uint8_t *buf;
+    hpfc_file *f = pack_with(g, &p, &buf);
+    CHECK(f != NULL);
+    if (f) {
+        hpfc_file_info info;
+        hpfc_file_get_info(f, &info);
+        CHECK(info.levels >= 8); /* the deep refinement this case needs */
+        graph_map gm;
+        graph_map_build(g, &gm);
+        exported_map fm;
+        CHECK_EQ_INT(export_map(f, &fm), HPFC_OK);
+        CHECK_EQ_INT(isomorphism_failures(&fm, &gm), 0);
+        check_faces(f, &fm, g);
+        check_involutions(f);
+        exported_map_free(&fm);
+        graph_map_free(&gm);
+    }
+    hpfc_close(f);
+    free(buf);
+    hpfc_graph_free(g);
 }
 
 /* ---- the walker's cache -------------------------------------------------- */
@@ -609,6 +654,7 @@ int main(void)
 {
     test_oracle_detects_difference();
     test_generated();
+    test_road_with_many_leaves();
     test_cache();
     return check_report("topo");
 }
