@@ -1,9 +1,14 @@
 /*
  * Faces with holes (spec/hpfc-format.md, "Faces").
  *
- * Every word pixel with n crossings contributes 2n nodes, its local darts
- * in_k (2k) and out_k (2k + 1); a private pixel contributes one node. A
- * union-find joins the nodes that lie on one face:
+ * The fragments of spec §3.11 are every crossing's local darts in_k and
+ * out_k and every private pixel. Rule 2 always joins out_{k-1} and in_k (the
+ * boundary stretch between consecutive crossings), so the union-find keeps
+ * one node per such pair: node k of a word pixel with n crossings holds in_k
+ * and out_{k-1} (cyclically), a private pixel has one node. Node k's
+ * smallest fragment is fragment 2k - 1 (node 0's is fragment 0), so the
+ * order of nodes is the order of §3.11's smallest fragments, and numbering
+ * faces by their smallest node numbers them as the spec does. The unions:
  *   - next(in_k) = out_pred[k]: one sidewalk inside the pixel;
  *   - out_a and in_b for consecutive crossings a, b of the pixel: the
  *     stretch of the pixel's boundary between them is one region;
@@ -20,11 +25,38 @@
 #include "reader.h"
 #include "topo.h"
 
+/* A leaf's entry: 16 bytes, since a continental map has millions of
+ * leaves. Its first node and its crossing count (0 when private) share one
+ * word: the count in the low ENTRY_COUNT_BITS bits. */
+#define ENTRY_COUNT_BITS 24
+#define ENTRY_COUNT_MAX ((UINT64_C(1) << ENTRY_COUNT_BITS) - 1)
+#define ENTRY_BASE_MAX (UINT64_MAX >> ENTRY_COUNT_BITS)
+
 typedef struct pixel_entry {
-    uint64_t slot;    /* reader_pixel_slot_bit of the leaf, + 1 (0 = empty) */
-    uint64_t base;    /* its first node */
-    uint64_t nodes;   /* its node count: 2 per crossing, 1 when private */
+    uint64_t slot;       /* reader_pixel_slot_bit of the leaf, + 1 (0 = empty) */
+    uint64_t base_count; /* first node << ENTRY_COUNT_BITS | crossings */
 } pixel_entry;
+
+static uint64_t entry_base(const pixel_entry *e)
+{
+    return e->base_count >> ENTRY_COUNT_BITS;
+}
+
+static uint64_t entry_crossings(const pixel_entry *e)
+{
+    return e->base_count & ENTRY_COUNT_MAX;
+}
+
+/* The node of in_k, and of out_k, in a word pixel of n crossings. */
+static uint64_t in_node(uint64_t base, uint64_t k)
+{
+    return base + k;
+}
+
+static uint64_t out_node(uint64_t base, uint64_t n, uint64_t k)
+{
+    return base + (k + 1) % n;
+}
 
 struct hpfc_faces {
     const hpfc_file *file;
@@ -56,7 +88,7 @@ static int node_base(const hpfc_faces *fc, const hpfc_pixel *px, uint64_t *base)
     const pixel_entry *e = find_entry(fc, slot);
     if (!e->slot)
         return HPFC_E_CORRUPT;
-    *base = e->base;
+    *base = entry_base(e);
     return HPFC_OK;
 }
 
@@ -83,9 +115,8 @@ static uint64_t gap_node(const local_word *lw, uint64_t base, int road, uint64_t
 {
     if (lw->n == 0)
         return base;
-    uint64_t k = lw->road_off[road] + t;
-    k = k == 0 ? lw->n - 1 : k - 1;
-    return base + 2 * k + 1;
+    uint64_t k = lw->road_off[road] + t; /* the crossing after the stretch */
+    return out_node(base, lw->n, k == 0 ? lw->n - 1 : k - 1);
 }
 
 /* The word pixels the level table declares: a tree has exactly that many
@@ -111,8 +142,8 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
             return HPFC_E_CORRUPT;
     if (st != HPFC_E_NO_PIXEL)
         return st;
-    size_t cap = 16;
-    while (cap < 2 * leaves + 16)
+    size_t cap = 16; /* the table at most 3/4 full */
+    while (cap < leaves + leaves / 3 + 16)
         cap *= 2;
     fc->table = calloc(cap, sizeof *fc->table);
     if (!fc->table)
@@ -125,10 +156,12 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
         pixel_entry *e = find_entry(fc, slot);
         if (e->slot)
             return HPFC_E_CORRUPT;
+        uint64_t n = w->here.n, nodes = n ? n : 1;
+        if (n > ENTRY_COUNT_MAX || fc->nodes > ENTRY_BASE_MAX - nodes)
+            return HPFC_E_LIMIT; /* 2^24 crossings in one leaf, 2^40 nodes in all */
         e->slot = slot + 1;
-        e->base = fc->nodes;
-        e->nodes = w->here.n ? 2 * (uint64_t)w->here.n : 1;
-        fc->nodes += e->nodes;
+        e->base_count = fc->nodes << ENTRY_COUNT_BITS | n;
+        fc->nodes += nodes;
     }
     return st == HPFC_E_NO_PIXEL ? HPFC_OK : st;
 }
@@ -136,10 +169,8 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
 /* The unions that stay inside one pixel. */
 static void unite_inside(uint64_t *parent, const local_word *lw, uint64_t base)
 {
-    for (uint32_t k = 0; k < lw->n; k++) {
-        unite(parent, base + 2 * k, base + 2 * lw->pred[k] + 1);
-        unite(parent, base + 2 * k + 1, base + 2 * ((k + 1) % lw->n));
-    }
+    for (uint32_t k = 0; k < lw->n; k++) /* rule 2 holds by construction */
+        unite(parent, in_node(base, k), out_node(base, lw->n, lw->pred[k]));
 }
 
 static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
@@ -154,7 +185,7 @@ static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uin
             st = node_base(fc, &q, &qbase);
         if (st)
             return st;
-        unite(fc->parent, base + 2 * k + 1, qbase + 2 * (uint64_t)mk);
+        unite(fc->parent, out_node(base, lw->n, k), in_node(qbase, mk));
     }
     return HPFC_OK;
 }
@@ -228,20 +259,26 @@ static int number_faces(hpfc_faces *fc, hpfc_walker *w)
     if (st)
         return st;
     uint64_t outer = find(fc->parent, gap_node(&w->here, base, HPFC_NORTH, 0));
-    uint64_t *id = malloc(fc->nodes * sizeof *id);
-    if (!id)
-        return HPFC_E_NOMEM;
+    uint64_t *parent = fc->parent;
     for (uint64_t x = 0; x < fc->nodes; x++) /* every node now points at its root */
-        fc->parent[x] = find(fc->parent, x);
-    memset(id, 0xff, fc->nodes * sizeof *id);
-    id[outer] = 0;
+        parent[x] = find(parent, x);
+    /* Face ids in place, in order of each face's smallest node, the outer
+     * face 0: a root, once numbered, holds FACE_TAG | id (node numbers stay
+     * below 2^40, so the tag is free); a node takes its root's id. Nodes
+     * before x are numbered already, and only roots are read. */
+    const uint64_t FACE_TAG = UINT64_C(1) << 63;
+    parent[outer] = FACE_TAG | 0;
     fc->count = 1;
+    for (uint64_t x = 0; x < fc->nodes; x++) {
+        uint64_t r = parent[x];
+        if (r & FACE_TAG)
+            continue; /* a root numbered before */
+        if (!(parent[r] & FACE_TAG))
+            parent[r] = FACE_TAG | fc->count++;
+        parent[x] = parent[r];
+    }
     for (uint64_t x = 0; x < fc->nodes; x++)
-        if (id[fc->parent[x]] == UINT64_MAX)
-            id[fc->parent[x]] = fc->count++;
-    for (uint64_t x = 0; x < fc->nodes; x++)
-        fc->parent[x] = id[fc->parent[x]];
-    free(id);
+        parent[x] &= ~FACE_TAG;
     return HPFC_OK;
 }
 
@@ -303,9 +340,10 @@ int hpfc_faces_of_dart(const hpfc_faces *fc, const hpfc_dart *d, uint64_t *face)
     const pixel_entry *e = find_entry(fc, slot);
     if (!e->slot)
         return HPFC_E_CORRUPT;
-    if (2 * (uint64_t)d->crossing + 1 >= e->nodes)
+    uint64_t n = entry_crossings(e);
+    if (d->crossing >= n)
         return HPFC_E_ARG; /* no such crossing in the dart's pixel */
-    *face = fc->parent[e->base + 2 * (uint64_t)d->crossing + 1];
+    *face = fc->parent[out_node(entry_base(e), n, d->crossing)];
     return HPFC_OK;
 }
 
