@@ -5,6 +5,7 @@
  * HPFC_E_NAME"; test_format checks the .hpfc ones, test_pfc the .pfc ones.
  * check_invalid_fixtures() runs one kind: every file of that suffix must
  * have a line, every line a file, and the file must give its status.
+ * check_valid_fixtures() runs tests/data/valid/: every file gives HPFC_OK.
  */
 #ifndef HPFC_TEST_FIXTURES_H
 #define HPFC_TEST_FIXTURES_H
@@ -96,6 +97,34 @@ static inline size_t fixture_load_verdicts(const char *root, const char *suffix,
 /* Reads or opens one fixture the way its test does; returns the first
  * failing status and may describe it in detail[0 .. n). */
 typedef int (*fixture_check)(const char *path, char *detail, size_t n);
+
+/* Every root/valid/ file ending in suffix gives HPFC_OK, and there are at
+ * least `least`. */
+static inline void check_valid_fixtures(const char *root, const char *suffix, fixture_check run,
+                                        size_t least)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/valid", root);
+    DIR *dir = opendir(path);
+    CHECK(dir != NULL);
+    if (!dir)
+        return;
+    size_t files = 0;
+    for (struct dirent *de; (de = readdir(dir));) {
+        if (!fixture_has_suffix(de->d_name, suffix))
+            continue;
+        char detail[512] = "";
+        snprintf(path, sizeof path, "%s/valid/%s", root, de->d_name);
+        int st = run(path, detail, sizeof detail);
+        if (st != HPFC_OK)
+            fprintf(stderr, "%s: %s%s%s%s\n", path, hpfc_strerror(st), detail[0] ? " (" : "",
+                    detail, detail[0] ? ")" : "");
+        CHECK_EQ_INT(st, HPFC_OK);
+        files++;
+    }
+    closedir(dir);
+    CHECK(files >= least);
+}
 
 /* Every root/invalid/ file ending in suffix gives the status of its line of
  * EXPECTED, every such line names a file, and there are at least `least`. */
