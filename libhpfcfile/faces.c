@@ -119,23 +119,14 @@ static uint64_t gap_node(const local_word *lw, uint64_t base, int road, uint64_t
     return out_node(base, lw->n, k == 0 ? lw->n - 1 : k - 1);
 }
 
-/* The word pixels the level table declares: a tree has exactly that many
- * leaves. Addresses that alias one child image make the tree a DAG whose
- * leaf paths can number n^L in a small file, so counting stops there. */
-static uint64_t declared_leaves(const hpfc_file *f)
-{
-    hpfc_level_info lv;
-    uint64_t total = 0;
-    for (uint32_t l = 0; hpfc_file_get_level(f, l, &lv) == HPFC_OK; l++)
-        total += lv.word_pixels; /* each < 2^42 (k_w >= 4 bits each, in the file) */
-    return total;
-}
-
 /* Pass 1: give every leaf its nodes. */
 static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
 {
     hpfc_pixel px;
-    uint64_t leaves = 0, most = declared_leaves(fc->file);
+    /* A tree has exactly as many leaves as the level table declares word
+     * pixels. Addresses that alias one child image make the tree a DAG
+     * whose leaf paths can number n^L in a small file: counting stops there. */
+    uint64_t leaves = 0, most = reader_total_leaves(fc->file);
     int st = hpfc_leaf_first(fc->file, &px);
     for (; !st; st = hpfc_leaf_next(fc->file, &px))
         if (++leaves > most)
