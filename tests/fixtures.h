@@ -98,32 +98,86 @@ static inline size_t fixture_load_verdicts(const char *root, const char *suffix,
  * failing status and may describe it in detail[0 .. n). */
 typedef int (*fixture_check)(const char *path, char *detail, size_t n);
 
-/* Every root/valid/ file ending in suffix gives HPFC_OK, and there are at
- * least `least`. */
-static inline void check_valid_fixtures(const char *root, const char *suffix, fixture_check run,
-                                        size_t least)
+/* Runs `run` on every file of root/sub/ ending in suffix, in directory
+ * order; `verdict` gets each file's name and status. Returns the number of
+ * files run. */
+typedef void (*fixture_verdict_fn)(const char *name, const char *path, int st,
+                                   const char *detail, void *user);
+
+static inline size_t run_fixtures(const char *root, const char *sub, const char *suffix,
+                                  fixture_check run, fixture_verdict_fn verdict, void *user)
 {
     char path[4096];
-    snprintf(path, sizeof path, "%s/valid", root);
+    snprintf(path, sizeof path, "%s/%s", root, sub);
     DIR *dir = opendir(path);
     CHECK(dir != NULL);
     if (!dir)
-        return;
+        return 0;
     size_t files = 0;
     for (struct dirent *de; (de = readdir(dir));) {
         if (!fixture_has_suffix(de->d_name, suffix))
             continue;
         char detail[512] = "";
-        snprintf(path, sizeof path, "%s/valid/%s", root, de->d_name);
-        int st = run(path, detail, sizeof detail);
-        if (st != HPFC_OK)
-            fprintf(stderr, "%s: %s%s%s%s\n", path, hpfc_strerror(st), detail[0] ? " (" : "",
-                    detail, detail[0] ? ")" : "");
-        CHECK_EQ_INT(st, HPFC_OK);
+        snprintf(path, sizeof path, "%s/%s/%s", root, sub, de->d_name);
+        verdict(de->d_name, path, run(path, detail, sizeof detail), detail, user);
         files++;
     }
     closedir(dir);
-    CHECK(files >= least);
+    return files;
+}
+
+/* "STATUS" or "STATUS (detail)" on stderr, after `what: `. */
+static inline void fixture_report(const char *what, int st, const char *detail)
+{
+    fprintf(stderr, "%s: %s%s%s%s", what, hpfc_strerror(st), detail[0] ? " (" : "", detail,
+            detail[0] ? ")" : "");
+}
+
+static inline void expect_ok(const char *name, const char *path, int st, const char *detail,
+                             void *user)
+{
+    (void)name;
+    (void)user;
+    if (st != HPFC_OK) {
+        fixture_report(path, st, detail);
+        fputc('\n', stderr);
+    }
+    CHECK_EQ_INT(st, HPFC_OK);
+}
+
+/* Every root/valid/ file ending in suffix gives HPFC_OK, and there are at
+ * least `least`. */
+static inline void check_valid_fixtures(const char *root, const char *suffix, fixture_check run,
+                                        size_t least)
+{
+    CHECK(run_fixtures(root, "valid", suffix, run, expect_ok, NULL) >= least);
+}
+
+typedef struct verdict_list {
+    fixture_verdict *list;
+    size_t n;
+} verdict_list;
+
+static inline void expect_verdict(const char *name, const char *path, int st, const char *detail,
+                                  void *user)
+{
+    (void)path;
+    verdict_list *v = user;
+    fixture_verdict *want = NULL;
+    for (size_t k = 0; k < v->n; k++)
+        if (strcmp(v->list[k].file, name) == 0)
+            want = &v->list[k];
+    if (!want)
+        fprintf(stderr, "%s has no line in EXPECTED\n", name);
+    CHECK(want != NULL);
+    if (!want)
+        return;
+    want->seen = true;
+    if (st != want->code) {
+        fixture_report(name, st, detail);
+        fprintf(stderr, ", expected %s\n", hpfc_strerror(want->code));
+    }
+    CHECK_EQ_INT(st, want->code);
 }
 
 /* Every root/invalid/ file ending in suffix gives the status of its line of
@@ -132,41 +186,14 @@ static inline void check_invalid_fixtures(const char *root, const char *suffix, 
                                           size_t least)
 {
     static fixture_verdict list[256];
-    size_t n = fixture_load_verdicts(root, suffix, list, sizeof list / sizeof list[0]);
-    char path[4096];
-    snprintf(path, sizeof path, "%s/invalid", root);
-    DIR *dir = opendir(path);
-    CHECK(dir != NULL);
-    if (!dir)
-        return;
-    for (struct dirent *de; (de = readdir(dir));) {
-        if (!fixture_has_suffix(de->d_name, suffix))
-            continue;
-        fixture_verdict *want = NULL;
-        for (size_t k = 0; k < n; k++)
-            if (strcmp(list[k].file, de->d_name) == 0)
-                want = &list[k];
-        if (!want)
-            fprintf(stderr, "%s has no line in EXPECTED\n", de->d_name);
-        CHECK(want != NULL);
-        if (!want)
-            continue;
-        want->seen = true;
-        char detail[512] = "";
-        snprintf(path, sizeof path, "%s/invalid/%s", root, de->d_name);
-        int st = run(path, detail, sizeof detail);
-        if (st != want->code)
-            fprintf(stderr, "%s: %s%s%s%s, expected %s\n", de->d_name, hpfc_strerror(st),
-                    detail[0] ? " (" : "", detail, detail[0] ? ")" : "", hpfc_strerror(want->code));
-        CHECK_EQ_INT(st, want->code);
-    }
-    closedir(dir);
-    for (size_t k = 0; k < n; k++) {
+    verdict_list v = {list, fixture_load_verdicts(root, suffix, list, sizeof list / sizeof *list)};
+    run_fixtures(root, "invalid", suffix, run, expect_verdict, &v);
+    for (size_t k = 0; k < v.n; k++) {
         if (!list[k].seen)
             fprintf(stderr, "EXPECTED names %s, which does not exist\n", list[k].file);
         CHECK(list[k].seen);
     }
-    CHECK(n >= least);
+    CHECK(v.n >= least);
 }
 
 #endif
