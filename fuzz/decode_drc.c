@@ -23,8 +23,9 @@
  *
  * Oracle: the status is one the headers document (never NOT_BUILT in a
  * Draco build, ARG only for a fixed unit); a graph comes back exactly on
- * success, and the diagnostic is filled otherwise; the graph passes hpfc_graph_validate and the shape
- * checks of input.h, its counts match the stats; in the raw path every
+ * success, and the diagnostic is filled otherwise; the graph passes
+ * hpfc_graph_validate and the shape checks of input.h, its counts match
+ * the stats; in the raw path every
  * vertex is the lattice image (mesh_lattice_coord, at the reported unit) of
  * an input point some triangle uses, the stats count no more used points
  * than the mesh has and at most three edges per triangle plus one per split;

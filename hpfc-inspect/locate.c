@@ -20,7 +20,6 @@
 
 #define PATH_TEXT 1200
 
-
 /* ---- the locator ------------------------------------------------------------- */
 
 typedef struct locator {
@@ -81,7 +80,7 @@ static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
     if (st == HPFC_OK) {
         if (L->fi.faces != hpfc_faces_count(L->faces))
             return view_fail(why, "features: the FEAT section lists %u faces, the map has %llu",
-                        L->fi.faces, (unsigned long long)hpfc_faces_count(L->faces));
+                             L->fi.faces, (unsigned long long)hpfc_faces_count(L->faces));
         L->features = 1;
     } else if (st != HPFC_E_NO_SECTION)
         return view_fail(why, "features: %s", hpfc_strerror(st));
@@ -182,10 +181,10 @@ static int project_lonlat(const locator *L, const decimal ll[2], decimal xy[2], 
     char text[2][40];
     if (ll[0].value < -180 || ll[0].value > 180 || ll[1].value < -90 || ll[1].value > 90)
         return view_fail(why, "(%g, %g) is not a longitude and latitude in degrees", ll[0].value,
-                    ll[1].value);
+                         ll[1].value);
     if (mapproj_forward(L->plan, ll[0].value, ll[1].value, &x, &y) != 0)
         return view_fail(why, "(%g, %g) cannot be projected with the file's CRS", ll[0].value,
-                    ll[1].value);
+                         ll[1].value);
     snprintf(text[0], sizeof text[0], "%.17g", x);
     snprintf(text[1], sizeof text[1], "%.17g", y);
     if (decimal_parse(text[0], strlen(text[0]), &xy[0]) ||
@@ -356,7 +355,8 @@ int view_locate_batch(const hpfc_file *f, FILE *in, const char *in_name, int lon
         n++;
         size_t len = strlen(line);
         if (len == sizeof line - 1 && line[len - 1] != '\n') {
-            status = view_fail(why, "%s line %lu: longer than %zu bytes", in_name, n, sizeof line - 2);
+            status =
+                view_fail(why, "%s line %lu: longer than %zu bytes", in_name, n, sizeof line - 2);
             break;
         }
         line[strcspn(line, "\r\n")] = '\0';
@@ -366,7 +366,7 @@ int view_locate_batch(const hpfc_file *f, FILE *in, const char *in_name, int lon
         const char *p = line + strspn(line, " \t");
         if (decimal_list_parse(p, given, 2)) {
             status = view_fail(why, "%s line %lu: expected %s: two decimal numbers", in_name, n,
-                          lonlat ? "lon,lat" : "x,y");
+                               lonlat ? "lon,lat" : "x,y");
             break;
         }
         if (lonlat && (status = project_lonlat(&L, given, xy, why)) != VIEW_OK) {

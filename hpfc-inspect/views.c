@@ -231,14 +231,15 @@ static int resolve_path(const hpfc_file *f, const pixel_path *pp, hpfc_pixel *px
         uint32_t i = pp->ij[l][0], j = pp->ij[l][1];
         uint32_t n = l ? info.cols : info.root_cols, m = l ? info.rows : info.root_rows;
         if (i >= n || j >= m)
-            return view_fail(why, "no pixel %u,%u at depth %u: images there are %ux%u", i, j, l, n, m);
+            return view_fail(why, "no pixel %u,%u at depth %u: images there are %ux%u", i, j, l, n,
+                             m);
         int type, st;
         if (l > 0) {
             if ((st = hpfc_pixel_type(f, px, &type)))
                 return fail_status(why, "pixel type", st);
             if (type != HPFC_PIXEL_REFINED)
-                return view_fail(why, "the pixel at depth %u is a word pixel: the path goes no deeper",
-                            l - 1);
+                return view_fail(
+                    why, "the pixel at depth %u is a word pixel: the path goes no deeper", l - 1);
         }
         st = l ? hpfc_pixel_child(f, px, i, j, px) : hpfc_pixel_root(f, i, j, px);
         if (st)
@@ -543,7 +544,7 @@ int view_sections(const hpfc_file *f, const char *path, FILE *out, int json, cha
             print_map_text(out, path, &m);
         if (m.bad)
             status = view_fail(why, "%u checksum%s do%s not match", m.bad, m.bad == 1 ? "" : "s",
-                          m.bad == 1 ? "es" : "");
+                               m.bad == 1 ? "es" : "");
     }
     free(m.sections);
     return status;

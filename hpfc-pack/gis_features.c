@@ -121,8 +121,10 @@ int gis_features_add_ring(gis_features *fs, uint32_t feature, const int64_t *xy,
 {
     if (n < 3)
         return 0; /* no area */
-    if (!array_grow((void **)&fs->ring_feature, &fs->cap_rings, fs->rings + 1, sizeof *fs->ring_feature) ||
-        !array_grow((void **)&fs->ring_start, &fs->cap_ring_start, fs->rings + 2, sizeof *fs->ring_start) ||
+    if (!array_grow((void **)&fs->ring_feature, &fs->cap_rings, fs->rings + 1,
+                    sizeof *fs->ring_feature) ||
+        !array_grow((void **)&fs->ring_start, &fs->cap_ring_start, fs->rings + 2,
+                    sizeof *fs->ring_start) ||
         !array_grow((void **)&fs->xy, &fs->cap_points, 2 * (fs->points + n), sizeof *fs->xy))
         return -1;
     memcpy(fs->xy + 2 * fs->points, xy, 2 * n * sizeof *xy);
@@ -217,7 +219,8 @@ static int face_features(GEOSContextHandle_t ctx, GEOSSTRtree *tree, const gis_f
         return -1;
     GEOSSTRtree_query_r(ctx, tree, pt, collect, c);
     GEOSGeom_destroy_r(ctx, pt);
-    if (c->failed || !array_grow((void **)&links->v, &links->cap, links->n + c->n, sizeof *links->v))
+    if (c->failed ||
+        !array_grow((void **)&links->v, &links->cap, links->n + c->n, sizeof *links->v))
         return -1;
     if (c->n > 1)
         qsort(c->ring, c->n, sizeof *c->ring, cmp_size); /* rings, hence features, in order */

@@ -136,7 +136,8 @@ static int add_part(reader *r, OGRGeometryH g, int closed)
     int n = OGR_G_GetPointCount(g);
     if (n <= 0)
         return 0;
-    if (!array_grow((void **)&r->xy, &r->cap_points, r->n_points + (size_t)n + 1, 2 * sizeof(double)) ||
+    if (!array_grow((void **)&r->xy, &r->cap_points, r->n_points + (size_t)n + 1,
+                    2 * sizeof(double)) ||
         !array_grow((void **)&r->start, &r->cap_start, r->n_parts + 2, sizeof(size_t)) ||
         !array_grow((void **)&r->refs, &r->cap_parts, r->n_parts + 1, sizeof(part_ref)))
         return fail(r, "out of memory");
@@ -440,8 +441,7 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
      * schema beside the input, and read it back the next time, so that the
      * same file could pack differently twice. */
     static const char *const open_options[] = {"WRITE_GFS=NO", NULL};
-    GDALDatasetH ds =
-        GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL, open_options, NULL);
+    GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL, open_options, NULL);
     if (!ds) {
         /* through GDAL's file layer, so /vsimem/ and /vsizip/ paths are
          * judged as GDAL sees them */
