@@ -316,3 +316,29 @@ void gis_feature_table_free(gis_feature_table *t)
     free(t->face_feature);
     memset(t, 0, sizeof *t);
 }
+
+int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const hpfc_tree *tree,
+                      const uint8_t *bytes, size_t size, gis_feature_table *out, char *err,
+                      size_t err_len)
+{
+    hpfc_file *f = NULL;
+    hpfc_faces *faces = NULL;
+    face_witness *w = NULL;
+    int st = hpfc_open_memory(bytes, size, 0, &f);
+    if (!st)
+        st = hpfc_faces_build(f, &faces);
+    uint64_t n = faces ? hpfc_faces_count(faces) : 0;
+    if (!st && !(w = malloc((n ? n : 1) * sizeof *w)))
+        st = HPFC_E_NOMEM;
+    if (!st)
+        st = face_witnesses(graph, tree, f, faces, w);
+    if (st)
+        snprintf(err, err_len, "internal error: cannot find the faces' features (%s)",
+                 hpfc_strerror(st));
+    else if (gis_feature_table_make(fs, w, n, out, err, err_len) != 0)
+        st = 1;
+    free(w);
+    hpfc_faces_free(faces);
+    hpfc_close(f);
+    return st ? 1 : 0;
+}

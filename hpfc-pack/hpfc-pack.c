@@ -21,7 +21,6 @@
 #include <unistd.h>
 
 #include "draco_input.h"
-#include "face_witness.h"
 #include "gis_features.h"
 #include "gis_input.h"
 #include "hpfc.h"
@@ -692,39 +691,22 @@ static int same_file(const char *a, const char *b)
 }
 
 /* Links every face of the serialised map to the polygon features that
- * cover it, for the FEAT section; 0, or 1 with a message in err. */
+ * cover it, for the FEAT section, and reports it; 0, or 1 with a message in
+ * err. */
 static int link_features(const hpfc_graph *g, const hpfc_tree *t, const uint8_t *bytes,
                          size_t size, pack_report *r, gis_feature_table *ft, char *err,
                          size_t err_len)
 {
-    hpfc_file *f = NULL;
-    hpfc_faces *faces = NULL;
-    face_witness *w = NULL;
     double t0 = now_seconds();
-    int st = hpfc_open_memory(bytes, size, 0, &f);
-    if (!st)
-        st = hpfc_faces_build(f, &faces);
-    uint64_t n = faces ? hpfc_faces_count(faces) : 0;
-    if (!st && !(w = malloc((n ? n : 1) * sizeof *w)))
-        st = HPFC_E_NOMEM;
-    if (!st)
-        st = face_witnesses(g, t, f, faces, w);
-    if (st)
-        snprintf(err, err_len, "internal error: cannot find the faces' features (%s)",
-                 hpfc_strerror(st));
-    else if (gis_feature_table_make(r->gis_info.polygons, w, n, ft, err, err_len) != 0)
-        st = 1;
+    int st = gis_features_link(r->gis_info.polygons, g, t, bytes, size, ft, err, err_len);
     if (!st) {
         r->features = ft->table.feature_count;
         r->faces_without_witness = ft->faces_without_witness;
-        for (uint64_t k = 0; k < n; k++)
+        for (uint32_t k = 0; k < ft->table.face_count; k++)
             r->faces_with_features += ft->face_start[k + 1] > ft->face_start[k];
     }
-    free(w);
-    hpfc_faces_free(faces);
-    hpfc_close(f);
     r->features_s = now_seconds() - t0;
-    return st ? 1 : 0;
+    return st;
 }
 
 /* hpfc_build's progress, as a bar per level. */
