@@ -58,24 +58,69 @@ static uint64_t out_node(uint64_t base, uint64_t n, uint64_t k)
     return base + (k + 1) % n;
 }
 
+/* The union-find, then node -> face id, takes one word per node: 32 bits
+ * while the nodes number below 2^31 (the top bit tags numbered roots in
+ * number_faces), else 64. A continental map has millions of nodes. */
+typedef struct node_array {
+    uint32_t *narrow;
+    uint64_t *wide;
+} node_array;
+
+static uint64_t node_get(const node_array *a, uint64_t x)
+{
+    return a->narrow ? a->narrow[x] : a->wide[x];
+}
+
+static void node_set(node_array *a, uint64_t x, uint64_t v)
+{
+    if (a->narrow)
+        a->narrow[x] = (uint32_t)v;
+    else
+        a->wide[x] = v;
+}
+
+uint64_t faces_narrow_nodes = UINT64_C(1) << 31;
+
+static uint64_t node_tag(const node_array *a)
+{
+    return a->narrow ? UINT64_C(1) << 31 : UINT64_C(1) << 63;
+}
+
+static int node_array_init(node_array *a, uint64_t nodes)
+{
+    size_t n = (size_t)nodes + 1;
+    if (nodes < faces_narrow_nodes)
+        a->narrow = malloc(n * sizeof *a->narrow);
+    else
+        a->wide = malloc(n * sizeof *a->wide);
+    if (!a->narrow && !a->wide)
+        return HPFC_E_NOMEM;
+    for (uint64_t x = 0; x < nodes; x++)
+        node_set(a, x, x);
+    return HPFC_OK;
+}
+
 struct hpfc_faces {
     const hpfc_file *file;
-    pixel_entry *table;   /* open addressing by slot */
-    size_t mask;
-    uint64_t *parent;     /* union-find, then node -> face id */
+    pixel_entry *table; /* open addressing by slot, cap entries */
+    size_t cap;
+    node_array parent;
     uint64_t nodes, count;
 };
 
-static size_t hash_slot(uint64_t slot, size_t mask)
+/* The table has exactly the size it needs (a power of two would waste up
+ * to half of it): a 64-bit hash is scaled to [0, cap) by multiplication. */
+static size_t hash_slot(uint64_t slot, size_t cap)
 {
-    return (size_t)((slot * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+    uint64_t h = slot * 0x9E3779B97F4A7C15ull;
+    return cap <= UINT32_MAX ? (size_t)((h >> 32) * cap >> 32) : (size_t)(h % cap);
 }
 
 static pixel_entry *find_entry(const hpfc_faces *fc, uint64_t slot)
 {
-    size_t h = hash_slot(slot + 1, fc->mask);
+    size_t h = hash_slot(slot + 1, fc->cap);
     while (fc->table[h].slot && fc->table[h].slot != slot + 1)
-        h = (h + 1) & fc->mask;
+        h = h + 1 == fc->cap ? 0 : h + 1;
     return &fc->table[h];
 }
 
@@ -92,20 +137,20 @@ static int node_base(const hpfc_faces *fc, const hpfc_pixel *px, uint64_t *base)
     return HPFC_OK;
 }
 
-static uint64_t find(uint64_t *parent, uint64_t x)
+static uint64_t find(node_array *parent, uint64_t x)
 {
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
+    for (uint64_t p; (p = node_get(parent, x)) != x; x = p) {
+        p = node_get(parent, p); /* path halving */
+        node_set(parent, x, p);
     }
     return x;
 }
 
-static void unite(uint64_t *parent, uint64_t a, uint64_t b)
+static void unite(node_array *parent, uint64_t a, uint64_t b)
 {
     a = find(parent, a), b = find(parent, b);
-    if (a != b)
-        parent[a > b ? a : b] = a < b ? a : b; /* the smaller root wins: face 0 stays outer */
+    if (a != b) /* the smaller root wins: face 0 stays outer */
+        node_set(parent, a > b ? a : b, a < b ? a : b);
 }
 
 /* Node of the boundary region of a parsed pixel that holds the stretch of
@@ -133,13 +178,10 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
             return HPFC_E_CORRUPT;
     if (st != HPFC_E_NO_PIXEL)
         return st;
-    size_t cap = 16; /* the table at most 3/4 full */
-    while (cap < leaves + leaves / 3 + 16)
-        cap *= 2;
-    fc->table = calloc(cap, sizeof *fc->table);
+    fc->cap = (size_t)(leaves + leaves / 3 + 16); /* the table at most 3/4 full */
+    fc->table = calloc(fc->cap, sizeof *fc->table);
     if (!fc->table)
         return HPFC_E_NOMEM;
-    fc->mask = cap - 1;
     for (st = hpfc_leaf_first(fc->file, &px); !st; st = hpfc_leaf_next(fc->file, &px)) {
         uint64_t slot;
         if ((st = reader_pixel_slot_bit(fc->file, &px, &slot)) || (st = topo_parse_pixel(w, &w->here, &px)))
@@ -158,7 +200,7 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
 }
 
 /* The unions that stay inside one pixel. */
-static void unite_inside(uint64_t *parent, const local_word *lw, uint64_t base)
+static void unite_inside(node_array *parent, const local_word *lw, uint64_t base)
 {
     for (uint32_t k = 0; k < lw->n; k++) /* rule 2 holds by construction */
         unite(parent, in_node(base, k), out_node(base, lw->n, lw->pred[k]));
@@ -176,7 +218,7 @@ static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uin
             st = node_base(fc, &q, &qbase);
         if (st)
             return st;
-        unite(fc->parent, out_node(base, lw->n, k), in_node(qbase, mk));
+        unite(&fc->parent, out_node(base, lw->n, k), in_node(qbase, mk));
     }
     return HPFC_OK;
 }
@@ -213,7 +255,7 @@ static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p
             st = HPFC_E_CORRUPT; /* more crossings on P's side than on Q's road */
             break;
         }
-        unite(fc->parent, pnode, gap_node(&w->there, qbase, opposite, before));
+        unite(&fc->parent, pnode, gap_node(&w->there, qbase, opposite, before));
     }
     return st;
 }
@@ -227,7 +269,7 @@ static int unite_all(hpfc_faces *fc, hpfc_walker *w)
         uint64_t base;
         if ((st = node_base(fc, &px, &base)) || (st = topo_parse_pixel(w, &w->here, &px)))
             return st;
-        unite_inside(fc->parent, &w->here, base);
+        unite_inside(&fc->parent, &w->here, base);
         if ((st = unite_across(fc, w, &px, base)) || (st = unite_empty_roads(fc, w, &px, base)))
             return st;
     }
@@ -249,27 +291,28 @@ static int number_faces(hpfc_faces *fc, hpfc_walker *w)
         st = topo_parse_pixel(w, &w->here, &corner);
     if (st)
         return st;
-    uint64_t outer = find(fc->parent, gap_node(&w->here, base, HPFC_NORTH, 0));
-    uint64_t *parent = fc->parent;
+    node_array *parent = &fc->parent;
+    uint64_t outer = find(parent, gap_node(&w->here, base, HPFC_NORTH, 0));
     for (uint64_t x = 0; x < fc->nodes; x++) /* every node now points at its root */
-        parent[x] = find(parent, x);
+        node_set(parent, x, find(parent, x));
     /* Face ids in place, in order of each face's smallest node, the outer
      * face 0: a root, once numbered, holds FACE_TAG | id (node numbers stay
-     * below 2^40, so the tag is free); a node takes its root's id. Nodes
-     * before x are numbered already, and only roots are read. */
-    const uint64_t FACE_TAG = UINT64_C(1) << 63;
-    parent[outer] = FACE_TAG | 0;
+     * below the tag bit, node_array's choice of width); a node takes its
+     * root's id. Nodes before x are numbered already, and only roots are
+     * read. */
+    const uint64_t FACE_TAG = node_tag(parent);
+    node_set(parent, outer, FACE_TAG | 0);
     fc->count = 1;
     for (uint64_t x = 0; x < fc->nodes; x++) {
-        uint64_t r = parent[x];
+        uint64_t r = node_get(parent, x);
         if (r & FACE_TAG)
             continue; /* a root numbered before */
-        if (!(parent[r] & FACE_TAG))
-            parent[r] = FACE_TAG | fc->count++;
-        parent[x] = parent[r];
+        if (!(node_get(parent, r) & FACE_TAG))
+            node_set(parent, r, FACE_TAG | fc->count++);
+        node_set(parent, x, node_get(parent, r));
     }
     for (uint64_t x = 0; x < fc->nodes; x++)
-        parent[x] &= ~FACE_TAG;
+        node_set(parent, x, node_get(parent, x) & ~FACE_TAG);
     return HPFC_OK;
 }
 
@@ -288,13 +331,10 @@ int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out)
         st = hpfc_walker_set_cache_size(w, 0);
     if (!st)
         st = number_leaves(fc, w);
-    if (!st && !(fc->parent = malloc((fc->nodes + 1) * sizeof *fc->parent)))
-        st = HPFC_E_NOMEM;
-    if (!st) {
-        for (uint64_t x = 0; x < fc->nodes; x++)
-            fc->parent[x] = x;
+    if (!st)
+        st = node_array_init(&fc->parent, fc->nodes);
+    if (!st)
         st = unite_all(fc, w);
-    }
     if (!st)
         st = number_faces(fc, w);
     hpfc_walker_free(w);
@@ -311,7 +351,8 @@ void hpfc_faces_free(hpfc_faces *fc)
     if (!fc)
         return;
     free(fc->table);
-    free(fc->parent);
+    free(fc->parent.narrow);
+    free(fc->parent.wide);
     free(fc);
 }
 
@@ -334,7 +375,7 @@ int hpfc_faces_of_dart(const hpfc_faces *fc, const hpfc_dart *d, uint64_t *face)
     uint64_t n = entry_crossings(e);
     if (d->crossing >= n)
         return HPFC_E_ARG; /* no such crossing in the dart's pixel */
-    *face = fc->parent[out_node(entry_base(e), n, d->crossing)];
+    *face = node_get(&fc->parent, out_node(entry_base(e), n, d->crossing));
     return HPFC_OK;
 }
 
@@ -350,6 +391,6 @@ int hpfc_faces_of_private_pixel(const hpfc_faces *fc, const hpfc_pixel *px, uint
     if (!st)
         st = node_base(fc, px, &base);
     if (!st)
-        *face = fc->parent[base];
+        *face = node_get(&fc->parent, base);
     return st;
 }

@@ -467,9 +467,9 @@ HPFC_API int hpfc_leaf_next(const hpfc_file *file, hpfc_pixel *px);
  * ------------------------------------------------------------------------ */
 typedef struct hpfc_faces hpfc_faces;
 
-/* Memory: a table of 16-byte entries, 4/3 per leaf rounded up to a power
- * of two, and 8 bytes per crossing and per private leaf (a continental map
- * of 4.66 M leaves: 252 MB). HPFC_E_CORRUPT
+/* Memory: a table of 16-byte entries, 4/3 per leaf, and 4 bytes per
+ * crossing and per private leaf (8 past 2^31 of them; a continental map of
+ * 4.66 M leaves: 130 MB). HPFC_E_CORRUPT
  * on a file whose pixels contradict each other, HPFC_E_LIMIT past 2^24
  * crossings in one leaf or 2^40 crossings in all, HPFC_E_NOMEM. */
 HPFC_API int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out);

@@ -4,6 +4,11 @@
 
 #include "hpfc.h"
 
+/* hpfc_faces_build's union-find takes 32-bit words below this many nodes
+ * (2^31: the top bit tags numbered roots), else 64-bit ones. A variable
+ * only so that the tests can run the 64-bit path on small maps. */
+extern uint64_t faces_narrow_nodes;
+
 /* Most crossings a word of this file can hold (from the level table). */
 uint32_t reader_max_crossings(const hpfc_file *file);
 /* An upper bound on all crossings of the file, to bound walks. */

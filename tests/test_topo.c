@@ -13,6 +13,7 @@
 #include "export.h"
 #include "gen.h"
 #include "hpfc.h"
+#include "reader.h"
 
 __extension__ typedef __int128 i128;
 
@@ -219,6 +220,42 @@ static void check_involutions(const hpfc_file *f)
     hpfc_walker_free(w);
 }
 
+/* The 64-bit union-find of continental maps numbers the faces as the
+ * 32-bit one does: the face of every dart, in hpfc_vertex_dart order. */
+static void check_wide_faces(const hpfc_file *f, hpfc_walker *w, uint64_t count,
+                             const uint64_t *face_of, size_t nd)
+{
+    uint64_t narrow = faces_narrow_nodes;
+    faces_narrow_nodes = 0;
+    hpfc_faces *wide;
+    CHECK_EQ_INT(hpfc_faces_build(f, &wide), HPFC_OK);
+    faces_narrow_nodes = narrow;
+    if (!wide)
+        return;
+    CHECK_EQ_INT(hpfc_faces_count(wide), count);
+    hpfc_pixel px;
+    size_t d = 0, differ = 0;
+    for (int st = hpfc_leaf_first(f, &px); !st && d < nd; st = hpfc_leaf_next(f, &px)) {
+        uint32_t nv = 0;
+        hpfc_pixel_vertex_count(w, &px, &nv);
+        for (uint32_t v = 0; v < nv; v++) {
+            hpfc_vertex vx;
+            uint32_t deg = 0;
+            hpfc_pixel_vertex(w, &px, v, &vx);
+            hpfc_vertex_degree(w, &vx, &deg);
+            for (uint32_t k = 0; k < deg && d < nd; k++, d++) {
+                hpfc_dart dt;
+                uint64_t face = UINT64_MAX;
+                hpfc_vertex_dart(w, &vx, k, &dt);
+                differ += hpfc_faces_of_dart(wide, &dt, &face) != HPFC_OK || face != face_of[d];
+            }
+        }
+    }
+    CHECK_EQ_INT(d, nd);
+    CHECK_EQ_INT(differ, 0);
+    hpfc_faces_free(wide);
+}
+
 /* Faces with holes: the count obeys Euler (V - E + F = 1 + C), there are
  * F + C - 1 boundary loops, every loop has one face and every face a loop. */
 static void check_faces(const hpfc_file *f, const exported_map *fm, const hpfc_graph *g)
@@ -269,6 +306,7 @@ static void check_faces(const hpfc_file *f, const exported_map *fm, const hpfc_g
     }
     CHECK_EQ_INT(d, fm->nd);
     CHECK_EQ_INT(bad, 0);
+    check_wide_faces(f, w, F, face_of, fm->nd);
     uint8_t *seen = calloc(fm->nd, 1), *face_seen = calloc(F + 1, 1);
     size_t loops = 0;
     for (size_t s = 0; s < fm->nd; s++) {
