@@ -364,12 +364,12 @@ static int append_word(builder *b, word_scratch *w, tpixel *px)
     }
     if (st)
         return st;
-    if (len > UINT32_MAX)
-        return diag_set(b->diag, HPFC_E_LIMIT, "word too long");
-    px->word_off = t->nsyms;
-    px->word_len = (uint32_t)len;
-    px->cross_off = t->ncross;
-    px->child = 0;
+    if (w->ncr > TPIXEL_COUNT_MAX || t->ncross > TPIXEL_CROSS_OFF_MAX - w->ncr)
+        return diag_set(b->diag, HPFC_E_LIMIT,
+                        "more than 2^24 - 2 crossings in a pixel, or "
+                        "2^40 in all");
+    px->off = t->nsyms;
+    px->cross = (uint64_t)t->ncross << TPIXEL_COUNT_BITS | w->ncr;
     char *out = t->syms + t->nsyms;
     size_t k = 0;
     for (int road = 0; road < 4; road++) {
@@ -421,7 +421,8 @@ static int make_word(builder *b, word_scratch *w, const uint32_t *list, size_t n
         }
     }
     if (w->ncr == 0) {
-        *px = (tpixel){0, b->t->ncross, 4, 0};
+        /* the shared "++++" at offset 0 */
+        *px = (tpixel){0, (uint64_t)b->t->ncross << TPIXEL_COUNT_BITS};
         b->t->info.private_pixels++;
         return HPFC_OK;
     }
@@ -586,9 +587,10 @@ static int build_image(builder *b, uint32_t level, size_t image, image_scratch *
         int64_t gx = gx0 + i, gy = gy0 + (lv->rows - 1 - j);
         tpixel *px = &lv->pix[image * per + p];
         if (!b->p.flat && holds_edge(b, lv, level, gx, gy, sub, ns)) {
-            *px = (tpixel){0, 0, 0, 0};
+            uint32_t child = 0;
             b->t->info.refined_pixels++;
-            st = push_child(b, &b->t->levels[level + 1], gx, gy, sub, ns, &px->child);
+            st = push_child(b, &b->t->levels[level + 1], gx, gy, sub, ns, &child);
+            *px = (tpixel){child, TPIXEL_REFINED};
         } else {
             int64_t cell[4] = {gx * lv->cell_w, gy * lv->cell_h, (gx + 1) * lv->cell_w, (gy + 1) * lv->cell_h};
             b->t->info.word_pixels++;
@@ -853,15 +855,16 @@ int hpfc_tree_get_pixel(const hpfc_tree *t, uint32_t level, size_t image, uint32
     out->y0 = t->info.y0 + gy * lv->cell_h;
     out->x1 = out->x0 + lv->cell_w;
     out->y1 = out->y0 + lv->cell_h;
-    if (px->word_len == 0) {
+    if (px->cross == TPIXEL_REFINED) {
         out->type = HPFC_PIXEL_REFINED;
-        out->child = px->child;
+        out->child = (uint32_t)px->off;
         return HPFC_OK;
     }
+    uint64_t cross_off = px->cross >> TPIXEL_COUNT_BITS;
     out->type = HPFC_PIXEL_WORD;
-    out->word = t->syms + px->word_off;
-    out->word_len = px->word_len;
-    out->cross_edge = t->cross_edge + px->cross_off;
-    out->cross_segment = t->cross_seg + px->cross_off;
+    out->word = t->syms + px->off;
+    out->word_len = (uint32_t)(px->cross & ((UINT64_C(1) << TPIXEL_COUNT_BITS) - 1)) + 4;
+    out->cross_edge = t->cross_edge + cross_off;
+    out->cross_segment = t->cross_seg + cross_off;
     return HPFC_OK;
 }

@@ -5,14 +5,20 @@
 
 #include "internal.h"
 
-/* One pixel. A word pixel has word_len >= 4 (its word is at
- * tree->syms[word_off]); a refined pixel has word_len == 0 and child set. */
+/* One pixel, in 16 bytes since a continental map has millions. A word
+ * pixel with n crossings has its word at tree->syms[off] (n + 4 symbols)
+ * and its crossings at tree->cross_edge / cross_seg [cross >>
+ * TPIXEL_COUNT_BITS], n in the low bits of cross; a refined pixel has cross
+ * == TPIXEL_REFINED and its child image in off. */
 typedef struct tpixel {
-    uint64_t word_off;
-    uint64_t cross_off;   /* its crossings in tree->cross_edge / cross_seg */
-    uint32_t word_len;
-    uint32_t child;
+    uint64_t off;
+    uint64_t cross;
 } tpixel;
+
+#define TPIXEL_COUNT_BITS 24
+#define TPIXEL_COUNT_MAX ((UINT64_C(1) << TPIXEL_COUNT_BITS) - 2)
+#define TPIXEL_CROSS_OFF_MAX ((UINT64_C(1) << (64 - TPIXEL_COUNT_BITS)) - 1)
+#define TPIXEL_REFINED UINT64_MAX
 
 typedef struct tlevel {
     uint32_t cols, rows;      /* pixels per image at this level */

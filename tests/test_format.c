@@ -227,7 +227,7 @@ static void fig4_level(hpfc_tree *t, uint32_t l, uint32_t cols, uint32_t rows, s
 static void fig4_refine(hpfc_tree *t, uint32_t l, size_t image, uint32_t i, uint32_t j, uint32_t child)
 {
     tlevel *lv = &t->levels[l], *next = &t->levels[l + 1];
-    lv->pix[image * lv->cols * lv->rows + j * lv->cols + i] = (tpixel){0, 0, 0, child};
+    lv->pix[image * lv->cols * lv->rows + j * lv->cols + i] = (tpixel){child, TPIXEL_REFINED};
     next->img_gx[child] = (lv->img_gx[image] + i) * next->cols;
     next->img_gy[child] = (lv->img_gy[image] + lv->rows - 1 - j) * next->rows;
 }
@@ -251,7 +251,7 @@ static hpfc_tree *fig4_tree(void)
     fig4_level(t, 2, 2, 2, 6, 1);
     for (uint32_t l = 0; l < 3; l++) /* every pixel "++++" unless refined below */
         for (size_t p = 0; p < t->levels[l].nimages * t->levels[l].cols * t->levels[l].rows; p++)
-            t->levels[l].pix[p] = (tpixel){0, 0, 4, 0};
+            t->levels[l].pix[p] = (tpixel){0, 0};
     fig4_refine(t, 0, 0, 0, 0, 0); /* I1 */
     fig4_refine(t, 0, 0, 2, 1, 1); /* I2 */
     fig4_refine(t, 0, 0, 3, 1, 2); /* I3 */
@@ -262,9 +262,9 @@ static hpfc_tree *fig4_tree(void)
     fig4_refine(t, 1, 2, 0, 0, 3);
     fig4_refine(t, 1, 3, 0, 1, 4); /* I9 */
     fig4_refine(t, 1, 3, 1, 1, 5); /* I10 */
-    t->levels[0].pix[2 * 4 + 3] = (tpixel){4, 0, 8, 0};  /* root (3,2): "(+Y+)+=+" */
-    t->levels[1].pix[1 * 4 + 0] = (tpixel){4, 0, 8, 0};  /* I2 (0,0) */
-    t->levels[2].pix[5 * 4 + 3] = (tpixel){12, 0, 7, 0}; /* I10 (1,1): "(+Y+)++" */
+    t->levels[0].pix[2 * 4 + 3] = (tpixel){4, 4};  /* root (3,2): "(+Y+)+=+" */
+    t->levels[1].pix[1 * 4 + 0] = (tpixel){4, 4};  /* I2 (0,0) */
+    t->levels[2].pix[5 * 4 + 3] = (tpixel){12, 3}; /* I10 (1,1): "(+Y+)++" */
     t->info.word_pixels = 8 + 10 + 24;
     t->info.refined_pixels = 10;
     return t;
