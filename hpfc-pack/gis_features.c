@@ -18,12 +18,12 @@ struct gis_features {
     uint32_t *layer;
     char **key;
     uint32_t n, cap;
-    /* rings: points xy[2 * ring_start[r] .. 2 * ring_start[r + 1]) */
+    /* rings: ring r is code[ring_start[r] .. ring_start[r + 1]) (ring_code) */
     uint32_t *ring_feature;
     size_t *ring_start;
     size_t rings, cap_rings, cap_ring_start;
-    int64_t *xy;
-    size_t points, cap_points;
+    uint8_t *code;
+    size_t code_len, cap_code;
 };
 
 static char *dup_or_null(const char *s)
@@ -63,7 +63,7 @@ void gis_features_free(gis_features *fs)
     free(fs->key);
     free(fs->ring_feature);
     free(fs->ring_start);
-    free(fs->xy);
+    free(fs->code);
     free(fs);
 }
 
@@ -117,37 +117,118 @@ uint32_t gis_features_count(const gis_features *fs)
     return fs ? fs->n : 0;
 }
 
+/* Ring code: the point count, then each point's x and y as the difference
+ * from the point before (the first from 0), zigzag LEB128 varints. Shape
+ * points of a ring lie close together, so a point takes 2 to 6 bytes
+ * instead of 16: the rings of a continental layer are held from reading
+ * until the faces are linked, across the build's peak. Differences wrap
+ * modulo 2^64, so every int64 ring decodes exactly. */
+enum { VARINT_MAX_BYTES = 10 };
+
+static uint8_t *put_varint(uint8_t *p, uint64_t v)
+{
+    for (; v >= 0x80; v >>= 7)
+        *p++ = (uint8_t)(v | 0x80);
+    *p++ = (uint8_t)v;
+    return p;
+}
+
+static const uint8_t *get_varint(const uint8_t *p, uint64_t *v)
+{
+    uint64_t x = 0;
+    for (int shift = 0;; shift += 7) {
+        uint8_t b = *p++;
+        x |= (uint64_t)(b & 0x7f) << shift;
+        if (!(b & 0x80))
+            break;
+    }
+    *v = x;
+    return p;
+}
+
+static uint64_t zigzag(uint64_t delta)
+{
+    return delta << 1 ^ (uint64_t) - (int64_t)(delta >> 63);
+}
+
+static uint64_t unzigzag(uint64_t z)
+{
+    return z >> 1 ^ (uint64_t) - (int64_t)(z & 1);
+}
+
+/* Reads a ring's points in order. */
+typedef struct ring_cursor {
+    const uint8_t *p;
+    uint64_t x, y;
+    size_t left;
+} ring_cursor;
+
+static ring_cursor ring_open(const gis_features *fs, size_t r)
+{
+    uint64_t n;
+    ring_cursor c = {get_varint(fs->code + fs->ring_start[r], &n), 0, 0, 0};
+    c.left = (size_t)n;
+    return c;
+}
+
+static void ring_next(ring_cursor *c, int64_t *x, int64_t *y)
+{
+    uint64_t dx, dy;
+    c->p = get_varint(get_varint(c->p, &dx), &dy);
+    c->x += unzigzag(dx), c->y += unzigzag(dy);
+    c->left--;
+    *x = (int64_t)c->x, *y = (int64_t)c->y;
+}
+
 int gis_features_add_ring(gis_features *fs, uint32_t feature, const int64_t *xy, size_t n)
 {
     if (n < 3)
         return 0; /* no area */
-    if (!array_grow((void **)&fs->ring_feature, &fs->cap_rings, fs->rings + 1,
+    if (n > (SIZE_MAX - fs->code_len) / (2 * VARINT_MAX_BYTES) - 1 ||
+        !array_grow((void **)&fs->ring_feature, &fs->cap_rings, fs->rings + 1,
                     sizeof *fs->ring_feature) ||
         !array_grow((void **)&fs->ring_start, &fs->cap_ring_start, fs->rings + 2,
                     sizeof *fs->ring_start) ||
-        !array_grow((void **)&fs->xy, &fs->cap_points, 2 * (fs->points + n), sizeof *fs->xy))
+        !array_grow((void **)&fs->code, &fs->cap_code,
+                    fs->code_len + (n + 1) * 2 * VARINT_MAX_BYTES, 1))
         return -1;
-    memcpy(fs->xy + 2 * fs->points, xy, 2 * n * sizeof *xy);
-    fs->points += n;
+    uint8_t *p = put_varint(fs->code + fs->code_len, n);
+    uint64_t px = 0, py = 0;
+    for (size_t i = 0; i < n; i++) {
+        uint64_t x = (uint64_t)xy[2 * i], y = (uint64_t)xy[2 * i + 1];
+        p = put_varint(put_varint(p, zigzag(x - px)), zigzag(y - py));
+        px = x, py = y;
+    }
+    fs->code_len = (size_t)(p - fs->code);
     fs->ring_feature[fs->rings] = feature;
-    fs->ring_start[++fs->rings] = fs->points;
+    fs->ring_start[++fs->rings] = fs->code_len;
     return 0;
 }
 
-/* Does the horizontal ray from (x, y) eastward cross ring r an odd number
- * of times? Half-open in y, so a vertex on the ray counts once. */
+/* Does edge (xi, yi) - (xj, yj) cross the horizontal ray from (x, y)
+ * eastward? Half-open in y, so a vertex on the ray counts once. */
+static int ray_crosses(int64_t xi_, int64_t yi_, int64_t xj_, int64_t yj_, long double x,
+                       long double y)
+{
+    long double xi = (long double)xi_, yi = (long double)yi_;
+    long double xj = (long double)xj_, yj = (long double)yj_;
+    return (yi > y) != (yj > y) && x < xi + (xj - xi) * ((y - yi) / (yj - yi));
+}
+
+/* Does the ray from (x, y) cross ring r an odd number of times? */
 static int ring_holds(const gis_features *fs, size_t r, long double x, long double y)
 {
-    const int64_t *p = fs->xy + 2 * fs->ring_start[r];
-    size_t n = fs->ring_start[r + 1] - fs->ring_start[r];
+    ring_cursor c = ring_open(fs, r);
+    int64_t x0, y0, xp, yp, xq, yq;
+    ring_next(&c, &x0, &y0);
+    xp = x0, yp = y0;
     int inside = 0;
-    for (size_t i = 0, j = n - 1; i < n; j = i++) {
-        long double xi = (long double)p[2 * i], yi = (long double)p[2 * i + 1];
-        long double xj = (long double)p[2 * j], yj = (long double)p[2 * j + 1];
-        if ((yi > y) != (yj > y) && x < xi + (xj - xi) * ((y - yi) / (yj - yi)))
-            inside = !inside;
+    while (c.left) {
+        ring_next(&c, &xq, &yq);
+        inside ^= ray_crosses(xq, yq, xp, yp, x, y);
+        xp = xq, yp = yq;
     }
-    return inside;
+    return inside ^ ray_crosses(x0, y0, xp, yp, x, y); /* the closing edge */
 }
 
 #ifdef HPFC_HAVE_GIS
@@ -185,11 +266,13 @@ static GEOSSTRtree *ring_index(GEOSContextHandle_t ctx, const gis_features *fs, 
     if (!tree || !*boxes)
         return tree;
     for (size_t r = 0; r < fs->rings; r++) {
-        const int64_t *p = fs->xy + 2 * fs->ring_start[r];
-        size_t n = fs->ring_start[r + 1] - fs->ring_start[r];
-        double x0 = (double)p[0], x1 = x0, y0 = (double)p[1], y1 = y0;
-        for (size_t i = 1; i < n; i++) {
-            double x = (double)p[2 * i], y = (double)p[2 * i + 1];
+        ring_cursor cur = ring_open(fs, r);
+        int64_t px, py;
+        ring_next(&cur, &px, &py);
+        double x0 = (double)px, x1 = x0, y0 = (double)py, y1 = y0;
+        while (cur.left) {
+            ring_next(&cur, &px, &py);
+            double x = (double)px, y = (double)py;
             x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
             y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
         }
