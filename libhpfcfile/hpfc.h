@@ -241,7 +241,8 @@ HPFC_API int hpfc_tree_get_pixel(const hpfc_tree *tree, uint32_t level,
  * linked to the features that cover it. Face ids are those of
  * hpfc_faces_build() on the written file, which depend on the pools only:
  * serialise once without features, number the faces, then serialise again
- * with them. */
+ * with them (hpfc_file_serialize() does it from the open file, without the
+ * tree). */
 typedef struct hpfc_feature_table {
     uint32_t feature_count;
     const int64_t *fid;             /* per feature: its id in the source layer */
@@ -301,6 +302,20 @@ HPFC_API void hpfc_close(hpfc_file *file);
 
 /* Verifies every section checksum (reads the whole file). */
 HPFC_API int hpfc_verify_checksums(const hpfc_file *file);
+
+/* Serialises an open file's map again with opts' CRS and FEAT sections in
+ * place of its own (opts NULL: neither), into a malloc'ed buffer the caller
+ * frees. The pools are copied bit for bit, so pixels, darts, keys and face
+ * ids stay the same; no tree is needed. This is how a map gets its features
+ * once its faces are numbered: serialise the tree, open the bytes, free the
+ * tree, link, then hpfc_file_write_file(). Other sections are not copied;
+ * the output has this library's format version. Safe on any file that
+ * opened: every pool was bounds-checked at open. */
+HPFC_API int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts,
+                                 uint8_t **out, size_t *out_size, hpfc_diag *diag);
+/* The same, written to `path` atomically as hpfc_tree_write_file() does. */
+HPFC_API int hpfc_file_write_file(const hpfc_file *file, const hpfc_write_options *opts,
+                                  const char *path, hpfc_diag *diag);
 
 #define HPFC_MAX_LEVELS 48
 

@@ -880,6 +880,11 @@ uint64_t reader_total_crossings(const hpfc_file *f)
     return total;
 }
 
+const uint8_t *reader_bytes(const hpfc_file *f)
+{
+    return f->data;
+}
+
 uint64_t reader_total_leaves(const hpfc_file *f)
 {
     uint64_t total = 0;

@@ -18,6 +18,8 @@ uint64_t reader_total_leaves(const hpfc_file *file);
 /* Absolute bit position in the file of a word pixel's record or slot: a
  * unique, stable number per pixel. */
 int reader_pixel_slot_bit(const hpfc_file *file, const hpfc_pixel *px, uint64_t *bit);
+/* The file's bytes (its whole size, as opened). */
+const uint8_t *reader_bytes(const hpfc_file *file);
 /* The FEAT section (checked at open), NULL when the file has none. */
 const uint8_t *reader_feat_section(const hpfc_file *file, uint64_t *length);
 

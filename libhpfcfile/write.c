@@ -18,9 +18,11 @@
 #include "feat.h"
 #include "format.h"
 #include "internal.h"
+#include "reader.h"
 
 typedef struct layout {
-    const hpfc_tree *tree;
+    const hpfc_tree *tree;   /* the map to lay out, or */
+    const hpfc_file *source; /* an open file whose pools are copied */
     hpfc_tree_info info;
     format_level lv[HPFC_MAX_LEVELS];
     /* Per level >= 1: first the refined pixels of each image, then (after
@@ -300,11 +302,28 @@ static void emit_section(uint8_t *file, uint32_t index, const char *tag, uint32_
     sec_set_crc32c(e, crc32c_update(0, file + offset, (size_t)length));
 }
 
+/* The pools of an open file, bit for bit: same counts and widths give the
+ * same sizes (its level table was checked at open). */
+static void copy_pools(const layout *L, uint8_t *file)
+{
+    const uint8_t *from = reader_bytes(L->source);
+    for (uint32_t l = 0; l < L->info.levels; l++) {
+        hpfc_level_info li;
+        hpfc_file_get_level(L->source, l, &li);
+        memcpy(file + L->pool_offset[l], from + li.pool_offset,
+               (size_t)format_pool_bytes(L->lv[l].pool_bits));
+    }
+}
+
 static void emit(const layout *L, uint8_t *file)
 {
-    emit_root(L, file + L->pool_offset[0]);
-    for (uint32_t l = 1; l < L->info.levels; l++)
-        emit_level(L, l, file + L->pool_offset[l]);
+    if (L->source) {
+        copy_pools(L, file);
+    } else {
+        emit_root(L, file + L->pool_offset[0]);
+        for (uint32_t l = 1; l < L->info.levels; l++)
+            emit_level(L, l, file + L->pool_offset[l]);
+    }
     if (L->crs)
         memcpy(file + L->crs_offset, L->crs, (size_t)L->crs_length);
     if (L->features)
@@ -340,6 +359,22 @@ static int check_tree_info(const hpfc_tree_info *t, hpfc_diag *diag)
     return HPFC_OK;
 }
 
+/* Places the sections and emits the file laid out in L (its pools sized). */
+static int serialize_layout(layout *L, uint8_t **out, size_t *out_size, hpfc_diag *diag)
+{
+    int st = place_sections(L, diag);
+    uint8_t *file = NULL;
+    if (!st && !(file = calloc(1, (size_t)L->file_size)))
+        st = diag_set(diag, HPFC_E_NOMEM, "out of memory for a %llu-byte file",
+                      (unsigned long long)L->file_size);
+    if (!st) {
+        emit(L, file);
+        *out = file;
+        *out_size = (size_t)L->file_size;
+    }
+    return st;
+}
+
 int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, uint8_t **out,
                         size_t *out_size, hpfc_diag *diag)
 {
@@ -357,18 +392,40 @@ int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, u
     if (!st)
         st = size_levels(&L, diag);
     if (!st)
-        st = place_sections(&L, diag);
-    uint8_t *file = NULL;
-    if (!st && !(file = calloc(1, (size_t)L.file_size)))
-        st = diag_set(diag, HPFC_E_NOMEM, "out of memory for a %llu-byte file",
-                      (unsigned long long)L.file_size);
-    if (!st) {
-        emit(&L, file);
-        *out = file;
-        *out_size = (size_t)L.file_size;
-    }
+        st = serialize_layout(&L, out, out_size, diag);
     layout_free(&L);
     return st;
+}
+
+int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts, uint8_t **out,
+                        size_t *out_size, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!file || !out || !out_size)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_file_serialize: NULL argument");
+    *out = NULL;
+    *out_size = 0;
+    layout L = {
+        .source = file, .crs = opts ? opts->crs : NULL, .features = opts ? opts->features : NULL};
+    hpfc_file_info fi;
+    hpfc_file_get_info(file, &fi);
+    L.info = (hpfc_tree_info){.root_cols = fi.root_cols,
+                              .root_rows = fi.root_rows,
+                              .cols = fi.cols,
+                              .rows = fi.rows,
+                              .levels = fi.levels,
+                              .x0 = fi.x0,
+                              .y0 = fi.y0,
+                              .width = fi.width,
+                              .height = fi.height,
+                              .unit_exp10 = fi.unit_exp10};
+    for (uint32_t l = 0; l < fi.levels; l++) {
+        hpfc_level_info li;
+        hpfc_file_get_level(file, l, &li);
+        L.lv[l] = (format_level){li.word_pixels, li.refined_pixels, li.images,
+                                 li.word_bits,   li.address_bits,   li.pool_bits};
+    }
+    return serialize_layout(&L, out, out_size, diag);
 }
 
 /* ---- atomic file output ------------------------------------------------------ */
@@ -489,18 +546,35 @@ static int write_atomic(const char *path, const uint8_t *buf, size_t size, hpfc_
     return st;
 }
 
+/* Writes what a serialiser made (st, its status) to path; frees it. */
+static int write_serialized(int st, uint8_t *buf, size_t size, const char *path, hpfc_diag *diag)
+{
+    if (!st)
+        st = write_atomic(path, buf, size, diag);
+    free(buf);
+    return st;
+}
+
 int hpfc_tree_write_file(const hpfc_tree *tree, const hpfc_write_options *opts, const char *path,
                          hpfc_diag *diag)
 {
     diag_clear(diag);
     if (!path)
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_write_file: NULL path");
-    uint8_t *buf;
-    size_t size;
+    uint8_t *buf = NULL;
+    size_t size = 0;
     int st = hpfc_tree_serialize(tree, opts, &buf, &size, diag);
-    if (st)
-        return st;
-    st = write_atomic(path, buf, size, diag);
-    free(buf);
-    return st;
+    return write_serialized(st, buf, size, path, diag);
+}
+
+int hpfc_file_write_file(const hpfc_file *file, const hpfc_write_options *opts, const char *path,
+                         hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!path)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_file_write_file: NULL path");
+    uint8_t *buf = NULL;
+    size_t size = 0;
+    int st = hpfc_file_serialize(file, opts, &buf, &size, diag);
+    return write_serialized(st, buf, size, path, diag);
 }

@@ -1612,6 +1612,71 @@ static int check_hpfc_fixture(const char *path, char *detail, size_t n)
     return open_and_verify(path);
 }
 
+/* hpfc_file_serialize of a file serialised from tree t with `from` equals
+ * hpfc_tree_serialize of t with `to`, byte for byte: the pools are copied
+ * and the sections laid out as the tree writer lays them. */
+static void check_reserialized(const hpfc_tree *t, const hpfc_write_options *from,
+                               const hpfc_write_options *to, const char *path)
+{
+    uint8_t *src = NULL, *want = NULL, *got = NULL;
+    size_t src_size = 0, want_size = 0, got_size = 0;
+    hpfc_diag d;
+    hpfc_file *f = NULL;
+    CHECK_EQ_INT(hpfc_tree_serialize(t, from, &src, &src_size, &d), HPFC_OK);
+    CHECK_EQ_INT(hpfc_tree_serialize(t, to, &want, &want_size, &d), HPFC_OK);
+    CHECK_EQ_INT(hpfc_open_memory(src, src_size, 0, &f), HPFC_OK);
+    if (f) {
+        CHECK_EQ_INT(hpfc_file_serialize(f, to, &got, &got_size, &d), HPFC_OK);
+        CHECK(got && got_size == want_size && memcmp(got, want, want_size) == 0);
+        CHECK_EQ_INT(hpfc_file_write_file(f, to, path, &d), HPFC_OK);
+        CHECK(file_equals(path, want, want_size));
+    }
+    hpfc_close(f);
+    free(src), free(want), free(got);
+}
+
+static void test_file_serialize(void)
+{
+    char dir[] = "/tmp/hpfc-test-format-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[256];
+    snprintf(path, sizeof path, "%s/map.hpfc", dir);
+    hpfc_tree *t = special_tree(GEN_SPECIAL_HOLE, 3);
+    if (!t)
+        return;
+    size_t size;
+    uint8_t *plain = serialize(t, NULL, &size);
+    hpfc_file *f = NULL;
+    hpfc_faces *fc = NULL;
+    CHECK_EQ_INT(hpfc_open_memory(plain, size, 0, &f), HPFC_OK);
+    CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
+    feat_fixture x;
+    feat_fixture_make(&x, (uint32_t)hpfc_faces_count(fc));
+    hpfc_faces_free(fc);
+    const hpfc_write_options opts[4] = {
+        {NULL, NULL}, {"EPSG:4326", NULL}, {NULL, &x.t}, {"+proj=lcc +lat_1=33", &x.t}};
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++)
+            check_reserialized(t, &opts[a], &opts[b], path);
+    /* opts NULL: no optional section */
+    uint8_t *got = NULL;
+    size_t got_size = 0;
+    hpfc_diag d;
+    CHECK_EQ_INT(hpfc_file_serialize(f, NULL, &got, &got_size, &d), HPFC_OK);
+    CHECK(got && got_size == size && memcmp(got, plain, size) == 0);
+    free(got);
+    CHECK_EQ_INT(hpfc_file_serialize(NULL, NULL, &got, &got_size, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_serialize(f, NULL, NULL, &got_size, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_write_file(f, NULL, NULL, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_write_file(NULL, NULL, path, &d), HPFC_E_ARG);
+    hpfc_close(f);
+    free(plain);
+    free(x.start), free(x.link);
+    hpfc_tree_free(t);
+    remove(path);
+    rmdir(dir);
+}
+
 static void test_valid_fixtures(const char *root)
 {
     check_valid_fixtures(root, ".hpfc", check_hpfc_fixture, 2);
@@ -1638,6 +1703,7 @@ int main(void)
     test_pool_corruption();
     test_write_file();
     test_features();
+    test_file_serialize();
     const char *root = getenv("HPFC_TEST_DATA");
     CHECK(root != NULL);
     if (root) {
