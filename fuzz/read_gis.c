@@ -24,10 +24,11 @@
  * of gis_input.h: the builder always receives a planar graph) and the shape
  * checks of input.h, at the unit gis_info reports; reading twice gives the
  * same graph. When the map has at most PACK_MAX_EDGES edges it is built,
- * serialised, and its faces are linked to the polygon features by
- * hpfc-pack's own gis_features_link (which reopens it with checksums): as
- * many faces as the builder counted, every face's features exist, and the
- * file rewritten with them records exactly that table.
+ * serialised, reopened with checksums, and its faces are linked to the
+ * polygon features as hpfc-pack links them (leaf_crossings_collect, the tree
+ * freed, gis_features_link): as many faces as the builder counted, every
+ * face's features exist, and the file rewritten with them
+ * (hpfc_file_serialize) records exactly that table.
  */
 #include <cpl_vsi.h>
 
@@ -85,16 +86,21 @@ static void check_recorded_features(const hpfc_file *f, const gis_feature_table 
     }
 }
 
-/* Links the faces of the serialised map to the features as hpfc-pack does,
- * writes the map again with them and reads them back. */
-static void pack_features(const hpfc_graph *g, const hpfc_tree *t, const uint8_t *bytes,
-                          size_t size, const gis_info *info)
+/* Links the faces of the serialised map f to the features as hpfc-pack
+ * does (freeing the tree first), writes the map again with them and reads
+ * them back. */
+static void pack_features(const hpfc_graph *g, hpfc_tree *t, const hpfc_file *f,
+                          const gis_info *info)
 {
-    gis_feature_table ft = {0};
-    char err[256];
-    FUZZ_CHECK(gis_features_link(info->polygons, g, t, bytes, size, &ft, err, sizeof err) == 0);
     hpfc_tree_info ti; /* the builder's count: F = E - V + 1 + C */
     hpfc_tree_get_info(t, &ti);
+    leaf_crossings lc;
+    FUZZ_CHECK(leaf_crossings_collect(t, f, &lc) == HPFC_OK);
+    hpfc_tree_free(t);
+    gis_feature_table ft = {0};
+    char err[256];
+    FUZZ_CHECK(gis_features_link(info->polygons, g, &lc, f, &ft, err, sizeof err) == 0);
+    leaf_crossings_free(&lc);
     uint32_t features = gis_features_count(info->polygons);
     FUZZ_CHECK(ft.table.feature_count == features && ft.table.face_count == ti.faces);
     for (uint32_t face = 0; face < ft.table.face_count; face++)
@@ -104,7 +110,7 @@ static void pack_features(const hpfc_graph *g, const hpfc_tree *t, const uint8_t
     hpfc_write_options wopts = {.crs = info->crs, .features = &ft.table};
     uint8_t *with_feat = NULL;
     size_t with_size = 0;
-    FUZZ_CHECK(hpfc_tree_serialize(t, &wopts, &with_feat, &with_size, NULL) == HPFC_OK);
+    FUZZ_CHECK(hpfc_file_serialize(f, &wopts, &with_feat, &with_size, NULL) == HPFC_OK);
     hpfc_file *f2 = NULL;
     FUZZ_CHECK(hpfc_open_memory(with_feat, with_size, 0, &f2) == HPFC_OK);
     check_recorded_features(f2, &ft);
@@ -128,12 +134,16 @@ static void pack(const hpfc_graph *g, const gis_info *info)
         return;
     uint8_t *bytes = NULL;
     size_t size = 0;
+    hpfc_file *f = NULL;
     hpfc_write_options wopts = {.crs = info->crs};
     FUZZ_CHECK(hpfc_tree_serialize(t, &wopts, &bytes, &size, NULL) == HPFC_OK);
+    FUZZ_CHECK(hpfc_open_memory(bytes, size, 0, &f) == HPFC_OK);
     if (gis_features_count(info->polygons) > 0)
-        pack_features(g, t, bytes, size, info);
+        pack_features(g, t, f, info); /* frees t */
+    else
+        hpfc_tree_free(t);
+    hpfc_close(f);
     free(bytes);
-    hpfc_tree_free(t);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

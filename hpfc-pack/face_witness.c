@@ -2,13 +2,17 @@
  * Witness points of faces (face_witness.h).
  *
  * The tree says, for every crossing of every word leaf, which segment of
- * which input edge makes it; the file says which face lies on the right of
- * the crossing's out-dart. Between them, every stretch of a leaf's boundary
- * between two consecutive crossings gets both a face and a place.
+ * which input edge makes it (kept in a leaf_crossings once the tree is
+ * gone); the file says which face lies on the right of the crossing's
+ * out-dart. Between them, every stretch of a leaf's boundary between two
+ * consecutive crossings gets both a face and a place.
  */
 #include "face_witness.h"
 
 #include <stdlib.h>
+#include <string.h>
+
+#include "grow.h"
 
 /* Nudge across a road, in lattice units: far below any distance between a
  * lattice point and a segment that misses it (at least 2^-42 for coordinates
@@ -88,28 +92,42 @@ static void offer(face_witness *w, uint64_t face, long double x, long double y, 
         w[face] = (face_witness){x, y, reach};
 }
 
-/* The witnesses a word leaf of the tree offers; fp is the same leaf in
- * the file. */
-static int leaf_witnesses(const hpfc_graph *g, const hpfc_tree_pixel *tp, const hpfc_faces *faces,
-                          const hpfc_pixel *fp, face_witness *w, long double *pos)
+/* A word leaf of the file: its bounds, its word, and where its crossings
+ * start in a leaf_crossings. */
+typedef struct leaf_view {
+    hpfc_pixel px;
+    int64_t x0, y0, x1, y1;
+    char *word;
+    size_t word_len, word_cap;
+    uint64_t first;
+} leaf_view;
+
+/* The witnesses a word leaf offers; *used: its crossings. */
+static int leaf_witnesses(const hpfc_graph *g, const leaf_crossings *lc, const leaf_view *v,
+                          const hpfc_faces *faces, face_witness *w, long double *pos,
+                          uint32_t *used)
 {
-    leaf_geometry L = {tp->x0, tp->y0, tp->x1, tp->y1, 0, 0, 0};
+    leaf_geometry L = {v->x0, v->y0, v->x1, v->y1, 0, 0, 0};
     L.w = (long double)(L.x1 - L.x0), L.h = (long double)(L.y1 - L.y0);
     L.perimeter = 2 * (L.w + L.h);
     uint32_t n = 0;
     int road = 0;
-    for (uint32_t s = 0; s < tp->word_len; s++) {
-        if (tp->word[s] == '+') {
+    for (size_t s = 0; s < v->word_len; s++) {
+        if (v->word[s] == '+') {
             road++;
             continue;
         }
         int64_t p[2], q[2];
-        segment_points(g, tp->cross_edge[n], tp->cross_segment[n], p, q);
+        uint64_t c = v->first + n;
+        if (c >= lc->count)
+            return HPFC_E_CORRUPT;
+        segment_points(g, lc->pairs[2 * c], lc->pairs[2 * c + 1], p, q);
         pos[n++] = boundary_position(&L, road, p, q);
     }
+    *used = n;
     uint64_t face;
     if (n == 0) {
-        int st = hpfc_faces_of_private_pixel(faces, fp, &face);
+        int st = hpfc_faces_of_private_pixel(faces, &v->px, &face);
         if (!st)
             offer(w, face, (long double)L.x0 + L.w / 2, (long double)L.y0 + L.h / 2,
                   (L.w < L.h ? L.w : L.h) / 2);
@@ -119,7 +137,7 @@ static int leaf_witnesses(const hpfc_graph *g, const hpfc_tree_pixel *tp, const 
         long double gap = (k + 1 < n ? pos[k + 1] : pos[0] + L.perimeter) - pos[k];
         if (!(gap > 0))
             continue; /* crossings at one point: a vertex on the road */
-        hpfc_dart d = {*fp, k};
+        hpfc_dart d = {v->px, k};
         int st = hpfc_faces_of_dart(faces, &d, &face);
         if (st)
             return st;
@@ -130,45 +148,111 @@ static int leaf_witnesses(const hpfc_graph *g, const hpfc_tree_pixel *tp, const 
     return HPFC_OK;
 }
 
-/* The file's leaf with the tree pixel's bounds. */
-static int file_leaf(const hpfc_file *file, const hpfc_tree_pixel *tp, hpfc_pixel *fp)
+/* Decodes the word of the file's leaf v->px into v (growing its buffer)
+ * with its bounds. */
+static int view_leaf(const hpfc_file *file, leaf_view *v)
 {
-    int64_t x0, y0, x1, y1;
-    int st = hpfc_locate(file, tp->x0, tp->y0, fp);
+    int st = hpfc_pixel_word(file, &v->px, NULL, 0, &v->word_len);
+    if (!st && v->word_len + 1 > v->word_cap) {
+        char *nw = realloc(v->word, v->word_len + 1);
+        if (!nw)
+            return HPFC_E_NOMEM;
+        v->word = nw, v->word_cap = v->word_len + 1;
+    }
     if (!st)
-        st = hpfc_pixel_bounds(file, fp, &x0, &y0, &x1, &y1);
-    if (!st && (x0 != tp->x0 || y0 != tp->y0 || x1 != tp->x1 || y1 != tp->y1))
-        st = HPFC_E_CORRUPT;
+        st = hpfc_pixel_word(file, &v->px, v->word, v->word_cap, &v->word_len);
+    if (!st)
+        st = hpfc_pixel_bounds(file, &v->px, &v->x0, &v->y0, &v->x1, &v->y1);
     return st;
 }
 
-int face_witnesses(const hpfc_graph *graph, const hpfc_tree *tree, const hpfc_file *file,
+/* The tree's pixel at the file pixel's path: the child images of the
+ * refined pixels along it, level by level. */
+static int tree_pixel_of(const hpfc_tree *tree, const hpfc_pixel *px, hpfc_tree_pixel *tp)
+{
+    size_t image = 0;
+    for (uint32_t l = 0;; l++) {
+        int st = hpfc_tree_get_pixel(tree, l, image, px->path[l].i, px->path[l].j, tp);
+        if (st || l == px->depth)
+            return st ? HPFC_E_CORRUPT : HPFC_OK;
+        if (tp->type != HPFC_PIXEL_REFINED)
+            return HPFC_E_CORRUPT;
+        image = tp->child;
+    }
+}
+
+static int append_crossings(leaf_crossings *lc, const hpfc_tree_pixel *tp)
+{
+    uint32_t n = 0;
+    for (uint32_t s = 0; s < tp->word_len; s++)
+        n += tp->word[s] != '+';
+    if (lc->count + n > SIZE_MAX / 2 ||
+        !array_grow((void **)&lc->pairs, &lc->cap, 2 * (size_t)(lc->count + n), sizeof *lc->pairs))
+        return HPFC_E_NOMEM;
+    for (uint32_t k = 0; k < n; k++) {
+        lc->pairs[2 * lc->count] = tp->cross_edge[k];
+        lc->pairs[2 * lc->count + 1] = tp->cross_segment[k];
+        lc->count++;
+    }
+    return HPFC_OK;
+}
+
+int leaf_crossings_collect(const hpfc_tree *tree, const hpfc_file *file, leaf_crossings *out)
+{
+    memset(out, 0, sizeof *out);
+    leaf_view v = {0};
+    int st = hpfc_leaf_first(file, &v.px);
+    for (; !st; st = hpfc_leaf_next(file, &v.px)) {
+        hpfc_tree_pixel tp;
+        if ((st = view_leaf(file, &v)) || (st = tree_pixel_of(tree, &v.px, &tp)))
+            break;
+        if (tp.type != HPFC_PIXEL_WORD || tp.word_len != v.word_len ||
+            memcmp(tp.word, v.word, v.word_len) != 0 || tp.x0 != v.x0 || tp.y0 != v.y0 ||
+            tp.x1 != v.x1 || tp.y1 != v.y1) {
+            st = HPFC_E_CORRUPT; /* the file is not the tree's */
+            break;
+        }
+        if ((st = append_crossings(out, &tp)))
+            break;
+    }
+    free(v.word);
+    if (st != HPFC_E_NO_PIXEL) {
+        leaf_crossings_free(out);
+        return st;
+    }
+    return HPFC_OK;
+}
+
+void leaf_crossings_free(leaf_crossings *lc)
+{
+    free(lc->pairs);
+    memset(lc, 0, sizeof *lc);
+}
+
+int face_witnesses(const hpfc_graph *graph, const leaf_crossings *lc, const hpfc_file *file,
                    const hpfc_faces *faces, face_witness *w)
 {
-    hpfc_tree_info info;
-    hpfc_tree_get_info(tree, &info);
     for (uint64_t f = 0; f < hpfc_faces_count(faces); f++)
         w[f] = (face_witness){0, 0, 0};
-    long double *pos = malloc(((size_t)info.max_word_symbols + 1) * sizeof *pos);
-    if (!pos)
-        return HPFC_E_NOMEM;
-    int st = HPFC_OK;
-    for (uint32_t l = 0; l < info.levels && !st; l++) {
-        uint32_t cols = l ? info.cols : info.root_cols, rows = l ? info.rows : info.root_rows;
-        size_t images = hpfc_tree_image_count(tree, l);
-        for (size_t im = 0; im < images && !st; im++)
-            for (uint32_t j = 0; j < rows && !st; j++)
-                for (uint32_t i = 0; i < cols && !st; i++) {
-                    hpfc_tree_pixel tp;
-                    hpfc_pixel fp;
-                    st = hpfc_tree_get_pixel(tree, l, im, i, j, &tp);
-                    if (st || tp.type != HPFC_PIXEL_WORD)
-                        continue;
-                    st = file_leaf(file, &tp, &fp);
-                    if (!st)
-                        st = leaf_witnesses(graph, &tp, faces, &fp, w, pos);
-                }
+    leaf_view v = {0};
+    long double *pos = NULL;
+    size_t pos_cap = 0;
+    int st = hpfc_leaf_first(file, &v.px);
+    for (; !st; st = hpfc_leaf_next(file, &v.px)) {
+        if ((st = view_leaf(file, &v)))
+            break;
+        if (!array_grow((void **)&pos, &pos_cap, v.word_len + 1, sizeof *pos)) {
+            st = HPFC_E_NOMEM;
+            break;
+        }
+        uint32_t used = 0;
+        if ((st = leaf_witnesses(graph, lc, &v, faces, w, pos, &used)))
+            break;
+        v.first += used;
     }
+    free(v.word);
     free(pos);
+    if (st == HPFC_E_NO_PIXEL)
+        st = v.first == lc->count ? HPFC_OK : HPFC_E_CORRUPT;
     return st;
 }

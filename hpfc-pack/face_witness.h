@@ -28,10 +28,26 @@ typedef struct face_witness {
                            from the face's edges; 0 when the face has none */
 } face_witness;
 
-/* Fills w[0 .. hpfc_faces_count(faces)) for the map `file`, serialised from
- * `tree`, built from `graph`. HPFC_OK, or the status of a failing call
- * (HPFC_E_CORRUPT if the three disagree). */
-int face_witnesses(const hpfc_graph *graph, const hpfc_tree *tree, const hpfc_file *file,
+/* What the witnesses need of the tree, so that it can be freed before the
+ * faces are numbered (their flood fill sets a pack's peak memory): the
+ * input segment of every crossing of every word leaf, leaves in
+ * hpfc_leaf_first / hpfc_leaf_next order, each leaf's crossings in its
+ * word's order. 8 bytes a crossing. */
+typedef struct leaf_crossings {
+    uint32_t *pairs; /* crossing c: edge pairs[2c], segment pairs[2c + 1] */
+    uint64_t count;
+    size_t cap; /* pairs allocated */
+} leaf_crossings;
+
+/* Fills *out for the map `file`, serialised from `tree`. HPFC_OK,
+ * HPFC_E_NOMEM, or HPFC_E_CORRUPT if the two disagree. */
+int leaf_crossings_collect(const hpfc_tree *tree, const hpfc_file *file, leaf_crossings *out);
+void leaf_crossings_free(leaf_crossings *lc);
+
+/* Fills w[0 .. hpfc_faces_count(faces)) for the map `file`, built from
+ * `graph`, whose crossings `lc` holds. HPFC_OK, or the status of a failing
+ * call (HPFC_E_CORRUPT if the three disagree). */
+int face_witnesses(const hpfc_graph *graph, const leaf_crossings *lc, const hpfc_file *file,
                    const hpfc_faces *faces, face_witness *w);
 
 #endif

@@ -400,21 +400,17 @@ void gis_feature_table_free(gis_feature_table *t)
     memset(t, 0, sizeof *t);
 }
 
-int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const hpfc_tree *tree,
-                      const uint8_t *bytes, size_t size, gis_feature_table *out, char *err,
-                      size_t err_len)
+int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const leaf_crossings *lc,
+                      const hpfc_file *file, gis_feature_table *out, char *err, size_t err_len)
 {
-    hpfc_file *f = NULL;
     hpfc_faces *faces = NULL;
     face_witness *w = NULL;
-    int st = hpfc_open_memory(bytes, size, 0, &f);
-    if (!st)
-        st = hpfc_faces_build(f, &faces);
+    int st = hpfc_faces_build(file, &faces);
     uint64_t n = faces ? hpfc_faces_count(faces) : 0;
     if (!st && !(w = malloc((n ? n : 1) * sizeof *w)))
         st = HPFC_E_NOMEM;
     if (!st)
-        st = face_witnesses(graph, tree, f, faces, w);
+        st = face_witnesses(graph, lc, file, faces, w);
     if (st)
         snprintf(err, err_len, "internal error: cannot find the faces' features (%s)",
                  hpfc_strerror(st));
@@ -422,6 +418,5 @@ int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const hpf
         st = 1;
     free(w);
     hpfc_faces_free(faces);
-    hpfc_close(f);
     return st ? 1 : 0;
 }

@@ -45,12 +45,11 @@ int gis_feature_table_make(const gis_features *fs, const face_witness *w, uint64
                            gis_feature_table *out, char *err, size_t err_len);
 void gis_feature_table_free(gis_feature_table *t);
 
-/* The whole linking step of a pack: opens the serialised map bytes[0 ..
- * size) (serialised from `tree`, built from `graph`), numbers its faces,
- * finds each face's witness and makes the table. 0, or 1 with a message in
- * err. */
-int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const hpfc_tree *tree,
-                      const uint8_t *bytes, size_t size, gis_feature_table *out, char *err,
-                      size_t err_len);
+/* The linking step of a pack: numbers the faces of the open map `file`
+ * (built from `graph`; lc: its crossings, taken from the tree before it was
+ * freed), finds each face's witness and makes the table. 0, or 1 with a
+ * message in err. */
+int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const leaf_crossings *lc,
+                      const hpfc_file *file, gis_feature_table *out, char *err, size_t err_len);
 
 #endif

@@ -494,12 +494,9 @@ static int count_private(const hpfc_tree *t, const hpfc_tree_info *info, level_r
 /* Per-level counts and bit widths as a reader sees them in the serialised
  * bytes; fails when they disagree with the tree, so that a writer bug never
  * reaches OUTPUT. */
-static int read_levels(const uint8_t *bytes, size_t size, pack_report *r)
+static int read_levels(const hpfc_file *f, pack_report *r)
 {
-    hpfc_file *f;
-    int st = hpfc_open_memory(bytes, size, 0, &f);
-    if (st)
-        return st;
+    int st = HPFC_OK;
     hpfc_file_info fi;
     hpfc_file_get_info(f, &fi);
     uint64_t word = 0, refined = 0;
@@ -523,7 +520,6 @@ static int read_levels(const uint8_t *bytes, size_t size, pack_report *r)
     if (!st && (word != r->tree.word_pixels || refined != r->tree.refined_pixels))
         st = HPFC_E_LEVEL_TABLE;
     r->file_bytes = fi.file_size;
-    hpfc_close(f);
     return st;
 }
 
@@ -690,15 +686,26 @@ static int same_file(const char *a, const char *b)
            sa.st_ino == sb.st_ino;
 }
 
-/* Links every face of the serialised map to the polygon features that
- * cover it, for the FEAT section, and reports it; 0, or 1 with a message in
- * err. */
-static int link_features(const hpfc_graph *g, const hpfc_tree *t, const uint8_t *bytes,
-                         size_t size, pack_report *r, gis_feature_table *ft, char *err,
-                         size_t err_len)
+/* Links every face of the serialised map `f` to the polygon features that
+ * cover it, for the FEAT section, and reports it. The witnesses need the
+ * crossings' segments from the tree, taken first; then the tree is freed,
+ * since the faces' flood fill is where a pack's memory peaks. 0, or 1 with
+ * a message in err. */
+static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f, pack_report *r,
+                         gis_feature_table *ft, char *err, size_t err_len)
 {
     double t0 = now_seconds();
-    int st = gis_features_link(r->gis_info.polygons, g, t, bytes, size, ft, err, err_len);
+    leaf_crossings lc;
+    int st = leaf_crossings_collect(*t, f, &lc);
+    hpfc_tree_free(*t);
+    *t = NULL;
+    if (st) {
+        snprintf(err, err_len, "internal error: the file does not match its tree (%s)",
+                 hpfc_strerror(st));
+        return 1;
+    }
+    st = gis_features_link(r->gis_info.polygons, g, &lc, f, ft, err, err_len);
+    leaf_crossings_free(&lc);
     if (!st) {
         r->features = ft->table.feature_count;
         r->faces_without_witness = ft->faces_without_witness;
@@ -743,25 +750,28 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     st = r->levels ? count_private(t, &r->tree, r->levels) : HPFC_E_NOMEM;
     uint8_t *bytes = NULL;
     size_t size = 0;
+    hpfc_file *f = NULL;
     t0 = now_seconds();
     if (!st && (st = hpfc_tree_serialize(t, &wopts, &bytes, &size, &diag)) == HPFC_OK &&
-        (st = read_levels(bytes, size, r)) != HPFC_OK)
+        ((st = hpfc_open_memory(bytes, size, 0, &f)) != HPFC_OK ||
+         (st = read_levels(f, r)) != HPFC_OK))
         snprintf(diag.message, sizeof diag.message,
                  "internal error: the serialised file does not read back (%s)",
                  hpfc_strerror(st));
     if (!st && r->gis && gis_features_count(r->gis_info.polygons) > 0) {
-        st = link_features(g, t, bytes, size, r, &ft, diag.message, sizeof diag.message);
+        st = link_features(g, &t, f, r, &ft, diag.message, sizeof diag.message);
         wopts.features = &ft.table;
     }
-    if (!st)
-        st = hpfc_tree_write_file(t, &wopts, a->output, &diag);
+    hpfc_tree_free(t);
+    if (!st) /* the pools as serialised, with the FEAT section when there is one */
+        st = hpfc_file_write_file(f, &wopts, a->output, &diag);
     struct stat written;
     if (!st && wopts.features && stat(a->output, &written) == 0)
         r->file_bytes = (uint64_t)written.st_size; /* with the FEAT section */
     r->write_s = now_seconds() - t0;
+    hpfc_close(f);
     free(bytes);
     gis_feature_table_free(&ft);
-    hpfc_tree_free(t);
     if (st) {
         complain("%s: %s", a->output, diag_text(&diag, st));
         return EXIT_FAIL;
