@@ -57,6 +57,10 @@ typedef struct cached_crossing {
     uint32_t arrival, arrival_m;
     uint32_t pred, succ;     /* cyclic within its component */
     uint32_t vertex;         /* local vertex of its component, NONE for a stabbing */
+    /* with arrival: pred(arrival_m) there and that entry's slot, so that a
+     * key operator answers from this crossing alone */
+    uint32_t arrival_pred;
+    uint64_t arrival_slot;
 } cached_crossing;
 
 typedef struct cached_vertex {
@@ -64,8 +68,9 @@ typedef struct cached_vertex {
     uint32_t degree;         /* crossings of its component */
 } cached_vertex;
 
-/* Header of an entry; path_step[depth + 1], cached_crossing[n] and
- * cached_vertex[nvert] follow. A word whose grammar is broken is kept for
+/* Header of an entry; cached_crossing[n], cached_vertex[nvert] and
+ * path_step[depth + 1] follow (the crossings first: a key operator reads the
+ * header and one crossing). A word whose grammar is broken is kept for
  * its road counts (the part that does not depend on the grammar): its
  * parse_status says why any other use must fail. */
 typedef struct cached_word {
@@ -77,19 +82,19 @@ typedef struct cached_word {
     uint64_t slot;           /* absolute bit position of the word's slot (its key) */
 } cached_word;
 
-static inline path_step *word_path(cached_word *e)
-{
-    return (path_step *)(e + 1);
-}
-
 static inline cached_crossing *word_crossings(cached_word *e)
 {
-    return (cached_crossing *)(word_path(e) + e->depth + 1);
+    return (cached_crossing *)(void *)(e + 1);
 }
 
 static inline cached_vertex *word_vertices(cached_word *e)
 {
     return (cached_vertex *)(word_crossings(e) + e->n);
+}
+
+static inline path_step *word_path(cached_word *e)
+{
+    return (path_step *)(void *)(word_vertices(e) + e->nvert);
 }
 
 typedef struct cache_bucket {
@@ -155,8 +160,29 @@ void topo_cache_free(hpfc_walker *w);
  * path is an argument error (as reader_pixel_slot_bit says), not
  * corruption. */
 int topo_cache_load(hpfc_walker *w, const hpfc_pixel *px, bool own, uint32_t *ref);
-/* The keyed entry of slot `slot`, 0 when there is none. */
-uint32_t topo_cache_find_slot(const word_cache *c, uint64_t slot);
+static inline uint64_t topo_slot_hash(uint64_t slot)
+{
+    uint64_t h = slot * 0x9E3779B97F4A7C15ull;
+    return h ^ h >> 29;
+}
+
+/* The keyed entry of slot `slot`, 0 when there is none (one entry per slot
+ * at most is keyed, so the first match is the one). Inline: it is most of
+ * a key operator on a warm cache. */
+static inline uint32_t topo_cache_find_slot(const word_cache *c, uint64_t slot)
+{
+    if (!c->arena)
+        return 0;
+    uint64_t h = topo_slot_hash(slot);
+    uint32_t check = (uint32_t)(h >> 32);
+    for (size_t b = (size_t)h & c->mask;; b = (b + 1) & c->mask) { /* at most half full */
+        const cache_bucket *k = &c->slots[b];
+        if (!k->ref)
+            return 0;
+        if (k->check == check && cache_entry(c, k->ref)->slot == slot)
+            return k->ref;
+    }
+}
 /* Marks entry ref, whose path is its slot's own, as keyed: found by slot. */
 void topo_cache_key(word_cache *c, uint32_t ref);
 /* px's entry from the cache, or else built in the walker's solo entry (valid

@@ -29,7 +29,9 @@
 
 _Static_assert(sizeof(path_step) == sizeof(((hpfc_pixel *)0)->path[0]),
                "a path_step mirrors an hpfc_pixel path entry");
-_Static_assert(sizeof(cached_word) % 8 == 0, "paths follow the header 8-byte aligned");
+_Static_assert(sizeof(cached_word) % 8 == 0 && sizeof(cached_crossing) % 8 == 0 &&
+                   sizeof(cached_vertex) % 8 == 0,
+               "paths follow the header, crossings and vertices 8-byte aligned");
 
 enum {
     INDEX_SHARE = 4, /* the two indexes take about 1/4 of the cache */
@@ -198,35 +200,13 @@ static void index_put(cache_bucket *index, size_t mask, uint64_t h, uint32_t ref
     index[b] = (cache_bucket){ref, (uint32_t)(h >> 32)};
 }
 
-static uint64_t slot_hash(uint64_t slot)
-{
-    uint64_t h = slot * 0x9E3779B97F4A7C15ull;
-    return h ^ h >> 29;
-}
-
-/* One entry per slot at most is keyed, so the first match is the one. */
-uint32_t topo_cache_find_slot(const word_cache *c, uint64_t slot)
-{
-    if (!c->arena)
-        return 0;
-    uint64_t h = slot_hash(slot);
-    uint32_t check = (uint32_t)(h >> 32);
-    for (size_t b = (size_t)h & c->mask;; b = (b + 1) & c->mask) { /* at most half full */
-        const cache_bucket *k = &c->slots[b];
-        if (!k->ref)
-            return 0;
-        if (k->check == check && cache_entry(c, k->ref)->slot == slot)
-            return k->ref;
-    }
-}
-
 void topo_cache_key(word_cache *c, uint32_t ref)
 {
     cached_word *e = cache_entry(c, ref);
     if (e->keyed)
         return;
     e->keyed = 1;
-    index_put(c->slots, c->mask, slot_hash(e->slot), ref);
+    index_put(c->slots, c->mask, topo_slot_hash(e->slot), ref);
 }
 
 /* Room for an entry of `bytes`; when the arena or the index is full, empties
@@ -282,7 +262,12 @@ static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *l
     memcpy(word_path(e), px->path, ((size_t)px->depth + 1) * sizeof(path_step));
     cached_crossing *x = word_crossings(e);
     for (uint32_t k = 0; k < e->n; k++)
-        x[k] = (cached_crossing){.link = 0, .link_m = NONE, .arrival = 0, .arrival_m = NONE,
+        x[k] = (cached_crossing){.link = 0,
+                                 .link_m = NONE,
+                                 .arrival = 0,
+                                 .arrival_m = NONE,
+                                 .arrival_pred = NONE,
+                                 .arrival_slot = 0,
                                  .pred = ok ? lw->pred[k] : k,
                                  .succ = ok ? lw->succ[k] : k,
                                  .vertex = ok ? lw->comp_vertex[lw->comp[k]] : NONE};

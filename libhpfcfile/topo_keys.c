@@ -148,12 +148,10 @@ static int key_pixel(hpfc_walker *w, uint64_t key, hpfc_pixel *px)
 
 /* ---- operators through the cache -------------------------------------------- */
 
-/* The cache entry of the key's pixel, keyed: found by slot, or by the path
- * the parent index gives (and keyed then). */
+/* The cache entry of the key's pixel when the slot index does not have it:
+ * by the path the parent index gives (and keyed then). */
 static int key_entry(hpfc_walker *w, uint64_t key, uint32_t *ref)
 {
-    if ((*ref = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT)))
-        return HPFC_OK;
     if (!w->cache.arena)
         return TOPO_UNCACHED;
     hpfc_pixel px;
@@ -172,25 +170,32 @@ enum { OP_TWIN, OP_NEXT, OP_PREV, OP_ORIGIN, OP_TARGET };
 static int cached_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out)
 {
     uint32_t ref, end, m, k = key & KEY_LOW;
-    int st = key_entry(w, key, &ref);
-    if (st)
+    int st = HPFC_OK;
+    if (!(ref = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT)) &&
+        (st = key_entry(w, key, &ref)))
         return st;
     cached_word *e = cache_entry(&w->cache, ref);
     if (e->parse_status)
         return e->parse_status;
-    const cached_crossing *x = word_crossings(e);
+    cached_crossing *x = word_crossings(e);
     if (k >= e->n || x[k].vertex == NONE)
         return HPFC_E_ARG;
     if (op == OP_ORIGIN) {
         *out = e->slot << KEY_SHIFT | x[k].vertex;
         return HPFC_OK;
     }
+    /* twin(d) = out_m where d arrives, next(d) = out_pred(m), prev(d) =
+     * twin(out_succ(k)) */
+    const cached_crossing *start = &x[op == OP_PREV ? x[k].succ : k];
+    if (start->arrival && op != OP_TARGET) { /* walked before: the answer is here */
+        *out = start->arrival_slot << KEY_SHIFT |
+               (op == OP_NEXT ? start->arrival_pred : start->arrival_m);
+        return HPFC_OK;
+    }
     if ((st = topo_cached_follow(w, ref, op == OP_PREV ? x[k].succ : k, &end, &m)))
         return st;
     cached_word *t = cache_entry(&w->cache, end);
     const cached_crossing *y = &word_crossings(t)[m];
-    /* twin(d) = out_m where d arrives, next(d) = out_pred(m), prev(d) =
-     * twin(out_succ(k)) */
     *out = t->slot << KEY_SHIFT | (op == OP_NEXT ? y->pred : op == OP_TARGET ? y->vertex : m);
     return HPFC_OK;
 }
