@@ -472,13 +472,14 @@ HPFC_API uint64_t hpfc_dart_key(const hpfc_file *file, const hpfc_dart *d);
  * untrusted files and keys: no crash, no read outside the file, no endless
  * loop.
  *
- * Cost: a key whose pixel the walker's cache holds costs one hash probe and
- * a few loads more than the operator's own work (warm: a few loads in all),
- * and no pixel path is built. Otherwise the key is resolved to its pixel
- * path, O(levels * log(images)), and the operator runs as on a dart. The
- * first such key builds the walker's parent index, once, by one pass over
- * the pools: O(pixels) time and 16 bytes per image of the levels below the
- * root (a 4000-vertex Delaunay file: about 0.1 MB), kept until
+ * Cost: a key whose pixel the walker's cache holds costs one hash probe
+ * more than the operator's own work, and no pixel path is built; an
+ * operator the cache has answered before is then a few loads (about 5 ns).
+ * Otherwise the key is resolved to its pixel path, O(levels * log(images)),
+ * and the operator runs as on a dart. The first such key builds the
+ * walker's parent index, once, by one pass over the pools: O(pixels) time
+ * and 16 bytes per image of the levels below the root (data/delaunay-4000
+ * packed by default: 1,380 images, 22 KB, about 0.05 ms), kept until
  * hpfc_walker_free. A file whose layout fails that pass gives its status to
  * every key call of the walker after it (the dart operators still work).
  *
