@@ -384,6 +384,7 @@ static void test_road_with_many_leaves(void)
         CHECK_EQ_INT(isomorphism_failures(&fm, &gm), 0);
         check_faces(f, &fm, g);
         check_involutions(f);
+        check_keys(f, gm.nd); /* nine levels of parents */
         exported_map_free(&fm);
         graph_map_free(&gm);
     }
