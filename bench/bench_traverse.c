@@ -9,7 +9,11 @@
  * operator decodes the words it needs: the paper's "pixels visited"), with
  * an empty cache (cold: the words are decoded and the crossings identified
  * during the walk) and again with the cache a cold walk filled (warm); each
- * way three times, reporting the median.
+ * way three times, reporting the median. The hPFC file is also walked on
+ * keys (hpfc_key_next / hpfc_key_twin; a queue of 64-bit keys, the visited
+ * set on keys), by another walker, cold and warm; its parent index, built
+ * by the first key it cannot find in its cache, is timed apart (one build,
+ * before the walks).
  * The memory the walks write (queue, visited set, the cache's arena) is
  * touched before the clock starts, as the half-edge array is.
  */
@@ -59,7 +63,9 @@ typedef struct timing {
 } timing;
 
 typedef struct file_result {
-    timing plain, cold, warm;
+    timing plain, cold, warm, key_cold, key_warm;
+    double key_alone; /* ns per warm key operator without the walk around it */
+    double index_ms;  /* the key walker's parent index, built once */
 } file_result;
 
 /* The walk's state: every dart of the file, a queue and a visited set. */
@@ -69,6 +75,8 @@ typedef struct bfs {
     hpfc_dart *all, *queue; /* queue: one spare entry for the next result */
     size_t n, nd;
     key_set seen;
+    bool on_keys; /* walk keys[] with the key operators */
+    uint64_t *keys, *kqueue;
 } bfs;
 
 /* Breadth-first over darts from every dart in turn, by next and twin. The
@@ -99,6 +107,59 @@ static timing run_bfs(bfs *b)
     r.ns_per_op = 1e9 * (t1 - t0) / (double)ops;
     r.decodes_per_edge = (double)(hpfc_walker_pixels_visited(b->w) - visited0) / (double)(b->nd / 2);
     return r;
+}
+
+/* The same walk on keys: 8-byte queue entries, no path anywhere. */
+static timing run_key_bfs(bfs *b)
+{
+    size_t ops = 0;
+    set_clear(&b->seen);
+    uint64_t visited0 = hpfc_walker_pixels_visited(b->w);
+    double t0 = now();
+    size_t head = 0, tail = 0; /* one queue for all: it ends holding every dart */
+    for (size_t s = 0; s < b->n; s++) {
+        if (!set_insert(&b->seen, b->keys[s]))
+            continue;
+        b->kqueue[tail++] = b->keys[s];
+        while (head < tail) {
+            uint64_t d = b->kqueue[head++], r;
+            if (!hpfc_key_next(b->w, d, &r) && set_insert(&b->seen, r))
+                b->kqueue[tail++] = r;
+            if (!hpfc_key_twin(b->w, d, &r) && set_insert(&b->seen, r))
+                b->kqueue[tail++] = r;
+            ops += 2;
+        }
+    }
+    double t1 = now();
+    timing r;
+    r.ns_per_op = 1e9 * (t1 - t0) / (double)ops;
+    r.decodes_per_edge =
+        (double)(hpfc_walker_pixels_visited(b->w) - visited0) / (double)(b->nd / 2);
+    return r;
+}
+
+static volatile uint64_t key_sink;
+
+/* The warm key operators alone: the walk's next and twin calls in the
+ * walk's order (kqueue holds every dart once, as the last walk left it),
+ * without its queue and visited set. Best of RUNS. */
+static double key_ops_alone(bfs *b)
+{
+    double best = 0;
+    uint64_t sum = 0;
+    for (int r = 0; r < 3; r++) {
+        double t0 = now();
+        for (size_t k = 0; k < b->nd; k++) {
+            uint64_t x = 0, y = 0;
+            hpfc_key_next(b->w, b->kqueue[k], &x);
+            hpfc_key_twin(b->w, b->kqueue[k], &y);
+            sum += x ^ y;
+        }
+        double ns = 1e9 * (now() - t0) / (double)(2 * b->nd);
+        best = r == 0 || ns < best ? ns : best;
+    }
+    key_sink = sum; /* keeps the calls */
+    return best;
 }
 
 /* The darts of every vertex, in leaf order. */
@@ -138,15 +199,15 @@ static timing median_bfs(bfs *b, size_t cache, bool empty)
     for (int r = 0; r < RUNS; r++) {
         if (empty)
             hpfc_walker_set_cache_size(b->w, cache);
-        t[r] = run_bfs(b);
+        t[r] = b->on_keys ? run_key_bfs(b) : run_bfs(b);
     }
     qsort(t, RUNS, sizeof *t, by_time);
     return t[RUNS / 2];
 }
 
-static file_result walk_file(const hpfc_file *f, size_t nd)
+static file_result walk_file(const hpfc_file *f, size_t nd, bool with_keys)
 {
-    file_result r = {{0, 0}, {0, 0}, {0, 0}};
+    file_result r = {.index_ms = 0};
     bfs b = {.f = f, .nd = nd};
     if (hpfc_walker_create(f, &b.w))
         return r;
@@ -163,8 +224,26 @@ static file_result walk_file(const hpfc_file *f, size_t nd)
     r.cold = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, true);
     r.warm = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, false);
     r.plain = median_bfs(&b, 0, true);
-    free(b.all), free(b.queue), free(b.seen.keys);
     hpfc_walker_free(b.w);
+    if (with_keys && !hpfc_walker_create(f, &b.w)) {
+        b.keys = malloc((b.n + 1) * sizeof *b.keys);
+        b.kqueue = malloc((nd + 1) * sizeof *b.kqueue);
+        for (size_t k = 0; k < b.n; k++)
+            b.keys[k] = hpfc_dart_key(f, &b.all[k]);
+        memset(b.kqueue, 0, (nd + 1) * sizeof *b.kqueue);
+        uint64_t out;
+        double t0 = now();
+        hpfc_key_next(b.w, b.keys[0], &out); /* builds the parent index */
+        r.index_ms = 1e3 * (now() - t0);
+        b.on_keys = true;
+        run_key_bfs(&b);
+        r.key_cold = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, true);
+        r.key_warm = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, false);
+        r.key_alone = key_ops_alone(&b);
+        free(b.keys), free(b.kqueue);
+        hpfc_walker_free(b.w);
+    }
+    free(b.all), free(b.queue), free(b.seen.keys);
     return r;
 }
 
@@ -222,11 +301,21 @@ int main(int argc, char **argv)
     int with_flat = argc > 2 ? atoi(argv[2]) : 1;
     printf("Traversal of all darts (BFS by next and twin), Delaunay 4000 points, 20%% edges removed, (n0, n) = (64, 2)\n");
     printf("px/e: words decoded per edge; none = no cache (the paper's pixels visited), cold = empty cache\n");
-    printf("ns/op: per next or twin; warm = the cache the cold walk filled; x = hPFC / array\n");
-    printf("%-4s %5s | %6s %6s | %7s %7s | %7s %7s %7s | %8s %8s | %6s | %6s %6s\n", "seed", "edges", "hPFC",
-           "", "rPFC", "", "hPFC", "", "", "rPFC", "", "array", "hPFC", "");
-    printf("%-4s %5s | %6s %6s | %7s %7s | %7s %7s %7s | %8s %8s | %6s | %6s %6s\n", "", "", "none", "cold",
-           "none", "cold", "none", "cold", "warm", "none", "cold", "ns/op", "cold", "warm");
+    printf("ns/op: per next or twin; warm = the cache the cold walk filled; key = the walk on "
+           "64-bit keys\n");
+    printf("x = hPFC / array; alone = the warm key operators without the walk's queue and visited "
+           "set\n");
+    printf("idx = the key walker's parent index, built once (ms)\n");
+    printf("%-4s %5s | %6s %6s | %7s %7s | %7s %7s %7s | %7s %7s %6s | %8s %8s | %6s | %6s %6s %6s "
+           "%6s %6s | "
+           "%5s\n",
+           "seed", "edges", "hPFC", "", "rPFC", "", "hPFC", "dart", "", "hPFC", "key", "", "rPFC",
+           "", "array", "hPFC", "", "", "", "", "idx");
+    printf("%-4s %5s | %6s %6s | %7s %7s | %7s %7s %7s | %7s %7s %6s | %8s %8s | %6s | %6s %6s %6s "
+           "%6s %6s | "
+           "%5s\n",
+           "", "", "none", "cold", "none", "cold", "none", "cold", "warm", "cold", "warm", "alone",
+           "none", "cold", "ns/op", "cold", "warm", "kcold", "kwarm", "kalone", "ms");
     for (int seed = 1; seed <= seeds; seed++) {
         hpfc_graph *g = NULL;
         if (gen_delaunay((uint64_t)seed, 4000, 1 << 20, 0.2, &g))
@@ -236,16 +325,21 @@ int main(int argc, char **argv)
         exported_map m;
         if (!h || export_map(h, &m))
             return 1;
-        file_result rh = walk_file(h, m.nd), rf = {{0, 0}, {0, 0}, {0, 0}};
+        file_result rh = walk_file(h, m.nd, true), rf = {.index_ms = 0};
         double array_ns = walk_array(&m);
         hpfc_file *flat = with_flat ? pack(g, 1, &fbuf) : NULL;
         if (flat)
-            rf = walk_file(flat, m.nd);
-        printf("%-4d %5zu | %6.2f %6.2f | %7.2f %7.2f | %7.1f %7.1f %7.1f | %8.1f %8.1f | %6.2f | %5.0fx %5.0fx\n",
-               seed, m.nd / 2, rh.plain.decodes_per_edge, rh.cold.decodes_per_edge, rf.plain.decodes_per_edge,
-               rf.cold.decodes_per_edge, rh.plain.ns_per_op, rh.cold.ns_per_op, rh.warm.ns_per_op,
-               rf.plain.ns_per_op, rf.cold.ns_per_op, array_ns, rh.cold.ns_per_op / array_ns,
-               rh.warm.ns_per_op / array_ns);
+            rf = walk_file(flat, m.nd, false);
+        printf("%-4d %5zu | %6.2f %6.2f | %7.2f %7.2f | %7.1f %7.1f %7.1f | %7.1f %7.1f %6.1f | "
+               "%8.1f %8.1f | "
+               "%6.2f | %5.0fx %5.0fx %5.0fx %5.1fx %5.1fx | %5.2f\n",
+               seed, m.nd / 2, rh.plain.decodes_per_edge, rh.cold.decodes_per_edge,
+               rf.plain.decodes_per_edge, rf.cold.decodes_per_edge, rh.plain.ns_per_op,
+               rh.cold.ns_per_op, rh.warm.ns_per_op, rh.key_cold.ns_per_op, rh.key_warm.ns_per_op,
+               rh.key_alone, rf.plain.ns_per_op, rf.cold.ns_per_op, array_ns,
+               rh.cold.ns_per_op / array_ns, rh.warm.ns_per_op / array_ns,
+               rh.key_cold.ns_per_op / array_ns, rh.key_warm.ns_per_op / array_ns,
+               rh.key_alone / array_ns, rh.index_ms);
         exported_map_free(&m);
         hpfc_close(h);
         hpfc_close(flat);

@@ -32,7 +32,8 @@ $B paper 5
 echo
 
 echo "(c) traversal (issue 4): BFS over all darts by next and twin on the hPFC file, the"
-echo "    flat rPFC file and a half-edge array (next[], twin[]) of the same map"
+echo "    flat rPFC file and a half-edge array (next[], twin[]) of the same map; on the hPFC"
+echo "    file also by 64-bit keys (hpfc_key_next, hpfc_key_twin)"
 build-bench/bench/bench_traverse 5 1
 echo
 

@@ -7,7 +7,8 @@
  * the crossing identification. The harness first collects the vertices and
  * darts of the leaves (in hpfc_leaf_first/next order). Without commands it
  * applies twin, next, prev, origin, target and the keys to every collected
- * dart, then builds the faces; with commands each byte picks the next
+ * dart, and the key calls to its key and to keys next to it, then builds
+ * the faces; with commands each byte picks the next
  * operator from an input-chosen start (a collected dart, a vertex's k-th
  * dart, or a dart naming an arbitrary crossing, which the API must treat
  * as untrusted). At most FUZZ_STEPS operator calls per input.
@@ -16,7 +17,9 @@
  * the operators accept (its origin exists), with a face when the faces were
  * built, and every private leaf has a face. The walker's cache changes no
  * answer: a second walker without cache gives the same status and the same
- * dart (whole pixel path) for every dart operator. (The identities of a consistent
+ * dart (whole pixel path) for every dart operator, and the same key for
+ * every key operator, which equals the dart operator's answer on
+ * hpfc_dart_from_key's dart (status included). (The identities of a consistent
  * map, twin an involution and so on, are roundtrip_graph's oracle: a file
  * with matching checksums can still be a crafted inconsistent fixture.)
  */
@@ -159,6 +162,57 @@ static int dart_op(trav *t, int op, const hpfc_dart *d, hpfc_dart *out, hpfc_ver
     return st;
 }
 
+static int key_call(hpfc_walker *w, int op, uint64_t key, uint64_t *out)
+{
+    switch (op) {
+    case 0:
+        return hpfc_key_twin(w, key, out);
+    case 1:
+        return hpfc_key_next(w, key, out);
+    case 2:
+        return hpfc_key_prev(w, key, out);
+    case 3:
+        return hpfc_key_origin(w, key, out);
+    default:
+        return hpfc_key_target(w, key, out);
+    }
+}
+
+/* The key calls on any key: both walkers give the same answers, each the
+ * dart operator's on hpfc_dart_from_key's dart as a key (or, when the key
+ * names no dart, from_key's status), and from_key gives back the key. */
+static void key_calls(trav *t, uint64_t key)
+{
+    hpfc_dart d, d2;
+    hpfc_vertex v;
+    int from = status(hpfc_dart_from_key(t->plain, key, &d));
+    int from2 = hpfc_dart_from_key(t->w, key, &d2);
+    FUZZ_CHECK(from == from2 &&
+               (from || (same_pixel(&d.pixel, &d2.pixel) && d.crossing == d2.crossing)));
+    FUZZ_CHECK(from || hpfc_dart_key(t->f, &d) == key);
+    if (!status(hpfc_vertex_from_key(t->w, key, &v)))
+        FUZZ_CHECK(hpfc_vertex_key(t->f, &v) == key);
+    for (int op = 0; op < 5; op++) {
+        uint64_t a = 0, b = 0, want = 0;
+        int sa = status(key_call(t->w, op, key, &a)), sb = key_call(t->plain, op, key, &b);
+        FUZZ_CHECK(sa == sb && (sa || a == b));
+        int want_st = from;
+        if (!from) {
+            hpfc_dart r;
+            hpfc_vertex u;
+            want_st = op == 0   ? hpfc_dart_twin(t->plain, &d, &r)
+                      : op == 1 ? hpfc_dart_next(t->plain, &d, &r)
+                      : op == 2 ? hpfc_dart_prev(t->plain, &d, &r)
+                      : op == 3 ? hpfc_dart_origin(t->plain, &d, &u)
+                                : hpfc_dart_target(t->plain, &d, &u);
+            if (!want_st)
+                want = op >= 3 ? hpfc_vertex_key(t->f, &u) : hpfc_dart_key(t->f, &r);
+        }
+        FUZZ_CHECK(sa == want_st && (sa || a == want));
+    }
+    t->steps -= 6;
+}
+
 /* All operators on one dart. */
 static void all_operators(trav *t, const hpfc_dart *d)
 {
@@ -173,7 +227,10 @@ static void all_operators(trav *t, const hpfc_dart *d)
         (void)hpfc_vertex_key(t->f, &o);
     if (!status(dart_op(t, 3, d, NULL, &g)))
         (void)hpfc_vertex_key(t->f, &g);
-    (void)hpfc_dart_key(t->f, d);
+    uint64_t key = hpfc_dart_key(t->f, d);
+    key_calls(t, key);
+    key_calls(t, key + 1);                   /* the next crossing, if any */
+    key_calls(t, key + ((uint64_t)1 << 20)); /* inside the slot */
     t->steps -= 4;
     if (!st_twin)
         check_result(t, &tw);
@@ -231,11 +288,12 @@ static void run_commands(trav *t, fuzz_bytes *in)
             }
             break;
         }
-        case 6:
+        case 6: /* keys: the current dart's, or with the high bit any key */
             FUZZ_CHECK(hpfc_dart_key(t->f, &cur) == hpfc_dart_key(t->f, &cur));
             if (!hpfc_dart_origin(t->w, &cur, &v))
                 (void)hpfc_vertex_key(t->f, &v);
             (void)hpfc_walker_pixels_visited(t->w);
+            key_calls(t, op & 0x80 ? fuzz_u64(in) : hpfc_dart_key(t->f, &cur));
             break;
         case 7: { /* an untrusted dart: any crossing of a collected leaf */
             hpfc_dart raw = {.pixel = t->leaves[fuzz_u16(in) % t->nleaves], .crossing = fuzz_u8(in)};

@@ -906,3 +906,93 @@ int reader_pixel_slot_bit(const hpfc_file *f, const hpfc_pixel *px, uint64_t *bi
     *bit = f->lv[px->depth].info.pool_offset * 8 + slot;
     return HPFC_OK;
 }
+
+/* ---- pool layout, for the walker's key index (reader.h) ------------------------------------ */
+
+int reader_image_bits(const hpfc_file *f, uint32_t level, uint64_t image, uint64_t *bits,
+                      uint64_t *refined)
+{
+    if (level >= f->info.levels)
+        return HPFC_E_ARG;
+    const file_level *lv = &f->lv[level];
+    uint64_t per = lv->image_pixels, pool = lv->pool.bits, total = 0;
+    if (level == 0) {
+        if (image != 0)
+            return HPFC_E_ARG;
+        for (uint64_t p = 0; p < per; p++) /* s^0 holds every record (the recurrence) */
+            total += format_get(&lv->pool, p * lv->record_bits, 1);
+        *bits = per * lv->record_bits;
+    } else {
+        if (image > pool || per > pool - image)
+            return HPFC_E_CORRUPT;
+        total = format_popcount(&lv->pool, image, per);
+        uint64_t slots = total * lv->address_bits + (per - total) * lv->word_bits;
+        if (slots > pool - image - per)
+            return HPFC_E_CORRUPT;
+        *bits = per + slots;
+    }
+    if (total && lv->last)
+        return HPFC_E_CORRUPT;
+    *refined = total;
+    return HPFC_OK;
+}
+
+int reader_next_refined(const hpfc_file *f, uint32_t level, uint64_t image, reader_refined *it,
+                        uint32_t *pixel, uint64_t *address)
+{
+    const file_level *lv = &f->lv[level];
+    uint64_t per = lv->image_pixels;
+    if (level == 0) {
+        for (; it->p < per; it->p++)
+            if (format_get(&lv->pool, it->p * lv->record_bits, 1)) {
+                *pixel = (uint32_t)it->p;
+                *address = format_get(&lv->pool, it->p * lv->record_bits + 1, lv->address_bits);
+                it->p++;
+                return HPFC_OK;
+            }
+        return HPFC_E_NO_PIXEL;
+    }
+    while (it->p < per) {
+        unsigned k = per - it->p < 56 ? (unsigned)(per - it->p) : 56;
+        uint64_t mask = format_peek(&lv->pool, image + it->p, k);
+        if (!mask) {
+            it->p += k;
+            continue;
+        }
+        it->p += (uint64_t)__builtin_clzll(mask);
+        uint64_t slot =
+            image + per + it->before * lv->address_bits + (it->p - it->before) * lv->word_bits;
+        *pixel = (uint32_t)it->p;
+        *address = format_get(&lv->pool, slot, lv->address_bits);
+        it->p++;
+        it->before++;
+        return HPFC_OK;
+    }
+    return HPFC_E_NO_PIXEL;
+}
+
+int reader_word_at(const hpfc_file *f, uint32_t level, uint64_t image, uint64_t bit,
+                   uint32_t *pixel)
+{
+    const file_level *lv = &f->lv[level];
+    uint64_t per = lv->image_pixels;
+    if (level == 0) {
+        uint64_t p = bit / lv->record_bits;
+        if (bit % lv->record_bits || p >= per || format_get(&lv->pool, bit, 1))
+            return HPFC_E_ARG;
+        *pixel = (uint32_t)p;
+        return HPFC_OK;
+    }
+    if (bit < image + per)
+        return HPFC_E_ARG; /* in the mask, or before the image */
+    uint64_t want = bit - image - per, at = 0;
+    for (uint64_t p = 0; p < per && at <= want; p++) {
+        int refined = (int)format_get(&lv->pool, image + p, 1);
+        if (at == want && !refined) {
+            *pixel = (uint32_t)p;
+            return HPFC_OK;
+        }
+        at += refined ? lv->address_bits : lv->word_bits;
+    }
+    return HPFC_E_ARG;
+}

@@ -20,6 +20,27 @@ uint64_t reader_total_leaves(const hpfc_file *file);
 int reader_pixel_slot_bit(const hpfc_file *file, const hpfc_pixel *px, uint64_t *bit);
 /* The file's bytes (its whole size, as opened). */
 const uint8_t *reader_bytes(const hpfc_file *file);
+/* The image at bit `image` of `level`'s pool (the root image, 0, at level
+ * 0), checked as a pixel access checks it: the whole image lies in the
+ * pool and the last level has no refined pixel (HPFC_E_CORRUPT otherwise).
+ * *bits: its size; *refined: its refined pixels. */
+int reader_image_bits(const hpfc_file *file, uint32_t level, uint64_t image, uint64_t *bits,
+                      uint64_t *refined);
+/* Position of a scan over an image's refined pixels (start at {0, 0}). */
+typedef struct reader_refined {
+    uint64_t p;      /* next scanline index to look at */
+    uint64_t before; /* refined pixels before p */
+} reader_refined;
+/* The next refined pixel of an image reader_image_bits accepted: its
+ * scanline index and its child image's address (unchecked);
+ * HPFC_E_NO_PIXEL after the last. */
+int reader_next_refined(const hpfc_file *file, uint32_t level, uint64_t image, reader_refined *it,
+                        uint32_t *pixel, uint64_t *address);
+/* The word pixel of an image reader_image_bits accepted whose slot (record,
+ * at level 0) starts at pool bit `bit`: its scanline index, or HPFC_E_ARG
+ * when no word slot starts there. O(pixels of the image). */
+int reader_word_at(const hpfc_file *file, uint32_t level, uint64_t image, uint64_t bit,
+                   uint32_t *pixel);
 /* The FEAT section (checked at open), NULL when the file has none. */
 const uint8_t *reader_feat_section(const hpfc_file *file, uint64_t *length);
 

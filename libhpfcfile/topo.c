@@ -91,6 +91,7 @@ void hpfc_walker_free(hpfc_walker *w)
     local_free(&w->there);
     free(w->scratch);
     topo_cache_free(w);
+    topo_keys_free(w);
     free(w);
 }
 

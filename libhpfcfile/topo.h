@@ -57,6 +57,10 @@ typedef struct cached_crossing {
     uint32_t arrival, arrival_m;
     uint32_t pred, succ;     /* cyclic within its component */
     uint32_t vertex;         /* local vertex of its component, NONE for a stabbing */
+    /* with arrival: pred(arrival_m) there and that entry's slot, so that a
+     * key operator answers from this crossing alone */
+    uint32_t arrival_pred;
+    uint64_t arrival_slot;
 } cached_crossing;
 
 typedef struct cached_vertex {
@@ -64,8 +68,9 @@ typedef struct cached_vertex {
     uint32_t degree;         /* crossings of its component */
 } cached_vertex;
 
-/* Header of an entry; path_step[depth + 1], cached_crossing[n] and
- * cached_vertex[nvert] follow. A word whose grammar is broken is kept for
+/* Header of an entry; cached_crossing[n], cached_vertex[nvert] and
+ * path_step[depth + 1] follow (the crossings first: a key operator reads the
+ * header and one crossing). A word whose grammar is broken is kept for
  * its road counts (the part that does not depend on the grammar): its
  * parse_status says why any other use must fail. */
 typedef struct cached_word {
@@ -73,22 +78,23 @@ typedef struct cached_word {
     uint32_t n, nvert;
     int32_t parse_status;
     uint32_t road_off[5];    /* as in local_word */
-    uint32_t unused;         /* keeps the path that follows 8-byte aligned */
+    uint32_t keyed;          /* the path is the slot's own (topo_keys.c): in the slot index */
+    uint64_t slot;           /* absolute bit position of the word's slot (its key) */
 } cached_word;
-
-static inline path_step *word_path(cached_word *e)
-{
-    return (path_step *)(e + 1);
-}
 
 static inline cached_crossing *word_crossings(cached_word *e)
 {
-    return (cached_crossing *)(word_path(e) + e->depth + 1);
+    return (cached_crossing *)(void *)(e + 1);
 }
 
 static inline cached_vertex *word_vertices(cached_word *e)
 {
     return (cached_vertex *)(word_crossings(e) + e->n);
+}
+
+static inline path_step *word_path(cached_word *e)
+{
+    return (path_step *)(void *)(word_vertices(e) + e->nvert);
 }
 
 typedef struct cache_bucket {
@@ -97,12 +103,29 @@ typedef struct cache_bucket {
 } cache_bucket;
 
 typedef struct word_cache {
-    size_t limit;            /* bytes allowed (arena + index), 0 = no cache */
+    size_t limit;            /* bytes allowed (arena + indexes), 0 = no cache */
     uint8_t *arena;          /* entries, 8-byte aligned */
     size_t arena_bytes, used;
-    cache_bucket *index;     /* open addressing, at most half full */
+    cache_bucket *index; /* by path; open addressing, at most half full */
+    cache_bucket *slots; /* the keyed entries by slot, as many buckets */
     size_t mask, entries, max_entries;
 } word_cache;
+
+/* The walker's parent index (topo_keys.c): per level l >= 1, its images in
+ * pool order, each with the refined pixel of level l - 1 pointing at it. */
+typedef struct key_image {
+    uint64_t start;  /* bit offset in the level's pool */
+    uint32_t parent; /* index of the parent image in level l - 1 */
+    uint32_t pixel;  /* scanline index of the refined pixel in it */
+} key_image;
+
+typedef struct key_index {
+    int status; /* HPFC_OK once built, a file's status if it cannot be */
+    bool built;
+    key_image *images; /* all levels, level l from first[l] */
+    uint64_t first[HPFC_MAX_LEVELS + 1];
+    uint64_t pool_bit[HPFC_MAX_LEVELS], pool_bits[HPFC_MAX_LEVELS];
+} key_index;
 
 struct hpfc_walker {
     const hpfc_file *file;
@@ -118,6 +141,7 @@ struct hpfc_walker {
     word_cache cache;
     cached_word *solo;       /* one word built outside the cache */
     bool solo_valid;
+    key_index keys; /* built on the first key that is not cached */
 };
 
 /* Reference of a cache entry: its offset in the arena in 8-byte units, + 1. */
@@ -136,6 +160,31 @@ void topo_cache_free(hpfc_walker *w);
  * path is an argument error (as reader_pixel_slot_bit says), not
  * corruption. */
 int topo_cache_load(hpfc_walker *w, const hpfc_pixel *px, bool own, uint32_t *ref);
+static inline uint64_t topo_slot_hash(uint64_t slot)
+{
+    uint64_t h = slot * 0x9E3779B97F4A7C15ull;
+    return h ^ h >> 29;
+}
+
+/* The keyed entry of slot `slot`, 0 when there is none (one entry per slot
+ * at most is keyed, so the first match is the one). Inline: it is most of
+ * a key operator on a warm cache. */
+static inline uint32_t topo_cache_find_slot(const word_cache *c, uint64_t slot)
+{
+    if (!c->arena)
+        return 0;
+    uint64_t h = topo_slot_hash(slot);
+    uint32_t check = (uint32_t)(h >> 32);
+    for (size_t b = (size_t)h & c->mask;; b = (b + 1) & c->mask) { /* at most half full */
+        const cache_bucket *k = &c->slots[b];
+        if (!k->ref)
+            return 0;
+        if (k->check == check && cache_entry(c, k->ref)->slot == slot)
+            return k->ref;
+    }
+}
+/* Marks entry ref, whose path is its slot's own, as keyed: found by slot. */
+void topo_cache_key(word_cache *c, uint32_t ref);
 /* px's entry from the cache, or else built in the walker's solo entry (valid
  * until the next call): for operators that look at one word. */
 int topo_word_view(hpfc_walker *w, const hpfc_pixel *px, cached_word **out);
@@ -154,6 +203,12 @@ typedef struct arrival {
  * The same answers as without the cache, or TOPO_RETRY / TOPO_UNCACHED. */
 int topo_cached_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
                        arrival *a);
+/* The walk of topo_cached_arrive from crossing k (a junction's) of entry
+ * ref: the entry and crossing where it arrives. */
+int topo_cached_follow(hpfc_walker *w, uint32_t ref, uint32_t k, uint32_t *end_ref,
+                       uint32_t *end_m);
+/* Frees the parent index (topo_keys.c). */
+void topo_keys_free(hpfc_walker *w);
 
 /* ---- parsing and crossing identification (topo.c) ------------------------- */
 

@@ -8,14 +8,17 @@
  * identified, a word is decoded about once per traversal and an operator on
  * a dart seen before only follows links.
  *
- * Bounds: the arena and its index together take at most the configured
- * bytes (never more than caching every word of the file would take). When
- * either is full, everything is dropped at once, so a link never outlives
- * the entry it names; a word too big for the arena is never cached.
+ * Bounds: the arena and its two indexes (by path; by slot, for the entries
+ * key operators found by their slot's own path, topo_keys.c) together take
+ * at most the configured bytes (never more than caching every word of the
+ * file would take). When the arena or the indexes are full, everything is
+ * dropped at once, so a link never outlives the entry it names; a word too
+ * big for the arena is never cached.
  *
  * Safety: an entry holds exactly what a fresh decode and parse of its word
  * give (the same checks, the same statuses), and it is found only by an
- * identical path, whose checks it passed when it was built.
+ * identical path, whose checks it passed when it was built, or by its slot
+ * once that path was found to be the slot's own.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -26,12 +29,17 @@
 
 _Static_assert(sizeof(path_step) == sizeof(((hpfc_pixel *)0)->path[0]),
                "a path_step mirrors an hpfc_pixel path entry");
-_Static_assert(sizeof(cached_word) % 8 == 0, "paths follow the header 8-byte aligned");
+_Static_assert(sizeof(cached_word) % 8 == 0 && sizeof(cached_crossing) % 8 == 0 &&
+                   sizeof(cached_vertex) % 8 == 0,
+               "paths follow the header, crossings and vertices 8-byte aligned");
 
 enum {
-    INDEX_SHARE = 8,   /* the index takes about 1/8 of the cache */
+    INDEX_SHARE = 4, /* the two indexes take about 1/4 of the cache */
     MIN_BUCKETS = 8,
 };
+
+/* Bytes per bucket of the two indexes (by path, by slot) together. */
+#define BUCKET_BYTES (2 * sizeof(cache_bucket))
 
 /* References are 32-bit offsets in 8-byte units. */
 #define MAX_ARENA_BYTES ((size_t)8 * (UINT32_MAX - 1))
@@ -68,6 +76,7 @@ static void cache_release(word_cache *c)
 {
     free(c->arena);
     free(c->index);
+    free(c->slots);
     memset(c, 0, sizeof *c);
 }
 
@@ -78,10 +87,10 @@ static int cache_allocate(word_cache *c, const hpfc_file *f, size_t limit)
     uint64_t need_bytes, need_entries;
     file_needs(f, &need_bytes, &need_entries);
     size_t buckets = MIN_BUCKETS;
-    while (buckets < SIZE_MAX / 4 / sizeof(cache_bucket) &&
-           2 * buckets * sizeof(cache_bucket) <= limit / INDEX_SHARE && buckets / 2 < need_entries)
+    while (buckets < SIZE_MAX / 4 / BUCKET_BYTES &&
+           2 * buckets * BUCKET_BYTES <= limit / INDEX_SHARE && buckets / 2 < need_entries)
         buckets *= 2;
-    size_t index_bytes = buckets * sizeof(cache_bucket);
+    size_t index_bytes = buckets * BUCKET_BYTES;
     if (limit <= index_bytes)
         return HPFC_OK; /* too small to hold anything: no cache */
     size_t arena = limit - index_bytes;
@@ -92,8 +101,9 @@ static int cache_allocate(word_cache *c, const hpfc_file *f, size_t limit)
     arena &= ~(size_t)7;
     c->limit = limit;
     c->index = calloc(buckets, sizeof(cache_bucket));
+    c->slots = calloc(buckets, sizeof(cache_bucket));
     c->arena = arena ? malloc(arena) : NULL;
-    if (!c->index || !c->arena) {
+    if (!c->index || !c->slots || !c->arena) {
         cache_release(c);
         return arena ? HPFC_E_NOMEM : HPFC_OK;
     }
@@ -106,6 +116,7 @@ static int cache_allocate(word_cache *c, const hpfc_file *f, size_t limit)
 static void cache_flush(word_cache *c)
 {
     memset(c->index, 0, (c->mask + 1) * sizeof(cache_bucket));
+    memset(c->slots, 0, (c->mask + 1) * sizeof(cache_bucket));
     c->used = 0;
     c->entries = 0;
 }
@@ -181,12 +192,21 @@ static uint32_t cache_find(const word_cache *c, const hpfc_pixel *px, uint64_t h
     }
 }
 
-static void index_put(word_cache *c, uint64_t h, uint32_t ref)
+static void index_put(cache_bucket *index, size_t mask, uint64_t h, uint32_t ref)
 {
-    size_t b = (size_t)h & c->mask;
-    while (c->index[b].ref)
-        b = (b + 1) & c->mask;
-    c->index[b] = (cache_bucket){ref, (uint32_t)(h >> 32)};
+    size_t b = (size_t)h & mask;
+    while (index[b].ref)
+        b = (b + 1) & mask;
+    index[b] = (cache_bucket){ref, (uint32_t)(h >> 32)};
+}
+
+void topo_cache_key(word_cache *c, uint32_t ref)
+{
+    cached_word *e = cache_entry(c, ref);
+    if (e->keyed)
+        return;
+    e->keyed = 1;
+    index_put(c->slots, c->mask, topo_slot_hash(e->slot), ref);
 }
 
 /* Room for an entry of `bytes`; when the arena or the index is full, empties
@@ -211,13 +231,15 @@ static int cache_reserve(word_cache *c, size_t bytes, uint32_t *ref)
  * grammar's verdict; the road counts in w->here hold either way. `own`: the
  * caller's pixel, whose slot is checked first (as every operator always
  * did, so a bad path stays an argument error). */
-static int decode_and_parse(hpfc_walker *w, const hpfc_pixel *px, bool own, int *parse_status)
+static int decode_and_parse(hpfc_walker *w, const hpfc_pixel *px, bool own, int *parse_status,
+                            uint64_t *slot)
 {
     size_t len;
-    uint64_t slot;
-    int st = own ? reader_pixel_slot_bit(w->file, px, &slot) : HPFC_OK;
+    int st = own ? reader_pixel_slot_bit(w->file, px, slot) : HPFC_OK;
     if (!st)
         st = topo_decode_word(w, &w->here, px, &len);
+    if (!st && !own) /* the word decoded: its slot is there */
+        st = reader_pixel_slot_bit(w->file, px, slot);
     if (st)
         return st;
     *parse_status = topo_parse_symbols(&w->here, w->here.sym, len);
@@ -226,7 +248,8 @@ static int decode_and_parse(hpfc_walker *w, const hpfc_pixel *px, bool own, int 
     return HPFC_OK;
 }
 
-static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *lw, int parse_status)
+static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *lw, int parse_status,
+                       uint64_t slot)
 {
     bool ok = parse_status == HPFC_OK;
     e->depth = px->depth;
@@ -234,11 +257,17 @@ static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *l
     e->nvert = ok ? lw->nvert : 0;
     e->parse_status = parse_status;
     memcpy(e->road_off, lw->road_off, sizeof e->road_off);
-    e->unused = 0;
+    e->keyed = 0;
+    e->slot = slot;
     memcpy(word_path(e), px->path, ((size_t)px->depth + 1) * sizeof(path_step));
     cached_crossing *x = word_crossings(e);
     for (uint32_t k = 0; k < e->n; k++)
-        x[k] = (cached_crossing){.link = 0, .link_m = NONE, .arrival = 0, .arrival_m = NONE,
+        x[k] = (cached_crossing){.link = 0,
+                                 .link_m = NONE,
+                                 .arrival = 0,
+                                 .arrival_m = NONE,
+                                 .arrival_pred = NONE,
+                                 .arrival_slot = 0,
                                  .pred = ok ? lw->pred[k] : k,
                                  .succ = ok ? lw->succ[k] : k,
                                  .vertex = ok ? lw->comp_vertex[lw->comp[k]] : NONE};
@@ -259,14 +288,15 @@ int topo_cache_load(hpfc_walker *w, const hpfc_pixel *px, bool own, uint32_t *re
     uint64_t h = path_hash(px);
     if ((*ref = cache_find(c, px, h)))
         return HPFC_OK;
-    int parse_status, st = decode_and_parse(w, px, own, &parse_status);
+    uint64_t slot;
+    int parse_status, st = decode_and_parse(w, px, own, &parse_status, &slot);
     if (st)
         return st;
     size_t bytes = entry_bytes(px->depth, w->here.n, parse_status ? 0 : w->here.nvert);
     if ((st = cache_reserve(c, bytes, ref)))
         return st;
-    fill_entry(cache_entry(c, *ref), px, &w->here, parse_status);
-    index_put(c, h, *ref);
+    fill_entry(cache_entry(c, *ref), px, &w->here, parse_status, slot);
+    index_put(c->index, c->mask, h, *ref);
     return HPFC_OK;
 }
 
@@ -276,11 +306,12 @@ static int solo_view(hpfc_walker *w, const hpfc_pixel *px, cached_word **out)
     if (px->depth >= w->levels)
         return HPFC_E_ARG;
     if (!w->solo_valid || !same_path(w->solo, px)) {
-        int parse_status, st = decode_and_parse(w, px, true, &parse_status);
+        uint64_t slot;
+        int parse_status, st = decode_and_parse(w, px, true, &parse_status, &slot);
         w->solo_valid = false;
         if (st)
             return st;
-        fill_entry(w->solo, px, &w->here, parse_status);
+        fill_entry(w->solo, px, &w->here, parse_status, slot);
         w->solo_valid = true;
     }
     *out = w->solo;

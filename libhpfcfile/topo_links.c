@@ -281,20 +281,17 @@ static void arrived(hpfc_walker *w, uint32_t ref, uint32_t m, hpfc_pixel *end, a
  * use; through a stabbing, on by its other crossing. The end of the walk is
  * recorded at the crossing it started from (failures are not: a failed
  * walk stops at the first failed link anyway). */
-int topo_cached_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end, arrival *a)
+int topo_cached_follow(hpfc_walker *w, uint32_t ref, uint32_t k, uint32_t *end_ref, uint32_t *end_m)
 {
-    uint32_t ref;
-    int st = cached_dart(w, d, &ref);
-    if (st)
-        return st;
     cached_word *e = entry_of(w, ref);
-    uint32_t k = from_succ ? word_crossings(e)[d->crossing].succ : d->crossing;
     cached_crossing *start = &word_crossings(e)[k];
     if (start->arrival) {
-        arrived(w, start->arrival, start->arrival_m, end, a);
+        *end_ref = start->arrival;
+        *end_m = start->arrival_m;
         return HPFC_OK;
     }
     for (uint64_t steps = 0;; steps++) {
+        int st;
         if (steps > w->budget)
             return HPFC_E_CORRUPT;
         cached_crossing *x = &word_crossings(e)[k];
@@ -308,12 +305,26 @@ int topo_cached_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_
         e = entry_of(w, ref);
         const cached_crossing *y = &word_crossings(e)[x->link_m];
         if (y->vertex != NONE) {
-            start->arrival = ref;
-            start->arrival_m = x->link_m;
-            arrived(w, ref, x->link_m, end, a);
+            start->arrival = *end_ref = ref;
+            start->arrival_m = *end_m = x->link_m;
+            start->arrival_pred = y->pred;
+            start->arrival_slot = e->slot;
             return HPFC_OK;
         }
         k = y->succ; /* a stabbing: leave through its other crossing */
     }
 }
 
+int topo_cached_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
+                       arrival *a)
+{
+    uint32_t ref, end_ref, m;
+    int st = cached_dart(w, d, &ref);
+    if (st)
+        return st;
+    uint32_t k = from_succ ? word_crossings(entry_of(w, ref))[d->crossing].succ : d->crossing;
+    if ((st = topo_cached_follow(w, ref, k, &end_ref, &m)))
+        return st;
+    arrived(w, end_ref, m, end, a);
+    return HPFC_OK;
+}

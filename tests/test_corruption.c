@@ -42,7 +42,7 @@ static const uint64_t ALLOWED = BIT(HPFC_OK) | BIT(HPFC_E_NO_PIXEL) | BIT(HPFC_E
 /* What the campaign saw, for the summary line and the checks. */
 static struct {
     long files, flips, flips_accepted, byte_sets, cuts, patched_cuts, skipped_opens, traversals;
-    long budget_exhausted, corrupt, steps, cache_mismatches;
+    long budget_exhausted, corrupt, steps, cache_mismatches, key_calls, key_mismatches, key_corrupt;
     uint64_t open_codes, walk_codes;
 } seen;
 
@@ -90,6 +90,77 @@ static int answer(walk *k, int st, const hpfc_pixel *px, const uint32_t *local)
     return st;
 }
 
+/* The key calls on the dart's key and on keys near it (the next crossing,
+ * the next bit position, a far one): known statuses (HPFC_E_ARG too, for
+ * a key that names nothing), and each key operator equal to the dart
+ * operator on hpfc_dart_from_key's dart, on corrupt files too. */
+static void walk_keys(walk *k, const hpfc_dart *d)
+{
+    static const uint64_t ALLOWED_KEYS = BIT(HPFC_OK) | BIT(HPFC_E_ARG) | BIT(HPFC_E_CORRUPT);
+    uint64_t key = hpfc_dart_key(k->f, d);
+    const uint64_t keys[] = {key, key + 1, key + ((uint64_t)1 << 20), key ^ k->digest};
+    for (size_t x = 0; x < sizeof keys / sizeof *keys; x++) {
+        hpfc_dart from;
+        hpfc_vertex v;
+        int from_st = hpfc_dart_from_key(k->w, keys[x], &from);
+        int vst = hpfc_vertex_from_key(k->w, keys[x], &v);
+        uint64_t codes = BIT(from_st) | BIT(vst);
+        for (int op = 0; op < 5; op++) {
+            uint64_t got = 0, want = 0;
+            int st, want_st = from_st;
+            hpfc_dart r;
+            hpfc_vertex u;
+            switch (op) {
+            case 0:
+                st = hpfc_key_twin(k->w, keys[x], &got);
+                break;
+            case 1:
+                st = hpfc_key_next(k->w, keys[x], &got);
+                break;
+            case 2:
+                st = hpfc_key_prev(k->w, keys[x], &got);
+                break;
+            case 3:
+                st = hpfc_key_origin(k->w, keys[x], &got);
+                break;
+            default:
+                st = hpfc_key_target(k->w, keys[x], &got);
+                break;
+            }
+            if (!from_st) {
+                switch (op) {
+                case 0:
+                    want_st = hpfc_dart_twin(k->w, &from, &r);
+                    break;
+                case 1:
+                    want_st = hpfc_dart_next(k->w, &from, &r);
+                    break;
+                case 2:
+                    want_st = hpfc_dart_prev(k->w, &from, &r);
+                    break;
+                case 3:
+                    want_st = hpfc_dart_origin(k->w, &from, &u);
+                    break;
+                default:
+                    want_st = hpfc_dart_target(k->w, &from, &u);
+                    break;
+                }
+                if (!want_st)
+                    want = op >= 3 ? hpfc_vertex_key(k->f, &u) : hpfc_dart_key(k->f, &r);
+            }
+            codes |= BIT(st);
+            seen.key_corrupt += st == HPFC_E_CORRUPT;
+            seen.key_mismatches += st != want_st || (!st && got != want);
+            mix(k, (uint64_t)st), mix(k, got);
+            seen.key_calls++;
+        }
+        if (codes & ~ALLOWED_KEYS)
+            fprintf(stderr, "key statuses 0x%llx\n", (unsigned long long)codes);
+        CHECK((codes & ~ALLOWED_KEYS) == 0);
+        note(k, from_st == HPFC_E_ARG ? HPFC_OK : from_st);
+    }
+}
+
 static void walk_dart(walk *k, const hpfc_dart *d)
 {
     hpfc_dart out;
@@ -103,8 +174,8 @@ static void walk_dart(walk *k, const hpfc_dart *d)
         (void)hpfc_vertex_key(k->f, &v);
     if (!answer(k, hpfc_dart_target(k->w, d, &v), &v.pixel, &v.local))
         (void)hpfc_vertex_key(k->f, &v);
-    (void)hpfc_dart_key(k->f, d);
-    k->steps -= 4;
+    walk_keys(k, d);
+    k->steps -= 8;
 }
 
 static void walk_leaf(walk *k, const hpfc_pixel *px)
@@ -503,6 +574,99 @@ static void generated_campaigns(void)
     }
 }
 
+/* ---- the key calls' parent index on a bad layout --------------------------- */
+
+static uint64_t get_bits(const uint8_t *buf, uint64_t off, unsigned k)
+{
+    uint64_t v = 0;
+    for (unsigned b = 0; b < k; b++, off++)
+        v = v << 1 | (buf[off / 8] >> (7 - off % 8) & 1);
+    return v;
+}
+
+static void set_bits(uint8_t *buf, uint64_t off, unsigned k, uint64_t v)
+{
+    for (unsigned b = 0; b < k; b++, off++) {
+        uint8_t bit = (uint8_t)(0x80 >> (off % 8));
+        buf[off / 8] = (uint8_t)(v >> (k - 1 - b) & 1 ? buf[off / 8] | bit : buf[off / 8] & ~bit);
+    }
+}
+
+/* Every key call on a file whose addresses break the layout of §9 (two
+ * root records aliasing one image, two images swapped, an address past
+ * the pool) gives HPFC_E_CORRUPT: a key's pixel would have no single path.
+ * The dart operators still walk what the addresses say. */
+static void test_key_layout(void)
+{
+    hpfc_graph *g = NULL;
+    CHECK_EQ_INT(gen_delaunay(3, 60, 1 << 12, 0.2, &g), HPFC_OK);
+    hpfc_build_params p;
+    hpfc_build_params_default(&p);
+    p.root_cols = p.root_rows = 4;
+    hpfc_tree *t = NULL;
+    uint8_t *buf = NULL;
+    size_t size = 0;
+    CHECK_EQ_INT(hpfc_build(g, &p, &t, NULL), HPFC_OK);
+    CHECK_EQ_INT(hpfc_tree_serialize(t, NULL, &buf, &size, NULL), HPFC_OK);
+    hpfc_file *f = NULL;
+    CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
+    if (!f)
+        goto done;
+    /* the refined root records and a dart key to ask about */
+    hpfc_level_info lv0, lv1;
+    hpfc_file_get_level(f, 0, &lv0);
+    CHECK_EQ_INT(hpfc_file_get_level(f, 1, &lv1), HPFC_OK);
+    uint64_t record = 1 + (lv0.address_bits > lv0.word_bits ? lv0.address_bits : lv0.word_bits);
+    uint64_t refined[2], n = 0, key = 0;
+    for (uint64_t r = 0; r < 16 && n < 2; r++)
+        if (get_bits(buf, lv0.pool_offset * 8 + r * record, 1))
+            refined[n++] = lv0.pool_offset * 8 + r * record + 1;
+    hpfc_walker *w;
+    CHECK_EQ_INT(hpfc_walker_create(f, &w), HPFC_OK);
+    hpfc_pixel px;
+    for (int st = hpfc_leaf_first(f, &px); !st && !key; st = hpfc_leaf_next(f, &px)) {
+        hpfc_vertex v;
+        hpfc_dart d;
+        if (!hpfc_pixel_vertex(w, &px, 0, &v) && !hpfc_vertex_dart(w, &v, 0, &d))
+            key = hpfc_dart_key(f, &d);
+    }
+    hpfc_walker_free(w);
+    hpfc_close(f);
+    CHECK_EQ_INT(n, 2);
+    CHECK(key != 0);
+    if (n < 2)
+        goto done;
+    uint64_t a0 = get_bits(buf, refined[0], lv0.address_bits);
+    uint64_t a1 = get_bits(buf, refined[1], lv0.address_bits);
+    const uint64_t bad[][2] = {{a0, a0}, {a1, a0}, {a0, lv1.pool_bits}, {a0, a1}};
+    for (size_t b = 0; b < sizeof bad / sizeof *bad; b++) {
+        uint8_t *copy = malloc(size);
+        memcpy(copy, buf, size);
+        set_bits(copy, refined[0], lv0.address_bits, bad[b][0]);
+        set_bits(copy, refined[1], lv0.address_bits, bad[b][1]);
+        CHECK_EQ_INT(hpfc_open_memory(copy, size, 0, &f), HPFC_OK); /* pools: no checksum at open */
+        CHECK_EQ_INT(hpfc_walker_create(f, &w), HPFC_OK);
+        int want =
+            b + 1 < sizeof bad / sizeof *bad ? HPFC_E_CORRUPT : HPFC_OK; /* the last: intact */
+        uint64_t out;
+        hpfc_dart d;
+        hpfc_vertex v;
+        CHECK_EQ_INT(hpfc_key_next(w, key, &out), want);
+        CHECK_EQ_INT(hpfc_key_origin(w, key, &out), want);
+        CHECK_EQ_INT(hpfc_dart_from_key(w, key, &d), want);
+        CHECK_EQ_INT(hpfc_vertex_from_key(w, key & ~(uint64_t)0xFFFFF, &v), want);
+        CHECK_EQ_INT(hpfc_walker_set_cache_size(w, 0), HPFC_OK);
+        CHECK_EQ_INT(hpfc_key_twin(w, key, &out), want);
+        hpfc_walker_free(w);
+        hpfc_close(f);
+        free(copy);
+    }
+done:
+    free(buf);
+    hpfc_tree_free(t);
+    hpfc_graph_free(g);
+}
+
 int main(void)
 {
     const char *root = getenv("HPFC_TEST_DATA");
@@ -512,12 +676,20 @@ int main(void)
         fixture_campaigns(root);
     }
     generated_campaigns();
+    test_key_layout();
     CHECK(seen.files >= 10);
     /* the campaign must reach the decoder: some damaged copies open without
      * their checksum and then fail while traversing */
     CHECK(seen.skipped_opens > 1000);
     CHECK(seen.corrupt > 100);
     CHECK_EQ_INT(seen.cache_mismatches, 0);
+    /* the key calls ran, met corrupt files, and always agreed with the
+     * dart operators */
+    CHECK(seen.key_calls > 10000);
+    CHECK(seen.key_corrupt > 100);
+    CHECK_EQ_INT(seen.key_mismatches, 0);
+    printf("keys: %ld calls, %ld CORRUPT, %ld differ from the dart operators\n", seen.key_calls,
+           seen.key_corrupt, seen.key_mismatches);
     printf("corruption: %ld files, %ld bit flips (%ld accepted: padding), %ld bytes set to "
            "0x00/0xFF, %ld truncations (%ld with file_size patched); %ld opened without "
            "checksum and traversed, %ld of them found corrupt, %ld ran out of the %d-step "

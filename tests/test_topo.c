@@ -330,6 +330,8 @@ static void check_faces(const hpfc_file *f, const exported_map *fm, const hpfc_g
     hpfc_faces_free(faces);
 }
 
+static void check_keys(const hpfc_file *f, size_t nd);
+
 static void check_graph(const hpfc_graph *g, const char *what)
 {
     static const uint32_t shapes[][3] = {{1, 2, 0}, {4, 2, 0}, {16, 2, 0}, {5, 3, 0}, {4, 2, 1}};
@@ -358,6 +360,7 @@ static void check_graph(const hpfc_graph *g, const char *what)
             exported_map_free(&fm);
         }
         check_involutions(f);
+        check_keys(f, gm.nd);
         hpfc_close(f);
         free(buf);
     }
@@ -419,6 +422,7 @@ static void test_road_with_many_leaves(void)
         CHECK_EQ_INT(isomorphism_failures(&fm, &gm), 0);
         check_faces(f, &fm, g);
         check_involutions(f);
+        check_keys(f, gm.nd); /* nine levels of parents */
         exported_map_free(&fm);
         graph_map_free(&gm);
     }
@@ -638,6 +642,221 @@ static void check_altered_paths(const hpfc_file *f, size_t nd)
     hpfc_walker_free(plain);
 }
 
+/* ---- keys as handles ------------------------------------------------------ */
+
+/* The dart operators' answers as keys: the oracle of the key operators. */
+enum { KEY_OPS = 5 };
+
+static int dart_op_key(hpfc_walker *w, const hpfc_file *f, const hpfc_dart *d, int op,
+                       uint64_t *key)
+{
+    hpfc_dart r;
+    hpfc_vertex v;
+    int st;
+    switch (op) {
+    case 0:
+        st = hpfc_dart_twin(w, d, &r);
+        break;
+    case 1:
+        st = hpfc_dart_next(w, d, &r);
+        break;
+    case 2:
+        st = hpfc_dart_prev(w, d, &r);
+        break;
+    case 3:
+        st = hpfc_dart_origin(w, d, &v);
+        break;
+    default:
+        st = hpfc_dart_target(w, d, &v);
+        break;
+    }
+    *key = st ? 0 : op >= 3 ? hpfc_vertex_key(f, &v) : hpfc_dart_key(f, &r);
+    return st;
+}
+
+static int key_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out)
+{
+    switch (op) {
+    case 0:
+        return hpfc_key_twin(w, key, out);
+    case 1:
+        return hpfc_key_next(w, key, out);
+    case 2:
+        return hpfc_key_prev(w, key, out);
+    case 3:
+        return hpfc_key_origin(w, key, out);
+    default:
+        return hpfc_key_target(w, key, out);
+    }
+}
+
+/* Keys that name no dart: past the word's crossings, a crossing of a
+ * stabbing, a position off the slot, in a mask, on a refined root record,
+ * past the file. */
+static size_t check_bad_keys(const hpfc_file *f, hpfc_walker *w, const uint64_t *keys, size_t n)
+{
+    size_t bad = 0, tried = 0;
+    hpfc_pixel px;
+    for (int st = hpfc_leaf_first(f, &px); !st; st = hpfc_leaf_next(f, &px)) {
+        char sym[4096];
+        size_t len = 0;
+        uint32_t crossings = 0;
+        if (hpfc_pixel_word(f, &px, sym, sizeof sym, &len) != HPFC_OK)
+            continue;
+        for (size_t s = 0; s < len; s++)
+            crossings += sym[s] != '+';
+        hpfc_dart d = {px, 0};
+        uint64_t pos = hpfc_dart_key(f, &d) >> 20;
+        for (uint32_t k = 0; k < crossings + 2; k++) {
+            uint64_t key = pos << 20 | k, out;
+            bool is_dart = false;
+            for (size_t x = 0; x < n && !is_dart; x++)
+                is_dart = keys[x] == key;
+            hpfc_dart back;
+            int want = is_dart ? HPFC_OK : HPFC_E_ARG;
+            bad += hpfc_key_next(w, key, &out) != want || hpfc_dart_from_key(w, key, &back) != want;
+            tried++;
+        }
+        uint64_t out;
+        bad += hpfc_key_twin(w, (pos + 1) << 20, &out) != HPFC_E_ARG; /* inside the slot */
+        bad += hpfc_key_twin(w, pos << 20 | 0xFFFFF, &out) != HPFC_E_ARG;
+        tried += 2;
+    }
+    hpfc_file_info info;
+    hpfc_level_info lv0, lv1;
+    hpfc_file_get_info(f, &info);
+    hpfc_file_get_level(f, 0, &lv0);
+    uint64_t out;
+    hpfc_dart d;
+    hpfc_vertex v;
+    uint64_t beyond[] = {(info.file_size * 8) << 20, UINT64_MAX, 0,
+                         (lv0.pool_offset * 8 - 1) << 20};
+    for (size_t k = 0; k < sizeof beyond / sizeof *beyond; k++) {
+        bad += hpfc_key_next(w, beyond[k], &out) != HPFC_E_ARG;
+        bad += hpfc_dart_from_key(w, beyond[k], &d) != HPFC_E_ARG;
+        bad += hpfc_vertex_from_key(w, beyond[k], &v) != HPFC_E_ARG;
+        tried++;
+    }
+    if (hpfc_file_get_level(f, 1, &lv1) == HPFC_OK) { /* a mask bit, and a refined root record */
+        bad += hpfc_key_prev(w, (lv1.pool_offset * 8) << 20, &out) != HPFC_E_ARG;
+        uint32_t record = 1 + (lv0.address_bits > lv0.word_bits ? lv0.address_bits : lv0.word_bits);
+        for (uint32_t r = 0; r < info.root_cols * info.root_rows; r++) {
+            hpfc_pixel root;
+            int type;
+            hpfc_pixel_root(f, r % info.root_cols, r / info.root_cols, &root);
+            if (hpfc_pixel_type(f, &root, &type) == HPFC_OK && type == HPFC_PIXEL_REFINED) {
+                bad += hpfc_key_twin(w, (lv0.pool_offset * 8 + (uint64_t)r * record) << 20, &out) !=
+                       HPFC_E_ARG;
+                tried++;
+                break;
+            }
+        }
+        tried++;
+    }
+    CHECK(tried > n);
+    CHECK(hpfc_key_next(NULL, keys[0], &out) == HPFC_E_ARG);
+    CHECK(hpfc_key_next(w, keys[0], NULL) == HPFC_E_ARG);
+    CHECK(hpfc_dart_from_key(w, keys[0], NULL) == HPFC_E_ARG);
+    return bad;
+}
+
+/* Every key operator on every dart equals the dart operator's answer as a
+ * key, for each cache size (`bytes`), keys taken in leaf order, then in a
+ * breadth-first order by next and twin on keys, with dart operators on the
+ * same walker in between (their cache entries are reached by other means);
+ * hpfc_dart_from_key and hpfc_vertex_from_key give back the very dart and
+ * vertex (whole path) a key came from. */
+static void check_keys_with(const hpfc_file *f, const hpfc_dart *darts, const uint64_t *want,
+                            size_t n, size_t bytes)
+{
+    hpfc_walker *w;
+    CHECK_EQ_INT(hpfc_walker_create(f, &w), HPFC_OK);
+    CHECK_EQ_INT(hpfc_walker_set_cache_size(w, bytes), HPFC_OK);
+    uint64_t *keys = malloc((n + 1) * sizeof *keys);
+    size_t differ = 0, back = 0;
+    for (size_t k = 0; k < n; k++)
+        keys[k] = hpfc_dart_key(f, &darts[k]);
+    for (int pass = 0; pass < 2; pass++) /* the second pass finds the cache warm */
+        for (size_t k = 0; k < n; k++) {
+            size_t x = pass ? n - 1 - k : k;
+            for (int op = 0; op < KEY_OPS; op++) {
+                uint64_t got = 0;
+                int st = key_op(w, keys[x], op, &got);
+                differ += st != HPFC_OK || got != want[KEY_OPS * x + op];
+            }
+            if (k % 3 == 0) { /* a dart operator in between */
+                hpfc_dart r;
+                hpfc_dart_next(w, &darts[(x * 7) % n], &r);
+            }
+            hpfc_dart d;
+            hpfc_vertex v;
+            uint64_t vkey = want[KEY_OPS * x + 3];
+            back += hpfc_dart_from_key(w, keys[x], &d) != HPFC_OK ||
+                    dart_result(0, 0, &d) != dart_result(0, 0, &darts[x]);
+            back += hpfc_vertex_from_key(w, vkey, &v) != HPFC_OK ||
+                    hpfc_vertex_key(f, &v) != vkey ||
+                    pixel_digest(0, &v.pixel) != pixel_digest(0, &darts[x].pixel);
+            back += hpfc_vertex_from_key(w, vkey | 0xFFFFF, &v) != HPFC_E_ARG;
+        }
+    /* breadth-first on keys alone; every key reached is a dart's */
+    uint64_t *queue = malloc((n + 1) * sizeof *queue);
+    uint8_t *seen = calloc(n + 1, 1);
+    size_t head = 0, tail = 0, reached = 0;
+    for (size_t s = 0; s < n; s++) {
+        if (seen[s])
+            continue;
+        seen[s] = 1, queue[tail++] = keys[s];
+        while (head < tail) {
+            uint64_t key = queue[head++], out;
+            size_t x = 0;
+            while (x < n && keys[x] != key)
+                x++;
+            CHECK(x < n);
+            if (x == n)
+                break;
+            reached++;
+            for (int op = 0; op < 2; op++) {
+                int st = key_op(w, key, op, &out);
+                differ += st != HPFC_OK || out != want[KEY_OPS * x + op];
+                size_t y = 0;
+                while (!st && y < n && keys[y] != out)
+                    y++;
+                if (!st && y < n && !seen[y])
+                    seen[y] = 1, queue[tail++] = out;
+            }
+        }
+    }
+    CHECK_EQ_INT(reached, n);
+    CHECK_EQ_INT(differ, 0);
+    CHECK_EQ_INT(back, 0);
+    CHECK_EQ_INT(check_bad_keys(f, w, keys, n), 0);
+    free(queue), free(seen), free(keys);
+    hpfc_walker_free(w);
+}
+
+/* Cache sizes for keys: off, tiny (emptied again and again mid-walk),
+ * small, default. */
+static void check_keys(const hpfc_file *f, size_t nd)
+{
+    static const size_t sizes[] = {0, 700, 2048, HPFC_WALKER_DEFAULT_CACHE};
+    hpfc_walker *plain;
+    CHECK_EQ_INT(hpfc_walker_create(f, &plain), HPFC_OK);
+    CHECK_EQ_INT(hpfc_walker_set_cache_size(plain, 0), HPFC_OK);
+    hpfc_dart *darts = malloc((nd + 1) * sizeof *darts);
+    size_t n = collect_darts(f, plain, darts, nd);
+    CHECK_EQ_INT(n, nd);
+    uint64_t *want = malloc((KEY_OPS * n + 1) * sizeof *want);
+    size_t failed = 0;
+    for (size_t k = 0; k < n; k++)
+        for (int op = 0; op < KEY_OPS; op++)
+            failed += dart_op_key(plain, f, &darts[k], op, &want[KEY_OPS * k + op]) != HPFC_OK;
+    CHECK_EQ_INT(failed, 0);
+    for (size_t s = 0; n && s < sizeof sizes / sizeof *sizes; s++)
+        check_keys_with(f, darts, want, n, sizes[s]);
+    free(want), free(darts);
+    hpfc_walker_free(plain);
+}
+
 static void test_cache(void)
 {
     CHECK_EQ_INT(hpfc_walker_set_cache_size(NULL, 1024), HPFC_E_ARG);
@@ -655,6 +874,7 @@ static void test_cache(void)
                 check_interleaved(f, nd, 2048);
                 check_interleaved(f, nd, HPFC_WALKER_DEFAULT_CACHE);
                 check_altered_paths(f, nd);
+                check_keys(f, nd);
             }
             hpfc_close(f);
             free(buf);

@@ -1,0 +1,318 @@
+/*
+ * Keys as dart and vertex handles (hpfc.h, "Keys").
+ *
+ * Why: an hpfc_dart carries a whole pixel path (776 bytes), which a
+ * traversal copies, hashes and compares at every step. A key is the word
+ * pixel's slot position and a crossing (spec/hpfc-format.md §3.10); the
+ * walker answers key operators from its cache entries, which record their
+ * own slot, without building a path.
+ *
+ * A key names its pixel by position only, and the file has no parent
+ * pointers: the path of a key the cache does not hold comes from a parent
+ * index built once per walker by one pass over the pools, which also checks
+ * the layout that makes the path unique (§9: images back to back in parent
+ * order, every address the start of the next image). Then the entry the
+ * path leads to is the one dart operators use for that pixel: key
+ * operators give exactly the dart operators' answers. Only entries reached
+ * by that path are found by slot, so a caller's dart with a made-up path
+ * never answers for a key.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "reader.h"
+#include "topo.h"
+
+#define KEY_SHIFT 20
+#define KEY_LOW ((1u << KEY_SHIFT) - 1)
+
+void topo_keys_free(hpfc_walker *w)
+{
+    free(w->keys.images);
+    memset(&w->keys, 0, sizeof w->keys);
+}
+
+/* ---- the parent index ------------------------------------------------------ */
+
+/* Level l + 1's images from level l's refined pixels, in pool order: each
+ * address must be where the previous image ends, and the images must fill
+ * the pool exactly. Anything else is corruption (aliased or out-of-order
+ * addresses, masks that contradict the level table). */
+static int index_level(hpfc_walker *w, uint32_t l, const hpfc_level_info *lv)
+{
+    key_index *x = &w->keys;
+    key_image *next = x->images + x->first[l + 1];
+    uint64_t parents = l ? lv[l].images : 1, count = lv[l + 1].images, c = 0, at = 0;
+    for (uint64_t img = 0; img < parents; img++) {
+        uint64_t start = l ? x->images[x->first[l] + img].start : 0, address, bits, refined;
+        reader_refined it = {0, 0};
+        uint32_t pixel;
+        int st;
+        while ((st = reader_next_refined(w->file, l, start, &it, &pixel, &address)) == HPFC_OK) {
+            if (c == count || address != at)
+                return HPFC_E_CORRUPT;
+            if ((st = reader_image_bits(w->file, l + 1, at, &bits, &refined)))
+                return st;
+            next[c++] = (key_image){at, (uint32_t)img, pixel};
+            at += bits;
+        }
+    }
+    return c == count && at == lv[l + 1].pool_bits ? HPFC_OK : HPFC_E_CORRUPT;
+}
+
+static int build_index(hpfc_walker *w)
+{
+    key_index *x = &w->keys;
+    hpfc_level_info lv[HPFC_MAX_LEVELS];
+    uint64_t total = 0;
+    for (uint32_t l = 0; l < w->levels; l++) {
+        hpfc_file_get_level(w->file, l, &lv[l]);
+        x->pool_bit[l] = lv[l].pool_offset * 8;
+        x->pool_bits[l] = lv[l].pool_bits;
+        x->first[l] = total;
+        if (l > 0) {
+            /* open checked images * pixels <= s^l, so the total fits */
+            if (lv[l].images > UINT32_MAX)
+                return HPFC_E_LIMIT;
+            total += lv[l].images;
+        }
+    }
+    x->first[w->levels] = total;
+    if (!(x->images = malloc(total ? total * sizeof *x->images : 1)))
+        return HPFC_E_NOMEM;
+    int st = HPFC_OK;
+    for (uint32_t l = 0; l + 1 < w->levels && !st; l++)
+        st = index_level(w, l, lv);
+    return st;
+}
+
+/* The word pixel whose slot starts at absolute bit `pos`, with its path
+ * from the root: HPFC_E_ARG when no word slot starts there. */
+static int slot_pixel(hpfc_walker *w, uint64_t pos, hpfc_pixel *px)
+{
+    const key_index *x = &w->keys;
+    uint32_t l = 0;
+    while (l < w->levels && (pos < x->pool_bit[l] || pos - x->pool_bit[l] >= x->pool_bits[l]))
+        l++;
+    if (l == w->levels)
+        return HPFC_E_ARG;
+    uint64_t rel = pos - x->pool_bit[l], index = 0, start = 0;
+    if (l > 0) { /* the last image starting at or before rel (image 0 starts at 0) */
+        uint64_t lo = x->first[l], hi = x->first[l + 1];
+        while (hi - lo > 1) {
+            uint64_t mid = lo + (hi - lo) / 2;
+            if (x->images[mid].start <= rel)
+                lo = mid;
+            else
+                hi = mid;
+        }
+        index = lo - x->first[l];
+        start = x->images[lo].start;
+    }
+    uint32_t pixel;
+    int st = reader_word_at(w->file, l, start, rel, &pixel);
+    if (st)
+        return st;
+    hpfc_file_info info;
+    hpfc_file_get_info(w->file, &info);
+    px->depth = l;
+    for (;;) {
+        uint32_t cols = l ? info.cols : info.root_cols;
+        px->path[l].image = start;
+        px->path[l].i = pixel % cols;
+        px->path[l].j = pixel / cols;
+        if (l == 0)
+            return HPFC_OK;
+        const key_image *k = &x->images[x->first[l] + index];
+        l--;
+        index = k->parent;
+        pixel = k->pixel;
+        start = l ? x->images[x->first[l] + index].start : 0;
+    }
+}
+
+/* The path of the key's word pixel, the parent index built on first use. */
+static int key_pixel(hpfc_walker *w, uint64_t key, hpfc_pixel *px)
+{
+    if (!w->keys.built) {
+        int st = build_index(w);
+        if (st)
+            topo_keys_free(w);
+        if (st == HPFC_E_NOMEM)
+            return st; /* not built: the next key tries again */
+        w->keys.status = st;
+        w->keys.built = true;
+    }
+    return w->keys.status ? w->keys.status : slot_pixel(w, key >> KEY_SHIFT, px);
+}
+
+/* ---- operators through the cache -------------------------------------------- */
+
+/* The cache entry of the key's pixel when the slot index does not have it:
+ * by the path the parent index gives (and keyed then). */
+static int key_entry(hpfc_walker *w, uint64_t key, uint32_t *ref)
+{
+    if (!w->cache.arena)
+        return TOPO_UNCACHED;
+    hpfc_pixel px;
+    int st = key_pixel(w, key, &px);
+    if (!st)
+        st = topo_cache_load(w, &px, true, ref);
+    if (st == TOPO_RETRY) /* emptied: an entry that fits the arena fits now */
+        st = topo_cache_load(w, &px, true, ref);
+    if (!st)
+        topo_cache_key(&w->cache, *ref);
+    return st;
+}
+
+enum { OP_TWIN, OP_NEXT, OP_PREV, OP_ORIGIN, OP_TARGET };
+
+static int cached_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out)
+{
+    uint32_t ref, end, m, k = key & KEY_LOW;
+    int st = HPFC_OK;
+    if (!(ref = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT)) &&
+        (st = key_entry(w, key, &ref)))
+        return st;
+    cached_word *e = cache_entry(&w->cache, ref);
+    if (e->parse_status)
+        return e->parse_status;
+    cached_crossing *x = word_crossings(e);
+    if (k >= e->n || x[k].vertex == NONE)
+        return HPFC_E_ARG;
+    if (op == OP_ORIGIN) {
+        *out = e->slot << KEY_SHIFT | x[k].vertex;
+        return HPFC_OK;
+    }
+    /* twin(d) = out_m where d arrives, next(d) = out_pred(m), prev(d) =
+     * twin(out_succ(k)) */
+    const cached_crossing *start = &x[op == OP_PREV ? x[k].succ : k];
+    if (start->arrival && op != OP_TARGET) { /* walked before: the answer is here */
+        *out = start->arrival_slot << KEY_SHIFT |
+               (op == OP_NEXT ? start->arrival_pred : start->arrival_m);
+        return HPFC_OK;
+    }
+    if ((st = topo_cached_follow(w, ref, op == OP_PREV ? x[k].succ : k, &end, &m)))
+        return st;
+    cached_word *t = cache_entry(&w->cache, end);
+    const cached_crossing *y = &word_crossings(t)[m];
+    *out = t->slot << KEY_SHIFT | (op == OP_NEXT ? y->pred : op == OP_TARGET ? y->vertex : m);
+    return HPFC_OK;
+}
+
+/* Without the cache: the dart operators on the key's dart. */
+static int plain_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out)
+{
+    hpfc_dart d, r;
+    hpfc_vertex v;
+    int st = hpfc_dart_from_key(w, key, &d);
+    if (st)
+        return st;
+    switch (op) {
+    case OP_TWIN:
+        st = hpfc_dart_twin(w, &d, &r);
+        break;
+    case OP_NEXT:
+        st = hpfc_dart_next(w, &d, &r);
+        break;
+    case OP_PREV:
+        st = hpfc_dart_prev(w, &d, &r);
+        break;
+    case OP_ORIGIN:
+        st = hpfc_dart_origin(w, &d, &v);
+        break;
+    default:
+        st = hpfc_dart_target(w, &d, &v);
+        break;
+    }
+    if (!st)
+        *out = op >= OP_ORIGIN ? hpfc_vertex_key(w->file, &v) : hpfc_dart_key(w->file, &r);
+    return st;
+}
+
+/* As the dart operators do: a walk that empties the cache starts again
+ * once, in the emptied cache; then, or for a word the cache cannot hold,
+ * without it. */
+static int key_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out)
+{
+    if (!w || !out)
+        return HPFC_E_ARG;
+    for (int tries = 0; tries < 2; tries++) {
+        int st = cached_op(w, key, op, out);
+        if (st >= 0)
+            return st;
+        if (st == TOPO_UNCACHED)
+            break;
+    }
+    return plain_op(w, key, op, out);
+}
+
+int hpfc_key_twin(hpfc_walker *w, uint64_t dart_key, uint64_t *out)
+{
+    return key_op(w, dart_key, OP_TWIN, out);
+}
+
+int hpfc_key_next(hpfc_walker *w, uint64_t dart_key, uint64_t *out)
+{
+    return key_op(w, dart_key, OP_NEXT, out);
+}
+
+int hpfc_key_prev(hpfc_walker *w, uint64_t dart_key, uint64_t *out)
+{
+    return key_op(w, dart_key, OP_PREV, out);
+}
+
+int hpfc_key_origin(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key)
+{
+    return key_op(w, dart_key, OP_ORIGIN, vertex_key);
+}
+
+int hpfc_key_target(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key)
+{
+    return key_op(w, dart_key, OP_TARGET, vertex_key);
+}
+
+/* ---- back to values ----------------------------------------------------------- */
+
+/* The key's pixel and its parsed word. */
+static int key_word(hpfc_walker *w, uint64_t key, hpfc_pixel *px, cached_word **e)
+{
+    int st = key_pixel(w, key, px);
+    if (!st)
+        st = topo_word_view(w, px, e);
+    return st ? st : (*e)->parse_status;
+}
+
+int hpfc_dart_from_key(hpfc_walker *w, uint64_t key, hpfc_dart *out)
+{
+    if (!w || !out)
+        return HPFC_E_ARG;
+    cached_word *e;
+    hpfc_pixel px;
+    uint32_t k = key & KEY_LOW;
+    int st = key_word(w, key, &px, &e);
+    if (!st && (k >= e->n || word_crossings(e)[k].vertex == NONE))
+        st = HPFC_E_ARG;
+    if (st)
+        return st;
+    topo_entry_pixel(e, &out->pixel); /* the path just resolved */
+    out->crossing = k;
+    return HPFC_OK;
+}
+
+int hpfc_vertex_from_key(hpfc_walker *w, uint64_t key, hpfc_vertex *out)
+{
+    if (!w || !out)
+        return HPFC_E_ARG;
+    cached_word *e;
+    hpfc_pixel px;
+    uint32_t local = key & KEY_LOW;
+    int st = key_word(w, key, &px, &e);
+    if (!st && local >= e->nvert)
+        st = HPFC_E_ARG;
+    if (st)
+        return st;
+    topo_entry_pixel(e, &out->pixel);
+    out->local = local;
+    return HPFC_OK;
+}
