@@ -24,9 +24,11 @@
 #include "geom.h"
 #include "tree.h"
 
+/* Segment k of an edge (0 = the one leaving u). Its end points are read
+ * from the graph (seg_points), not kept: a continental map has millions of
+ * segments, and 32 bytes each of copies made the build's largest array. */
 typedef struct seg {
-    lpoint a, b;      /* domain-relative end points */
-    uint32_t edge, k; /* edge and index of the segment within it */
+    uint32_t edge, k;
 } seg;
 
 typedef struct builder {
@@ -107,6 +109,20 @@ static int choose_domain(builder *b)
     return HPFC_OK;
 }
 
+/* Point k of edge e, domain-relative. */
+static lpoint edge_point(const builder *b, size_t e, size_t k)
+{
+    int64_t x, y;
+    graph_edge_point(b->g, e, k, &x, &y);
+    return (lpoint){x - b->ox, y - b->oy};
+}
+
+static void seg_points(const builder *b, const seg *s, lpoint *p, lpoint *q)
+{
+    *p = edge_point(b, s->edge, s->k);
+    *q = edge_point(b, s->edge, (size_t)s->k + 1);
+}
+
 static void compute_edge_levels(builder *b)
 {
     const hpfc_graph *g = b->g;
@@ -149,16 +165,9 @@ static int make_segments(builder *b)
     b->nsegs = n;
     size_t s = 0;
     for (size_t e = 0; e < g->ne; e++) {
-        int64_t x, y;
         b->edge_seg0[e] = s;
-        graph_edge_point(g, e, 0, &x, &y);
-        lpoint prev = {x - b->ox, y - b->oy};
-        for (size_t k = 1; k < graph_edge_point_count(g, e); k++, s++) {
-            graph_edge_point(g, e, k, &x, &y);
-            lpoint cur = {x - b->ox, y - b->oy};
-            b->segs[s] = (seg){prev, cur, (uint32_t)e, (uint32_t)(k - 1)};
-            prev = cur;
-        }
+        for (size_t k = 1; k < graph_edge_point_count(g, e); k++, s++)
+            b->segs[s] = (seg){(uint32_t)e, (uint32_t)(k - 1)};
     }
     b->edge_seg0[g->ne] = s;
     return HPFC_OK;
@@ -314,7 +323,7 @@ static int assign_components(builder *b, word_scratch *w, const int64_t cell[4])
     size_t i = 0;
     while (i < w->ncr) {
         uint32_t e = w->cr[i].edge;
-        lpoint u = b->segs[b->edge_seg0[e]].a, v = b->segs[b->edge_seg0[e + 1] - 1].b;
+        lpoint u = edge_point(b, e, 0), v = edge_point(b, e, graph_edge_point_count(g, e) - 1);
         bool u_in = point_in_cell(u, cell[0], cell[1], cell[2], cell[3]);
         bool v_in = point_in_cell(v, cell[0], cell[1], cell[2], cell[3]);
         bool inside = u_in, from_vertex = u_in;
@@ -403,10 +412,12 @@ static int make_word(builder *b, word_scratch *w, const uint32_t *list, size_t n
     w->ncomp = 0;
     for (size_t i = 0; i < n; i++) {
         const seg *s = &b->segs[list[i]];
+        lpoint sa, sb;
+        seg_points(b, s, &sa, &sb);
         for (int road = 0; road < 4; road++) {
             crossing c;
             bool entering;
-            if (!cross_road(s->a, s->b, road, cell[0], cell[1], cell[2], cell[3], &c.pos, &entering))
+            if (!cross_road(sa, sb, road, cell[0], cell[1], cell[2], cell[3], &c.pos, &entering))
                 continue;
             int st = reserve((void **)&w->cr, &w->cap_cr, w->ncr + 1, sizeof *w->cr);
             if (st)
@@ -503,18 +514,20 @@ static int distribute(builder *b, const tlevel *lv, int64_t gx0, int64_t gy0,
     is->ninc = 0;
     int64_t cols = lv->cols, rows = lv->rows;
     for (size_t i = 0; i < n; i++) {
-        const seg *s = &b->segs[list[i]];
-        int64_t c0 = floor_div(s->a.x < s->b.x ? s->a.x : s->b.x, lv->cell_w) - gx0;
-        int64_t c1 = floor_div(s->a.x > s->b.x ? s->a.x : s->b.x, lv->cell_w) - gx0;
-        int64_t r0 = floor_div(s->a.y < s->b.y ? s->a.y : s->b.y, lv->cell_h) - gy0;
-        int64_t r1 = floor_div(s->a.y > s->b.y ? s->a.y : s->b.y, lv->cell_h) - gy0;
+        lpoint sa, sb;
+        seg_points(b, &b->segs[list[i]], &sa, &sb);
+        int64_t c0 = floor_div(sa.x < sb.x ? sa.x : sb.x, lv->cell_w) - gx0;
+        int64_t c1 = floor_div(sa.x > sb.x ? sa.x : sb.x, lv->cell_w) - gx0;
+        int64_t r0 = floor_div(sa.y < sb.y ? sa.y : sb.y, lv->cell_h) - gy0;
+        int64_t r1 = floor_div(sa.y > sb.y ? sa.y : sb.y, lv->cell_h) - gy0;
         bool single = c0 == c1 && r0 == r1;
         c0 = c0 < 0 ? 0 : c0, r0 = r0 < 0 ? 0 : r0;
         c1 = c1 >= cols ? cols - 1 : c1, r1 = r1 >= rows ? rows - 1 : r1;
         for (int64_t r = r0; r <= r1; r++)
             for (int64_t c = c0; c <= c1; c++) {
                 int64_t x0 = (gx0 + c) * lv->cell_w, y0 = (gy0 + r) * lv->cell_h;
-                if (!single && !segment_meets_cell(s->a, s->b, x0, y0, x0 + lv->cell_w, y0 + lv->cell_h))
+                if (!single &&
+                    !segment_meets_cell(sa, sb, x0, y0, x0 + lv->cell_w, y0 + lv->cell_h))
                     continue;
                 int st = reserve((void **)&is->inc, &is->cap_inc, is->ninc + 1, sizeof *is->inc);
                 if (st)
