@@ -38,9 +38,7 @@ typedef struct builder {
     int64_t ox, oy;           /* domain origin in graph coordinates */
     seg *segs;
     size_t nsegs;
-    size_t *edge_seg0;        /* first segment of each edge; edge_seg0[ne] = nsegs */
     int32_t *edge_level;      /* deepest level with a pixel holding the edge, -1 if none */
-    lpoint *edge_anchor;      /* one point of each edge (domain-relative) */
     uint8_t *vertex_seen;     /* each vertex must land in exactly one word pixel */
     /* per-level segment lists: image i's segments are list[start[i]..start[i+1]) */
     uint32_t *cur_list, *next_list;
@@ -136,7 +134,6 @@ static void compute_edge_levels(builder *b)
             xmin = x < xmin ? x : xmin, xmax = x > xmax ? x : xmax;
             ymin = y < ymin ? y : ymin, ymax = y > ymax ? y : ymax;
         }
-        b->edge_anchor[e] = (lpoint){xmin, ymin};
         int32_t level = -1;
         int64_t cw = info->width / b->p.root_cols, ch = info->height / b->p.root_rows;
         while (xmin / cw == xmax / cw && ymin / ch == ymax / ch) {
@@ -159,17 +156,13 @@ static int make_segments(builder *b)
     if (n > UINT32_MAX - 1)
         return diag_set(b->diag, HPFC_E_LIMIT, "more than 2^32 - 2 segments");
     b->segs = malloc(n * sizeof *b->segs);
-    b->edge_seg0 = malloc((g->ne + 1) * sizeof *b->edge_seg0);
-    if (!b->segs || !b->edge_seg0)
+    if (!b->segs)
         return HPFC_E_NOMEM;
     b->nsegs = n;
     size_t s = 0;
-    for (size_t e = 0; e < g->ne; e++) {
-        b->edge_seg0[e] = s;
+    for (size_t e = 0; e < g->ne; e++)
         for (size_t k = 1; k < graph_edge_point_count(g, e); k++, s++)
             b->segs[s] = (seg){(uint32_t)e, (uint32_t)(k - 1)};
-    }
-    b->edge_seg0[g->ne] = s;
     return HPFC_OK;
 }
 
@@ -546,8 +539,11 @@ static bool holds_edge(const builder *b, const tlevel *lv, uint32_t level, int64
 {
     for (size_t i = 0; i < n; i++) {
         uint32_t e = b->segs[list[i]].edge;
-        if (b->edge_level[e] >= (int32_t)level && b->edge_anchor[e].x / lv->cell_w == gx &&
-            b->edge_anchor[e].y / lv->cell_h == gy)
+        if (b->edge_level[e] < (int32_t)level)
+            continue;
+        /* the whole edge lies in one pixel of this level: its first point's */
+        lpoint u = edge_point(b, e, 0);
+        if (u.x / lv->cell_w == gx && u.y / lv->cell_h == gy)
             return true;
     }
     return false;
@@ -752,9 +748,7 @@ static int build_levels(builder *b)
 static void free_builder(builder *b)
 {
     free(b->segs);
-    free(b->edge_seg0);
     free(b->edge_level);
-    free(b->edge_anchor);
     free(b->vertex_seen);
     free(b->cur_list);
     free(b->next_list);
@@ -777,9 +771,8 @@ int hpfc_build(const hpfc_graph *g, const hpfc_build_params *params, hpfc_tree *
     builder b = {.g = g, .p = *params, .diag = diag};
     b.t = calloc(1, sizeof *b.t);
     b.edge_level = malloc(g->ne * sizeof *b.edge_level);
-    b.edge_anchor = malloc(g->ne * sizeof *b.edge_anchor);
     b.vertex_seen = calloc(g->nv, 1);
-    if (!b.t || !b.edge_level || !b.edge_anchor || !b.vertex_seen)
+    if (!b.t || !b.edge_level || !b.vertex_seen)
         st = HPFC_E_NOMEM;
     if (!st)
         st = choose_domain(&b);
