@@ -181,14 +181,45 @@ static int tree_pixel_of(const hpfc_tree *tree, const hpfc_pixel *px, hpfc_tree_
     }
 }
 
-static int append_crossings(leaf_crossings *lc, const hpfc_tree_pixel *tp)
+static uint32_t word_crossings(const hpfc_tree_pixel *tp)
 {
     uint32_t n = 0;
     for (uint32_t s = 0; s < tp->word_len; s++)
         n += tp->word[s] != '+';
-    if (lc->count + n > SIZE_MAX / 2 ||
-        !array_grow((void **)&lc->pairs, &lc->cap, 2 * (size_t)(lc->count + n), sizeof *lc->pairs))
+    return n;
+}
+
+/* Allocates lc for all the tree's crossings at once: grown by doubling,
+ * the array would leave its earlier copies in the heap, and it is
+ * allocated at a pack's peak. */
+static int reserve_crossings(const hpfc_tree *tree, leaf_crossings *lc)
+{
+    hpfc_tree_info info;
+    hpfc_tree_get_info(tree, &info);
+    uint64_t total = 0;
+    for (uint32_t l = 0; l < info.levels; l++) {
+        uint32_t cols = l ? info.cols : info.root_cols, rows = l ? info.rows : info.root_rows;
+        size_t images = hpfc_tree_image_count(tree, l);
+        for (size_t im = 0; im < images; im++)
+            for (uint32_t j = 0; j < rows; j++)
+                for (uint32_t i = 0; i < cols; i++) {
+                    hpfc_tree_pixel tp;
+                    if (!hpfc_tree_get_pixel(tree, l, im, i, j, &tp) && tp.type == HPFC_PIXEL_WORD)
+                        total += word_crossings(&tp);
+                }
+    }
+    if (total > SIZE_MAX / 2 / sizeof *lc->pairs ||
+        !(lc->pairs = malloc(total ? 2 * (size_t)total * sizeof *lc->pairs : 1)))
         return HPFC_E_NOMEM;
+    lc->cap = 2 * (size_t)total;
+    return HPFC_OK;
+}
+
+static int append_crossings(leaf_crossings *lc, const hpfc_tree_pixel *tp)
+{
+    uint32_t n = word_crossings(tp);
+    if (2 * (lc->count + n) > lc->cap)
+        return HPFC_E_CORRUPT; /* more crossings on the file's leaves than in the tree */
     for (uint32_t k = 0; k < n; k++) {
         lc->pairs[2 * lc->count] = tp->cross_edge[k];
         lc->pairs[2 * lc->count + 1] = tp->cross_segment[k];
@@ -201,7 +232,9 @@ int leaf_crossings_collect(const hpfc_tree *tree, const hpfc_file *file, leaf_cr
 {
     memset(out, 0, sizeof *out);
     leaf_view v = {0};
-    int st = hpfc_leaf_first(file, &v.px);
+    int st = reserve_crossings(tree, out);
+    if (!st)
+        st = hpfc_leaf_first(file, &v.px);
     for (; !st; st = hpfc_leaf_next(file, &v.px)) {
         hpfc_tree_pixel tp;
         if ((st = view_leaf(file, &v)) || (st = tree_pixel_of(tree, &v.px, &tp)))
@@ -216,11 +249,11 @@ int leaf_crossings_collect(const hpfc_tree *tree, const hpfc_file *file, leaf_cr
             break;
     }
     free(v.word);
-    if (st != HPFC_E_NO_PIXEL) {
+    if (st == HPFC_E_NO_PIXEL) /* every crossing of the tree found on a leaf of the file */
+        st = 2 * out->count == out->cap ? HPFC_OK : HPFC_E_CORRUPT;
+    if (st)
         leaf_crossings_free(out);
-        return st;
-    }
-    return HPFC_OK;
+    return st;
 }
 
 void leaf_crossings_free(leaf_crossings *lc)
