@@ -42,6 +42,7 @@
 #include "progress.h"
 #include "projection.h"
 #include "segnode.h"
+#include "sort.h"
 
 /* ---- stage times ------------------------------------------------------------ */
 
@@ -662,7 +663,7 @@ static int push_seg(reader *r, seg **segs, size_t *n, size_t *cap, pt a, pt b)
 
 static void sort_unique(seg *segs, size_t *n)
 {
-    qsort(segs, *n, sizeof *segs, cmp_seg);
+    sort_in_place(segs, *n, sizeof *segs, cmp_seg); /* qsort would double the array */
     size_t u = 0;
     for (size_t i = 0; i < *n; i++)
         if (u == 0 || cmp_seg(&segs[u - 1], &segs[i]) != 0)
@@ -979,7 +980,7 @@ static int make_graph(reader *r, const seg *segs, size_t n_segs, hpfc_graph **ou
         b.pts[2 * i] = (pt){segs[i].ax, segs[i].ay};
         b.pts[2 * i + 1] = (pt){segs[i].bx, segs[i].by};
     }
-    qsort(b.pts, 2 * n_segs, sizeof *b.pts, cmp_pt);
+    sort_in_place(b.pts, 2 * n_segs, sizeof *b.pts, cmp_pt);
     for (size_t i = 0; i < 2 * n_segs; i++)
         if (b.n_pts == 0 || cmp_pt(&b.pts[b.n_pts - 1], &b.pts[i]) != 0)
             b.pts[b.n_pts++] = b.pts[i];
