@@ -69,6 +69,28 @@ static int resize(void **p, size_t n, size_t elem)
     return HPFC_OK;
 }
 
+/* Source lines are kept only once one is set: a graph read from a GIS
+ * layer has none, and two zeroed arrays would cost it 8 bytes per vertex
+ * and edge. *lines, when there, grows from cap to ncap zero-filled. */
+static int resize_lines(uint32_t **lines, size_t cap, size_t ncap)
+{
+    if (!*lines)
+        return HPFC_OK;
+    if (resize((void **)lines, ncap, sizeof **lines))
+        return HPFC_E_NOMEM;
+    memset(*lines + cap, 0, (ncap - cap) * sizeof **lines);
+    return HPFC_OK;
+}
+
+/* Sets entry i of a line array of cap entries, made on first use. */
+static void set_line(uint32_t **lines, size_t cap, size_t i, uint32_t line)
+{
+    if (!*lines && line)
+        *lines = calloc(cap, sizeof **lines);
+    if (*lines) /* out of memory: the line is only lost from messages */
+        (*lines)[i] = line;
+}
+
 static bool coord_ok(int64_t v)
 {
     return v >= -HPFC_COORD_MAX && v <= HPFC_COORD_MAX;
@@ -85,13 +107,12 @@ int hpfc_graph_add_vertex(hpfc_graph *g, int64_t x, int64_t y, uint32_t *out_ind
     if (g->nv == g->cap_v) {
         size_t cap = grown_capacity(g->cap_v, g->nv + 1, 2 * sizeof(int64_t));
         if (!cap || resize((void **)&g->vxy, cap, 2 * sizeof(int64_t)) ||
-            resize((void **)&g->vline, cap, sizeof(uint32_t)))
+            resize_lines(&g->vline, g->cap_v, cap))
             return HPFC_E_NOMEM;
         g->cap_v = cap;
     }
     g->vxy[2 * g->nv] = x;
     g->vxy[2 * g->nv + 1] = y;
-    g->vline[g->nv] = 0;
     if (out_index)
         *out_index = (uint32_t)g->nv;
     g->nv++;
@@ -115,7 +136,7 @@ int hpfc_graph_add_edge(hpfc_graph *g, uint32_t u, uint32_t v,
         size_t cap = grown_capacity(g->cap_e, g->ne + 1, sizeof(size_t));
         if (!cap || resize((void **)&g->eu, cap, sizeof(uint32_t)) ||
             resize((void **)&g->ev, cap, sizeof(uint32_t)) ||
-            resize((void **)&g->eline, cap, sizeof(uint32_t)) ||
+            resize_lines(&g->eline, g->cap_e, cap) ||
             resize((void **)&g->eoff, cap + 1, sizeof(size_t)))
             return HPFC_E_NOMEM;
         g->cap_e = cap;
@@ -131,7 +152,6 @@ int hpfc_graph_add_edge(hpfc_graph *g, uint32_t u, uint32_t v,
     g->npts += n_interior;
     g->eu[g->ne] = u;
     g->ev[g->ne] = v;
-    g->eline[g->ne] = 0;
     g->eoff[g->ne + 1] = g->npts;
     if (out_index)
         *out_index = (uint32_t)g->ne;
@@ -142,13 +162,13 @@ int hpfc_graph_add_edge(hpfc_graph *g, uint32_t u, uint32_t v,
 void hpfc_graph_set_last_vertex_line(hpfc_graph *g, uint32_t line)
 {
     if (g && g->nv)
-        g->vline[g->nv - 1] = line;
+        set_line(&g->vline, g->cap_v, g->nv - 1, line);
 }
 
 void hpfc_graph_set_last_edge_line(hpfc_graph *g, uint32_t line)
 {
     if (g && g->ne)
-        g->eline[g->ne - 1] = line;
+        set_line(&g->eline, g->cap_e, g->ne - 1, line);
 }
 
 size_t hpfc_graph_vertex_count(const hpfc_graph *g) { return g ? g->nv : 0; }
@@ -171,5 +191,11 @@ void hpfc_graph_edge(const hpfc_graph *g, size_t i, uint32_t *u, uint32_t *v,
     *interior_xy = g->pts ? g->pts + 2 * g->eoff[i] : none;
 }
 
-uint32_t hpfc_graph_vertex_line(const hpfc_graph *g, size_t i) { return g->vline[i]; }
-uint32_t hpfc_graph_edge_line(const hpfc_graph *g, size_t i) { return g->eline[i]; }
+uint32_t hpfc_graph_vertex_line(const hpfc_graph *g, size_t i)
+{
+    return graph_vertex_line(g, i);
+}
+uint32_t hpfc_graph_edge_line(const hpfc_graph *g, size_t i)
+{
+    return graph_edge_line(g, i);
+}

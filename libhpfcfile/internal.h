@@ -11,14 +11,26 @@ struct hpfc_graph {
     int32_t unit_exp10;
     size_t nv, cap_v;
     int64_t *vxy;          /* 2 per vertex */
-    uint32_t *vline;       /* source line per vertex, 0 if unknown */
+    uint32_t *vline;       /* source line per vertex, NULL until one is set */
     size_t ne, cap_e;
     uint32_t *eu, *ev;     /* end vertices */
     size_t *eoff;          /* interior points of edge e: pts[eoff[e] .. eoff[e+1]) */
-    uint32_t *eline;
+    uint32_t *eline;       /* source line per edge, NULL until one is set */
     size_t npts, cap_pts;
     int64_t *pts;          /* 2 per interior point */
 };
+
+/* Source line of vertex v / edge e, 0 if unknown (the arrays exist only
+ * once a line was set). */
+static inline uint32_t graph_vertex_line(const hpfc_graph *g, size_t v)
+{
+    return g->vline ? g->vline[v] : 0;
+}
+
+static inline uint32_t graph_edge_line(const hpfc_graph *g, size_t e)
+{
+    return g->eline ? g->eline[e] : 0;
+}
 
 /* Number of points of edge e, ends included. */
 static inline size_t graph_edge_point_count(const hpfc_graph *g, size_t e)

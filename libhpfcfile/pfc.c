@@ -738,11 +738,11 @@ static int check_duplicates(pfc_reader *r)
     if (repeat == SIZE_MAX)
         return HPFC_OK;
     diag_point(r, g->vxy[2 * repeat], g->vxy[2 * repeat + 1]);
-    return fail(r, HPFC_E_DUPLICATE_POINT, g->vline[repeat],
-                "vertex %zu is at the same point (%s, %s) as vertex %zu on line %u",
-                repeat, format_lattice(g->vxy[2 * repeat], r->d, xs),
+    return fail(r, HPFC_E_DUPLICATE_POINT, graph_vertex_line(g, repeat),
+                "vertex %zu is at the same point (%s, %s) as vertex %zu on line %u", repeat,
+                format_lattice(g->vxy[2 * repeat], r->d, xs),
                 format_lattice(g->vxy[2 * repeat + 1], r->d, ys), first,
-                (unsigned)g->vline[first]);
+                (unsigned)graph_vertex_line(g, first));
 }
 
 /* Every vertex needs an edge. */
@@ -762,7 +762,7 @@ static int check_isolated(pfc_reader *r)
     if (lonely == SIZE_MAX)
         return HPFC_OK;
     diag_point(r, g->vxy[2 * lonely], g->vxy[2 * lonely + 1]);
-    return fail(r, HPFC_E_ISOLATED_VERTEX, g->vline[lonely],
+    return fail(r, HPFC_E_ISOLATED_VERTEX, graph_vertex_line(g, lonely),
                 "vertex %zu has no edge (isolated vertex)", lonely);
 }
 

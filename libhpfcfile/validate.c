@@ -17,16 +17,16 @@
 /* Describes edge e for a message: "edge 3 (line 12)" or "edge 3". */
 static void describe_edge(const hpfc_graph *g, size_t e, char *buf, size_t size)
 {
-    if (g->eline[e])
-        snprintf(buf, size, "edge %zu (line %u)", e, g->eline[e]);
+    if (graph_edge_line(g, e))
+        snprintf(buf, size, "edge %zu (line %u)", e, graph_edge_line(g, e));
     else
         snprintf(buf, size, "edge %zu", e);
 }
 
 static void describe_vertex(const hpfc_graph *g, size_t v, char *buf, size_t size)
 {
-    if (g->vline[v])
-        snprintf(buf, size, "vertex %zu (line %u)", v, g->vline[v]);
+    if (graph_vertex_line(g, v))
+        snprintf(buf, size, "vertex %zu (line %u)", v, graph_vertex_line(g, v));
     else
         snprintf(buf, size, "vertex %zu", v);
 }
@@ -45,7 +45,7 @@ static void diag_edges(hpfc_diag *diag, const hpfc_graph *g, int64_t e0, int64_t
     if (diag) {
         diag->edge[0] = e0;
         diag->edge[1] = e1;
-        diag->line = e0 >= 0 ? g->eline[e0] : 0;
+        diag->line = e0 >= 0 ? graph_edge_line(g, e0) : 0;
     }
 }
 
@@ -90,7 +90,7 @@ static int check_isolated(const hpfc_graph *g, hpfc_diag *diag)
             char what[64];
             describe_vertex(g, v, what, sizeof what);
             if (diag)
-                diag->line = g->vline[v];
+                diag->line = graph_vertex_line(g, v);
             st = diag_set(diag, HPFC_E_ISOLATED_VERTEX, "%s has no incident edge", what);
         }
     }
@@ -148,8 +148,8 @@ static int check_duplicates(const hpfc_graph *g, hpfc_diag *diag)
             if (diag) {
                 diag->edge[0] = refs[i - 1].edge;
                 diag->edge[1] = refs[i].edge;
-                diag->line = refs[i - 1].edge < 0 ? g->vline[refs[i - 1].index]
-                                                  : g->eline[refs[i - 1].edge];
+                diag->line = refs[i - 1].edge < 0 ? graph_vertex_line(g, (size_t)refs[i - 1].index)
+                                                  : graph_edge_line(g, (size_t)refs[i - 1].edge);
             }
             diag_point(diag, g, (double)refs[i].x, (double)refs[i].y);
             st = diag_set(diag, HPFC_E_DUPLICATE_POINT, "%s and %s are at the same point (%.17g, %.17g)",
