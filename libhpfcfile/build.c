@@ -348,6 +348,15 @@ static int assign_components(builder *b, word_scratch *w, const int64_t cell[4])
     return HPFC_OK;
 }
 
+/* Does a crossing of the word lie past its edge's first segment? */
+static bool beyond_first_segment(const word_scratch *w)
+{
+    for (size_t k = 0; k < w->ncr; k++)
+        if (w->cr[k].k)
+            return true;
+    return false;
+}
+
 static int append_word(builder *b, word_scratch *w, tpixel *px)
 {
     hpfc_tree *t = b->t;
@@ -357,13 +366,16 @@ static int append_word(builder *b, word_scratch *w, tpixel *px)
     size_t old_cap = t->cap_cross;
     if (!st)
         st = reserve((void **)&t->cross_edge, &t->cap_cross, t->ncross + w->ncr, sizeof(uint32_t));
-    if (!st && t->cap_cross != old_cap) { /* cross_seg follows cross_edge's capacity */
+    if (!st && t->cross_seg && t->cap_cross != old_cap) { /* it follows cross_edge's capacity */
         uint32_t *ns = realloc(t->cross_seg, t->cap_cross * sizeof *ns);
         if (!ns)
             st = HPFC_E_NOMEM;
         else
             t->cross_seg = ns;
     }
+    if (!st && !t->cross_seg && beyond_first_segment(w) &&
+        !(t->cross_seg = calloc(t->cap_cross, sizeof *t->cross_seg)))
+        st = HPFC_E_NOMEM; /* the crossings so far: all on first segments */
     if (st)
         return st;
     if (w->ncr > TPIXEL_COUNT_MAX || t->ncross > TPIXEL_CROSS_OFF_MAX - w->ncr)
@@ -387,7 +399,8 @@ static int append_word(builder *b, word_scratch *w, tpixel *px)
                 sym = c->seen == 1 ? '(' : c->seen == c->size ? ')' : 'Y';
             *out++ = sym;
             t->cross_edge[t->ncross] = w->cr[k].edge;
-            t->cross_seg[t->ncross] = w->cr[k].k;
+            if (t->cross_seg)
+                t->cross_seg[t->ncross] = w->cr[k].k;
             t->ncross++;
         }
         *out++ = '+';
@@ -802,6 +815,9 @@ int hpfc_build(const hpfc_graph *g, const hpfc_build_params *params, hpfc_tree *
     if (st == HPFC_E_NOMEM)
         diag_set(diag, st, "out of memory");
     free_builder(&b);
+    if (!st && !b.t->cross_seg &&
+        !(b.t->zero_seg = calloc((size_t)b.t->info.max_word_symbols + 1, sizeof *b.t->zero_seg)))
+        st = HPFC_E_NOMEM;
     if (st) {
         hpfc_tree_free(b.t);
         return st;
@@ -833,6 +849,7 @@ void hpfc_tree_free(hpfc_tree *t)
     free(t->syms);
     free(t->cross_edge);
     free(t->cross_seg);
+    free(t->zero_seg);
     free(t);
 }
 
@@ -871,6 +888,6 @@ int hpfc_tree_get_pixel(const hpfc_tree *t, uint32_t level, size_t image, uint32
     out->word = t->syms + px->off;
     out->word_len = (uint32_t)(px->cross & ((UINT64_C(1) << TPIXEL_COUNT_BITS) - 1)) + 4;
     out->cross_edge = t->cross_edge + cross_off;
-    out->cross_segment = t->cross_seg + cross_off;
+    out->cross_segment = t->cross_seg ? t->cross_seg + cross_off : t->zero_seg;
     return HPFC_OK;
 }

@@ -34,7 +34,11 @@ struct hpfc_tree {
     uint32_t levels_cap;      /* entries allocated in levels */
     char *syms;
     size_t nsyms, cap_syms;
-    uint32_t *cross_edge, *cross_seg;
+    uint32_t *cross_edge;
+    /* Segment of each crossing, NULL while every crossing lies on its edge's
+     * first segment (straight edges: half the crossings' memory); then
+     * zero_seg, max_word_symbols zeros, stands for any word's. */
+    uint32_t *cross_seg, *zero_seg;
     size_t ncross, cap_cross;
 };
 
