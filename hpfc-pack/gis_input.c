@@ -661,7 +661,17 @@ static int push_seg(reader *r, seg **segs, size_t *n, size_t *cap, pt a, pt b)
     return 0;
 }
 
-static void sort_unique(seg *segs, size_t *n)
+/* Gives back the tail of an array that shrank: a polygon coverage stores
+ * each shared border twice, so deduplication halves the arrays below, which
+ * are held through the graph's making, the read's peak. */
+static void *shrink(void *p, size_t n, size_t size)
+{
+    void *q = realloc(p, (n ? n : 1) * size);
+    return q ? q : p;
+}
+
+/* Sorts and deduplicates segs; returns the array, shrunk to *n. */
+static seg *sort_unique(seg *segs, size_t *n)
 {
     sort_in_place(segs, *n, sizeof *segs, cmp_seg); /* qsort would double the array */
     size_t u = 0;
@@ -669,6 +679,7 @@ static void sort_unique(seg *segs, size_t *n)
         if (u == 0 || cmp_seg(&segs[u - 1], &segs[i]) != 0)
             segs[u++] = segs[i];
     *n = u;
+    return shrink(segs, u, sizeof *segs);
 }
 
 /* The distinct non-degenerate segments of the snapped parts, sorted. */
@@ -687,7 +698,7 @@ static int collect_segments(reader *r, const int64_t *lat, seg **out, size_t *n_
                 return 1;
             }
         }
-    sort_unique(segs, &n);
+    segs = sort_unique(segs, &n);
     *out = segs;
     *n_out = n;
     return n ? 0 : fail(r, "nothing left after snapping to the lattice (every line collapsed "
@@ -822,7 +833,7 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
     if (!st && !again)
         st = fail(r, "out of memory");
     if (!st) {
-        sort_unique(merged, &m);
+        merged = sort_unique(merged, &m);
         long long left = segnode_find_dirty(merged, m, again);
         if (left < 0)
             st = fail(r, "out of memory");
@@ -886,7 +897,7 @@ static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out)
         free(segs);
         return st;
     }
-    sort_unique(segs, &n);
+    segs = sort_unique(segs, &n);
     snprintf(r->info->noding, sizeof r->info->noding, "all");
     r->info->noded_segments = n;
     *segs_out = segs;
@@ -984,6 +995,7 @@ static int make_graph(reader *r, const seg *segs, size_t n_segs, hpfc_graph **ou
     for (size_t i = 0; i < 2 * n_segs; i++)
         if (b.n_pts == 0 || cmp_pt(&b.pts[b.n_pts - 1], &b.pts[i]) != 0)
             b.pts[b.n_pts++] = b.pts[i];
+    b.pts = shrink(b.pts, b.n_pts, sizeof *b.pts);
     b.adj_start = calloc(b.n_pts + 1, sizeof *b.adj_start);
     b.adj = malloc(2 * n_segs * sizeof *b.adj);
     b.vertex = malloc(b.n_pts * sizeof *b.vertex);
