@@ -220,8 +220,35 @@ static void check_involutions(const hpfc_file *f)
     hpfc_walker_free(w);
 }
 
+/* The face of every dart, in hpfc_vertex_dart order (nd darts): the
+ * number of darts whose face is not a face id below `count`. */
+static size_t faces_of_darts(const hpfc_file *f, hpfc_walker *w, const hpfc_faces *faces,
+                             uint64_t count, uint64_t *face_of, size_t nd)
+{
+    hpfc_pixel px;
+    size_t d = 0, bad = 0;
+    for (int st = hpfc_leaf_first(f, &px); !st; st = hpfc_leaf_next(f, &px)) {
+        uint32_t nv = 0;
+        hpfc_pixel_vertex_count(w, &px, &nv);
+        for (uint32_t v = 0; v < nv; v++) {
+            hpfc_vertex vx;
+            uint32_t deg = 0;
+            hpfc_pixel_vertex(w, &px, v, &vx);
+            hpfc_vertex_degree(w, &vx, &deg);
+            for (uint32_t k = 0; k < deg && d < nd; k++, d++) {
+                hpfc_dart dt;
+                hpfc_vertex_dart(w, &vx, k, &dt);
+                bad +=
+                    hpfc_faces_of_dart(faces, &dt, &face_of[d]) != HPFC_OK || face_of[d] >= count;
+            }
+        }
+    }
+    CHECK_EQ_INT(d, nd);
+    return bad;
+}
+
 /* The 64-bit union-find of continental maps numbers the faces as the
- * 32-bit one does: the face of every dart, in hpfc_vertex_dart order. */
+ * 32-bit one does: the face of every dart. */
 static void check_wide_faces(const hpfc_file *f, hpfc_walker *w, uint64_t count,
                              const uint64_t *face_of, size_t nd)
 {
@@ -233,26 +260,10 @@ static void check_wide_faces(const hpfc_file *f, hpfc_walker *w, uint64_t count,
     if (!wide)
         return;
     CHECK_EQ_INT(hpfc_faces_count(wide), count);
-    hpfc_pixel px;
-    size_t d = 0, differ = 0;
-    for (int st = hpfc_leaf_first(f, &px); !st && d < nd; st = hpfc_leaf_next(f, &px)) {
-        uint32_t nv = 0;
-        hpfc_pixel_vertex_count(w, &px, &nv);
-        for (uint32_t v = 0; v < nv; v++) {
-            hpfc_vertex vx;
-            uint32_t deg = 0;
-            hpfc_pixel_vertex(w, &px, v, &vx);
-            hpfc_vertex_degree(w, &vx, &deg);
-            for (uint32_t k = 0; k < deg && d < nd; k++, d++) {
-                hpfc_dart dt;
-                uint64_t face = UINT64_MAX;
-                hpfc_vertex_dart(w, &vx, k, &dt);
-                differ += hpfc_faces_of_dart(wide, &dt, &face) != HPFC_OK || face != face_of[d];
-            }
-        }
-    }
-    CHECK_EQ_INT(d, nd);
-    CHECK_EQ_INT(differ, 0);
+    uint64_t *wide_of = malloc(nd * sizeof *wide_of);
+    CHECK_EQ_INT(faces_of_darts(f, w, wide, count, wide_of, nd), 0);
+    CHECK(memcmp(wide_of, face_of, nd * sizeof *face_of) == 0);
+    free(wide_of);
     hpfc_faces_free(wide);
 }
 
@@ -287,28 +298,10 @@ static void check_faces(const hpfc_file *f, const exported_map *fm, const hpfc_g
     hpfc_walker *w;
     hpfc_walker_create(f, &w);
     uint64_t *face_of = malloc(fm->nd * sizeof *face_of);
-    hpfc_pixel px;
-    size_t d = 0, bad = 0;
-    for (int st = hpfc_leaf_first(f, &px); !st; st = hpfc_leaf_next(f, &px)) {
-        uint32_t count = 0;
-        hpfc_pixel_vertex_count(w, &px, &count);
-        for (uint32_t v = 0; v < count; v++) {
-            hpfc_vertex vx;
-            uint32_t deg = 0;
-            hpfc_pixel_vertex(w, &px, v, &vx);
-            hpfc_vertex_degree(w, &vx, &deg);
-            for (uint32_t k = 0; k < deg && d < fm->nd; k++, d++) {
-                hpfc_dart dt;
-                hpfc_vertex_dart(w, &vx, k, &dt);
-                bad += hpfc_faces_of_dart(faces, &dt, &face_of[d]) != HPFC_OK || face_of[d] >= F;
-            }
-        }
-    }
-    CHECK_EQ_INT(d, fm->nd);
-    CHECK_EQ_INT(bad, 0);
+    CHECK_EQ_INT(faces_of_darts(f, w, faces, F, face_of, fm->nd), 0);
     check_wide_faces(f, w, F, face_of, fm->nd);
     uint8_t *seen = calloc(fm->nd, 1), *face_seen = calloc(F + 1, 1);
-    size_t loops = 0;
+    size_t loops = 0, bad = 0;
     for (size_t s = 0; s < fm->nd; s++) {
         if (seen[s])
             continue;
