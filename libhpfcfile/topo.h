@@ -61,6 +61,9 @@ typedef struct cached_crossing {
      * key operator answers from this crossing alone */
     uint32_t arrival_pred;
     uint64_t arrival_slot;
+    /* and that entry's pixel_id, once known: a walk that wants the result's
+     * index (hpfc_key_next_indexed) reads it here, not from that entry */
+    uint64_t arrival_pixel;
 } cached_crossing;
 
 typedef struct cached_vertex {

@@ -269,6 +269,7 @@ static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *l
                                  .arrival_m = NONE,
                                  .arrival_pred = NONE,
                                  .arrival_slot = 0,
+                                 .arrival_pixel = PIXEL_ID_UNKNOWN,
                                  .pred = ok ? lw->pred[k] : k,
                                  .succ = ok ? lw->succ[k] : k,
                                  .vertex = ok ? lw->comp_vertex[lw->comp[k]] : NONE};

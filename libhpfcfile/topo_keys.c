@@ -264,11 +264,16 @@ static int cached_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64
     }
     /* twin(d) = out_m where d arrives, next(d) = out_pred(m), prev(d) =
      * twin(out_succ(k)) */
-    const cached_crossing *start = &x[op == OP_PREV ? x[k].succ : k];
+    cached_crossing *start = &x[op == OP_PREV ? x[k].succ : k];
     if (start->arrival && op != OP_TARGET) { /* walked before: the answer is here */
         m = op == OP_NEXT ? start->arrival_pred : start->arrival_m;
-        if (index && (st = entry_dart_index(w, start->arrival, m, index)))
-            return st;
+        if (index) {
+            if (start->arrival_pixel == PIXEL_ID_UNKNOWN &&
+                (st = entry_pixel_id(w, cache_entry(&w->cache, start->arrival),
+                                     &start->arrival_pixel)))
+                return st;
+            *index = start->arrival_pixel * w->cap + m;
+        }
         *out = start->arrival_slot << KEY_SHIFT | m;
         return HPFC_OK;
     }
