@@ -13,7 +13,10 @@
  * keys (hpfc_key_next / hpfc_key_twin; a queue of 64-bit keys, the visited
  * set on keys), by another walker, cold and warm; its parent index, built
  * by the first key it cannot find in its cache, is timed apart (one build,
- * before the walks).
+ * before the walks). A third walker walks keys with the visited set a
+ * bitmap of hpfc_key_index_bound bits, by the dart index the _indexed
+ * operators return with each result, cold and warm, and warm once more
+ * with the queue push behind an if as in the other walks.
  * The memory the walks write (queue, visited set, the cache's arena) is
  * touched before the clock starts, as the half-edge array is.
  */
@@ -63,7 +66,7 @@ typedef struct timing {
 } timing;
 
 typedef struct file_result {
-    timing plain, cold, warm, key_cold, key_warm;
+    timing plain, cold, warm, key_cold, key_warm, bit_cold, bit_warm, bit_if;
     double key_alone; /* ns per warm key operator without the walk around it */
     double index_ms;  /* the key walker's parent index, built once */
 } file_result;
@@ -76,7 +79,11 @@ typedef struct bfs {
     size_t n, nd;
     key_set seen;
     bool on_keys; /* walk keys[] with the key operators */
-    uint64_t *keys, *kqueue;
+    bool on_bits; /* ... with the _indexed ones, the visited set a bitmap */
+    bool branchy; /* ... the bitmap tested with an if, as the other walks */
+    uint64_t *keys, *kqueue, *kindex; /* kindex: keys[]' dart indices */
+    uint8_t *bits;
+    uint64_t bound; /* of the dart indices: bits of the bitmap */
 } bfs;
 
 /* Breadth-first over darts from every dart in turn, by next and twin. The
@@ -127,6 +134,55 @@ static timing run_key_bfs(bfs *b)
                 b->kqueue[tail++] = r;
             if (!hpfc_key_twin(b->w, d, &r) && set_insert(&b->seen, r))
                 b->kqueue[tail++] = r;
+            ops += 2;
+        }
+    }
+    double t1 = now();
+    timing r;
+    r.ns_per_op = 1e9 * (t1 - t0) / (double)ops;
+    r.decodes_per_edge =
+        (double)(hpfc_walker_pixels_visited(b->w) - visited0) / (double)(b->nd / 2);
+    return r;
+}
+
+/* The same walk on keys, visited darts in a bitmap indexed by dart index
+ * (hpfc_key_next_indexed / hpfc_key_twin_indexed give it with the result).
+ * Without `branchy` each result is written to the queue's tail and the tail
+ * moves when its bit was clear: no branch waits on the operator's answer,
+ * so a mispredicted one does not throw away the next operators' cache
+ * misses in flight (the same change leaves the array walk as fast). */
+static timing run_bit_bfs(bfs *b)
+{
+    size_t ops = 0;
+    memset(b->bits, 0, (size_t)(b->bound + 7) / 8);
+    uint64_t visited0 = hpfc_walker_pixels_visited(b->w);
+    double t0 = now();
+    size_t head = 0, tail = 0;
+    for (size_t s = 0; s < b->n; s++) {
+        uint64_t i = b->kindex[s];
+        if (b->bits[i >> 3] >> (i & 7) & 1)
+            continue;
+        b->bits[i >> 3] |= (uint8_t)(1u << (i & 7));
+        b->kqueue[tail++] = b->keys[s];
+        while (head < tail) {
+            uint64_t d = b->kqueue[head++], r;
+            for (int op = 0; op < 2; op++) {
+                int st = op ? hpfc_key_twin_indexed(b->w, d, &r, &i)
+                            : hpfc_key_next_indexed(b->w, d, &r, &i);
+                if (st)
+                    continue; /* not on this map's darts */
+                unsigned fresh = !(b->bits[i >> 3] >> (i & 7) & 1);
+                if (b->branchy) {
+                    if (fresh) {
+                        b->bits[i >> 3] |= (uint8_t)(1u << (i & 7));
+                        b->kqueue[tail++] = r;
+                    }
+                } else { /* kqueue has a spare entry */
+                    b->bits[i >> 3] |= (uint8_t)(1u << (i & 7));
+                    b->kqueue[tail] = r;
+                    tail += fresh;
+                }
+            }
             ops += 2;
         }
     }
@@ -199,7 +255,7 @@ static timing median_bfs(bfs *b, size_t cache, bool empty)
     for (int r = 0; r < RUNS; r++) {
         if (empty)
             hpfc_walker_set_cache_size(b->w, cache);
-        t[r] = b->on_keys ? run_key_bfs(b) : run_bfs(b);
+        t[r] = b->on_bits ? run_bit_bfs(b) : b->on_keys ? run_key_bfs(b) : run_bfs(b);
     }
     qsort(t, RUNS, sizeof *t, by_time);
     return t[RUNS / 2];
@@ -240,9 +296,27 @@ static file_result walk_file(const hpfc_file *f, size_t nd, bool with_keys)
         r.key_cold = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, true);
         r.key_warm = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, false);
         r.key_alone = key_ops_alone(&b);
-        free(b.keys), free(b.kqueue);
         hpfc_walker_free(b.w);
     }
+    /* the bitmap walk: another walker, its index built apart as above */
+    uint64_t vbound;
+    if (with_keys && b.keys && !hpfc_walker_create(f, &b.w) &&
+        !hpfc_key_index_bound(b.w, &b.bound, &vbound)) {
+        b.kindex = malloc((b.n + 1) * sizeof *b.kindex);
+        b.bits = malloc((size_t)(b.bound + 7) / 8 + 1);
+        for (size_t k = 0; k < b.n; k++)
+            hpfc_dart_index(b.w, b.keys[k], &b.kindex[k]);
+        b.on_bits = true;
+        run_bit_bfs(&b);
+        r.bit_cold = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, true);
+        r.bit_warm = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, false);
+        b.branchy = true;
+        r.bit_if = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, false);
+        b.on_bits = b.branchy = false;
+        free(b.kindex), free(b.bits);
+        hpfc_walker_free(b.w);
+    }
+    free(b.keys), free(b.kqueue);
     free(b.all), free(b.queue), free(b.seen.keys);
     return r;
 }
@@ -349,15 +423,19 @@ int main(int argc, char **argv)
            "64-bit keys\n");
     printf("x = hPFC / array; alone = the warm key operators without the walk's queue and visited "
            "set,\n  against the array's lookups alone (arr1), in the same order\n");
+    printf("bit = the walk on keys with a visited bitmap by dart index (the _indexed "
+           "operators),\n  its queue push without a branch; if = the same warm with an if, as "
+           "the other walks\n");
     printf("idx = the key walker's parent index, built once (ms)\n");
-    printf("%-4s %5s | %6s %6s | %7s %7s | %7s %7s %7s | %7s %7s %6s | %8s %8s | %6s %6s | %6s "
-           "%6s %6s %6s %6s | %5s\n",
-           "seed", "edges", "hPFC", "", "rPFC", "", "hPFC", "dart", "", "hPFC", "key", "", "rPFC",
-           "", "array", "", "hPFC", "", "", "", "", "idx");
-    printf("%-4s %5s | %6s %6s | %7s %7s | %7s %7s %7s | %7s %7s %6s | %8s %8s | %6s %6s | %6s "
-           "%6s %6s %6s %6s | %5s\n",
+    printf("%-4s %5s | %6s %6s | %7s %7s | %7s %7s %7s | %7s %7s %6s | %7s %7s %6s | %8s %8s | "
+           "%6s %6s | %6s %6s %6s %6s %6s %6s %6s %6s | %5s\n",
+           "seed", "edges", "hPFC", "", "rPFC", "", "hPFC", "dart", "", "hPFC", "key", "", "hPFC",
+           "bit", "", "rPFC", "", "array", "", "hPFC", "", "", "", "", "", "", "", "idx");
+    printf("%-4s %5s | %6s %6s | %7s %7s | %7s %7s %7s | %7s %7s %6s | %7s %7s %6s | %8s %8s | "
+           "%6s %6s | %6s %6s %6s %6s %6s %6s %6s %6s | %5s\n",
            "", "", "none", "cold", "none", "cold", "none", "cold", "warm", "cold", "warm", "alone",
-           "none", "cold", "ns/op", "arr1", "cold", "warm", "kcold", "kwarm", "kalone", "ms");
+           "cold", "warm", "if", "none", "cold", "ns/op", "arr1", "cold", "warm", "kcold", "kwarm",
+           "bcold", "bwarm", "bif", "kalone", "ms");
     for (int seed = 1; seed <= seeds; seed++) {
         hpfc_graph *g = NULL;
         if (gen_delaunay((uint64_t)seed, 4000, 1 << 20, 0.2, &g))
@@ -374,15 +452,17 @@ int main(int argc, char **argv)
         if (flat)
             rf = walk_file(flat, m.nd, false);
         printf("%-4d %5zu | %6.2f %6.2f | %7.2f %7.2f | %7.1f %7.1f %7.1f | %7.1f %7.1f %6.1f | "
-               "%8.1f %8.1f | "
-               "%6.2f %6.2f | %5.0fx %5.0fx %5.0fx %5.1fx %5.1fx | %5.2f\n",
+               "%7.1f %7.1f %6.1f | %8.1f %8.1f | "
+               "%6.2f %6.2f | %5.0fx %5.0fx %5.0fx %5.1fx %5.0fx %5.1fx %5.1fx %5.1fx | %5.2f\n",
                seed, m.nd / 2, rh.plain.decodes_per_edge, rh.cold.decodes_per_edge,
                rf.plain.decodes_per_edge, rf.cold.decodes_per_edge, rh.plain.ns_per_op,
                rh.cold.ns_per_op, rh.warm.ns_per_op, rh.key_cold.ns_per_op, rh.key_warm.ns_per_op,
-               rh.key_alone, rf.plain.ns_per_op, rf.cold.ns_per_op, array_ns, ar.alone_ns,
+               rh.key_alone, rh.bit_cold.ns_per_op, rh.bit_warm.ns_per_op, rh.bit_if.ns_per_op,
+               rf.plain.ns_per_op, rf.cold.ns_per_op, array_ns, ar.alone_ns,
                rh.cold.ns_per_op / array_ns, rh.warm.ns_per_op / array_ns,
                rh.key_cold.ns_per_op / array_ns, rh.key_warm.ns_per_op / array_ns,
-               rh.key_alone / ar.alone_ns, rh.index_ms);
+               rh.bit_cold.ns_per_op / array_ns, rh.bit_warm.ns_per_op / array_ns,
+               rh.bit_if.ns_per_op / array_ns, rh.key_alone / ar.alone_ns, rh.index_ms);
         exported_map_free(&m);
         hpfc_close(h);
         hpfc_close(flat);

@@ -19,7 +19,9 @@
  * answer: a second walker without cache gives the same status and the same
  * dart (whole pixel path) for every dart operator, and the same key for
  * every key operator, which equals the dart operator's answer on
- * hpfc_dart_from_key's dart (status included). (The identities of a consistent
+ * hpfc_dart_from_key's dart (status included); the dense indices of every
+ * key asked agree across the walkers, lie below the bound and come with the
+ * _indexed operators' results. (The identities of a consistent
  * map, twin an involution and so on, are roundtrip_graph's oracle: a file
  * with matching checksums can still be a crafted inconsistent fixture.)
  */
@@ -178,6 +180,45 @@ static int key_call(hpfc_walker *w, int op, uint64_t key, uint64_t *out)
     }
 }
 
+static int indexed_call(hpfc_walker *w, int op, uint64_t key, uint64_t *out, uint64_t *index)
+{
+    return op == 0   ? hpfc_key_twin_indexed(w, key, out, index)
+           : op == 1 ? hpfc_key_next_indexed(w, key, out, index)
+                     : hpfc_key_prev_indexed(w, key, out, index);
+}
+
+/* The dense indices of any key: the same bound, status and index from both
+ * walkers; the status of hpfc_dart_from_key (`from`) or
+ * hpfc_vertex_from_key unless the bound fails; below the bound; the
+ * _indexed operators give the key operators' answers and hpfc_dart_index
+ * of their result. */
+static void index_calls(trav *t, uint64_t key, int from)
+{
+    uint64_t bound = 0, vbound = 0, b2 = 0, vb2 = 0;
+    int bst = status(hpfc_key_index_bound(t->w, &bound, &vbound));
+    FUZZ_CHECK(bst == hpfc_key_index_bound(t->plain, &b2, &vb2));
+    FUZZ_CHECK(bst || (bound == b2 && vbound == vb2 && bound == vbound));
+    uint64_t di = 0, di2 = 0, vi = 0, vi2 = 0;
+    hpfc_vertex v;
+    int vfrom = hpfc_vertex_from_key(t->plain, key, &v);
+    int dst = status(hpfc_dart_index(t->w, key, &di));
+    int vst = status(hpfc_vertex_index(t->w, key, &vi));
+    FUZZ_CHECK(dst == hpfc_dart_index(t->plain, key, &di2) && (dst || di == di2));
+    FUZZ_CHECK(vst == hpfc_vertex_index(t->plain, key, &vi2) && (vst || vi == vi2));
+    FUZZ_CHECK(dst == (bst ? bst : from) && vst == (bst ? bst : vfrom));
+    FUZZ_CHECK((dst || di < bound) && (vst || vi < vbound));
+    for (int op = 0; op < 3; op++) {
+        uint64_t a = 0, ai = 0, b = 0, bi = 0, plain = 0, want = 0;
+        int sa = status(indexed_call(t->w, op, key, &a, &ai));
+        int sb = indexed_call(t->plain, op, key, &b, &bi);
+        int sp = key_call(t->plain, op, key, &plain);
+        FUZZ_CHECK(sa == sb && sa == (bst ? bst : sp));
+        FUZZ_CHECK(sa || (a == b && a == plain && ai == bi && ai < bound));
+        FUZZ_CHECK(sa || (hpfc_dart_index(t->plain, a, &want) == HPFC_OK && ai == want));
+    }
+    t->steps -= 4;
+}
+
 /* The key calls on any key: both walkers give the same answers, each the
  * dart operator's on hpfc_dart_from_key's dart as a key (or, when the key
  * names no dart, from_key's status), and from_key gives back the key. */
@@ -210,6 +251,7 @@ static void key_calls(trav *t, uint64_t key)
         }
         FUZZ_CHECK(sa == want_st && (sa || a == want));
     }
+    index_calls(t, key, from);
     t->steps -= 6;
 }
 

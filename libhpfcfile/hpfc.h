@@ -510,6 +510,48 @@ HPFC_API int hpfc_key_target(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex
 HPFC_API int hpfc_dart_from_key(hpfc_walker *w, uint64_t key, hpfc_dart *out);
 HPFC_API int hpfc_vertex_from_key(hpfc_walker *w, uint64_t key, hpfc_vertex *out);
 
+/* Dense indices. Keys are sparse 64-bit numbers; these are small integers
+ * for arrays of per-dart (per-vertex) data and visited bitmaps.
+ *
+ * Definition (a pure function of the key and the file, so the same on any
+ * walker, cache or not, and across opens): number the file's pixels, word
+ * and refined alike, level by level; the root image's in scanline order
+ * first, then each level's images in pool order (the order of their
+ * addresses, §9), each image's pixels in scanline order:
+ *   pixel(l, image, i, j) = P[l] + image * cols * rows + j * w + i
+ * with P[0] = 0, P[1] = root_cols * root_rows, P[l + 1] = P[l] +
+ * images[l] * cols * rows (hpfc_level_info.images), `image` the rank of the
+ * image's address among its level's, w = root_cols at level 0, else cols.
+ * With K the most crossings a word of the file can hold (the largest
+ * (word_bits - 4) / 4 of its levels: a constant of the file), a dart's
+ * index is pixel * K + crossing and a vertex's pixel * K + local (a word
+ * has no more vertices than crossings). Distinct darts (vertices) have
+ * distinct indices.
+ *
+ * hpfc_key_index_bound: both indices are below total pixels * K: a visited
+ * bitmap takes that many bits (data/delaunay-4000 packed by default: 9,616
+ * pixels, K = 20: 192,320 bits, 24 KB, for 19,154 darts). HPFC_E_LIMIT
+ * when the product does not fit 64 bits (the key operators still work).
+ * hpfc_dart_index / hpfc_vertex_index: the index of a key. The
+ * *_indexed operators: hpfc_key_twin/next/prev that also give the
+ * result's dart index, read from where the cache found the result.
+ *
+ * Statuses as the key operators' (a key naming no dart, vertex: HPFC_E_ARG;
+ * also a NULL index), and HPFC_E_LIMIT as above; outputs are written only
+ * on success. All build the parent index if needed. Cost: a key whose
+ * pixel the cache holds costs one hash probe and a few loads; an _indexed
+ * operator costs its operator's work and a load or two (the index is kept
+ * in the cache entry); otherwise as a key operator that resolves its key. */
+HPFC_API int hpfc_key_index_bound(hpfc_walker *w, uint64_t *darts, uint64_t *vertices);
+HPFC_API int hpfc_dart_index(hpfc_walker *w, uint64_t dart_key, uint64_t *index);
+HPFC_API int hpfc_vertex_index(hpfc_walker *w, uint64_t vertex_key, uint64_t *index);
+HPFC_API int hpfc_key_twin_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key,
+                                   uint64_t *out_index);
+HPFC_API int hpfc_key_next_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key,
+                                   uint64_t *out_index);
+HPFC_API int hpfc_key_prev_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key,
+                                   uint64_t *out_index);
+
 /* Iteration over the word pixels of the file in depth-first order (each
  * image in scanline order): start with hpfc_leaf_first, then call
  * hpfc_leaf_next until it returns HPFC_E_NO_PIXEL. On an untrusted file,

@@ -61,6 +61,9 @@ typedef struct cached_crossing {
      * key operator answers from this crossing alone */
     uint32_t arrival_pred;
     uint64_t arrival_slot;
+    /* and that entry's pixel_id, once known: a walk that wants the result's
+     * index (hpfc_key_next_indexed) reads it here, not from that entry */
+    uint64_t arrival_pixel;
 } cached_crossing;
 
 typedef struct cached_vertex {
@@ -80,7 +83,12 @@ typedef struct cached_word {
     uint32_t road_off[5];    /* as in local_word */
     uint32_t keyed;          /* the path is the slot's own (topo_keys.c): in the slot index */
     uint64_t slot;           /* absolute bit position of the word's slot (its key) */
+    /* the pixel's dense id (topo_keys.c), PIXEL_ID_UNKNOWN until a key call
+     * needs it: kept here so that a warm index call reads it, not searches */
+    uint64_t pixel_id;
 } cached_word;
+
+#define PIXEL_ID_UNKNOWN UINT64_MAX
 
 static inline cached_crossing *word_crossings(cached_word *e)
 {
@@ -125,6 +133,14 @@ typedef struct key_index {
     key_image *images; /* all levels, level l from first[l] */
     uint64_t first[HPFC_MAX_LEVELS + 1];
     uint64_t pool_bit[HPFC_MAX_LEVELS], pool_bits[HPFC_MAX_LEVELS];
+    /* dense pixel ids (hpfc_dart_index): level l's pixels from
+     * pixel_first[l], image by image in pool order, each in scanline order;
+     * pixel_first[levels] is all pixels */
+    uint64_t pixel_first[HPFC_MAX_LEVELS + 1];
+    uint64_t image_pixels; /* cols * rows */
+    uint32_t root_cols, cols;
+    uint64_t bound;   /* pixels * the walker's cap: the indices' bound */
+    int bound_status; /* HPFC_E_LIMIT when that overflows 64 bits */
 } key_index;
 
 struct hpfc_walker {

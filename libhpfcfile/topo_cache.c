@@ -259,6 +259,7 @@ static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *l
     memcpy(e->road_off, lw->road_off, sizeof e->road_off);
     e->keyed = 0;
     e->slot = slot;
+    e->pixel_id = PIXEL_ID_UNKNOWN;
     memcpy(word_path(e), px->path, ((size_t)px->depth + 1) * sizeof(path_step));
     cached_crossing *x = word_crossings(e);
     for (uint32_t k = 0; k < e->n; k++)
@@ -268,6 +269,7 @@ static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *l
                                  .arrival_m = NONE,
                                  .arrival_pred = NONE,
                                  .arrival_slot = 0,
+                                 .arrival_pixel = PIXEL_ID_UNKNOWN,
                                  .pred = ok ? lw->pred[k] : k,
                                  .succ = ok ? lw->succ[k] : k,
                                  .vertex = ok ? lw->comp_vertex[lw->comp[k]] : NONE};

@@ -64,20 +64,34 @@ static int build_index(hpfc_walker *w)
 {
     key_index *x = &w->keys;
     hpfc_level_info lv[HPFC_MAX_LEVELS];
-    uint64_t total = 0;
+    hpfc_file_info info;
+    hpfc_file_get_info(w->file, &info);
+    x->root_cols = info.root_cols;
+    x->cols = info.cols;
+    x->image_pixels = (uint64_t)info.cols * info.rows;
+    uint64_t total = 0, pixels = 0;
     for (uint32_t l = 0; l < w->levels; l++) {
         hpfc_file_get_level(w->file, l, &lv[l]);
         x->pool_bit[l] = lv[l].pool_offset * 8;
         x->pool_bits[l] = lv[l].pool_bits;
         x->first[l] = total;
+        x->pixel_first[l] = pixels;
         if (l > 0) {
-            /* open checked images * pixels <= s^l, so the total fits */
+            /* open checked images * pixels <= s^l, so the totals fit */
             if (lv[l].images > UINT32_MAX)
                 return HPFC_E_LIMIT;
             total += lv[l].images;
+            pixels += lv[l].images * x->image_pixels;
+        } else {
+            pixels += (uint64_t)info.root_cols * info.root_rows;
         }
     }
     x->first[w->levels] = total;
+    x->pixel_first[w->levels] = pixels;
+    /* a file of huge words and many pixels: its indices would not fit, but
+     * its keys still work */
+    x->bound_status = w->cap && pixels > UINT64_MAX / w->cap ? HPFC_E_LIMIT : HPFC_OK;
+    x->bound = x->bound_status ? 0 : pixels * w->cap;
     if (!(x->images = malloc(total ? total * sizeof *x->images : 1)))
         return HPFC_E_NOMEM;
     int st = HPFC_OK;
@@ -87,8 +101,9 @@ static int build_index(hpfc_walker *w)
 }
 
 /* The word pixel whose slot starts at absolute bit `pos`, with its path
- * from the root: HPFC_E_ARG when no word slot starts there. */
-static int slot_pixel(hpfc_walker *w, uint64_t pos, hpfc_pixel *px)
+ * from the root and its dense id: HPFC_E_ARG when no word slot starts
+ * there. */
+static int slot_pixel(hpfc_walker *w, uint64_t pos, hpfc_pixel *px, uint64_t *id)
 {
     const key_index *x = &w->keys;
     uint32_t l = 0;
@@ -113,11 +128,10 @@ static int slot_pixel(hpfc_walker *w, uint64_t pos, hpfc_pixel *px)
     int st = reader_word_at(w->file, l, start, rel, &pixel);
     if (st)
         return st;
-    hpfc_file_info info;
-    hpfc_file_get_info(w->file, &info);
+    *id = x->pixel_first[l] + index * x->image_pixels + pixel;
     px->depth = l;
     for (;;) {
-        uint32_t cols = l ? info.cols : info.root_cols;
+        uint32_t cols = l ? x->cols : x->root_cols;
         px->path[l].image = start;
         px->path[l].i = pixel % cols;
         px->path[l].j = pixel / cols;
@@ -131,8 +145,8 @@ static int slot_pixel(hpfc_walker *w, uint64_t pos, hpfc_pixel *px)
     }
 }
 
-/* The path of the key's word pixel, the parent index built on first use. */
-static int key_pixel(hpfc_walker *w, uint64_t key, hpfc_pixel *px)
+/* The parent index, built on first use: its status. */
+static int ensure_index(hpfc_walker *w)
 {
     if (!w->keys.built) {
         int st = build_index(w);
@@ -143,7 +157,56 @@ static int key_pixel(hpfc_walker *w, uint64_t key, hpfc_pixel *px)
         w->keys.status = st;
         w->keys.built = true;
     }
-    return w->keys.status ? w->keys.status : slot_pixel(w, key >> KEY_SHIFT, px);
+    return w->keys.status;
+}
+
+/* The path and dense id of the key's word pixel. */
+static int key_pixel(hpfc_walker *w, uint64_t key, hpfc_pixel *px, uint64_t *id)
+{
+    int st = ensure_index(w);
+    return st ? st : slot_pixel(w, key >> KEY_SHIFT, px, id);
+}
+
+/* The dense id of a cache entry's pixel, recorded in it. An entry built by
+ * a pixel path does not know it: its path's last image is found among its
+ * level's images (on a file whose parent index built, every checked path
+ * is the slot's own, so that image is one of them and the id is the slot's;
+ * the slot is searched anyway should it not be). */
+static int entry_pixel_id(hpfc_walker *w, cached_word *e, uint64_t *id)
+{
+    if (e->pixel_id != PIXEL_ID_UNKNOWN) {
+        *id = e->pixel_id;
+        return HPFC_OK;
+    }
+    int st = ensure_index(w);
+    if (st)
+        return st;
+    const key_index *x = &w->keys;
+    uint32_t l = e->depth;
+    const path_step *p = &word_path(e)[l];
+    uint64_t lo = x->first[l], hi = x->first[l + 1], index = 0;
+    bool found = l == 0 && p->image == 0;
+    if (l > 0) { /* the image starting exactly at p->image */
+        while (hi > lo) {
+            uint64_t mid = lo + (hi - lo) / 2;
+            if (x->images[mid].start < p->image)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        found = lo < x->first[l + 1] && x->images[lo].start == p->image;
+        index = lo - x->first[l];
+    }
+    uint32_t cols = l ? x->cols : x->root_cols;
+    if (found) {
+        *id = x->pixel_first[l] + index * x->image_pixels + (uint64_t)p->j * cols + p->i;
+    } else {
+        hpfc_pixel px;
+        if ((st = slot_pixel(w, e->slot, &px, id)))
+            return st;
+    }
+    e->pixel_id = *id;
+    return HPFC_OK;
 }
 
 /* ---- operators through the cache -------------------------------------------- */
@@ -155,19 +218,34 @@ static int key_entry(hpfc_walker *w, uint64_t key, uint32_t *ref)
     if (!w->cache.arena)
         return TOPO_UNCACHED;
     hpfc_pixel px;
-    int st = key_pixel(w, key, &px);
+    uint64_t id;
+    int st = key_pixel(w, key, &px, &id);
     if (!st)
         st = topo_cache_load(w, &px, true, ref);
     if (st == TOPO_RETRY) /* emptied: an entry that fits the arena fits now */
         st = topo_cache_load(w, &px, true, ref);
-    if (!st)
+    if (!st) {
         topo_cache_key(&w->cache, *ref);
+        cache_entry(&w->cache, *ref)->pixel_id = id; /* the path is the slot's own */
+    }
     return st;
 }
 
 enum { OP_TWIN, OP_NEXT, OP_PREV, OP_ORIGIN, OP_TARGET };
 
-static int cached_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out)
+/* Dart index `index` of crossing m of entry ref. */
+static int entry_dart_index(hpfc_walker *w, uint32_t ref, uint32_t m, uint64_t *index)
+{
+    uint64_t id;
+    int st = entry_pixel_id(w, cache_entry(&w->cache, ref), &id);
+    if (!st)
+        *index = id * w->cap + m;
+    return st;
+}
+
+/* `index`, when not NULL, gets the dart index of a dart result, read from
+ * the entry the answer comes from (a twin, next or prev). */
+static int cached_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64_t *index)
 {
     uint32_t ref, end, m, k = key & KEY_LOW;
     int st = HPFC_OK;
@@ -186,17 +264,27 @@ static int cached_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out)
     }
     /* twin(d) = out_m where d arrives, next(d) = out_pred(m), prev(d) =
      * twin(out_succ(k)) */
-    const cached_crossing *start = &x[op == OP_PREV ? x[k].succ : k];
+    cached_crossing *start = &x[op == OP_PREV ? x[k].succ : k];
     if (start->arrival && op != OP_TARGET) { /* walked before: the answer is here */
-        *out = start->arrival_slot << KEY_SHIFT |
-               (op == OP_NEXT ? start->arrival_pred : start->arrival_m);
+        m = op == OP_NEXT ? start->arrival_pred : start->arrival_m;
+        if (index) {
+            if (start->arrival_pixel == PIXEL_ID_UNKNOWN &&
+                (st = entry_pixel_id(w, cache_entry(&w->cache, start->arrival),
+                                     &start->arrival_pixel)))
+                return st;
+            *index = start->arrival_pixel * w->cap + m;
+        }
+        *out = start->arrival_slot << KEY_SHIFT | m;
         return HPFC_OK;
     }
     if ((st = topo_cached_follow(w, ref, op == OP_PREV ? x[k].succ : k, &end, &m)))
         return st;
     cached_word *t = cache_entry(&w->cache, end);
     const cached_crossing *y = &word_crossings(t)[m];
-    *out = t->slot << KEY_SHIFT | (op == OP_NEXT ? y->pred : op == OP_TARGET ? y->vertex : m);
+    uint32_t r = op == OP_NEXT ? y->pred : op == OP_TARGET ? y->vertex : m;
+    if (index && (st = entry_dart_index(w, end, r, index)))
+        return st;
+    *out = t->slot << KEY_SHIFT | r;
     return HPFC_OK;
 }
 
@@ -230,54 +318,153 @@ static int plain_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out)
     return st;
 }
 
+static int plain_index(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *index);
+
+/* What any index call checks first: the parent index and the bound. */
+static int index_ready(hpfc_walker *w)
+{
+    int st = ensure_index(w);
+    return st ? st : w->keys.bound_status;
+}
+
 /* As the dart operators do: a walk that empties the cache starts again
  * once, in the emptied cache; then, or for a word the cache cannot hold,
  * without it. */
-static int key_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out)
+static int key_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64_t *index)
 {
-    if (!w || !out)
-        return HPFC_E_ARG;
+    int st;
+    if (index && (st = index_ready(w)))
+        return st;
     for (int tries = 0; tries < 2; tries++) {
-        int st = cached_op(w, key, op, out);
+        st = cached_op(w, key, op, out, index);
         if (st >= 0)
             return st;
         if (st == TOPO_UNCACHED)
             break;
     }
-    return plain_op(w, key, op, out);
+    uint64_t r, i = 0;
+    if (!(st = plain_op(w, key, op, &r)) && index)
+        st = plain_index(w, r, false, &i);
+    if (!st) {
+        *out = r;
+        if (index)
+            *index = i;
+    }
+    return st;
 }
 
 int hpfc_key_twin(hpfc_walker *w, uint64_t dart_key, uint64_t *out)
 {
-    return key_op(w, dart_key, OP_TWIN, out);
+    return w && out ? key_op(w, dart_key, OP_TWIN, out, NULL) : HPFC_E_ARG;
 }
 
 int hpfc_key_next(hpfc_walker *w, uint64_t dart_key, uint64_t *out)
 {
-    return key_op(w, dart_key, OP_NEXT, out);
+    return w && out ? key_op(w, dart_key, OP_NEXT, out, NULL) : HPFC_E_ARG;
 }
 
 int hpfc_key_prev(hpfc_walker *w, uint64_t dart_key, uint64_t *out)
 {
-    return key_op(w, dart_key, OP_PREV, out);
+    return w && out ? key_op(w, dart_key, OP_PREV, out, NULL) : HPFC_E_ARG;
 }
 
 int hpfc_key_origin(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key)
 {
-    return key_op(w, dart_key, OP_ORIGIN, vertex_key);
+    return w && vertex_key ? key_op(w, dart_key, OP_ORIGIN, vertex_key, NULL) : HPFC_E_ARG;
 }
 
 int hpfc_key_target(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key)
 {
-    return key_op(w, dart_key, OP_TARGET, vertex_key);
+    return w && vertex_key ? key_op(w, dart_key, OP_TARGET, vertex_key, NULL) : HPFC_E_ARG;
+}
+
+int hpfc_key_twin_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out, uint64_t *index)
+{
+    return w && out && index ? key_op(w, dart_key, OP_TWIN, out, index) : HPFC_E_ARG;
+}
+
+int hpfc_key_next_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out, uint64_t *index)
+{
+    return w && out && index ? key_op(w, dart_key, OP_NEXT, out, index) : HPFC_E_ARG;
+}
+
+int hpfc_key_prev_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out, uint64_t *index)
+{
+    return w && out && index ? key_op(w, dart_key, OP_PREV, out, index) : HPFC_E_ARG;
+}
+
+/* ---- dense indices ------------------------------------------------------------- */
+
+int hpfc_key_index_bound(hpfc_walker *w, uint64_t *darts, uint64_t *vertices)
+{
+    if (!w || !darts || !vertices)
+        return HPFC_E_ARG;
+    int st = index_ready(w);
+    if (!st)
+        *darts = *vertices = w->keys.bound; /* a word has at most cap vertices */
+    return st;
+}
+
+/* Whether `local` names a dart (a vertex) of the parsed word e. */
+static bool names_one(cached_word *e, uint32_t local, bool vertex)
+{
+    if (vertex)
+        return local < e->nvert;
+    return local < e->n && word_crossings(e)[local].vertex != NONE;
+}
+
+static int cached_index(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *index)
+{
+    uint32_t ref, local = key & KEY_LOW;
+    int st;
+    if (!(ref = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT)) &&
+        (st = key_entry(w, key, &ref)))
+        return st;
+    cached_word *e = cache_entry(&w->cache, ref);
+    if (e->parse_status)
+        return e->parse_status;
+    if (!names_one(e, local, vertex))
+        return HPFC_E_ARG;
+    uint64_t id;
+    if ((st = entry_pixel_id(w, e, &id)))
+        return st;
+    *index = id * w->cap + local;
+    return HPFC_OK;
+}
+
+static int index_call(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *index)
+{
+    if (!w || !index)
+        return HPFC_E_ARG;
+    int st = index_ready(w);
+    if (st)
+        return st;
+    for (int tries = 0; tries < 2; tries++) {
+        st = cached_index(w, key, vertex, index);
+        if (st >= 0)
+            return st;
+        if (st == TOPO_UNCACHED)
+            break;
+    }
+    return plain_index(w, key, vertex, index);
+}
+
+int hpfc_dart_index(hpfc_walker *w, uint64_t dart_key, uint64_t *index)
+{
+    return index_call(w, dart_key, false, index);
+}
+
+int hpfc_vertex_index(hpfc_walker *w, uint64_t vertex_key, uint64_t *index)
+{
+    return index_call(w, vertex_key, true, index);
 }
 
 /* ---- back to values ----------------------------------------------------------- */
 
-/* The key's pixel and its parsed word. */
-static int key_word(hpfc_walker *w, uint64_t key, hpfc_pixel *px, cached_word **e)
+/* The key's pixel, its dense id and its parsed word. */
+static int key_word(hpfc_walker *w, uint64_t key, hpfc_pixel *px, uint64_t *id, cached_word **e)
 {
-    int st = key_pixel(w, key, px);
+    int st = key_pixel(w, key, px, id);
     if (!st)
         st = topo_word_view(w, px, e);
     return st ? st : (*e)->parse_status;
@@ -289,9 +476,10 @@ int hpfc_dart_from_key(hpfc_walker *w, uint64_t key, hpfc_dart *out)
         return HPFC_E_ARG;
     cached_word *e;
     hpfc_pixel px;
+    uint64_t id;
     uint32_t k = key & KEY_LOW;
-    int st = key_word(w, key, &px, &e);
-    if (!st && (k >= e->n || word_crossings(e)[k].vertex == NONE))
+    int st = key_word(w, key, &px, &id, &e);
+    if (!st && !names_one(e, k, false))
         st = HPFC_E_ARG;
     if (st)
         return st;
@@ -306,13 +494,29 @@ int hpfc_vertex_from_key(hpfc_walker *w, uint64_t key, hpfc_vertex *out)
         return HPFC_E_ARG;
     cached_word *e;
     hpfc_pixel px;
+    uint64_t id;
     uint32_t local = key & KEY_LOW;
-    int st = key_word(w, key, &px, &e);
-    if (!st && local >= e->nvert)
+    int st = key_word(w, key, &px, &id, &e);
+    if (!st && !names_one(e, local, true))
         st = HPFC_E_ARG;
     if (st)
         return st;
     topo_entry_pixel(e, &out->pixel);
     out->local = local;
     return HPFC_OK;
+}
+
+/* Without the cache: the key's pixel and word, as hpfc_dart_from_key. */
+static int plain_index(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *index)
+{
+    cached_word *e;
+    hpfc_pixel px;
+    uint64_t id;
+    uint32_t local = key & KEY_LOW;
+    int st = key_word(w, key, &px, &id, &e);
+    if (!st && !names_one(e, local, vertex))
+        st = HPFC_E_ARG;
+    if (!st)
+        *index = id * w->cap + local;
+    return st;
 }

@@ -309,6 +309,7 @@ int topo_cached_follow(hpfc_walker *w, uint32_t ref, uint32_t k, uint32_t *end_r
             start->arrival_m = *end_m = x->link_m;
             start->arrival_pred = y->pred;
             start->arrival_slot = e->slot;
+            start->arrival_pixel = e->pixel_id;
             return HPFC_OK;
         }
         k = y->succ; /* a stabbing: leave through its other crossing */

@@ -43,6 +43,7 @@ static const uint64_t ALLOWED = BIT(HPFC_OK) | BIT(HPFC_E_NO_PIXEL) | BIT(HPFC_E
 static struct {
     long files, flips, flips_accepted, byte_sets, cuts, patched_cuts, skipped_opens, traversals;
     long budget_exhausted, corrupt, steps, cache_mismatches, key_calls, key_mismatches, key_corrupt;
+    long index_calls, index_mismatches;
     uint64_t open_codes, walk_codes;
 } seen;
 
@@ -154,6 +155,30 @@ static void walk_keys(walk *k, const hpfc_dart *d)
             mix(k, (uint64_t)st), mix(k, got);
             seen.key_calls++;
         }
+        /* dense indices: the statuses of hpfc_dart_from_key and
+         * hpfc_vertex_from_key, below the bound; the _indexed operators
+         * agree with the plain ones and with hpfc_dart_index */
+        uint64_t dbound = 0, vbound = 0, di = 0, vi = 0;
+        int bst = hpfc_key_index_bound(k->w, &dbound, &vbound);
+        int dst = hpfc_dart_index(k->w, keys[x], &di);
+        int vist = hpfc_vertex_index(k->w, keys[x], &vi);
+        codes |= BIT(bst) | BIT(dst) | BIT(vist);
+        seen.index_mismatches += dst != (bst ? bst : from_st) || vist != (bst ? bst : vst) ||
+                                 (!dst && di >= dbound) || (!vist && vi >= vbound);
+        for (int op = 0; op < 2; op++) {
+            uint64_t got = 0, idx = 0, plain = 0, want_idx = 0;
+            int st = op ? hpfc_key_next_indexed(k->w, keys[x], &got, &idx)
+                        : hpfc_key_twin_indexed(k->w, keys[x], &got, &idx);
+            int pst =
+                op ? hpfc_key_next(k->w, keys[x], &plain) : hpfc_key_twin(k->w, keys[x], &plain);
+            codes |= BIT(st);
+            seen.index_mismatches += st != (bst ? bst : pst) || (!st && got != plain);
+            if (!st)
+                seen.index_mismatches += hpfc_dart_index(k->w, got, &want_idx) != HPFC_OK ||
+                                         idx != want_idx || idx >= dbound;
+            mix(k, (uint64_t)st), mix(k, idx);
+        }
+        seen.index_calls += 5;
         if (codes & ~ALLOWED_KEYS)
             fprintf(stderr, "key statuses 0x%llx\n", (unsigned long long)codes);
         CHECK((codes & ~ALLOWED_KEYS) == 0);
@@ -655,8 +680,13 @@ static void test_key_layout(void)
         CHECK_EQ_INT(hpfc_key_origin(w, key, &out), want);
         CHECK_EQ_INT(hpfc_dart_from_key(w, key, &d), want);
         CHECK_EQ_INT(hpfc_vertex_from_key(w, key & ~(uint64_t)0xFFFFF, &v), want);
+        CHECK_EQ_INT(hpfc_key_index_bound(w, &out, &out), want);
+        CHECK_EQ_INT(hpfc_dart_index(w, key, &out), want);
+        CHECK_EQ_INT(hpfc_key_prev_indexed(w, key, &out, &out), want);
         CHECK_EQ_INT(hpfc_walker_set_cache_size(w, 0), HPFC_OK);
         CHECK_EQ_INT(hpfc_key_twin(w, key, &out), want);
+        CHECK_EQ_INT(hpfc_vertex_index(w, key & ~(uint64_t)0xFFFFF, &out), want);
+        CHECK_EQ_INT(hpfc_key_next_indexed(w, key, &out, &out), want);
         hpfc_walker_free(w);
         hpfc_close(f);
         free(copy);
@@ -688,8 +718,12 @@ int main(void)
     CHECK(seen.key_calls > 10000);
     CHECK(seen.key_corrupt > 100);
     CHECK_EQ_INT(seen.key_mismatches, 0);
-    printf("keys: %ld calls, %ld CORRUPT, %ld differ from the dart operators\n", seen.key_calls,
-           seen.key_corrupt, seen.key_mismatches);
+    CHECK(seen.index_calls > 10000);
+    CHECK_EQ_INT(seen.index_mismatches, 0);
+    printf("keys: %ld calls, %ld CORRUPT, %ld differ from the dart operators; %ld index calls, "
+           "%ld broke a promise\n",
+           seen.key_calls, seen.key_corrupt, seen.key_mismatches, seen.index_calls,
+           seen.index_mismatches);
     printf("corruption: %ld files, %ld bit flips (%ld accepted: padding), %ld bytes set to "
            "0x00/0xFF, %ld truncations (%ld with file_size patched); %ld opened without "
            "checksum and traversed, %ld of them found corrupt, %ld ran out of the %d-step "

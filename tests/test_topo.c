@@ -827,6 +827,196 @@ static void check_keys_with(const hpfc_file *f, const hpfc_dart *darts, const ui
     hpfc_walker_free(w);
 }
 
+/* ---- dense indices -------------------------------------------------------- */
+
+/* The documented numbering, computed from the public level info and the
+ * images the leaves' paths go through: per level, the sorted addresses of
+ * its images (their pool order). */
+typedef struct index_oracle {
+    uint64_t *images[HPFC_MAX_LEVELS];
+    uint64_t count[HPFC_MAX_LEVELS];
+    uint64_t first[HPFC_MAX_LEVELS + 1]; /* first pixel id of each level */
+    uint64_t k;                          /* most crossings of a word */
+    uint32_t root_cols, cols, levels;
+    uint64_t image_pixels;
+} index_oracle;
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+static void oracle_build(const hpfc_file *f, index_oracle *o)
+{
+    memset(o, 0, sizeof *o);
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    o->levels = info.levels, o->root_cols = info.root_cols, o->cols = info.cols;
+    o->image_pixels = (uint64_t)info.cols * info.rows;
+    uint64_t pixels = 0;
+    for (uint32_t l = 0; l < info.levels; l++) {
+        hpfc_level_info lv;
+        CHECK_EQ_INT(hpfc_file_get_level(f, l, &lv), HPFC_OK);
+        uint64_t k = lv.word_bits >= 4 ? (lv.word_bits - 4) / 4 : 0;
+        o->k = k > o->k ? k : o->k;
+        o->first[l] = pixels;
+        pixels += l ? lv.images * o->image_pixels : (uint64_t)info.root_cols * info.root_rows;
+        o->images[l] = malloc((lv.images + 1) * sizeof(uint64_t));
+    }
+    o->first[info.levels] = pixels;
+    hpfc_pixel px;
+    for (int st = hpfc_leaf_first(f, &px); !st; st = hpfc_leaf_next(f, &px))
+        for (uint32_t l = 1; l <= px.depth; l++) { /* an image's first leaf: its pixel (0, 0) */
+            bool first = px.path[l].i == 0 && px.path[l].j == 0;
+            for (uint32_t d = l + 1; d <= px.depth; d++)
+                first = first && px.path[d].i == 0 && px.path[d].j == 0;
+            if (first)
+                o->images[l][o->count[l]++] = px.path[l].image;
+        }
+    for (uint32_t l = 1; l < info.levels; l++) {
+        hpfc_level_info lv;
+        hpfc_file_get_level(f, l, &lv);
+        CHECK_EQ_INT(o->count[l], lv.images);
+        qsort(o->images[l], o->count[l], sizeof(uint64_t), cmp_u64);
+    }
+}
+
+static void oracle_free(index_oracle *o)
+{
+    for (uint32_t l = 0; l < o->levels; l++)
+        free(o->images[l]);
+}
+
+/* pixel id * K + local, as hpfc.h defines it. */
+static uint64_t oracle_index(const index_oracle *o, const hpfc_pixel *px, uint32_t local)
+{
+    uint32_t l = px->depth;
+    uint64_t rank = 0;
+    if (l > 0) {
+        const uint64_t *at =
+            bsearch(&px->path[l].image, o->images[l], o->count[l], sizeof(uint64_t), cmp_u64);
+        CHECK(at != NULL);
+        rank = at ? (uint64_t)(at - o->images[l]) : 0;
+    }
+    uint64_t pixel = o->first[l] + rank * o->image_pixels +
+                     (uint64_t)px->path[l].j * (l ? o->cols : o->root_cols) + px->path[l].i;
+    return pixel * o->k + local;
+}
+
+static int cmp_pair(const void *a, const void *b)
+{
+    const uint64_t *x = a, *y = b;
+    return x[0] != y[0] ? (x[0] > y[0]) - (x[0] < y[0]) : (x[1] > y[1]) - (x[1] < y[1]);
+}
+
+/* Distinct keys with one index: pairs (index, key) sorted. */
+static size_t shared_indices(uint64_t *pairs, size_t n)
+{
+    size_t shared = 0;
+    qsort(pairs, n, 2 * sizeof(uint64_t), cmp_pair);
+    for (size_t x = 1; x < n; x++)
+        shared += pairs[2 * x] == pairs[2 * x - 2] && pairs[2 * x + 1] != pairs[2 * x - 1];
+    return shared;
+}
+
+static int indexed_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64_t *index)
+{
+    switch (op) {
+    case 0:
+        return hpfc_key_twin_indexed(w, key, out, index);
+    case 1:
+        return hpfc_key_next_indexed(w, key, out, index);
+    default:
+        return hpfc_key_prev_indexed(w, key, out, index);
+    }
+}
+
+/* hpfc_dart_index / hpfc_vertex_index of every dart and origin vertex, on
+ * walkers with the cache off, tiny (emptied mid-walk) and default, cold then
+ * warm, with dart operators in between (entries reached by pixel paths):
+ * below the bound, equal to the documented formula on the paths
+ * hpfc_dart_from_key / hpfc_vertex_from_key give, distinct for distinct
+ * keys; the _indexed operators give the key operators' answers and their
+ * results' indices; keys naming nothing give HPFC_E_ARG. */
+static void check_indices(const hpfc_file *f, const hpfc_dart *darts, const uint64_t *want,
+                          size_t n)
+{
+    static const size_t sizes[] = {0, 700, HPFC_WALKER_DEFAULT_CACHE};
+    index_oracle o;
+    oracle_build(f, &o);
+    hpfc_walker *ref;
+    CHECK_EQ_INT(hpfc_walker_create(f, &ref), HPFC_OK);
+    uint64_t *expect = malloc((2 * n + 1) * sizeof *expect); /* dart, then origin vertex */
+    uint64_t *pairs = malloc((4 * n + 2) * sizeof *pairs);
+    size_t wrong = 0, differ = 0, over = 0;
+    for (size_t x = 0; x < n; x++) {
+        uint64_t key = hpfc_dart_key(f, &darts[x]);
+        hpfc_dart d;
+        hpfc_vertex v;
+        wrong += hpfc_dart_from_key(ref, key, &d) != HPFC_OK;
+        wrong += hpfc_vertex_from_key(ref, want[KEY_OPS * x + 3], &v) != HPFC_OK;
+        expect[2 * x] = oracle_index(&o, &d.pixel, d.crossing);
+        expect[2 * x + 1] = oracle_index(&o, &v.pixel, v.local);
+    }
+    uint64_t dbound = 0, vbound = 0;
+    CHECK_EQ_INT(hpfc_key_index_bound(ref, &dbound, &vbound), HPFC_OK);
+    CHECK_EQ_INT(dbound, o.first[o.levels] * o.k);
+    CHECK_EQ_INT(vbound, dbound);
+    for (size_t s = 0; s < sizeof sizes / sizeof *sizes; s++) {
+        hpfc_walker *w;
+        CHECK_EQ_INT(hpfc_walker_create(f, &w), HPFC_OK);
+        CHECK_EQ_INT(hpfc_walker_set_cache_size(w, sizes[s]), HPFC_OK);
+        for (int pass = 0; pass < 2; pass++) /* cold, then warm */
+            for (size_t k = 0; k < n; k++) {
+                size_t x = pass ? n - 1 - k : k;
+                uint64_t key = hpfc_dart_key(f, &darts[x]), vkey = want[KEY_OPS * x + 3];
+                uint64_t di = UINT64_MAX, vi = UINT64_MAX;
+                /* the _indexed operators first: on a cold cache their
+                 * results' entries come from links, not from keys */
+                for (int op = 0; op < 3; op++) {
+                    uint64_t out = 0, oi = UINT64_MAX, ri = UINT64_MAX;
+                    int st = indexed_op(w, key, op, &out, &oi);
+                    differ += st != HPFC_OK || out != want[KEY_OPS * x + op];
+                    differ += hpfc_dart_index(ref, out, &ri) != HPFC_OK || oi != ri;
+                }
+                if (k % 3 == 0) { /* a dart operator in between */
+                    hpfc_dart r;
+                    hpfc_dart_next(w, &darts[(x * 7) % n], &r);
+                }
+                differ += hpfc_dart_index(w, key, &di) != HPFC_OK || di != expect[2 * x];
+                differ += hpfc_vertex_index(w, vkey, &vi) != HPFC_OK || vi != expect[2 * x + 1];
+                over += di >= dbound || vi >= vbound;
+                pairs[2 * x] = di, pairs[2 * x + 1] = key;
+                pairs[2 * (n + x)] = vi + (UINT64_MAX / 2), pairs[2 * (n + x) + 1] = vkey;
+                /* nothing there: a crossing or vertex past the word's */
+                uint64_t bad = 0;
+                differ += hpfc_dart_index(w, key | 0xFFFFF, &bad) != HPFC_E_ARG;
+                differ += hpfc_vertex_index(w, vkey | 0xFFFFF, &bad) != HPFC_E_ARG;
+                differ += hpfc_key_next_indexed(w, key | 0xFFFFF, &bad, &bad) != HPFC_E_ARG;
+            }
+        CHECK_EQ_INT(shared_indices(pairs, 2 * n), 0); /* vertices shifted apart from darts */
+        uint64_t out, idx;
+        hpfc_file_info info;
+        hpfc_file_get_info(f, &info);
+        CHECK_EQ_INT(hpfc_dart_index(w, (info.file_size * 8) << 20, &idx), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_vertex_index(w, UINT64_MAX, &idx), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_dart_index(w, 0, &idx), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_dart_index(NULL, want[1], &idx), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_dart_index(w, want[1], NULL), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_key_twin_indexed(w, want[1], &out, NULL), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_key_prev_indexed(w, want[1], NULL, &idx), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_key_index_bound(w, NULL, &idx), HPFC_E_ARG);
+        hpfc_walker_free(w);
+    }
+    CHECK_EQ_INT(wrong, 0);
+    CHECK_EQ_INT(differ, 0);
+    CHECK_EQ_INT(over, 0);
+    free(expect), free(pairs);
+    hpfc_walker_free(ref);
+    oracle_free(&o);
+}
+
 /* Cache sizes for keys: off, tiny (emptied again and again mid-walk),
  * small, default. */
 static void check_keys(const hpfc_file *f, size_t nd)
@@ -846,6 +1036,8 @@ static void check_keys(const hpfc_file *f, size_t nd)
     CHECK_EQ_INT(failed, 0);
     for (size_t s = 0; n && s < sizeof sizes / sizeof *sizes; s++)
         check_keys_with(f, darts, want, n, sizes[s]);
+    if (n)
+        check_indices(f, darts, want, n);
     free(want), free(darts);
     hpfc_walker_free(plain);
 }
