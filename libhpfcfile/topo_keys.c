@@ -470,40 +470,35 @@ static int key_word(hpfc_walker *w, uint64_t key, hpfc_pixel *px, uint64_t *id, 
     return st ? st : (*e)->parse_status;
 }
 
-int hpfc_dart_from_key(hpfc_walker *w, uint64_t key, hpfc_dart *out)
+/* The path of the key's word pixel into *out, when the key names a dart
+ * (vertex) of it; *out untouched otherwise. */
+static int key_path(hpfc_walker *w, uint64_t key, bool vertex, hpfc_pixel *out)
 {
-    if (!w || !out)
-        return HPFC_E_ARG;
     cached_word *e;
     hpfc_pixel px;
     uint64_t id;
-    uint32_t k = key & KEY_LOW;
-    int st = key_word(w, key, &px, &id, &e);
-    if (!st && !names_one(e, k, false))
+    int st = w ? key_word(w, key, &px, &id, &e) : HPFC_E_ARG;
+    if (!st && !names_one(e, key & KEY_LOW, vertex))
         st = HPFC_E_ARG;
-    if (st)
-        return st;
-    topo_entry_pixel(e, &out->pixel); /* the path just resolved */
-    out->crossing = k;
-    return HPFC_OK;
+    if (!st)
+        topo_entry_pixel(e, out); /* the path just resolved */
+    return st;
+}
+
+int hpfc_dart_from_key(hpfc_walker *w, uint64_t key, hpfc_dart *out)
+{
+    int st = out ? key_path(w, key, false, &out->pixel) : HPFC_E_ARG;
+    if (!st)
+        out->crossing = key & KEY_LOW;
+    return st;
 }
 
 int hpfc_vertex_from_key(hpfc_walker *w, uint64_t key, hpfc_vertex *out)
 {
-    if (!w || !out)
-        return HPFC_E_ARG;
-    cached_word *e;
-    hpfc_pixel px;
-    uint64_t id;
-    uint32_t local = key & KEY_LOW;
-    int st = key_word(w, key, &px, &id, &e);
-    if (!st && !names_one(e, local, true))
-        st = HPFC_E_ARG;
-    if (st)
-        return st;
-    topo_entry_pixel(e, &out->pixel);
-    out->local = local;
-    return HPFC_OK;
+    int st = out ? key_path(w, key, true, &out->pixel) : HPFC_E_ARG;
+    if (!st)
+        out->local = key & KEY_LOW;
+    return st;
 }
 
 /* Without the cache: the key's pixel and word, as hpfc_dart_from_key. */
