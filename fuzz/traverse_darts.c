@@ -26,6 +26,7 @@
  * with matching checksums can still be a crafted inconsistent fixture.)
  */
 #include "input.h"
+#include "key_ops.h"
 
 #define FUZZ_STEPS 2000
 #define MAX_DARTS 512
@@ -164,22 +165,6 @@ static int dart_op(trav *t, int op, const hpfc_dart *d, hpfc_dart *out, hpfc_ver
     return st;
 }
 
-static int key_call(hpfc_walker *w, int op, uint64_t key, uint64_t *out)
-{
-    switch (op) {
-    case 0:
-        return hpfc_key_twin(w, key, out);
-    case 1:
-        return hpfc_key_next(w, key, out);
-    case 2:
-        return hpfc_key_prev(w, key, out);
-    case 3:
-        return hpfc_key_origin(w, key, out);
-    default:
-        return hpfc_key_target(w, key, out);
-    }
-}
-
 static int indexed_call(hpfc_walker *w, int op, uint64_t key, uint64_t *out, uint64_t *index)
 {
     return op == 0   ? hpfc_key_twin_indexed(w, key, out, index)
@@ -211,7 +196,7 @@ static void index_calls(trav *t, uint64_t key, int from)
         uint64_t a = 0, ai = 0, b = 0, bi = 0, plain = 0, want = 0;
         int sa = status(indexed_call(t->w, op, key, &a, &ai));
         int sb = indexed_call(t->plain, op, key, &b, &bi);
-        int sp = key_call(t->plain, op, key, &plain);
+        int sp = key_op_call(t->plain, op, key, &plain);
         FUZZ_CHECK(sa == sb && sa == (bst ? bst : sp));
         FUZZ_CHECK(sa || (a == b && a == plain && ai == bi && ai < bound));
         FUZZ_CHECK(sa || (hpfc_dart_index(t->plain, a, &want) == HPFC_OK && ai == want));
@@ -235,7 +220,7 @@ static void key_calls(trav *t, uint64_t key)
         FUZZ_CHECK(hpfc_vertex_key(t->f, &v) == key);
     for (int op = 0; op < 5; op++) {
         uint64_t a = 0, b = 0, want = 0;
-        int sa = status(key_call(t->w, op, key, &a)), sb = key_call(t->plain, op, key, &b);
+        int sa = status(key_op_call(t->w, op, key, &a)), sb = key_op_call(t->plain, op, key, &b);
         FUZZ_CHECK(sa == sb && (sa || a == b));
         int want_st = from;
         if (!from) {

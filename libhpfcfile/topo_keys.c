@@ -231,6 +231,18 @@ static int key_entry(hpfc_walker *w, uint64_t key, uint32_t *ref)
     return st;
 }
 
+/* The parsed cache entry of the key's pixel: found by slot, else resolved
+ * and keyed (key_entry); its word's parse status. */
+static int keyed_word(hpfc_walker *w, uint64_t key, uint32_t *ref, cached_word **e)
+{
+    int st = HPFC_OK;
+    if (!(*ref = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT)) &&
+        (st = key_entry(w, key, ref)))
+        return st;
+    *e = cache_entry(&w->cache, *ref);
+    return (*e)->parse_status;
+}
+
 enum { OP_TWIN, OP_NEXT, OP_PREV, OP_ORIGIN, OP_TARGET };
 
 /* Dart index `index` of crossing m of entry ref. */
@@ -248,13 +260,10 @@ static int entry_dart_index(hpfc_walker *w, uint32_t ref, uint32_t m, uint64_t *
 static int cached_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64_t *index)
 {
     uint32_t ref, end, m, k = key & KEY_LOW;
-    int st = HPFC_OK;
-    if (!(ref = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT)) &&
-        (st = key_entry(w, key, &ref)))
+    cached_word *e;
+    int st = keyed_word(w, key, &ref, &e);
+    if (st)
         return st;
-    cached_word *e = cache_entry(&w->cache, ref);
-    if (e->parse_status)
-        return e->parse_status;
     cached_crossing *x = word_crossings(e);
     if (k >= e->n || x[k].vertex == NONE)
         return HPFC_E_ARG;
@@ -416,13 +425,10 @@ static bool names_one(cached_word *e, uint32_t local, bool vertex)
 static int cached_index(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *index)
 {
     uint32_t ref, local = key & KEY_LOW;
-    int st;
-    if (!(ref = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT)) &&
-        (st = key_entry(w, key, &ref)))
+    cached_word *e;
+    int st = keyed_word(w, key, &ref, &e);
+    if (st)
         return st;
-    cached_word *e = cache_entry(&w->cache, ref);
-    if (e->parse_status)
-        return e->parse_status;
     if (!names_one(e, local, vertex))
         return HPFC_E_ARG;
     uint64_t id;

@@ -13,6 +13,7 @@
 #include "export.h"
 #include "gen.h"
 #include "hpfc.h"
+#include "key_ops.h"
 #include "reader.h"
 
 __extension__ typedef __int128 i128;
@@ -667,22 +668,6 @@ static int dart_op_key(hpfc_walker *w, const hpfc_file *f, const hpfc_dart *d, i
     return st;
 }
 
-static int key_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out)
-{
-    switch (op) {
-    case 0:
-        return hpfc_key_twin(w, key, out);
-    case 1:
-        return hpfc_key_next(w, key, out);
-    case 2:
-        return hpfc_key_prev(w, key, out);
-    case 3:
-        return hpfc_key_origin(w, key, out);
-    default:
-        return hpfc_key_target(w, key, out);
-    }
-}
-
 /* Keys that name no dart: past the word's crossings, a crossing of a
  * stabbing, a position off the slot, in a mask, on a refined root record,
  * past the file. */
@@ -774,7 +759,7 @@ static void check_keys_with(const hpfc_file *f, const hpfc_dart *darts, const ui
             size_t x = pass ? n - 1 - k : k;
             for (int op = 0; op < KEY_OPS; op++) {
                 uint64_t got = 0;
-                int st = key_op(w, keys[x], op, &got);
+                int st = key_op_call(w, op, keys[x], &got);
                 differ += st != HPFC_OK || got != want[KEY_OPS * x + op];
             }
             if (k % 3 == 0) { /* a dart operator in between */
@@ -809,7 +794,7 @@ static void check_keys_with(const hpfc_file *f, const hpfc_dart *darts, const ui
                 break;
             reached++;
             for (int op = 0; op < 2; op++) {
-                int st = key_op(w, key, op, &out);
+                int st = key_op_call(w, op, key, &out);
                 differ += st != HPFC_OK || out != want[KEY_OPS * x + op];
                 size_t y = 0;
                 while (!st && y < n && keys[y] != out)
