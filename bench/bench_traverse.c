@@ -86,6 +86,17 @@ typedef struct bfs {
     uint64_t bound; /* of the dart indices: bits of the bitmap */
 } bfs;
 
+/* A walk's figures: ns per operator call over `seconds`, and words decoded
+ * per edge since the walker had decoded `visited0`. */
+static timing walk_timing(const bfs *b, double seconds, size_t ops, uint64_t visited0)
+{
+    timing r;
+    r.ns_per_op = 1e9 * seconds / (double)ops;
+    r.decodes_per_edge =
+        (double)(hpfc_walker_pixels_visited(b->w) - visited0) / (double)(b->nd / 2);
+    return r;
+}
+
 /* Breadth-first over darts from every dart in turn, by next and twin. The
  * results are written straight into the queue, which is read in place:
  * an hpfc_dart is large, and copying it is no part of the operators. */
@@ -109,11 +120,7 @@ static timing run_bfs(bfs *b)
             ops += 2;
         }
     }
-    double t1 = now();
-    timing r;
-    r.ns_per_op = 1e9 * (t1 - t0) / (double)ops;
-    r.decodes_per_edge = (double)(hpfc_walker_pixels_visited(b->w) - visited0) / (double)(b->nd / 2);
-    return r;
+    return walk_timing(b, now() - t0, ops, visited0);
 }
 
 /* The same walk on keys: 8-byte queue entries, no path anywhere. */
@@ -137,12 +144,7 @@ static timing run_key_bfs(bfs *b)
             ops += 2;
         }
     }
-    double t1 = now();
-    timing r;
-    r.ns_per_op = 1e9 * (t1 - t0) / (double)ops;
-    r.decodes_per_edge =
-        (double)(hpfc_walker_pixels_visited(b->w) - visited0) / (double)(b->nd / 2);
-    return r;
+    return walk_timing(b, now() - t0, ops, visited0);
 }
 
 /* The same walk on keys, visited darts in a bitmap indexed by dart index
@@ -186,12 +188,7 @@ static timing run_bit_bfs(bfs *b)
             ops += 2;
         }
     }
-    double t1 = now();
-    timing r;
-    r.ns_per_op = 1e9 * (t1 - t0) / (double)ops;
-    r.decodes_per_edge =
-        (double)(hpfc_walker_pixels_visited(b->w) - visited0) / (double)(b->nd / 2);
-    return r;
+    return walk_timing(b, now() - t0, ops, visited0);
 }
 
 static volatile uint64_t key_sink;

@@ -221,30 +221,19 @@ static void check_involutions(const hpfc_file *f)
     hpfc_walker_free(w);
 }
 
+static size_t collect_darts(const hpfc_file *f, hpfc_walker *w, hpfc_dart *darts, size_t max);
+
 /* The face of every dart, in hpfc_vertex_dart order (nd darts): the
  * number of darts whose face is not a face id below `count`. */
 static size_t faces_of_darts(const hpfc_file *f, hpfc_walker *w, const hpfc_faces *faces,
                              uint64_t count, uint64_t *face_of, size_t nd)
 {
-    hpfc_pixel px;
-    size_t d = 0, bad = 0;
-    for (int st = hpfc_leaf_first(f, &px); !st; st = hpfc_leaf_next(f, &px)) {
-        uint32_t nv = 0;
-        hpfc_pixel_vertex_count(w, &px, &nv);
-        for (uint32_t v = 0; v < nv; v++) {
-            hpfc_vertex vx;
-            uint32_t deg = 0;
-            hpfc_pixel_vertex(w, &px, v, &vx);
-            hpfc_vertex_degree(w, &vx, &deg);
-            for (uint32_t k = 0; k < deg && d < nd; k++, d++) {
-                hpfc_dart dt;
-                hpfc_vertex_dart(w, &vx, k, &dt);
-                bad +=
-                    hpfc_faces_of_dart(faces, &dt, &face_of[d]) != HPFC_OK || face_of[d] >= count;
-            }
-        }
-    }
-    CHECK_EQ_INT(d, nd);
+    hpfc_dart *darts = malloc((nd ? nd : 1) * sizeof *darts);
+    size_t n = collect_darts(f, w, darts, nd), bad = 0;
+    CHECK_EQ_INT(n, nd);
+    for (size_t d = 0; d < n; d++)
+        bad += hpfc_faces_of_dart(faces, &darts[d], &face_of[d]) != HPFC_OK || face_of[d] >= count;
+    free(darts);
     return bad;
 }
 
