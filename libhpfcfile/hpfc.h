@@ -488,8 +488,9 @@ HPFC_API uint64_t hpfc_dart_key(const hpfc_file *file, const hpfc_dart *d);
  * loop.
  *
  * Cost: a key whose pixel the walker's cache holds costs one hash probe
- * more than the operator's own work, and no pixel path is built; an
- * operator the cache has answered before is then a few loads (about 5 ns).
+ * more than the operator's own work, and no pixel path is built; a twin,
+ * next or prev the cache has answered before is then one hash probe and
+ * one load from a compact copy of the answers (about 3 ns, bench/README.md).
  * Otherwise the key is resolved to its pixel path, O(levels * log(images)),
  * and the operator runs as on a dart. The first such key builds the
  * walker's parent index, once, by one pass over the pools: O(pixels) time
@@ -540,8 +541,8 @@ HPFC_API int hpfc_vertex_from_key(hpfc_walker *w, uint64_t key, hpfc_vertex *out
  * also a NULL index), and HPFC_E_LIMIT as above; outputs are written only
  * on success. All build the parent index if needed. Cost: a key whose
  * pixel the cache holds costs one hash probe and a few loads; an _indexed
- * operator costs its operator's work and a load or two (the index is kept
- * in the cache entry); otherwise as a key operator that resolves its key. */
+ * operator costs its operator's work (the result's pixel id is kept beside
+ * its answer); otherwise as a key operator that resolves its key. */
 HPFC_API int hpfc_key_index_bound(hpfc_walker *w, uint64_t *darts, uint64_t *vertices);
 HPFC_API int hpfc_dart_index(hpfc_walker *w, uint64_t dart_key, uint64_t *index);
 HPFC_API int hpfc_vertex_index(hpfc_walker *w, uint64_t vertex_key, uint64_t *index);

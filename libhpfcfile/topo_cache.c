@@ -8,9 +8,10 @@
  * identified, a word is decoded about once per traversal and an operator on
  * a dart seen before only follows links.
  *
- * Bounds: the arena and its two indexes (by path; by slot, for the entries
- * key operators found by their slot's own path, topo_keys.c) together take
- * at most the configured bytes (never more than caching every word of the
+ * Bounds: the arena, its two indexes (by path; by slot, for the entries
+ * key operators found by their slot's own path, topo_keys.c) and the key
+ * blocks of those entries (topo.h) together take at most the configured
+ * bytes (never more than caching every word of the
  * file would take). When the arena or the indexes are full, everything is
  * dropped at once, so a link never outlives the entry it names; a word too
  * big for the arena is never cached.
@@ -35,6 +36,7 @@ _Static_assert(sizeof(cached_word) % 8 == 0 && sizeof(cached_crossing) % 8 == 0 
 
 enum {
     INDEX_SHARE = 4, /* the two indexes take about 1/4 of the cache */
+    BLOCK_SHARE = 4, /* the key blocks 1/4 of the rest */
     MIN_BUCKETS = 8,
 };
 
@@ -51,6 +53,11 @@ static size_t entry_bytes(uint32_t depth, uint32_t n, uint32_t nvert)
     return (b + 7) & ~(size_t)7;
 }
 
+static size_t block_bytes(uint32_t n)
+{
+    return sizeof(key_block) + (size_t)n * sizeof(key_answer);
+}
+
 static uint64_t saturating_mul_add(uint64_t acc, uint64_t a, uint64_t b)
 {
     if (b && a > UINT64_MAX / b)
@@ -59,15 +66,16 @@ static uint64_t saturating_mul_add(uint64_t acc, uint64_t a, uint64_t b)
 }
 
 /* What caching every word of the file could take at most, from the level
- * table: arena bytes and entries (a corrupt file can reach one word by
+ * table: arena bytes, key block bytes and entries (a corrupt file can reach one word by
  * several paths; it then just empties the cache more often). */
-static void file_needs(const hpfc_file *f, uint64_t *bytes, uint64_t *entries)
+static void file_needs(const hpfc_file *f, uint64_t *bytes, uint64_t *blocks, uint64_t *entries)
 {
     hpfc_level_info lv;
-    *bytes = *entries = 0;
+    *bytes = *blocks = *entries = 0;
     for (uint32_t l = 0; hpfc_file_get_level(f, l, &lv) == HPFC_OK; l++) {
         uint32_t c = lv.word_bits >= FORMAT_MIN_WORD_BITS ? (lv.word_bits - FORMAT_MIN_WORD_BITS) / 4 : 0;
         *bytes = saturating_mul_add(*bytes, lv.word_pixels, entry_bytes(l, c, c));
+        *blocks = saturating_mul_add(*blocks, lv.word_pixels, block_bytes(c));
         *entries = saturating_mul_add(*entries, lv.word_pixels, 1);
     }
 }
@@ -77,15 +85,16 @@ static void cache_release(word_cache *c)
     free(c->arena);
     free(c->index);
     free(c->slots);
+    free(c->blocks);
     memset(c, 0, sizeof *c);
 }
 
-/* Splits `limit` bytes between the index and the arena, sized down to what
- * the file can use, and allocates both. */
+/* Splits `limit` bytes between the indexes, the arena and the key blocks,
+ * sized down to what the file can use, and allocates them. */
 static int cache_allocate(word_cache *c, const hpfc_file *f, size_t limit)
 {
-    uint64_t need_bytes, need_entries;
-    file_needs(f, &need_bytes, &need_entries);
+    uint64_t need_bytes, need_blocks, need_entries;
+    file_needs(f, &need_bytes, &need_blocks, &need_entries);
     size_t buckets = MIN_BUCKETS;
     while (buckets < SIZE_MAX / 4 / BUCKET_BYTES &&
            2 * buckets * BUCKET_BYTES <= limit / INDEX_SHARE && buckets / 2 < need_entries)
@@ -93,21 +102,31 @@ static int cache_allocate(word_cache *c, const hpfc_file *f, size_t limit)
     size_t index_bytes = buckets * BUCKET_BYTES;
     if (limit <= index_bytes)
         return HPFC_OK; /* too small to hold anything: no cache */
-    size_t arena = limit - index_bytes;
+    /* a quarter of the rest for the key blocks: a keyed word's block takes
+     * about half what its entry takes, and walks on hpfc_dart values key
+     * no word at all */
+    size_t rest = limit - index_bytes, blocks = rest / BLOCK_SHARE, arena = rest - blocks;
     if (arena > need_bytes)
         arena = (size_t)need_bytes;
     if (arena > MAX_ARENA_BYTES)
         arena = MAX_ARENA_BYTES;
+    if (blocks > need_blocks)
+        blocks = (size_t)need_blocks;
+    if (blocks > MAX_ARENA_BYTES)
+        blocks = MAX_ARENA_BYTES;
     arena &= ~(size_t)7;
+    blocks &= ~(size_t)7;
     c->limit = limit;
     c->index = calloc(buckets, sizeof(cache_bucket));
     c->slots = calloc(buckets, sizeof(cache_bucket));
     c->arena = arena ? malloc(arena) : NULL;
-    if (!c->index || !c->slots || !c->arena) {
+    c->blocks = blocks ? malloc(blocks) : NULL;
+    if (!c->index || !c->slots || !c->arena || (blocks && !c->blocks)) {
         cache_release(c);
         return arena ? HPFC_E_NOMEM : HPFC_OK;
     }
     c->arena_bytes = arena;
+    c->blocks_bytes = blocks;
     c->mask = buckets - 1;
     c->max_entries = buckets / 2;
     return HPFC_OK;
@@ -118,6 +137,7 @@ static void cache_flush(word_cache *c)
     memset(c->index, 0, (c->mask + 1) * sizeof(cache_bucket));
     memset(c->slots, 0, (c->mask + 1) * sizeof(cache_bucket));
     c->used = 0;
+    c->blocks_used = 0;
     c->entries = 0;
 }
 
@@ -200,13 +220,55 @@ static void index_put(cache_bucket *index, size_t mask, uint64_t h, uint32_t ref
     index[b] = (cache_bucket){ref, (uint32_t)(h >> 32)};
 }
 
-void topo_cache_key(word_cache *c, uint32_t ref)
+/* Crossing k's answers in a key block, from its entry e. */
+static key_answer entry_answer(const word_cache *c, cached_word *e, uint32_t k)
 {
+    const cached_crossing *x = &word_crossings(e)[k];
+    key_answer a = {.slot = 0,
+                    .m = NONE,
+                    .pred = NONE,
+                    .pixel = KEY_PIXEL_UNKNOWN,
+                    .succ = x->vertex == NONE ? NONE : x->succ};
+    if (x->arrival) {
+        cached_word *t = cache_entry(c, x->arrival);
+        a.slot = t->slot;
+        a.m = x->arrival_m;
+        a.pred = word_crossings(t)[x->arrival_m].pred;
+        if (t->pixel_id < KEY_PIXEL_UNKNOWN)
+            a.pixel = (uint32_t)t->pixel_id;
+    }
+    return a;
+}
+
+int topo_cache_key(hpfc_walker *w, uint32_t ref)
+{
+    word_cache *c = &w->cache;
     cached_word *e = cache_entry(c, ref);
-    if (e->keyed)
-        return;
-    e->keyed = 1;
-    index_put(c->slots, c->mask, topo_slot_hash(e->slot), ref);
+    if (e->block)
+        return HPFC_OK;
+    size_t bytes = block_bytes(e->n);
+    if (bytes > c->blocks_bytes)
+        return TOPO_UNCACHED;
+    if (bytes > c->blocks_bytes - c->blocks_used) {
+        cache_flush(c);
+        return TOPO_RETRY;
+    }
+    e->block = (uint32_t)(c->blocks_used / 8 + 1);
+    c->blocks_used += bytes;
+    key_block *b = cache_block(c, e->block);
+    *b = (key_block){e->slot, e->n, ref};
+    key_answer *a = block_answers(b);
+    for (uint32_t k = 0; k < e->n; k++)
+        a[k] = entry_answer(c, e, k);
+    index_put(c->slots, c->mask, topo_slot_hash(e->slot), e->block);
+    return HPFC_OK;
+}
+
+void topo_block_arrival(hpfc_walker *w, uint32_t ref, uint32_t k)
+{
+    cached_word *e = cache_entry(&w->cache, ref);
+    if (e->block)
+        block_answers(cache_block(&w->cache, e->block))[k] = entry_answer(&w->cache, e, k);
 }
 
 /* Room for an entry of `bytes`; when the arena or the index is full, empties
@@ -257,7 +319,7 @@ static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *l
     e->nvert = ok ? lw->nvert : 0;
     e->parse_status = parse_status;
     memcpy(e->road_off, lw->road_off, sizeof e->road_off);
-    e->keyed = 0;
+    e->block = 0;
     e->slot = slot;
     e->pixel_id = PIXEL_ID_UNKNOWN;
     memcpy(word_path(e), px->path, ((size_t)px->depth + 1) * sizeof(path_step));
@@ -267,9 +329,7 @@ static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *l
                                  .link_m = NONE,
                                  .arrival = 0,
                                  .arrival_m = NONE,
-                                 .arrival_pred = NONE,
-                                 .arrival_slot = 0,
-                                 .arrival_pixel = PIXEL_ID_UNKNOWN,
+                                 .unused = 0,
                                  .pred = ok ? lw->pred[k] : k,
                                  .succ = ok ? lw->succ[k] : k,
                                  .vertex = ok ? lw->comp_vertex[lw->comp[k]] : NONE};

@@ -5,7 +5,8 @@
  * traversal copies, hashes and compares at every step. A key is the word
  * pixel's slot position and a crossing (spec/hpfc-format.md §3.10); the
  * walker answers key operators from its cache entries, which record their
- * own slot, without building a path.
+ * own slot, without building a path; warm twin, next and prev from the
+ * entries' compact key blocks (topo.h).
  *
  * A key names its pixel by position only, and the file has no parent
  * pointers: the path of a key the cache does not hold comes from a parent
@@ -225,8 +226,8 @@ static int key_entry(hpfc_walker *w, uint64_t key, uint32_t *ref)
     if (st == TOPO_RETRY) /* emptied: an entry that fits the arena fits now */
         st = topo_cache_load(w, &px, true, ref);
     if (!st) {
-        topo_cache_key(&w->cache, *ref);
         cache_entry(&w->cache, *ref)->pixel_id = id; /* the path is the slot's own */
+        st = topo_cache_key(w, *ref);
     }
     return st;
 }
@@ -235,9 +236,11 @@ static int key_entry(hpfc_walker *w, uint64_t key, uint32_t *ref)
  * and keyed (key_entry); its word's parse status. */
 static int keyed_word(hpfc_walker *w, uint64_t key, uint32_t *ref, cached_word **e)
 {
+    const key_block *b = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT);
     int st = HPFC_OK;
-    if (!(*ref = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT)) &&
-        (st = key_entry(w, key, ref)))
+    if (b)
+        *ref = b->ref;
+    else if ((st = key_entry(w, key, ref)))
         return st;
     *e = cache_entry(&w->cache, *ref);
     return (*e)->parse_status;
@@ -273,28 +276,44 @@ static int cached_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64
     }
     /* twin(d) = out_m where d arrives, next(d) = out_pred(m), prev(d) =
      * twin(out_succ(k)) */
-    cached_crossing *start = &x[op == OP_PREV ? x[k].succ : k];
-    if (start->arrival && op != OP_TARGET) { /* walked before: the answer is here */
-        m = op == OP_NEXT ? start->arrival_pred : start->arrival_m;
-        if (index) {
-            if (start->arrival_pixel == PIXEL_ID_UNKNOWN &&
-                (st = entry_pixel_id(w, cache_entry(&w->cache, start->arrival),
-                                     &start->arrival_pixel)))
-                return st;
-            *index = start->arrival_pixel * w->cap + m;
-        }
-        *out = start->arrival_slot << KEY_SHIFT | m;
-        return HPFC_OK;
-    }
-    if ((st = topo_cached_follow(w, ref, op == OP_PREV ? x[k].succ : k, &end, &m)))
+    uint32_t from = op == OP_PREV ? x[k].succ : k;
+    if ((st = topo_cached_follow(w, ref, from, &end, &m)))
         return st;
     cached_word *t = cache_entry(&w->cache, end);
     const cached_crossing *y = &word_crossings(t)[m];
     uint32_t r = op == OP_NEXT ? y->pred : op == OP_TARGET ? y->vertex : m;
-    if (index && (st = entry_dart_index(w, end, r, index)))
-        return st;
+    if (index) {
+        if ((st = entry_dart_index(w, end, r, index)))
+            return st;
+        topo_block_arrival(w, ref, from); /* with the pixel id now known */
+    }
     *out = t->slot << KEY_SHIFT | r;
     return HPFC_OK;
+}
+
+/* A warm twin, next or prev from the key's block alone, when it has the
+ * answer: true then. Anything else (a key no block holds, a crossing not
+ * walked yet, no dart, an index not known or not allowed) goes the long
+ * way, which gives the same answer or the error. */
+static inline bool block_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64_t *index)
+{
+    key_block *b = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT);
+    uint32_t k = key & KEY_LOW;
+    if (!b || k >= b->n)
+        return false;
+    const key_answer *a = block_answers(b);
+    if (op == OP_PREV && (k = a[k].succ) == NONE)
+        return false;
+    if (!a[k].slot) /* not walked yet, or no dart: the entry says which */
+        return false;
+    uint32_t m = op == OP_NEXT ? a[k].pred : a[k].m;
+    if (index) {
+        if (a[k].pixel == KEY_PIXEL_UNKNOWN || w->keys.bound_status)
+            return false;
+        *index = (uint64_t)a[k].pixel * w->cap + m;
+    }
+    *out = a[k].slot << KEY_SHIFT | m;
+    return true;
 }
 
 /* Without the cache: the dart operators on the key's dart. */
@@ -362,19 +381,25 @@ static int key_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64_t 
     return st;
 }
 
+/* A twin, next or prev: from the key's block when it answers, else key_op. */
+static inline int moving_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64_t *index)
+{
+    return block_op(w, key, op, out, index) ? HPFC_OK : key_op(w, key, op, out, index);
+}
+
 int hpfc_key_twin(hpfc_walker *w, uint64_t dart_key, uint64_t *out)
 {
-    return w && out ? key_op(w, dart_key, OP_TWIN, out, NULL) : HPFC_E_ARG;
+    return w && out ? moving_op(w, dart_key, OP_TWIN, out, NULL) : HPFC_E_ARG;
 }
 
 int hpfc_key_next(hpfc_walker *w, uint64_t dart_key, uint64_t *out)
 {
-    return w && out ? key_op(w, dart_key, OP_NEXT, out, NULL) : HPFC_E_ARG;
+    return w && out ? moving_op(w, dart_key, OP_NEXT, out, NULL) : HPFC_E_ARG;
 }
 
 int hpfc_key_prev(hpfc_walker *w, uint64_t dart_key, uint64_t *out)
 {
-    return w && out ? key_op(w, dart_key, OP_PREV, out, NULL) : HPFC_E_ARG;
+    return w && out ? moving_op(w, dart_key, OP_PREV, out, NULL) : HPFC_E_ARG;
 }
 
 int hpfc_key_origin(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key)
@@ -389,17 +414,17 @@ int hpfc_key_target(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key)
 
 int hpfc_key_twin_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out, uint64_t *index)
 {
-    return w && out && index ? key_op(w, dart_key, OP_TWIN, out, index) : HPFC_E_ARG;
+    return w && out && index ? moving_op(w, dart_key, OP_TWIN, out, index) : HPFC_E_ARG;
 }
 
 int hpfc_key_next_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out, uint64_t *index)
 {
-    return w && out && index ? key_op(w, dart_key, OP_NEXT, out, index) : HPFC_E_ARG;
+    return w && out && index ? moving_op(w, dart_key, OP_NEXT, out, index) : HPFC_E_ARG;
 }
 
 int hpfc_key_prev_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out, uint64_t *index)
 {
-    return w && out && index ? key_op(w, dart_key, OP_PREV, out, index) : HPFC_E_ARG;
+    return w && out && index ? moving_op(w, dart_key, OP_PREV, out, index) : HPFC_E_ARG;
 }
 
 /* ---- dense indices ------------------------------------------------------------- */

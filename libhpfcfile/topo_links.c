@@ -285,6 +285,7 @@ int topo_cached_follow(hpfc_walker *w, uint32_t ref, uint32_t k, uint32_t *end_r
 {
     cached_word *e = entry_of(w, ref);
     cached_crossing *start = &word_crossings(e)[k];
+    uint32_t start_ref = ref, start_k = k;
     if (start->arrival) {
         *end_ref = start->arrival;
         *end_m = start->arrival_m;
@@ -307,9 +308,7 @@ int topo_cached_follow(hpfc_walker *w, uint32_t ref, uint32_t k, uint32_t *end_r
         if (y->vertex != NONE) {
             start->arrival = *end_ref = ref;
             start->arrival_m = *end_m = x->link_m;
-            start->arrival_pred = y->pred;
-            start->arrival_slot = e->slot;
-            start->arrival_pixel = e->pixel_id;
+            topo_block_arrival(w, start_ref, start_k);
             return HPFC_OK;
         }
         k = y->succ; /* a stabbing: leave through its other crossing */

@@ -681,7 +681,9 @@ static size_t check_bad_keys(const hpfc_file *f, hpfc_walker *w, const uint64_t 
                 is_dart = keys[x] == key;
             hpfc_dart back;
             int want = is_dart ? HPFC_OK : HPFC_E_ARG;
-            bad += hpfc_key_next(w, key, &out) != want || hpfc_dart_from_key(w, key, &back) != want;
+            for (int op = 0; op < KEY_OPS; op++) /* warm: twin, next and prev answer from blocks */
+                bad += key_op_call(w, op, key, &out) != want;
+            bad += hpfc_dart_from_key(w, key, &back) != want;
             tried++;
         }
         uint64_t out;
