@@ -74,7 +74,7 @@ typedef struct cached_word {
     uint32_t n, nvert;
     int32_t parse_status;
     uint32_t road_off[5];    /* as in local_word */
-    /* its key block (a reference in word_cache.blocks), once the path was
+    /* its key block (a reference as cache_block's), once the path was
      * found to be the slot's own (topo_keys.c); 0: not keyed */
     uint32_t block;
     uint64_t slot;           /* absolute bit position of the word's slot (its key) */
@@ -105,7 +105,7 @@ static inline path_step *word_path(cached_word *e)
  * What a warm key operator reads of a keyed entry (one whose path is its
  * slot's own): its slot and, per crossing, the answers of twin and next
  * once a walk has found them. Why apart from the entry: blocks sit
- * together in their own arena, so a warm walk on keys reads a bucket and
+ * together at the arena's end, so a warm walk on keys reads a bucket and
  * one block line per step from about a third of the memory the entries
  * take, most of it then in the core's L2 cache instead of farther away
  * (the warm walk of bench_traverse went from 7.7 to 5.2 ns an operator).
@@ -143,13 +143,14 @@ typedef struct cache_bucket {
 
 typedef struct word_cache {
     size_t limit;            /* bytes allowed (arena + indexes), 0 = no cache */
-    uint8_t *arena;          /* entries, 8-byte aligned */
+    uint8_t *arena;          /* entries and key blocks, 8-byte aligned */
     size_t arena_bytes, used;
     cache_bucket *index; /* by path; open addressing, at most half full */
     cache_bucket *slots; /* the key blocks by slot, as many buckets */
     size_t mask, entries, max_entries;
-    uint8_t *blocks; /* key blocks, 8-byte aligned */
-    size_t blocks_bytes, blocks_used;
+    /* key blocks fill the arena down from its end, entries up from its
+     * start: blocks from here on */
+    size_t blocks_low;
 } word_cache;
 
 /* The walker's parent index (topo_keys.c): per level l >= 1, its images in
@@ -202,7 +203,7 @@ static inline cached_word *cache_entry(const word_cache *c, uint32_t ref)
 /* Key block of a reference (as cache_entry's). */
 static inline key_block *cache_block(const word_cache *c, uint32_t ref)
 {
-    return (key_block *)(void *)(c->blocks + (size_t)(ref - 1) * 8);
+    return (key_block *)(void *)(c->arena + (size_t)(ref - 1) * 8);
 }
 
 /* Allocates the cache (limit bytes, 0 = none) and the solo entry. */

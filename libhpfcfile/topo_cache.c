@@ -8,11 +8,11 @@
  * identified, a word is decoded about once per traversal and an operator on
  * a dart seen before only follows links.
  *
- * Bounds: the arena, its two indexes (by path; by slot, for the entries
- * key operators found by their slot's own path, topo_keys.c) and the key
- * blocks of those entries (topo.h) together take at most the configured
- * bytes (never more than caching every word of the
- * file would take). When the arena or the indexes are full, everything is
+ * Bounds: the arena (entries from its start, the key blocks of keyed
+ * entries from its end, topo.h) and its two indexes (by path; by slot, for
+ * the entries key operators found by their slot's own path, topo_keys.c)
+ * together take at most the configured bytes (never more than caching
+ * every word of the file would take). When the arena or the indexes are full, everything is
  * dropped at once, so a link never outlives the entry it names; a word too
  * big for the arena is never cached.
  *
@@ -36,7 +36,6 @@ _Static_assert(sizeof(cached_word) % 8 == 0 && sizeof(cached_crossing) % 8 == 0 
 
 enum {
     INDEX_SHARE = 4, /* the two indexes take about 1/4 of the cache */
-    BLOCK_SHARE = 4, /* the key blocks 1/4 of the rest */
     MIN_BUCKETS = 8,
 };
 
@@ -66,16 +65,16 @@ static uint64_t saturating_mul_add(uint64_t acc, uint64_t a, uint64_t b)
 }
 
 /* What caching every word of the file could take at most, from the level
- * table: arena bytes, key block bytes and entries (a corrupt file can reach one word by
- * several paths; it then just empties the cache more often). */
-static void file_needs(const hpfc_file *f, uint64_t *bytes, uint64_t *blocks, uint64_t *entries)
+ * table: arena bytes (entries and their key blocks) and entries (a corrupt
+ * file can reach one word by several paths; it then just empties the cache
+ * more often). */
+static void file_needs(const hpfc_file *f, uint64_t *bytes, uint64_t *entries)
 {
     hpfc_level_info lv;
-    *bytes = *blocks = *entries = 0;
+    *bytes = *entries = 0;
     for (uint32_t l = 0; hpfc_file_get_level(f, l, &lv) == HPFC_OK; l++) {
         uint32_t c = lv.word_bits >= FORMAT_MIN_WORD_BITS ? (lv.word_bits - FORMAT_MIN_WORD_BITS) / 4 : 0;
-        *bytes = saturating_mul_add(*bytes, lv.word_pixels, entry_bytes(l, c, c));
-        *blocks = saturating_mul_add(*blocks, lv.word_pixels, block_bytes(c));
+        *bytes = saturating_mul_add(*bytes, lv.word_pixels, entry_bytes(l, c, c) + block_bytes(c));
         *entries = saturating_mul_add(*entries, lv.word_pixels, 1);
     }
 }
@@ -85,16 +84,15 @@ static void cache_release(word_cache *c)
     free(c->arena);
     free(c->index);
     free(c->slots);
-    free(c->blocks);
     memset(c, 0, sizeof *c);
 }
 
-/* Splits `limit` bytes between the indexes, the arena and the key blocks,
- * sized down to what the file can use, and allocates them. */
+/* Splits `limit` bytes between the indexes and the arena, sized down to
+ * what the file can use, and allocates them. */
 static int cache_allocate(word_cache *c, const hpfc_file *f, size_t limit)
 {
-    uint64_t need_bytes, need_blocks, need_entries;
-    file_needs(f, &need_bytes, &need_blocks, &need_entries);
+    uint64_t need_bytes, need_entries;
+    file_needs(f, &need_bytes, &need_entries);
     size_t buckets = MIN_BUCKETS;
     while (buckets < SIZE_MAX / 4 / BUCKET_BYTES &&
            2 * buckets * BUCKET_BYTES <= limit / INDEX_SHARE && buckets / 2 < need_entries)
@@ -102,31 +100,21 @@ static int cache_allocate(word_cache *c, const hpfc_file *f, size_t limit)
     size_t index_bytes = buckets * BUCKET_BYTES;
     if (limit <= index_bytes)
         return HPFC_OK; /* too small to hold anything: no cache */
-    /* a quarter of the rest for the key blocks: a keyed word's block takes
-     * about half what its entry takes, and walks on hpfc_dart values key
-     * no word at all */
-    size_t rest = limit - index_bytes, blocks = rest / BLOCK_SHARE, arena = rest - blocks;
+    size_t arena = limit - index_bytes;
     if (arena > need_bytes)
         arena = (size_t)need_bytes;
     if (arena > MAX_ARENA_BYTES)
         arena = MAX_ARENA_BYTES;
-    if (blocks > need_blocks)
-        blocks = (size_t)need_blocks;
-    if (blocks > MAX_ARENA_BYTES)
-        blocks = MAX_ARENA_BYTES;
     arena &= ~(size_t)7;
-    blocks &= ~(size_t)7;
     c->limit = limit;
     c->index = calloc(buckets, sizeof(cache_bucket));
     c->slots = calloc(buckets, sizeof(cache_bucket));
     c->arena = arena ? malloc(arena) : NULL;
-    c->blocks = blocks ? malloc(blocks) : NULL;
-    if (!c->index || !c->slots || !c->arena || (blocks && !c->blocks)) {
+    if (!c->index || !c->slots || !c->arena) {
         cache_release(c);
         return arena ? HPFC_E_NOMEM : HPFC_OK;
     }
-    c->arena_bytes = arena;
-    c->blocks_bytes = blocks;
+    c->arena_bytes = c->blocks_low = arena;
     c->mask = buckets - 1;
     c->max_entries = buckets / 2;
     return HPFC_OK;
@@ -137,7 +125,7 @@ static void cache_flush(word_cache *c)
     memset(c->index, 0, (c->mask + 1) * sizeof(cache_bucket));
     memset(c->slots, 0, (c->mask + 1) * sizeof(cache_bucket));
     c->used = 0;
-    c->blocks_used = 0;
+    c->blocks_low = c->arena_bytes;
     c->entries = 0;
 }
 
@@ -247,14 +235,14 @@ int topo_cache_key(hpfc_walker *w, uint32_t ref)
     if (e->block)
         return HPFC_OK;
     size_t bytes = block_bytes(e->n);
-    if (bytes > c->blocks_bytes)
+    if (bytes > c->arena_bytes)
         return TOPO_UNCACHED;
-    if (bytes > c->blocks_bytes - c->blocks_used) {
+    if (bytes > c->blocks_low - c->used) {
         cache_flush(c);
         return TOPO_RETRY;
     }
-    e->block = (uint32_t)(c->blocks_used / 8 + 1);
-    c->blocks_used += bytes;
+    c->blocks_low -= bytes;
+    e->block = (uint32_t)(c->blocks_low / 8 + 1);
     key_block *b = cache_block(c, e->block);
     *b = (key_block){e->slot, e->n, ref};
     key_answer *a = block_answers(b);
@@ -277,7 +265,7 @@ static int cache_reserve(word_cache *c, size_t bytes, uint32_t *ref)
 {
     if (bytes > c->arena_bytes)
         return TOPO_UNCACHED;
-    if (bytes > c->arena_bytes - c->used || c->entries >= c->max_entries) {
+    if (bytes > c->blocks_low - c->used || c->entries >= c->max_entries) {
         cache_flush(c);
         return TOPO_RETRY;
     }
