@@ -12,9 +12,9 @@
  * entries from its end, topo.h) and its two indexes (by path; by slot, for
  * the entries key operators found by their slot's own path, topo_keys.c)
  * together take at most the configured bytes (never more than caching
- * every word of the file would take). When the arena or the indexes are full, everything is
- * dropped at once, so a link never outlives the entry it names; a word too
- * big for the arena is never cached.
+ * every word of the file would take). When the arena or the indexes are
+ * full, everything is dropped at once, so a link never outlives the entry
+ * it names; a word too big for the arena is never cached.
  *
  * Safety: an entry holds exactly what a fresh decode and parse of its word
  * give (the same checks, the same statuses), and it is found only by an
