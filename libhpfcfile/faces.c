@@ -213,7 +213,7 @@ static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uin
         hpfc_pixel q;
         uint32_t mk;
         uint64_t qbase;
-        int st = topo_cross_road(w, p, lw, k, &q, &w->there, &mk);
+        int st = topo_cross_road(w, p, true, lw, k, &q, &w->there, &mk);
         if (!st)
             st = node_base(fc, &q, &qbase);
         if (st)
@@ -235,7 +235,7 @@ static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p
         int64_t lo, hi, qlo, qhi;
         topo_road_extent(&pb, road, &lo, &hi);
         hpfc_pixel q;
-        st = topo_locate_on_road(fc->file, &pb, road, lo, false, &q, &qb);
+        st = topo_locate_on_road(fc->file, p, &pb, road, lo, false, &q, &qb);
         if (st == HPFC_E_CORRUPT) { /* the domain's border: nothing across */
             st = HPFC_OK;
             continue;
@@ -247,7 +247,7 @@ static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p
             continue; /* smaller leaves across: each handles its own side */
         uint64_t before, qbase;
         uint64_t pnode = gap_node(&w->here, base, road, 0);
-        if ((st = topo_crossings_after(w, &pb, road, qlo, qhi, topo_road_count, &before)) ||
+        if ((st = topo_crossings_after(w, p, &pb, road, qlo, qhi, topo_road_count, &before)) ||
             (st = node_base(fc, &q, &qbase)) || (st = topo_parse_pixel(w, &w->there, &q)))
             break;
         int opposite = (road + 2) % 4;

@@ -46,6 +46,9 @@ struct hpfc_file {
     uint64_t meta_size;
     hpfc_file_info info;
     file_level lv[HPFC_MAX_LEVELS];
+    /* log2 of cols and rows when both are powers of two, else 0: point
+     * location then reads every level's cell index off one quotient */
+    uint32_t shift_x, shift_y;
     const uint8_t *feat;    /* the FEAT section, NULL if none */
     uint64_t feat_len;
 };
@@ -95,6 +98,17 @@ static bool split_extent(hpfc_file *f, int64_t extent, uint32_t root, uint32_t p
     return true;
 }
 
+/* log2(n) when n >= 2 is a power of two, else 0. */
+static uint32_t power_of_two_log(uint32_t n)
+{
+    uint32_t k = 0;
+    if (n < 2 || (n & (n - 1)))
+        return 0;
+    while (n >> (k + 1))
+        k++;
+    return k;
+}
+
 static int read_header(hpfc_file *f)
 {
     const uint8_t *d = f->data;
@@ -130,6 +144,8 @@ static int read_header(hpfc_file *f)
     if (!split_extent(f, in->width, in->root_cols, in->cols, true) ||
         !split_extent(f, in->height, in->root_rows, in->rows, false))
         return HPFC_E_HEADER;
+    f->shift_x = power_of_two_log(in->cols);
+    f->shift_y = power_of_two_log(in->rows);
     if (!format_all_zero(d + hdr_OFF_reserved0, hdr_SIZE_reserved0) ||
         !format_all_zero(d + hdr_OFF_reserved1, hdr_SIZE_reserved1) ||
         !format_all_zero(d + hdr_OFF_reserved2, hdr_SIZE_reserved2))
@@ -733,8 +749,12 @@ int hpfc_pixel_move(const hpfc_file *f, const hpfc_pixel *px, int dir, hpfc_pixe
 
 int hpfc_locate(const hpfc_file *f, int64_t x, int64_t y, hpfc_pixel *out)
 {
-    if (!f || !out)
-        return HPFC_E_ARG;
+    return f && out ? reader_locate_near(f, NULL, x, y, out) : HPFC_E_ARG;
+}
+
+int reader_locate_near(const hpfc_file *f, const hpfc_pixel *near, int64_t x, int64_t y,
+                       hpfc_pixel *out)
+{
     const hpfc_file_info *in = &f->info;
     if (x < in->x0 || y < in->y0)
         return HPFC_E_NO_PIXEL;
@@ -742,14 +762,40 @@ int hpfc_locate(const hpfc_file *f, int64_t x, int64_t y, hpfc_pixel *out)
     uint64_t rx = (uint64_t)x - (uint64_t)in->x0, ry = (uint64_t)y - (uint64_t)in->y0;
     if (rx >= (uint64_t)in->width || ry >= (uint64_t)in->height)
         return HPFC_E_NO_PIXEL;
+    /* levels above near's own whose refined pixel may also hold the point */
+    uint32_t shared = near && near->depth < in->levels ? near->depth : 0;
+    /* 2^a x 2^b images: the point's cell at the deepest level, whose bits
+     * are every level's cell index (divisions are most of a descent's
+     * arithmetic); cell_w(0) = cell_w(deepest) << (a * deepest) < 2^63
+     * bounds the shifts */
+    uint32_t deepest = in->levels - 1, sx = f->shift_x, sy = f->shift_y;
+    bool radix = sx && sy;
+    uint64_t qx = radix ? rx / (uint64_t)f->lv[deepest].cell_w : 0;
+    uint64_t qy = radix ? ry / (uint64_t)f->lv[deepest].cell_h : 0;
     uint64_t image = 0;
     for (uint32_t level = 0;; level++) {
         const file_level *lv = &f->lv[level];
-        uint64_t cw = (uint64_t)lv->cell_w, ch = (uint64_t)lv->cell_h;
-        uint64_t gx = rx / cw, gy = ry / ch; /* < cols, rows: rx, ry lie in the parent cell */
-        rx -= gx * cw;
-        ry -= gy * ch;
+        uint64_t gx, gy; /* < cols, rows: the point lies in the parent cell */
+        if (radix) {
+            gx = qx >> (sx * (deepest - level));
+            gy = qy >> (sy * (deepest - level));
+            if (level > 0)
+                gx &= lv->cols - 1, gy &= lv->rows - 1;
+        } else {
+            uint64_t cw = (uint64_t)lv->cell_w, ch = (uint64_t)lv->cell_h;
+            gx = rx / cw, gy = ry / ch;
+            rx -= gx * cw;
+            ry -= gy * ch;
+        }
         uint32_t i = (uint32_t)gx, j = lv->rows - 1 - (uint32_t)gy; /* j = 0 is the northern row */
+        if (level < shared && near->path[level].image == image && near->path[level].i == i &&
+            near->path[level].j == j) {
+            /* near's ancestor: the descent through it is near's path (out may be near) */
+            out->path[level] = near->path[level];
+            image = near->path[level + 1].image;
+            continue;
+        }
+        shared = 0;
         bool word;
         int st = descend(f, level, &image, i, j, out, &word);
         if (st || word)

@@ -41,6 +41,14 @@ int reader_next_refined(const hpfc_file *file, uint32_t level, uint64_t image, r
  * when no word slot starts there. O(pixels of the image). */
 int reader_word_at(const hpfc_file *file, uint32_t level, uint64_t image, uint64_t bit,
                    uint32_t *pixel);
+/* hpfc_locate, from `near` (NULL: from the root): the levels where the
+ * point lies in one of near's ancestors take near's path instead of reading
+ * the pools again, so locating next to a known pixel costs the levels below
+ * their common ancestor. The same answer as hpfc_locate when near's path is
+ * the descent to its pixel (one the reader gave; a caller's made-up path is
+ * trusted as it is by hpfc_pixel_move). out may be near. */
+int reader_locate_near(const hpfc_file *file, const hpfc_pixel *near, int64_t x, int64_t y,
+                       hpfc_pixel *out);
 /* The FEAT section (checked at open), NULL when the file has none. */
 const uint8_t *reader_feat_section(const hpfc_file *file, uint64_t *length);
 

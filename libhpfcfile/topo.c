@@ -252,19 +252,19 @@ bool topo_road_ascends(int road)
     return road == HPFC_WEST || road == HPFC_NORTH;
 }
 
-int topo_locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, bool inside,
-                          hpfc_pixel *out, box *out_box)
+int topo_locate_on_road(const hpfc_file *f, const hpfc_pixel *near, const box *b, int road,
+                        int64_t t, bool inside, hpfc_pixel *out, box *out_box)
 {
     int64_t x, y;
     road_point(b, road, t, inside, &x, &y);
-    int st = hpfc_locate(f, x, y, out);
+    int st = reader_locate_near(f, near, x, y, out);
     if (!st)
         st = topo_leaf_box(f, out, out_box);
     return st == HPFC_E_NO_PIXEL ? HPFC_E_CORRUPT : st;
 }
 
-int topo_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi,
-                         topo_road_counter count_of, uint64_t *sum)
+int topo_crossings_after(hpfc_walker *w, const hpfc_pixel *near, const box *b, int road,
+                         int64_t qlo, int64_t qhi, topo_road_counter count_of, uint64_t *sum)
 {
     int64_t lo, hi;
     topo_road_extent(b, road, &lo, &hi);
@@ -275,8 +275,9 @@ int topo_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, in
         hpfc_pixel l;
         box lb;
         uint32_t count;
-        int st = steps > w->leaf_budget ? HPFC_E_CORRUPT
-                                        : topo_locate_on_road(w->file, b, road, t, true, &l, &lb);
+        int st = steps > w->leaf_budget
+                     ? HPFC_E_CORRUPT
+                     : topo_locate_on_road(w->file, steps ? &l : near, b, road, t, true, &l, &lb);
         if (!st)
             st = count_of(w, &l, road, &count);
         if (st)
@@ -291,8 +292,8 @@ int topo_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, in
 
 /* Crossing k of word pixel P (parsed in lw), seen from the other side of its
  * road: the word pixel Q (parsed into qlw) and Q's crossing *m. */
-int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k, hpfc_pixel *q,
-               local_word *qlw, uint32_t *m)
+int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const local_word *lw,
+                    uint32_t k, hpfc_pixel *q, local_word *qlw, uint32_t *m)
 {
     const hpfc_file *f = w->file;
     int road = 0;
@@ -319,7 +320,8 @@ int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, u
         /* Q spans P's whole side: add the crossings of the leaves on P's
          * side that follow P along Q's side, in P's clockwise order */
         uint64_t sum;
-        if ((st = topo_crossings_after(w, &pb, road, qlo, qhi, topo_road_count, &sum)) ||
+        if ((st = topo_crossings_after(w, p_located ? q : NULL, &pb, road, qlo, qhi,
+                                       topo_road_count, &sum)) ||
             (st = topo_parse_pixel(w, qlw, q)))
             return st;
         rank += sum;
@@ -335,7 +337,9 @@ int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, u
     for (uint64_t steps = 0; up ? t < hi : t >= lo; steps++) {
         if (steps > w->leaf_budget)
             return HPFC_E_CORRUPT;
-        if (steps && (st = topo_locate_on_road(f, &pb, road, t, false, q, &qb)))
+        /* q came from p's path, then from a descent (reader_locate_near) */
+        const hpfc_pixel *near = p_located || steps > 1 ? q : NULL;
+        if (steps && (st = topo_locate_on_road(f, near, &pb, road, t, false, q, &qb)))
             return st;
         if ((st = topo_parse_pixel(w, qlw, q)))
             return st;
@@ -405,7 +409,7 @@ static int walk(hpfc_walker *w, const hpfc_dart *d, hpfc_pixel *end, uint32_t *m
         if (steps > w->budget)
             return HPFC_E_CORRUPT;
         uint32_t mm;
-        if ((st = topo_cross_road(w, &cur, at, k, end, next, &mm)))
+        if ((st = topo_cross_road(w, &cur, false, at, k, end, next, &mm)))
             break;
         if (next->comp_vertex[next->comp[mm]] != NONE) {
             if (next != &w->there) { /* keep the answer in w->there */

@@ -293,20 +293,28 @@ int topo_leaf_box(const hpfc_file *f, const hpfc_pixel *px, box *b);
 void topo_road_extent(const box *b, int road, int64_t *lo, int64_t *hi);
 /* Whether the road's clockwise order runs toward increasing coordinates. */
 bool topo_road_ascends(int road);
-/* The leaf at position t along b's road, on b's side (inside) or across. */
-int topo_locate_on_road(const hpfc_file *f, const box *b, int road, int64_t t, bool inside,
-                   hpfc_pixel *out, box *out_box);
+/* The leaf at position t along b's road, on b's side (inside) or across;
+ * located from `near`, a pixel next to it (reader_locate_near; NULL: from
+ * the root). out may be near. */
+int topo_locate_on_road(const hpfc_file *f, const hpfc_pixel *near, const box *b, int road,
+                        int64_t t, bool inside, hpfc_pixel *out, box *out_box);
 /* Crossing k of P (parsed in lw) seen from across its road: pixel Q (parsed
- * into qlw, which must differ from lw) and the crossing's index *m in Q. */
-int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, const local_word *lw, uint32_t k,
-               hpfc_pixel *q, local_word *qlw, uint32_t *m);
+ * into qlw, which must differ from lw) and the crossing's index *m in Q.
+ * p_located: P's path is a descent the reader made (leaf iteration, point
+ * location), so the leaves next to P are located from it
+ * (reader_locate_near); otherwise (a caller's pixel, whose path above its
+ * own level is not checked) from the root, as for a path that names the
+ * pixel by mistake the answers must not depend on how it was found. */
+int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const local_word *lw,
+                    uint32_t k, hpfc_pixel *q, local_word *qlw, uint32_t *m);
 /* How many crossings a word pixel has on a road: topo_road_count, or the
  * walker cache's answer (topo_links.c). */
 typedef int (*topo_road_counter)(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count);
 /* Sum of road-`road` crossings of the leaves on b's side that follow b, in
  * b's clockwise order, up to the end of the extent [qlo, qhi), each leaf's
- * count taken from `count`. */
-int topo_crossings_after(hpfc_walker *w, const box *b, int road, int64_t qlo, int64_t qhi,
-                         topo_road_counter count, uint64_t *sum);
+ * count taken from `count`; the first located from `near`, each next from
+ * the one before. */
+int topo_crossings_after(hpfc_walker *w, const hpfc_pixel *near, const box *b, int road,
+                         int64_t qlo, int64_t qhi, topo_road_counter count, uint64_t *sum);
 
 #endif

@@ -143,7 +143,8 @@ static int link_to_spanning(hpfc_walker *w, const road_job *j, const hpfc_pixel 
     topo_road_extent(qb, j->road, &qlo, &qhi);
     uint64_t sum;
     uint32_t qref;
-    int st = topo_crossings_after(w, &j->pb, j->road, qlo, qhi, cached_road_count, &sum);
+    /* from the root: q has P's path above its level, a caller's (topo_cross_road) */
+    int st = topo_crossings_after(w, NULL, &j->pb, j->road, qlo, qhi, cached_road_count, &sum);
     if (!st)
         st = load_neighbour(w, q, &qref);
     if (st)
@@ -191,7 +192,9 @@ static int link_along(hpfc_walker *w, const road_job *j, hpfc_pixel *q, box *qb)
             whole = false;
             break;
         }
-        if ((steps && (st = topo_locate_on_road(w->file, &j->pb, j->road, t, false, q, qb))) ||
+        const hpfc_pixel *near = steps > 1 ? q : NULL; /* as topo_cross_road's */
+        if ((steps &&
+             (st = topo_locate_on_road(w->file, near, &j->pb, j->road, t, false, q, qb))) ||
             (st = load_neighbour(w, q, &qref))) {
             whole = false;
             break;

@@ -21,6 +21,7 @@
 #include "format.h"
 #include "gen.h"
 #include "hpfc.h"
+#include "reader.h"
 #include "tree.h"
 #include "tree_oracle.h"
 
@@ -472,13 +473,30 @@ static void check_file_info(const walk *w, const uint8_t *buf, size_t size, cons
     CHECK_EQ_INT(hpfc_verify_checksums(w->f), HPFC_OK);
 }
 
+/* reader_locate_near from `near` (and in place, out = near) gives
+ * hpfc_locate's status and pixel, whole path included. */
+static void check_locate_near(const hpfc_file *f, const hpfc_pixel *near, int64_t x, int64_t y,
+                              int want_st, const hpfc_pixel *want)
+{
+    hpfc_pixel got, in_place = *near;
+    int st = reader_locate_near(f, near, x, y, &got);
+    CHECK_EQ_INT(st, want_st);
+    CHECK(st || same_pixel(&got, want));
+    st = reader_locate_near(f, &in_place, x, y, &in_place);
+    CHECK_EQ_INT(st, want_st);
+    CHECK(st || same_pixel(&in_place, want));
+}
+
 /* hpfc_locate at random lattice points (some outside) against the naive
- * tree descent of tree_oracle.c. */
+ * tree descent of tree_oracle.c; reader_locate_near against hpfc_locate,
+ * from the pixel located before and from the point's neighbours. */
 static void check_locate(const walk *w, uint64_t seed, int count)
 {
     gen_rng rng;
     gen_rng_seed(&rng, seed);
     const hpfc_tree_info *ti = &w->info;
+    hpfc_pixel before;
+    bool have_before = false;
     for (int k = 0; k < count; k++) {
         int64_t x, y;
         if (k < 8) { /* the domain's corners and just outside them */
@@ -496,8 +514,16 @@ static void check_locate(const walk *w, uint64_t seed, int count)
         hpfc_pixel got;
         int st = hpfc_locate(w->f, x, y, &got);
         CHECK_EQ_INT(st, inside ? HPFC_OK : HPFC_E_NO_PIXEL);
+        if (have_before)
+            check_locate_near(w->f, &before, x, y, st, &got);
         if (st || !inside)
             continue;
+        for (int dir = HPFC_WEST; dir <= HPFC_SOUTH; dir++) { /* the leaf next door as near */
+            hpfc_pixel next_door;
+            if (hpfc_pixel_move(w->f, &got, dir, &next_door) == HPFC_OK)
+                check_locate_near(w->f, &next_door, x, y, st, &got);
+        }
+        before = got, have_before = true;
         CHECK_EQ_INT(got.depth, level);
         covered.locates++;
         CHECK(same_box(pixel_box(w->f, &got), want.x0, want.y0, want.x1, want.y1));
