@@ -206,10 +206,14 @@ static void unite_inside(node_array *parent, const local_word *lw, uint64_t base
         unite(parent, in_node(base, k), out_node(base, lw->n, lw->pred[k]));
 }
 
+/* A crossing seen from both sides of its road is one pair of sidewalks
+ * across it: P's out_k with Q's in_m, and Q's out_m with P's in_k. The leaf
+ * whose road is W or N identifies the pair (Algorithm 1, topo_cross_road)
+ * and makes both unions; its neighbour, whose road is E or S, skips it. */
 static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
 {
     const local_word *lw = &w->here;
-    for (uint32_t k = 0; k < lw->n; k++) {
+    for (uint32_t k = 0; k < lw->road_off[HPFC_EAST]; k++) {
         hpfc_pixel q;
         uint32_t mk;
         uint64_t qbase;
@@ -219,6 +223,7 @@ static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uin
         if (st)
             return st;
         unite(&fc->parent, out_node(base, lw->n, k), in_node(qbase, mk));
+        unite(&fc->parent, out_node(qbase, w->there.n, mk), in_node(base, k));
     }
     return HPFC_OK;
 }
