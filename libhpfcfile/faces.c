@@ -25,26 +25,21 @@
 #include "reader.h"
 #include "topo.h"
 
-/* A leaf's entry: 16 bytes, since a continental map has millions of
- * leaves. Its first node and its crossing count (0 when private) share one
- * word: the count in the low ENTRY_COUNT_BITS bits. */
+/* A leaf's entry: its first node and its crossing count (0 when private)
+ * in one word, the count in the low ENTRY_COUNT_BITS bits. */
 #define ENTRY_COUNT_BITS 24
 #define ENTRY_COUNT_MAX ((UINT64_C(1) << ENTRY_COUNT_BITS) - 1)
 #define ENTRY_BASE_MAX (UINT64_MAX >> ENTRY_COUNT_BITS)
+#define ENTRY_EMPTY UINT64_MAX /* no leaf there (never a leaf's: base < ENTRY_BASE_MAX) */
 
-typedef struct pixel_entry {
-    uint64_t slot;       /* reader_pixel_slot_bit of the leaf, + 1 (0 = empty) */
-    uint64_t base_count; /* first node << ENTRY_COUNT_BITS | crossings */
-} pixel_entry;
-
-static uint64_t entry_base(const pixel_entry *e)
+static uint64_t entry_base(uint64_t e)
 {
-    return e->base_count >> ENTRY_COUNT_BITS;
+    return e >> ENTRY_COUNT_BITS;
 }
 
-static uint64_t entry_crossings(const pixel_entry *e)
+static uint64_t entry_crossings(uint64_t e)
 {
-    return e->base_count & ENTRY_COUNT_MAX;
+    return e & ENTRY_COUNT_MAX;
 }
 
 /* The node of in_k, and of out_k, in a word pixel of n crossings. */
@@ -100,40 +95,89 @@ static int node_array_init(node_array *a, uint64_t nodes)
     return HPFC_OK;
 }
 
+/* The leaves' entries by position in the pools, 8 bytes a slot of k_w bits
+ * (about 9 bytes a leaf on a continental map): the word slot at pool bit b
+ * of level l >= 1 has entry first[l] + b / k_w (word slots are k_w bits
+ * long and disjoint, so two never share an entry), the root record r
+ * entry first[0] + r. Why not a hash table of slots (16 bytes a leaf, a
+ * third empty): leaves come in pool order level by level and their
+ * neighbours lie close by in the pools, so the passes below read this
+ * table almost in order, where a hash sent every lookup to a random
+ * place (a cache miss each: most of the time of number_leaves). */
+typedef struct leaf_table {
+    uint64_t *entry;                     /* ENTRY_EMPTY where no leaf is */
+    uint64_t first[HPFC_MAX_LEVELS + 1]; /* level l's entries: [first[l], first[l + 1]) */
+    uint64_t pool_bit[HPFC_MAX_LEVELS];  /* absolute bit of the level's pool */
+    uint64_t unit[HPFC_MAX_LEVELS];      /* bits per entry: a root record, k_w below */
+} leaf_table;
+
 struct hpfc_faces {
     const hpfc_file *file;
-    pixel_entry *table; /* open addressing by slot, cap entries */
-    size_t cap;
+    leaf_table leaves;
     node_array parent;
     uint64_t nodes, count;
 };
 
-/* The table has exactly the size it needs (a power of two would waste up
- * to half of it): a 64-bit hash is scaled to [0, cap) by multiplication. */
-static size_t hash_slot(uint64_t slot, size_t cap)
+/* Sizes the table from the level table, for a file of `leaves` leaves. A
+ * valid file needs fewer than 8 entries a leaf below the root (a level's
+ * pool holds its masks, at most a quarter entry a pixel; its word slots, one
+ * entry each; its refined slots, at most 16 entries each, and a refined
+ * pixel has at least 4 pixels below it): more is a corrupt level table,
+ * whose pools could ask for far more memory than the file has leaves. */
+static int leaf_table_init(leaf_table *t, const hpfc_file *f, uint64_t leaves)
 {
-    uint64_t h = slot * 0x9E3779B97F4A7C15ull;
-    return cap <= UINT32_MAX ? (size_t)((h >> 32) * cap >> 32) : (size_t)(h % cap);
+    hpfc_file_info info;
+    hpfc_level_info lv;
+    hpfc_file_get_info(f, &info);
+    uint64_t total = 0;
+    for (uint32_t l = 0; l < info.levels; l++) {
+        hpfc_file_get_level(f, l, &lv);
+        uint64_t n;
+        t->first[l] = total;
+        t->pool_bit[l] = lv.pool_offset * 8;
+        if (l == 0) {
+            t->unit[l] =
+                1 + (uint64_t)(lv.address_bits > lv.word_bits ? lv.address_bits : lv.word_bits);
+            n = (uint64_t)info.root_cols * info.root_rows;
+        } else {
+            t->unit[l] = lv.word_bits ? lv.word_bits : 1; /* no word slots: no entries needed */
+            n = lv.word_pixels ? lv.pool_bits / t->unit[l] + 1 : 0;
+        }
+        if (n > UINT64_MAX / 8 - total)
+            return HPFC_E_CORRUPT;
+        total += n;
+    }
+    t->first[info.levels] = total;
+    if (leaves < UINT64_MAX / 16 && total - t->first[1] > 8 * leaves + 64)
+        return HPFC_E_CORRUPT;
+    if (total > SIZE_MAX / sizeof *t->entry || !(t->entry = malloc(total ? total * 8 : 1)))
+        return HPFC_E_NOMEM;
+    memset(t->entry, 0xFF, total * 8); /* ENTRY_EMPTY */
+    return HPFC_OK;
 }
 
-static pixel_entry *find_entry(const hpfc_faces *fc, uint64_t slot)
+/* The entry of leaf px: NULL when px is no word pixel of the file's (a
+ * caller's refined pixel: *st = HPFC_E_ARG) or has no entry. */
+static uint64_t *leaf_entry(const hpfc_faces *fc, const hpfc_pixel *px, int *st)
 {
-    size_t h = hash_slot(slot + 1, fc->cap);
-    while (fc->table[h].slot && fc->table[h].slot != slot + 1)
-        h = h + 1 == fc->cap ? 0 : h + 1;
-    return &fc->table[h];
+    uint64_t slot;
+    if ((*st = reader_leaf_slot_bit(fc->file, px, &slot)))
+        return NULL;
+    const leaf_table *t = &fc->leaves;
+    uint32_t l = px->depth; /* below the file's levels: the slot exists */
+    uint64_t at = t->first[l] + (slot - t->pool_bit[l]) / t->unit[l];
+    return at < t->first[l + 1] ? &t->entry[at] : NULL;
 }
 
 static int node_base(const hpfc_faces *fc, const hpfc_pixel *px, uint64_t *base)
 {
-    uint64_t slot;
-    int st = reader_pixel_slot_bit(fc->file, px, &slot);
+    int st;
+    const uint64_t *e = leaf_entry(fc, px, &st);
     if (st)
         return st;
-    const pixel_entry *e = find_entry(fc, slot);
-    if (!e->slot)
+    if (!e || *e == ENTRY_EMPTY)
         return HPFC_E_CORRUPT;
-    *base = entry_base(e);
+    *base = entry_base(*e);
     return HPFC_OK;
 }
 
@@ -178,22 +222,18 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
             return HPFC_E_CORRUPT;
     if (st != HPFC_E_NO_PIXEL)
         return st;
-    fc->cap = (size_t)(leaves + leaves / 3 + 16); /* the table at most 3/4 full */
-    fc->table = calloc(fc->cap, sizeof *fc->table);
-    if (!fc->table)
-        return HPFC_E_NOMEM;
+    if ((st = leaf_table_init(&fc->leaves, fc->file, leaves)))
+        return st;
     for (st = hpfc_leaf_first(fc->file, &px); !st; st = hpfc_leaf_next(fc->file, &px)) {
-        uint64_t slot;
-        if ((st = reader_pixel_slot_bit(fc->file, &px, &slot)) || (st = topo_parse_pixel(w, &w->here, &px)))
+        uint64_t *e = leaf_entry(fc, &px, &st);
+        if (st || (st = topo_parse_pixel(w, &w->here, &px)))
             return st;
-        pixel_entry *e = find_entry(fc, slot);
-        if (e->slot)
+        if (!e || *e != ENTRY_EMPTY) /* outside its level's entries, or two paths to one leaf */
             return HPFC_E_CORRUPT;
         uint64_t n = w->here.n, nodes = n ? n : 1;
         if (n > ENTRY_COUNT_MAX || fc->nodes > ENTRY_BASE_MAX - nodes)
             return HPFC_E_LIMIT; /* 2^24 crossings in one leaf, 2^40 nodes in all */
-        e->slot = slot + 1;
-        e->base_count = fc->nodes << ENTRY_COUNT_BITS | n;
+        *e = fc->nodes << ENTRY_COUNT_BITS | n;
         fc->nodes += nodes;
     }
     return st == HPFC_E_NO_PIXEL ? HPFC_OK : st;
@@ -355,7 +395,7 @@ void hpfc_faces_free(hpfc_faces *fc)
 {
     if (!fc)
         return;
-    free(fc->table);
+    free(fc->leaves.entry);
     free(fc->parent.narrow);
     free(fc->parent.wide);
     free(fc);
@@ -368,19 +408,18 @@ uint64_t hpfc_faces_count(const hpfc_faces *fc)
 
 int hpfc_faces_of_dart(const hpfc_faces *fc, const hpfc_dart *d, uint64_t *face)
 {
-    uint64_t slot;
     if (!fc || !d || !face)
         return HPFC_E_ARG;
-    int st = reader_pixel_slot_bit(fc->file, &d->pixel, &slot);
+    int st;
+    const uint64_t *e = leaf_entry(fc, &d->pixel, &st);
     if (st)
         return st;
-    const pixel_entry *e = find_entry(fc, slot);
-    if (!e->slot)
+    if (!e || *e == ENTRY_EMPTY)
         return HPFC_E_CORRUPT;
-    uint64_t n = entry_crossings(e);
+    uint64_t n = entry_crossings(*e);
     if (d->crossing >= n)
         return HPFC_E_ARG; /* no such crossing in the dart's pixel */
-    *face = node_get(&fc->parent, out_node(entry_base(e), n, d->crossing));
+    *face = node_get(&fc->parent, out_node(entry_base(*e), n, d->crossing));
     return HPFC_OK;
 }
 

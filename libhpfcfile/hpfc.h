@@ -571,15 +571,17 @@ HPFC_API int hpfc_leaf_next(const hpfc_file *file, hpfc_pixel *px);
  * ------------------------------------------------------------------------ */
 typedef struct hpfc_faces hpfc_faces;
 
-/* Memory: a table of 16-byte entries, 4/3 per leaf, and 4 bytes per
- * crossing and per private leaf (8 past 2^31 of them; a continental map of
- * 4.66 M leaves: 130 MB). HPFC_E_CORRUPT
+/* Memory: 8 bytes per k_w bits of every level's pool (a table of the
+ * leaves by position, about 9 bytes a leaf) and 4 bytes per crossing and
+ * per private leaf (8 past 2^31 of them); a continental map of 4.66 M
+ * leaves: 73 MB. HPFC_E_CORRUPT
  * on a file whose pixels contradict each other, HPFC_E_LIMIT past 2^24
  * crossings in one leaf or 2^40 crossings in all, HPFC_E_NOMEM. */
 HPFC_API int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out);
 HPFC_API void hpfc_faces_free(hpfc_faces *faces);
 HPFC_API uint64_t hpfc_faces_count(const hpfc_faces *faces);
-/* The face on the right of dart d. */
+/* The face on the right of dart d (HPFC_E_ARG if d's pixel is a refined
+ * pixel or has no crossing d->crossing). */
 HPFC_API int hpfc_faces_of_dart(const hpfc_faces *faces, const hpfc_dart *d, uint64_t *face);
 /* The face holding a private pixel (HPFC_E_ARG if px is not private). */
 HPFC_API int hpfc_faces_of_private_pixel(const hpfc_faces *faces, const hpfc_pixel *px,

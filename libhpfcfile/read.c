@@ -940,17 +940,31 @@ uint64_t reader_total_leaves(const hpfc_file *f)
     return total;
 }
 
-int reader_pixel_slot_bit(const hpfc_file *f, const hpfc_pixel *px, uint64_t *bit)
+/* The absolute bit of px's record or slot; a refined pixel's too unless
+ * leaf_only (HPFC_E_ARG then). */
+static int slot_bit(const hpfc_file *f, const hpfc_pixel *px, bool leaf_only, uint64_t *bit)
 {
     int type;
     uint64_t slot;
     int st = bit ? top_pixel(f, px, &type, &slot) : HPFC_E_ARG;
+    if (!st && leaf_only && type != HPFC_PIXEL_WORD)
+        st = HPFC_E_ARG;
     if (st)
         return st;
     if (px->depth == 0)
         slot -= 1; /* the root record starts at its type bit */
     *bit = f->lv[px->depth].info.pool_offset * 8 + slot;
     return HPFC_OK;
+}
+
+int reader_pixel_slot_bit(const hpfc_file *f, const hpfc_pixel *px, uint64_t *bit)
+{
+    return slot_bit(f, px, false, bit);
+}
+
+int reader_leaf_slot_bit(const hpfc_file *f, const hpfc_pixel *px, uint64_t *bit)
+{
+    return slot_bit(f, px, true, bit);
 }
 
 /* ---- pool layout, for the walker's key index (reader.h) ------------------------------------ */

@@ -18,6 +18,8 @@ uint64_t reader_total_leaves(const hpfc_file *file);
 /* Absolute bit position in the file of a word pixel's record or slot: a
  * unique, stable number per pixel. */
 int reader_pixel_slot_bit(const hpfc_file *file, const hpfc_pixel *px, uint64_t *bit);
+/* The same for a word pixel only: HPFC_E_ARG for a refined one. */
+int reader_leaf_slot_bit(const hpfc_file *file, const hpfc_pixel *px, uint64_t *bit);
 /* The file's bytes (its whole size, as opened). */
 const uint8_t *reader_bytes(const hpfc_file *file);
 /* The image at bit `image` of `level`'s pool (the root image, 0, at level
