@@ -233,6 +233,15 @@ static size_t faces_of_darts(const hpfc_file *f, hpfc_walker *w, const hpfc_face
     CHECK_EQ_INT(n, nd);
     for (size_t d = 0; d < n; d++)
         bad += hpfc_faces_of_dart(faces, &darts[d], &face_of[d]) != HPFC_OK || face_of[d] >= count;
+    for (size_t d = 0; d < n; d++) { /* a dart's pixel cut to a refined ancestor names no leaf */
+        hpfc_dart up = darts[d];
+        uint64_t face;
+        if (up.pixel.depth == 0)
+            continue;
+        up.pixel.depth--;
+        bad += hpfc_faces_of_dart(faces, &up, &face) != HPFC_E_ARG;
+        break;
+    }
     free(darts);
     return bad;
 }
