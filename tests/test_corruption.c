@@ -32,6 +32,7 @@
 #include "format.h"
 #include "gen.h"
 #include "hpfc.h"
+#include "key_ops.h"
 
 #define BIT(code) ((uint64_t)1 << (code))
 #define STEP_BUDGET 4000 /* operator calls per damaged copy */
@@ -108,47 +109,9 @@ static void walk_keys(walk *k, const hpfc_dart *d)
         uint64_t codes = BIT(from_st) | BIT(vst);
         for (int op = 0; op < 5; op++) {
             uint64_t got = 0, want = 0;
-            int st, want_st = from_st;
-            hpfc_dart r;
-            hpfc_vertex u;
-            switch (op) {
-            case 0:
-                st = hpfc_key_twin(k->w, keys[x], &got);
-                break;
-            case 1:
-                st = hpfc_key_next(k->w, keys[x], &got);
-                break;
-            case 2:
-                st = hpfc_key_prev(k->w, keys[x], &got);
-                break;
-            case 3:
-                st = hpfc_key_origin(k->w, keys[x], &got);
-                break;
-            default:
-                st = hpfc_key_target(k->w, keys[x], &got);
-                break;
-            }
-            if (!from_st) {
-                switch (op) {
-                case 0:
-                    want_st = hpfc_dart_twin(k->w, &from, &r);
-                    break;
-                case 1:
-                    want_st = hpfc_dart_next(k->w, &from, &r);
-                    break;
-                case 2:
-                    want_st = hpfc_dart_prev(k->w, &from, &r);
-                    break;
-                case 3:
-                    want_st = hpfc_dart_origin(k->w, &from, &u);
-                    break;
-                default:
-                    want_st = hpfc_dart_target(k->w, &from, &u);
-                    break;
-                }
-                if (!want_st)
-                    want = op >= 3 ? hpfc_vertex_key(k->f, &u) : hpfc_dart_key(k->f, &r);
-            }
+            int st = key_op_call(k->w, op, keys[x], &got), want_st = from_st;
+            if (!from_st)
+                want_st = dart_op_key(k->w, k->f, &from, op, &want);
             codes |= BIT(st);
             seen.key_corrupt += st == HPFC_E_CORRUPT;
             seen.key_mismatches += st != want_st || (!st && got != want);

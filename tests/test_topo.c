@@ -636,35 +636,7 @@ static void check_altered_paths(const hpfc_file *f, size_t nd)
 
 /* ---- keys as handles ------------------------------------------------------ */
 
-/* The dart operators' answers as keys: the oracle of the key operators. */
-enum { KEY_OPS = 5 };
-
-static int dart_op_key(hpfc_walker *w, const hpfc_file *f, const hpfc_dart *d, int op,
-                       uint64_t *key)
-{
-    hpfc_dart r;
-    hpfc_vertex v;
-    int st;
-    switch (op) {
-    case 0:
-        st = hpfc_dart_twin(w, d, &r);
-        break;
-    case 1:
-        st = hpfc_dart_next(w, d, &r);
-        break;
-    case 2:
-        st = hpfc_dart_prev(w, d, &r);
-        break;
-    case 3:
-        st = hpfc_dart_origin(w, d, &v);
-        break;
-    default:
-        st = hpfc_dart_target(w, d, &v);
-        break;
-    }
-    *key = st ? 0 : op >= 3 ? hpfc_vertex_key(f, &v) : hpfc_dart_key(f, &r);
-    return st;
-}
+enum { KEY_OPS = 5 }; /* the operators of key_ops.h */
 
 /* Keys that name no dart: past the word's crossings, a crossing of a
  * stabbing, a position off the slot, in a mask, on a refined root record,
