@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "labels.h"
 #include "reader.h"
 #include "topo.h"
 
@@ -437,4 +438,25 @@ int hpfc_faces_of_private_pixel(const hpfc_faces *fc, const hpfc_pixel *px, uint
     if (!st)
         *face = node_get(&fc->parent, base);
     return st;
+}
+
+/* ---- for the LABL writer (labels.h) ---------------------------------------------- */
+
+int faces_leaf_nodes(const hpfc_faces *fc, uint32_t level, uint64_t bit, uint64_t *base,
+                     uint64_t *crossings)
+{
+    const leaf_table *t = &fc->leaves;
+    if (level >= HPFC_MAX_LEVELS || !t->unit[level])
+        return HPFC_E_ARG;
+    uint64_t at = t->first[level] + bit / t->unit[level];
+    if (at >= t->first[level + 1] || t->entry[at] == ENTRY_EMPTY)
+        return HPFC_E_ARG;
+    *base = entry_base(t->entry[at]);
+    *crossings = entry_crossings(t->entry[at]);
+    return HPFC_OK;
+}
+
+uint64_t faces_node_face(const hpfc_faces *fc, uint64_t node)
+{
+    return node_get(&fc->parent, node);
 }

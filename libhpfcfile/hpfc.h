@@ -263,6 +263,11 @@ typedef struct hpfc_write_options {
     const char *crs;          /* coordinate reference (e.g. "EPSG:32631" or a
                                  projection description), NULL for none */
     const hpfc_feature_table *features; /* FEAT section, NULL for none */
+    /* Write the LABL section (spec §15: every leaf's faces and crossings'
+     * edge ids) from the tree: hpfc_tree_serialize numbers the faces of
+     * the pools it writes. hpfc_file_serialize keeps the source file's
+     * LABL section, whose labels stay valid since its pools are copied. */
+    int face_labels;
 } hpfc_write_options;
 
 /* Serialises the tree into a malloc'ed buffer (*out, *out_size); the caller
@@ -618,6 +623,59 @@ HPFC_API int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char *
 HPFC_API int hpfc_face_feature_count(const hpfc_file *file, uint64_t face, uint32_t *count);
 HPFC_API int hpfc_face_feature(const hpfc_file *file, uint64_t face, uint32_t k,
                                uint32_t *feature);
+
+/* ------------------------------------------------------------------------
+ * Stored face labels (spec/hpfc-format.md §15, the LABL section, 1.2):
+ * the face of every region of every leaf and the edge id of every
+ * crossing, written by the writer so that a query needs no
+ * hpfc_faces_build. Each call reads the pixels of one descent (the leaf's
+ * number comes from the descent, O(levels)) and the leaf's own record,
+ * never another leaf. Face ids are those of hpfc_faces_build (§3.11), edge
+ * ids the input graph's edge indices (hpfc_graph_add_edge order).
+ *
+ * A leaf's *stretches* are the pieces of its boundary between consecutive
+ * crossings: stretch t runs clockwise from crossing t - 1 (cyclically) to
+ * crossing t; a private leaf has one, stretch 0. Its *regions* are the
+ * parts of the pixel its components cut it into, numbered by their
+ * smallest stretch; a private leaf has one region, a stabbed leaf of n
+ * crossings and c components n - c + 1.
+ *
+ * Without a LABL section these return HPFC_E_NO_SECTION; a record that
+ * contradicts the map's layout (a face id >= faces, an edge id >= edges,
+ * a record outside the section, samples that do not lead to the pixel)
+ * gives HPFC_E_CORRUPT. hpfc-inspect --verify compares every stored label
+ * with hpfc_faces_build's.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_labels_info {
+    uint64_t faces, edges, leaves;
+    uint32_t face_bits, edge_bits;  /* widths of one face id, one edge id */
+    uint64_t section_bytes;         /* the whole section */
+    uint64_t label_bits;            /* the records */
+    uint64_t directory_bits;        /* the records' offsets */
+    uint64_t rank_bits;             /* the leaf-number samples */
+} hpfc_labels_info;
+
+HPFC_API int hpfc_file_labels(const hpfc_file *file, hpfc_labels_info *out);
+/* The faces of a leaf's regions, in region order: *count of them (1 for a
+ * private leaf); faces NULL asks only the count; cap too small is
+ * HPFC_E_ARG with *count set. A point located in a private leaf is in
+ * faces[0]; in a stabbed one, in one of them. */
+HPFC_API int hpfc_label_leaf_faces(const hpfc_file *file, const hpfc_pixel *leaf,
+                                   uint64_t *faces, size_t cap, size_t *count);
+/* The face along stretch `stretch` of a leaf. */
+HPFC_API int hpfc_label_stretch_face(const hpfc_file *file, const hpfc_pixel *leaf,
+                                     uint32_t stretch, uint64_t *face);
+/* The face on the right of dart d (hpfc_faces_of_dart's answer). */
+HPFC_API int hpfc_label_dart_face(const hpfc_file *file, const hpfc_dart *d, uint64_t *face);
+/* The edge id of crossing `crossing` of a leaf, and of a dart's edge. */
+HPFC_API int hpfc_label_crossing_edge(const hpfc_file *file, const hpfc_pixel *leaf,
+                                      uint32_t crossing, uint64_t *edge);
+HPFC_API int hpfc_label_dart_edge(const hpfc_file *file, const hpfc_dart *d, uint64_t *edge);
+/* A leaf's number: its rank among the word pixels of its level, in pool
+ * order (images in the order they lie in the pool, each in scanline
+ * order). O(levels) with a LABL section, else a walk over the level's pool
+ * up to the leaf. */
+HPFC_API int hpfc_leaf_number(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *number);
 
 #ifdef __cplusplus
 }

@@ -22,6 +22,7 @@
 
 #include "feat.h"
 #include "format.h"
+#include "labels.h"
 #include "reader.h"
 
 /* One level as navigation needs it, derived at open. */
@@ -51,6 +52,7 @@ struct hpfc_file {
     uint32_t shift_x, shift_y;
     const uint8_t *feat;    /* the FEAT section, NULL if none */
     uint64_t feat_len;
+    labels_view labels;     /* the LABL section (labels.present: the file has one) */
 };
 
 /* ---- open: header ---------------------------------------------------------- */
@@ -316,7 +318,8 @@ static int check_section_entry(const hpfc_file *f, const uint8_t *e, span *out)
     if (offset % FORMAT_SECTION_ALIGN || offset < f->meta_size || offset > f->info.file_size ||
         length > f->info.file_size - offset)
         return HPFC_E_SECTION;
-    bool known = tag_is(e, FORMAT_TAG_POOL) || tag_is(e, FORMAT_TAG_CRS) || tag_is(e, FORMAT_TAG_FEAT);
+    bool known = tag_is(e, FORMAT_TAG_POOL) || tag_is(e, FORMAT_TAG_CRS) || tag_is(e, FORMAT_TAG_FEAT) ||
+                 tag_is(e, FORMAT_TAG_LABL);
     if (!known && (flags & FORMAT_SECTION_REQUIRED))
         return HPFC_E_INCOMPATIBLE;
     *out = (span){offset, offset + length, (uint32_t)le_load(e + sec_OFF_tag, sec_SIZE_tag)};
@@ -373,13 +376,23 @@ static int read_feat(hpfc_file *f, const uint8_t *feat)
     return st;
 }
 
+static int read_labl(hpfc_file *f, const uint8_t *labl)
+{
+    labels_levels lv = {.levels = f->info.levels};
+    for (uint32_t l = 0; l < f->info.levels; l++) {
+        lv.word_pixels[l] = f->lv[l].info.word_pixels;
+        lv.units[l] = l ? f->lv[l].info.images : (uint64_t)f->info.root_cols * f->info.root_rows;
+    }
+    return labels_open(&f->labels, f->data + sec_get_offset(labl), sec_get_length(labl), &lv);
+}
+
 static int read_directory(hpfc_file *f)
 {
     uint32_t count = f->info.section_count;
     span *spans = malloc((count ? count : 1) * sizeof *spans);
     if (!spans)
         return HPFC_E_NOMEM;
-    const uint8_t *pool = NULL, *crs = NULL, *feat = NULL;
+    const uint8_t *pool = NULL, *crs = NULL, *feat = NULL, *labl = NULL;
     int st = HPFC_OK;
     for (uint32_t k = 0; k < count && !st; k++) {
         const uint8_t *e = section_entry(f, k);
@@ -390,6 +403,8 @@ static int read_directory(hpfc_file *f)
             crs = e;
         else if (tag_is(e, FORMAT_TAG_FEAT))
             feat = e;
+        else if (tag_is(e, FORMAT_TAG_LABL))
+            labl = e;
     }
     if (!st)
         st = check_section_set(spans, count);
@@ -400,6 +415,8 @@ static int read_directory(hpfc_file *f)
         st = read_crs(f, crs);
     if (!st && feat)
         st = read_feat(f, feat);
+    if (!st && labl)
+        st = read_labl(f, labl);
     if (!st)
         st = check_pools_in_section(f, pool);
     return st;
@@ -500,6 +517,16 @@ const uint8_t *reader_feat_section(const hpfc_file *f, uint64_t *length)
 {
     *length = f->feat_len;
     return f->feat;
+}
+
+const labels_view *reader_labels(const hpfc_file *f)
+{
+    return &f->labels;
+}
+
+const format_bits *reader_pool(const hpfc_file *f, uint32_t level)
+{
+    return &f->lv[level].pool;
 }
 
 /* ---- metadata queries -------------------------------------------------------------- */

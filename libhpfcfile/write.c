@@ -18,6 +18,7 @@
 #include "feat.h"
 #include "format.h"
 #include "internal.h"
+#include "labels.h"
 #include "reader.h"
 
 typedef struct layout {
@@ -32,6 +33,8 @@ typedef struct layout {
     uint32_t section_count;
     uint64_t meta_size, pool_section, pool_length, crs_offset, crs_length, file_size;
     uint64_t feat_offset, feat_length;
+    const uint8_t *labl;     /* the LABL section's bytes, NULL for none */
+    uint64_t labl_offset, labl_length;
     const char *crs;
     const hpfc_feature_table *features;
 } layout;
@@ -157,7 +160,7 @@ static int place_sections(layout *L, hpfc_diag *diag)
         if (st)
             return st;
     }
-    L->section_count = 1 + (L->crs != NULL) + (L->features != NULL);
+    L->section_count = 1 + (L->crs != NULL) + (L->features != NULL) + (L->labl != NULL);
     L->meta_size = FORMAT_HEADER_SIZE + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * L->info.levels +
                    (uint64_t)FORMAT_SECTION_ENTRY_SIZE * L->section_count;
     L->pool_section = format_align8(L->meta_size);
@@ -179,6 +182,10 @@ static int place_sections(layout *L, hpfc_diag *diag)
     if (L->features) {
         L->feat_offset = format_align8(L->file_size);
         L->file_size = L->feat_offset + L->feat_length;
+    }
+    if (L->labl) {
+        L->labl_offset = format_align8(L->file_size);
+        L->file_size = L->labl_offset + L->labl_length;
     }
     if (L->file_size > FORMAT_MAX_FILE_SIZE)
         return diag_set(diag, HPFC_E_LIMIT, "the file would exceed the format's 2^41 bytes");
@@ -328,6 +335,8 @@ static void emit(const layout *L, uint8_t *file)
         memcpy(file + L->crs_offset, L->crs, (size_t)L->crs_length);
     if (L->features)
         feat_section_emit(L->features, file + L->feat_offset);
+    if (L->labl)
+        memcpy(file + L->labl_offset, L->labl, (size_t)L->labl_length);
     emit_header(L, file);
     emit_level_table(L, file);
     emit_section(file, 0, FORMAT_TAG_POOL, FORMAT_SECTION_REQUIRED, L->pool_section, L->pool_length,
@@ -336,7 +345,9 @@ static void emit(const layout *L, uint8_t *file)
     if (L->crs)
         emit_section(file, next++, FORMAT_TAG_CRS, 0, L->crs_offset, L->crs_length, L->info.levels);
     if (L->features)
-        emit_section(file, next, FORMAT_TAG_FEAT, 0, L->feat_offset, L->feat_length, L->info.levels);
+        emit_section(file, next++, FORMAT_TAG_FEAT, 0, L->feat_offset, L->feat_length, L->info.levels);
+    if (L->labl)
+        emit_section(file, next, FORMAT_TAG_LABL, 0, L->labl_offset, L->labl_length, L->info.levels);
     hdr_set_meta_crc32c(file, format_meta_crc(file, L->meta_size));
 }
 
@@ -375,6 +386,32 @@ static int serialize_layout(layout *L, uint8_t **out, size_t *out_size, hpfc_dia
     return st;
 }
 
+/* The LABL section of the tree laid out in L: its faces are numbered on
+ * the file serialised without it (face ids depend on the pools only). */
+static int make_labels(layout *L, hpfc_diag *diag)
+{
+    uint8_t *bytes = NULL, *labl = NULL;
+    size_t size = 0;
+    hpfc_file *f = NULL;
+    hpfc_faces *fc = NULL;
+    uint64_t length = 0;
+    int st = serialize_layout(L, &bytes, &size, diag);
+    if (!st && (st = hpfc_open_memory(bytes, size, 0, &f)))
+        diag_set(diag, st, "labels: the serialised file does not read back");
+    if (!st && (st = hpfc_faces_build(f, &fc)))
+        diag_set(diag, st, "labels: numbering the faces failed");
+    if (!st)
+        st = labels_build(L->tree, f, fc, &labl, &length, diag);
+    hpfc_faces_free(fc);
+    hpfc_close(f);
+    free(bytes);
+    if (!st) {
+        L->labl = labl;
+        L->labl_length = length;
+    }
+    return st;
+}
+
 int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, uint8_t **out,
                         size_t *out_size, hpfc_diag *diag)
 {
@@ -391,8 +428,11 @@ int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, u
         st = count_level(&L, l, diag);
     if (!st)
         st = size_levels(&L, diag);
+    if (!st && opts && opts->face_labels)
+        st = make_labels(&L, diag);
     if (!st)
         st = serialize_layout(&L, out, out_size, diag);
+    free((void *)L.labl);
     layout_free(&L);
     return st;
 }
@@ -407,6 +447,11 @@ int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts, u
     *out_size = 0;
     layout L = {
         .source = file, .crs = opts ? opts->crs : NULL, .features = opts ? opts->features : NULL};
+    const labels_view *labels = reader_labels(file);
+    if (labels->present) { /* the pools are copied bit for bit: the labels stay true */
+        L.labl = labels->section;
+        L.labl_length = labels->section_length;
+    }
     hpfc_file_info fi;
     hpfc_file_get_info(file, &fi);
     L.info = (hpfc_tree_info){.root_cols = fi.root_cols,

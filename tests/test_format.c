@@ -1680,7 +1680,10 @@ static void test_file_serialize(void)
     feat_fixture_make(&x, (uint32_t)hpfc_faces_count(fc));
     hpfc_faces_free(fc);
     const hpfc_write_options opts[4] = {
-        {NULL, NULL}, {"EPSG:4326", NULL}, {NULL, &x.t}, {"+proj=lcc +lat_1=33", &x.t}};
+        {.crs = NULL},
+        {.crs = "EPSG:4326"},
+        {.features = &x.t},
+        {.crs = "+proj=lcc +lat_1=33", .features = &x.t}};
     for (int a = 0; a < 4; a++)
         for (int b = 0; b < 4; b++)
             check_reserialized(t, &opts[a], &opts[b], path);

@@ -1,0 +1,618 @@
+/*
+ * The LABL section on the read side (spec/hpfc-format.md §15): leaf
+ * numbers from a located pixel, the leaf's record through a two-level
+ * directory of bit offsets, and the record's face and edge ids.
+ *
+ * Why this shape: a point query maps the file and answers from the few
+ * pixels of one descent. The leaf's number (its rank among its level's
+ * leaves, TEAM decision) comes from the descent itself: at each level the
+ * image's index and the word pixels before it, read from a sample every
+ * 2^sample_shift images and the masks of the images after the sample
+ * (images lie back to back, §9, so an image's offset follows from its index
+ * and the word pixels before it). The record's offset comes from a block
+ * directory (an absolute offset every 2^block_shift leaves, a relative one
+ * per other leaf), so no other leaf's word is decoded.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "labels.h"
+#include "reader.h"
+
+#define NONE_REGION UINT32_MAX
+
+/* ---- layout ------------------------------------------------------------------- */
+
+bool labels_compute_layout(const labels_levels *lv, const uint32_t *rank_bits, uint64_t leaves,
+                           uint32_t block_shift, uint32_t block_bits, uint32_t offset_bits,
+                           uint32_t sample_shift, uint64_t label_bits, labels_layout *out)
+{
+    memset(out, 0, sizeof *out);
+    if (lv->levels < 1 || lv->levels > HPFC_MAX_LEVELS || block_shift > LABL_MAX_SHIFT ||
+        sample_shift > LABL_MAX_SHIFT || block_bits > 64 || offset_bits > 64)
+        return false;
+    uint64_t total = 0, t;
+    for (uint32_t l = 0; l < lv->levels; l++) {
+        if (rank_bits[l] > 64)
+            return false;
+        uint64_t samples = (lv->units[l] >> sample_shift) +
+                           ((lv->units[l] & ((UINT64_C(1) << sample_shift) - 1)) != 0);
+        out->samples[l] = samples;
+        out->rank_start[l] = total;
+        if (!format_mul(samples, rank_bits[l], &t) || !format_add(total, t, &total))
+            return false;
+    }
+    out->rank_bits_total = total;
+    uint64_t per_block = UINT64_C(1) << block_shift;
+    out->blocks = (leaves >> block_shift) + ((leaves & (per_block - 1)) != 0);
+    if (!format_mul(per_block - 1, offset_bits, &t) ||
+        !format_add(t, block_bits, &out->block_record_bits) ||
+        !format_mul(out->blocks, out->block_record_bits, &out->dir_bits))
+        return false;
+    out->rank_at = LABL_HEADER_SIZE + (uint64_t)LABL_LEVEL_SIZE * lv->levels;
+    uint64_t end;
+    if (!format_add(out->rank_at, format_pool_bytes(out->rank_bits_total), &end) ||
+        end > UINT64_MAX - 8)
+        return false;
+    out->dir_at = format_align8(end);
+    if (!format_add(out->dir_at, format_pool_bytes(out->dir_bits), &end) || end > UINT64_MAX - 8)
+        return false;
+    out->labels_at = format_align8(end);
+    return format_add(out->labels_at, format_pool_bytes(label_bits), &out->length);
+}
+
+static format_bits stream(const uint8_t *sec, uint64_t length, uint64_t at, uint64_t bits)
+{
+    return (format_bits){.base = sec + at, .bits = bits, .avail = length - at};
+}
+
+int labels_open(labels_view *v, const uint8_t *sec, uint64_t length, const labels_levels *lv)
+{
+    memset(v, 0, sizeof *v);
+    if (length < LABL_HEADER_SIZE || labl_get_reserved0(sec) || labl_get_reserved1(sec) ||
+        labl_get_levels(sec) != lv->levels)
+        return HPFC_E_SECTION;
+    if (length - LABL_HEADER_SIZE < (uint64_t)LABL_LEVEL_SIZE * lv->levels)
+        return HPFC_E_SECTION;
+    uint32_t rank_bits[HPFC_MAX_LEVELS];
+    uint64_t leaves = 0;
+    for (uint32_t l = 0; l < lv->levels; l++) {
+        const uint8_t *e = sec + LABL_HEADER_SIZE + (size_t)l * LABL_LEVEL_SIZE;
+        if (!format_all_zero(e + labll_OFF_reserved, labll_SIZE_reserved))
+            return HPFC_E_SECTION;
+        rank_bits[l] = labll_get_rank_bits(e);
+        v->first_leaf[l] = leaves;
+        if (!format_add(leaves, lv->word_pixels[l], &leaves))
+            return HPFC_E_SECTION;
+    }
+    v->first_leaf[lv->levels] = leaves;
+    v->faces = labl_get_face_count(sec);
+    v->edges = labl_get_edge_count(sec);
+    v->leaves = labl_get_leaf_count(sec);
+    v->label_bits = labl_get_label_bits(sec);
+    v->face_bits = labl_get_face_bits(sec);
+    v->edge_bits = labl_get_edge_bits(sec);
+    v->block_shift = labl_get_block_shift(sec);
+    v->block_bits = labl_get_block_bits(sec);
+    v->offset_bits = labl_get_offset_bits(sec);
+    v->sample_shift = labl_get_sample_shift(sec);
+    v->levels = lv->levels;
+    if (v->leaves != leaves || v->faces == 0 || v->edges == 0 || v->face_bits > 64 ||
+        v->edge_bits > 64)
+        return HPFC_E_SECTION;
+    labels_layout lay;
+    if (!labels_compute_layout(lv, rank_bits, leaves, v->block_shift, v->block_bits,
+                               v->offset_bits, v->sample_shift, v->label_bits, &lay) ||
+        lay.length != length)
+        return HPFC_E_SECTION;
+    v->rank = stream(sec, length, lay.rank_at, lay.rank_bits_total);
+    v->dir = stream(sec, length, lay.dir_at, lay.dir_bits);
+    v->labels = stream(sec, length, lay.labels_at, v->label_bits);
+    for (uint32_t l = 0; l < lv->levels; l++) {
+        v->rank_start[l] = lay.rank_start[l];
+        v->rank_bits[l] = rank_bits[l];
+        v->samples[l] = lay.samples[l];
+    }
+    v->block_record_bits = lay.block_record_bits;
+    v->section = sec;
+    v->section_length = length;
+    v->present = true;
+    return HPFC_OK;
+}
+
+/* ---- leaf numbers -------------------------------------------------------------- */
+
+/* What the rank needs of a level. */
+typedef struct level_geom {
+    const format_bits *pool;
+    uint64_t nm;            /* pixels per image (root: n0 * m0) */
+    uint64_t record;        /* level 0: bits per record */
+    uint32_t kw, ka;
+    hpfc_level_info info;
+} level_geom;
+
+static int level_geom_get(const hpfc_file *f, uint32_t l, level_geom *g)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(f, &fi);
+    if (hpfc_file_get_level(f, l, &g->info))
+        return HPFC_E_ARG;
+    g->pool = reader_pool(f, l);
+    g->kw = g->info.word_bits;
+    g->ka = g->info.address_bits;
+    g->nm = l ? (uint64_t)fi.cols * fi.rows : (uint64_t)fi.root_cols * fi.root_rows;
+    g->record = 1 + (uint64_t)(g->ka > g->kw ? g->ka : g->kw);
+    return HPFC_OK;
+}
+
+/* Refined pixels (1 bits) among the first p mask bits of the image at bit
+ * `image`, which must hold its mask in the pool. */
+static int mask_ones(const level_geom *g, uint64_t image, uint64_t p, uint64_t *ones)
+{
+    if (image > g->pool->bits || g->nm > g->pool->bits - image)
+        return HPFC_E_CORRUPT;
+    *ones = format_popcount(g->pool, image, p);
+    return HPFC_OK;
+}
+
+/* The bit after the image at `image` (its mask checked inside the pool);
+ * *zeros: its word pixels. */
+static int image_end(const level_geom *g, uint64_t image, uint64_t *end, uint64_t *zeros)
+{
+    uint64_t ones, t, size;
+    int st = mask_ones(g, image, g->nm, &ones);
+    if (st)
+        return st;
+    *zeros = g->nm - ones;
+    if (!format_mul(*zeros, g->kw, &size) || !format_mul(ones, g->ka, &t) ||
+        !format_add(size, t, &size) || !format_add(size, g->nm, &size) ||
+        size > g->pool->bits - image)
+        return HPFC_E_CORRUPT;
+    *end = image + size;
+    return HPFC_OK;
+}
+
+/* Word records among root records [from, to). */
+static uint64_t root_words(const level_geom *g, uint64_t from, uint64_t to)
+{
+    uint64_t words = 0;
+    for (uint64_t r = from; r < to; r++) /* s^0 holds every record */
+        words += !format_get(g->pool, r * g->record, 1);
+    return words;
+}
+
+static uint64_t rank_sample(const labels_view *v, uint32_t l, uint64_t k)
+{
+    return format_get(&v->rank, v->rank_start[l] + k * v->rank_bits[l], v->rank_bits[l]);
+}
+
+/* Checks the pixel is a leaf of the file; its level's geometry. */
+static int check_leaf(const hpfc_file *f, const hpfc_pixel *leaf)
+{
+    int type;
+    int st = hpfc_pixel_type(f, leaf, &type);
+    if (!st && type != HPFC_PIXEL_WORD)
+        st = HPFC_E_ARG;
+    return st;
+}
+
+/* The bit offset of image u of a level (W7: images back to back in index
+ * order), given the word pixels before it. */
+static int image_offset(const level_geom *g, uint64_t u, uint64_t words, uint64_t *off)
+{
+    uint64_t pixels, a, b;
+    if (!format_mul(u, g->nm, &pixels) || words > pixels || words > g->info.word_pixels ||
+        pixels - words > g->info.refined_pixels || !format_mul(words, g->kw, &a) ||
+        !format_mul(pixels - words, g->ka, &b) || !format_add(a, b, &a) ||
+        !format_add(a, pixels, off))
+        return HPFC_E_CORRUPT;
+    return HPFC_OK;
+}
+
+static int rank_by_samples(const hpfc_file *f, const labels_view *v, const hpfc_pixel *px,
+                           uint64_t *rank)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(f, &fi);
+    uint64_t index = 0; /* the image's index in its level */
+    for (uint32_t l = 0; l <= px->depth; l++) {
+        level_geom g;
+        int st = level_geom_get(f, l, &g);
+        if (st)
+            return st;
+        uint64_t words, ones_before, p;
+        if (l == 0) {
+            p = (uint64_t)px->path[0].j * fi.root_cols + px->path[0].i;
+            uint64_t k = p >> v->sample_shift;
+            words = rank_sample(v, 0, k) + root_words(&g, k << v->sample_shift, p);
+            if (words > p)
+                return HPFC_E_CORRUPT;
+            ones_before = p - words;
+        } else {
+            uint64_t k = index >> v->sample_shift, off, u = k << v->sample_shift, zeros;
+            if (k >= v->samples[l])
+                return HPFC_E_CORRUPT;
+            words = rank_sample(v, l, k);
+            if ((st = image_offset(&g, u, words, &off)))
+                return st;
+            for (; u < index; u++, words += zeros) /* at most 2^sample_shift - 1 images */
+                if ((st = image_end(&g, off, &off, &zeros)))
+                    return st;
+            if (off != px->path[l].image)
+                return HPFC_E_CORRUPT; /* the samples or the layout contradict §9 */
+            p = (uint64_t)px->path[l].j * fi.cols + px->path[l].i;
+            uint64_t pixels, ones_in;
+            if ((st = mask_ones(&g, off, p, &ones_in)))
+                return st;
+            if (!format_mul(index, g.nm, &pixels) || words > pixels)
+                return HPFC_E_CORRUPT;
+            ones_before = (pixels - words) + ones_in; /* refined pixels before this one */
+            words += p - ones_in;                     /* word pixels before this one */
+        }
+        if (l == px->depth) {
+            if (words >= g.info.word_pixels)
+                return HPFC_E_CORRUPT;
+            *rank = words;
+            return HPFC_OK;
+        }
+        if (ones_before >= g.info.refined_pixels)
+            return HPFC_E_CORRUPT;
+        index = ones_before; /* the k-th refined pixel points at image k (§9) */
+    }
+    return HPFC_E_ARG;
+}
+
+int labels_rank_by_walk(const hpfc_file *f, const hpfc_pixel *px, uint64_t *rank)
+{
+    int st = check_leaf(f, px);
+    if (st)
+        return st;
+    hpfc_file_info fi;
+    hpfc_file_get_info(f, &fi);
+    uint32_t l = px->depth;
+    level_geom g;
+    if ((st = level_geom_get(f, l, &g)))
+        return st;
+    uint64_t words = 0, off = 0, zeros, ones;
+    if (l == 0) {
+        *rank = root_words(&g, 0, (uint64_t)px->path[0].j * fi.root_cols + px->path[0].i);
+        return HPFC_OK;
+    }
+    uint64_t images = 0;
+    while (off < px->path[l].image) {
+        if (++images > g.info.images || (st = image_end(&g, off, &off, &zeros)))
+            return st ? st : HPFC_E_CORRUPT;
+        words += zeros;
+    }
+    if (off != px->path[l].image)
+        return HPFC_E_CORRUPT; /* not an image of the back-to-back layout */
+    uint64_t p = (uint64_t)px->path[l].j * fi.cols + px->path[l].i;
+    if ((st = mask_ones(&g, off, p, &ones)))
+        return st;
+    *rank = words + (p - ones);
+    return *rank < g.info.word_pixels ? HPFC_OK : HPFC_E_CORRUPT;
+}
+
+int reader_leaf_rank(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *rank)
+{
+    const labels_view *v = reader_labels(f);
+    if (!v->present)
+        return labels_rank_by_walk(f, leaf, rank);
+    int st = check_leaf(f, leaf);
+    return st ? st : rank_by_samples(f, v, leaf, rank);
+}
+
+/* ---- words: regions and pieces -------------------------------------------------------- */
+
+void labels_word_free(labels_word *lw)
+{
+    free(lw->heap);
+    lw->heap = NULL;
+}
+
+/* The cyclic predecessor of every crossing in its component, by the
+ * stack check of §3.8. */
+static int parse_components(labels_word *lw, const char *sym, size_t len)
+{
+    uint32_t k = 0, depth = 0, pluses = 0;
+    uint32_t *first = lw->stack, *last = lw->stack + lw->n; /* per open group */
+    for (size_t s = 0; s < len; s++) {
+        char c = sym[s];
+        if (c == '+') {
+            if (++pluses == 4 && s + 1 != len)
+                return HPFC_E_CORRUPT;
+            continue;
+        }
+        char top = depth ? sym[lw->piece[first[depth - 1]]] : 0; /* piece[] holds positions */
+        lw->piece[k] = (uint32_t)s;
+        switch (c) {
+        case '=':
+            lw->pred[k] = k;
+            break;
+        case '(':
+        case '[':
+            first[depth] = last[depth] = k;
+            depth++;
+            break;
+        case 'Y':
+            if (top != '(')
+                return HPFC_E_CORRUPT;
+            lw->pred[k] = last[depth - 1];
+            last[depth - 1] = k;
+            break;
+        case ')':
+        case ']':
+            if (top != (c == ')' ? '(' : '['))
+                return HPFC_E_CORRUPT;
+            depth--;
+            lw->pred[k] = last[depth];
+            lw->pred[first[depth]] = k;
+            break;
+        default:
+            return HPFC_E_CORRUPT;
+        }
+        k++;
+    }
+    return depth == 0 && pluses == 4 && k == lw->n ? HPFC_OK : HPFC_E_CORRUPT;
+}
+
+int labels_word_parse(labels_word *lw, const char *sym, size_t len)
+{
+    uint32_t n = 0;
+    for (size_t s = 0; s < len; s++)
+        n += sym[s] != '+';
+    if (len > UINT32_MAX / 8)
+        return HPFC_E_LIMIT;
+    lw->n = n;
+    lw->heap = NULL;
+    uint32_t *mem = lw->small;
+    if (n > 64) {
+        if (!(lw->heap = malloc((size_t)n * 5 * sizeof *mem)))
+            return HPFC_E_NOMEM;
+        mem = lw->heap;
+    }
+    lw->region = mem;
+    lw->piece = mem + n;
+    lw->pred = mem + 2 * (size_t)n;
+    lw->stack = mem + 3 * (size_t)n; /* 2n: group first and last crossings */
+    int st = parse_components(lw, sym, len);
+    if (st)
+        return st;
+    if (n == 0) {
+        lw->regions = 1;
+        lw->pieces = 0;
+        return HPFC_OK;
+    }
+    /* Regions: stretch t continues inside the pixel as stretch pred(t) + 1
+     * (the sidewalk in_t -> out_pred(t)); the orbits are the regions,
+     * numbered by their smallest stretch. */
+    for (uint32_t t = 0; t < n; t++)
+        lw->region[t] = NONE_REGION;
+    lw->regions = 0;
+    for (uint32_t t = 0; t < n; t++) {
+        if (lw->region[t] != NONE_REGION)
+            continue;
+        for (uint32_t u = t; lw->region[u] == NONE_REGION; u = (lw->pred[u] + 1) % n)
+            lw->region[u] = lw->regions;
+        lw->regions++;
+    }
+    /* Pieces: one per crossing but a stabbing's second, which shares the
+     * edge of its first. */
+    uint32_t pieces = 0;
+    for (uint32_t k = 0; k < n; k++) {
+        char c = sym[lw->piece[k]];
+        lw->piece[k] = c == ']' ? lw->piece[lw->pred[k]] : pieces++;
+    }
+    lw->pieces = pieces;
+    return HPFC_OK;
+}
+
+/* ---- records ---------------------------------------------------------------------------- */
+
+/* A located leaf's record: its word's regions and pieces, and the bit
+ * offset of its labels. */
+typedef struct leaf_record {
+    labels_word word;
+    uint64_t off;
+} leaf_record;
+
+static const labels_view *labels_of(const hpfc_file *f, int *st)
+{
+    const labels_view *v = f ? reader_labels(f) : NULL;
+    *st = !f ? HPFC_E_ARG : !v->present ? HPFC_E_NO_SECTION : HPFC_OK;
+    return v;
+}
+
+/* The bit offset of global leaf g's record, from the block directory. */
+static int record_offset(const labels_view *v, uint64_t g, uint64_t *off)
+{
+    uint64_t block = g >> v->block_shift, k = g & ((UINT64_C(1) << v->block_shift) - 1);
+    uint64_t at = block * v->block_record_bits; /* < the directory's bits: g < leaves */
+    *off = format_get(&v->dir, at, v->block_bits);
+    if (k) {
+        uint64_t rel = format_get(&v->dir, at + v->block_bits + (k - 1) * v->offset_bits,
+                                  v->offset_bits);
+        if (!format_add(*off, rel, off))
+            return HPFC_E_CORRUPT;
+    }
+    return HPFC_OK;
+}
+
+/* Decodes the leaf's word into `word` (rec->word, free with
+ * labels_word_free), finds its record and checks that it lies in the
+ * label stream. */
+static int load_record(const hpfc_file *f, const labels_view *v, const hpfc_pixel *leaf,
+                       leaf_record *rec)
+{
+    memset(rec, 0, sizeof *rec);
+    uint64_t rank;
+    int st = check_leaf(f, leaf);
+    if (!st)
+        st = rank_by_samples(f, v, leaf, &rank);
+    if (st)
+        return st;
+    uint64_t g = v->first_leaf[leaf->depth] + rank; /* rank < word_pixels: g < leaves */
+    char small[256], *sym = small;
+    size_t len = 0;
+    if ((st = hpfc_pixel_word(f, leaf, NULL, 0, &len)))
+        return st;
+    if (len > sizeof small && !(sym = malloc(len)))
+        return HPFC_E_NOMEM;
+    st = hpfc_pixel_word(f, leaf, sym, len, &len);
+    if (!st)
+        st = labels_word_parse(&rec->word, sym, len);
+    if (sym != small)
+        free(sym);
+    if (!st)
+        st = record_offset(v, g, &rec->off);
+    if (st) {
+        labels_word_free(&rec->word);
+        return st;
+    }
+    uint64_t need = (uint64_t)rec->word.regions * v->face_bits +
+                    (uint64_t)rec->word.pieces * v->edge_bits; /* both counts < 2^21 */
+    if (rec->off > v->label_bits || need > v->label_bits - rec->off) {
+        labels_word_free(&rec->word);
+        return HPFC_E_CORRUPT;
+    }
+    return HPFC_OK;
+}
+
+static int record_face(const labels_view *v, const leaf_record *rec, uint32_t region,
+                       uint64_t *face)
+{
+    uint64_t id = format_get(&v->labels, rec->off + (uint64_t)region * v->face_bits, v->face_bits);
+    if (id >= v->faces)
+        return HPFC_E_CORRUPT;
+    *face = id;
+    return HPFC_OK;
+}
+
+static int record_edge(const labels_view *v, const leaf_record *rec, uint32_t piece,
+                       uint64_t *edge)
+{
+    uint64_t at = rec->off + (uint64_t)rec->word.regions * v->face_bits +
+                  (uint64_t)piece * v->edge_bits;
+    uint64_t id = format_get(&v->labels, at, v->edge_bits);
+    if (id >= v->edges)
+        return HPFC_E_CORRUPT;
+    *edge = id;
+    return HPFC_OK;
+}
+
+/* ---- public -------------------------------------------------------------------------------- */
+
+int hpfc_file_labels(const hpfc_file *f, hpfc_labels_info *out)
+{
+    int st;
+    const labels_view *v = labels_of(f, &st);
+    if (!st && !out)
+        st = HPFC_E_ARG;
+    if (st)
+        return st;
+    *out = (hpfc_labels_info){.faces = v->faces,
+                              .edges = v->edges,
+                              .leaves = v->leaves,
+                              .face_bits = v->face_bits,
+                              .edge_bits = v->edge_bits,
+                              .section_bytes = v->section_length,
+                              .label_bits = v->label_bits,
+                              .directory_bits = v->dir.bits,
+                              .rank_bits = v->rank.bits};
+    return HPFC_OK;
+}
+
+int hpfc_leaf_number(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *number)
+{
+    if (!f || !leaf || !number)
+        return HPFC_E_ARG;
+    return reader_leaf_rank(f, leaf, number);
+}
+
+int hpfc_label_leaf_faces(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *faces,
+                          size_t cap, size_t *count)
+{
+    int st;
+    const labels_view *v = labels_of(f, &st);
+    if (!st && (!leaf || !count))
+        st = HPFC_E_ARG;
+    if (st)
+        return st;
+    leaf_record rec;
+    if ((st = load_record(f, v, leaf, &rec)))
+        return st;
+    *count = rec.word.regions;
+    if (faces && cap < rec.word.regions)
+        st = HPFC_E_ARG;
+    for (uint32_t r = 0; faces && !st && r < rec.word.regions; r++)
+        st = record_face(v, &rec, r, &faces[r]);
+    labels_word_free(&rec.word);
+    return st;
+}
+
+int hpfc_label_stretch_face(const hpfc_file *f, const hpfc_pixel *leaf, uint32_t stretch,
+                            uint64_t *face)
+{
+    int st;
+    const labels_view *v = labels_of(f, &st);
+    if (!st && (!leaf || !face))
+        st = HPFC_E_ARG;
+    if (st)
+        return st;
+    leaf_record rec;
+    if ((st = load_record(f, v, leaf, &rec)))
+        return st;
+    if (stretch >= (rec.word.n ? rec.word.n : 1))
+        st = HPFC_E_ARG;
+    else
+        st = record_face(v, &rec, rec.word.n ? rec.word.region[stretch] : 0, face);
+    labels_word_free(&rec.word);
+    return st;
+}
+
+int hpfc_label_dart_face(const hpfc_file *f, const hpfc_dart *d, uint64_t *face)
+{
+    if (!f || !d || !face)
+        return HPFC_E_ARG;
+    int st;
+    const labels_view *v = labels_of(f, &st);
+    if (st)
+        return st;
+    leaf_record rec;
+    if ((st = load_record(f, v, &d->pixel, &rec)))
+        return st;
+    uint32_t n = rec.word.n;
+    if (d->crossing >= n) /* the stretch after out_k is on its right */
+        st = HPFC_E_ARG;
+    else
+        st = record_face(v, &rec, rec.word.region[(d->crossing + 1) % n], face);
+    labels_word_free(&rec.word);
+    return st;
+}
+
+int hpfc_label_crossing_edge(const hpfc_file *f, const hpfc_pixel *leaf, uint32_t crossing,
+                             uint64_t *edge)
+{
+    int st;
+    const labels_view *v = labels_of(f, &st);
+    if (!st && (!leaf || !edge))
+        st = HPFC_E_ARG;
+    if (st)
+        return st;
+    leaf_record rec;
+    if ((st = load_record(f, v, leaf, &rec)))
+        return st;
+    if (crossing >= rec.word.n)
+        st = HPFC_E_ARG;
+    else
+        st = record_edge(v, &rec, rec.word.piece[crossing], edge);
+    labels_word_free(&rec.word);
+    return st;
+}
+
+int hpfc_label_dart_edge(const hpfc_file *f, const hpfc_dart *d, uint64_t *edge)
+{
+    if (!d)
+        return HPFC_E_ARG;
+    return hpfc_label_crossing_edge(f, &d->pixel, d->crossing, edge);
+}

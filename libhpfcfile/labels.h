@@ -1,0 +1,128 @@
+/*
+ * labels.h: the LABL section (spec/hpfc-format.md §15): the face of every
+ * region of every leaf and the edge id of every crossing, stored so that a
+ * located leaf's labels are read in O(levels) without touching another
+ * leaf. Internal to the library (and its tests).
+ */
+#ifndef HPFC_LABELS_H
+#define HPFC_LABELS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "format.h"
+#include "hpfc.h"
+
+#define FORMAT_TAG_LABL "LABL"
+
+enum {
+    LABL_HEADER_SIZE = 48,
+    LABL_LEVEL_SIZE = 8,
+    LABL_MAX_SHIFT = 16,      /* block_shift and sample_shift */
+};
+
+/* Header (48 bytes), then one 8-byte entry per level. */
+FORMAT_FIELD(labl, face_count, 0, 8, uint64_t)
+FORMAT_FIELD(labl, edge_count, 8, 8, uint64_t)
+FORMAT_FIELD(labl, leaf_count, 16, 8, uint64_t)
+FORMAT_FIELD(labl, label_bits, 24, 8, uint64_t)
+FORMAT_FIELD(labl, face_bits, 32, 1, uint8_t)
+FORMAT_FIELD(labl, edge_bits, 33, 1, uint8_t)
+FORMAT_FIELD(labl, block_shift, 34, 1, uint8_t)
+FORMAT_FIELD(labl, block_bits, 35, 1, uint8_t)
+FORMAT_FIELD(labl, offset_bits, 36, 1, uint8_t)
+FORMAT_FIELD(labl, sample_shift, 37, 1, uint8_t)
+FORMAT_FIELD(labl, reserved0, 38, 2, uint16_t)
+FORMAT_FIELD(labl, levels, 40, 4, uint32_t)
+FORMAT_FIELD(labl, reserved1, 44, 4, uint32_t)
+/* Level entry: the width of the level's rank samples, 7 reserved bytes. */
+FORMAT_FIELD(labll, rank_bits, 0, 1, uint8_t)
+enum { labll_OFF_reserved = 1, labll_SIZE_reserved = 7 };
+
+/* The section as a reader sees it, checked at open (labels_open). */
+typedef struct labels_view {
+    bool present;
+    uint64_t faces, edges, leaves, label_bits;
+    uint32_t face_bits, edge_bits, block_shift, block_bits, offset_bits, sample_shift;
+    uint32_t levels;
+    format_bits rank, dir, labels;                /* the three bit streams */
+    uint64_t rank_start[HPFC_MAX_LEVELS];         /* level l's samples in `rank` */
+    uint32_t rank_bits[HPFC_MAX_LEVELS];
+    uint64_t samples[HPFC_MAX_LEVELS];            /* sample count of level l */
+    uint64_t first_leaf[HPFC_MAX_LEVELS + 1];     /* global number of level l's leaf 0 */
+    uint64_t block_record_bits;                   /* block_bits + (B - 1) * offset_bits */
+    const uint8_t *section;                       /* its bytes */
+    uint64_t section_length;
+} labels_view;
+
+/* What labels_open needs of the level table: per level its leaves
+ * (word_pixels) and its units (root records at level 0, images below). */
+typedef struct labels_levels {
+    uint32_t levels;
+    uint64_t word_pixels[HPFC_MAX_LEVELS];
+    uint64_t units[HPFC_MAX_LEVELS];
+} labels_levels;
+
+/* The section's layout as a function of its header (shared by the writer
+ * and labels_open): byte offsets of the three streams and the exact
+ * length. false on overflow or an out-of-range field. */
+typedef struct labels_layout {
+    uint64_t rank_bits_total, dir_bits, rank_at, dir_at, labels_at, length;
+    uint64_t rank_start[HPFC_MAX_LEVELS], samples[HPFC_MAX_LEVELS];
+    uint64_t blocks, block_record_bits;
+} labels_layout;
+
+bool labels_compute_layout(const labels_levels *lv, const uint32_t *rank_bits, uint64_t leaves,
+                           uint32_t block_shift, uint32_t block_bits, uint32_t offset_bits,
+                           uint32_t sample_shift, uint64_t label_bits, labels_layout *out);
+
+/* Checks a LABL section's header against the level table and fills v;
+ * HPFC_E_SECTION when it fails. O(levels). */
+int labels_open(labels_view *v, const uint8_t *sec, uint64_t length, const labels_levels *lv);
+
+/* The open file's LABL view (present == false when it has none). */
+const labels_view *reader_labels(const hpfc_file *file);
+/* Level l's pool as the bit reader sees it. */
+const format_bits *reader_pool(const hpfc_file *file, uint32_t level);
+
+/* The leaf number of a word pixel (TEAM decision, spec §15.3): its rank
+ * among its level's leaves in pool order. Through the LABL rank samples
+ * when the file has them (O(levels * 2^sample_shift)), else by a walk over
+ * the level's pool before the leaf (O(pool)). HPFC_E_ARG for a refined
+ * pixel or a path outside the file, HPFC_E_CORRUPT when the pools or the
+ * samples contradict the layout of §9. */
+int reader_leaf_rank(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
+/* The slow walk on its own (the tests' oracle). */
+int labels_rank_by_walk(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
+
+/* A word's regions and edge pieces (§15.2), from its symbols. */
+typedef struct labels_word {
+    uint32_t n;          /* crossings */
+    uint32_t regions;    /* face labels the leaf stores: 1 when private */
+    uint32_t pieces;     /* edge labels: n minus the stabbings */
+    uint32_t *region;    /* per stretch t (between crossings t-1 and t): its region */
+    uint32_t *piece;     /* per crossing: its piece */
+    uint32_t *pred;      /* scratch: cyclic predecessor in the component */
+    uint32_t *stack;     /* scratch */
+    uint32_t small[5 * 64];
+    uint32_t *heap;
+} labels_word;
+
+/* Parses `len` symbols (a word of the grammar of §3.8, else
+ * HPFC_E_CORRUPT); HPFC_E_NOMEM for a long word. labels_word_free after. */
+int labels_word_parse(labels_word *lw, const char *sym, size_t len);
+void labels_word_free(labels_word *lw);
+
+/* hpfc_faces internals for the writer (faces.c): the nodes of the leaf
+ * whose record (level 0) or slot starts at bit `bit` of level `level`'s
+ * pool: node base + t is stretch t (one node for a private leaf). */
+int faces_leaf_nodes(const hpfc_faces *fc, uint32_t level, uint64_t bit, uint64_t *base,
+                     uint64_t *crossings);
+uint64_t faces_node_face(const hpfc_faces *fc, uint64_t node);
+
+/* Builds the section's bytes for a tree and its serialised file (whose
+ * faces are fc): *out (malloc'ed), *length. */
+int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc, uint8_t **out,
+                 uint64_t *length, hpfc_diag *diag);
+
+#endif

@@ -1,0 +1,261 @@
+/*
+ * The LABL section (spec/hpfc-format.md §15) against independent oracles:
+ *   - leaf numbers: within a level, ranking the leaves by their slot's
+ *     position in the pool (reader_leaf_slot_bit) gives 0, 1, 2, ...; the
+ *     walk without the section gives the same numbers;
+ *   - faces: hpfc_faces_build's flood fill, on every stretch, dart and
+ *     private leaf;
+ *   - edge ids: the input graph: a dart's edge has its origin's pixel
+ *     around one of its ends, its twin has the same edge, every edge has
+ *     two darts; a crossing seen from both sides of its road has one edge.
+ * On generated graphs under several image sizes, flat and deep.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "gen.h"
+#include "hpfc.h"
+#include "labels.h"
+#include "reader.h"
+#include "topo.h"
+
+typedef struct packed {
+    uint8_t *with, *without;
+    hpfc_file *f, *f0;
+    hpfc_tree *tree;
+} packed;
+
+static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, packed *p)
+{
+    memset(p, 0, sizeof *p);
+    hpfc_build_params bp;
+    hpfc_build_params_default(&bp);
+    bp.root_cols = bp.root_rows = n0;
+    bp.cols = bp.rows = n;
+    bp.flat = flat;
+    size_t s1, s0;
+    hpfc_write_options o = {.face_labels = 1};
+    int st = hpfc_build(g, &bp, &p->tree, NULL);
+    if (!st)
+        st = hpfc_tree_serialize(p->tree, &o, &p->with, &s1, NULL);
+    if (!st)
+        st = hpfc_tree_serialize(p->tree, NULL, &p->without, &s0, NULL);
+    if (!st)
+        st = hpfc_open_memory(p->with, s1, 0, &p->f);
+    if (!st)
+        st = hpfc_open_memory(p->without, s0, 0, &p->f0);
+    return st;
+}
+
+static void unpack(packed *p)
+{
+    hpfc_close(p->f);
+    hpfc_close(p->f0);
+    free(p->with);
+    free(p->without);
+    hpfc_tree_free(p->tree);
+}
+
+typedef struct slot_rank {
+    uint64_t slot, rank;
+} slot_rank;
+
+static int cmp_slot(const void *a, const void *b)
+{
+    const slot_rank *x = a, *y = b;
+    return (x->slot > y->slot) - (x->slot < y->slot);
+}
+
+static void check_ranks(const packed *p)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(p->f, &fi);
+    uint64_t leaves = reader_total_leaves(p->f);
+    slot_rank *sr[HPFC_MAX_LEVELS] = {0};
+    uint64_t count[HPFC_MAX_LEVELS] = {0};
+    for (uint32_t l = 0; l < fi.levels; l++)
+        sr[l] = calloc(leaves + 1, sizeof **sr);
+    hpfc_pixel px;
+    int st;
+    for (st = hpfc_leaf_first(p->f, &px); !st; st = hpfc_leaf_next(p->f, &px)) {
+        uint64_t slot = 0, rank = 0, walk = 0;
+        CHECK_EQ_INT(reader_leaf_slot_bit(p->f, &px, &slot), HPFC_OK);
+        CHECK_EQ_INT(hpfc_leaf_number(p->f, &px, &rank), HPFC_OK);
+        CHECK_EQ_INT(hpfc_leaf_number(p->f0, &px, &walk), HPFC_OK); /* no section: the walk */
+        CHECK_EQ_INT(rank, walk);
+        sr[px.depth][count[px.depth]++] = (slot_rank){slot, rank};
+    }
+    CHECK_EQ_INT(st, HPFC_E_NO_PIXEL);
+    for (uint32_t l = 0; l < fi.levels; l++) {
+        hpfc_level_info li;
+        hpfc_file_get_level(p->f, l, &li);
+        CHECK_EQ_INT(count[l], li.word_pixels);
+        qsort(sr[l], count[l], sizeof **sr, cmp_slot);
+        for (uint64_t k = 0; k < count[l]; k++)
+            if (sr[l][k].rank != k) {
+                CHECK_EQ_INT(sr[l][k].rank, k);
+                break;
+            }
+        free(sr[l]);
+    }
+}
+
+/* Faces: every stretch, dart and region against hpfc_faces_build. */
+static void check_leaf_faces(const packed *p, const hpfc_faces *fc, const hpfc_pixel *px,
+                             const local_word *lw)
+{
+    size_t count = 0;
+    uint64_t regions[512];
+    CHECK_EQ_INT(hpfc_label_leaf_faces(p->f, px, NULL, 0, &count), HPFC_OK);
+    if (lw->n == 0) {
+        uint64_t want = 0, got = 1;
+        CHECK_EQ_INT(count, 1);
+        CHECK_EQ_INT(hpfc_faces_of_private_pixel(fc, px, &want), HPFC_OK);
+        CHECK_EQ_INT(hpfc_label_stretch_face(p->f, px, 0, &got), HPFC_OK);
+        CHECK_EQ_INT(got, want);
+        CHECK_EQ_INT(hpfc_label_stretch_face(p->f, px, 1, &got), HPFC_E_ARG);
+        return;
+    }
+    CHECK_EQ_INT(count, lw->n - lw->ncomp + 1);
+    if (count > 512)
+        return;
+    CHECK_EQ_INT(hpfc_label_leaf_faces(p->f, px, regions, count, &count), HPFC_OK);
+    if (count > 1)
+        CHECK_EQ_INT(hpfc_label_leaf_faces(p->f, px, regions, count - 1, &count), HPFC_E_ARG);
+    for (uint32_t k = 0; k < lw->n; k++) {
+        hpfc_dart d = {.pixel = *px, .crossing = k};
+        uint64_t want = 0, got = 1, stretch = 2;
+        CHECK_EQ_INT(hpfc_faces_of_dart(fc, &d, &want), HPFC_OK);
+        CHECK_EQ_INT(hpfc_label_dart_face(p->f, &d, &got), HPFC_OK);
+        CHECK_EQ_INT(got, want);
+        CHECK_EQ_INT(hpfc_label_stretch_face(p->f, px, (k + 1) % lw->n, &stretch), HPFC_OK);
+        CHECK_EQ_INT(stretch, want);
+        bool listed = false; /* the region holding that stretch is among the leaf's */
+        for (size_t r = 0; r < count; r++)
+            listed |= regions[r] == want;
+        CHECK(listed);
+    }
+    hpfc_dart bad = {.pixel = *px, .crossing = lw->n};
+    uint64_t x;
+    CHECK_EQ_INT(hpfc_label_dart_face(p->f, &bad, &x), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_label_crossing_edge(p->f, px, lw->n, &x), HPFC_E_ARG);
+}
+
+/* Edge ids: a crossing and the same crossing across its road. */
+static void check_leaf_edges(const packed *p, hpfc_walker *w, const hpfc_pixel *px,
+                             uint64_t *darts_of_edge, const hpfc_graph *g)
+{
+    const local_word *lw = &w->here;
+    for (uint32_t k = 0; k < lw->n; k++) {
+        uint64_t e = UINT64_MAX, e2 = UINT64_MAX;
+        CHECK_EQ_INT(hpfc_label_crossing_edge(p->f, px, k, &e), HPFC_OK);
+        CHECK(e < hpfc_graph_edge_count(g));
+        if (e >= hpfc_graph_edge_count(g))
+            continue;
+        if (lw->comp_vertex[lw->comp[k]] != NONE) { /* a dart: its origin's pixel holds an end */
+            darts_of_edge[e]++;
+            uint32_t u, v;
+            const int64_t *xy;
+            size_t ni;
+            int64_t ux, uy, vx, vy, x0, y0, x1, y1;
+            hpfc_graph_edge(g, e, &u, &v, &xy, &ni);
+            hpfc_graph_vertex(g, u, &ux, &uy);
+            hpfc_graph_vertex(g, v, &vx, &vy);
+            hpfc_pixel_bounds(p->f, px, &x0, &y0, &x1, &y1);
+            CHECK((ux >= x0 && ux < x1 && uy >= y0 && uy < y1) ||
+                  (vx >= x0 && vx < x1 && vy >= y0 && vy < y1));
+        } else { /* a stabbing's two crossings lie on one edge */
+            CHECK_EQ_INT(hpfc_label_crossing_edge(p->f, px, lw->pred[k], &e2), HPFC_OK);
+            CHECK_EQ_INT(e2, e);
+        }
+        if (k < lw->road_off[HPFC_EAST]) { /* W and N roads: across is Q's E or S */
+            hpfc_pixel q;
+            uint32_t m;
+            CHECK_EQ_INT(topo_cross_road(w, px, true, lw, k, &q, &w->there, &m), HPFC_OK);
+            CHECK_EQ_INT(hpfc_label_crossing_edge(p->f, &q, m, &e2), HPFC_OK);
+            CHECK_EQ_INT(e2, e);
+        }
+    }
+}
+
+static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
+{
+    packed p;
+    int st = pack(g, n0, n, flat, &p);
+    CHECK_EQ_INT(st, HPFC_OK);
+    if (st) {
+        unpack(&p);
+        return;
+    }
+    hpfc_labels_info li;
+    CHECK_EQ_INT(hpfc_file_labels(p.f0, &li), HPFC_E_NO_SECTION);
+    CHECK_EQ_INT(hpfc_file_labels(p.f, &li), HPFC_OK);
+    CHECK_EQ_INT(li.edges, hpfc_graph_edge_count(g));
+    check_ranks(&p);
+    hpfc_faces *fc = NULL;
+    hpfc_walker *w = NULL;
+    CHECK_EQ_INT(hpfc_faces_build(p.f, &fc), HPFC_OK);
+    CHECK_EQ_INT(hpfc_walker_create(p.f, &w), HPFC_OK);
+    CHECK_EQ_INT(li.faces, hpfc_faces_count(fc));
+    uint64_t *darts_of_edge = calloc(hpfc_graph_edge_count(g), sizeof *darts_of_edge);
+    hpfc_pixel px;
+    for (st = hpfc_leaf_first(p.f, &px); !st; st = hpfc_leaf_next(p.f, &px)) {
+        CHECK_EQ_INT(topo_parse_pixel(w, &w->here, &px), HPFC_OK);
+        check_leaf_faces(&p, fc, &px, &w->here);
+        check_leaf_edges(&p, w, &px, darts_of_edge, g);
+    }
+    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++)
+        if (darts_of_edge[e] != 2) {
+            CHECK_EQ_INT(darts_of_edge[e], 2);
+            break;
+        }
+    /* hpfc_file_serialize keeps the section: the same labels after */
+    uint8_t *again = NULL;
+    size_t size = 0;
+    hpfc_file *f2 = NULL;
+    CHECK_EQ_INT(hpfc_file_serialize(p.f, NULL, &again, &size, NULL), HPFC_OK);
+    CHECK_EQ_INT(hpfc_open_memory(again, size, 0, &f2), HPFC_OK);
+    hpfc_labels_info li2;
+    CHECK_EQ_INT(hpfc_file_labels(f2, &li2), HPFC_OK);
+    CHECK_EQ_INT(li2.section_bytes, li.section_bytes);
+    hpfc_close(f2);
+    free(again);
+    free(darts_of_edge);
+    hpfc_walker_free(w);
+    hpfc_faces_free(fc);
+    unpack(&p);
+}
+
+static void check_graph(const hpfc_graph *g)
+{
+    check_map(g, 1, 2, 0);
+    check_map(g, 4, 2, 0);
+    check_map(g, 3, 3, 0);
+    check_map(g, 16, 4, 0);
+    check_map(g, 64, 2, 0);
+}
+
+int main(void)
+{
+    for (int which = 0; which < GEN_SPECIAL_COUNT; which++) {
+        hpfc_graph *g = NULL;
+        CHECK_EQ_INT(gen_special(which, &g), HPFC_OK);
+        if (g)
+            check_graph(g);
+        hpfc_graph_free(g);
+    }
+    for (uint64_t seed = 1; seed <= 3; seed++) {
+        hpfc_graph *g = NULL;
+        CHECK_EQ_INT(gen_delaunay(seed, 120 * seed, 1 << 16, 0.2, &g), HPFC_OK);
+        if (g)
+            check_graph(g);
+        hpfc_graph_free(g);
+        g = NULL;
+        CHECK_EQ_INT(gen_polyline(seed, 200, 1 << 16, 0.5, &g), HPFC_OK);
+        if (g)
+            check_graph(g);
+        hpfc_graph_free(g);
+    }
+    return check_report("test_labels");
+}
