@@ -36,6 +36,7 @@ typedef struct pack_args {
     const char *input, *output;
     hpfc_build_params params;
     int json, quiet;
+    int no_labels;            /* --no-labels: no LABL section */
     /* GIS input (gis_input.h) */
     const char *layers[64];
     size_t n_layers;
@@ -125,6 +126,8 @@ static void print_help(void)
            "                        GIS input: cut longitude/latitude lines and polygons\n"
            "                        that cross the antimeridian (a segment spanning more\n"
            "                        than 180 degrees) at +-180 (default), or refuse them\n"
+           "  --no-labels           write no LABL section (the faces and edge ids of every\n"
+           "                        leaf, which let queries skip numbering the faces)\n"
            "  --json                print the build report as one JSON object\n"
            "  --quiet               print no report\n"
            "  -h, --help            show this help\n"
@@ -297,6 +300,8 @@ static int parse_args(int argc, char **argv, pack_args *a)
             a->json = 1;
         else if (strcmp(arg, "--quiet") == 0)
             a->quiet = 1;
+        else if (strcmp(arg, "--no-labels") == 0)
+            a->no_labels = 1;
         else if (!value_option(a, argv, argc, &i, &status)) {
             complain("unknown option '%s' (see --help)", arg);
             return EXIT_USAGE;
@@ -747,7 +752,8 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     hpfc_build_params params = a->params;
     params.progress = show_build_progress;
     params.progress_user = &bar;
-    hpfc_write_options wopts = {.crs = r->gis ? r->gis_info.crs : NULL};
+    hpfc_write_options wopts = {.crs = r->gis ? r->gis_info.crs : NULL,
+                                .face_labels = !a->no_labels};
     gis_feature_table ft = {0};
     hpfc_diag diag = {0};
     hpfc_tree *t = NULL;

@@ -677,6 +677,21 @@ HPFC_API int hpfc_label_dart_edge(const hpfc_file *file, const hpfc_dart *d, uin
  * up to the leaf. */
 HPFC_API int hpfc_leaf_number(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *number);
 
+/* The stored labels against the map (hpfc-inspect --verify): the face
+ * count; every rank sample recounted from the pools; every leaf's number
+ * distinct; each record right after the previous one, the last ending the
+ * label stream; every stretch's face equal to faces' (hpfc_faces_build on
+ * the same file); every edge id below the edge count and equal on both
+ * sides of its road. HPFC_OK when all agree; HPFC_E_CORRUPT with
+ * report->message naming the first disagreement; HPFC_E_NO_SECTION,
+ * HPFC_E_NOMEM. O(file). */
+typedef struct hpfc_labels_report {
+    uint64_t leaves_checked, labels_checked;
+    char message[240];
+} hpfc_labels_report;
+HPFC_API int hpfc_labels_verify(const hpfc_file *file, const hpfc_faces *faces,
+                                hpfc_labels_report *report);
+
 #ifdef __cplusplus
 }
 #endif

@@ -25,7 +25,8 @@
 
 bool labels_compute_layout(const labels_levels *lv, const uint32_t *rank_bits, uint64_t leaves,
                            uint32_t block_shift, uint32_t block_bits, uint32_t offset_bits,
-                           uint32_t sample_shift, uint64_t label_bits, labels_layout *out)
+                           uint32_t sample_shift, uint64_t edges, uint32_t face_bits,
+                           uint64_t label_bits, labels_layout *out)
 {
     memset(out, 0, sizeof *out);
     if (lv->levels < 1 || lv->levels > HPFC_MAX_LEVELS || block_shift > LABL_MAX_SHIFT ||
@@ -56,6 +57,11 @@ bool labels_compute_layout(const labels_levels *lv, const uint32_t *rank_bits, u
         return false;
     out->dir_at = format_align8(end);
     if (!format_add(out->dir_at, format_pool_bytes(out->dir_bits), &end) || end > UINT64_MAX - 8)
+        return false;
+    out->sides_at = format_align8(end);
+    if (face_bits > 64 || !format_mul(edges, 2 * (uint64_t)face_bits, &out->sides_bits) ||
+        !format_add(out->sides_at, format_pool_bytes(out->sides_bits), &end) ||
+        end > UINT64_MAX - 8)
         return false;
     out->labels_at = format_align8(end);
     return format_add(out->labels_at, format_pool_bytes(label_bits), &out->length);
@@ -102,11 +108,13 @@ int labels_open(labels_view *v, const uint8_t *sec, uint64_t length, const label
         return HPFC_E_SECTION;
     labels_layout lay;
     if (!labels_compute_layout(lv, rank_bits, leaves, v->block_shift, v->block_bits,
-                               v->offset_bits, v->sample_shift, v->label_bits, &lay) ||
+                               v->offset_bits, v->sample_shift, v->edges, v->face_bits,
+                               v->label_bits, &lay) ||
         lay.length != length)
         return HPFC_E_SECTION;
     v->rank = stream(sec, length, lay.rank_at, lay.rank_bits_total);
     v->dir = stream(sec, length, lay.dir_at, lay.dir_bits);
+    v->sides = stream(sec, length, lay.sides_at, lay.sides_bits);
     v->labels = stream(sec, length, lay.labels_at, v->label_bits);
     for (uint32_t l = 0; l < lv->levels; l++) {
         v->rank_start[l] = lay.rank_start[l];
@@ -367,14 +375,15 @@ int labels_word_parse(labels_word *lw, const char *sym, size_t len)
     lw->heap = NULL;
     uint32_t *mem = lw->small;
     if (n > 64) {
-        if (!(lw->heap = malloc((size_t)n * 5 * sizeof *mem)))
+        if (!(lw->heap = malloc((size_t)n * 6 * sizeof *mem)))
             return HPFC_E_NOMEM;
         mem = lw->heap;
     }
     lw->region = mem;
     lw->piece = mem + n;
     lw->pred = mem + 2 * (size_t)n;
-    lw->stack = mem + 3 * (size_t)n; /* 2n: group first and last crossings */
+    lw->flip = mem + 3 * (size_t)n;
+    lw->stack = mem + 4 * (size_t)n; /* 2n: group first and last crossings */
     int st = parse_components(lw, sym, len);
     if (st)
         return st;
@@ -400,11 +409,19 @@ int labels_word_parse(labels_word *lw, const char *sym, size_t len)
      * edge of its first. */
     uint32_t pieces = 0;
     for (uint32_t k = 0; k < n; k++) {
-        char c = sym[lw->piece[k]];
-        lw->piece[k] = c == ']' ? lw->piece[lw->pred[k]] : pieces++;
+        lw->flip[k] = sym[lw->piece[k]] == ']';
+        lw->piece[k] = lw->flip[k] ? lw->piece[lw->pred[k]] : pieces++;
     }
     lw->pieces = pieces;
     return HPFC_OK;
+}
+
+uint32_t labels_region_stretch(const labels_word *w, uint32_t r)
+{
+    uint32_t t = 0;
+    while (t + 1 < w->n && w->region[t] != r)
+        t++;
+    return t;
 }
 
 /* ---- records ---------------------------------------------------------------------------- */
@@ -469,8 +486,7 @@ static int load_record(const hpfc_file *f, const labels_view *v, const hpfc_pixe
         labels_word_free(&rec->word);
         return st;
     }
-    uint64_t need = (uint64_t)rec->word.regions * v->face_bits +
-                    (uint64_t)rec->word.pieces * v->edge_bits; /* both counts < 2^21 */
+    uint64_t need = labels_record_bits(&rec->word, v->face_bits, v->edge_bits); /* < 2^28 */
     if (rec->off > v->label_bits || need > v->label_bits - rec->off) {
         labels_word_free(&rec->word);
         return HPFC_E_CORRUPT;
@@ -478,10 +494,44 @@ static int load_record(const hpfc_file *f, const labels_view *v, const hpfc_pixe
     return HPFC_OK;
 }
 
-static int record_face(const labels_view *v, const leaf_record *rec, uint32_t region,
-                       uint64_t *face)
+/* Piece q's edge id and side bit. */
+static int record_piece(const labels_view *v, const leaf_record *rec, uint32_t q, uint64_t *edge,
+                        uint32_t *side)
 {
-    uint64_t id = format_get(&v->labels, rec->off + (uint64_t)region * v->face_bits, v->face_bits);
+    uint64_t at = rec->off + (uint64_t)q * (v->edge_bits + 1);
+    uint64_t id = format_get(&v->labels, at, v->edge_bits);
+    if (id >= v->edges)
+        return HPFC_E_CORRUPT;
+    *edge = id;
+    *side = (uint32_t)format_get(&v->labels, at + v->edge_bits, 1);
+    return HPFC_OK;
+}
+
+/* The face on the right of out_c, crossing c's out-dart: side s of its
+ * edge, s the piece's bit, flipped at a stabbing's second crossing (whose
+ * out-dart runs the other way along the edge). */
+static int out_face(const labels_view *v, const leaf_record *rec, uint32_t c, uint64_t *face)
+{
+    uint64_t edge;
+    uint32_t side;
+    int st = record_piece(v, rec, rec->word.piece[c], &edge, &side);
+    if (st)
+        return st;
+    side ^= rec->word.flip[c];
+    uint64_t id = format_get(&v->sides, (2 * edge + side) * v->face_bits, v->face_bits);
+    if (id >= v->faces)
+        return HPFC_E_CORRUPT;
+    *face = id;
+    return HPFC_OK;
+}
+
+/* The face of stretch t: that on the right of the out-dart before it. */
+static int stretch_face(const labels_view *v, const leaf_record *rec, uint32_t t, uint64_t *face)
+{
+    uint32_t n = rec->word.n;
+    if (n)
+        return out_face(v, rec, (t + n - 1) % n, face);
+    uint64_t id = format_get(&v->labels, rec->off, v->face_bits);
     if (id >= v->faces)
         return HPFC_E_CORRUPT;
     *face = id;
@@ -491,13 +541,8 @@ static int record_face(const labels_view *v, const leaf_record *rec, uint32_t re
 static int record_edge(const labels_view *v, const leaf_record *rec, uint32_t piece,
                        uint64_t *edge)
 {
-    uint64_t at = rec->off + (uint64_t)rec->word.regions * v->face_bits +
-                  (uint64_t)piece * v->edge_bits;
-    uint64_t id = format_get(&v->labels, at, v->edge_bits);
-    if (id >= v->edges)
-        return HPFC_E_CORRUPT;
-    *edge = id;
-    return HPFC_OK;
+    uint32_t side;
+    return record_piece(v, rec, piece, edge, &side);
 }
 
 /* ---- public -------------------------------------------------------------------------------- */
@@ -544,8 +589,10 @@ int hpfc_label_leaf_faces(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *
     *count = rec.word.regions;
     if (faces && cap < rec.word.regions)
         st = HPFC_E_ARG;
-    for (uint32_t r = 0; faces && !st && r < rec.word.regions; r++)
-        st = record_face(v, &rec, r, &faces[r]);
+    /* regions are numbered in the order their smallest stretch comes */
+    for (uint32_t t = 0, r = 0; faces && !st && r < rec.word.regions; t++)
+        if (rec.word.n == 0 || rec.word.region[t] == r)
+            st = stretch_face(v, &rec, t, &faces[r++]);
     labels_word_free(&rec.word);
     return st;
 }
@@ -565,7 +612,7 @@ int hpfc_label_stretch_face(const hpfc_file *f, const hpfc_pixel *leaf, uint32_t
     if (stretch >= (rec.word.n ? rec.word.n : 1))
         st = HPFC_E_ARG;
     else
-        st = record_face(v, &rec, rec.word.n ? rec.word.region[stretch] : 0, face);
+        st = stretch_face(v, &rec, stretch, face);
     labels_word_free(&rec.word);
     return st;
 }
@@ -585,7 +632,7 @@ int hpfc_label_dart_face(const hpfc_file *f, const hpfc_dart *d, uint64_t *face)
     if (d->crossing >= n) /* the stretch after out_k is on its right */
         st = HPFC_E_ARG;
     else
-        st = record_face(v, &rec, rec.word.region[(d->crossing + 1) % n], face);
+        st = out_face(v, &rec, d->crossing, face);
     labels_word_free(&rec.word);
     return st;
 }

@@ -45,7 +45,7 @@ typedef struct labels_view {
     uint64_t faces, edges, leaves, label_bits;
     uint32_t face_bits, edge_bits, block_shift, block_bits, offset_bits, sample_shift;
     uint32_t levels;
-    format_bits rank, dir, labels;                /* the three bit streams */
+    format_bits rank, dir, sides, labels;         /* the four bit streams */
     uint64_t rank_start[HPFC_MAX_LEVELS];         /* level l's samples in `rank` */
     uint32_t rank_bits[HPFC_MAX_LEVELS];
     uint64_t samples[HPFC_MAX_LEVELS];            /* sample count of level l */
@@ -67,14 +67,15 @@ typedef struct labels_levels {
  * and labels_open): byte offsets of the three streams and the exact
  * length. false on overflow or an out-of-range field. */
 typedef struct labels_layout {
-    uint64_t rank_bits_total, dir_bits, rank_at, dir_at, labels_at, length;
+    uint64_t rank_bits_total, dir_bits, sides_bits, rank_at, dir_at, sides_at, labels_at, length;
     uint64_t rank_start[HPFC_MAX_LEVELS], samples[HPFC_MAX_LEVELS];
     uint64_t blocks, block_record_bits;
 } labels_layout;
 
 bool labels_compute_layout(const labels_levels *lv, const uint32_t *rank_bits, uint64_t leaves,
                            uint32_t block_shift, uint32_t block_bits, uint32_t offset_bits,
-                           uint32_t sample_shift, uint64_t label_bits, labels_layout *out);
+                           uint32_t sample_shift, uint64_t edges, uint32_t face_bits,
+                           uint64_t label_bits, labels_layout *out);
 
 /* Checks a LABL section's header against the level table and fills v;
  * HPFC_E_SECTION when it fails. O(levels). */
@@ -98,15 +99,26 @@ int labels_rank_by_walk(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t 
 /* A word's regions and edge pieces (§15.2), from its symbols. */
 typedef struct labels_word {
     uint32_t n;          /* crossings */
-    uint32_t regions;    /* face labels the leaf stores: 1 when private */
+    uint32_t regions;    /* 1 when private, else n - components + 1 */
     uint32_t pieces;     /* edge labels: n minus the stabbings */
     uint32_t *region;    /* per stretch t (between crossings t-1 and t): its region */
     uint32_t *piece;     /* per crossing: its piece */
-    uint32_t *pred;      /* scratch: cyclic predecessor in the component */
+    uint32_t *pred;      /* cyclic predecessor in the component */
+    uint32_t *flip;      /* per crossing: 1 for a stabbing's second crossing (`]`) */
     uint32_t *stack;     /* scratch */
-    uint32_t small[5 * 64];
+    uint32_t small[6 * 64];
     uint32_t *heap;
 } labels_word;
+
+/* Bits of a leaf's record: a face id for a private leaf, else an edge id
+ * and a side bit per piece. */
+static inline uint64_t labels_record_bits(const labels_word *w, uint32_t face_bits,
+                                          uint32_t edge_bits)
+{
+    return w->n ? (uint64_t)w->pieces * (edge_bits + 1) : face_bits;
+}
+/* The smallest stretch of region r. */
+uint32_t labels_region_stretch(const labels_word *w, uint32_t r);
 
 /* Parses `len` symbols (a word of the grammar of §3.8, else
  * HPFC_E_CORRUPT); HPFC_E_NOMEM for a long word. labels_word_free after. */

@@ -25,12 +25,14 @@ typedef struct label_plan {
     uint32_t rank_bits[HPFC_MAX_LEVELS];
     uint32_t face_bits, edge_bits, sample_shift;
     uint64_t faces, edges;
+    uint64_t *sides;                       /* per edge: its two faces, UINT64_MAX unseen */
     labels_levels lv;
 } label_plan;
 
 static void plan_free(label_plan *p)
 {
     free(p->offset);
+    free(p->sides);
     for (uint32_t l = 0; l < HPFC_MAX_LEVELS; l++)
         free(p->samples[l]);
 }
@@ -50,44 +52,56 @@ static int visit_leaf(leaf_visit *lv, uint32_t level, uint64_t slot, const hpfc_
     label_plan *p = lv->plan;
     labels_word w;
     int st = labels_word_parse(&w, px->word, px->word_len);
+    uint64_t base = 0, n = 0, g = lv->next++;
+    if (st)
+        st = diag_set(diag, st, "labels: a word of the tree does not parse");
+    else if (g >= p->leaves)
+        st = diag_set(diag, HPFC_E_ARG, "labels: more leaves in the tree than in the file");
+    else if (faces_leaf_nodes(lv->fc, level, slot, &base, &n) || n != w.n)
+        st = diag_set(diag, HPFC_E_ARG, "labels: the faces do not belong to this tree's file");
     if (st) {
         labels_word_free(&w);
-        return diag_set(diag, st, "labels: a word of the tree does not parse");
+        return st;
     }
-    uint64_t g = lv->next++;
-    if (g >= p->leaves) {
-        labels_word_free(&w);
-        return diag_set(diag, HPFC_E_ARG, "labels: more leaves in the tree than in the file");
-    }
-    uint64_t bits = (uint64_t)w.regions * p->face_bits + (uint64_t)w.pieces * p->edge_bits;
-    if (!lv->out) {
-        p->offset[g + 1] = p->offset[g] + bits;
-        labels_word_free(&w);
-        return HPFC_OK;
-    }
-    uint64_t base, n, at = p->offset[g];
-    st = faces_leaf_nodes(lv->fc, level, slot, &base, &n);
-    if (!st && n != w.n)
-        st = HPFC_E_ARG;
-    if (st) {
-        labels_word_free(&w);
-        return diag_set(diag, HPFC_E_ARG, "labels: the faces do not belong to this tree's file");
-    }
-    /* each region's face: that of its smallest stretch */
-    for (uint32_t r = 0, t = 0; r < w.regions; r++) {
-        while (w.n && w.region[t] != r)
-            t++;
-        format_put(lv->out, at, p->face_bits, faces_node_face(lv->fc, base + t));
-        at += p->face_bits;
-    }
-    for (uint32_t k = 0, piece = 0; k < w.n; k++)
-        if (w.piece[k] == piece) { /* a piece's first crossing */
-            format_put(lv->out, at, p->edge_bits, px->cross_edge[k]);
-            at += p->edge_bits;
-            piece++;
+    uint64_t at = p->offset[g];
+    if (!lv->out)
+        p->offset[g + 1] = at + labels_record_bits(&w, p->face_bits, p->edge_bits);
+    else if (w.n == 0)
+        format_put(lv->out, at, p->face_bits, faces_node_face(lv->fc, base));
+    /* Each piece from its first crossing c: the face on the right of out_c
+     * (stretch c + 1) and of in_c (stretch c), the two sides of its edge.
+     * Pass 1 records an edge's sides where it first comes; pass 2 writes
+     * which of them is on the right of out_c. */
+    for (uint32_t c = 0, q = 0; c < w.n; c++) {
+        if (w.piece[c] != q)
+            continue; /* a stabbing's second crossing */
+        uint64_t e = px->cross_edge[c];
+        uint64_t right = faces_node_face(lv->fc, base + (c + 1) % w.n);
+        uint64_t left = faces_node_face(lv->fc, base + c);
+        uint64_t *side = &p->sides[2 * e];
+        if (e >= p->edges) {
+            st = diag_set(diag, HPFC_E_ARG, "labels: a crossing of edge %llu, of %llu edges",
+                          (unsigned long long)e, (unsigned long long)p->edges);
+            break;
         }
+        if (!lv->out) {
+            if (side[0] == UINT64_MAX)
+                side[0] = right, side[1] = left;
+        } else {
+            uint32_t bit = side[0] != side[1] && right != side[0];
+            if (right != side[bit] || left != side[!bit]) {
+                st = diag_set(diag, HPFC_E_ARG, "labels: edge %llu has more than two faces",
+                              (unsigned long long)e);
+                break;
+            }
+            format_put(lv->out, at, p->edge_bits, e);
+            format_put(lv->out, at + p->edge_bits, 1, bit);
+            at += p->edge_bits + 1;
+        }
+        q++;
+    }
     labels_word_free(&w);
-    return HPFC_OK;
+    return st;
 }
 
 /* Every leaf of the tree in leaf order, with its slot's pool offset (as the
@@ -208,8 +222,10 @@ static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file
         if (!(p->samples[l] = calloc(samples ? samples : 1, sizeof *p->samples[l])))
             return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
     }
-    if (!(p->offset = calloc(p->leaves + 1, sizeof *p->offset)))
+    if (!(p->offset = calloc(p->leaves + 1, sizeof *p->offset)) ||
+        p->edges > SIZE_MAX / 16 || !(p->sides = malloc(p->edges * 16)))
         return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
+    memset(p->sides, 0xFF, p->edges * 16);
     return HPFC_OK;
 }
 
@@ -230,7 +246,7 @@ int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces 
         p.label_bits = p.offset[p.leaves];
         choose_blocks(&p, &shift, &block_bits, &offset_bits);
         if (!labels_compute_layout(&p.lv, p.rank_bits, p.leaves, shift, block_bits, offset_bits,
-                                   p.sample_shift, p.label_bits, &lay) ||
+                                   p.sample_shift, p.edges, p.face_bits, p.label_bits, &lay) ||
             lay.length > SIZE_MAX)
             st = diag_set(diag, HPFC_E_LIMIT, "labels: the section would be too large");
     }
@@ -261,6 +277,9 @@ int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces 
                            p.rank_bits[l], p.samples[l][k]);
         }
         put_directory(&p, sec + lay.dir_at, shift, block_bits, offset_bits, lay.block_record_bits);
+        for (uint64_t k = 0; k < 2 * p.edges; k++) /* an edge with no crossing: faces 0 */
+            format_put(sec + lay.sides_at, k * p.face_bits, p.face_bits,
+                       p.sides[k] == UINT64_MAX ? 0 : p.sides[k]);
         *out = sec;
         *length = lay.length;
         sec = NULL;

@@ -210,6 +210,11 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
             CHECK_EQ_INT(darts_of_edge[e], 2);
             break;
         }
+    hpfc_labels_report rep;
+    CHECK_EQ_INT(hpfc_labels_verify(p.f, fc, &rep), HPFC_OK);
+    if (rep.message[0])
+        fprintf(stderr, "verify: %s\n", rep.message);
+    CHECK_EQ_INT(rep.leaves_checked, reader_total_leaves(p.f));
     /* hpfc_file_serialize keeps the section: the same labels after */
     uint8_t *again = NULL;
     size_t size = 0;
