@@ -2,10 +2,13 @@
  * Point queries (contracts §4): --locate X,Y, --locate-lonlat LON,LAT and
  * --locate-batch POINTS.
  *
- * A locator numbers the faces once (hpfc_faces_build, O(file)) and then
- * answers each point by one descent (hpfc_locate) and the faces of the leaf
- * it reaches: exactly one in a private leaf, the candidates (every face
- * meeting the leaf) in a stabbed one. With a FEAT section each face brings
+ * A locator answers each point by one descent (hpfc_locate) and the faces
+ * of the leaf it reaches: exactly one in a private leaf, the candidates
+ * (every face meeting the leaf) in a stabbed one. A file with a LABL
+ * section stores those faces (hpfc_label_leaf_faces reads the leaf's
+ * record: the pixels of one descent, nothing else); a file without one
+ * (format 1.0, 1.1, hpfc-pack --no-labels) has its faces numbered once
+ * first (hpfc_faces_build, O(file)). With a FEAT section each face brings
  * its source features.
  */
 #include "locate.h"
@@ -25,7 +28,8 @@
 typedef struct locator {
     const hpfc_file *f;
     hpfc_file_info info;
-    hpfc_faces *faces;
+    hpfc_faces *faces;       /* NULL when the file stores its labels */
+    int labels;              /* the file has a LABL section */
     int features;            /* the file has a FEAT section */
     hpfc_features_info fi;
     uint64_t *cand;          /* candidate faces of one leaf */
@@ -73,14 +77,24 @@ static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
     hpfc_file_get_info(f, &L->info);
     if (lonlat && open_projection(L, why))
         return VIEW_FAIL;
-    int st = hpfc_faces_build(f, &L->faces);
-    if (st)
+    hpfc_labels_info li;
+    uint64_t faces;
+    int st = hpfc_file_labels(f, &li);
+    if (st == HPFC_OK) {
+        L->labels = 1;
+        faces = li.faces;
+    } else if (st != HPFC_E_NO_SECTION) {
+        return view_fail(why, "labels: %s", hpfc_strerror(st));
+    } else if ((st = hpfc_faces_build(f, &L->faces))) {
         return view_fail(why, "faces: %s", hpfc_strerror(st));
+    } else {
+        faces = hpfc_faces_count(L->faces);
+    }
     st = hpfc_file_features(f, &L->fi);
     if (st == HPFC_OK) {
-        if (L->fi.faces != hpfc_faces_count(L->faces))
+        if (L->fi.faces != faces)
             return view_fail(why, "features: the FEAT section lists %u faces, the map has %llu",
-                             L->fi.faces, (unsigned long long)hpfc_faces_count(L->faces));
+                             L->fi.faces, (unsigned long long)faces);
         L->features = 1;
     } else if (st != HPFC_E_NO_SECTION)
         return view_fail(why, "features: %s", hpfc_strerror(st));
@@ -133,6 +147,29 @@ static int gather_features(locator *L, answer *a)
     return HPFC_OK;
 }
 
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The faces of the located leaf's regions, from its LABL record, each once,
+ * ascending (as view_pixel_faces gives them). */
+static int stored_faces(locator *L, answer *a)
+{
+    size_t n = 0;
+    int st = hpfc_label_leaf_faces(L->f, &a->px, L->cand, L->cap, &n);
+    if (st)
+        return st;
+    qsort(L->cand, n, sizeof *L->cand, cmp_u64);
+    size_t u = 0;
+    for (size_t k = 0; k < n; k++)
+        if (u == 0 || L->cand[u - 1] != L->cand[k])
+            L->cand[u++] = L->cand[k];
+    a->nfaces = u;
+    return HPFC_OK;
+}
+
 /* Answers the lattice point (x, y). */
 static int locate_lattice(locator *L, int64_t x, int64_t y, answer *a)
 {
@@ -156,7 +193,10 @@ static int locate_lattice(locator *L, int64_t x, int64_t y, answer *a)
     if ((st = hpfc_pixel_word(L->f, &a->px, a->word, len + 1, &len)))
         return st;
     a->word[len] = '\0';
-    st = view_pixel_faces(L->f, L->faces, &a->px, L->cand, L->cap, &a->nfaces);
+    if (L->labels)
+        st = stored_faces(L, a);
+    else
+        st = view_pixel_faces(L->f, L->faces, &a->px, L->cand, L->cap, &a->nfaces);
     return st ? st : gather_features(L, a);
 }
 

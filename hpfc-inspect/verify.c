@@ -823,6 +823,22 @@ static void check_features(verifier *v, uint64_t faces)
     r->features = r->problem_count == before ? CHECK_OK : CHECK_FAILED;
 }
 
+/* The LABL section against the faces just numbered (hpfc_labels_verify):
+ * a disagreement is a problem of the file, never a crash. */
+static void check_labels(verifier *v, const hpfc_faces *faces)
+{
+    verify_report *r = v->r;
+    hpfc_labels_report rep;
+    int st = hpfc_labels_verify(v->f, faces, &rep);
+    if (st == HPFC_E_NO_SECTION)
+        return;
+    if (st == HPFC_E_CORRUPT)
+        problem(r, "labels: %s", rep.message);
+    else if (st)
+        problem(r, "labels: %s", hpfc_strerror(st));
+    r->labels = st ? CHECK_FAILED : CHECK_OK;
+}
+
 static int check_topology(verifier *v)
 {
     verify_report *r = v->r;
@@ -837,6 +853,7 @@ static int check_topology(verifier *v)
         size_t nv = tp.m.nv + 1, nd = tp.m.nd + 1;
         tp.nfaces = hpfc_faces_count(tp.faces);
         check_features(v, tp.nfaces);
+        check_labels(v, tp.faces);
         tp.face = malloc(nd * sizeof *tp.face);
         tp.degree = calloc(nv, sizeof *tp.degree);
         uint32_t *scratch = calloc(nv, sizeof *scratch);
@@ -917,7 +934,7 @@ int verify_file(const char *path, unsigned flags, verify_report *r)
 {
     memset(r, 0, sizeof *r);
     r->format = r->checksums = r->structure = r->roads = r->topology = CHECK_SKIPPED;
-    r->euler = r->loops_ok = r->features = CHECK_SKIPPED;
+    r->euler = r->loops_ok = r->features = r->labels = CHECK_SKIPPED;
     double t0 = now_seconds();
     mapped_file mf;
     int err, st = map_file(path, &mf, &err);
@@ -985,6 +1002,8 @@ void verify_print_text(FILE *out, const char *path, const verify_report *r)
     }
     if (r->features != CHECK_SKIPPED)
         fprintf(out, "features        FEAT section: %s\n", state_word(r->features));
+    if (r->labels != CHECK_SKIPPED)
+        fprintf(out, "labels          LABL section: %s\n", state_word(r->labels));
     fprintf(out, "time            %.3f s\n", r->seconds);
     if (r->problem_count == 0) {
         fprintf(out, "verdict         valid\n");
@@ -1015,6 +1034,8 @@ void verify_print_json(FILE *out, const char *path, const verify_report *r)
     jsonw_string(&w, "boundary_loops", state_json(r->loops_ok));
     if (r->features != CHECK_SKIPPED) /* only files with a FEAT section */
         jsonw_string(&w, "features", state_json(r->features));
+    if (r->labels != CHECK_SKIPPED) /* only files with a LABL section */
+        jsonw_string(&w, "labels", state_json(r->labels));
     jsonw_object_end(&w);
     if (r->format == CHECK_OK) {
         jsonw_u64(&w, "levels", r->levels);

@@ -35,6 +35,7 @@ typedef struct verify_report {
     int euler;      /* V - E + F = 1 + C */
     int loops_ok;   /* boundary loops = F + C - 1 */
     int features;   /* the FEAT section: its face count, every entry readable */
+    int labels;     /* the LABL section: every stored label equals the recomputed one */
 
     uint16_t format_major, format_minor;
     uint32_t levels;

@@ -45,6 +45,7 @@ static struct {
     long files, flips, flips_accepted, byte_sets, cuts, patched_cuts, skipped_opens, traversals;
     long budget_exhausted, corrupt, steps, cache_mismatches, key_calls, key_mismatches, key_corrupt;
     long index_calls, index_mismatches;
+    long label_files, label_calls, label_corrupt, label_verified, label_disagreed;
     uint64_t open_codes, walk_codes;
 } seen;
 
@@ -229,6 +230,54 @@ static void compare_caches(const hpfc_file *f, uint64_t digest)
     }
 }
 
+/* The LABL accessors on the walked leaves and darts, then the section
+ * against hpfc_faces_build: never another status than OK, CORRUPT (or
+ * NOMEM from the verifier), ids inside their counts, and a disagreement
+ * reported with its reason. */
+static void walk_labels(walk *k, const hpfc_faces *faces)
+{
+    hpfc_labels_info li;
+    int st = hpfc_file_labels(k->f, &li);
+    CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
+    if (st)
+        return;
+    seen.label_files++;
+    hpfc_pixel px;
+    uint64_t id, ids[64];
+    size_t n;
+    int left = 64;
+    for (st = hpfc_leaf_first(k->f, &px); !st && left-- > 0; st = hpfc_leaf_next(k->f, &px)) {
+        int s1 = note(k, hpfc_label_leaf_faces(k->f, &px, NULL, 0, &n));
+        if (!s1 && n <= 64 && !note(k, hpfc_label_leaf_faces(k->f, &px, ids, 64, &n)))
+            for (size_t i = 0; i < n; i++)
+                CHECK(ids[i] < li.faces);
+        if (!note(k, hpfc_label_stretch_face(k->f, &px, 0, &id)))
+            CHECK(id < li.faces);
+        if (!note(k, hpfc_leaf_number(k->f, &px, &id))) {
+            hpfc_level_info lv;
+            hpfc_file_get_level(k->f, px.depth, &lv);
+            CHECK(id < lv.word_pixels);
+        }
+        seen.label_calls += 3;
+        seen.label_corrupt += s1 == HPFC_E_CORRUPT;
+    }
+    for (size_t d = 0; d < k->nd; d++) {
+        if (!note(k, hpfc_label_dart_face(k->f, &k->darts[d], &id)))
+            CHECK(id < li.faces);
+        if (!note(k, hpfc_label_dart_edge(k->f, &k->darts[d], &id)))
+            CHECK(id < li.edges);
+        seen.label_calls += 2;
+    }
+    if (!faces)
+        return;
+    hpfc_labels_report rep;
+    st = hpfc_labels_verify(k->f, faces, &rep);
+    CHECK(st == HPFC_OK || st == HPFC_E_CORRUPT);
+    CHECK(st != HPFC_E_CORRUPT || rep.message[0] != '\0');
+    seen.label_verified += st == HPFC_OK;
+    seen.label_disagreed += st == HPFC_E_CORRUPT;
+}
+
 /* The traversal of one opened (possibly corrupt) file: the statuses seen. */
 static uint64_t traverse(const hpfc_file *f)
 {
@@ -253,6 +302,7 @@ static uint64_t traverse(const hpfc_file *f)
                 CHECK(face < count);
         }
     }
+    walk_labels(&k, faces);
     hpfc_faces_free(faces);
 done:
     hpfc_walker_free(k.w);
@@ -521,18 +571,23 @@ typedef struct generated {
     uint32_t root_cols, root_rows, cols, rows;
     int flat;
     const char *crs;
+    int labels; /* with a LABL section */
 } generated;
 
 static void generated_campaigns(void)
 {
     static const generated list[] = {
-        {"hole, 2x2 root, 3x2 images, CRS", GEN_SPECIAL_HOLE, 2, 2, 3, 2, 0, "EPSG:4326"},
-        {"loop, 1x1 root, 2x3 images", GEN_SPECIAL_LOOP, 1, 1, 2, 3, 0, NULL},
-        {"multi-edges, 3x1 root, 2x2 images", GEN_SPECIAL_MULTI, 3, 1, 2, 2, 0, NULL},
-        {"crack, flat", GEN_SPECIAL_CRACK, 4, 4, 2, 2, 1, NULL},
-        {"Delaunay 10 points, 2x3 root, 3x3 images", -1, 2, 3, 3, 3, 0, NULL},
-        {"polyline 16 points, 1x1 root, 2x2 images", -2, 1, 1, 2, 2, 0, NULL},
-        {"triangle, 1x2 root, 4x2 images", GEN_SPECIAL_TRIANGLE, 1, 2, 4, 2, 0, NULL},
+        {"hole, 2x2 root, 3x2 images, CRS", GEN_SPECIAL_HOLE, 2, 2, 3, 2, 0, "EPSG:4326", 0},
+        {"loop, 1x1 root, 2x3 images", GEN_SPECIAL_LOOP, 1, 1, 2, 3, 0, NULL, 0},
+        {"multi-edges, 3x1 root, 2x2 images", GEN_SPECIAL_MULTI, 3, 1, 2, 2, 0, NULL, 0},
+        {"crack, flat", GEN_SPECIAL_CRACK, 4, 4, 2, 2, 1, NULL, 0},
+        {"Delaunay 10 points, 2x3 root, 3x3 images", -1, 2, 3, 3, 3, 0, NULL, 0},
+        {"polyline 16 points, 1x1 root, 2x2 images", -2, 1, 1, 2, 2, 0, NULL, 0},
+        {"triangle, 1x2 root, 4x2 images", GEN_SPECIAL_TRIANGLE, 1, 2, 4, 2, 0, NULL, 0},
+        {"hole, 2x2 root, 2x2 images, labels", GEN_SPECIAL_HOLE, 2, 2, 2, 2, 0, NULL, 1},
+        {"loop, 1x1 root, 3x2 images, labels", GEN_SPECIAL_LOOP, 1, 1, 3, 2, 0, NULL, 1},
+        {"Delaunay 10 points, 2x2 root, 2x2 images, labels", -1, 2, 2, 2, 2, 0, NULL, 1},
+        {"polyline 16 points, 3x1 root, 2x2 images, labels", -2, 3, 1, 2, 2, 0, NULL, 1},
     };
     for (size_t k = 0; k < sizeof list / sizeof *list; k++) {
         const generated *gd = &list[k];
@@ -550,7 +605,7 @@ static void generated_campaigns(void)
             CHECK_EQ_INT(hpfc_build(g, &p, &t, NULL), HPFC_OK);
         uint8_t *buf = NULL;
         size_t size = 0;
-        hpfc_write_options opts = {.crs = gd->crs};
+        hpfc_write_options opts = {.crs = gd->crs, .face_labels = gd->labels};
         if (t)
             CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, NULL), HPFC_OK);
         CHECK(buf == NULL || size <= 4096); /* keep the campaign fast */
@@ -683,6 +738,15 @@ int main(void)
     CHECK_EQ_INT(seen.key_mismatches, 0);
     CHECK(seen.index_calls > 10000);
     CHECK_EQ_INT(seen.index_mismatches, 0);
+    /* damaged LABL sections reached the label code and the verifier */
+    CHECK(seen.label_files > 1000);
+    CHECK(seen.label_corrupt > 10);
+    CHECK(seen.label_disagreed > 100);
+    CHECK(seen.label_verified > 100);
+    printf("labels: %ld damaged copies with a LABL section, %ld label calls (%ld CORRUPT); "
+           "hpfc_labels_verify accepted %ld, reported %ld\n",
+           seen.label_files, seen.label_calls, seen.label_corrupt, seen.label_verified,
+           seen.label_disagreed);
     printf("keys: %ld calls, %ld CORRUPT, %ld differ from the dart operators; %ld index calls, "
            "%ld broke a promise\n",
            seen.key_calls, seen.key_corrupt, seen.key_mismatches, seen.index_calls,
