@@ -24,6 +24,8 @@ tests/cli/export_graph.sh).
         section flipped (bit k chosen by random seed k); with "fix", the POOL
         and header checksums are recomputed so that the flip reaches the
         structural checks
+    graph_check.py flip IN PREFIX COUNT fix TAG
+        the same in section TAG (e.g. LABL) instead of POOL
     graph_check.py alias IN OUT
         OUT = IN with every refined pixel of a level pointing at one image of
         the next level, the one with the most refined pixels (checksums
@@ -313,14 +315,14 @@ def crc32c(data):
     return crc ^ 0xFFFFFFFF
 
 
-def flip_one(data, seed, fix):
+def flip_one(data, seed, fix, tag=b"POOL"):
     b = bytearray(data)
     header_size, = struct.unpack_from("<I", b, 12)
     levels, count = struct.unpack_from("<II", b, 40)
     meta_size, = struct.unpack_from("<Q", b, 96)
     for k in range(count):
         e = header_size + 64 * levels + 32 * k
-        if b[e:e + 4] != b"POOL":
+        if b[e:e + 4] != tag:
             continue
         off, length = struct.unpack_from("<QQ", b, e + 8)
         bit = random.Random(seed).randrange(8 * length)
@@ -332,11 +334,11 @@ def flip_one(data, seed, fix):
     return b
 
 
-def flip(src, prefix, count, fix=None):
+def flip(src, prefix, count, fix=None, tag="POOL"):
     data = open(src, "rb").read()
     for seed in range(int(count)):
         with open(f"{prefix}{seed}.hpfc", "wb") as f:
-            f.write(flip_one(data, seed, fix))
+            f.write(flip_one(data, seed, fix, tag.encode()))
 
 
 def get_bits(b, base, bit, k):
@@ -405,7 +407,7 @@ def alias(src, dst):
 
 def main(argv):
     cmds = {"verified": (verified, 3, 3), "invalid": (invalid, 1, 1), "graph": (graph, 1, 3),
-            "counts": (counts, 2, 2), "flip": (flip, 3, 4), "alias": (alias, 2, 2)}
+            "counts": (counts, 2, 2), "flip": (flip, 3, 5), "alias": (alias, 2, 2)}
     if len(argv) < 2 or argv[1] not in cmds:
         fail("usage: graph_check.py verified|invalid|graph|counts|flip|alias ARGS")
     fn, lo, hi = cmds[argv[1]]
