@@ -613,6 +613,10 @@ typedef struct pixel_view {
     int has_nb[4];
     char nb[4][PATH_TEXT];
     uint64_t child_image;       /* refined pixels: bit offset of the child image */
+    int labels;                 /* the file's LABL section gave the next three */
+    uint64_t leaf_number;
+    uint64_t *stretch_face;     /* per stretch (one for a private leaf) */
+    uint64_t *edge;             /* per crossing */
 } pixel_view;
 
 static void pixel_view_free(pixel_view *v)
@@ -620,6 +624,8 @@ static void pixel_view_free(pixel_view *v)
     free(v->word);
     free(v->degree);
     free(v->vkey);
+    free(v->stretch_face);
+    free(v->edge);
     word_info_free(&v->wi);
 }
 
@@ -663,6 +669,28 @@ static int read_vertices(const hpfc_file *f, pixel_view *v, char *why)
     return st ? fail_status(why, "vertices", st) : VIEW_OK;
 }
 
+/* The leaf's stored labels (LABL, spec §15), when the file has them. */
+static int read_labels(const hpfc_file *f, pixel_view *v, char *why)
+{
+    hpfc_labels_info li;
+    if (hpfc_file_labels(f, &li) != HPFC_OK)
+        return VIEW_OK;
+    uint32_t n = v->wi.n, stretches = n ? n : 1;
+    v->stretch_face = calloc(stretches, sizeof *v->stretch_face);
+    v->edge = calloc(n + 1, sizeof *v->edge);
+    int st = v->stretch_face && v->edge ? HPFC_OK : HPFC_E_NOMEM;
+    if (!st)
+        st = hpfc_leaf_number(f, &v->px, &v->leaf_number);
+    for (uint32_t t = 0; t < stretches && !st; t++)
+        st = hpfc_label_stretch_face(f, &v->px, t, &v->stretch_face[t]);
+    for (uint32_t k = 0; k < n && !st; k++)
+        st = hpfc_label_crossing_edge(f, &v->px, k, &v->edge[k]);
+    if (st)
+        return fail_status(why, "labels", st);
+    v->labels = 1;
+    return VIEW_OK;
+}
+
 static int read_word(const hpfc_file *f, pixel_view *v, char *why)
 {
     int st = hpfc_pixel_word(f, &v->px, NULL, 0, &v->len);
@@ -677,6 +705,8 @@ static int read_word(const hpfc_file *f, pixel_view *v, char *why)
     if (p)
         return fail_status(why, "word", p == -2 ? HPFC_E_NOMEM : HPFC_E_CORRUPT);
     word_road_counts(v->word, v->len, v->counts);
+    if (read_labels(f, v, why))
+        return VIEW_FAIL;
     return read_vertices(f, v, why);
 }
 
@@ -763,6 +793,15 @@ static void print_pixel_text(FILE *out, const pixel_view *v)
                     (unsigned long long)v->vkey[k]);
         fprintf(out, "%s\n", v->nvert ? "" : "none");
     }
+    if (v->labels) {
+        fprintf(out, "labels      leaf %llu; stretch faces", (unsigned long long)v->leaf_number);
+        for (uint32_t t = 0; t < (v->wi.n ? v->wi.n : 1); t++)
+            fprintf(out, " %llu", (unsigned long long)v->stretch_face[t]);
+        fprintf(out, "; crossing edges%s", v->wi.n ? "" : " none");
+        for (uint32_t k = 0; k < v->wi.n; k++)
+            fprintf(out, " %llu", (unsigned long long)v->edge[k]);
+        fputc('\n', out);
+    }
     fprintf(out, "neighbours ");
     for (int dir = 0; dir < 4; dir++)
         fprintf(out, " %s %s%s", road_names[dir], v->has_nb[dir] ? v->nb[dir] : "none",
@@ -827,6 +866,19 @@ static void json_word(jsonw *w, const pixel_view *v)
         jsonw_object_end(w);
     }
     jsonw_array_end(w);
+    if (!v->labels)
+        return;
+    jsonw_object_begin(w, "labels");
+    jsonw_u64(w, "leaf_number", v->leaf_number);
+    jsonw_array_begin(w, "stretch_faces");
+    for (uint32_t t = 0; t < (v->wi.n ? v->wi.n : 1); t++)
+        jsonw_u64(w, NULL, v->stretch_face[t]);
+    jsonw_array_end(w);
+    jsonw_array_begin(w, "edges");
+    for (uint32_t k = 0; k < v->wi.n; k++)
+        jsonw_u64(w, NULL, v->edge[k]);
+    jsonw_array_end(w);
+    jsonw_object_end(w);
 }
 
 static void print_pixel_json(FILE *out, const pixel_view *v)
