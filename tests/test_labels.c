@@ -241,8 +241,44 @@ static void check_graph(const hpfc_graph *g)
     check_map(g, 64, 2, 0);
 }
 
+/* spec/hpfc-format.md §15.7: the triangle with a dead end of §14, root
+ * 2 x 2, refined 2 x 2: the LABL section's 84 bytes as printed there. */
+static void check_worked_example(void)
+{
+    static const uint8_t want[84] = {
+        0x02, 0, 0, 0, 0, 0, 0, 0, 0x04, 0, 0, 0, 0, 0, 0, 0,
+        0x04, 0, 0, 0, 0, 0, 0, 0, 0x1b, 0, 0, 0, 0, 0, 0, 0,
+        0x01, 0x02, 0x01, 0x05, 0x04, 0x03, 0, 0, 0x01, 0, 0, 0, 0, 0, 0, 0,
+        0x03, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+        0x01, 0xa6, 0x40, 0, 0, 0, 0, 0, 0x6b, 0, 0, 0, 0, 0, 0, 0,
+        0x95, 0x4c, 0x0e, 0x60};
+    static const int64_t xy[4][2] = {{0, 0}, {10, 0}, {5, 8}, {5, 3}};
+    static const uint32_t uv[4][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}};
+    hpfc_graph *g = NULL;
+    CHECK_EQ_INT(hpfc_graph_create(&g), HPFC_OK);
+    for (int k = 0; k < 4; k++)
+        CHECK_EQ_INT(hpfc_graph_add_vertex(g, xy[k][0], xy[k][1], NULL), HPFC_OK);
+    for (int k = 0; k < 4; k++)
+        CHECK_EQ_INT(hpfc_graph_add_edge(g, uv[k][0], uv[k][1], NULL, 0, NULL), HPFC_OK);
+    packed p;
+    CHECK_EQ_INT(pack(g, 2, 2, 0, &p), HPFC_OK);
+    hpfc_section_info si;
+    bool found = false;
+    for (uint32_t k = 0; p.f && hpfc_file_get_section(p.f, k, &si) == HPFC_OK; k++)
+        if (memcmp(si.tag, "LABL", 4) == 0) {
+            found = true;
+            CHECK_EQ_INT(si.offset, 272);
+            CHECK_EQ_INT(si.length, sizeof want);
+            CHECK(si.length == sizeof want && memcmp(p.with + si.offset, want, sizeof want) == 0);
+        }
+    CHECK(found);
+    unpack(&p);
+    hpfc_graph_free(g);
+}
+
 int main(void)
 {
+    check_worked_example();
     for (int which = 0; which < GEN_SPECIAL_COUNT; which++) {
         hpfc_graph *g = NULL;
         CHECK_EQ_INT(gen_special(which, &g), HPFC_OK);
