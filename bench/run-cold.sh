@@ -1,0 +1,103 @@
+#!/bin/sh
+# One answer from a cold handle (issue #15): bench_cold (hpfc_open + one
+# point location + the point's faces and features + hpfc_close, median of
+# 100 fresh opens) and the hpfc-inspect --locate* process against
+# hpfc-inspect --version, on three files from about 1 MB to several hundred
+# MB, each packed with its LABL section (the default) and, for the two
+# smaller ones, without (--no-labels: the answer numbers the faces first).
+#   sh bench/run-cold.sh
+# Data: US counties (npm us-atlas, counties-10m.json, into build-bench/npm/)
+# and two synthetic continental coverages (bench/gen_continent.py, into
+# build-bench/gis/, shared with run-gis.sh).
+set -eu
+cd "$(dirname "$0")/.."
+[ -d build-bench ] || meson setup build-bench --buildtype=release >/dev/null
+ninja -C build-bench bench/bench_cold hpfc-pack/hpfc-pack hpfc-inspect/hpfc-inspect >/dev/null
+PACK=build-bench/hpfc-pack/hpfc-pack
+INSPECT=build-bench/hpfc-inspect/hpfc-inspect
+COLD=build-bench/bench/bench_cold
+dir=build-bench/cold
+mkdir -p "$dir" build-bench/gis build-bench/npm
+
+counties=build-bench/npm/node_modules/us-atlas/counties-10m.json
+if [ ! -s "$counties" ]; then
+    (cd build-bench/npm && npm install --silent us-atlas >/dev/null)
+fi
+for spec in "continent-20x12x250:20 12 250" "continent:"; do
+    name=${spec%%:*}
+    src=build-bench/gis/$name.geojson
+    if [ ! -s "$src" ]; then
+        # shellcheck disable=SC2086 # the size is three words or none
+        python3 bench/gen_continent.py "$src.tmp" ${spec#*:} && mv "$src.tmp" "$src"
+    fi
+done
+
+# pack NAME SOURCE OPTIONS...: NAME.hpfc (labels) and NAME-nolabels.hpfc,
+# with the pack's wall time
+pack() {
+    name=$1 src=$2
+    shift 2
+    for variant in labels nolabels; do
+        out=$dir/$name.hpfc extra=""
+        if [ "$variant" = nolabels ]; then
+            out=$dir/$name-nolabels.hpfc extra=--no-labels
+        fi
+        if [ ! -s "$out" ]; then
+            t0=$(date +%s.%N)
+            # shellcheck disable=SC2086 # $extra is one word or none
+            "$PACK" --quiet "$@" $extra "$src" -o "$out"
+            t1=$(date +%s.%N)
+            echo "pack $out: $(awk "BEGIN { printf \"%.1f\", $t1 - $t0 }") s"
+        fi
+    done
+}
+pack counties "$counties" --invalid node --layer counties --key name
+pack continent-small build-bench/gis/continent-20x12x250.geojson --key name
+pack continent build-bench/gis/continent.geojson --key name
+
+echo
+echo "section sizes (bits per edge: LABL beside POOL)"
+for f in "$dir/counties.hpfc" "$dir/continent-small.hpfc" "$dir/continent.hpfc"; do
+    "$INSPECT" --sections --json "$f" | python3 -c '
+import json, sys
+d = json.load(sys.stdin)
+s = {x["tag"]: x["length"] for x in d["sections"]}
+print(sys.argv[1], " ".join(f"{t.strip()} {8 * n:,} bits" for t, n in s.items()))' "$f"
+done
+
+echo
+echo "(a) one answer from a fresh open: bench_cold FILE 100 (microseconds)"
+for f in "$dir/counties.hpfc" "$dir/continent-small.hpfc" "$dir/continent.hpfc"; do
+    $COLD "$f" 100
+done
+echo "    the same without LABL (10 opens: each numbers the map's faces)"
+for f in "$dir/counties-nolabels.hpfc" "$dir/continent-small-nolabels.hpfc" \
+    "$dir/continent-nolabels.hpfc"; do
+    $COLD "$f" 10
+done
+
+echo
+echo "(b) the hpfc-inspect process: --locate (counties: lattice in degrees; the continents:"
+echo "    --locate-lonlat) against --version, wall time, median of 30 runs (milliseconds)"
+python3 - "$INSPECT" "$dir" <<'PY'
+import statistics, subprocess, sys, time
+inspect, d = sys.argv[1], sys.argv[2]
+def median_ms(args, n=30):
+    t = []
+    for _ in range(n):
+        t0 = time.perf_counter()
+        subprocess.run(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
+        t.append((time.perf_counter() - t0) * 1e3)
+    return statistics.median(t)
+cases = [("counties", ["--locate", "-77.03,38.9"]),
+         ("continent-small", ["--locate-lonlat", "-100.5,37.2"]),
+         ("continent", ["--locate-lonlat", "-100.5,37.2"])]
+print(f"{'file':<28} {'--version':>10} {'--locate':>10} {'difference':>11}")
+for name, q in cases:
+    for suffix in ("", "-nolabels"):
+        f = f"{d}/{name}{suffix}.hpfc"
+        runs = 30 if not suffix else 5
+        v = median_ms([inspect, "--version"], runs)
+        l = median_ms([inspect] + q + [f], runs)
+        print(f"{name + suffix:<28} {v:10.2f} {l:10.2f} {l - v:11.2f}")
+PY
