@@ -11,7 +11,7 @@
 # build-bench/gis/, shared with run-gis.sh).
 set -eu
 cd "$(dirname "$0")/.."
-[ -d build-bench ] || meson setup build-bench --buildtype=release >/dev/null
+[ -f build-bench/build.ninja ] || meson setup build-bench --buildtype=release >/dev/null
 ninja -C build-bench bench/bench_cold hpfc-pack/hpfc-pack hpfc-inspect/hpfc-inspect >/dev/null
 PACK=build-bench/hpfc-pack/hpfc-pack
 INSPECT=build-bench/hpfc-inspect/hpfc-inspect
