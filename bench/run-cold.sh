@@ -32,12 +32,12 @@ for spec in "continent-20x12x250:20 12 250" "continent:"; do
     fi
 done
 
-# pack NAME SOURCE OPTIONS...: NAME.hpfc (labels) and NAME-nolabels.hpfc,
-# with the pack's wall time
+# pack NAME VARIANTS SOURCE OPTIONS...: NAME.hpfc (labels) and/or
+# NAME-nolabels.hpfc, with the pack's wall time
 pack() {
-    name=$1 src=$2
-    shift 2
-    for variant in labels nolabels; do
+    name=$1 variants=$2 src=$3
+    shift 3
+    for variant in $variants; do
         out=$dir/$name.hpfc extra=""
         if [ "$variant" = nolabels ]; then
             out=$dir/$name-nolabels.hpfc extra=--no-labels
@@ -51,13 +51,19 @@ pack() {
         fi
     done
 }
-pack counties "$counties" --invalid node --layer counties --key name
-pack continent-small build-bench/gis/continent-20x12x250.geojson --key name
-pack continent build-bench/gis/continent.geojson --key name
+pack counties "labels nolabels" "$counties" --invalid node --layer counties --key name
+pack continent-small "labels nolabels" build-bench/gis/continent-20x12x250.geojson --key name
+pack continent "labels nolabels" build-bench/gis/continent.geojson --key name
+# several hundred MB: a 2000 x 2000 jittered grid mesh (12 M edges, 258 MB
+# with LABL; 1.6 GB and about a minute of CPU to pack), labels only
+ninja -C build-bench tests/gen-pfc >/dev/null
+[ -s "$dir/grid2000.pfc" ] || build-bench/tests/gen-pfc grid 1 2000 "$dir/grid2000.pfc"
+pack grid2000 labels "$dir/grid2000.pfc"
 
 echo
 echo "section sizes (bits per edge: LABL beside POOL)"
-for f in "$dir/counties.hpfc" "$dir/continent-small.hpfc" "$dir/continent.hpfc"; do
+for f in "$dir/counties.hpfc" "$dir/continent-small.hpfc" "$dir/continent.hpfc" \
+    "$dir/grid2000.hpfc"; do
     "$INSPECT" --sections --json "$f" | python3 -c '
 import json, sys
 d = json.load(sys.stdin)
@@ -67,7 +73,8 @@ done
 
 echo
 echo "(a) one answer from a fresh open: bench_cold FILE 100 (microseconds)"
-for f in "$dir/counties.hpfc" "$dir/continent-small.hpfc" "$dir/continent.hpfc"; do
+for f in "$dir/counties.hpfc" "$dir/continent-small.hpfc" "$dir/continent.hpfc" \
+    "$dir/grid2000.hpfc"; do
     $COLD "$f" 100
 done
 echo "    the same without LABL (each answer numbers the map's faces: 10 opens, 3 on the largest)"
@@ -92,7 +99,8 @@ def medians(args, n):
     return statistics.median(c for c, _ in r), statistics.median(w for _, w in r)
 cases = [("counties", ["--locate", "-77.03,38.9"]),
          ("continent-small", ["--locate-lonlat", "-100.5,37.2"]),
-         ("continent", ["--locate-lonlat", "-100.5,37.2"])]
+         ("continent", ["--locate-lonlat", "-100.5,37.2"]),
+         ("grid2000", ["--locate", "16000.5,16000.5"])]
 print(f"{'file':<26} {'--version cpu':>14} {'--locate cpu':>13} {'diff cpu':>9} | "
       f"{'--version wall':>14} {'--locate wall':>13} {'diff wall':>9}")
 for name, q in cases:
