@@ -66,10 +66,9 @@ static double lap(double *t)
 typedef struct part_ref {
     uint32_t layer;
     int64_t fid;
-    uint32_t feature; /* the polygon feature of a ring, NO_FEATURE for a line */
+    uint32_t feature; /* the part's feature (gis_features.h) */
+    int ring;         /* a ring of a polygon */
 } part_ref;
-
-#define NO_FEATURE UINT32_MAX
 
 typedef struct reader {
     const gis_options *opt;
@@ -84,9 +83,11 @@ typedef struct reader {
     /* the current layer and feature, for messages */
     const char *layer_name;
     uint32_t layer_index;
-    int64_t fid;
+    int64_t fid;      /* the feature's FID in the source */
+    int64_t position; /* the feature's position in its layer, from 0 */
     int key_index;    /* the --key field of the current layer, -1 for none */
-    uint32_t feature; /* the current polygon feature, NO_FEATURE if none */
+    uint32_t feature; /* the index the current feature gets if it has parts */
+    int polygon;      /* the current feature has a polygon: its closed parts are rings */
 
     int geographic;   /* coordinates are (lon, lat) degrees */
     int saw_wrap;     /* the current feature has a segment crossing the antimeridian */
@@ -184,7 +185,8 @@ static int add_part(reader *r, OGRGeometryH g, int closed)
     r->start[r->n_parts] = r->n_points;
     r->refs[r->n_parts].layer = r->layer_index;
     r->refs[r->n_parts].fid = r->fid;
-    r->refs[r->n_parts].feature = closed ? r->feature : NO_FEATURE;
+    r->refs[r->n_parts].feature = r->feature;
+    r->refs[r->n_parts].ring = closed && r->polygon;
     r->n_parts++;
     r->n_points = end;
     r->start[r->n_parts] = end;
@@ -269,14 +271,14 @@ static int has_polygon(OGRGeometryH g)
     return 0;
 }
 
-/* Records a polygon feature: its id, layer and --key value. */
+/* Records a feature with parts: its position, source FID, layer and --key
+ * value. */
 static int add_feature(reader *r, OGRFeatureH f)
 {
     const char *key = NULL;
     if (r->key_index >= 0 && OGR_F_IsFieldSetAndNotNull(f, r->key_index))
         key = OGR_F_GetFieldAsString(f, r->key_index);
-    r->feature = gis_features_count(r->info->polygons);
-    if (gis_features_add(r->info->polygons, r->fid, r->layer_index, key) != 0)
+    if (gis_features_add(r->info->polygons, r->position, r->fid, r->layer_index, key) != 0)
         return fail(r, "out of memory");
     return 0;
 }
@@ -328,11 +330,11 @@ static int read_feature(reader *r, OGRFeatureH f, uint64_t *lines)
     }
     size_t parts_before = r->n_parts;
     int st = 0;
-    r->feature = NO_FEATURE;
-    if (has_polygon(g))
+    r->feature = gis_features_count(r->info->polygons);
+    r->polygon = has_polygon(g);
+    st = read_geometry(r, g, lines, &lin);
+    if (!st && r->n_parts > parts_before)
         st = add_feature(r, f);
-    if (!st)
-        st = read_geometry(r, g, lines, &lin);
     if (lin)
         g = lin; /* the linearised geometry, or the cut */
     /* after add_part's checks, so that GEOS never sees NaN */
@@ -415,9 +417,11 @@ static int read_layer(reader *r, OGRLayerH layer, int chosen)
     OGR_L_ResetReading(layer);
     OGRFeatureH f;
     CPLErrorReset();
+    r->position = 0;
     while ((f = OGR_L_GetNextFeature(layer)) != NULL) {
         features++;
         int st = read_feature(r, f, &lines);
+        r->position++;
         OGR_F_Destroy(f);
         if (st)
             return st;
@@ -615,13 +619,12 @@ static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs
     return 0;
 }
 
-/* The snapped rings of the polygon features, for the faces' features. */
+/* The snapped parts of the features, for the faces' and edges' features. */
 static int keep_rings(reader *r, const int64_t *lat)
 {
     for (size_t k = 0; k < r->n_parts; k++)
-        if (r->refs[k].feature != NO_FEATURE &&
-            gis_features_add_ring(r->info->polygons, r->refs[k].feature, lat + 2 * r->start[k],
-                                  r->start[k + 1] - r->start[k]) != 0)
+        if (gis_features_add_part(r->info->polygons, r->refs[k].feature, r->refs[k].ring,
+                                  lat + 2 * r->start[k], r->start[k + 1] - r->start[k]) != 0)
             return fail(r, "out of memory");
     return 0;
 }
@@ -824,6 +827,14 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
     } else
         st = geos_node(r, lines, n_lines, &merged, &m, &cap);
     free(lines);
+    seg *from_geos = NULL; /* GEOS's segments: the source parts are not known along them */
+    size_t n_geos = m;
+    if (!st && !(from_geos = malloc((m ? m : 1) * sizeof *from_geos)))
+        st = fail(r, "out of memory");
+    if (!st) {
+        memcpy(from_geos, merged, m * sizeof *merged);
+        from_geos = sort_unique(from_geos, &n_geos);
+    }
     for (size_t i = 0; i < n && !st; i++)
         if (!dirty[i] && !array_grow((void **)&merged, &cap, m + 1, sizeof *merged))
             st = fail(r, "out of memory");
@@ -841,8 +852,11 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
             *out = merged;
             *n_out = m;
             merged = NULL;
+            if (gis_features_set_noded(r->info->polygons, (const int64_t *)from_geos, n_geos, 0))
+                st = fail(r, "out of memory");
         }
     }
+    free(from_geos);
     free(again);
     free(merged);
     return st;
@@ -899,6 +913,8 @@ static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out)
     }
     segs = sort_unique(segs, &n);
     snprintf(r->info->noding, sizeof r->info->noding, "all");
+    if (gis_features_set_noded(r->info->polygons, NULL, 0, 1))
+        return fail(r, "out of memory");
     r->info->noded_segments = n;
     *segs_out = segs;
     *n_out = n;

@@ -66,6 +66,9 @@ typedef struct pack_report {
     /* GIS polygon features (FEAT section) */
     uint32_t features;
     uint64_t faces_with_features, faces_without_witness;
+    uint32_t all_features, edges_with_features;
+    uint64_t faces_walked, faces_anchored, link_conflicts;
+    int link_witness;
     double features_s;
 } pack_report;
 
@@ -573,6 +576,14 @@ static void print_json(const pack_args *a, const pack_report *r)
         jsonw_u64(&w, "faces_with_features", r->faces_with_features);
         jsonw_u64(&w, "faces_without_witness", r->faces_without_witness);
         jsonw_double(&w, "features_seconds", r->features_s, 6);
+        jsonw_u64(&w, "features_recorded", r->all_features);
+        jsonw_u64(&w, "edges_with_features", r->edges_with_features);
+        jsonw_object_begin(&w, "linking");
+        jsonw_string(&w, "method", r->link_witness ? "witness" : "topology");
+        jsonw_u64(&w, "faces_walked", r->faces_walked);
+        jsonw_u64(&w, "faces_anchored", r->faces_anchored);
+        jsonw_u64(&w, "conflicts", r->link_conflicts);
+        jsonw_object_end(&w);
         jsonw_u64(&w, "antimeridian_cut", gi->dateline_cut);
         jsonw_u64(&w, "points_read", gi->points_read);
         jsonw_string(&w, "noding", gi->noding);
@@ -710,8 +721,15 @@ static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
     st = gis_features_link(r->gis_info.polygons, g, &lc, f, ft, err, err_len);
     leaf_crossings_free(&lc);
     if (!st) {
-        r->features = ft->table.feature_count;
+        r->features = ft->polygon_features;
+        r->all_features = ft->table.feature_count;
         r->faces_without_witness = ft->faces_without_witness;
+        r->faces_walked = ft->faces_propagated;
+        r->faces_anchored = ft->anchors;
+        r->link_conflicts = ft->conflicts;
+        r->link_witness = ft->method_witness;
+        for (uint32_t e = 0; e < ft->edge_count; e++)
+            r->edges_with_features += ft->edge_start[e + 1] > ft->edge_start[e];
         for (uint32_t k = 0; k < ft->table.face_count; k++)
             r->faces_with_features += ft->face_start[k + 1] > ft->face_start[k];
     }
