@@ -7,9 +7,21 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <time.h>
+
 #ifdef HPFC_HAVE_GIS
 #include <geos_c.h>
 #endif
+
+/* Seconds since *t, which moves on to now. */
+static double lap_seconds(struct timespec *t)
+{
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    double d = (double)(now.tv_sec - t->tv_sec) + (double)(now.tv_nsec - t->tv_nsec) * 1e-9;
+    *t = now;
+    return d;
+}
 
 #include "face_link.h"
 #include "grow.h"
@@ -567,7 +579,10 @@ int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const lea
     hpfc_faces *faces = NULL;
     face_witness *w = NULL;
     face_link fl = {0};
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
     int st = hpfc_faces_build(file, &faces);
+    out->faces_s = lap_seconds(&t);
     uint64_t n = faces ? hpfc_faces_count(faces) : 0;
     if (!st && n >= UINT32_MAX)
         st = HPFC_E_LIMIT;
@@ -575,12 +590,14 @@ int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const lea
         st = HPFC_E_NOMEM;
     if (!st)
         st = face_witnesses(graph, lc, file, faces, w);
-    hpfc_faces *keep = faces;
+    out->witness_s = lap_seconds(&t);
     if (!st)
-        st = face_link_run(&fl, fs, graph, lc, file, keep);
+        st = face_link_run(&fl, fs, graph, lc, file, faces);
     hpfc_faces_free(faces); /* the walk needs the faces' ids only */
+    out->topology_s = lap_seconds(&t);
     if (!st)
         st = anchor_faces(fs, w, &fl, out->method_witness, out);
+    out->anchor_s = lap_seconds(&t);
     if (!st) {
         out->faces_propagated = fl.propagated - out->anchors - 1;
         out->conflicts = out->method_witness ? 0 : face_link_conflicts(&fl);

@@ -69,6 +69,7 @@ typedef struct pack_report {
     uint32_t all_features, edges_with_features;
     uint64_t faces_walked, faces_anchored, link_conflicts;
     int link_witness;
+    double link_s[4];
     double features_s;
 } pack_report;
 
@@ -583,6 +584,10 @@ static void print_json(const pack_args *a, const pack_report *r)
         jsonw_u64(&w, "faces_walked", r->faces_walked);
         jsonw_u64(&w, "faces_anchored", r->faces_anchored);
         jsonw_u64(&w, "conflicts", r->link_conflicts);
+        jsonw_double(&w, "faces_seconds", r->link_s[0], 6);
+        jsonw_double(&w, "witness_seconds", r->link_s[1], 6);
+        jsonw_double(&w, "topology_seconds", r->link_s[2], 6);
+        jsonw_double(&w, "anchor_seconds", r->link_s[3], 6);
         jsonw_object_end(&w);
         jsonw_u64(&w, "antimeridian_cut", gi->dateline_cut);
         jsonw_u64(&w, "points_read", gi->points_read);
@@ -728,6 +733,8 @@ static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
         r->faces_anchored = ft->anchors;
         r->link_conflicts = ft->conflicts;
         r->link_witness = ft->method_witness;
+        r->link_s[0] = ft->faces_s, r->link_s[1] = ft->witness_s;
+        r->link_s[2] = ft->topology_s, r->link_s[3] = ft->anchor_s;
         for (uint32_t e = 0; e < ft->edge_count; e++)
             r->edges_with_features += ft->edge_start[e + 1] > ft->edge_start[e];
         for (uint32_t k = 0; k < ft->table.face_count; k++)

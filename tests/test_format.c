@@ -442,7 +442,7 @@ static void check_file_info(const walk *w, const uint8_t *buf, size_t size, cons
     hpfc_file_get_info(w->f, &fi);
     const hpfc_tree_info *ti = &w->info;
     CHECK_EQ_INT(fi.format_major, 1);
-    CHECK_EQ_INT(fi.format_minor, 1);
+    CHECK_EQ_INT(fi.format_minor, 2);
     CHECK(fi.root_cols == ti->root_cols && fi.root_rows == ti->root_rows && fi.cols == ti->cols &&
           fi.rows == ti->rows && fi.levels == ti->levels);
     CHECK(fi.x0 == ti->x0 && fi.y0 == ti->y0 && fi.width == ti->width && fi.height == ti->height);
@@ -1680,7 +1680,8 @@ static void test_file_serialize(void)
     feat_fixture_make(&x, (uint32_t)hpfc_faces_count(fc));
     hpfc_faces_free(fc);
     const hpfc_write_options opts[4] = {
-        {NULL, NULL}, {"EPSG:4326", NULL}, {NULL, &x.t}, {"+proj=lcc +lat_1=33", &x.t}};
+        {.crs = NULL}, {.crs = "EPSG:4326"}, {.features = &x.t},
+        {.crs = "+proj=lcc +lat_1=33", .features = &x.t}};
     for (int a = 0; a < 4; a++)
         for (int b = 0; b < 4; b++)
             check_reserialized(t, &opts[a], &opts[b], path);
