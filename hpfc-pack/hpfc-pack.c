@@ -43,6 +43,7 @@ typedef struct pack_args {
     int vertex_model;
     int invalid_mode;
     const char *key_field;
+    const char *fields;        /* --fields */
     int dateline;
 } pack_args;
 
@@ -123,8 +124,10 @@ static void print_help(void)
            "                        only points where other than two edges meet\n"
            "  --invalid reject|node GIS input: refuse invalid polygons (default), or node\n"
            "                        their rings as linework\n"
-           "  --key FIELD           GIS input: record attribute FIELD of every polygon\n"
-           "                        feature with its id (hpfc-inspect --locate shows it)\n"
+           "  --key FIELD[,FIELD..] GIS input: record attribute FIELD of every feature\n"
+           "                        with its id (several: values joined by commas)\n"
+           "  --fields F,G,..|all   GIS input: store these attributes of every feature\n"
+           "                        as typed columns (hpfc-inspect --locate shows them)\n"
            "  --wrap-dateline yes|no\n"
            "                        GIS input: cut longitude/latitude lines and polygons\n"
            "                        that cross the antimeridian (a segment spanning more\n"
@@ -229,9 +232,11 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->invalid_mode = strcmp(v, "node") == 0 ? GIS_INVALID_NODE : GIS_INVALID_REJECT;
         return strcmp(v, "node") == 0 || strcmp(v, "reject") == 0 ? NULL : "reject or node";
     }
-    if (strcmp(name, "--key") == 0) {
-        a->key_field = v;
-        return v[0] ? NULL : "a field name";
+    if (strcmp(name, "--key") == 0 || strcmp(name, "--fields") == 0) {
+        *(name[2] == 'k' ? &a->key_field : &a->fields) = v;
+        return v[0] && v[0] != ',' && !strstr(v, ",,") && v[strlen(v) - 1] != ','
+                   ? NULL
+                   : "field names separated by commas";
     }
     if (strcmp(name, "--wrap-dateline") == 0) {
         a->dateline = strcmp(v, "no") == 0 ? GIS_DATELINE_REJECT : GIS_DATELINE_CUT;
@@ -252,7 +257,7 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
     static const char *const names[] = {"--root",     "--refine",   "--max-pixels",
                                         "--layer",    "--projection", "--vertices",
                                         "--invalid",  "--wrap-dateline", "--key",
-                                        "--output",   "-o"};
+                                        "--fields",   "--output",   "-o"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -430,7 +435,8 @@ static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
                        .progress = isatty(2),
                        .invalid_mode = a->invalid_mode,
                        .dateline = a->dateline,
-                       .key_field = a->key_field};
+                       .key_field = a->key_field,
+                       .fields = a->fields};
     char err[1024];
     r->gis = 1;
     int st = gis_read_graph(a->input, &opt, g, &r->gis_info, err, sizeof err);
@@ -799,9 +805,22 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
         snprintf(diag.message, sizeof diag.message,
                  "internal error: the serialised file does not read back (%s)",
                  hpfc_strerror(st));
+    hpfc_attr_table attrs;
+    hpfc_edge_feature_table edge_features;
     if (!st && r->gis && gis_features_count(r->gis_info.polygons) > 0) {
         st = link_features(g, &t, f, r, &ft, diag.message, sizeof diag.message);
         wopts.features = &ft.table;
+        /* the features' attributes (ATTR) and the edges' features (EDGF) */
+        if (!st && gis_attrs_table(r->gis_info.attrs, &attrs) != 0)
+            st = HPFC_E_NOMEM;
+        if (!st && attrs.feature_count == ft.table.feature_count)
+            wopts.attributes = &attrs;
+        edge_features = (hpfc_edge_feature_table){.edge_count = ft.edge_count,
+                                                  .feature_count = ft.table.feature_count,
+                                                  .edge_start = ft.edge_start,
+                                                  .edge_feature = ft.edge_feature};
+        if (!st && ft.edge_start)
+            wopts.edge_features = &edge_features;
     }
     hpfc_tree_free(t);
     if (!st) /* the pools as serialised, with the FEAT section when there is one */
