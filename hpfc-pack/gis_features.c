@@ -573,9 +573,17 @@ static int make_table(const gis_features *fs, face_link *fl, gis_feature_table *
 int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const leaf_crossings *lc,
                       const hpfc_file *file, gis_feature_table *out, char *err, size_t err_len)
 {
-    memset(out, 0, sizeof *out);
     const char *method = getenv("HPFC_PACK_LINK");
-    out->method_witness = method && strcmp(method, "witness") == 0;
+    return gis_features_link_method(fs, graph, lc, file, method && strcmp(method, "witness") == 0,
+                                    out, err, err_len);
+}
+
+int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
+                             const leaf_crossings *lc, const hpfc_file *file, int witness,
+                             gis_feature_table *out, char *err, size_t err_len)
+{
+    memset(out, 0, sizeof *out);
+    out->method_witness = witness != 0;
     hpfc_faces *faces = NULL;
     face_witness *w = NULL;
     face_link fl = {0};

@@ -97,5 +97,10 @@ void gis_feature_table_free(gis_feature_table *t);
  * compare both). 0, or 1 with a message in err. */
 int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const leaf_crossings *lc,
                       const hpfc_file *file, gis_feature_table *out, char *err, size_t err_len);
+/* The same with the method given: witness 1 answers every face by its
+ * witness point, 0 links from the topology. */
+int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
+                             const leaf_crossings *lc, const hpfc_file *file, int witness,
+                             gis_feature_table *out, char *err, size_t err_len);
 
 #endif
