@@ -18,6 +18,7 @@
  *   bit 4  --key name
  *   bit 5  the in-memory file is named *.csv (GDAL's CSV driver goes by the
  *          name; the others by content)
+ *   bit 6  --fields all
  *
  * Oracle: gis_read_graph returns 0 with a graph or 1 with a one-line
  * message and no graph; the graph passes hpfc_graph_validate (the promise
@@ -56,6 +57,7 @@ static void options_from_byte(uint8_t b, gis_options *o, const char **path)
     o->dateline = b & 4 ? GIS_DATELINE_REJECT : GIS_DATELINE_CUT;
     o->projection = b & 8 ? "none" : "auto";
     o->key_field = b & 16 ? "name" : NULL;
+    o->fields = b & 64 ? "all" : NULL;
 }
 
 /* Reads the in-memory dataset; 0 with *g, or 1 (checked message, no graph). */
