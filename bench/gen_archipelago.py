@@ -8,9 +8,12 @@ bounding box, like a 1:10m world land layer.
 writes a FlatGeobuf layer (EPSG:3857 metres, so hpfc-pack keeps the
 coordinates) of
   - one "coast" feature: a star-shaped ring of COAST_POINTS points (default
-    max(2000, N / 10)), radius about 1000 km, with N/2 lakes as holes
-    (hexagons on a grid inside it); one lake in ten holds an island, a
-    polygon of its own;
+    max(2000, N / 10)), radius about 1000 km, with N/2 lakes (hexagons on a
+    grid inside it): the first HOLES (2000) are holes of the coast, the
+    others lake features of their own, 1000 to a MultiPolygon, lying in the
+    coast (GEOS 3.11's validity check tests every hole against the whole
+    shell, so 10^5 holes in one shell would cost minutes before any linking);
+    one lake in ten holds an island, a polygon of its own;
   - N/2 islands outside the coast but inside its box (its four corners),
     hexagons on a grid, 1000 to a MultiPolygon feature.
 So the file has about N small parts of 7 points each, all inside the coast's
@@ -24,6 +27,7 @@ import sys
 from osgeo import ogr, osr
 
 R = 1_000_000.0  # coast radius, metres
+HOLES = 2000
 
 
 def hexagon(cx, cy, r, ccw):
@@ -87,7 +91,9 @@ def main():
     centres, s = grid(n // 2, -h, -h, h, h)
     centres = centres[: n // 2]
     lakes = [hexagon(cx, cy, s / 4, False) for cx, cy in centres]
-    add("coast", multipolygon_wkb([[coast_ring(coast_points)] + lakes]))
+    add("coast", multipolygon_wkb([[coast_ring(coast_points)] + lakes[:HOLES]]))
+    for k in range(HOLES, len(lakes), 1000):
+        add("lakes", multipolygon_wkb([[ring[::-1]] for ring in lakes[k:k + 1000]]))
     for k, (cx, cy) in enumerate(centres):
         if k % 10 == 0:  # an island in the lake
             add("lake island", multipolygon_wkb([[hexagon(cx, cy, s / 8, True)]]))

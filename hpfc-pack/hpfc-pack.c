@@ -233,7 +233,10 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         return strcmp(v, "node") == 0 || strcmp(v, "reject") == 0 ? NULL : "reject or node";
     }
     if (strcmp(name, "--key") == 0 || strcmp(name, "--fields") == 0) {
-        *(name[2] == 'k' ? &a->key_field : &a->fields) = v;
+        if (strcmp(name, "--key") == 0)
+            a->key_field = v;
+        else
+            a->fields = v;
         return v[0] && v[0] != ',' && !strstr(v, ",,") && v[strlen(v) - 1] != ','
                    ? NULL
                    : "field names separated by commas";
