@@ -4,7 +4,8 @@
  * HPFC_OPEN_SKIP_CHECKSUM so mutated metadata gets past the checksum to the
  * header, level table and section directory checks. An opened file is then
  * queried through every metadata accessor, its FEAT section (when it has
- * one) through every feature accessor, and its section checksums verified.
+ * one) through every feature accessor, its ATTR and EDGF sections through
+ * every attribute and edge-feature accessor, and its section checksums verified.
  *
  * Oracle: open fails only with a file code (MAGIC .. SECTION, or NOMEM) and
  * never with CORRUPT (open decodes no pool); opening with the checksum
@@ -55,6 +56,52 @@ static void probe_features(const hpfc_file *f)
             FUZZ_CHECK(hpfc_face_feature(f, face, count, &feature) == HPFC_E_ARG);
     }
     FUZZ_CHECK(hpfc_face_feature_count(f, fi.faces, &count) == HPFC_E_ARG);
+}
+
+/* The ATTR and EDGF accessors (1.2) over the first rows, columns and
+ * edges: OK, ARG exactly out of range, or CORRUPT; strings and names lie
+ * in the buffer [base, base + size). */
+static void probe_attributes(const hpfc_file *f, const uint8_t *base, size_t size)
+{
+    uint32_t features, columns, col;
+    int st = hpfc_attr_info(f, &features, &columns);
+    FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
+    for (uint32_t c = 0; st == HPFC_OK && c <= columns && c < 64; c++) {
+        const char *name;
+        size_t len;
+        int type;
+        int s1 = hpfc_attr_column(f, c, &name, &len, &type);
+        FUZZ_CHECK(c == columns ? s1 == HPFC_E_ARG : feature_status_ok(s1));
+        if (s1 == HPFC_OK) {
+            FUZZ_CHECK(type >= HPFC_ATTR_INTEGER && type <= HPFC_ATTR_STRING);
+            FUZZ_CHECK((const uint8_t *)name >= base && (const uint8_t *)name + len <= base + size);
+            int s3 = hpfc_attr_find(f, name, len, &col);
+            FUZZ_CHECK(feature_status_ok(s3) && (s3 != HPFC_OK || col <= c));
+        }
+        for (uint32_t k = 0; k <= features && k < 64; k++) {
+            hpfc_attr_value v;
+            int s2 = hpfc_attr_get(f, k, c, &v);
+            if (k == features || c == columns) /* a damaged column may be found first */
+                FUZZ_CHECK(s2 == HPFC_E_ARG || (c < columns && s2 == HPFC_E_CORRUPT));
+            else
+                FUZZ_CHECK(feature_status_ok(s2));
+            if (s2 == HPFC_OK && v.type == HPFC_ATTR_STRING)
+                FUZZ_CHECK((const uint8_t *)v.s >= base && (const uint8_t *)v.s + v.len <= base + size);
+        }
+    }
+    uint32_t edges, links, count, feature;
+    st = hpfc_edge_features_info(f, &edges, &links);
+    FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
+    for (uint32_t e = 0; st == HPFC_OK && e < edges && e < 256; e++) {
+        int s1 = hpfc_edge_feature_count(f, e, &count);
+        FUZZ_CHECK(feature_status_ok(s1));
+        for (uint32_t k = 0; s1 == HPFC_OK && k < count && k < 64; k++)
+            FUZZ_CHECK(feature_status_ok(hpfc_edge_feature(f, e, k, &feature)));
+        if (s1 == HPFC_OK)
+            FUZZ_CHECK(hpfc_edge_feature(f, e, count, &feature) == HPFC_E_ARG);
+    }
+    if (st == HPFC_OK)
+        FUZZ_CHECK(hpfc_edge_feature_count(f, edges, &count) == HPFC_E_ARG);
 }
 
 static int open_status_ok(int st)
@@ -150,6 +197,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                st_checked == HPFC_E_CHECKSUM);
     if (skipped) {
         query(skipped);
+        probe_attributes(skipped, data, size);
         reserialize(skipped, data, NULL);
         reserialize(skipped, data, "EPSG:4326");
     }

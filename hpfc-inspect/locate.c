@@ -13,6 +13,8 @@
  */
 #include "locate.h"
 
+#include "attrs_json.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -254,6 +256,7 @@ static void json_feature(jsonw *w, const locator *L, uint32_t index)
             jsonw_null(w, "key");
         if (hpfc_layer_name(L->f, ft.layer, &layer, &layer_len) == HPFC_OK)
             jsonw_string_n(w, "layer", layer, layer_len);
+        json_feature_attributes(w, L->f, index);
     }
     jsonw_object_end(w);
 }

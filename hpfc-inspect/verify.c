@@ -839,6 +839,39 @@ static void check_labels(verifier *v, const hpfc_faces *faces)
     r->labels = st ? CHECK_FAILED : CHECK_OK;
 }
 
+/* The ATTR and EDGF sections (1.2) against FEAT and the map: one row per
+ * feature, one entry per edge, every value and link readable. */
+static void check_attr_edgf(verifier *v, uint32_t features, uint64_t edges)
+{
+    verify_report *r = v->r;
+    uint32_t rows, columns, n, links, feature;
+    int st = hpfc_attr_info(v->f, &rows, &columns);
+    if (st && st != HPFC_E_NO_SECTION)
+        problem(r, "attributes: %s", hpfc_strerror(st));
+    else if (!st && rows != features)
+        problem(r, "attributes: the ATTR section has %u rows, FEAT %u features", rows, features);
+    for (uint32_t k = 0; !st && k < rows; k++)
+        for (uint32_t c = 0; !st && c < columns; c++) {
+            hpfc_attr_value val;
+            if ((st = hpfc_attr_get(v->f, k, c, &val)))
+                problem(r, "attributes: feature %u column %u: %s", k, c, hpfc_strerror(st));
+        }
+    st = hpfc_edge_features_info(v->f, &n, &links);
+    if (st && st != HPFC_E_NO_SECTION)
+        problem(r, "edge features: %s", hpfc_strerror(st));
+    else if (!st && n != edges)
+        problem(r, "edge features: the EDGF section lists %u edges, the map has %" PRIu64, n, edges);
+    for (uint32_t e = 0; !st && e < n; e++) {
+        uint32_t count;
+        st = hpfc_edge_feature_count(v->f, e, &count);
+        for (uint32_t k = 0; !st && k < count; k++)
+            if (!(st = hpfc_edge_feature(v->f, e, k, &feature)) && feature >= features)
+                st = HPFC_E_CORRUPT; /* EDGF's feature count is not FEAT's */
+        if (st)
+            problem(r, "edge features: edge %u: %s", e, hpfc_strerror(st));
+    }
+}
+
 static int check_topology(verifier *v)
 {
     verify_report *r = v->r;
@@ -854,6 +887,13 @@ static int check_topology(verifier *v)
         tp.nfaces = hpfc_faces_count(tp.faces);
         check_features(v, tp.nfaces);
         check_labels(v, tp.faces);
+        hpfc_features_info fi;
+        if (hpfc_file_features(v->f, &fi) == HPFC_OK) {
+            size_t before = v->r->problem_count;
+            check_attr_edgf(v, fi.features, tp.m.nd / 2);
+            if (v->r->problem_count != before)
+                v->r->features = CHECK_FAILED;
+        }
         tp.face = malloc(nd * sizeof *tp.face);
         tp.degree = calloc(nv, sizeof *tp.degree);
         uint32_t *scratch = calloc(nv, sizeof *scratch);

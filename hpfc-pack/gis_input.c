@@ -66,10 +66,9 @@ static double lap(double *t)
 typedef struct part_ref {
     uint32_t layer;
     int64_t fid;
-    uint32_t feature; /* the polygon feature of a ring, NO_FEATURE for a line */
+    uint32_t feature; /* the part's feature (gis_features.h) */
+    int ring;         /* a ring of a polygon */
 } part_ref;
-
-#define NO_FEATURE UINT32_MAX
 
 typedef struct reader {
     const gis_options *opt;
@@ -84,9 +83,18 @@ typedef struct reader {
     /* the current layer and feature, for messages */
     const char *layer_name;
     uint32_t layer_index;
-    int64_t fid;
-    int key_index;    /* the --key field of the current layer, -1 for none */
-    uint32_t feature; /* the current polygon feature, NO_FEATURE if none */
+    int64_t fid;      /* the feature's FID in the source */
+    int64_t position; /* the feature's position in its layer, from 0 */
+    int *key_index;   /* the --key fields of the current layer */
+    size_t n_key;
+    struct field_map {    /* the --fields of the current layer */
+        int index;        /* in the layer */
+        uint32_t column;  /* attribute column */
+        int kind;         /* OGRFieldType */
+    } *fields;
+    size_t n_fields, cap_fields;
+    uint32_t feature; /* the index the current feature gets if it has parts */
+    int polygon;      /* the current feature has a polygon: its closed parts are rings */
 
     int geographic;   /* coordinates are (lon, lat) degrees */
     int saw_wrap;     /* the current feature has a segment crossing the antimeridian */
@@ -184,7 +192,8 @@ static int add_part(reader *r, OGRGeometryH g, int closed)
     r->start[r->n_parts] = r->n_points;
     r->refs[r->n_parts].layer = r->layer_index;
     r->refs[r->n_parts].fid = r->fid;
-    r->refs[r->n_parts].feature = closed ? r->feature : NO_FEATURE;
+    r->refs[r->n_parts].feature = r->feature;
+    r->refs[r->n_parts].ring = closed && r->polygon;
     r->n_parts++;
     r->n_points = end;
     r->start[r->n_parts] = end;
@@ -269,16 +278,100 @@ static int has_polygon(OGRGeometryH g)
     return 0;
 }
 
-/* Records a polygon feature: its id, layer and --key value. */
+/* A date, time or date-time field as ISO 8601 text. */
+static void iso_date(OGRFeatureH f, int i, OGRFieldType t, char *buf, size_t n)
+{
+    int y, mo, d, h, mi, tz;
+    float sec;
+    OGR_F_GetFieldAsDateTimeEx(f, i, &y, &mo, &d, &h, &mi, &sec, &tz);
+    char time[32] = "", zone[16] = "";
+    int whole = (int)sec;
+    if ((float)whole == sec)
+        snprintf(time, sizeof time, "%02d:%02d:%02d", h, mi, whole);
+    else
+        snprintf(time, sizeof time, "%02d:%02d:%06.3f", h, mi, (double)sec);
+    if (tz == 100)
+        snprintf(zone, sizeof zone, "Z");
+    else if (tz > 1) {
+        int off = (tz - 100) * 15;
+        snprintf(zone, sizeof zone, "%c%02d:%02d", off < 0 ? '-' : '+', abs(off) / 60, abs(off) % 60);
+    }
+    if (t == OFTDate)
+        snprintf(buf, n, "%04d-%02d-%02d", y, mo, d);
+    else if (t == OFTTime)
+        snprintf(buf, n, "%s%s", time, zone);
+    else
+        snprintf(buf, n, "%04d-%02d-%02dT%s%s", y, mo, d, time, zone);
+}
+
+/* The --fields values of feature f as the next attribute row, after its
+ * source FID. */
+static int add_attributes(reader *r, OGRFeatureH f)
+{
+    gis_attrs *a = r->info->attrs;
+    if (gis_attrs_row(a) != 0 || gis_attrs_set_integer(a, 0, r->fid) != 0)
+        return fail(r, "out of memory");
+    for (size_t k = 0; k < r->n_fields; k++) {
+        int i = r->fields[k].index, st;
+        uint32_t c = r->fields[k].column;
+        if (!OGR_F_IsFieldSetAndNotNull(f, i))
+            continue;
+        OGRFieldType t = (OGRFieldType)r->fields[k].kind;
+        if (t == OFTInteger || t == OFTInteger64)
+            st = gis_attrs_set_integer(a, c, OGR_F_GetFieldAsInteger64(f, i));
+        else if (t == OFTReal)
+            st = gis_attrs_set_real(a, c, OGR_F_GetFieldAsDouble(f, i));
+        else if (t == OFTDate || t == OFTTime || t == OFTDateTime) {
+            char buf[64];
+            iso_date(f, i, t, buf, sizeof buf);
+            st = gis_attrs_set_string(a, c, buf);
+        } else
+            st = gis_attrs_set_string(a, c, OGR_F_GetFieldAsString(f, i));
+        if (st)
+            return fail(r, "out of memory");
+    }
+    return 0;
+}
+
+/* The --key value: the key fields' values joined by commas (a null one
+ * empty); NULL when all are null. malloc'ed. */
+static char *key_value(reader *r, OGRFeatureH f, int *failed)
+{
+    size_t len = 0, set = 0;
+    for (size_t k = 0; k < r->n_key; k++)
+        if (OGR_F_IsFieldSetAndNotNull(f, r->key_index[k])) {
+            len += strlen(OGR_F_GetFieldAsString(f, r->key_index[k]));
+            set++;
+        }
+    if (!set)
+        return NULL;
+    char *key = malloc(len + r->n_key + 1);
+    if (!key) {
+        *failed = 1;
+        return NULL;
+    }
+    key[0] = 0;
+    for (size_t k = 0, at = 0; k < r->n_key; k++) {
+        const char *v = OGR_F_IsFieldSetAndNotNull(f, r->key_index[k])
+                            ? OGR_F_GetFieldAsString(f, r->key_index[k])
+                            : "";
+        at += (size_t)sprintf(key + at, "%s%s", k ? "," : "", v);
+    }
+    return key;
+}
+
+/* Records a feature with parts: its position, source FID, layer, --key
+ * value and attributes. */
 static int add_feature(reader *r, OGRFeatureH f)
 {
-    const char *key = NULL;
-    if (r->key_index >= 0 && OGR_F_IsFieldSetAndNotNull(f, r->key_index))
-        key = OGR_F_GetFieldAsString(f, r->key_index);
-    r->feature = gis_features_count(r->info->polygons);
-    if (gis_features_add(r->info->polygons, r->fid, r->layer_index, key) != 0)
+    int failed = 0;
+    char *key = key_value(r, f, &failed);
+    if (failed || gis_features_add(r->info->polygons, r->position, r->fid, r->layer_index, key) != 0) {
+        free(key);
         return fail(r, "out of memory");
-    return 0;
+    }
+    free(key);
+    return add_attributes(r, f);
 }
 
 /* Adds the lines and rings of g; a geographic feature that crosses the
@@ -328,11 +421,11 @@ static int read_feature(reader *r, OGRFeatureH f, uint64_t *lines)
     }
     size_t parts_before = r->n_parts;
     int st = 0;
-    r->feature = NO_FEATURE;
-    if (has_polygon(g))
+    r->feature = gis_features_count(r->info->polygons);
+    r->polygon = has_polygon(g);
+    st = read_geometry(r, g, lines, &lin);
+    if (!st && r->n_parts > parts_before)
         st = add_feature(r, f);
-    if (!st)
-        st = read_geometry(r, g, lines, &lin);
     if (lin)
         g = lin; /* the linearised geometry, or the cut */
     /* after add_part's checks, so that GEOS never sees NaN */
@@ -384,30 +477,106 @@ static void srs_label(OGRSpatialReferenceH srs, char *buf, size_t n)
         snprintf(buf, n, "%s", name ? name : "unnamed SRS");
 }
 
-/* The --key field's index in the layer, or a failure naming the fields. */
-static int find_key_field(reader *r, OGRLayerH layer)
+/* The index of field `name` (n bytes) in the layer, or a failure naming
+ * the fields; `option` names the option for the message. */
+static int find_field(reader *r, OGRLayerH layer, const char *option, const char *name, size_t n,
+                      int *index)
 {
-    r->key_index = -1;
-    if (!r->opt->key_field)
-        return 0;
     OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
-    r->key_index = OGR_FD_GetFieldIndex(defn, r->opt->key_field);
-    if (r->key_index >= 0)
-        return 0;
+    for (int i = 0; i < OGR_FD_GetFieldCount(defn); i++) {
+        const char *fn = OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn, i));
+        if (strlen(fn) == n && strncmp(fn, name, n) == 0) {
+            *index = i;
+            return 0;
+        }
+    }
     char names[200] = "";
     for (int i = 0; i < OGR_FD_GetFieldCount(defn); i++) {
         size_t len = strlen(names);
         snprintf(names + len, sizeof names - len, "%s'%s'", i ? ", " : "",
                  OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn, i)));
     }
-    return fail(r, "--key %s: layer '%s' has no such field (fields: %s)", r->opt->key_field,
+    return fail(r, "%s %.*s: layer '%s' has no such field (fields: %s)", option, (int)n, name,
                 OGR_L_GetName(layer), names[0] ? names : "none");
+}
+
+/* Calls add(r, layer, name, n) for each comma-separated name of list. */
+static int each_name(reader *r, OGRLayerH layer, const char *list,
+                     int (*add)(reader *, OGRLayerH, const char *, size_t))
+{
+    for (const char *p = list;;) {
+        const char *comma = strchr(p, ',');
+        size_t n = comma ? (size_t)(comma - p) : strlen(p);
+        int st = add(r, layer, p, n);
+        if (st || !comma)
+            return st;
+        p = comma + 1;
+    }
+}
+
+static int add_key_field(reader *r, OGRLayerH layer, const char *name, size_t n)
+{
+    int i;
+    if (find_field(r, layer, "--key", name, n, &i))
+        return 1;
+    int *k = realloc(r->key_index, (r->n_key + 1) * sizeof *k);
+    if (!k)
+        return fail(r, "out of memory");
+    r->key_index = k;
+    r->key_index[r->n_key++] = i;
+    return 0;
+}
+
+/* The --key fields' indices in the layer, or a failure naming the fields. */
+static int find_key_field(reader *r, OGRLayerH layer)
+{
+    r->n_key = 0;
+    return r->opt->key_field ? each_name(r, layer, r->opt->key_field, add_key_field) : 0;
+}
+
+/* The attribute type of an OGR field: numbers stay numbers, the rest text. */
+static int attr_type_of(OGRFieldType t)
+{
+    if (t == OFTInteger || t == OFTInteger64)
+        return HPFC_ATTR_INTEGER;
+    return t == OFTReal ? HPFC_ATTR_REAL : HPFC_ATTR_STRING;
+}
+
+static int add_field_index(reader *r, OGRLayerH layer, int i)
+{
+    OGRFieldDefnH fd = OGR_FD_GetFieldDefn(OGR_L_GetLayerDefn(layer), i);
+    OGRFieldType t = OGR_Fld_GetType(fd);
+    long c = gis_attrs_column(r->info->attrs, OGR_Fld_GetNameRef(fd), attr_type_of(t));
+    if (c < 0 || !array_grow((void **)&r->fields, &r->cap_fields, r->n_fields + 1, sizeof *r->fields))
+        return fail(r, "out of memory");
+    r->fields[r->n_fields++] = (struct field_map){i, (uint32_t)c, (int)t};
+    return 0;
+}
+
+static int add_named_field(reader *r, OGRLayerH layer, const char *name, size_t n)
+{
+    int i;
+    return find_field(r, layer, "--fields", name, n, &i) ? 1 : add_field_index(r, layer, i);
+}
+
+/* The --fields of the layer, as attribute columns. */
+static int find_fields(reader *r, OGRLayerH layer)
+{
+    r->n_fields = 0;
+    if (!r->opt->fields)
+        return 0;
+    if (strcmp(r->opt->fields, "all") != 0)
+        return each_name(r, layer, r->opt->fields, add_named_field);
+    for (int i = 0; i < OGR_FD_GetFieldCount(OGR_L_GetLayerDefn(layer)); i++)
+        if (add_field_index(r, layer, i))
+            return 1;
+    return 0;
 }
 
 static int read_layer(reader *r, OGRLayerH layer, int chosen)
 {
     r->layer_name = OGR_L_GetName(layer);
-    if (find_key_field(r, layer) != 0 ||
+    if (find_key_field(r, layer) != 0 || find_fields(r, layer) != 0 ||
         gis_features_set_layer(r->info->polygons, r->layer_index, r->layer_name) != 0)
         return r->err[0] ? 1 : fail(r, "out of memory");
     GIntBig total = r->bar.on ? OGR_L_GetFeatureCount(layer, TRUE) : -1;
@@ -415,9 +584,11 @@ static int read_layer(reader *r, OGRLayerH layer, int chosen)
     OGR_L_ResetReading(layer);
     OGRFeatureH f;
     CPLErrorReset();
+    r->position = 0;
     while ((f = OGR_L_GetNextFeature(layer)) != NULL) {
         features++;
         int st = read_feature(r, f, &lines);
+        r->position++;
         OGR_F_Destroy(f);
         if (st)
             return st;
@@ -615,13 +786,12 @@ static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs
     return 0;
 }
 
-/* The snapped rings of the polygon features, for the faces' features. */
+/* The snapped parts of the features, for the faces' and edges' features. */
 static int keep_rings(reader *r, const int64_t *lat)
 {
     for (size_t k = 0; k < r->n_parts; k++)
-        if (r->refs[k].feature != NO_FEATURE &&
-            gis_features_add_ring(r->info->polygons, r->refs[k].feature, lat + 2 * r->start[k],
-                                  r->start[k + 1] - r->start[k]) != 0)
+        if (gis_features_add_part(r->info->polygons, r->refs[k].feature, r->refs[k].ring,
+                                  lat + 2 * r->start[k], r->start[k + 1] - r->start[k]) != 0)
             return fail(r, "out of memory");
     return 0;
 }
@@ -824,6 +994,14 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
     } else
         st = geos_node(r, lines, n_lines, &merged, &m, &cap);
     free(lines);
+    seg *from_geos = NULL; /* GEOS's segments: the source parts are not known along them */
+    size_t n_geos = m;
+    if (!st && !(from_geos = malloc((m ? m : 1) * sizeof *from_geos)))
+        st = fail(r, "out of memory");
+    if (!st) {
+        memcpy(from_geos, merged, m * sizeof *merged);
+        from_geos = sort_unique(from_geos, &n_geos);
+    }
     for (size_t i = 0; i < n && !st; i++)
         if (!dirty[i] && !array_grow((void **)&merged, &cap, m + 1, sizeof *merged))
             st = fail(r, "out of memory");
@@ -841,8 +1019,11 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
             *out = merged;
             *n_out = m;
             merged = NULL;
+            if (gis_features_set_noded(r->info->polygons, (const int64_t *)from_geos, n_geos, 0))
+                st = fail(r, "out of memory");
         }
     }
+    free(from_geos);
     free(again);
     free(merged);
     return st;
@@ -899,6 +1080,8 @@ static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out)
     }
     segs = sort_unique(segs, &n);
     snprintf(r->info->noding, sizeof r->info->noding, "all");
+    if (gis_features_set_noded(r->info->polygons, NULL, 0, 1))
+        return fail(r, "out of memory");
     r->info->noded_segments = n;
     *segs_out = segs;
     *n_out = n;
@@ -1089,7 +1272,10 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     r.xmin = r.ymin = INFINITY;
     r.xmax = r.ymax = -INFINITY;
     err[0] = 0;
-    if (!(info->polygons = gis_features_create(opt->key_field))) {
+    if (!(info->polygons = gis_features_create(opt->key_field)) ||
+        !(info->attrs = gis_attrs_create()) ||
+        gis_attrs_column(info->attrs, "source_fid", HPFC_ATTR_INTEGER) != 0) {
+        gis_info_free(info);
         snprintf(err, err_len, "out of memory");
         return 1;
     }
@@ -1132,6 +1318,8 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     free(segs);
     free(r.start);
     free(r.refs);
+    free(r.key_index);
+    free(r.fields);
     free(srs_p4);
     if (srs)
         OSRDestroySpatialReference(srs);
@@ -1183,5 +1371,7 @@ void gis_info_free(gis_info *info)
         info->crs = NULL;
         gis_features_free(info->polygons);
         info->polygons = NULL;
+        gis_attrs_free(info->attrs);
+        info->attrs = NULL;
     }
 }

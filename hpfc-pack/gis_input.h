@@ -15,6 +15,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "gis_attrs.h"
 #include "gis_features.h"
 #include "hpfc.h"
 
@@ -35,7 +36,10 @@ typedef struct gis_options {
     int vertex_model;          /* GIS_VERTICES_ALL or GIS_VERTICES_JUNCTIONS */
     int progress;              /* draw a progress bar on stderr */
     int invalid_mode;          /* GIS_INVALID_REJECT or GIS_INVALID_NODE */
-    const char *key_field;     /* attribute kept with each polygon feature, NULL for none */
+    const char *key_field;     /* attribute(s) kept as each feature's key, NULL for none;
+                                  "a,b": the fields' values joined by commas */
+    const char *fields;        /* attributes stored (ATTR section): NULL for none but
+                                  source_fid, "all", or names separated by commas */
     int dateline;              /* GIS_DATELINE_CUT or GIS_DATELINE_REJECT */
 } gis_options;
 
@@ -48,7 +52,8 @@ typedef struct gis_info {
     uint64_t skipped_empty;    /* features without geometry, or with an empty one */
     uint64_t skipped_points;   /* point geometries (not part of a planar map) */
     uint64_t invalid_noded;    /* invalid polygons noded (GIS_INVALID_NODE) */
-    gis_features *polygons;    /* the polygon features and their rings */
+    gis_features *polygons;    /* the features and their parts (rings and lines) */
+    gis_attrs *attrs;          /* their attributes, one row per feature */
     uint64_t dateline_cut;     /* features cut at the antimeridian */
     uint64_t points_read;      /* shape points read (after any cut) */
     char noding[8];            /* GEOS noded "none" of the segments, "partial", "all" */

@@ -44,6 +44,7 @@ typedef struct pack_args {
     int vertex_model;
     int invalid_mode;
     const char *key_field;
+    const char *fields;        /* --fields */
     int dateline;
 } pack_args;
 
@@ -67,6 +68,10 @@ typedef struct pack_report {
     /* GIS polygon features (FEAT section) */
     uint32_t features;
     uint64_t faces_with_features, faces_without_witness;
+    uint32_t all_features, edges_with_features;
+    uint64_t faces_walked, faces_anchored, link_conflicts;
+    int link_witness;
+    double link_s[4];
     double features_s;
 } pack_report;
 
@@ -120,8 +125,10 @@ static void print_help(void)
            "                        only points where other than two edges meet\n"
            "  --invalid reject|node GIS input: refuse invalid polygons (default), or node\n"
            "                        their rings as linework\n"
-           "  --key FIELD           GIS input: record attribute FIELD of every polygon\n"
-           "                        feature with its id (hpfc-inspect --locate shows it)\n"
+           "  --key FIELD[,FIELD..] GIS input: record attribute FIELD of every feature\n"
+           "                        with its id (several: values joined by commas)\n"
+           "  --fields F,G,..|all   GIS input: store these attributes of every feature\n"
+           "                        as typed columns (hpfc-inspect --locate shows them)\n"
            "  --wrap-dateline yes|no\n"
            "                        GIS input: cut longitude/latitude lines and polygons\n"
            "                        that cross the antimeridian (a segment spanning more\n"
@@ -228,9 +235,14 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->invalid_mode = strcmp(v, "node") == 0 ? GIS_INVALID_NODE : GIS_INVALID_REJECT;
         return strcmp(v, "node") == 0 || strcmp(v, "reject") == 0 ? NULL : "reject or node";
     }
-    if (strcmp(name, "--key") == 0) {
-        a->key_field = v;
-        return v[0] ? NULL : "a field name";
+    if (strcmp(name, "--key") == 0 || strcmp(name, "--fields") == 0) {
+        if (strcmp(name, "--key") == 0)
+            a->key_field = v;
+        else
+            a->fields = v;
+        return v[0] && v[0] != ',' && !strstr(v, ",,") && v[strlen(v) - 1] != ','
+                   ? NULL
+                   : "field names separated by commas";
     }
     if (strcmp(name, "--wrap-dateline") == 0) {
         a->dateline = strcmp(v, "no") == 0 ? GIS_DATELINE_REJECT : GIS_DATELINE_CUT;
@@ -251,7 +263,7 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
     static const char *const names[] = {"--root",     "--refine",   "--max-pixels",
                                         "--layer",    "--projection", "--vertices",
                                         "--invalid",  "--wrap-dateline", "--key",
-                                        "--output",   "-o"};
+                                        "--fields",   "--output",   "-o"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -431,7 +443,8 @@ static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
                        .progress = isatty(2),
                        .invalid_mode = a->invalid_mode,
                        .dateline = a->dateline,
-                       .key_field = a->key_field};
+                       .key_field = a->key_field,
+                       .fields = a->fields};
     char err[1024];
     r->gis = 1;
     int st = gis_read_graph(a->input, &opt, g, &r->gis_info, err, sizeof err);
@@ -578,6 +591,18 @@ static void print_json(const pack_args *a, const pack_report *r)
         jsonw_u64(&w, "faces_with_features", r->faces_with_features);
         jsonw_u64(&w, "faces_without_witness", r->faces_without_witness);
         jsonw_double(&w, "features_seconds", r->features_s, 6);
+        jsonw_u64(&w, "features_recorded", r->all_features);
+        jsonw_u64(&w, "edges_with_features", r->edges_with_features);
+        jsonw_object_begin(&w, "linking");
+        jsonw_string(&w, "method", r->link_witness ? "witness" : "topology");
+        jsonw_u64(&w, "faces_walked", r->faces_walked);
+        jsonw_u64(&w, "faces_anchored", r->faces_anchored);
+        jsonw_u64(&w, "conflicts", r->link_conflicts);
+        jsonw_double(&w, "faces_seconds", r->link_s[0], 6);
+        jsonw_double(&w, "witness_seconds", r->link_s[1], 6);
+        jsonw_double(&w, "topology_seconds", r->link_s[2], 6);
+        jsonw_double(&w, "anchor_seconds", r->link_s[3], 6);
+        jsonw_object_end(&w);
         jsonw_u64(&w, "antimeridian_cut", gi->dateline_cut);
         jsonw_u64(&w, "points_read", gi->points_read);
         jsonw_string(&w, "noding", gi->noding);
@@ -715,8 +740,17 @@ static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
     st = gis_features_link(r->gis_info.polygons, g, &lc, f, ft, err, err_len);
     leaf_crossings_free(&lc);
     if (!st) {
-        r->features = ft->table.feature_count;
+        r->features = ft->polygon_features;
+        r->all_features = ft->table.feature_count;
         r->faces_without_witness = ft->faces_without_witness;
+        r->faces_walked = ft->faces_propagated;
+        r->faces_anchored = ft->anchors;
+        r->link_conflicts = ft->conflicts;
+        r->link_witness = ft->method_witness;
+        r->link_s[0] = ft->faces_s, r->link_s[1] = ft->witness_s;
+        r->link_s[2] = ft->topology_s, r->link_s[3] = ft->anchor_s;
+        for (uint32_t e = 0; e < ft->edge_count; e++)
+            r->edges_with_features += ft->edge_start[e + 1] > ft->edge_start[e];
         for (uint32_t k = 0; k < ft->table.face_count; k++)
             r->faces_with_features += ft->face_start[k + 1] > ft->face_start[k];
     }
@@ -780,9 +814,22 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
         snprintf(diag.message, sizeof diag.message,
                  "internal error: the serialised file does not read back (%s)",
                  hpfc_strerror(st));
+    hpfc_attr_table attrs;
+    hpfc_edge_feature_table edge_features;
     if (!st && r->gis && gis_features_count(r->gis_info.polygons) > 0) {
         st = link_features(g, &t, f, r, &ft, diag.message, sizeof diag.message);
         wopts.features = &ft.table;
+        /* the features' attributes (ATTR) and the edges' features (EDGF) */
+        if (!st && gis_attrs_table(r->gis_info.attrs, &attrs) != 0)
+            st = HPFC_E_NOMEM;
+        if (!st && attrs.feature_count == ft.table.feature_count)
+            wopts.attributes = &attrs;
+        edge_features = (hpfc_edge_feature_table){.edge_count = ft.edge_count,
+                                                  .feature_count = ft.table.feature_count,
+                                                  .edge_start = ft.edge_start,
+                                                  .edge_feature = ft.edge_feature};
+        if (!st && ft.edge_start)
+            wopts.edge_features = &edge_features;
     }
     hpfc_tree_free(t);
     if (!st) /* the pools as serialised, with the FEAT section when there is one */

@@ -1,6 +1,7 @@
 #include "jsonw.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 void jsonw_init(jsonw *w, FILE *f)
@@ -113,6 +114,22 @@ void jsonw_double(jsonw *w, const char *key, double v, int digits)
         fprintf(w->f, "%.*f", digits, v);
     else
         fputs("null", w->f);
+}
+
+void jsonw_real(jsonw *w, const char *key, double v)
+{
+    prefix(w, key);
+    if (!isfinite(v)) {
+        fputs("null", w->f);
+        return;
+    }
+    char buf[40];
+    for (int digits = 15; digits <= 17; digits++) {
+        snprintf(buf, sizeof buf, "%.*g", digits, v);
+        if (strtod(buf, NULL) == v)
+            break;
+    }
+    fputs(buf, w->f); /* %g never writes a form JSON refuses for a finite value */
 }
 
 void jsonw_bool(jsonw *w, const char *key, int v)

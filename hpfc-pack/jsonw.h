@@ -35,6 +35,8 @@ void jsonw_u64(jsonw *w, const char *key, uint64_t v);
 void jsonw_i64(jsonw *w, const char *key, int64_t v);
 /* `digits` after the decimal point (fixed notation). */
 void jsonw_double(jsonw *w, const char *key, double v, int digits);
+/* The shortest decimal form that reads back as v (null if not finite). */
+void jsonw_real(jsonw *w, const char *key, double v);
 void jsonw_bool(jsonw *w, const char *key, int v);
 void jsonw_null(jsonw *w, const char *key);
 /* A string of `len` bytes (it may hold NULs, which are escaped). */

@@ -26,7 +26,7 @@
 
 enum {
     FORMAT_MAJOR = 1,
-    FORMAT_MINOR = 2,               /* 1.1: the FEAT section; 1.2: LABL */
+    FORMAT_MINOR = 2,               /* 1.1: the FEAT section; 1.2: LABL, ATTR, EDGF */
     FORMAT_HEADER_SIZE = 128,       /* header_size written by this library */
     FORMAT_LEVEL_ENTRY_SIZE = 64,
     FORMAT_SECTION_ENTRY_SIZE = 32,
@@ -40,6 +40,8 @@ enum {
 #define FORMAT_TAG_POOL "POOL"
 #define FORMAT_TAG_CRS "CRS "
 #define FORMAT_TAG_FEAT "FEAT"
+#define FORMAT_TAG_ATTR "ATTR"
+#define FORMAT_TAG_EDGF "EDGF"
 
 #define FORMAT_MAX_ROOT_PIXELS ((uint64_t)1 << 31)  /* n0 * m0 */
 #define FORMAT_MAX_IMAGE_PIXELS ((uint64_t)1 << 20) /* n * m */
@@ -125,6 +127,30 @@ FORMAT_FIELD(sec, flags, 4, 4, uint32_t)
 FORMAT_FIELD(sec, offset, 8, 8, uint64_t)
 FORMAT_FIELD(sec, length, 16, 8, uint64_t)
 FORMAT_FIELD(sec, crc32c, 24, 4, uint32_t)
+
+/* ATTR section (spec/hpfc-format.md §7.2): a 32-byte header, then the
+ * column table (16 bytes a column), the cells (8 bytes each, row-major),
+ * the null bits (one per cell, padded to 8 bytes) and the strings. */
+enum { ATTR_HEADER_SIZE = 32, ATTR_COLUMN_SIZE = 16, ATTR_CELL_SIZE = 8 };
+FORMAT_FIELD(attr, feature_count, 0, 4, uint32_t)
+FORMAT_FIELD(attr, column_count, 4, 4, uint32_t)
+FORMAT_FIELD(attr, string_bytes, 8, 8, uint64_t)
+enum { attr_OFF_reserved = 16, attr_SIZE_reserved = 16 };
+FORMAT_FIELD(attrc, name_offset, 0, 4, uint32_t)
+FORMAT_FIELD(attrc, name_length, 4, 4, uint32_t)
+FORMAT_FIELD(attrc, type, 8, 1, uint8_t)
+enum { attrc_OFF_reserved = 9, attrc_SIZE_reserved = 7 };
+/* A string cell: offset (4 bytes) then length (4 bytes) in the strings. */
+FORMAT_FIELD(attrs, offset, 0, 4, uint32_t)
+FORMAT_FIELD(attrs, length, 4, 4, uint32_t)
+
+/* EDGF section (spec/hpfc-format.md §7.3): a 16-byte header, then
+ * edge_count + 1 offsets and link_count feature indices, 4 bytes each. */
+enum { EDGF_HEADER_SIZE = 16 };
+FORMAT_FIELD(edgf, edge_count, 0, 4, uint32_t)
+FORMAT_FIELD(edgf, link_count, 4, 4, uint32_t)
+FORMAT_FIELD(edgf, feature_count, 8, 4, uint32_t)
+FORMAT_FIELD(edgf, reserved, 12, 4, uint32_t)
 
 /* FEAT section header (32 bytes; spec/hpfc-format.md §7.1). */
 enum { FEAT_HEADER_SIZE = 32, FEAT_LAYER_SIZE = 8, FEAT_FEATURE_SIZE = 24 };

@@ -258,6 +258,43 @@ typedef struct hpfc_feature_table {
                                        .. face_start[f + 1]), ascending */
 } hpfc_feature_table;
 
+/* Attribute value types (ATTR section, spec/hpfc-format.md §7.2). Dates
+ * and times are strings (ISO 8601). */
+enum { HPFC_ATTR_NULL = 0, HPFC_ATTR_INTEGER = 1, HPFC_ATTR_REAL = 2, HPFC_ATTR_STRING = 3 };
+
+/* One attribute value: `type` says which member holds it (HPFC_ATTR_NULL:
+ * none). A string is UTF-8, `len` bytes, not NUL-terminated when read
+ * from a file. */
+typedef struct hpfc_attr_value {
+    int type;
+    int64_t i;
+    double r;
+    const char *s;
+    size_t len;
+} hpfc_attr_value;
+
+/* The features' attributes as typed columns, for the ATTR section: the
+ * value of column c for feature k is cells[k * column_count + c], of the
+ * column's type or HPFC_ATTR_NULL. Features are those of the FEAT section,
+ * in its order. */
+typedef struct hpfc_attr_table {
+    uint32_t feature_count, column_count;
+    const char *const *name;        /* per column: its name (UTF-8) */
+    const uint8_t *type;            /* per column: HPFC_ATTR_INTEGER, _REAL or _STRING */
+    const hpfc_attr_value *cells;
+} hpfc_attr_table;
+
+/* The features of each edge of the map, for the EDGF section
+ * (spec/hpfc-format.md §7.3): edge e (its id: the input graph's edge
+ * index) lies along the lines or rings of features
+ * edge_feature[edge_start[e] .. edge_start[e + 1]), ascending indices into
+ * the FEAT section's features. */
+typedef struct hpfc_edge_feature_table {
+    uint32_t edge_count, feature_count;
+    const uint32_t *edge_start;     /* edge_count + 1 non-decreasing offsets */
+    const uint32_t *edge_feature;
+} hpfc_edge_feature_table;
+
 /* Optional metadata recorded with a tree. */
 typedef struct hpfc_write_options {
     const char *crs;          /* coordinate reference (e.g. "EPSG:32631" or a
@@ -268,6 +305,8 @@ typedef struct hpfc_write_options {
      * the pools it writes. hpfc_file_serialize keeps the source file's
      * LABL section, whose labels stay valid since its pools are copied. */
     int face_labels;
+    const hpfc_attr_table *attributes;  /* ATTR section, NULL for none */
+    const hpfc_edge_feature_table *edge_features; /* EDGF section, NULL for none */
 } hpfc_write_options;
 
 /* Serialises the tree into a malloc'ed buffer (*out, *out_size); the caller
@@ -691,6 +730,33 @@ typedef struct hpfc_labels_report {
 } hpfc_labels_report;
 HPFC_API int hpfc_labels_verify(const hpfc_file *file, const hpfc_faces *faces,
                                 hpfc_labels_report *report);
+
+/* ------------------------------------------------------------------------
+ * Attributes (spec/hpfc-format.md §7.2, the ATTR section): typed columns,
+ * one row per feature of the FEAT section, each value read in O(1) from
+ * the mapped file. Every access is bounds-checked (HPFC_E_CORRUPT on a
+ * corrupt section); without an ATTR section these return
+ * HPFC_E_NO_SECTION; a column or feature out of range is HPFC_E_ARG.
+ * Names and strings point into the file and are not NUL-terminated.
+ * ------------------------------------------------------------------------ */
+HPFC_API int hpfc_attr_info(const hpfc_file *file, uint32_t *features, uint32_t *columns);
+HPFC_API int hpfc_attr_column(const hpfc_file *file, uint32_t column, const char **name,
+                              size_t *name_len, int *type);
+/* The column named name[0 .. len) (HPFC_E_ARG when there is none). */
+HPFC_API int hpfc_attr_find(const hpfc_file *file, const char *name, size_t len,
+                            uint32_t *column);
+HPFC_API int hpfc_attr_get(const hpfc_file *file, uint32_t feature, uint32_t column,
+                           hpfc_attr_value *out);
+
+/* ------------------------------------------------------------------------
+ * Features of edges (spec/hpfc-format.md §7.3, the EDGF section): which
+ * features' lines or rings each edge of the map lies along; edge ids are
+ * the input graph's edge indices. Same error rules as the face accessors.
+ * ------------------------------------------------------------------------ */
+HPFC_API int hpfc_edge_features_info(const hpfc_file *file, uint32_t *edges, uint32_t *links);
+HPFC_API int hpfc_edge_feature_count(const hpfc_file *file, uint64_t edge, uint32_t *count);
+HPFC_API int hpfc_edge_feature(const hpfc_file *file, uint64_t edge, uint32_t k,
+                               uint32_t *feature);
 
 #ifdef __cplusplus
 }

@@ -20,6 +20,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "attrs.h"
 #include "feat.h"
 #include "format.h"
 #include "labels.h"
@@ -53,6 +54,8 @@ struct hpfc_file {
     const uint8_t *feat;    /* the FEAT section, NULL if none */
     uint64_t feat_len;
     labels_view labels;     /* the LABL section (labels.present: the file has one) */
+    const uint8_t *attr, *edgf; /* the ATTR and EDGF sections, NULL if none */
+    uint64_t attr_len, edgf_len;
 };
 
 /* ---- open: header ---------------------------------------------------------- */
@@ -319,7 +322,7 @@ static int check_section_entry(const hpfc_file *f, const uint8_t *e, span *out)
         length > f->info.file_size - offset)
         return HPFC_E_SECTION;
     bool known = tag_is(e, FORMAT_TAG_POOL) || tag_is(e, FORMAT_TAG_CRS) || tag_is(e, FORMAT_TAG_FEAT) ||
-                 tag_is(e, FORMAT_TAG_LABL);
+                 tag_is(e, FORMAT_TAG_LABL) || tag_is(e, FORMAT_TAG_ATTR) || tag_is(e, FORMAT_TAG_EDGF);
     if (!known && (flags & FORMAT_SECTION_REQUIRED))
         return HPFC_E_INCOMPATIBLE;
     *out = (span){offset, offset + length, (uint32_t)le_load(e + sec_OFF_tag, sec_SIZE_tag)};
@@ -386,13 +389,26 @@ static int read_labl(hpfc_file *f, const uint8_t *labl)
     return labels_open(&f->labels, f->data + sec_get_offset(labl), sec_get_length(labl), &lv);
 }
 
+/* An optional section checked by `check`: its bytes into *at, *len. */
+static int read_optional(hpfc_file *f, const uint8_t *entry, int (*check)(const uint8_t *, uint64_t),
+                         const uint8_t **at, uint64_t *len)
+{
+    const uint8_t *s = f->data + sec_get_offset(entry);
+    int st = check(s, sec_get_length(entry));
+    if (!st) {
+        *at = s;
+        *len = sec_get_length(entry);
+    }
+    return st;
+}
+
 static int read_directory(hpfc_file *f)
 {
     uint32_t count = f->info.section_count;
     span *spans = malloc((count ? count : 1) * sizeof *spans);
     if (!spans)
         return HPFC_E_NOMEM;
-    const uint8_t *pool = NULL, *crs = NULL, *feat = NULL, *labl = NULL;
+    const uint8_t *pool = NULL, *crs = NULL, *feat = NULL, *labl = NULL, *attr = NULL, *edgf = NULL;
     int st = HPFC_OK;
     for (uint32_t k = 0; k < count && !st; k++) {
         const uint8_t *e = section_entry(f, k);
@@ -405,6 +421,10 @@ static int read_directory(hpfc_file *f)
             feat = e;
         else if (tag_is(e, FORMAT_TAG_LABL))
             labl = e;
+        else if (tag_is(e, FORMAT_TAG_ATTR))
+            attr = e;
+        else if (tag_is(e, FORMAT_TAG_EDGF))
+            edgf = e;
     }
     if (!st)
         st = check_section_set(spans, count);
@@ -417,6 +437,10 @@ static int read_directory(hpfc_file *f)
         st = read_feat(f, feat);
     if (!st && labl)
         st = read_labl(f, labl);
+    if (!st && attr)
+        st = read_optional(f, attr, attr_section_check, &f->attr, &f->attr_len);
+    if (!st && edgf)
+        st = read_optional(f, edgf, edgf_section_check, &f->edgf, &f->edgf_len);
     if (!st)
         st = check_pools_in_section(f, pool);
     return st;
@@ -511,6 +535,18 @@ int hpfc_verify_checksums(const hpfc_file *f)
             return HPFC_E_CHECKSUM;
     }
     return HPFC_OK;
+}
+
+const uint8_t *reader_attr_section(const hpfc_file *f, uint64_t *length)
+{
+    *length = f->attr_len;
+    return f->attr;
+}
+
+const uint8_t *reader_edgf_section(const hpfc_file *f, uint64_t *length)
+{
+    *length = f->edgf_len;
+    return f->edgf;
 }
 
 const uint8_t *reader_feat_section(const hpfc_file *f, uint64_t *length)

@@ -53,5 +53,8 @@ int reader_locate_near(const hpfc_file *file, const hpfc_pixel *near, int64_t x,
                        hpfc_pixel *out);
 /* The FEAT section (checked at open), NULL when the file has none. */
 const uint8_t *reader_feat_section(const hpfc_file *file, uint64_t *length);
+/* The ATTR and EDGF sections (checked at open), NULL when absent. */
+const uint8_t *reader_attr_section(const hpfc_file *file, uint64_t *length);
+const uint8_t *reader_edgf_section(const hpfc_file *file, uint64_t *length);
 
 #endif

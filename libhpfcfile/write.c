@@ -15,6 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "attrs.h"
 #include "feat.h"
 #include "format.h"
 #include "internal.h"
@@ -37,6 +38,10 @@ typedef struct layout {
     uint64_t labl_offset, labl_length;
     const char *crs;
     const hpfc_feature_table *features;
+    /* ATTR and EDGF (§7.2, §7.3), after FEAT */
+    const hpfc_attr_table *attributes;
+    const hpfc_edge_feature_table *edge_features;
+    uint64_t attr_offset, attr_length, edgf_offset, edgf_length;
 } layout;
 
 static uint32_t image_cols(const layout *L, uint32_t level)
@@ -160,7 +165,18 @@ static int place_sections(layout *L, hpfc_diag *diag)
         if (st)
             return st;
     }
-    L->section_count = 1 + (L->crs != NULL) + (L->features != NULL) + (L->labl != NULL);
+    if (L->attributes) {
+        int st = attr_section_length(L->attributes, &L->attr_length, diag);
+        if (st)
+            return st;
+    }
+    if (L->edge_features) {
+        int st = edgf_section_length(L->edge_features, &L->edgf_length, diag);
+        if (st)
+            return st;
+    }
+    L->section_count = 1 + (L->crs != NULL) + (L->features != NULL) + (L->attributes != NULL) +
+                       (L->edge_features != NULL) + (L->labl != NULL);
     L->meta_size = FORMAT_HEADER_SIZE + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * L->info.levels +
                    (uint64_t)FORMAT_SECTION_ENTRY_SIZE * L->section_count;
     L->pool_section = format_align8(L->meta_size);
@@ -182,6 +198,14 @@ static int place_sections(layout *L, hpfc_diag *diag)
     if (L->features) {
         L->feat_offset = format_align8(L->file_size);
         L->file_size = L->feat_offset + L->feat_length;
+    }
+    if (L->attributes) {
+        L->attr_offset = format_align8(L->file_size);
+        L->file_size = L->attr_offset + L->attr_length;
+    }
+    if (L->edge_features) {
+        L->edgf_offset = format_align8(L->file_size);
+        L->file_size = L->edgf_offset + L->edgf_length;
     }
     if (L->labl) {
         L->labl_offset = format_align8(L->file_size);
@@ -335,6 +359,10 @@ static void emit(const layout *L, uint8_t *file)
         memcpy(file + L->crs_offset, L->crs, (size_t)L->crs_length);
     if (L->features)
         feat_section_emit(L->features, file + L->feat_offset);
+    if (L->attributes)
+        attr_section_emit(L->attributes, file + L->attr_offset);
+    if (L->edge_features)
+        edgf_section_emit(L->edge_features, file + L->edgf_offset);
     if (L->labl)
         memcpy(file + L->labl_offset, L->labl, (size_t)L->labl_length);
     emit_header(L, file);
@@ -346,6 +374,10 @@ static void emit(const layout *L, uint8_t *file)
         emit_section(file, next++, FORMAT_TAG_CRS, 0, L->crs_offset, L->crs_length, L->info.levels);
     if (L->features)
         emit_section(file, next++, FORMAT_TAG_FEAT, 0, L->feat_offset, L->feat_length, L->info.levels);
+    if (L->attributes)
+        emit_section(file, next++, FORMAT_TAG_ATTR, 0, L->attr_offset, L->attr_length, L->info.levels);
+    if (L->edge_features)
+        emit_section(file, next++, FORMAT_TAG_EDGF, 0, L->edgf_offset, L->edgf_length, L->info.levels);
     if (L->labl)
         emit_section(file, next, FORMAT_TAG_LABL, 0, L->labl_offset, L->labl_length, L->info.levels);
     hdr_set_meta_crc32c(file, format_meta_crc(file, L->meta_size));
@@ -421,7 +453,9 @@ int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, u
     *out = NULL;
     *out_size = 0;
     layout L = {.tree = tree, .crs = opts ? opts->crs : NULL,
-                .features = opts ? opts->features : NULL};
+                .features = opts ? opts->features : NULL,
+                .attributes = opts ? opts->attributes : NULL,
+                .edge_features = opts ? opts->edge_features : NULL};
     hpfc_tree_get_info(tree, &L.info);
     int st = check_tree_info(&L.info, diag);
     for (uint32_t l = 0; l < L.info.levels && !st; l++)
@@ -445,8 +479,10 @@ int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts, u
         return diag_set(diag, HPFC_E_ARG, "hpfc_file_serialize: NULL argument");
     *out = NULL;
     *out_size = 0;
-    layout L = {
-        .source = file, .crs = opts ? opts->crs : NULL, .features = opts ? opts->features : NULL};
+    layout L = {.source = file, .crs = opts ? opts->crs : NULL,
+                .features = opts ? opts->features : NULL,
+                .attributes = opts ? opts->attributes : NULL,
+                .edge_features = opts ? opts->edge_features : NULL};
     const labels_view *labels = reader_labels(file);
     if (labels->present) { /* the pools are copied bit for bit: the labels stay true */
         L.labl = labels->section;

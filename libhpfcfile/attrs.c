@@ -1,0 +1,395 @@
+/*
+ * Attributes and the features of edges: the ATTR and EDGF sections
+ * (spec/hpfc-format.md §7.2, §7.3).
+ *
+ * ATTR, after a 32-byte header: the column table (16 bytes a column), the
+ * cells (8 bytes each, feature-major: feature k's value of column c is cell
+ * k * column_count + c), one null bit per cell (padded with zero bits to a
+ * multiple of 8 bytes) and the strings (UTF-8, not NUL-terminated). EDGF,
+ * after a 16-byte header: edge_count + 1 offsets into the links, then the
+ * links (feature indices), 4 bytes each. Open checks only that the parts
+ * add up to each section's length (O(1)); every access checks what it
+ * reads, so a corrupt section gives HPFC_E_CORRUPT, never a read outside
+ * it.
+ */
+#include <string.h>
+
+#include "attrs.h"
+#include "format.h"
+#include "reader.h"
+
+/* Cells at most 2^37: the cells then take at most 2^40 bytes, below the
+ * format's file size limit, and no size below overflows 64 bits. */
+#define ATTR_MAX_CELLS ((uint64_t)1 << 37)
+
+/* ---- ATTR layout ------------------------------------------------------------- */
+
+typedef struct attr_parts {
+    uint64_t columns, cells, nulls, strings, end;
+} attr_parts;
+
+static attr_parts attr_layout(uint64_t features, uint64_t columns, uint64_t string_bytes)
+{
+    uint64_t n = features * columns; /* the caller checked n <= ATTR_MAX_CELLS */
+    attr_parts p;
+    p.columns = ATTR_HEADER_SIZE;
+    p.cells = p.columns + ATTR_COLUMN_SIZE * columns;
+    p.nulls = p.cells + ATTR_CELL_SIZE * n;
+    p.strings = p.nulls + format_align8((n + 7) / 8);
+    p.end = p.strings + string_bytes;
+    return p;
+}
+
+static bool attr_sizes_ok(uint64_t features, uint64_t columns, uint64_t string_bytes)
+{
+    return features * columns <= ATTR_MAX_CELLS && string_bytes <= FORMAT_MAX_FILE_SIZE;
+}
+
+/* ---- ATTR writer ----------------------------------------------------------------- */
+
+static bool type_valid(int type)
+{
+    return type == HPFC_ATTR_INTEGER || type == HPFC_ATTR_REAL || type == HPFC_ATTR_STRING;
+}
+
+int attr_section_length(const hpfc_attr_table *t, uint64_t *length, hpfc_diag *diag)
+{
+    if (t->column_count && (!t->name || !t->type))
+        return diag_set(diag, HPFC_E_ARG, "attribute table: a NULL array");
+    if ((uint64_t)t->feature_count * t->column_count > ATTR_MAX_CELLS)
+        return diag_set(diag, HPFC_E_LIMIT, "attribute table: over 2^37 values");
+    if (t->feature_count && t->column_count && !t->cells)
+        return diag_set(diag, HPFC_E_ARG, "attribute table: no cells");
+    uint64_t strings = 0;
+    for (uint32_t c = 0; c < t->column_count; c++) {
+        if (!type_valid(t->type[c]))
+            return diag_set(diag, HPFC_E_ARG, "attribute table: column %u has type %d", c,
+                            t->type[c]);
+        strings += t->name[c] ? strlen(t->name[c]) : 0;
+    }
+    uint64_t n = (uint64_t)t->feature_count * t->column_count;
+    for (uint64_t k = 0; k < n; k++) {
+        const hpfc_attr_value *v = &t->cells[k];
+        if (v->type != HPFC_ATTR_NULL && v->type != t->type[k % t->column_count])
+            return diag_set(diag, HPFC_E_ARG,
+                            "attribute table: feature %llu column %llu: type %d, not the column's",
+                            (unsigned long long)(k / t->column_count),
+                            (unsigned long long)(k % t->column_count), v->type);
+        if (v->type == HPFC_ATTR_STRING) {
+            if (!v->s && v->len)
+                return diag_set(diag, HPFC_E_ARG, "attribute table: a NULL string");
+            strings += v->len;
+        }
+    }
+    if (strings >= UINT32_MAX)
+        return diag_set(diag, HPFC_E_LIMIT, "attribute table: over 4 GiB of strings");
+    *length = attr_layout(t->feature_count, t->column_count, strings).end;
+    return HPFC_OK;
+}
+
+void attr_section_emit(const hpfc_attr_table *t, uint8_t *out)
+{
+    attr_parts p = attr_layout(t->feature_count, t->column_count, 0);
+    uint8_t *strings = out + p.strings;
+    uint64_t used = 0;
+    memset(out, 0, ATTR_HEADER_SIZE);
+    attr_set_feature_count(out, t->feature_count);
+    attr_set_column_count(out, t->column_count);
+    for (uint32_t c = 0; c < t->column_count; c++) {
+        uint8_t *e = out + p.columns + (size_t)c * ATTR_COLUMN_SIZE;
+        size_t len = t->name[c] ? strlen(t->name[c]) : 0;
+        memset(e, 0, ATTR_COLUMN_SIZE);
+        memcpy(strings + used, t->name[c] ? t->name[c] : "", len);
+        attrc_set_name_offset(e, (uint32_t)used);
+        attrc_set_name_length(e, (uint32_t)len);
+        attrc_set_type(e, t->type[c]);
+        used += len;
+    }
+    uint64_t n = (uint64_t)t->feature_count * t->column_count;
+    memset(out + p.nulls, 0, (size_t)(p.strings - p.nulls));
+    for (uint64_t k = 0; k < n; k++) {
+        const hpfc_attr_value *v = &t->cells[k];
+        uint8_t *cell = out + p.cells + (size_t)k * ATTR_CELL_SIZE;
+        uint64_t bits = 0;
+        switch (v->type) {
+        case HPFC_ATTR_INTEGER:
+            le_store(cell, 8, (uint64_t)v->i);
+            break;
+        case HPFC_ATTR_REAL:
+            memcpy(&bits, &v->r, sizeof bits);
+            le_store(cell, 8, bits);
+            break;
+        case HPFC_ATTR_STRING:
+            if (v->len)
+                memcpy(strings + used, v->s, v->len);
+            attrs_set_offset(cell, (uint32_t)used);
+            attrs_set_length(cell, (uint32_t)v->len);
+            used += v->len;
+            break;
+        default:
+            le_store(cell, 8, 0);
+            out[p.nulls + k / 8] |= (uint8_t)(1u << (k % 8));
+        }
+    }
+    attr_set_string_bytes(out, used);
+}
+
+/* ---- ATTR reader ------------------------------------------------------------------ */
+
+static attr_parts attr_parts_of(const uint8_t *s)
+{
+    return attr_layout(attr_get_feature_count(s), attr_get_column_count(s),
+                       attr_get_string_bytes(s));
+}
+
+int attr_section_check(const uint8_t *s, uint64_t length)
+{
+    if (length < ATTR_HEADER_SIZE || !format_all_zero(s + attr_OFF_reserved, attr_SIZE_reserved))
+        return HPFC_E_SECTION;
+    if (!attr_sizes_ok(attr_get_feature_count(s), attr_get_column_count(s),
+                       attr_get_string_bytes(s)))
+        return HPFC_E_SECTION;
+    return attr_parts_of(s).end == length ? HPFC_OK : HPFC_E_SECTION;
+}
+
+static int attr_section_of(const hpfc_file *file, const uint8_t **s)
+{
+    uint64_t length;
+    if (!file)
+        return HPFC_E_ARG;
+    *s = reader_attr_section(file, &length);
+    return *s ? HPFC_OK : HPFC_E_NO_SECTION;
+}
+
+/* Does (off, len) lie in the strings? */
+static bool attr_string_fits(const uint8_t *s, uint64_t off, uint64_t len)
+{
+    return off + len <= attr_get_string_bytes(s);
+}
+
+int hpfc_attr_info(const hpfc_file *file, uint32_t *features, uint32_t *columns)
+{
+    const uint8_t *s;
+    if (!features || !columns)
+        return HPFC_E_ARG;
+    int st = attr_section_of(file, &s);
+    if (st)
+        return st;
+    *features = attr_get_feature_count(s);
+    *columns = attr_get_column_count(s);
+    return HPFC_OK;
+}
+
+/* Column c's entry, checked: a known type, zero reserved bytes, a name in
+ * the strings. */
+static int column_entry(const uint8_t *s, uint32_t c, const uint8_t **entry)
+{
+    if (c >= attr_get_column_count(s))
+        return HPFC_E_ARG;
+    const uint8_t *e = s + attr_parts_of(s).columns + (size_t)c * ATTR_COLUMN_SIZE;
+    if (!type_valid(attrc_get_type(e)) ||
+        !format_all_zero(e + attrc_OFF_reserved, attrc_SIZE_reserved) ||
+        !attr_string_fits(s, attrc_get_name_offset(e), attrc_get_name_length(e)))
+        return HPFC_E_CORRUPT;
+    *entry = e;
+    return HPFC_OK;
+}
+
+int hpfc_attr_column(const hpfc_file *file, uint32_t column, const char **name,
+                     size_t *name_len, int *type)
+{
+    const uint8_t *s, *e;
+    if (!name || !name_len || !type)
+        return HPFC_E_ARG;
+    int st = attr_section_of(file, &s);
+    if (!st)
+        st = column_entry(s, column, &e);
+    if (st)
+        return st;
+    *name = (const char *)(s + attr_parts_of(s).strings + attrc_get_name_offset(e));
+    *name_len = attrc_get_name_length(e);
+    *type = attrc_get_type(e);
+    return HPFC_OK;
+}
+
+int hpfc_attr_find(const hpfc_file *file, const char *name, size_t len, uint32_t *column)
+{
+    const uint8_t *s;
+    if (!name || !column)
+        return HPFC_E_ARG;
+    int st = attr_section_of(file, &s);
+    if (st)
+        return st;
+    for (uint32_t c = 0; c < attr_get_column_count(s); c++) {
+        const char *n;
+        size_t nl;
+        int type;
+        if ((st = hpfc_attr_column(file, c, &n, &nl, &type)))
+            return st;
+        if (nl == len && memcmp(n, name, len) == 0) {
+            *column = c;
+            return HPFC_OK;
+        }
+    }
+    return HPFC_E_ARG;
+}
+
+int hpfc_attr_get(const hpfc_file *file, uint32_t feature, uint32_t column, hpfc_attr_value *out)
+{
+    const uint8_t *s, *e;
+    if (!out)
+        return HPFC_E_ARG;
+    int st = attr_section_of(file, &s);
+    if (!st)
+        st = column_entry(s, column, &e);
+    if (st)
+        return st;
+    if (feature >= attr_get_feature_count(s))
+        return HPFC_E_ARG;
+    attr_parts p = attr_parts_of(s);
+    uint64_t k = (uint64_t)feature * attr_get_column_count(s) + column;
+    const uint8_t *cell = s + p.cells + k * ATTR_CELL_SIZE;
+    memset(out, 0, sizeof *out);
+    if (s[p.nulls + k / 8] >> (k % 8) & 1)
+        return HPFC_OK; /* HPFC_ATTR_NULL */
+    out->type = attrc_get_type(e);
+    uint64_t bits = le_load(cell, 8);
+    switch (out->type) {
+    case HPFC_ATTR_INTEGER:
+        out->i = (int64_t)bits;
+        break;
+    case HPFC_ATTR_REAL:
+        memcpy(&out->r, &bits, sizeof out->r);
+        break;
+    default: {
+        uint32_t off = attrs_get_offset(cell), len = attrs_get_length(cell);
+        if (!attr_string_fits(s, off, len)) {
+            memset(out, 0, sizeof *out);
+            return HPFC_E_CORRUPT;
+        }
+        out->s = (const char *)(s + p.strings + off);
+        out->len = len;
+    }
+    }
+    return HPFC_OK;
+}
+
+/* ---- EDGF ----------------------------------------------------------------------------- */
+
+static uint64_t edgf_layout_end(uint64_t edges, uint64_t links)
+{
+    return EDGF_HEADER_SIZE + 4 * (edges + 1) + 4 * links;
+}
+
+int edgf_section_length(const hpfc_edge_feature_table *t, uint64_t *length, hpfc_diag *diag)
+{
+    if (!t->edge_start || (t->edge_start[t->edge_count] && !t->edge_feature))
+        return diag_set(diag, HPFC_E_ARG, "edge feature table: a NULL array");
+    if (t->edge_count == UINT32_MAX || t->edge_start[0] != 0)
+        return diag_set(diag, HPFC_E_ARG, "edge feature table: bad edge count or first offset");
+    for (uint32_t e = 0; e < t->edge_count; e++) {
+        if (t->edge_start[e + 1] < t->edge_start[e])
+            return diag_set(diag, HPFC_E_ARG, "edge feature table: offsets decrease at edge %u", e);
+        for (uint32_t i = t->edge_start[e]; i < t->edge_start[e + 1]; i++)
+            if (t->edge_feature[i] >= t->feature_count ||
+                (i > t->edge_start[e] && t->edge_feature[i] <= t->edge_feature[i - 1]))
+                return diag_set(diag, HPFC_E_ARG,
+                                "edge feature table: edge %u's features not ascending indices", e);
+    }
+    *length = edgf_layout_end(t->edge_count, t->edge_start[t->edge_count]);
+    return HPFC_OK;
+}
+
+void edgf_section_emit(const hpfc_edge_feature_table *t, uint8_t *out)
+{
+    uint32_t links = t->edge_start[t->edge_count];
+    memset(out, 0, EDGF_HEADER_SIZE);
+    edgf_set_edge_count(out, t->edge_count);
+    edgf_set_link_count(out, links);
+    edgf_set_feature_count(out, t->feature_count);
+    uint8_t *p = out + EDGF_HEADER_SIZE;
+    for (uint32_t e = 0; e <= t->edge_count; e++, p += 4)
+        le_store(p, 4, t->edge_start[e]);
+    for (uint32_t i = 0; i < links; i++, p += 4)
+        le_store(p, 4, t->edge_feature[i]);
+}
+
+int edgf_section_check(const uint8_t *s, uint64_t length)
+{
+    if (length < EDGF_HEADER_SIZE || edgf_get_reserved(s) != 0 ||
+        edgf_get_edge_count(s) == UINT32_MAX)
+        return HPFC_E_SECTION;
+    return edgf_layout_end(edgf_get_edge_count(s), edgf_get_link_count(s)) == length
+               ? HPFC_OK
+               : HPFC_E_SECTION;
+}
+
+static int edgf_section_of(const hpfc_file *file, const uint8_t **s)
+{
+    uint64_t length;
+    if (!file)
+        return HPFC_E_ARG;
+    *s = reader_edgf_section(file, &length);
+    return *s ? HPFC_OK : HPFC_E_NO_SECTION;
+}
+
+int hpfc_edge_features_info(const hpfc_file *file, uint32_t *edges, uint32_t *links)
+{
+    const uint8_t *s;
+    if (!edges || !links)
+        return HPFC_E_ARG;
+    int st = edgf_section_of(file, &s);
+    if (st)
+        return st;
+    *edges = edgf_get_edge_count(s);
+    *links = edgf_get_link_count(s);
+    return HPFC_OK;
+}
+
+/* Edge `edge`'s links [*first, *end), checked against the link count. */
+static int edge_links(const uint8_t *s, uint64_t edge, uint32_t *first, uint32_t *end)
+{
+    if (edge >= edgf_get_edge_count(s))
+        return HPFC_E_ARG;
+    const uint8_t *index = s + EDGF_HEADER_SIZE + 4 * (size_t)edge;
+    *first = (uint32_t)le_load(index, 4);
+    *end = (uint32_t)le_load(index + 4, 4);
+    if (*first > *end || *end > edgf_get_link_count(s))
+        return HPFC_E_CORRUPT;
+    return HPFC_OK;
+}
+
+int hpfc_edge_feature_count(const hpfc_file *file, uint64_t edge, uint32_t *count)
+{
+    const uint8_t *s;
+    uint32_t first, end;
+    if (!count)
+        return HPFC_E_ARG;
+    int st = edgf_section_of(file, &s);
+    if (!st)
+        st = edge_links(s, edge, &first, &end);
+    if (!st)
+        *count = end - first;
+    return st;
+}
+
+int hpfc_edge_feature(const hpfc_file *file, uint64_t edge, uint32_t k, uint32_t *feature)
+{
+    const uint8_t *s;
+    uint32_t first, end;
+    if (!feature)
+        return HPFC_E_ARG;
+    int st = edgf_section_of(file, &s);
+    if (!st)
+        st = edge_links(s, edge, &first, &end);
+    if (st)
+        return st;
+    if (k >= end - first)
+        return HPFC_E_ARG;
+    size_t links = EDGF_HEADER_SIZE + 4 * ((size_t)edgf_get_edge_count(s) + 1);
+    uint32_t v = (uint32_t)le_load(s + links + 4 * ((size_t)first + k), 4);
+    if (v >= edgf_get_feature_count(s))
+        return HPFC_E_CORRUPT;
+    *feature = v;
+    return HPFC_OK;
+}

@@ -1,0 +1,22 @@
+/* The ATTR and EDGF sections (spec/hpfc-format.md §7.2, §7.3), shared by
+ * the writer (write.c) and the reader (read.c, attrs.c). */
+#ifndef HPFC_ATTRS_H
+#define HPFC_ATTRS_H
+
+#include "internal.h"
+
+/* Checks an attribute table for the writer and computes the section's
+ * length (HPFC_E_ARG on an inconsistent table, HPFC_E_LIMIT beyond the
+ * format's sizes). */
+int attr_section_length(const hpfc_attr_table *t, uint64_t *length, hpfc_diag *diag);
+/* Writes the section (attr_section_length() bytes, zeroed by the caller). */
+void attr_section_emit(const hpfc_attr_table *t, uint8_t *out);
+/* The open-time check, O(1): reserved bytes zero, the parts add up to the
+ * section's length. HPFC_E_SECTION otherwise. */
+int attr_section_check(const uint8_t *section, uint64_t length);
+
+int edgf_section_length(const hpfc_edge_feature_table *t, uint64_t *length, hpfc_diag *diag);
+void edgf_section_emit(const hpfc_edge_feature_table *t, uint8_t *out);
+int edgf_section_check(const uint8_t *section, uint64_t length);
+
+#endif
