@@ -416,14 +416,6 @@ int labels_word_parse(labels_word *lw, const char *sym, size_t len)
     return HPFC_OK;
 }
 
-uint32_t labels_region_stretch(const labels_word *w, uint32_t r)
-{
-    uint32_t t = 0;
-    while (t + 1 < w->n && w->region[t] != r)
-        t++;
-    return t;
-}
-
 /* ---- records ---------------------------------------------------------------------------- */
 
 /* A located leaf's record: its word's regions and pieces, and the bit

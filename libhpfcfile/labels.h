@@ -117,8 +117,6 @@ static inline uint64_t labels_record_bits(const labels_word *w, uint32_t face_bi
 {
     return w->n ? (uint64_t)w->pieces * (edge_bits + 1) : face_bits;
 }
-/* The smallest stretch of region r. */
-uint32_t labels_region_stretch(const labels_word *w, uint32_t r);
 
 /* Parses `len` symbols (a word of the grammar of §3.8, else
  * HPFC_E_CORRUPT); HPFC_E_NOMEM for a long word. labels_word_free after. */
