@@ -57,7 +57,7 @@ if [ -x build-bench/bench/bench_locate ]; then
     printf '%-28s %8s %9s | %9s %9s | %9s %9s | %7s %7s\n' layer features points \
         hpfc_ms hpfc_ns geos_ms geos_ns private agree
     for layer in tests/data/gis/counties_ne.geojson; do
-        build-bench/hpfc-pack/hpfc-pack --quiet --invalid node --key name "$layer" -o "$tmp/l.hpfc"
+        build-bench/hpfc-pack/hpfc-pack --quiet --force --key name "$layer" -o "$tmp/l.hpfc"
         build-bench/bench/bench_locate "$layer" "$tmp/l.hpfc" 200000 1
     done
     rm -rf "$tmp"

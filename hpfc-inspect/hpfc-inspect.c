@@ -441,12 +441,15 @@ static void print_text(const char *path, const summary *s)
     }
 }
 
-/* One line naming FILE and the reason, with the system's reason for an I/O
- * failure (a missing file is the usual one). */
+/* One line naming FILE and the reason; for an I/O failure the system's
+ * reason as every tool says it ("No such file or directory"). */
 static int open_error(const char *path, int st, int err)
 {
+    struct stat sb;
+    if (st == HPFC_E_IO && !err && stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+        err = EISDIR; /* the map fails, not the open */
     if (st == HPFC_E_IO && err)
-        fprintf(stderr, "hpfc-inspect: %s: %s (%s)\n", path, hpfc_strerror(st), strerror(err));
+        fprintf(stderr, "hpfc-inspect: %s: %s\n", path, strerror(err));
     else
         fprintf(stderr, "hpfc-inspect: %s: %s\n", path, hpfc_strerror(st));
     return EXIT_FAIL;
