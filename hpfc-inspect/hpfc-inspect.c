@@ -42,9 +42,13 @@
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
 
 /* The options with a value that the queries of views.c and render.c take. */
-enum { V_PIXEL, V_LOCATE, V_LOCATE_LONLAT, V_LOCATE_BATCH, V_RENDER, V_WINDOW, V_SIZE, V_COUNT };
+enum {
+    V_PIXEL, V_LOCATE, V_LOCATE_LONLAT, V_LOCATE_BATCH, V_RENDER, V_WINDOW, V_SIZE,
+    V_WINDOW_LONLAT, V_LON_COL, V_LAT_COL, V_ID_COL, V_FORMAT, V_COUNT
+};
 static const char *const value_names[V_COUNT] = {
-    "--pixel", "--locate", "--locate-lonlat", "--locate-batch", "--render", "--window", "--size"};
+    "--pixel", "--locate", "--locate-lonlat", "--locate-batch", "--render", "--window", "--size",
+    "--window-lonlat", "--lon-col", "--lat-col", "--id-col", "--format"};
 
 typedef struct inspect_args {
     const char *file;
@@ -57,6 +61,7 @@ typedef struct inspect_args {
     pixel_path path;        /* --pixel, parsed */
     decimal point[2];       /* --locate or --locate-lonlat, parsed */
     render_params render;   /* --render, --window, --size, parsed */
+    batch_options batch;    /* --locate-batch's --lonlat, --*-col, --format */
 } inspect_args;
 
 /* Everything shown, read once so that the printers cannot fail. */
@@ -74,7 +79,8 @@ static void print_help(void)
            "       hpfc-inspect --export-graph OUT.json [--json] FILE\n"
            "       hpfc-inspect --sections | --stats [--json] FILE\n"
            "       hpfc-inspect --pixel PATH | --locate X,Y | --locate-lonlat LON,LAT [--json] FILE\n"
-           "       hpfc-inspect --locate-batch POINTS [--lonlat] FILE\n"
+           "       hpfc-inspect --locate-batch POINTS [--lonlat] [--lon-col C] [--lat-col C]\n"
+           "                    [--id-col C] [--format jsonl|csv|geojson] FILE\n"
            "       hpfc-inspect --render OUT.svg|OUT.png [--window X0,Y0,X1,Y1] [--size W[xH]]\n"
            "                    [--json] FILE\n"
            "\n"
@@ -105,10 +111,30 @@ static void print_help(void)
            "                         GIS polygons: id, layer, --key value)\n"
            "  --locate-lonlat LON,LAT the same for a point in degrees, placed with the\n"
            "                         projection the file's CRS records\n"
-           "  --locate-batch POINTS  many points, one \"x,y\" a line (or \"lon,lat\" with\n"
-           "                         --lonlat; POINTS '-' is standard input): one JSON\n"
-           "                         object a line, in input order; the faces are\n"
-           "                         numbered once for all\n"
+           "  --locate-batch POINTS  many points, one a line of a table (POINTS '-' is\n"
+           "                         standard input): comma, tab, semicolon or blank\n"
+           "                         separated, CSV quotes, an optional header line;\n"
+           "                         blank and '#' lines skipped. One answer a data\n"
+           "                         line, in input order, with its \"line\" number and\n"
+           "                         \"id\"; a bad line is an error row (\"error\": why)\n"
+           "                         and the run goes on; other columns are passed\n"
+           "                         through. The faces are numbered once for all\n"
+           "  --lonlat               with --locate-batch: the points are lon,lat degrees\n"
+           "                         (also when the columns are named lon/lng/longitude\n"
+           "                         and lat/latitude)\n"
+           "  --lon-col C, --lat-col C\n"
+           "                         with --locate-batch: the coordinate columns, by\n"
+           "                         header name (any case) or number from 1 (default:\n"
+           "                         named lon, lng, long, longitude, x, easting and\n"
+           "                         lat, latitude, y, northing; else the first two)\n"
+           "  --id-col C             with --locate-batch: the column copied to \"id\"\n"
+           "                         (default: one named id)\n"
+           "  --format F             with --locate-batch: jsonl (default, one JSON object\n"
+           "                         a line), csv (a header, faces/fids/keys as lists) or\n"
+           "                         geojson (a FeatureCollection of the points, the\n"
+           "                         answers as properties)\n"
+           );
+    printf(
            "  --stats                histograms of word length, leaf depth, crossings per\n"
            "                         pixel and stabbings per edge (pixels an edge passes\n"
            "                         without a vertex)\n"
@@ -121,12 +147,15 @@ static void print_help(void)
            "  -h, --help             show this help\n"
            "  --version              show the version\n"
            "\n"
+           );
+    printf(
            "examples:\n"
            "  hpfc-inspect --sections map.hpfc\n"
            "  hpfc-inspect --pixel 3,5/1,0/0,1 map.hpfc\n"
            "  hpfc-inspect --locate 1.5,-2.25 --json map.hpfc\n"
            "  hpfc-inspect --locate-lonlat -97.74,30.27 --json counties.hpfc\n"
            "  hpfc-inspect --locate-batch points.txt --lonlat counties.hpfc\n"
+           "  hpfc-inspect --locate-batch cities.csv --id-col name --format csv counties.hpfc\n"
            "  hpfc-inspect --stats --json map.hpfc\n"
            "  hpfc-inspect --render map.png --window 0,0,500,300 --size 1600x960 map.hpfc\n"
            "\n"
@@ -181,7 +210,8 @@ static const char *numeric_value(int argc, char **argv, int *i, const char *name
 static int query_option(int argc, char **argv, int *i, inspect_args *a)
 {
     for (int k = 0; k < V_COUNT; k++) {
-        int missing = 0, numeric = k == V_LOCATE || k == V_LOCATE_LONLAT || k == V_WINDOW;
+        int missing = 0, numeric = k == V_LOCATE || k == V_LOCATE_LONLAT || k == V_WINDOW ||
+                                   k == V_WINDOW_LONLAT;
         const char *value = numeric ? numeric_value(argc, argv, i, value_names[k], &missing)
                                     : option_value(argc, argv, i, value_names[k], &missing);
         if (!value && !missing)
@@ -208,10 +238,31 @@ static int parse_queries(inspect_args *a)
                            "--locate, --locate-lonlat, --locate-batch and --render", NULL);
     if (a->lonlat && !v[V_LOCATE_BATCH])
         return usage_error("only with --locate-batch", "--lonlat");
+    for (int k = V_LON_COL; k <= V_FORMAT; k++)
+        if (v[k] && !v[V_LOCATE_BATCH])
+            return usage_error("only with --locate-batch", value_names[k]);
     if (v[V_LOCATE_BATCH] && a->json)
-        return usage_error("--locate-batch always prints JSON lines", "--json");
-    if ((v[V_WINDOW] || v[V_SIZE]) && !v[V_RENDER])
-        return usage_error("only with --render", v[V_WINDOW] ? "--window" : "--size");
+        return usage_error("--locate-batch prints JSON lines, or --format csv|geojson", "--json");
+    if ((v[V_WINDOW] || v[V_SIZE] || v[V_WINDOW_LONLAT]) && !v[V_RENDER])
+        return usage_error("only with --render", v[V_WINDOW]   ? "--window"
+                                                 : v[V_SIZE] ? "--size"
+                                                             : "--window-lonlat");
+    batch_options *b = &a->batch;
+    b->lonlat = a->lonlat;
+    b->lon_col = v[V_LON_COL], b->lat_col = v[V_LAT_COL], b->id_col = v[V_ID_COL];
+    for (int k = V_LON_COL; k <= V_ID_COL; k++)
+        if (v[k] && !v[k][0])
+            return usage_error("a column name or number", value_names[k]);
+    if (v[V_FORMAT]) {
+        if (strcmp(v[V_FORMAT], "jsonl") == 0 || strcmp(v[V_FORMAT], "json") == 0)
+            b->format = BATCH_JSONL;
+        else if (strcmp(v[V_FORMAT], "csv") == 0)
+            b->format = BATCH_CSV;
+        else if (strcmp(v[V_FORMAT], "geojson") == 0)
+            b->format = BATCH_GEOJSON;
+        else
+            return usage_error("expected jsonl, csv or geojson", "--format");
+    }
     if (v[V_PIXEL] && pixel_path_parse(v[V_PIXEL], &a->path, why, sizeof why))
         return usage_error(why, "--pixel");
     if (v[V_LOCATE] && decimal_list_parse(v[V_LOCATE], a->point, 2))
@@ -678,7 +729,7 @@ static int run_batch(const inspect_args *a, const hpfc_file *f, char *why)
         snprintf(why, VIEW_WHY, "%s: %s", name, strerror(errno));
         return EXIT_FAIL;
     }
-    int status = view_locate_batch(f, in, name, a->lonlat, stdout, why);
+    int status = view_locate_batch(f, in, name, &a->batch, stdout, why);
     if (in != stdin)
         fclose(in);
     return status;

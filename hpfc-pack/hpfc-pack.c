@@ -119,6 +119,8 @@ static void print_help(void)
            "                        which no edge lies inside a single pixel\n"
            "  --max-pixels N        refuse a --flat grid of more than N pixels\n"
            "                        (default %llu)\n"
+           , (unsigned long long)HPFC_DEFAULT_MAX_FLAT_PIXELS);
+    printf(
            "  -l, --layer NAME      GIS input: read layer NAME (repeatable; default: all)\n"
            "  -a_srs SRS, -s_srs SRS\n"
            "                        GIS input: INPUT's coordinates are in SRS (EPSG:4326,\n"
@@ -148,14 +150,15 @@ static void print_help(void)
            "  -h, --help            show this help\n"
            "  --version             show the version\n"
            "\n"
+           );
+    printf(
            "examples:\n"
            "  hpfc-pack states-10m.json -l states --key name -o states.hpfc\n"
            "  hpfc-pack -a_srs EPSG:4269 --projection lcc counties.shp -o counties.hpfc\n"
            "  hpfc-pack --invalid reject --force parcels.gpkg -o parcels.hpfc\n"
            "\n"
            "Exit status: 0 success, 1 input, build or write error (an existing OUTPUT\n"
-           "without --force), 2 usage error or unsupported input format.\n",
-           (unsigned long long)HPFC_DEFAULT_MAX_FLAT_PIXELS);
+           "without --force), 2 usage error or unsupported input format.\n");
 }
 
 /* ---- option parsing -------------------------------------------------------- */

@@ -23,7 +23,7 @@ fi
 
 # field FILE KEY: a top-level value of the JSON object in FILE
 field() {
-    python3 -c 'import json,sys; v=json.load(open(sys.argv[1]))[sys.argv[2]]; print(json.dumps(v) if not isinstance(v, str) else v)' "$1" "$2"
+    python3 -c 'import json,sys; v=json.load(open(sys.argv[1]))[sys.argv[2]]; print(json.dumps(v) if not isinstance(v, str) else v)' "$1" "$2" 2>/dev/null
 }
 
 # ---- 1. invalid polygons: noded by default, reported, named by key ----------
