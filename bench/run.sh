@@ -7,6 +7,8 @@ set -eu
 cd "$(dirname "$0")/.."
 [ -d build-bench ] || meson setup build-bench --buildtype=release >/dev/null
 ninja -C build-bench bench/bench_build bench/bench_traverse bench/bench_read >/dev/null
+# bench_locate exists only with the GIS dependencies (not built by default)
+ninja -C build-bench bench/bench_locate >/dev/null 2>&1 || true
 B=build-bench/bench/bench_build
 
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -1)
