@@ -81,8 +81,8 @@ static void print_help(void)
            "       hpfc-inspect --pixel PATH | --locate X,Y | --locate-lonlat LON,LAT [--json] FILE\n"
            "       hpfc-inspect --locate-batch POINTS [--lonlat] [--lon-col C] [--lat-col C]\n"
            "                    [--id-col C] [--format jsonl|csv|geojson] FILE\n"
-           "       hpfc-inspect --render OUT.svg|OUT.png [--window X0,Y0,X1,Y1] [--size W[xH]]\n"
-           "                    [--json] FILE\n"
+           "       hpfc-inspect --render OUT.svg|OUT.png [--window X0,Y0,X1,Y1 |\n"
+           "                    --window-lonlat LON0,LAT0,LON1,LAT1] [--size W[xH]] [--json] FILE\n"
            "\n"
            "Shows the header, the section directory and the per-level table of an\n"
            ".hpfc file; or checks it; or exports the planar map it encodes; or\n"
@@ -138,10 +138,17 @@ static void print_help(void)
            "  --stats                histograms of word length, leaf depth, crossings per\n"
            "                         pixel and stabbings per edge (pixels an edge passes\n"
            "                         without a vertex)\n"
-           "  --render OUT           draw the grid (leaves shaded by depth) and the graph\n"
-           "                         through its crossings into OUT.svg, or OUT.png when\n"
-           "                         built with cairo\n"
-           "  --window X0,Y0,X1,Y1   with --render: the part of the domain to draw\n"
+           "  --render OUT           draw the map into OUT.svg, or OUT.png when built with\n"
+           "                         cairo: faces filled by feature (a categorical\n"
+           "                         palette, the outside white; by face without GIS\n"
+           "                         features), edges through their crossings, the grid's\n"
+           "                         leaves outlined. The window fits the data. The SVG's\n"
+           "                         coordinates are the file's user coordinates; a PNG\n"
+           "                         gets a world file (OUT.pgw) to place it on a map\n"
+           "  --window X0,Y0,X1,Y1   with --render: the window in user coordinates\n"
+           "  --window-lonlat LON0,LAT0,LON1,LAT1\n"
+           "                         with --render: the window in degrees, projected\n"
+           "                         with the file's CRS\n"
            "  --size W[xH]           with --render: image size in pixels (default 1024 on\n"
            "                         the longer side; W alone keeps the window's aspect)\n"
            "  -h, --help             show this help\n"
@@ -158,6 +165,7 @@ static void print_help(void)
            "  hpfc-inspect --locate-batch cities.csv --id-col name --format csv counties.hpfc\n"
            "  hpfc-inspect --stats --json map.hpfc\n"
            "  hpfc-inspect --render map.png --window 0,0,500,300 --size 1600x960 map.hpfc\n"
+           "  hpfc-inspect --render texas.svg --window-lonlat -107,25,-93,37 counties.hpfc\n"
            "\n"
            "Exit status: 0 success (--verify: the file is valid; --locate: also for a\n"
            "point outside the domain, with no faces), 1 FILE cannot be opened or is\n"
@@ -278,6 +286,12 @@ static int parse_queries(inspect_args *a)
     if (v[V_WINDOW] && render_window_parse(v[V_WINDOW], r->window))
         return usage_error("expected X0,Y0,X1,Y1 with X0 < X1 and Y0 < Y1", "--window");
     r->have_window = v[V_WINDOW] != NULL;
+    if (v[V_WINDOW] && v[V_WINDOW_LONLAT])
+        return usage_error("use one of --window and --window-lonlat", NULL);
+    if (v[V_WINDOW_LONLAT] && render_window_parse(v[V_WINDOW_LONLAT], r->window_lonlat))
+        return usage_error("expected LON0,LAT0,LON1,LAT1 with LON0 < LON1 and LAT0 < LAT1",
+                           "--window-lonlat");
+    r->have_window_lonlat = v[V_WINDOW_LONLAT] != NULL;
     if (v[V_SIZE] && render_size_parse(v[V_SIZE], &r->width, &r->height))
         return usage_error("expected W or WxH, from 1 to 16384", "--size");
     return -1;
