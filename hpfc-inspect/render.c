@@ -321,6 +321,8 @@ static int add_label(scene *s, const frect *r, size_t len)
 {
     if (len >= sizeof s->labels.v->text || r->w < 6.5f * (float)len + 8 || r->h < 18)
         return HPFC_OK;
+    if (len == 4 && memcmp(s->r.buf, "++++", 4) == 0)
+        return HPFC_OK; /* an empty leaf: its fill says enough, and a map stays readable */
     flabel l = {.x = r->x + 3, .y = r->y + 12};
     memcpy(l.text, s->r.buf, len);
     l.text[len] = '\0';

@@ -86,6 +86,8 @@ typedef struct reader {
     uint32_t layer_index;
     int64_t fid;
     int key_index;    /* the --key field of the current layer, -1 for none */
+    int key_found;    /* some layer read has the --key field */
+    char key_missing[300]; /* why the first layer without it has none */
     OGRFeatureH cur;  /* the current feature, for its --key value in messages */
     uint32_t feature; /* the current polygon feature, NO_FEATURE if none */
 
@@ -420,7 +422,10 @@ static void srs_label(OGRSpatialReferenceH srs, char *buf, size_t n)
         snprintf(buf, n, "%s", name ? name : "unnamed SRS");
 }
 
-/* The --key field's index in the layer, or a failure naming the fields. */
+/* The --key field's index in the layer. A layer without it is a failure
+ * naming the fields when the layers were chosen with --layer; else its
+ * features have no key (us-atlas's 'nation' layer beside 'states'), and
+ * read_dataset fails only when no layer has the field. */
 static int find_key_field(reader *r, OGRLayerH layer)
 {
     r->key_index = -1;
@@ -428,7 +433,8 @@ static int find_key_field(reader *r, OGRLayerH layer)
         return 0;
     OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
     r->key_index = OGR_FD_GetFieldIndex(defn, r->opt->key_field);
-    if (r->key_index >= 0)
+    r->key_found |= r->key_index >= 0;
+    if (r->key_index >= 0 || r->key_missing[0])
         return 0;
     char names[200] = "";
     for (int i = 0; i < OGR_FD_GetFieldCount(defn); i++) {
@@ -436,8 +442,9 @@ static int find_key_field(reader *r, OGRLayerH layer)
         snprintf(names + len, sizeof names - len, "%s'%s'", i ? ", " : "",
                  OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn, i)));
     }
-    return fail(r, "--key %s: layer '%s' has no such field (fields: %s)", r->opt->key_field,
-                OGR_L_GetName(layer), names[0] ? names : "none");
+    snprintf(r->key_missing, sizeof r->key_missing, "--key %s: layer '%s' has no such field "
+             "(fields: %s)", r->opt->key_field, OGR_L_GetName(layer), names[0] ? names : "none");
+    return r->opt->n_layers ? fail(r, "%s", r->key_missing) : 0;
 }
 
 static int read_layer(reader *r, OGRLayerH layer, int chosen)
@@ -591,6 +598,8 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
     }
     if (!st && !name0)
         st = fail(r, "the dataset has no layer with geometry");
+    if (!st && r->opt->key_field && !r->key_found)
+        st = fail(r, "%s", r->key_missing);
     if (!st && srs0) {
         char *p4 = NULL;
         if (OSRExportToProj4(srs0, &p4) == OGRERR_NONE && p4) {

@@ -66,7 +66,9 @@ cat >"$tmp/states.json" <<'TOPO'
  "objects": {"states": {"type": "GeometryCollection", "geometries": [
    {"type": "Polygon", "arcs": [[0, 1]], "properties": {"name": "West"}},
    {"type": "Polygon", "arcs": [[2, -1]], "properties": {"name": "East"}},
-   {"type": "Polygon", "arcs": [[3]], "properties": {"name": "Island"}}]}},
+   {"type": "Polygon", "arcs": [[3]], "properties": {"name": "Island"}}]},
+  "nation": {"type": "GeometryCollection", "geometries": [
+   {"type": "Polygon", "arcs": [[1, 2]], "properties": {"code": "N"}}]}},
  "arcs": [[[-100, 40], [-100, 45]],
           [[-100, 45], [-110, 45], [-110, 40], [-100, 40]],
           [[-100, 40], [-90, 40], [-90, 45], [-100, 45]],
@@ -86,6 +88,23 @@ run "$PACK" -q --json "$tmp/states.json" -o "$tmp/q.hpfc"
 [ -s "$tmp/out" ] || [ -s "$tmp/err" ] && fail "-q printed something: $(cat "$tmp/out" "$tmp/err")"
 run "$PACK" --json "$tmp/states.json" -o "$tmp/j.hpfc"
 [ "$(field "$tmp/out" srs_assumed)" = true ] || fail "JSON: srs_assumed is not true"
+
+# --key on layers of which only some have the field (us-atlas: 'states'
+# beside 'nation'): the others' features have no key; a layer chosen with
+# -l must have it
+run "$PACK" --json --key name "$tmp/states.json" -o "$tmp/k.hpfc"
+[ "$rc" -eq 0 ] || fail "--key name with a layer without it: exit $rc: $(cat "$tmp/err")"
+[ "$(field "$tmp/out" polygon_features)" = 4 ] || fail "--key name: not 4 polygon features"
+run "$INSPECT" --locate-lonlat -95,42 --json "$tmp/k.hpfc"
+python3 -c '
+import json, sys
+a = json.load(open(sys.argv[1]))
+keys = sorted((f["layer"], f.get("key")) for f in a["features"])
+assert ("nation", None) in keys and ("states", "East") in keys, keys' "$tmp/out" ||
+    fail "(-95, 42): not in East and in the nation without key: $(cat "$tmp/out")"
+run "$PACK" -q --key name -l nation "$tmp/states.json" -o "$tmp/k2.hpfc"
+expect_error "-l nation --key name" "hpfc-pack: " 1
+grep -q "layer 'nation' has no such field (fields: 'id', 'code')" "$tmp/err" || fail "-l nation: $(cat "$tmp/err")"
 
 # -a_srs: no assumption, no note; the CRS names the given SRS
 run "$PACK" --json -a_srs EPSG:4269 "$tmp/states.json" -o "$tmp/a.hpfc"
