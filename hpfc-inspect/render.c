@@ -743,7 +743,8 @@ static int cmp_rect_rgb(const void *a, const void *b)
 /* One path per fill colour (the rects are sorted by colour in place). */
 static void svg_fills(const svg_out *o, frect *rects, size_t n)
 {
-    qsort(rects, n, sizeof *rects, cmp_rect_rgb);
+    if (n > 1) /* NULL when nothing meets the window */
+        qsort(rects, n, sizeof *rects, cmp_rect_rgb);
     for (size_t k = 0; k < n; k++) {
         if (k == 0 || rects[k].rgb != rects[k - 1].rgb)
             fprintf(o->f, "%s<path class=\"fill\" fill=\"#%06x\" d=\"", k ? "\"/>\n" : "",
@@ -879,7 +880,8 @@ static void cairo_scene(cairo_t *cr, scene *s)
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
     /* fills, one colour at a time (sorted by colour) */
-    qsort(s->rects.v, s->rects.n, sizeof *s->rects.v, cmp_rect_rgb);
+    if (s->rects.n > 1)
+        qsort(s->rects.v, s->rects.n, sizeof *s->rects.v, cmp_rect_rgb);
     for (size_t k = 0, run; k < s->rects.n; k += run) {
         uint32_t c = s->rects.v[k].rgb;
         for (run = 1; k + run < s->rects.n && s->rects.v[k + run].rgb == c; run++)
