@@ -29,7 +29,7 @@ def run(pack, outdir, opts, path):
     out = os.path.join(outdir, os.path.basename(path) + ".hpfc")
     before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     t0 = time.monotonic()
-    proc = subprocess.run([pack, "--json", *opts, path, "-o", out], capture_output=True,
+    proc = subprocess.run([pack, "--json", "--force", *opts, path, "-o", out], capture_output=True,
                           text=True)
     wall = time.monotonic() - t0
     rss_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss

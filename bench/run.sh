@@ -7,6 +7,8 @@ set -eu
 cd "$(dirname "$0")/.."
 [ -d build-bench ] || meson setup build-bench --buildtype=release >/dev/null
 ninja -C build-bench bench/bench_build bench/bench_traverse bench/bench_read >/dev/null
+# bench_locate exists only with the GIS dependencies (not built by default)
+ninja -C build-bench bench/bench_locate >/dev/null 2>&1 || true
 B=build-bench/bench/bench_build
 
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -1)
@@ -57,7 +59,7 @@ if [ -x build-bench/bench/bench_locate ]; then
     printf '%-28s %8s %9s | %9s %9s | %9s %9s | %7s %7s\n' layer features points \
         hpfc_ms hpfc_ns geos_ms geos_ns private agree
     for layer in tests/data/gis/counties_ne.geojson; do
-        build-bench/hpfc-pack/hpfc-pack --quiet --invalid node --key name "$layer" -o "$tmp/l.hpfc"
+        build-bench/hpfc-pack/hpfc-pack --quiet --force --key name "$layer" -o "$tmp/l.hpfc"
         build-bench/bench/bench_locate "$layer" "$tmp/l.hpfc" 200000 1
     done
     rm -rf "$tmp"

@@ -42,9 +42,13 @@
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
 
 /* The options with a value that the queries of views.c and render.c take. */
-enum { V_PIXEL, V_LOCATE, V_LOCATE_LONLAT, V_LOCATE_BATCH, V_RENDER, V_WINDOW, V_SIZE, V_COUNT };
+enum {
+    V_PIXEL, V_LOCATE, V_LOCATE_LONLAT, V_LOCATE_BATCH, V_RENDER, V_WINDOW, V_SIZE,
+    V_WINDOW_LONLAT, V_LON_COL, V_LAT_COL, V_ID_COL, V_FORMAT, V_COUNT
+};
 static const char *const value_names[V_COUNT] = {
-    "--pixel", "--locate", "--locate-lonlat", "--locate-batch", "--render", "--window", "--size"};
+    "--pixel", "--locate", "--locate-lonlat", "--locate-batch", "--render", "--window", "--size",
+    "--window-lonlat", "--lon-col", "--lat-col", "--id-col", "--format"};
 
 typedef struct inspect_args {
     const char *file;
@@ -57,6 +61,7 @@ typedef struct inspect_args {
     pixel_path path;        /* --pixel, parsed */
     decimal point[2];       /* --locate or --locate-lonlat, parsed */
     render_params render;   /* --render, --window, --size, parsed */
+    batch_options batch;    /* --locate-batch's --lonlat, --*-col, --format */
 } inspect_args;
 
 /* Everything shown, read once so that the printers cannot fail. */
@@ -74,9 +79,10 @@ static void print_help(void)
            "       hpfc-inspect --export-graph OUT.json [--json] FILE\n"
            "       hpfc-inspect --sections | --stats [--json] FILE\n"
            "       hpfc-inspect --pixel PATH | --locate X,Y | --locate-lonlat LON,LAT [--json] FILE\n"
-           "       hpfc-inspect --locate-batch POINTS [--lonlat] FILE\n"
-           "       hpfc-inspect --render OUT.svg|OUT.png [--window X0,Y0,X1,Y1] [--size W[xH]]\n"
-           "                    [--json] FILE\n"
+           "       hpfc-inspect --locate-batch POINTS [--lonlat] [--lon-col C] [--lat-col C]\n"
+           "                    [--id-col C] [--format jsonl|csv|geojson] FILE\n"
+           "       hpfc-inspect --render OUT.svg|OUT.png [--window X0,Y0,X1,Y1 |\n"
+           "                    --window-lonlat LON0,LAT0,LON1,LAT1] [--size W[xH]] [--json] FILE\n"
            "\n"
            "Shows the header, the section directory and the per-level table of an\n"
            ".hpfc file; or checks it; or exports the planar map it encodes; or\n"
@@ -105,30 +111,61 @@ static void print_help(void)
            "                         GIS polygons: id, layer, --key value)\n"
            "  --locate-lonlat LON,LAT the same for a point in degrees, placed with the\n"
            "                         projection the file's CRS records\n"
-           "  --locate-batch POINTS  many points, one \"x,y\" a line (or \"lon,lat\" with\n"
-           "                         --lonlat; POINTS '-' is standard input): one JSON\n"
-           "                         object a line, in input order; the faces are\n"
-           "                         numbered once for all\n"
+           "  --locate-batch POINTS  many points, one a line of a table (POINTS '-' is\n"
+           "                         standard input): comma, tab, semicolon or blank\n"
+           "                         separated, CSV quotes, an optional header line;\n"
+           "                         blank and '#' lines skipped. One answer a data\n"
+           "                         line, in input order, with its \"line\" number and\n"
+           "                         \"id\"; a bad line is an error row (\"error\": why)\n"
+           "                         and the run goes on; other columns are passed\n"
+           "                         through. The faces are numbered once for all\n"
+           "  --lonlat               with --locate-batch: the points are lon,lat degrees\n"
+           "                         (also when the columns are named lon/lng/longitude\n"
+           "                         and lat/latitude)\n"
+           "  --lon-col C, --lat-col C\n"
+           "                         with --locate-batch: the coordinate columns, by\n"
+           "                         header name (any case) or number from 1 (default:\n"
+           "                         named lon, lng, long, longitude, x, easting and\n"
+           "                         lat, latitude, y, northing; else the first two)\n"
+           "  --id-col C             with --locate-batch: the column copied to \"id\"\n"
+           "                         (default: one named id)\n"
+           "  --format F             with --locate-batch: jsonl (default, one JSON object\n"
+           "                         a line), csv (a header, faces/fids/keys as lists) or\n"
+           "                         geojson (a FeatureCollection of the points, the\n"
+           "                         answers as properties)\n"
+           );
+    printf(
            "  --stats                histograms of word length, leaf depth, crossings per\n"
            "                         pixel and stabbings per edge (pixels an edge passes\n"
            "                         without a vertex)\n"
-           "  --render OUT           draw the grid (leaves shaded by depth) and the graph\n"
-           "                         through its crossings into OUT.svg, or OUT.png when\n"
-           "                         built with cairo\n"
-           "  --window X0,Y0,X1,Y1   with --render: the part of the domain to draw\n"
+           "  --render OUT           draw the map into OUT.svg, or OUT.png when built with\n"
+           "                         cairo: faces filled by feature (a categorical\n"
+           "                         palette, the outside white; by face without GIS\n"
+           "                         features), edges through their crossings, the grid's\n"
+           "                         leaves outlined. The window fits the data. The SVG's\n"
+           "                         coordinates are the file's user coordinates; a PNG\n"
+           "                         gets a world file (OUT.pgw) to place it on a map\n"
+           "  --window X0,Y0,X1,Y1   with --render: the window in user coordinates\n"
+           "  --window-lonlat LON0,LAT0,LON1,LAT1\n"
+           "                         with --render: the window in degrees, projected\n"
+           "                         with the file's CRS\n"
            "  --size W[xH]           with --render: image size in pixels (default 1024 on\n"
            "                         the longer side; W alone keeps the window's aspect)\n"
            "  -h, --help             show this help\n"
            "  --version              show the version\n"
            "\n"
+           );
+    printf(
            "examples:\n"
            "  hpfc-inspect --sections map.hpfc\n"
            "  hpfc-inspect --pixel 3,5/1,0/0,1 map.hpfc\n"
            "  hpfc-inspect --locate 1.5,-2.25 --json map.hpfc\n"
            "  hpfc-inspect --locate-lonlat -97.74,30.27 --json counties.hpfc\n"
            "  hpfc-inspect --locate-batch points.txt --lonlat counties.hpfc\n"
+           "  hpfc-inspect --locate-batch cities.csv --id-col name --format csv counties.hpfc\n"
            "  hpfc-inspect --stats --json map.hpfc\n"
            "  hpfc-inspect --render map.png --window 0,0,500,300 --size 1600x960 map.hpfc\n"
+           "  hpfc-inspect --render texas.svg --window-lonlat -107,25,-93,37 counties.hpfc\n"
            "\n"
            "Exit status: 0 success (--verify: the file is valid; --locate: also for a\n"
            "point outside the domain, with no faces), 1 FILE cannot be opened or is\n"
@@ -181,7 +218,8 @@ static const char *numeric_value(int argc, char **argv, int *i, const char *name
 static int query_option(int argc, char **argv, int *i, inspect_args *a)
 {
     for (int k = 0; k < V_COUNT; k++) {
-        int missing = 0, numeric = k == V_LOCATE || k == V_LOCATE_LONLAT || k == V_WINDOW;
+        int missing = 0, numeric = k == V_LOCATE || k == V_LOCATE_LONLAT || k == V_WINDOW ||
+                                   k == V_WINDOW_LONLAT;
         const char *value = numeric ? numeric_value(argc, argv, i, value_names[k], &missing)
                                     : option_value(argc, argv, i, value_names[k], &missing);
         if (!value && !missing)
@@ -208,10 +246,31 @@ static int parse_queries(inspect_args *a)
                            "--locate, --locate-lonlat, --locate-batch and --render", NULL);
     if (a->lonlat && !v[V_LOCATE_BATCH])
         return usage_error("only with --locate-batch", "--lonlat");
+    for (int k = V_LON_COL; k <= V_FORMAT; k++)
+        if (v[k] && !v[V_LOCATE_BATCH])
+            return usage_error("only with --locate-batch", value_names[k]);
     if (v[V_LOCATE_BATCH] && a->json)
-        return usage_error("--locate-batch always prints JSON lines", "--json");
-    if ((v[V_WINDOW] || v[V_SIZE]) && !v[V_RENDER])
-        return usage_error("only with --render", v[V_WINDOW] ? "--window" : "--size");
+        return usage_error("--locate-batch prints JSON lines, or --format csv|geojson", "--json");
+    if ((v[V_WINDOW] || v[V_SIZE] || v[V_WINDOW_LONLAT]) && !v[V_RENDER])
+        return usage_error("only with --render", v[V_WINDOW]   ? "--window"
+                                                 : v[V_SIZE] ? "--size"
+                                                             : "--window-lonlat");
+    batch_options *b = &a->batch;
+    b->lonlat = a->lonlat;
+    b->lon_col = v[V_LON_COL], b->lat_col = v[V_LAT_COL], b->id_col = v[V_ID_COL];
+    for (int k = V_LON_COL; k <= V_ID_COL; k++)
+        if (v[k] && !v[k][0])
+            return usage_error("a column name or number", value_names[k]);
+    if (v[V_FORMAT]) {
+        if (strcmp(v[V_FORMAT], "jsonl") == 0 || strcmp(v[V_FORMAT], "json") == 0)
+            b->format = BATCH_JSONL;
+        else if (strcmp(v[V_FORMAT], "csv") == 0)
+            b->format = BATCH_CSV;
+        else if (strcmp(v[V_FORMAT], "geojson") == 0)
+            b->format = BATCH_GEOJSON;
+        else
+            return usage_error("expected jsonl, csv or geojson", "--format");
+    }
     if (v[V_PIXEL] && pixel_path_parse(v[V_PIXEL], &a->path, why, sizeof why))
         return usage_error(why, "--pixel");
     if (v[V_LOCATE] && decimal_list_parse(v[V_LOCATE], a->point, 2))
@@ -227,6 +286,12 @@ static int parse_queries(inspect_args *a)
     if (v[V_WINDOW] && render_window_parse(v[V_WINDOW], r->window))
         return usage_error("expected X0,Y0,X1,Y1 with X0 < X1 and Y0 < Y1", "--window");
     r->have_window = v[V_WINDOW] != NULL;
+    if (v[V_WINDOW] && v[V_WINDOW_LONLAT])
+        return usage_error("use one of --window and --window-lonlat", NULL);
+    if (v[V_WINDOW_LONLAT] && render_window_parse(v[V_WINDOW_LONLAT], r->window_lonlat))
+        return usage_error("expected LON0,LAT0,LON1,LAT1 with LON0 < LON1 and LAT0 < LAT1",
+                           "--window-lonlat");
+    r->have_window_lonlat = v[V_WINDOW_LONLAT] != NULL;
     if (v[V_SIZE] && render_size_parse(v[V_SIZE], &r->width, &r->height))
         return usage_error("expected W or WxH, from 1 to 16384", "--size");
     return -1;
@@ -441,12 +506,15 @@ static void print_text(const char *path, const summary *s)
     }
 }
 
-/* One line naming FILE and the reason, with the system's reason for an I/O
- * failure (a missing file is the usual one). */
+/* One line naming FILE and the reason; for an I/O failure the system's
+ * reason as every tool says it ("No such file or directory"). */
 static int open_error(const char *path, int st, int err)
 {
+    struct stat sb;
+    if (st == HPFC_E_IO && !err && stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+        err = EISDIR; /* the map fails, not the open */
     if (st == HPFC_E_IO && err)
-        fprintf(stderr, "hpfc-inspect: %s: %s (%s)\n", path, hpfc_strerror(st), strerror(err));
+        fprintf(stderr, "hpfc-inspect: %s: %s\n", path, strerror(err));
     else
         fprintf(stderr, "hpfc-inspect: %s: %s\n", path, hpfc_strerror(st));
     return EXIT_FAIL;
@@ -675,7 +743,7 @@ static int run_batch(const inspect_args *a, const hpfc_file *f, char *why)
         snprintf(why, VIEW_WHY, "%s: %s", name, strerror(errno));
         return EXIT_FAIL;
     }
-    int status = view_locate_batch(f, in, name, a->lonlat, stdout, why);
+    int status = view_locate_batch(f, in, name, &a->batch, stdout, why);
     if (in != stdin)
         fclose(in);
     return status;

@@ -1,11 +1,17 @@
 /*
- * render.h: `hpfc-inspect --render OUT.svg|OUT.png` (issue 7): a picture of
- * the hierarchical grid and of the graph as the file encodes it.
+ * render.h: `hpfc-inspect --render OUT.svg|OUT.png` (issues 7, 17): a
+ * picture of the map as the file encodes it, and of its hierarchical grid.
  *
+ * The window is the data's extent by default (the leaves holding a vertex,
+ * plus 2 %), else --window in user coordinates or --window-lonlat in
+ * degrees (projected with the file's CRS); it grows to the image's aspect.
  * What is drawn, from the file alone (public reader API):
- *   - every leaf (word pixel) meeting the window, filled with a shade of its
- *     depth so refined areas stand out, and outlined when it is at least a
- *     few image pixels wide;
+ *   - every leaf (word pixel) meeting the window, filled with the colour of
+ *     its face's feature (FEAT section; a categorical palette, white for
+ *     the outside and faces of no feature) or, without features, of its
+ *     face (the unbounded face white); a stabbed leaf, which edges cut,
+ *     takes the mean of the faces meeting it. Leaves are outlined when at
+ *     least a few image pixels wide;
  *   - the graph: each crossing at a point of its road, the crossings of every
  *     stretch of grid line shared by two leaves spread evenly along it in
  *     word order (roads.h: both sides agree, so edges join up across roads);
@@ -19,10 +25,13 @@
  *   - the word of each leaf that is large on screen (no text on small ones).
  * Leaves smaller than an image pixel are drawn as one dot of ink when
  * stabbed, and a refined pixel whose children would be smaller than that is
- * shaded as a whole: the output stays proportional to the image, not to the
- * file, so a map of 10^5 edges renders in about a second.
+ * filled as a whole with the colour at its centre: the output stays
+ * proportional to the image, not to the file.
  *
- * SVG is written directly; PNG goes through cairo when the build has it
+ * The SVG's coordinates are the file's user coordinates (its viewBox is the
+ * window, the drawing in a group that flips y); the PNG comes with a world
+ * file (OUT.pgw), so that both drop onto a map in the file's CRS. SVG is
+ * written directly; PNG goes through cairo when the build has it
  * (HPFC_HAVE_CAIRO).
  */
 #ifndef HPFC_INSPECT_RENDER_H
@@ -44,6 +53,8 @@ typedef struct render_params {
     int format;                /* RENDER_SVG or RENDER_PNG */
     int have_window;
     double window[4];          /* x0, y0, x1, y1 in user coordinates */
+    int have_window_lonlat;
+    double window_lonlat[4];   /* lon0, lat0, lon1, lat1 (--window-lonlat) */
     uint32_t width, height;    /* 0, 0: RENDER_DEFAULT_SIZE on the longer side;
                                   width only: height from the window's aspect */
 } render_params;
@@ -53,6 +64,8 @@ typedef struct render_report {
     double window[4];          /* the window drawn, user coordinates */
     uint64_t leaves, outlined, segments, vertices, labels, ink;
     double seconds;
+    int by_feature;            /* fills by feature (FEAT section), else by face */
+    char world_file[4096];     /* the PNG's world file, "" for none */
 } render_report;
 
 /* RENDER_SVG / RENDER_PNG from the output's suffix (case-insensitive), 0 if

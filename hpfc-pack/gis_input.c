@@ -95,6 +95,12 @@ typedef struct reader {
     size_t n_fields, cap_fields;
     uint32_t feature; /* the index the current feature gets if it has parts */
     int polygon;      /* the current feature has a polygon: its closed parts are rings */
+    int key_found;    /* some layer read has the --key fields */
+    char key_missing[300]; /* why the first layer without them has none */
+    OGRFeatureH cur;  /* the current feature, for its --key value in messages */
+
+    OGRSpatialReferenceH given_srs;   /* -a_srs or -s_srs, NULL if none */
+    OGRSpatialReferenceH assumed_srs; /* WGS 84, for layers without SRS in lon/lat range */
 
     int geographic;   /* coordinates are (lon, lat) degrees */
     int saw_wrap;     /* the current feature has a segment crossing the antimeridian */
@@ -118,11 +124,43 @@ static int fail(reader *r, const char *fmt, ...)
     return 1;
 }
 
-/* "layer 'NAME' feature FID" for messages. */
+/* The current feature's first --key field's value, for messages; NULL
+ * when there is none. */
+static const char *message_key(const reader *r)
+{
+    if (!r->cur || !r->n_key || !OGR_F_IsFieldSetAndNotNull(r->cur, r->key_index[0]))
+        return NULL;
+    return OGR_F_GetFieldAsString(r->cur, r->key_index[0]);
+}
+
+/* "layer 'NAME' feature FID", and "(KEY 'VALUE')" with --key, for
+ * messages: a user knows "Oregon" better than "feature 38". */
 static const char *where(const reader *r, char *buf, size_t n)
 {
-    snprintf(buf, n, "layer '%s' feature %lld", r->layer_name, (long long)r->fid);
+    const char *key = message_key(r);
+    if (key)
+        snprintf(buf, n, "layer '%s' feature %lld (%s '%.60s')", r->layer_name, (long long)r->fid,
+                 r->opt->key_field, key);
+    else
+        snprintf(buf, n, "layer '%s' feature %lld", r->layer_name, (long long)r->fid);
     return buf;
+}
+
+/* Names a noded polygon in the report's short list. */
+static void note_repaired(reader *r)
+{
+    char *list = r->info->repaired;
+    size_t len = strlen(list), cap = sizeof r->info->repaired;
+    if (r->info->invalid_noded > 4 || len + 8 >= cap)
+        return;
+    const char *key = message_key(r);
+    char item[120];
+    if (key)
+        snprintf(item, sizeof item, "'%.40s'", key);
+    else
+        snprintf(item, sizeof item, "layer '%.40s' feature %lld", r->layer_name,
+                 (long long)r->fid);
+    snprintf(list + len, cap - len, "%s%s", len ? ", " : "", item);
 }
 
 static void geos_message(const char *msg, void *user)
@@ -217,12 +255,13 @@ static int check_polygon(reader *r, OGRGeometryH g)
                     r->geos_msg[0] ? r->geos_msg : "GEOS cannot read it");
     int st = 0;
     if (GEOSisValid_r(r->geos, gg) != 1) {
-        if (r->opt->invalid_mode == GIS_INVALID_NODE)
+        if (r->opt->invalid_mode == GIS_INVALID_NODE) {
             r->info->invalid_noded++;
-        else {
+            note_repaired(r);
+        } else {
             char *why = GEOSisValidReason_r(r->geos, gg);
-            st = fail(r, "%s: invalid polygon: %s (--invalid node packs its rings as noded "
-                         "linework)",
+            st = fail(r, "%s: invalid polygon: %s (--invalid node, the default, packs its "
+                         "rings as noded linework)",
                       where(r, wb, sizeof wb), why ? why : "rejected by GEOS");
             GEOSFree_r(r->geos, why);
         }
@@ -527,11 +566,23 @@ static int add_key_field(reader *r, OGRLayerH layer, const char *name, size_t n)
     return 0;
 }
 
-/* The --key fields' indices in the layer, or a failure naming the fields. */
+/* The --key fields' indices in the layer. A layer without one of them is
+ * a failure naming the fields when the layers were chosen with --layer;
+ * else its features have no key (us-atlas's 'nation' layer beside
+ * 'states'), and read_dataset fails only when no layer has the fields. */
 static int find_key_field(reader *r, OGRLayerH layer)
 {
     r->n_key = 0;
-    return r->opt->key_field ? each_name(r, layer, r->opt->key_field, add_key_field) : 0;
+    if (!r->opt->key_field)
+        return 0;
+    if (each_name(r, layer, r->opt->key_field, add_key_field) == 0) {
+        r->key_found = 1;
+        return 0;
+    }
+    r->n_key = 0;
+    if (!r->key_missing[0])
+        snprintf(r->key_missing, sizeof r->key_missing, "%s", r->err);
+    return r->opt->n_layers ? 1 : 0;
 }
 
 /* The attribute type of an OGR field: numbers stay numbers, the rest text. */
@@ -587,8 +638,10 @@ static int read_layer(reader *r, OGRLayerH layer, int chosen)
     r->position = 0;
     while ((f = OGR_L_GetNextFeature(layer)) != NULL) {
         features++;
+        r->cur = f;
         int st = read_feature(r, f, &lines);
         r->position++;
+        r->cur = NULL;
         OGR_F_Destroy(f);
         if (st)
             return st;
@@ -606,6 +659,57 @@ static int read_layer(reader *r, OGRLayerH layer, int chosen)
     return 0;
 }
 
+/* The SRS of -a_srs or -s_srs, with longitude first as GIS data stores it
+ * (ogr2ogr does the same); NULL with a failure when GDAL does not know it. */
+static OGRSpatialReferenceH user_srs(reader *r)
+{
+    const char *opt = r->opt->assign_srs ? "-a_srs" : "-s_srs";
+    const char *text = r->opt->assign_srs ? r->opt->assign_srs : r->opt->source_srs;
+    OGRSpatialReferenceH s = OSRNewSpatialReference(NULL);
+    if (!s || OSRSetFromUserInput(s, text) != OGRERR_NONE) {
+        if (s)
+            OSRDestroySpatialReference(s);
+        fail(r, "%s %s: not a spatial reference system GDAL knows (e.g. EPSG:4326, a PROJ "
+                "string or WKT)",
+             opt, text);
+        return NULL;
+    }
+    OSRSetAxisMappingStrategy(s, OAMS_TRADITIONAL_GIS_ORDER);
+    return s;
+}
+
+/* Does the layer's extent lie in the longitude/latitude range? */
+static int extent_is_lonlat(OGRLayerH layer)
+{
+    OGREnvelope e;
+    if (OGR_L_GetExtent(layer, &e, TRUE) != OGRERR_NONE)
+        return 0;
+    return e.MinX >= -180.0 && e.MaxX <= 180.0 && e.MinY >= -90.0 && e.MaxY <= 90.0;
+}
+
+/* The SRS a layer is read in (borrowed): the one the user gave, else the
+ * layer's own; a layer without one whose every coordinate could be a
+ * longitude/latitude (TopoJSON, a shapefile without .prj) is taken as WGS 84
+ * unless --projection none keeps coordinates as they are. */
+static OGRSpatialReferenceH layer_srs(reader *r, OGRLayerH layer)
+{
+    if (r->given_srs)
+        return r->given_srs;
+    OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
+    const char *p = r->opt->projection;
+    if (srs || (p && strcmp(p, "none") == 0) || !extent_is_lonlat(layer))
+        return srs;
+    if (!r->assumed_srs) {
+        r->assumed_srs = OSRNewSpatialReference(NULL);
+        if (!r->assumed_srs || OSRImportFromEPSG(r->assumed_srs, 4326) != OGRERR_NONE)
+            return NULL; /* then the layer has no SRS, as before */
+        OSRSetAxisMappingStrategy(r->assumed_srs, OAMS_TRADITIONAL_GIS_ORDER);
+    }
+    if (!r->info->srs_assumed[0])
+        snprintf(r->info->srs_assumed, sizeof r->info->srs_assumed, "%s", OGR_L_GetName(layer));
+    return r->assumed_srs;
+}
+
 /* Opens the dataset and reads the selected layers. */
 static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatialReferenceH *srs_out)
 {
@@ -613,6 +717,8 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
      * schema beside the input, and read it back the next time, so that the
      * same file could pack differently twice. */
     static const char *const open_options[] = {"WRITE_GFS=NO", NULL};
+    if ((r->opt->assign_srs || r->opt->source_srs) && !(r->given_srs = user_srs(r)))
+        return 1;
     GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL, open_options, NULL);
     if (!ds) {
         /* through GDAL's file layer, so /vsimem/ and /vsizip/ paths are
@@ -654,7 +760,7 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
             layer = GDALDatasetGetLayer(ds, (int)k);
         if (!r->opt->n_layers && OGR_L_GetGeomType(layer) == wkbNone)
             continue; /* a table without geometry */
-        OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
+        OGRSpatialReferenceH srs = layer_srs(r, layer);
         if (!name0) {
             name0 = OGR_L_GetName(layer);
             srs0 = srs ? OSRClone(srs) : NULL;
@@ -671,6 +777,8 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
     }
     if (!st && !name0)
         st = fail(r, "the dataset has no layer with geometry");
+    if (!st && r->opt->key_field && !r->key_found)
+        st = fail(r, "%s", r->key_missing);
     if (!st && srs0) {
         char *p4 = NULL;
         if (OSRExportToProj4(srs0, &p4) == OGRERR_NONE && p4) {
@@ -708,6 +816,56 @@ static int check_assumed_lonlat(reader *r, const char *pname)
     return 0;
 }
 
+/* The longitudes the data cover, as the shortest arc [*lo, *hi] (*hi may
+ * pass 180) when it is at most a half-turn, so that a projection centres on
+ * data that cross the antimeridian (US states with the Aleutians and Guam:
+ * the plain extent -180..180 would centre them on Greenwich); wider data
+ * keep their plain extent. *mid is the median longitude of the points, where
+ * a conic or transverse Mercator puts its central meridian (north up where
+ * most of the data are, not in the Pacific between Guam and Puerto Rico).
+ * Longitudes are binned by 0.1 degree: the arc and the median are the data's
+ * within a bin. Only for an explicit tm, lcc or aea: auto and eqc keep
+ * the plain extent, so that data split at the antimeridian (by this reader
+ * or in the source) have it as the seam at the map's two ends. */
+static void longitude_arc(const reader *r, double *lo, double *hi, double *mid)
+{
+    enum { BINS = 3600 };
+    const double step = 360.0 / BINS;
+    size_t *count = calloc(BINS, sizeof *count);
+    *lo = r->xmin, *hi = r->xmax, *mid = NAN;
+    if (!count || r->n_points == 0) {
+        free(count);
+        return;
+    }
+    for (size_t i = 0; i < r->n_points; i++) {
+        int b = (int)floor((r->xy[2 * i] + 180.0) / step);
+        count[b < 0 ? 0 : b >= BINS ? BINS - 1 : b]++;
+    }
+    /* the longest circular run of empty bins: the data are the rest */
+    int best_len = 0, best_end = -1, run = 0;
+    for (int k = 0; k < 2 * BINS; k++) {
+        run = count[k % BINS] ? 0 : run + 1;
+        if (run > best_len && run < BINS)
+            best_len = run, best_end = k % BINS;
+    }
+    int first = (best_end + 1) % BINS; /* the arc's first bin (0 without a gap) */
+    double width = (BINS - best_len) * step, start = first * step - 180.0;
+    if (width <= 180.0 && width < (r->xmax - r->xmin) - 1e-9)
+        *lo = start, *hi = start + width;
+    else
+        first = (int)floor((r->xmin + 180.0) / step), start = first * step - 180.0;
+    size_t seen = 0;
+    for (int k = 0; k < BINS; k++) {
+        seen += count[(first + k) % BINS];
+        if (2 * seen >= r->n_points) {
+            double m = start + (k + 0.5) * step;
+            *mid = m > 180.0 ? m - 360.0 : m;
+            break;
+        }
+    }
+    free(count);
+}
+
 static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs_p4,
                             int64_t *lat)
 {
@@ -719,7 +877,7 @@ static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs
     if (srs)
         srs_label(srs, label, sizeof label);
     mapproj_plan *plan = NULL;
-    const char *ellps_note = "";
+    const char *ellps_note = r->info->srs_assumed[0] ? " (assumed: the input has no SRS)" : "";
     if (!srs && kind != MAPPROJ_AUTO && kind != MAPPROJ_NONE) {
         /* no SRS but a projection asked for: take the data as WGS 84 lon/lat */
         r->geographic = 1;
@@ -741,7 +899,10 @@ static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs
             snprintf(r->info->crs, n, "%s; source %s", srs_p4 ? srs_p4 : "", label);
         }
     } else {
-        plan = mapproj_create(kind, r->xmin, r->ymin, r->xmax, r->ymax, r->a, r->f);
+        double lon_lo = r->xmin, lon_hi = r->xmax, lon_mid = NAN;
+        if (kind == MAPPROJ_TM || kind == MAPPROJ_LCC || kind == MAPPROJ_AEA)
+            longitude_arc(r, &lon_lo, &lon_hi, &lon_mid);
+        plan = mapproj_create_at(kind, lon_lo, r->ymin, lon_hi, r->ymax, lon_mid, r->a, r->f);
         if (!plan)
             return fail(r, "cannot set up the projection '%s'", pname);
         snprintf(r->info->projection, sizeof r->info->projection, "%s",
@@ -1323,6 +1484,10 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     free(srs_p4);
     if (srs)
         OSRDestroySpatialReference(srs);
+    if (r.given_srs)
+        OSRDestroySpatialReference(r.given_srs);
+    if (r.assumed_srs)
+        OSRDestroySpatialReference(r.assumed_srs);
     GEOS_finish_r(r.geos);
     CPLPopErrorHandler();
     if (st) {

@@ -41,6 +41,9 @@ typedef struct gis_options {
     const char *fields;        /* attributes stored (ATTR section): NULL for none but
                                   source_fid, "all", or names separated by commas */
     int dateline;              /* GIS_DATELINE_CUT or GIS_DATELINE_REJECT */
+    /* as ogr2ogr's -a_srs (for layers without an SRS) and -s_srs (for every
+     * layer): any text OSRSetFromUserInput takes; NULL for none */
+    const char *assign_srs, *source_srs;
 } gis_options;
 
 typedef struct gis_info {
@@ -60,6 +63,12 @@ typedef struct gis_info {
     uint64_t noded_segments;   /* segments GEOS noded (its input when partial, output when all) */
     /* wall time of each stage of gis_read_graph(), seconds */
     double read_s, project_s, node_s, graph_s;
+    /* A layer without an SRS whose extent lies in the longitude/latitude
+     * range was taken as WGS 84: the first such layer's name, "" if none. */
+    char srs_assumed[64];
+    /* the first invalid polygons noded, as "name" or "layer 'L' feature N",
+     * comma-separated (for the report) */
+    char repaired[200];
 } gis_info;
 
 /* Is GIS input built in? */

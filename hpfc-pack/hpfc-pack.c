@@ -12,6 +12,7 @@
  * report is gathered from the serialised bytes before OUTPUT is written.
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,6 +38,8 @@ typedef struct pack_args {
     hpfc_build_params params;
     int json, quiet;
     int no_labels;            /* --no-labels: no LABL section */
+    int force;                 /* --force, -overwrite: replace an existing OUTPUT */
+    int to_stdout;             /* -o -: the file on standard output, the report on stderr */
     /* GIS input (gis_input.h) */
     const char *layers[64];
     size_t n_layers;
@@ -46,6 +49,7 @@ typedef struct pack_args {
     const char *key_field;
     const char *fields;        /* --fields */
     int dateline;
+    const char *assign_srs, *source_srs; /* -a_srs, -s_srs (as ogr2ogr) */
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -110,23 +114,40 @@ static void print_help(void)
            "vector dataset read with GDAL/OGR (lines and polygons, see --layer).\n"
            "\n"
            "options:\n"
-           "  -o, --output FILE     the .hpfc file to write (atomically)\n"
+           "  -o, --output FILE     the .hpfc file to write (atomically); - writes it to\n"
+           "                        standard output (not a terminal) and the report to\n"
+           "                        standard error. An existing FILE is refused unless\n"
+           "                        --force; FILE's directory is checked before reading\n"
+           "  --force, -overwrite   replace an existing OUTPUT\n"
            "  --root N | NxM        root image size (default 64)\n"
            "  --refine N | NxM      refined image size, each side >= 2 (default 2)\n"
            "  --flat                build a one-level rPFC: the coarsest regular grid in\n"
            "                        which no edge lies inside a single pixel\n"
            "  --max-pixels N        refuse a --flat grid of more than N pixels\n"
            "                        (default %llu)\n"
-           "  --layer NAME          GIS input: read layer NAME (repeatable; default: all)\n"
-           "  --projection P        GIS input: auto (default), none (keep coordinates),\n"
-           "                        tm, lcc, aea or eqc\n"
+           , (unsigned long long)HPFC_DEFAULT_MAX_FLAT_PIXELS);
+    printf(
+           "  -l, --layer NAME      GIS input: read layer NAME (repeatable; default: all)\n"
+           "  -a_srs SRS, -s_srs SRS\n"
+           "                        GIS input: INPUT's coordinates are in SRS (EPSG:4326,\n"
+           "                        a PROJ string, WKT...), whatever its layers record;\n"
+           "                        as ogr2ogr (here both mean the same, since hpfc-pack\n"
+           "                        chooses the projection itself). Without either, a\n"
+           "                        layer with no SRS whose coordinates all lie in the\n"
+           "                        longitude/latitude range is taken as WGS 84, said on\n"
+           "                        stderr and in the report (TopoJSON has no SRS)\n"           "  --projection P        GIS input: auto (default), none (keep coordinates),\n"
+           "                        tm, lcc, aea (central meridian at the data's median\n"
+           "                        longitude, across the antimeridian too) or eqc\n"
            "  --vertices all|junctions\n"
            "                        GIS input: every shape point is a vertex (default), or\n"
            "                        only points where other than two edges meet\n"
-           "  --invalid reject|node GIS input: refuse invalid polygons (default), or node\n"
-           "                        their rings as linework\n"
+           "  --invalid node|reject GIS input: node the rings of invalid polygons as\n"
+           "                        linework (default; counted in the report), or refuse\n"
+           "                        them\n"
            "  --key FIELD[,FIELD..] GIS input: record attribute FIELD of every feature\n"
-           "                        with its id (several: values joined by commas)\n"
+           "                        with its id (several: values joined by commas;\n"
+           "                        hpfc-inspect --locate shows it; messages name\n"
+           "                        features by it)\n"
            "  --fields F,G,..|all   GIS input: store these attributes of every feature\n"
            "                        as typed columns (hpfc-inspect --locate shows them)\n"
            "  --wrap-dateline yes|no\n"
@@ -136,13 +157,19 @@ static void print_help(void)
            "  --no-labels           write no LABL section (the faces and edge ids of every\n"
            "                        leaf, which let queries skip numbering the faces)\n"
            "  --json                print the build report as one JSON object\n"
-           "  --quiet               print no report\n"
+           "  -q, --quiet           print no report (and no progress)\n"
            "  -h, --help            show this help\n"
            "  --version             show the version\n"
            "\n"
-           "Exit status: 0 success, 1 input, build or write error, 2 usage error or\n"
-           "unsupported input format.\n",
-           (unsigned long long)HPFC_DEFAULT_MAX_FLAT_PIXELS);
+           );
+    printf(
+           "examples:\n"
+           "  hpfc-pack states-10m.json -l states --key name -o states.hpfc\n"
+           "  hpfc-pack -a_srs EPSG:4269 --projection lcc counties.shp -o counties.hpfc\n"
+           "  hpfc-pack --invalid reject --force parcels.gpkg -o parcels.hpfc\n"
+           "\n"
+           "Exit status: 0 success, 1 input, build or write error (an existing OUTPUT\n"
+           "without --force), 2 usage error or unsupported input format.\n");
 }
 
 /* ---- option parsing -------------------------------------------------------- */
@@ -221,7 +248,7 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         return parse_positive(v, strlen(v), UINT64_MAX, &p->max_flat_pixels)
                    ? NULL
                    : "a positive integer";
-    if (strcmp(name, "--layer") == 0) {
+    if (strcmp(name, "--layer") == 0 || strcmp(name, "-l") == 0) {
         if (a->n_layers == sizeof a->layers / sizeof a->layers[0])
             return "at most 64 layers";
         a->layers[a->n_layers++] = v;
@@ -234,6 +261,10 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
     if (strcmp(name, "--invalid") == 0) {
         a->invalid_mode = strcmp(v, "node") == 0 ? GIS_INVALID_NODE : GIS_INVALID_REJECT;
         return strcmp(v, "node") == 0 || strcmp(v, "reject") == 0 ? NULL : "reject or node";
+    }
+    if (strcmp(name, "-a_srs") == 0 || strcmp(name, "-s_srs") == 0) {
+        *(name[1] == 'a' ? &a->assign_srs : &a->source_srs) = v;
+        return v[0] ? NULL : "an SRS such as EPSG:4326";
     }
     if (strcmp(name, "--key") == 0 || strcmp(name, "--fields") == 0) {
         if (strcmp(name, "--key") == 0)
@@ -263,7 +294,8 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
     static const char *const names[] = {"--root",     "--refine",   "--max-pixels",
                                         "--layer",    "--projection", "--vertices",
                                         "--invalid",  "--wrap-dateline", "--key",
-                                        "--fields",   "--output",   "-o"};
+                                        "--fields",   "--output",   "-o",
+                                        "-l",         "-a_srs",     "-s_srs"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -290,6 +322,7 @@ static int parse_args(int argc, char **argv, pack_args *a)
     int status = -1, only_files = 0;
     memset(a, 0, sizeof *a);
     hpfc_build_params_default(&a->params);
+    a->invalid_mode = GIS_INVALID_NODE; /* real layers have invalid rings (issue 17) */
     for (int i = 1; i < argc && status < 0; i++) {
         const char *arg = argv[i];
         if (only_files || arg[0] != '-' || strcmp(arg, "-") == 0) {
@@ -310,10 +343,12 @@ static int parse_args(int argc, char **argv, pack_args *a)
             a->params.flat = 1;
         else if (strcmp(arg, "--json") == 0)
             a->json = 1;
-        else if (strcmp(arg, "--quiet") == 0)
+        else if (strcmp(arg, "--quiet") == 0 || strcmp(arg, "-q") == 0)
             a->quiet = 1;
         else if (strcmp(arg, "--no-labels") == 0)
             a->no_labels = 1;
+        else if (strcmp(arg, "--force") == 0 || strcmp(arg, "-overwrite") == 0)
+            a->force = 1;
         else if (!value_option(a, argv, argc, &i, &status)) {
             complain("unknown option '%s' (see --help)", arg);
             return EXIT_USAGE;
@@ -329,6 +364,11 @@ static int parse_args(int argc, char **argv, pack_args *a)
         complain("missing -o OUTPUT (usage: hpfc-pack [options] INPUT -o OUTPUT.hpfc)");
         return EXIT_USAGE;
     }
+    if (a->assign_srs && a->source_srs) {
+        complain("-a_srs and -s_srs: give one of them");
+        return EXIT_USAGE;
+    }
+    a->to_stdout = strcmp(a->output, "-") == 0;
     return -1;
 }
 
@@ -440,16 +480,22 @@ static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
                        .n_layers = a->n_layers,
                        .projection = a->projection,
                        .vertex_model = a->vertex_model,
-                       .progress = isatty(2),
+                       .progress = isatty(2) && !a->quiet,
                        .invalid_mode = a->invalid_mode,
                        .dateline = a->dateline,
                        .key_field = a->key_field,
-                       .fields = a->fields};
+                       .fields = a->fields,
+                       .assign_srs = a->assign_srs,
+                       .source_srs = a->source_srs};
     char err[1024];
     r->gis = 1;
     int st = gis_read_graph(a->input, &opt, g, &r->gis_info, err, sizeof err);
     if (st)
         complain("%s: %s", a->input, err);
+    else if (r->gis_info.srs_assumed[0] && !a->quiet)
+        fprintf(stderr, "hpfc-pack: note: %s: layer '%s' has no SRS and its coordinates are "
+                        "longitudes/latitudes: taken as WGS 84 (EPSG:4326); -a_srs sets another\n",
+                a->input, r->gis_info.srs_assumed);
     return st == 0 ? 0 : st == 2 ? EXIT_USAGE : EXIT_FAIL;
 }
 
@@ -549,11 +595,11 @@ static double bits_per_edge(const pack_report *r)
     return r->tree.edges ? (double)r->file_bytes * 8.0 / (double)r->tree.edges : 0.0;
 }
 
-static void print_json(const pack_args *a, const pack_report *r)
+static void print_json(FILE *out, const pack_args *a, const pack_report *r)
 {
     const hpfc_tree_info *t = &r->tree;
     jsonw w;
-    jsonw_init(&w, stdout);
+    jsonw_init(&w, out);
     jsonw_object_begin(&w, NULL);
     jsonw_string(&w, "input", a->input);
     jsonw_string(&w, "output", a->output);
@@ -572,6 +618,8 @@ static void print_json(const pack_args *a, const pack_report *r)
     if (r->gis) {
         const gis_info *gi = &r->gis_info;
         jsonw_string(&w, "projection", gi->projection);
+        jsonw_bool(&w, "srs_assumed", gi->srs_assumed[0] != 0);
+        jsonw_string(&w, "invalid_mode", a->invalid_mode == GIS_INVALID_NODE ? "node" : "reject");
         if (gi->crs)
             jsonw_string(&w, "crs", gi->crs);
         else
@@ -655,54 +703,74 @@ static void print_json(const pack_args *a, const pack_report *r)
     jsonw_finish(&w);
 }
 
-static void print_text(const pack_args *a, const pack_report *r)
+/* What the GIS reading repaired or left out, so that a default run says
+ * what it did to the data (the JSON report has the same counts). */
+static void print_repairs(FILE *out, const gis_info *gi)
+{
+    fprintf(out, "repaired   %llu invalid polygon%s noded as linework",
+            (unsigned long long)gi->invalid_noded, gi->invalid_noded == 1 ? "" : "s");
+    if (gi->invalid_noded)
+        fprintf(out, " (%s%s)", gi->repaired, gi->invalid_noded > 5 ? ", ..." : "");
+    if (gi->dateline_cut)
+        fprintf(out, "; %llu cut at the antimeridian", (unsigned long long)gi->dateline_cut);
+    fprintf(out, "\nskipped    %llu empty geometr%s, %llu point feature%s\n",
+            (unsigned long long)gi->skipped_empty, gi->skipped_empty == 1 ? "y" : "ies",
+            (unsigned long long)gi->skipped_points, gi->skipped_points == 1 ? "" : "s");
+}
+
+static void print_text(FILE *out, const pack_args *a, const pack_report *r)
 {
     const hpfc_tree_info *t = &r->tree;
     uint64_t total = t->word_pixels + t->refined_pixels;
-    printf("%s -> %s\n", a->input, a->output);
+    fprintf(out, "%s -> %s\n", a->input, a->output);
     if (r->gis)
-        printf("input      %s, %llu features in %llu layer%s, projection %s, unit 1e%d\n",
+        fprintf(out, "input      %s, %llu features in %llu layer%s, projection %s, unit 1e%d\n",
                r->gis_info.driver, (unsigned long long)r->gis_info.features,
                (unsigned long long)r->gis_info.layers, r->gis_info.layers == 1 ? "" : "s",
                r->gis_info.projection, (int)r->gis_info.unit_exp10);
+    if (r->gis && r->gis_info.srs_assumed[0])
+        fprintf(out, "srs        none recorded; coordinates in lon/lat range: assumed WGS 84 "
+                     "(EPSG:4326)\n");
+    if (r->gis)
+        print_repairs(out, &r->gis_info);
     if (r->gis && r->features)
-        printf("features   %u polygon features%s%s%s; %llu faces lie in one or more\n",
+        fprintf(out, "features   %u polygon features%s%s%s; %llu faces lie in one or more\n",
                r->features, a->key_field ? " (key " : "", a->key_field ? a->key_field : "",
                a->key_field ? ")" : "", (unsigned long long)r->faces_with_features);
     if (r->draco)
-        printf("input      Draco mesh, unit 1e%d%s, %zu points (%zu merged), %zu triangles "
+        fprintf(out, "input      Draco mesh, unit 1e%d%s, %zu points (%zu merged), %zu triangles "
                "dropped\n",
                (int)r->mesh.unit_exp10, r->mesh.exact ? " (exact)" : "", r->mesh.points_used,
                r->mesh.merged_points,
                r->mesh.degenerate_triangles + r->mesh.duplicate_triangles +
                    r->mesh.collinear_triangles);
-    printf("graph      %llu vertices, %llu edges, %llu faces, %llu component%s\n",
+    fprintf(out, "graph      %llu vertices, %llu edges, %llu faces, %llu component%s\n",
            (unsigned long long)t->vertices, (unsigned long long)t->edges,
            (unsigned long long)t->faces, (unsigned long long)t->components,
            t->components == 1 ? "" : "s");
-    printf("images     root %ux%u, refined %ux%u%s\n", t->root_cols, t->root_rows, t->cols,
+    fprintf(out, "images     root %ux%u, refined %ux%u%s\n", t->root_cols, t->root_rows, t->cols,
            t->rows, a->params.flat ? " (flat rPFC)" : "");
-    printf("depth      %u (%u level%s)\n", t->levels - 1, t->levels, t->levels == 1 ? "" : "s");
-    printf("\n%5s %10s %12s %12s %12s %5s %5s %14s\n", "level", "images", "word", "refined",
+    fprintf(out, "depth      %u (%u level%s)\n", t->levels - 1, t->levels, t->levels == 1 ? "" : "s");
+    fprintf(out, "\n%5s %10s %12s %12s %12s %5s %5s %14s\n", "level", "images", "word", "refined",
            "private", "k_w", "k_@", "pool bits");
     for (uint32_t l = 0; l < t->levels; l++) {
         const level_report *lv = &r->levels[l];
-        printf("%5u %10llu %12llu %12llu %12llu %5u %5u %14llu\n", l,
+        fprintf(out, "%5u %10llu %12llu %12llu %12llu %5u %5u %14llu\n", l,
                (unsigned long long)lv->images, (unsigned long long)lv->word,
                (unsigned long long)lv->refined, (unsigned long long)lv->private_, lv->word_bits,
                lv->address_bits, (unsigned long long)lv->pool_bits);
     }
-    printf("%5s %10s %12llu %12llu %12llu\n\n", "all", "", (unsigned long long)t->word_pixels,
+    fprintf(out, "%5s %10s %12llu %12llu %12llu\n\n", "all", "", (unsigned long long)t->word_pixels,
            (unsigned long long)t->refined_pixels, (unsigned long long)t->private_pixels);
-    printf("pixels     %llu (%.1f%% private)\n", (unsigned long long)total,
+    fprintf(out, "pixels     %llu (%.1f%% private)\n", (unsigned long long)total,
            total ? 100.0 * (double)t->private_pixels / (double)total : 0.0);
-    printf("max word   %u symbols\n", t->max_word_symbols);
-    printf("file       %llu bytes, %.2f bits per edge\n", (unsigned long long)r->file_bytes,
+    fprintf(out, "max word   %u symbols\n", t->max_word_symbols);
+    fprintf(out, "file       %llu bytes, %.2f bits per edge\n", (unsigned long long)r->file_bytes,
            bits_per_edge(r));
-    printf("time       build %.6f s (read %.6f s, write %.6f s)\n", r->build_s, r->read_s,
+    fprintf(out, "time       build %.6f s (read %.6f s, write %.6f s)\n", r->build_s, r->read_s,
            r->write_s);
     if (r->gis)
-        printf("read       %.3f s: read %.3f s, project %.3f s, node %.3f s, graph %.3f s "
+        fprintf(out, "read       %.3f s: read %.3f s, project %.3f s, node %.3f s, graph %.3f s "
                "(%llu shape points, noding %s)\n",
                r->read_s, r->gis_info.read_s, r->gis_info.project_s, r->gis_info.node_s,
                r->gis_info.graph_s, (unsigned long long)r->gis_info.points_read,
@@ -717,6 +785,52 @@ static int same_file(const char *a, const char *b)
     struct stat sa, sb;
     return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
            sa.st_ino == sb.st_ino;
+}
+
+/* OUTPUT can be made, checked before the read and the build (minutes on a
+ * continent): not a directory, not an existing file unless --force, in a
+ * directory where a new file can be created (probed by creating one). 0 or
+ * an exit status (the message is printed). */
+static int check_output(const pack_args *a)
+{
+    if (a->to_stdout) {
+        if (!isatty(1))
+            return 0;
+        complain("-o -: standard output is a terminal; redirect it or name a file");
+        return EXIT_USAGE;
+    }
+    struct stat st;
+    size_t n = strlen(a->output);
+    if (a->output[n - 1] == '/' || (stat(a->output, &st) == 0 && S_ISDIR(st.st_mode))) {
+        complain("%s: is a directory (-o names the .hpfc file to write)", a->output);
+        return EXIT_USAGE;
+    }
+    if (lstat(a->output, &st) == 0 && !a->force) {
+        complain("%s: exists; --force (or -overwrite) replaces it", a->output);
+        return EXIT_FAIL;
+    }
+    const char *slash = strrchr(a->output, '/');
+    size_t dlen = slash ? (size_t)(slash - a->output) : 0;
+    char *probe = malloc(dlen + 64);
+    if (!probe) {
+        complain("%s: %s", a->output, strerror(ENOMEM));
+        return EXIT_FAIL;
+    }
+    /* "dir/.hpfc-pack-probe.PID", "/.hpfc-..." or ".hpfc-..." */
+    snprintf(probe, dlen + 64, "%.*s%s.hpfc-pack-probe.%ld", (int)dlen, a->output,
+             slash ? "/" : "", (long)getpid());
+    int fd = open(probe, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    int err = fd < 0 ? errno : 0;
+    if (fd >= 0) {
+        close(fd);
+        unlink(probe);
+    }
+    free(probe);
+    if (err && err != EEXIST) {
+        complain("%s: cannot create: %s", a->output, strerror(err));
+        return EXIT_FAIL;
+    }
+    return 0;
 }
 
 /* Links every face of the serialised map `f` to the polygon features that
@@ -778,6 +892,24 @@ static void show_build_progress(void *user, uint32_t level, uint64_t done, uint6
     progress_show(user, stage, (double)done, (double)total, done == total);
 }
 
+/* -o -: the final bytes (with the FEAT section) on standard output. */
+static int write_stdout(const hpfc_file *f, const hpfc_write_options *wopts, pack_report *r,
+                        hpfc_diag *diag)
+{
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    int st = hpfc_file_serialize(f, wopts, &bytes, &size, diag);
+    if (!st && (fwrite(bytes, 1, size, stdout) != size || fflush(stdout) != 0)) {
+        snprintf(diag->message, sizeof diag->message, "cannot write to standard output: %s",
+                 strerror(errno));
+        st = HPFC_E_IO;
+    }
+    if (!st)
+        r->file_bytes = size;
+    free(bytes);
+    return st;
+}
+
 /* Builds, checks the serialised bytes, then writes OUTPUT; 0 or an exit
  * status (the message is printed). */
 static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report *r)
@@ -832,10 +964,12 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
             wopts.edge_features = &edge_features;
     }
     hpfc_tree_free(t);
-    if (!st) /* the pools as serialised, with the FEAT section when there is one */
+    if (!st && a->to_stdout)
+        st = write_stdout(f, &wopts, r, &diag);
+    else if (!st) /* the pools as serialised, with the FEAT section when there is one */
         st = hpfc_file_write_file(f, &wopts, a->output, &diag);
     struct stat written;
-    if (!st && wopts.features && stat(a->output, &written) == 0)
+    if (!st && !a->to_stdout && wopts.features && stat(a->output, &written) == 0)
         r->file_bytes = (uint64_t)written.st_size; /* with the FEAT section */
     r->write_s = now_seconds() - t0;
     hpfc_close(f);
@@ -854,10 +988,12 @@ int main(int argc, char **argv)
     int status = parse_args(argc, argv, &a);
     if (status >= 0)
         return status;
-    if (same_file(a.input, a.output)) {
+    if (!a.to_stdout && same_file(a.input, a.output)) {
         complain("%s: OUTPUT is the same file as INPUT", a.output);
         return EXIT_USAGE;
     }
+    if ((status = check_output(&a)) != 0)
+        return status;
     pack_report r = {0};
     hpfc_graph *g = NULL;
     double t0 = now_seconds();
@@ -867,11 +1003,12 @@ int main(int argc, char **argv)
         status = build_and_write(&a, g, &r);
     hpfc_graph_free(g);
     if (!status && !a.quiet) {
+        FILE *out = a.to_stdout ? stderr : stdout; /* stdout holds the file */
         if (a.json)
-            print_json(&a, &r);
+            print_json(out, &a, &r);
         else
-            print_text(&a, &r);
-        if (fflush(stdout) != 0) {
+            print_text(out, &a, &r);
+        if (fflush(out) != 0) {
             complain("cannot write the report: %s", strerror(errno));
             status = EXIT_FAIL;
         }

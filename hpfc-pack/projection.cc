@@ -122,11 +122,21 @@ static void build(mapproj_plan *p, double lat_min, double lat_max)
 extern "C" mapproj_plan *mapproj_create(mapproj_kind kind, double lon_min, double lat_min,
                                   double lon_max, double lat_max, double a, double f)
 {
+    return mapproj_create_at(kind, lon_min, lat_min, lon_max, lat_max, NAN, a, f);
+}
+
+extern "C" mapproj_plan *mapproj_create_at(mapproj_kind kind, double lon_min, double lat_min,
+                                           double lon_max, double lat_max, double lon0, double a,
+                                           double f)
+{
     mapproj_plan *p = new (std::nothrow) mapproj_plan();
     if (!p)
         return nullptr;
     p->kind = kind == MAPPROJ_AUTO ? choose(lon_min, lat_min, lon_max, lat_max) : kind;
-    p->lon0 = rounded((lon_min + lon_max) / 2);
+    double mid = (lon_min + lon_max) / 2; // lon_max may pass 180 (an arc across the antimeridian)
+    if (p->kind != MAPPROJ_EQC && std::isfinite(lon0))
+        mid = lon0;
+    p->lon0 = rounded(mid > 180.0 ? mid - 360.0 : mid);
     p->lat0 = rounded((lat_min + lat_max) / 2);
     p->a = a;
     p->f = f;

@@ -38,6 +38,11 @@ typedef struct mapproj_plan mapproj_plan;
  * memory runs out. */
 mapproj_plan *mapproj_create(mapproj_kind kind, double lon_min, double lat_min, double lon_max,
                        double lat_max, double a, double f);
+/* The same with the central meridian at lon0 (e.g. the data's median
+ * longitude) for tm, lcc and aea; eqc and a NaN lon0 take the extent's
+ * middle (eqc keeps its seam opposite, in the data's gap). */
+mapproj_plan *mapproj_create_at(mapproj_kind kind, double lon_min, double lat_min,
+                                double lon_max, double lat_max, double lon0, double a, double f);
 void mapproj_free(mapproj_plan *plan);
 
 /* The kind actually used (never MAPPROJ_AUTO). */

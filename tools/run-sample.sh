@@ -6,5 +6,5 @@ cd "$(dirname "$0")/.."
 sh tools/install-deps.sh
 [ -d build ] || meson setup build --buildtype=release >/dev/null
 ninja -C build >/dev/null
-./build/hpfc-pack/hpfc-pack data/delaunay-4000.pfc -o build/delaunay-4000.hpfc
+./build/hpfc-pack/hpfc-pack --force data/delaunay-4000.pfc -o build/delaunay-4000.hpfc
 ./build/hpfc-inspect/hpfc-inspect build/delaunay-4000.hpfc
