@@ -1,0 +1,27 @@
+/*
+ * lattice_point.h: user coordinates and (lon, lat) to lattice points for
+ * the Python module, decided as hpfc-inspect's --locate decides them.
+ */
+#ifndef HPFC_PY_LATTICE_POINT_H
+#define HPFC_PY_LATTICE_POINT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "projection.h"
+
+/* The lattice point floor(v / 10^unit_exp10) of the decimal that "%.17g"
+ * prints for v: the CLI reads a coordinate as that decimal (its text, or a
+ * projected double printed so). 0 on success, -1 when v is not finite or
+ * the point is beyond any int64 lattice (then it lies outside every
+ * domain). */
+int lattice_floor(double v, int32_t unit_exp10, int64_t *out);
+
+/* Projects n (lon, lat) degrees with `plan` (NULL: the coordinates are
+ * user coordinates already) and floors them to the lattice; valid[k] is 0
+ * where lon/lat is out of range, the projection fails or the point lies
+ * beyond the lattice. */
+void lattice_points(const mapproj_plan *plan, int32_t unit_exp10, size_t n, const double *lon,
+                    const double *lat, int64_t *x, int64_t *y, uint8_t *valid);
+
+#endif
