@@ -1135,11 +1135,11 @@ static PyObject *mod_lattice_floor(PyObject *m, PyObject *args)
 {
     (void)m;
     double v;
-    int e;
-    if (!PyArg_ParseTuple(args, "di", &v, &e))
+    int e, shortest = 1;
+    if (!PyArg_ParseTuple(args, "di|p", &v, &e, &shortest))
         return NULL;
     int64_t out;
-    if (lattice_floor(v, e, &out))
+    if (lattice_floor(v, e, shortest, &out))
         Py_RETURN_NONE;
     return PyLong_FromLongLong(out);
 }

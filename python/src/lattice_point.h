@@ -10,15 +10,16 @@
 
 #include "projection.h"
 
-/* The lattice point floor(v / 10^unit_exp10) of the decimal that "%.17g"
- * prints for v: the CLI reads a coordinate as that decimal (its text, or a
- * projected double printed so). 0 on success, -1 when v is not finite or
- * the point is beyond any int64 lattice (then it lies outside every
- * domain). */
-int lattice_floor(double v, int32_t unit_exp10, int64_t *out);
+/* The lattice point floor(d / 10^unit_exp10) of a decimal d of v, as the
+ * CLI reads a coordinate: shortest = 1 takes the shortest decimal that
+ * reads back as v (what a user typed: Python's repr), shortest = 0 the
+ * "%.17g" one (how the CLI prints a projected double). 0 on success, -1
+ * when v is not finite or the point lies beyond any int64 lattice (then
+ * outside every domain). */
+int lattice_floor(double v, int32_t unit_exp10, int shortest, int64_t *out);
 
-/* Projects n (lon, lat) degrees with `plan` (NULL: the coordinates are
- * user coordinates already) and floors them to the lattice; valid[k] is 0
+/* Projects n (lon, lat) degrees with `plan` and floors them to the lattice
+ * (17 digits); with plan NULL, floors user coordinates (shortest); valid[k] is 0
  * where lon/lat is out of range, the projection fails or the point lies
  * beyond the lattice. */
 void lattice_points(const mapproj_plan *plan, int32_t unit_exp10, size_t n, const double *lon,
