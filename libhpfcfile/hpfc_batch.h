@@ -33,8 +33,9 @@ enum {
 typedef struct hpfc_locate_out {
     int64_t *face;           /* the face when the leaf meets one face, else -1 */
     uint32_t *face_count;    /* faces meeting the leaf (candidates) */
-    int64_t *feature;        /* the feature when the candidates link to exactly
-                                one, else -1 (also without a FEAT section) */
+    int64_t *feature;        /* the point's feature when every candidate face
+                                links exactly that one feature, else -1 (also
+                                without a FEAT section) */
     uint32_t *feature_count; /* distinct features of the candidate faces */
     uint8_t *flags;          /* HPFC_LOC_* */
     uint8_t *depth;          /* level of the leaf, 0 outside */

@@ -95,10 +95,13 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
     return HPFC_OK;
 }
 
-/* The distinct features of faces[0..n), into s->features; count in *m. */
-static int leaf_features(const hpfc_file *f, batch_scratch *s, size_t n, size_t *m)
+/* The distinct features of faces[0..n), into s->features; count in *m.
+ * *sure: every face links exactly one feature, the same one, so the point
+ * lies in it whichever candidate face holds it. */
+static int leaf_features(const hpfc_file *f, batch_scratch *s, size_t n, size_t *m, int *sure)
 {
     size_t total = 0;
+    *sure = n > 0;
     for (size_t k = 0; k < n; k++) {
         uint32_t count;
         int st = hpfc_face_feature_count(f, s->faces[k], &count);
@@ -108,6 +111,8 @@ static int leaf_features(const hpfc_file *f, batch_scratch *s, size_t n, size_t 
             st = hpfc_face_feature(f, s->faces[k], i, &s->features[total++]);
         if (st)
             return st;
+        if (count != 1 || s->features[total - 1] != s->features[0])
+            *sure = 0;
     }
     *m = unique_u32(s->features, total);
     return HPFC_OK;
@@ -138,12 +143,12 @@ static int answer_point(const hpfc_file *f, const hpfc_faces *fc, int features, 
         answer_outside(o, k);
         return HPFC_OK;
     }
-    int is_private = 0;
+    int is_private = 0, sure = 0;
     size_t n = 0, m = 0;
     if (!st)
         st = leaf_faces(f, fc, &px, &is_private, s, &n);
     if (!st && features && (o->feature || o->feature_count))
-        st = leaf_features(f, s, n, &m);
+        st = leaf_features(f, s, n, &m, &sure);
     if (st)
         return st;
     if (o->face)
@@ -151,7 +156,7 @@ static int answer_point(const hpfc_file *f, const hpfc_faces *fc, int features, 
     if (o->face_count)
         o->face_count[k] = (uint32_t)n;
     if (o->feature)
-        o->feature[k] = m == 1 ? (int64_t)s->features[0] : -1;
+        o->feature[k] = sure ? (int64_t)s->features[0] : -1;
     if (o->feature_count)
         o->feature_count[k] = (uint32_t)m;
     if (o->flags)

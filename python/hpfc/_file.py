@@ -51,8 +51,9 @@ class Location:
     no crossing, so its one face is the point's; faces: the faces meeting
     the leaf (the candidates for the point's face), ascending; face: the one
     face when there is one candidate, else None; features: the features of
-    the candidate faces, ascending; feature: the one feature when there is
-    one, else None; key: that feature's key value (None without one).
+    the candidate faces, ascending; feature: the point's feature when every
+    candidate face links exactly that one feature, else None; key: that
+    feature's key value (None without one).
     """
 
     __slots__ = ("inside", "x", "y", "pixel", "private", "faces", "face", "features",
@@ -72,8 +73,9 @@ class Locations:
 
     face (int64): the point's face when its leaf meets one face, else -1
     (outside too); face_count (uint32): faces meeting the leaf (0 outside);
-    feature (int64): the one feature of those faces, else -1; feature_count
-    (uint32); inside, private, single (bool): in the domain, in a private
+    feature (int64): the point's feature when every candidate face links
+    exactly that one, else -1; feature_count (uint32): distinct features of
+    the candidates; inside, private, single (bool): in the domain, in a private
     leaf, one candidate face; depth (uint8): the leaf's level; x, y (int64):
     lattice points. key: the features' key values (an object array, None
     where feature is -1), made on first use.
@@ -247,10 +249,13 @@ class File(_hpfc._File):
         if px is None:
             return Location(inside=False, x=x, y=y, faces=[], features=[])
         faces = px.faces()
-        features = []
+        features, per_face = [], []
         if self.has_features:
-            features = sorted({f for face in faces for f in self.face_features(face)})
-        feature = features[0] if len(features) == 1 else None
+            per_face = [self.face_features(face) for face in faces]
+            features = sorted({f for links in per_face for f in links})
+        # the point's feature whichever candidate holds it: all link [f]
+        sure = per_face and all(links == per_face[0] for links in per_face)
+        feature = per_face[0][0] if sure and len(per_face[0]) == 1 else None
         key = self.feature(feature)["key"] if feature is not None else None
         return Location(inside=True, x=x, y=y, pixel=px, private=px.is_private, faces=faces,
                         face=faces[0] if len(faces) == 1 else None, features=features,

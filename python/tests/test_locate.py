@@ -43,6 +43,8 @@ def check_scalar_against_batch(f, xs, ys, batch, lonlat=False):
         assert batch.feature_count[k] == len(one.features), k
         assert batch.feature[k] == (one.feature if one.feature is not None else -1), k
         assert batch.key[k] == one.key, k
+        if one.feature is not None:  # the point's feature whichever candidate holds it
+            assert all(f.face_features(face) == [one.feature] for face in one.faces), k
         if one.inside:
             assert (batch.x[k], batch.y[k]) == (one.x, one.y), k
             assert bool(batch.private[k]) == one.pixel.is_private, k
