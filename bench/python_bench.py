@@ -48,6 +48,7 @@ def main():
     ap.add_argument("--layer-name", default=None)
     ap.add_argument("--c-bench", default=None)
     ap.add_argument("--open", dest="big", default=None)
+    ap.add_argument("--no-geopandas", action="store_true")
     args = ap.parse_args()
 
     import hpfc
@@ -84,6 +85,14 @@ def main():
               f"({c['ns_per_point']:.0f} ns/point); Python / C = {hp_s / c['locate_best_s']:.2f}; "
               f"same answers: {same}")
 
+    if not args.no_geopandas:
+        join_with_geopandas(args, f, lon, lat, hits, hp_s)
+    f.close()
+    if args.big:
+        open_cost(args)
+
+
+def join_with_geopandas(args, f, lon, lat, hits, hp_s):
     import geopandas as gpd
 
     kw = {"layer": args.layer_name} if args.layer_name else {}
@@ -108,9 +117,12 @@ def main():
         print(f"            hpfc's one-face answers naming sjoin's polygon ({key_field}): "
               f"{agree:.4f} of {sure.sum()}; stabbed leaves with one candidate feature: "
               f"{agree_c:.4f} of {cand.sum()}; sjoin finds a polygon for {inside_sj.mean():.3f}")
-    f.close()
 
-    if args.big:
+
+def open_cost(args):
+    import hpfc
+
+    if True:
         code = ("import time; t=time.perf_counter(); import hpfc; f=hpfc.open(%r); "
                 "print(time.perf_counter()-t)" % args.big)
         cold = sorted(float(subprocess.run([sys.executable, "-c", code], capture_output=True,
