@@ -212,3 +212,26 @@ def test_lattice_floor_reads_decimals_as_the_cli(e):
     assert _hpfc.lattice_floor(float("nan"), e) is None
     assert _hpfc.lattice_floor(float("inf"), e) is None
     assert _hpfc.lattice_floor(1e300, e) is None
+
+
+def test_lattice_point_and_reprs(counties, delaunay):
+    with hpfc.open(counties) as f:
+        p = f.lattice_point(-75.0, 41.0, lonlat=True)
+        one = f.locate_lonlat(-75.0, 41.0)
+        assert p == (one.x, one.y)
+        assert f.lattice_point(float("nan"), 0.0) is None
+        assert "Location(" in repr(one) and str(one.pixel) in repr(one)
+        assert repr(one.pixel).startswith("<hpfc.Pixel ")
+        assert "hpfc.File" in repr(f)
+    assert "closed" in repr(f)
+    with hpfc.open(delaunay) as f:
+        e = f.unit_exp10
+        for v in (0.5, -3.25, 1234.0):
+            assert f.lattice_point(v, v) == (_hpfc.lattice_floor(v, e),) * 2
+        info = f.info
+        cx = (info["x0"] + info["width"] // 2) * 10.0 ** e
+        cy = (info["y0"] + info["height"] // 2) * 10.0 ** e
+        one = f.locate(cx, cy)
+        assert one.inside
+        assert len(one.pixel.path) == one.pixel.depth + 1
+        assert str(one.pixel) == "/".join(f"{i},{j}" for i, j in one.pixel.path)
