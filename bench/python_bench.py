@@ -7,7 +7,7 @@
 LAYER is the polygon layer FILE.hpfc was packed from (GDAL-readable: the
 TopoJSON of npm's us-atlas, GeoJSON, ...). N random lon/lat points over the
 conterminous United States (default 1,000,000, seed 1) are answered three
-ways, timed best of three (geopandas once: it takes seconds):
+ways, timed best of --repeats (default 3; geopandas once: it takes minutes):
   - hpfc: File.locate_lonlat (File.locate when the file records no CRS, so
     its coordinates are lon/lat already), after a warm-up that numbers the
     faces (timed apart);
@@ -49,6 +49,7 @@ def main():
     ap.add_argument("--c-bench", default=None)
     ap.add_argument("--open", dest="big", default=None)
     ap.add_argument("--no-geopandas", action="store_true")
+    ap.add_argument("--repeats", type=int, default=3, help="best of this many (hpfc, C)")
     args = ap.parse_args()
 
     import hpfc
@@ -62,7 +63,7 @@ def main():
     t0 = time.perf_counter()
     locate(lon[:10], lat[:10])
     faces_s = time.perf_counter() - t0
-    hp_s, hits = best_of(lambda: locate(lon, lat), 3)
+    hp_s, hits = best_of(lambda: locate(lon, lat), args.repeats)
     print(f"hpfc        {args.n} points: {hp_s:.3f} s ({hp_s * 1e9 / args.n:.0f} ns/point); "
           f"faces numbered once: {faces_s:.3f} s; {'lon/lat via CRS' if lonlat else 'lon/lat lattice'}")
     print(f"            inside {hits.inside.mean():.3f}, single face {hits.single.mean():.3f}, "
@@ -73,7 +74,7 @@ def main():
             np.concatenate([lon, lat]).astype(np.float64).tofile(tmp)
         try:
             r = subprocess.run([args.c_bench, "locate", args.hpfc, tmp.name,
-                                "lonlat" if lonlat else "xy", "3"],
+                                "lonlat" if lonlat else "xy", str(args.repeats)],
                                capture_output=True, text=True, check=True)
         finally:
             os.unlink(tmp.name)

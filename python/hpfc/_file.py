@@ -12,12 +12,24 @@ library call per dart or face, and as an on_boundary array in Locations once
 the library decides a point's one face exactly.
 """
 
-import numpy as np
-
 from . import _hpfc
 from ._errors import Error
 
 WEST, NORTH, EAST, SOUTH = 0, 1, 2, 3
+
+
+class _LazyNumpy:
+    """numpy, imported on first use: `import hpfc; hpfc.open(path)` then
+    costs the library's open, not numpy's import (about 0.1 s)."""
+
+    def __getattr__(self, name):
+        import numpy
+
+        globals()["np"] = numpy
+        return getattr(numpy, name)
+
+
+np = _LazyNumpy()
 
 
 def _as_scalar(value, name):
@@ -351,8 +363,16 @@ class File(_hpfc._File):
         stack = [self.root(i, j) for j in reversed(range(info["root_rows"]))
                  for i in reversed(range(info["root_cols"]))]
         cols, rows = info["cols"], info["rows"]
+        # A damaged file can point many refined pixels at one image: stop,
+        # as the library's leaf iterator does, past the level table's count.
+        limit = sum(l["word_pixels"] + l["refined_pixels"] for l in self.levels)
+        seen = 0
         while stack:
             px = stack.pop()
+            seen += 1
+            if seen > limit:
+                raise Error(48, "HPFC_E_CORRUPT", _hpfc.strerror(48),
+                            "pixels: more pixels than the level table declares")
             yield px
             if px.kind == "refined":
                 stack.extend(px.child(i, j) for j in reversed(range(rows))
