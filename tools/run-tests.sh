@@ -20,8 +20,12 @@ if [ "$fuzz_seconds" -gt 0 ] && sh fuzz/run.sh --check; then
 else
     echo "fuzz: skipped (no clang with libFuzzer, or HPFC_FUZZ_SECONDS=0)"
 fi
-python3 - build-test/meson-logs/testlog.json <<'PY'
-import json, sys
+# The Python package's pytest suite (tools/test-python.sh), its own build.
+sh tools/test-python.sh build-test/hpfc-pack/hpfc-pack build-test/hpfc-inspect/hpfc-inspect ||
+    { echo "python: FAILED"; status=1; }
+python3 - build-test/meson-logs/testlog.json build-python/pytest.xml <<'PY'
+import json, os, sys
+import xml.etree.ElementTree as ET
 ok = bad = 0
 for line in open(sys.argv[1]):
     r = json.loads(line)["result"]
@@ -29,6 +33,16 @@ for line in open(sys.argv[1]):
         ok += 1
     elif r != "SKIP":
         bad += 1
+# pytest cases count one each; a missing report (pytest never ran) is a failure.
+if os.path.exists(sys.argv[2]):
+    for case in ET.parse(sys.argv[2]).iter("testcase"):
+        tags = {child.tag for child in case}
+        if tags & {"failure", "error"}:
+            bad += 1
+        elif "skipped" not in tags:
+            ok += 1
+else:
+    bad += 1
 print(f"tests: {ok} passed, {bad} failed")
 PY
 exit $status

@@ -1,0 +1,57 @@
+/*
+ * hpfc_batch.h: point location for many points in one call (issue 18).
+ *
+ * Bindings (the Python package in python/) hand a whole array of lattice
+ * points to one C call instead of crossing into C once per point. The
+ * answers are exactly those of the public calls it strings together:
+ * hpfc_locate, then hpfc_faces_of_private_pixel (a private leaf) or
+ * hpfc_faces_of_dart for each crossing of a stabbed leaf, then the FEAT
+ * links of those faces (hpfc_face_feature). Without the file's exact
+ * geometry (issue 16) a stabbed leaf names its candidate faces, not the
+ * one face holding the point; the batch reports how many there are and a
+ * face only when there is one.
+ */
+#ifndef HPFC_BATCH_H
+#define HPFC_BATCH_H
+
+#include "hpfc.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Flags of one answer. */
+enum {
+    HPFC_LOC_INSIDE = 1u,   /* the point lies in the file's domain */
+    HPFC_LOC_PRIVATE = 2u,  /* its leaf is private: the face is the point's */
+    HPFC_LOC_SINGLE = 4u    /* the leaf meets one face only: `face` is set */
+};
+
+/* Per-point outputs; any pointer may be NULL when not wanted. Each array
+ * has n entries. A point outside the domain, or skipped by `valid`, gets
+ * face -1, feature -1, counts 0 and flags 0. */
+typedef struct hpfc_locate_out {
+    int64_t *face;           /* the face when the leaf meets one face, else -1 */
+    uint32_t *face_count;    /* faces meeting the leaf (candidates) */
+    int64_t *feature;        /* the point's feature when every candidate face
+                                links exactly that one feature, else -1 (also
+                                without a FEAT section) */
+    uint32_t *feature_count; /* distinct features of the candidate faces */
+    uint8_t *flags;          /* HPFC_LOC_* */
+    uint8_t *depth;          /* level of the leaf, 0 outside */
+} hpfc_locate_out;
+
+/* Answers lattice points (x[k], y[k]), k < n, skipping those whose
+ * valid[k] is 0 (valid NULL: none skipped). `faces` comes from
+ * hpfc_faces_build on the same file. Stops at the first failure with its
+ * status (HPFC_E_CORRUPT, HPFC_E_NOMEM, ...) and the failing index in
+ * *failed (when non-NULL); outputs before it are filled. Keeps no state:
+ * threads may answer parts of one array at once. */
+HPFC_API int hpfc_locate_batch(const hpfc_file *file, const hpfc_faces *faces, size_t n,
+                               const int64_t *x, const int64_t *y, const uint8_t *valid,
+                               const hpfc_locate_out *out, size_t *failed);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* HPFC_BATCH_H */
