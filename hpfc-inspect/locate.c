@@ -40,6 +40,9 @@ typedef struct locator {
     size_t cap;
     uint32_t *feat;          /* features of the candidates */
     size_t feat_cap;
+    int edge_features;       /* LABL and EDGF: the leaf's edges name their features */
+    uint32_t *along;         /* features of the located leaf's edges */
+    size_t along_cap;
     mapproj_plan *plan;      /* --lonlat: the file's projection */
 } locator;
 
@@ -51,6 +54,7 @@ typedef struct answer {
     int is_private;
     char *word;
     size_t nfaces, nfeat;
+    size_t nalong;           /* features whose lines or rings cross the leaf */
 } answer;
 
 static void locator_close(locator *L)
@@ -58,6 +62,7 @@ static void locator_close(locator *L)
     hpfc_faces_free(L->faces);
     free(L->cand);
     free(L->feat);
+    free(L->along);
     if (L->plan)
         mapproj_free(L->plan);
 }
@@ -102,6 +107,8 @@ static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
         L->features = 1;
     } else if (st != HPFC_E_NO_SECTION)
         return view_fail(why, "features: %s", hpfc_strerror(st));
+    uint32_t edges, links;
+    L->edge_features = L->features && L->labels && hpfc_edge_features_info(f, &edges, &links) == HPFC_OK;
     return VIEW_OK;
 }
 
@@ -125,6 +132,18 @@ static int cmp_u32(const void *a, const void *b)
 }
 
 /* The features of the candidate faces, each once, ascending. */
+/* Sorts v[0 .. n) and drops repeats; returns the new length. */
+static size_t sort_unique_u32(uint32_t *v, size_t n)
+{
+    if (n > 1)
+        qsort(v, n, sizeof *v, cmp_u32);
+    size_t u = 0;
+    for (size_t k = 0; k < n; k++)
+        if (u == 0 || v[u - 1] != v[k])
+            v[u++] = v[k];
+    return u;
+}
+
 static int gather_features(locator *L, answer *a)
 {
     a->nfeat = 0;
@@ -141,13 +160,34 @@ static int gather_features(locator *L, answer *a)
         if (st)
             return st;
     }
-    if (a->nfeat > 1)
-        qsort(L->feat, a->nfeat, sizeof *L->feat, cmp_u32);
-    size_t u = 0;
-    for (size_t k = 0; k < a->nfeat; k++)
-        if (u == 0 || L->feat[u - 1] != L->feat[k])
-            L->feat[u++] = L->feat[k];
-    a->nfeat = u;
+    a->nfeat = sort_unique_u32(L->feat, a->nfeat);
+    return HPFC_OK;
+}
+
+/* The features of the edges that cross a stabbed leaf (EDGF, by the edge
+ * ids of its LABL record): a line layer's river next to the point, or the
+ * borders it lies near. */
+static int gather_along(locator *L, answer *a)
+{
+    a->nalong = 0;
+    if (!L->edge_features || a->is_private)
+        return HPFC_OK;
+    size_t crossings = strlen(a->word) - 4; /* a word of c crossings has c + 4 symbols */
+    for (size_t k = 0; k < crossings; k++) {
+        uint64_t edge;
+        uint32_t count, feature;
+        int st = hpfc_label_crossing_edge(L->f, &a->px, (uint32_t)k, &edge);
+        if (!st)
+            st = hpfc_edge_feature_count(L->f, edge, &count);
+        if (!st && reserve((void **)&L->along, &L->along_cap, a->nalong + count, sizeof *L->along))
+            st = HPFC_E_NOMEM;
+        for (uint32_t i = 0; i < count && !st; i++)
+            if (!(st = hpfc_edge_feature(L->f, edge, i, &feature)))
+                L->along[a->nalong++] = feature;
+        if (st)
+            return st;
+    }
+    a->nalong = sort_unique_u32(L->along, a->nalong);
     return HPFC_OK;
 }
 
@@ -201,7 +241,9 @@ static int locate_lattice(locator *L, int64_t x, int64_t y, answer *a)
         st = stored_faces(L, a);
     else
         st = view_pixel_faces(L->f, L->faces, &a->px, L->cand, L->cap, &a->nfaces);
-    return st ? st : gather_features(L, a);
+    if (!st)
+        st = gather_features(L, a);
+    return st ? st : gather_along(L, a);
 }
 
 /* Answers a point given in user coordinates. */
@@ -263,6 +305,18 @@ static void json_feature(jsonw *w, const locator *L, uint32_t index)
     jsonw_object_end(w);
 }
 
+/* "along": the features of the edges crossing the located leaf (files with
+ * LABL and EDGF only), each as in "features". */
+static void json_along(jsonw *w, const locator *L, const answer *a)
+{
+    if (!L->edge_features || !a->inside)
+        return;
+    jsonw_array_begin(w, "along");
+    for (size_t k = 0; k < a->nalong; k++)
+        json_feature(w, L, L->along[k]);
+    jsonw_array_end(w);
+}
+
 /* One answer as the JSON object of contracts §4. ll: the lon/lat asked
  * for (NULL for a plain point). */
 static void print_json(FILE *out, const locator *L, const decimal *ll, const decimal xy[2],
@@ -294,6 +348,7 @@ static void print_json(FILE *out, const locator *L, const decimal *ll, const dec
     for (size_t k = 0; k < a->nfeat; k++)
         json_feature(&w, L, L->feat[k]);
     jsonw_array_end(&w);
+    json_along(&w, L, a);
     if (a->inside)
         jsonw_string(&w, "word", a->word);
     jsonw_bool(&w, "inside", a->inside);
@@ -343,6 +398,12 @@ static void print_text(FILE *out, const locator *L, const decimal *ll, const dec
             a->nfeat == 0 ? " (no source feature covers the face)" : "");
     for (size_t k = 0; k < a->nfeat; k++)
         print_feature_text(out, L, L->feat[k]);
+    if (!L->edge_features || a->is_private)
+        return;
+    fprintf(out, "along       %zu%s\n", a->nalong,
+            a->nalong ? " (features whose lines or rings cross the pixel)" : "");
+    for (size_t k = 0; k < a->nalong; k++)
+        print_feature_text(out, L, L->along[k]);
 }
 
 /* ---- entry points ------------------------------------------------------------------ */
@@ -620,6 +681,7 @@ static void json_answer(jsonw *w, const locator *L, const batch_row *row, const 
     for (size_t k = 0; k < a->nfeat; k++)
         json_feature(w, L, L->feat[k]);
     jsonw_array_end(w);
+    json_along(w, L, a);
     if (a->inside)
         jsonw_string(w, "word", a->word);
     jsonw_bool(w, "inside", a->inside);

@@ -4,9 +4,11 @@
  * Bindings (the Python package in python/) hand a whole array of lattice
  * points to one C call instead of crossing into C once per point. The
  * answers are exactly those of the public calls it strings together:
- * hpfc_locate, then hpfc_faces_of_private_pixel (a private leaf) or
- * hpfc_faces_of_dart for each crossing of a stabbed leaf, then the FEAT
- * links of those faces (hpfc_face_feature). Without the file's exact
+ * hpfc_locate, then the faces of the leaf's regions from the stored
+ * labels (hpfc_label_leaf_faces, LABL) or, given numbered faces,
+ * hpfc_faces_of_private_pixel (a private leaf) or hpfc_faces_of_dart for
+ * each crossing of a stabbed leaf, then the FEAT links of those faces
+ * (hpfc_face_feature). Without the file's exact
  * geometry (issue 16) a stabbed leaf names its candidate faces, not the
  * one face holding the point; the batch reports how many there are and a
  * face only when there is one.
@@ -43,7 +45,9 @@ typedef struct hpfc_locate_out {
 
 /* Answers lattice points (x[k], y[k]), k < n, skipping those whose
  * valid[k] is 0 (valid NULL: none skipped). `faces` comes from
- * hpfc_faces_build on the same file. Stops at the first failure with its
+ * hpfc_faces_build on the same file, or is NULL to read the file's stored
+ * labels instead (no per-process numbering; HPFC_E_NO_SECTION when the
+ * file has no LABL section). Stops at the first failure with its
  * status (HPFC_E_CORRUPT, HPFC_E_NOMEM, ...) and the failing index in
  * *failed (when non-NULL); outputs before it are filled. Keeps no state:
  * threads may answer parts of one array at once. */

@@ -71,6 +71,15 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
     int st = hpfc_pixel_is_private(f, px, is_private);
     if (st)
         return st;
+    if (!fc) { /* the stored labels: the faces of the leaf's regions */
+        size_t count;
+        if ((st = hpfc_label_leaf_faces(f, px, NULL, 0, &count)) ||
+            (st = grow((void **)&s->faces, &s->face_cap, count ? count : 1, sizeof *s->faces)) ||
+            (st = hpfc_label_leaf_faces(f, px, s->faces, s->face_cap, &count)))
+            return st;
+        *n = unique_u64(s->faces, count);
+        return HPFC_OK;
+    }
     if (*is_private) {
         if ((st = grow((void **)&s->faces, &s->face_cap, 1, sizeof *s->faces)))
             return st;

@@ -442,7 +442,12 @@ static PyObject *File_locate_into(FileObject *self, PyObject *args)
     if (!PyArg_ParseTuple(args, "OOOOOOOOO", &o[0], &o[1], &o[2], &o[3], &o[4], &o[5], &o[6],
                           &o[7], &o[8]))
         return NULL;
-    if (file_faces(self))
+    if (file_ready(self))
+        return NULL;
+    /* The stored labels answer without numbering the faces first. */
+    hpfc_labels_info labels;
+    int stored = hpfc_file_labels(self->f, &labels) == HPFC_OK;
+    if (!stored && file_faces(self))
         return NULL;
     static const char *names[9] = {"x", "y", "valid", "face", "face_count", "feature",
                                    "feature_count", "flags", "depth"};
@@ -467,7 +472,7 @@ static PyObject *File_locate_into(FileObject *self, PyObject *args)
     int st;
     self->busy++;
     Py_BEGIN_ALLOW_THREADS
-    st = hpfc_locate_batch(self->f, self->faces, (size_t)n, b[0].buf, b[1].buf,
+    st = hpfc_locate_batch(self->f, stored ? NULL : self->faces, (size_t)n, b[0].buf, b[1].buf,
                            have[2] ? b[2].buf : NULL, &out, &failed);
     Py_END_ALLOW_THREADS
     self->busy--;
