@@ -44,6 +44,7 @@ typedef struct pack_args {
     int invalid_mode;
     const char *key_field;
     int dateline;
+    int layout; /* HPFC_LAYOUT_*: --layout */
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -125,6 +126,10 @@ static void print_help(void)
            "                        GIS input: cut longitude/latitude lines and polygons\n"
            "                        that cross the antimeridian (a segment spanning more\n"
            "                        than 180 degrees) at +-180 (default), or refuse them\n"
+           "  --layout paper|compact\n"
+           "                        pool layout: the paper's fixed word slots and\n"
+           "                        addresses (default), or words in the bits they\n"
+           "                        need and children by rank (format 1.2)\n"
            "  --json                print the build report as one JSON object\n"
            "  --quiet               print no report\n"
            "  -h, --help            show this help\n"
@@ -233,6 +238,10 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->dateline = strcmp(v, "no") == 0 ? GIS_DATELINE_REJECT : GIS_DATELINE_CUT;
         return strcmp(v, "yes") == 0 || strcmp(v, "no") == 0 ? NULL : "yes or no";
     }
+    if (strcmp(name, "--layout") == 0) {
+        a->layout = strcmp(v, "compact") == 0 ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER;
+        return strcmp(v, "paper") == 0 || strcmp(v, "compact") == 0 ? NULL : "paper or compact";
+    }
     if (strcmp(name, "--vertices") == 0) {
         a->vertex_model = strcmp(v, "junctions") == 0 ? GIS_VERTICES_JUNCTIONS : GIS_VERTICES_ALL;
         return strcmp(v, "all") == 0 || strcmp(v, "junctions") == 0 ? NULL : "all or junctions";
@@ -248,7 +257,7 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
     static const char *const names[] = {"--root",     "--refine",   "--max-pixels",
                                         "--layer",    "--projection", "--vertices",
                                         "--invalid",  "--wrap-dateline", "--key",
-                                        "--output",   "-o"};
+                                        "--layout",   "--output",   "-o"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -747,7 +756,7 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     hpfc_build_params params = a->params;
     params.progress = show_build_progress;
     params.progress_user = &bar;
-    hpfc_write_options wopts = {.crs = r->gis ? r->gis_info.crs : NULL};
+    hpfc_write_options wopts = {.crs = r->gis ? r->gis_info.crs : NULL, .layout = a->layout};
     gis_feature_table ft = {0};
     hpfc_diag diag = {0};
     hpfc_tree *t = NULL;

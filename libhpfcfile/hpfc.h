@@ -259,10 +259,18 @@ typedef struct hpfc_feature_table {
 } hpfc_feature_table;
 
 /* Optional metadata recorded with a tree. */
+/* Pool layouts (spec/hpfc-format.md §9 and §14). */
+enum {
+    HPFC_LAYOUT_DEFAULT = 0, /* the library's default: HPFC_LAYOUT_PAPER for now */
+    HPFC_LAYOUT_PAPER = 1,   /* the paper's fixed slots and addresses (Sect. 4.1) */
+    HPFC_LAYOUT_COMPACT = 2, /* words in the bits they need, children by rank (1.2) */
+};
+
 typedef struct hpfc_write_options {
     const char *crs;          /* coordinate reference (e.g. "EPSG:32631" or a
                                  projection description), NULL for none */
     const hpfc_feature_table *features; /* FEAT section, NULL for none */
+    int layout;               /* HPFC_LAYOUT_*; hpfc_file_serialize keeps the file's */
 } hpfc_write_options;
 
 /* Serialises the tree into a malloc'ed buffer (*out, *out_size); the caller

@@ -2,6 +2,8 @@
 #ifndef HPFC_READER_H
 #define HPFC_READER_H
 
+#include <stdbool.h>
+
 #include "hpfc.h"
 
 /* hpfc_faces_build's union-find takes 32-bit words below this many nodes
@@ -51,6 +53,24 @@ int reader_word_at(const hpfc_file *file, uint32_t level, uint64_t image, uint64
  * trusted as it is by hpfc_pixel_move). out may be near. */
 int reader_locate_near(const hpfc_file *file, const hpfc_pixel *near, int64_t x, int64_t y,
                        hpfc_pixel *out);
+/* The file's pools use the compact layout (pool.h). */
+bool reader_is_compact(const hpfc_file *file);
+/* The end of level `level`'s image numbering: images are named 0 .. end
+ * - 1 (paper: bit offsets in the pool, end = s^l; compact: indices, end =
+ * the level's images), and reader_image_bits gives each one's extent. */
+uint64_t reader_image_end(const hpfc_file *file, uint32_t level);
+/* Compact only: the image holding the pixel whose type bits start at pool
+ * bit `bit`; HPFC_E_ARG when none does (or the file is paper). */
+int reader_slot_image(const hpfc_file *file, uint32_t level, uint64_t bit, uint64_t *image);
+/* Slot positions of level `level` (pool-relative) divided by *unit are
+ * distinct integers below *entries, one per pixel that has a slot. */
+void reader_slot_grid(const hpfc_file *file, uint32_t level, uint64_t *unit, uint64_t *entries);
+/* Leaf number (TEAM.md): the rank of a word pixel among its level's word
+ * pixels in pool order (images in pool order, each in raster order).
+ * HPFC_E_ARG for a refined pixel. Compact layout: O(1). */
+int reader_leaf_rank(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
+/* The same for the paper layout by counting (O(pool)). */
+int reader_leaf_rank_paper(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
 /* The FEAT section (checked at open), NULL when the file has none. */
 const uint8_t *reader_feat_section(const hpfc_file *file, uint64_t *length);
 

@@ -1680,7 +1680,7 @@ static void test_file_serialize(void)
     feat_fixture_make(&x, (uint32_t)hpfc_faces_count(fc));
     hpfc_faces_free(fc);
     const hpfc_write_options opts[4] = {
-        {NULL, NULL}, {"EPSG:4326", NULL}, {NULL, &x.t}, {"+proj=lcc +lat_1=33", &x.t}};
+        {NULL, NULL, 0}, {"EPSG:4326", NULL, 0}, {NULL, &x.t, 0}, {"+proj=lcc +lat_1=33", &x.t, 0}};
     for (int a = 0; a < 4; a++)
         for (int b = 0; b < 4; b++)
             check_reserialized(t, &opts[a], &opts[b], path);

@@ -1,0 +1,295 @@
+/*
+ * The compact pool layout (pool.h, spec/hpfc-format.md §14): sizes, the
+ * word code, O(1) pixel and word access, and the level writer.
+ */
+#include "pool.h"
+
+#include <string.h>
+
+/* ---- the word code ----------------------------------------------------------- */
+
+/* The code of a symbol depends on its context, the last crossing symbol
+ * before it in the word (the '+' do not change it): none yet, '[', '(' or
+ * 'Y', or one that closes a group (']', ')', '='). In each context the
+ * symbols the grammar (§3.8) allows there are listed by frequency on the
+ * Delaunay and GIS maps measured for the issue; the k-th costs k + 1 bits,
+ * k ones then a zero, the last one only its ones. Decoding counts the
+ * leading ones: no table, no reserved code. */
+enum { CTX_NONE, CTX_STABBING, CTX_JUNCTION, CTX_CLOSED };
+static const char *const ctx_symbols[4] = {"[(+=", "+][(=", "+Y)[(=", "+][Y)(="};
+static const unsigned ctx_last[4] = {3, 4, 5, 6}; /* index of the all-ones code */
+
+static int next_context(int ctx, char c)
+{
+    switch (c) {
+    case '+': return ctx;
+    case '[': return CTX_STABBING;
+    case '(': case 'Y': return CTX_JUNCTION;
+    default: return CTX_CLOSED;
+    }
+}
+
+/* The code of c in ctx: its length (0 when the context does not allow c). */
+static unsigned symbol_code(int ctx, char c, uint64_t *value)
+{
+    const char *s = ctx_symbols[ctx];
+    for (unsigned k = 0; s[k]; k++)
+        if (s[k] == c) {
+            unsigned last = ctx_last[ctx];
+            *value = k < last ? (((uint64_t)1 << k) - 1) << 1 : ((uint64_t)1 << last) - 1;
+            return k < last ? k + 1 : last;
+        }
+    return 0;
+}
+
+/* Calls emit(pool, off, bits, value) for each code of the word but its
+ * fourth '+' and returns the total bits; UINT64_MAX for a malformed word. */
+static uint64_t code_word(const char *word, uint32_t len, uint8_t *pool, uint64_t off)
+{
+    if (len < 4 || word[len - 1] != '+')
+        return UINT64_MAX;
+    uint64_t bits = 0;
+    unsigned plus = 0;
+    int ctx = CTX_NONE;
+    for (uint32_t k = 0; k + 1 < len; k++) {
+        uint64_t value;
+        unsigned n = symbol_code(ctx, word[k], &value);
+        if (n == 0 || (word[k] == '+' && ++plus > 3))
+            return UINT64_MAX;
+        if (pool)
+            format_put(pool, off + bits, n, value);
+        bits += n;
+        ctx = next_context(ctx, word[k]);
+    }
+    return plus == 3 ? bits : UINT64_MAX;
+}
+
+uint64_t pool_word_bits(const char *word, uint32_t len)
+{
+    if (len == 4 && memcmp(word, "++++", 4) == 0)
+        return 0; /* private: its type bits say it all */
+    return code_word(word, len, NULL, 0);
+}
+
+int pool_decode_word(const format_bits *pool, uint64_t start, uint64_t end, char *buf, size_t cap,
+                     size_t *len)
+{
+    uint64_t pos = start;
+    unsigned plus = 0;
+    int ctx = CTX_NONE;
+    size_t n = 0;
+    while (pos < end) {
+        uint64_t left = end - pos;
+        unsigned have = left < 56 ? (unsigned)left : 56;
+        uint64_t window = format_peek(pool, pos, have);
+        /* leading ones, at most 56 (the peeked bits end in zeros) */
+        unsigned ones = (unsigned)__builtin_clzll(~window | 1), last = ctx_last[ctx];
+        unsigned k = ones < last ? ones : last, bits = ones < last ? ones + 1 : last;
+        if (bits > have)
+            return HPFC_E_CORRUPT; /* a code cut by the word's end */
+        char c = ctx_symbols[ctx][k];
+        if (c == '+' && ++plus > 3)
+            return HPFC_E_CORRUPT; /* the fourth '+' ends a word: none is stored */
+        if (buf && n < cap)
+            buf[n] = c;
+        n++;
+        pos += bits;
+        ctx = next_context(ctx, c);
+    }
+    if (plus != 3 || n == 3)
+        return HPFC_E_CORRUPT; /* not a word, or "++++" where the type bits say stabbed */
+    if (buf && n < cap)
+        buf[n] = '+';
+    *len = ++n;
+    return buf && n > cap ? HPFC_E_ARG : HPFC_OK;
+}
+
+/* ---- sizes -------------------------------------------------------------------- */
+
+/* Bits of an unsigned integer: the width that holds 0 .. v. */
+static uint32_t bit_width(uint64_t v)
+{
+    return v ? (uint32_t)(64 - __builtin_clzll(v)) : 0;
+}
+
+bool pool_level_sizes(pool_level *pl, uint64_t pixels, uint64_t refined, uint64_t stabbed,
+                      uint64_t stream_bits)
+{
+    *pl = (pool_level){.pixels = pixels, .refined = refined, .stabbed = stabbed,
+                       .stream_bits = stream_bits};
+    pl->refined_width = bit_width(refined);
+    pl->stabbed_width = bit_width(stabbed);
+    pl->block_bits = (uint64_t)pl->refined_width + pl->stabbed_width + POOL_BLOCK_TYPE_BITS;
+    pl->blocks = pixels / POOL_BLOCK_PIXELS + (pixels % POOL_BLOCK_PIXELS != 0);
+    uint64_t s, t;
+    if (!format_mul(pl->blocks, (uint64_t)pl->refined_width + pl->stabbed_width, &s) ||
+        !format_mul(pixels, 2, &t) || !format_add(s, t, &pl->type_bits))
+        return false;
+    pl->select_off = pl->low_off = pl->high_off = pl->stream_off = pl->pool_bits = pl->type_bits;
+    if (stabbed == 0)
+        return true;
+    if (stabbed == UINT64_MAX)
+        return false;
+    pl->bounds = stabbed + 1;
+    uint64_t q = stream_bits / pl->bounds;
+    pl->low_width = q ? (uint32_t)(63 - __builtin_clzll(q)) : 0;
+    if (!format_add(pl->bounds, stream_bits >> pl->low_width, &pl->high_bits))
+        return false;
+    pl->select_width = bit_width(pl->high_bits - 1);
+    pl->select_count = pl->bounds / POOL_SELECT_STRIDE + (pl->bounds % POOL_SELECT_STRIDE != 0);
+    pl->select_off = pl->type_bits;
+    return format_mul(pl->select_count, pl->select_width, &s) &&
+           format_add(pl->select_off, s, &pl->low_off) &&
+           format_mul(pl->bounds, pl->low_width, &s) && format_add(pl->low_off, s, &pl->high_off) &&
+           format_add(pl->high_off, pl->high_bits, &pl->stream_off) &&
+           format_add(pl->stream_off, stream_bits, &pl->pool_bits);
+}
+
+/* ---- pixels ------------------------------------------------------------------------ */
+
+uint64_t pool_type_bit(const pool_level *pl, uint64_t g)
+{
+    return g / POOL_BLOCK_PIXELS * pl->block_bits + pl->refined_width + pl->stabbed_width +
+           2 * (g % POOL_BLOCK_PIXELS);
+}
+
+bool pool_pixel_at_bit(const pool_level *pl, uint64_t bit, uint64_t *g)
+{
+    uint64_t block = bit / pl->block_bits, in = bit % pl->block_bits;
+    uint64_t head = (uint64_t)pl->refined_width + pl->stabbed_width;
+    if (bit >= pl->type_bits || in < head || (in - head) % 2)
+        return false;
+    *g = block * POOL_BLOCK_PIXELS + (in - head) / 2;
+    return *g < pl->pixels;
+}
+
+/* In a left-aligned window of type pairs, the refined bits are the odd
+ * positions from the top (63, 61, ...), the stabbed bits the even ones. */
+#define REFINED_BITS 0xAAAAAAAAAAAAAAAAull
+#define STABBED_BITS 0x5555555555555555ull
+
+int pool_read_pixel(const format_bits *pool, const pool_level *pl, uint64_t g, pool_pixel *out)
+{
+    uint64_t block = g / POOL_BLOCK_PIXELS, in = g % POOL_BLOCK_PIXELS;
+    uint64_t at = block * pl->block_bits; /* < type_bits <= s^l: open checked the sizes */
+    /* the block's counts, then its pairs */
+    uint64_t refined = format_get(pool, at, pl->refined_width);
+    uint64_t stabbed = format_get(pool, at + pl->refined_width, pl->stabbed_width);
+    at += (uint64_t)pl->refined_width + pl->stabbed_width;
+    for (uint64_t n = 2 * in; n > 0;) { /* the pairs before g, 28 at a time */
+        unsigned k = n < 56 ? (unsigned)n : 56;
+        uint64_t w = format_peek(pool, at, k);
+        refined += format_ones(w & REFINED_BITS);
+        stabbed += format_ones(w & STABBED_BITS);
+        at += k;
+        n -= k;
+    }
+    unsigned type = (unsigned)(format_peek(pool, at, 2) >> 62);
+    if (type == 3)
+        return HPFC_E_CORRUPT; /* refined and stabbed */
+    out->kind = type == 2 ? POOL_REFINED : type == 1 ? POOL_STABBED : POOL_PRIVATE;
+    out->refined = refined;
+    out->stabbed = stabbed;
+    if ((type == 2 && refined >= pl->refined) || (type == 1 && stabbed >= pl->stabbed))
+        return HPFC_E_CORRUPT; /* counts that disagree with the level table */
+    return HPFC_OK;
+}
+
+/* ---- words ---------------------------------------------------------------------------- */
+
+/* The first one of the high bits at or after `from`, skipping `skip` ones. */
+static int select_from(const format_bits *pool, const pool_level *pl, uint64_t from, uint64_t skip,
+                       uint64_t *pos)
+{
+    uint64_t end = pl->high_bits;
+    while (from < end) {
+        unsigned k = end - from < 56 ? (unsigned)(end - from) : 56;
+        uint64_t w = format_peek(pool, pl->high_off + from, k);
+        uint64_t ones = format_ones(w);
+        if (ones <= skip) {
+            skip -= ones;
+            from += k;
+            continue;
+        }
+        while (skip--)
+            w &= ~((uint64_t)1 << 63 >> __builtin_clzll(w));
+        *pos = from + (uint64_t)__builtin_clzll(w);
+        return HPFC_OK;
+    }
+    return HPFC_E_CORRUPT; /* the boundaries run past the index */
+}
+
+/* Boundary w from the position of its one in the high bits. */
+static int boundary(const format_bits *pool, const pool_level *pl, uint64_t w, uint64_t pos,
+                    uint64_t *value)
+{
+    if (pos < w)
+        return HPFC_E_CORRUPT;
+    uint64_t low = format_get(pool, pl->low_off + w * pl->low_width, pl->low_width);
+    *value = (pos - w) << pl->low_width | low;
+    return HPFC_OK;
+}
+
+int pool_word_span(const format_bits *pool, const pool_level *pl, uint32_t longest, uint64_t w,
+                   uint64_t *start, uint64_t *end)
+{
+    if (w >= pl->stabbed)
+        return HPFC_E_CORRUPT;
+    uint64_t t = w / POOL_SELECT_STRIDE;
+    uint64_t sample = format_get(pool, pl->select_off + t * pl->select_width, pl->select_width);
+    if (sample >= pl->high_bits || !format_get(pool, pl->high_off + sample, 1))
+        return HPFC_E_CORRUPT; /* a sample that names no boundary */
+    uint64_t here, next, a, b;
+    int st = select_from(pool, pl, sample, w % POOL_SELECT_STRIDE, &here);
+    if (!st)
+        st = select_from(pool, pl, here + 1, 0, &next);
+    if (!st)
+        st = boundary(pool, pl, w, here, &a);
+    if (!st)
+        st = boundary(pool, pl, w + 1, next, &b);
+    if (st)
+        return st;
+    if (a >= b || b > pl->stream_bits || b - a > longest)
+        return HPFC_E_CORRUPT; /* overlapping, empty, too long or past the stream */
+    *start = pl->stream_off + a;
+    *end = pl->stream_off + b;
+    return HPFC_OK;
+}
+
+/* ---- writing ----------------------------------------------------------------------------- */
+
+static void put_boundary(pool_writer *pw, uint64_t w, uint64_t value)
+{
+    const pool_level *pl = pw->pl;
+    uint64_t pos = (value >> pl->low_width) + w;
+    format_put(pw->pool, pl->low_off + w * pl->low_width, pl->low_width, value);
+    format_put(pw->pool, pl->high_off + pos, 1, 1);
+    if (w % POOL_SELECT_STRIDE == 0)
+        format_put(pw->pool, pl->select_off + w / POOL_SELECT_STRIDE * pl->select_width,
+                   pl->select_width, pos);
+}
+
+void pool_writer_pixel(pool_writer *pw, int kind, const char *word, uint32_t len)
+{
+    const pool_level *pl = pw->pl;
+    if (pw->g % POOL_BLOCK_PIXELS == 0) {
+        uint64_t at = pw->g / POOL_BLOCK_PIXELS * pl->block_bits;
+        format_put(pw->pool, at, pl->refined_width, pw->refined);
+        format_put(pw->pool, at + pl->refined_width, pl->stabbed_width, pw->stabbed);
+    }
+    uint64_t type = pool_type_bit(pl, pw->g++);
+    if (kind == POOL_REFINED) {
+        format_put(pw->pool, type, 2, 2);
+        pw->refined++;
+    } else if (kind == POOL_STABBED) {
+        format_put(pw->pool, type, 2, 1);
+        put_boundary(pw, pw->stabbed++, pw->at);
+        pw->at += code_word(word, len, pw->pool, pl->stream_off + pw->at);
+    }
+}
+
+void pool_writer_finish(pool_writer *pw)
+{
+    if (pw->stabbed)
+        put_boundary(pw, pw->stabbed, pw->at);
+}
