@@ -378,6 +378,11 @@ HPFC_API int hpfc_pixel_root(const hpfc_file *file, uint32_t i, uint32_t j, hpfc
 HPFC_API int hpfc_pixel_type(const hpfc_file *file, const hpfc_pixel *px, int *type);
 /* Is the pixel a private word pixel (word "++++")? */
 HPFC_API int hpfc_pixel_is_private(const hpfc_file *file, const hpfc_pixel *px, int *is_private);
+/* The pool layout's own structure at `level`, O(pool): for the compact
+ * layout (spec §14) its block counts, type bits, word index and words agree;
+ * for the paper layout nothing beyond what pixel access checks. HPFC_OK, or
+ * HPFC_E_CORRUPT with the first fault in diag. */
+HPFC_API int hpfc_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag);
 /* Pixel (i, j) of the image a refined pixel points to (px may equal out). */
 HPFC_API int hpfc_pixel_child(const hpfc_file *file, const hpfc_pixel *px, uint32_t i,
                               uint32_t j, hpfc_pixel *out);

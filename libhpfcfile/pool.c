@@ -293,3 +293,83 @@ void pool_writer_finish(pool_writer *pw)
     if (pw->stabbed)
         put_boundary(pw, pw->stabbed, pw->at);
 }
+
+/* ---- the whole level, for verification -------------------------------------------------------- */
+
+static int check_types(const format_bits *pool, const pool_level *pl, const char **what)
+{
+    uint64_t refined = 0, stabbed = 0;
+    for (uint64_t g = 0; g < pl->pixels; g++) {
+        if (g % POOL_BLOCK_PIXELS == 0) {
+            uint64_t at = g / POOL_BLOCK_PIXELS * pl->block_bits;
+            if (format_get(pool, at, pl->refined_width) != refined ||
+                format_get(pool, at + pl->refined_width, pl->stabbed_width) != stabbed) {
+                *what = "a type block's counts disagree with the pixels before it";
+                return HPFC_E_CORRUPT;
+            }
+        }
+        unsigned type = (unsigned)(format_peek(pool, pool_type_bit(pl, g), 2) >> 62);
+        if (type == 3) {
+            *what = "a pixel's type bits say both refined and stabbed";
+            return HPFC_E_CORRUPT;
+        }
+        refined += type == 2;
+        stabbed += type == 1;
+    }
+    if (refined != pl->refined || stabbed != pl->stabbed) {
+        *what = "the type bits disagree with the level table's counts";
+        return HPFC_E_CORRUPT;
+    }
+    return HPFC_OK;
+}
+
+static int check_words(const format_bits *pool, const pool_level *pl, uint32_t longest,
+                       const char **what)
+{
+    uint64_t pos = 0, prev = 0, most = 0;
+    for (uint64_t w = 0; w < pl->bounds; w++, pos++) {
+        uint64_t value, len;
+        if (select_from(pool, pl, pos, 0, &pos) || boundary(pool, pl, w, pos, &value)) {
+            *what = "the word index has fewer boundaries than stabbed words";
+            return HPFC_E_CORRUPT;
+        }
+        if (w % POOL_SELECT_STRIDE == 0 &&
+            format_get(pool, pl->select_off + w / POOL_SELECT_STRIDE * pl->select_width,
+                       pl->select_width) != pos) {
+            *what = "a select sample names the wrong boundary";
+            return HPFC_E_CORRUPT;
+        }
+        if ((w == 0 && value != 0) || (w > 0 && value <= prev) ||
+            (w + 1 == pl->bounds && value != pl->stream_bits)) {
+            *what = "word boundaries that overlap or do not span the stream";
+            return HPFC_E_CORRUPT;
+        }
+        if (w > 0) {
+            size_t n;
+            len = value - prev;
+            most = len > most ? len : most;
+            if (len > longest ||
+                pool_decode_word(pool, pl->stream_off + prev, pl->stream_off + value, NULL, 0, &n)) {
+                *what = "a stabbed word does not decode within k_w bits";
+                return HPFC_E_CORRUPT;
+            }
+        }
+        prev = value;
+    }
+    if (pos < pl->high_bits && !select_from(pool, pl, pos, 0, &pos)) {
+        *what = "the word index has more boundaries than stabbed words";
+        return HPFC_E_CORRUPT;
+    }
+    if (most != longest) {
+        *what = "word_bits is not the longest stabbed word's code";
+        return HPFC_E_CORRUPT;
+    }
+    return HPFC_OK;
+}
+
+int pool_check_level(const format_bits *pool, const pool_level *pl, uint32_t longest,
+                     const char **what)
+{
+    int st = check_types(pool, pl, what);
+    return st ? st : check_words(pool, pl, longest, what);
+}

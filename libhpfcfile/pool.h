@@ -101,6 +101,11 @@ int pool_word_span(const format_bits *pool, const pool_level *pl, uint32_t longe
 int pool_decode_word(const format_bits *pool, uint64_t start, uint64_t end, char *buf, size_t cap,
                      size_t *len);
 
+/* The whole level, O(pool): block counts, type bits, every boundary, select
+ * sample and word, k_w the longest code. *what names the first fault. */
+int pool_check_level(const format_bits *pool, const pool_level *pl, uint32_t longest,
+                     const char **what);
+
 /* ---- writing ---------------------------------------------------------- */
 
 /* Emits one level's pixels in pool order into a zeroed pool. */

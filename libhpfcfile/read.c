@@ -23,6 +23,7 @@
 #include "feat.h"
 #include "format.h"
 #include "pool.h"
+#include "internal.h"
 #include "reader.h"
 
 /* One level as navigation needs it, derived at open. */
@@ -1004,6 +1005,11 @@ static uint32_t crossings_in(const hpfc_file *f, uint32_t k)
     return k >= FORMAT_MIN_WORD_BITS ? (k - FORMAT_MIN_WORD_BITS) / 4 : 0;
 }
 
+uint32_t reader_level_max_crossings(const hpfc_file *f, uint32_t level)
+{
+    return crossings_in(f, f->lv[level].word_bits);
+}
+
 uint32_t reader_max_crossings(const hpfc_file *f)
 {
     uint32_t most = 0;
@@ -1291,4 +1297,17 @@ int reader_leaf_rank_paper(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t 
     uint64_t before = format_popcount(&lv->pool, target, p);
     *rank = words + (p - before);
     return HPFC_OK;
+}
+
+int hpfc_check_pool_layout(const hpfc_file *f, uint32_t level, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!f || level >= f->info.levels)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_check_pool_layout: no such level");
+    if (!f->compact)
+        return HPFC_OK; /* the paper layout has no index of its own: its pixels say it all */
+    const file_level *lv = &f->lv[level];
+    const char *what = NULL;
+    int st = pool_check_level(&lv->pool, &lv->compact, lv->word_bits, &what);
+    return st ? diag_set(diag, st, "level %u: %s", level, what) : HPFC_OK;
 }

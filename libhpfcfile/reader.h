@@ -13,6 +13,8 @@ extern uint64_t faces_narrow_nodes;
 
 /* Most crossings a word of this file can hold (from the level table). */
 uint32_t reader_max_crossings(const hpfc_file *file);
+/* Most crossings a word of level `level` can hold. */
+uint32_t reader_level_max_crossings(const hpfc_file *file, uint32_t level);
 /* An upper bound on all crossings of the file, to bound walks. */
 uint64_t reader_total_crossings(const hpfc_file *file);
 /* Word pixels (leaves) in all levels, as the level table declares them. */
