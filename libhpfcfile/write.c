@@ -59,6 +59,10 @@ static void layout_free(layout *L)
         free(L->image_off[l]);
 }
 
+/* HPFC_LAYOUT_DEFAULT means this; a variable so that the tests can run
+ * every case on both layouts (HPFC_TEST_LAYOUT, tests/meson.build). */
+int write_default_layout = HPFC_LAYOUT_PAPER;
+
 /* ---- pass 1: counts ------------------------------------------------------ */
 
 /* Bits of a word's code; 0 when the word is not a sequence of symbols
@@ -447,11 +451,12 @@ int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, u
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: NULL argument");
     *out = NULL;
     *out_size = 0;
+    int kind = opts ? opts->layout : HPFC_LAYOUT_DEFAULT;
+    if (kind < HPFC_LAYOUT_DEFAULT || kind > HPFC_LAYOUT_COMPACT)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: unknown layout %d", kind);
     layout L = {.tree = tree, .crs = opts ? opts->crs : NULL,
                 .features = opts ? opts->features : NULL,
-                .compact = opts && opts->layout == HPFC_LAYOUT_COMPACT};
-    if (opts && (opts->layout < HPFC_LAYOUT_DEFAULT || opts->layout > HPFC_LAYOUT_COMPACT))
-        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: unknown layout %d", opts->layout);
+                .compact = (kind ? kind : write_default_layout) == HPFC_LAYOUT_COMPACT};
     hpfc_tree_get_info(tree, &L.info);
     int st = check_tree_info(&L.info, diag);
     for (uint32_t l = 0; l < L.info.levels && !st; l++)

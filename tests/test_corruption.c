@@ -38,6 +38,9 @@
 #define STEP_BUDGET 4000 /* operator calls per damaged copy */
 #define MAX_DARTS 256
 
+/* the layout under test (check_use_test_layout) */
+static int test_layout_compact;
+
 static const uint64_t ALLOWED = BIT(HPFC_OK) | BIT(HPFC_E_NO_PIXEL) | BIT(HPFC_E_CORRUPT);
 
 /* What the campaign saw, for the summary line and the checks. */
@@ -662,6 +665,7 @@ done:
 
 int main(void)
 {
+    test_layout_compact = check_use_test_layout();
     const char *root = getenv("HPFC_TEST_DATA");
     CHECK(root != NULL);
     if (root) {

@@ -28,6 +28,9 @@ typedef struct graph_map {
 } graph_map;
 
 /* Counter-clockwise angular order of two directions, from the +x axis. */
+/* the layout under test (check_use_test_layout) */
+static int test_layout_compact;
+
 static int ccw_cmp(const int64_t *a, const int64_t *b)
 {
     int ha = a[1] < 0 || (a[1] == 0 && a[0] < 0), hb = b[1] < 0 || (b[1] == 0 && b[0] < 0);
@@ -1052,6 +1055,7 @@ static void test_oracle_detects_difference(void)
 
 int main(void)
 {
+    test_layout_compact = check_use_test_layout();
     test_oracle_detects_difference();
     test_generated();
     test_road_with_many_leaves();
