@@ -598,7 +598,9 @@ static void test_key_layout(void)
     uint8_t *buf = NULL;
     size_t size = 0;
     CHECK_EQ_INT(hpfc_build(g, &p, &t, NULL), HPFC_OK);
-    CHECK_EQ_INT(hpfc_tree_serialize(t, NULL, &buf, &size, NULL), HPFC_OK);
+    /* addresses exist in the paper layout only (compact children are ranks) */
+    const hpfc_write_options paper = {.layout = HPFC_LAYOUT_PAPER};
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &paper, &buf, &size, NULL), HPFC_OK);
     hpfc_file *f = NULL;
     CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
     if (!f)

@@ -692,14 +692,14 @@ static size_t check_bad_keys(const hpfc_file *f, hpfc_walker *w, const uint64_t 
     }
     if (hpfc_file_get_level(f, 1, &lv1) == HPFC_OK) { /* a mask bit, and a refined root record */
         bad += hpfc_key_prev(w, (lv1.pool_offset * 8) << 20, &out) != HPFC_E_ARG;
-        uint32_t record = 1 + (lv0.address_bits > lv0.word_bits ? lv0.address_bits : lv0.word_bits);
         for (uint32_t r = 0; r < info.root_cols * info.root_rows; r++) {
             hpfc_pixel root;
             int type;
+            uint64_t at; /* its record (paper) or type bits (compact) */
             hpfc_pixel_root(f, r % info.root_cols, r / info.root_cols, &root);
-            if (hpfc_pixel_type(f, &root, &type) == HPFC_OK && type == HPFC_PIXEL_REFINED) {
-                bad += hpfc_key_twin(w, (lv0.pool_offset * 8 + (uint64_t)r * record) << 20, &out) !=
-                       HPFC_E_ARG;
+            if (hpfc_pixel_type(f, &root, &type) == HPFC_OK && type == HPFC_PIXEL_REFINED &&
+                reader_pixel_slot_bit(f, &root, &at) == HPFC_OK) {
+                bad += hpfc_key_twin(w, at << 20, &out) != HPFC_E_ARG;
                 tried++;
                 break;
             }
@@ -818,7 +818,10 @@ static void oracle_build(const hpfc_file *f, index_oracle *o)
     for (uint32_t l = 0; l < info.levels; l++) {
         hpfc_level_info lv;
         CHECK_EQ_INT(hpfc_file_get_level(f, l, &lv), HPFC_OK);
-        uint64_t k = lv.word_bits >= 4 ? (lv.word_bits - 4) / 4 : 0;
+        /* crossings a slot holds; compact layout: a crossing costs >= 1 bit */
+        uint64_t k = info.incompat_flags & 1 ? lv.word_bits
+                     : lv.word_bits >= 4      ? (lv.word_bits - 4) / 4
+                                              : 0;
         o->k = k > o->k ? k : o->k;
         o->first[l] = pixels;
         pixels += l ? lv.images * o->image_pixels : (uint64_t)info.root_cols * info.root_rows;
