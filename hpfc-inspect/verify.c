@@ -184,7 +184,7 @@ typedef struct verifier {
     size_t word_cap;
     ref_list images[HPFC_MAX_LEVELS];
     bool undecodable;    /* some pixel could not be read: skip traversals */
-    bool compact;        /* the compact pool layout (incompat flag bit 0, spec §14) */
+    bool compact;        /* the compact pool layout (incompat flag bit 0, spec §15) */
     verify_report *r;
 } verifier;
 
@@ -212,7 +212,7 @@ static int alloc_word(verifier *v)
     uint64_t most = 4;
     for (uint32_t l = 0; l < v->info.levels; l++) {
         uint64_t k = v->lv[l].word_bits;
-        /* compact layout (§14): a crossing costs at least 1 bit */
+        /* compact layout (§15): a crossing costs at least 1 bit */
         uint64_t n = 4 + (v->compact ? k : k > 4 ? (k - 4) / 4 : 0);
         most = n > most ? n : most;
     }

@@ -259,7 +259,7 @@ typedef struct hpfc_feature_table {
 } hpfc_feature_table;
 
 /* Optional metadata recorded with a tree. */
-/* Pool layouts (spec/hpfc-format.md §9 and §14). */
+/* Pool layouts (spec/hpfc-format.md §9 and §15). */
 enum {
     HPFC_LAYOUT_DEFAULT = 0, /* the library's default: HPFC_LAYOUT_PAPER for now */
     HPFC_LAYOUT_PAPER = 1,   /* the paper's fixed slots and addresses (Sect. 4.1) */
@@ -379,7 +379,7 @@ HPFC_API int hpfc_pixel_type(const hpfc_file *file, const hpfc_pixel *px, int *t
 /* Is the pixel a private word pixel (word "++++")? */
 HPFC_API int hpfc_pixel_is_private(const hpfc_file *file, const hpfc_pixel *px, int *is_private);
 /* The pool layout's own structure at `level`, O(pool): for the compact
- * layout (spec §14) its block counts, type bits, word index and words agree;
+ * layout (spec §15) its block counts, type bits, word index and words agree;
  * for the paper layout nothing beyond what pixel access checks. HPFC_OK, or
  * HPFC_E_CORRUPT with the first fault in diag. */
 HPFC_API int hpfc_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag);

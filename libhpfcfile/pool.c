@@ -1,5 +1,5 @@
 /*
- * The compact pool layout (pool.h, spec/hpfc-format.md §14): sizes, the
+ * The compact pool layout (pool.h, spec/hpfc-format.md §15): sizes, the
  * word code, O(1) pixel and word access, and the level writer.
  */
 #include "pool.h"

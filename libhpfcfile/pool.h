@@ -1,5 +1,5 @@
 /*
- * pool.h: the compact pool layout (spec/hpfc-format.md §14), chosen per
+ * pool.h: the compact pool layout (spec/hpfc-format.md §15), chosen per
  * file by the incompat flag FORMAT_INCOMPAT_COMPACT_POOL. Internal to the
  * library (and its tests).
  *
