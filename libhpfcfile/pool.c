@@ -119,7 +119,6 @@ bool pool_level_sizes(pool_level *pl, uint64_t pixels, uint64_t refined, uint64_
                        .stream_bits = stream_bits};
     pl->refined_width = bit_width(refined);
     pl->stabbed_width = bit_width(stabbed);
-    pl->block_bits = (uint64_t)pl->refined_width + pl->stabbed_width + POOL_BLOCK_TYPE_BITS;
     pl->blocks = pixels / POOL_BLOCK_PIXELS + (pixels % POOL_BLOCK_PIXELS != 0);
     uint64_t s, t;
     if (!format_mul(pl->blocks, (uint64_t)pl->refined_width + pl->stabbed_width, &s) ||
@@ -149,18 +148,22 @@ bool pool_level_sizes(pool_level *pl, uint64_t pixels, uint64_t refined, uint64_
 
 uint64_t pool_type_bit(const pool_level *pl, uint64_t g)
 {
-    return g / POOL_BLOCK_PIXELS * pl->block_bits + pl->refined_width + pl->stabbed_width +
-           2 * (g % POOL_BLOCK_PIXELS);
+    (void)pl;
+    return 2 * g;
+}
+
+/* Where block b's counts start: after all the type pairs. */
+static uint64_t counts_bit(const pool_level *pl, uint64_t block)
+{
+    return 2 * pl->pixels + block * ((uint64_t)pl->refined_width + pl->stabbed_width);
 }
 
 bool pool_pixel_at_bit(const pool_level *pl, uint64_t bit, uint64_t *g)
 {
-    uint64_t block = bit / pl->block_bits, in = bit % pl->block_bits;
-    uint64_t head = (uint64_t)pl->refined_width + pl->stabbed_width;
-    if (bit >= pl->type_bits || in < head || (in - head) % 2)
+    if (bit % 2 || bit / 2 >= pl->pixels)
         return false;
-    *g = block * POOL_BLOCK_PIXELS + (in - head) / 2;
-    return *g < pl->pixels;
+    *g = bit / 2;
+    return true;
 }
 
 /* In a left-aligned window of type pairs, the refined bits are the odd
@@ -170,21 +173,33 @@ bool pool_pixel_at_bit(const pool_level *pl, uint64_t bit, uint64_t *g)
 
 int pool_read_pixel(const format_bits *pool, const pool_level *pl, uint64_t g, pool_pixel *out)
 {
-    uint64_t block = g / POOL_BLOCK_PIXELS, in = g % POOL_BLOCK_PIXELS;
-    uint64_t at = block * pl->block_bits; /* < type_bits <= s^l: open checked the sizes */
-    /* the block's counts, then its pairs */
-    uint64_t refined = format_get(pool, at, pl->refined_width);
-    uint64_t stabbed = format_get(pool, at + pl->refined_width, pl->stabbed_width);
-    at += (uint64_t)pl->refined_width + pl->stabbed_width;
-    for (uint64_t n = 2 * in; n > 0;) { /* the pairs before g, 28 at a time */
-        unsigned k = n < 56 ? (unsigned)n : 56;
-        uint64_t w = format_peek(pool, at, k);
+    uint64_t block = g / POOL_BLOCK_PIXELS;
+    uint64_t at = counts_bit(pl, block); /* < type_bits <= s^l: open checked the sizes */
+    /* the block's counts (one load when they fit 57 bits), then its pairs */
+    unsigned kr = pl->refined_width, ks = pl->stabbed_width;
+    uint64_t refined, stabbed;
+    if (kr + ks <= 57 && kr && ks) {
+        uint64_t head = format_peek(pool, at, kr + ks);
+        refined = head >> (64 - kr);
+        stabbed = head << kr >> (64 - ks);
+    } else {
+        refined = format_get(pool, at, kr);
+        stabbed = format_get(pool, at + kr, ks);
+    }
+    /* the pairs of the block before g: whole aligned 64-bit words (32 pairs;
+     * pools start on 8-byte boundaries), then the top of g's own word */
+    uint64_t word = g / 32, w;
+    for (uint64_t k = block * (POOL_BLOCK_PIXELS / 32); k < word; k++) {
+        w = format_window(pool, 8 * k);
         refined += format_ones(w & REFINED_BITS);
         stabbed += format_ones(w & STABBED_BITS);
-        at += k;
-        n -= k;
     }
-    unsigned type = (unsigned)(format_peek(pool, at, 2) >> 62);
+    w = format_window(pool, 8 * word);
+    unsigned shift = 2 * (unsigned)(g % 32); /* bits of g's word before its pair */
+    uint64_t before = shift ? w & ~(UINT64_MAX >> shift) : 0;
+    refined += format_ones(before & REFINED_BITS);
+    stabbed += format_ones(before & STABBED_BITS);
+    unsigned type = (unsigned)(w << shift >> 62);
     if (type == 3)
         return HPFC_E_CORRUPT; /* refined and stabbed */
     out->kind = type == 2 ? POOL_REFINED : type == 1 ? POOL_STABBED : POOL_PRIVATE;
@@ -195,7 +210,47 @@ int pool_read_pixel(const format_bits *pool, const pool_level *pl, uint64_t g, p
     return HPFC_OK;
 }
 
+int pool_read_type(const format_bits *pool, const pool_level *pl, uint64_t g, int *kind)
+{
+    (void)pl;
+    unsigned type = (unsigned)(format_window(pool, g / 32 * 8) << 2 * (g % 32) >> 62);
+    *kind = type == 2 ? POOL_REFINED : type == 1 ? POOL_STABBED : POOL_PRIVATE;
+    return type == 3 ? HPFC_E_CORRUPT : HPFC_OK;
+}
+
+int pool_rank(const format_bits *pool, const pool_level *pl, uint64_t g, int kind, uint64_t *rank)
+{
+    uint64_t block = g / POOL_BLOCK_PIXELS, at = counts_bit(pl, block), count;
+    uint64_t bits = kind == POOL_REFINED ? REFINED_BITS : STABBED_BITS;
+    if (kind == POOL_REFINED)
+        count = format_get(pool, at, pl->refined_width);
+    else
+        count = format_get(pool, at + pl->refined_width, pl->stabbed_width);
+    uint64_t word = g / 32;
+    for (uint64_t k = block * (POOL_BLOCK_PIXELS / 32); k < word; k++)
+        count += format_ones(format_window(pool, 8 * k) & bits);
+    unsigned shift = 2 * (unsigned)(g % 32);
+    if (shift)
+        count += format_ones(format_window(pool, 8 * word) & bits & ~(UINT64_MAX >> shift));
+    *rank = count;
+    if (count >= (kind == POOL_REFINED ? pl->refined : pl->stabbed))
+        return HPFC_E_CORRUPT; /* counts that disagree with the level table */
+    return HPFC_OK;
+}
+
 /* ---- words ---------------------------------------------------------------------------- */
+
+/* Position from the top of the one of w after `skip` others (skip <
+ * ones(w)): a byte at a time, then a bit at a time (at most 7). */
+static unsigned select_in_word(uint64_t w, uint64_t skip)
+{
+    unsigned pos = 0;
+    for (uint64_t c; skip >= (c = format_ones(w >> 56)); w <<= 8, pos += 8)
+        skip -= c;
+    while (skip--)
+        w &= ~((uint64_t)1 << 63 >> __builtin_clzll(w));
+    return pos + (unsigned)__builtin_clzll(w);
+}
 
 /* The first one of the high bits at or after `from`, skipping `skip` ones. */
 static int select_from(const format_bits *pool, const pool_level *pl, uint64_t from, uint64_t skip,
@@ -211,9 +266,7 @@ static int select_from(const format_bits *pool, const pool_level *pl, uint64_t f
             from += k;
             continue;
         }
-        while (skip--)
-            w &= ~((uint64_t)1 << 63 >> __builtin_clzll(w));
-        *pos = from + (uint64_t)__builtin_clzll(w);
+        *pos = from + select_in_word(w, skip);
         return HPFC_OK;
     }
     return HPFC_E_CORRUPT; /* the boundaries run past the index */
@@ -273,7 +326,7 @@ void pool_writer_pixel(pool_writer *pw, int kind, const char *word, uint32_t len
 {
     const pool_level *pl = pw->pl;
     if (pw->g % POOL_BLOCK_PIXELS == 0) {
-        uint64_t at = pw->g / POOL_BLOCK_PIXELS * pl->block_bits;
+        uint64_t at = counts_bit(pl, pw->g / POOL_BLOCK_PIXELS);
         format_put(pw->pool, at, pl->refined_width, pw->refined);
         format_put(pw->pool, at + pl->refined_width, pl->stabbed_width, pw->stabbed);
     }
@@ -301,7 +354,7 @@ static int check_types(const format_bits *pool, const pool_level *pl, const char
     uint64_t refined = 0, stabbed = 0;
     for (uint64_t g = 0; g < pl->pixels; g++) {
         if (g % POOL_BLOCK_PIXELS == 0) {
-            uint64_t at = g / POOL_BLOCK_PIXELS * pl->block_bits;
+            uint64_t at = counts_bit(pl, g / POOL_BLOCK_PIXELS);
             if (format_get(pool, at, pl->refined_width) != refined ||
                 format_get(pool, at + pl->refined_width, pl->stabbed_width) != stabbed) {
                 *what = "a type block's counts disagree with the pixels before it";

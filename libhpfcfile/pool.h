@@ -7,13 +7,13 @@
  * slot as long as the level's longest word and every refined pixel a
  * stored address. Here every level (the root included, as one image) is
  *
- *   type blocks | select samples | EF low bits | EF high bits | word stream
+ *   type pairs | block counts | select samples | EF low | EF high | word stream
  *
  * - two type bits a pixel (refined, stabbed; 00 is a private word pixel,
- *   which costs nothing more), in blocks of 128 pixels each led by the
- *   counts of refined and stabbed pixels before the block: a pixel's child
- *   image is the rank of its refined bit, its word the rank of its stabbed
- *   bit, both O(1);
+ *   which costs nothing more), then for each block of 128 pixels the
+ *   counts of refined and stabbed pixels before it: a pixel's child image
+ *   is the rank of its refined bit, its word the rank of its stabbed bit,
+ *   both O(1) (the pairs of a block are four aligned 64-bit words);
  * - the stabbed words back to back in one stream, each with a context code
  *   (pool_word_bits) and without its fourth '+';
  * - the word boundaries as an Elias-Fano sequence, with the position of
@@ -35,7 +35,6 @@
 enum {
     FORMAT_INCOMPAT_COMPACT_POOL = 0x1, /* header incompat_flags bit 0 */
     POOL_BLOCK_PIXELS = 128,            /* pixels of a type block */
-    POOL_BLOCK_TYPE_BITS = 2 * POOL_BLOCK_PIXELS,
     POOL_SELECT_STRIDE = 64,            /* one select sample every 64 boundaries */
     POOL_MAX_WORD_BITS = (1u << 20) - 1,/* k_w: a crossing costs >= 1 bit, keys hold 20 */
 };
@@ -55,9 +54,8 @@ typedef struct pool_level {
     uint64_t stream_bits;   /* U */
     uint32_t refined_width; /* kr: bits of a block's refined count */
     uint32_t stabbed_width; /* ks */
-    uint64_t block_bits;    /* kr + ks + 256 */
     uint64_t blocks;
-    uint64_t type_bits;     /* blocks * (kr + ks) + 2P */
+    uint64_t type_bits;     /* 2P + blocks * (kr + ks): pairs, then counts */
     uint64_t bounds;        /* N = n_s + 1 word boundaries (0 when n_s = 0) */
     uint32_t low_width;     /* Lw */
     uint32_t select_width;  /* ks_el */
@@ -85,6 +83,11 @@ typedef struct pool_pixel {
 
 /* HPFC_E_CORRUPT for type bits 11 or counts beyond the level's. */
 int pool_read_pixel(const format_bits *pool, const pool_level *pl, uint64_t g, pool_pixel *out);
+/* Only the kind of pixel g (HPFC_E_CORRUPT for 11): one load. */
+int pool_read_type(const format_bits *pool, const pool_level *pl, uint64_t g, int *kind);
+/* The pixels of `kind` (POOL_REFINED or POOL_STABBED) before g, for a pixel
+ * g of that kind: HPFC_E_CORRUPT when that is not below the level's count. */
+int pool_rank(const format_bits *pool, const pool_level *pl, uint64_t g, int kind, uint64_t *rank);
 /* Pool bit of pixel g's type bits: the pixel's unique position. */
 uint64_t pool_type_bit(const pool_level *pl, uint64_t g);
 /* The pixel whose type bits start at pool bit `bit`; false if none does. */

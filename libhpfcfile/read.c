@@ -613,8 +613,9 @@ static inline int refined_image_pixel(const file_level *lv, uint64_t image, uint
 typedef struct pixel_at {
     int type;       /* HPFC_PIXEL_WORD or HPFC_PIXEL_REFINED */
     uint64_t slot;  /* paper: pool bit of its address or word slot (root: after the
-                       type bit); compact: pool bit of its type bits */
-    uint64_t word;  /* compact: its word's index, NO_WORD when private */
+                       type bit); compact: its pixel index g in the level */
+    uint64_t word;  /* compact word pixel: 0 stabbed, NO_WORD private (the
+                       ranks are counted only when asked: pool_rank) */
 } pixel_at;
 
 #define NO_WORD UINT64_MAX
@@ -626,13 +627,15 @@ static inline int compact_image_pixel(const file_level *lv, uint32_t level, uint
     if (image >= lv->info.images)
         return level ? HPFC_E_CORRUPT : HPFC_E_ARG; /* as a paper image past its pool */
     uint64_t g = image * lv->image_pixels + p; /* < P: open checked images * n * m */
-    pool_pixel px;
-    int st = pool_read_pixel(&lv->pool, &lv->compact, g, &px);
+    int kind;
+    int st = pool_read_type(&lv->pool, &lv->compact, g, &kind);
     if (st)
         return st;
-    at->type = px.kind == POOL_REFINED ? HPFC_PIXEL_REFINED : HPFC_PIXEL_WORD;
-    at->slot = pool_type_bit(&lv->compact, g);
-    at->word = px.kind == POOL_REFINED ? px.refined : px.kind == POOL_STABBED ? px.stabbed : NO_WORD;
+    if (kind == POOL_REFINED && lv->last)
+        return HPFC_E_CORRUPT;
+    at->type = kind == POOL_REFINED ? HPFC_PIXEL_REFINED : HPFC_PIXEL_WORD;
+    at->slot = g;
+    at->word = kind == POOL_PRIVATE ? NO_WORD : 0;
     return HPFC_OK;
 }
 
@@ -647,6 +650,7 @@ static inline int image_pixel(const hpfc_file *f, uint32_t level, uint64_t image
     uint64_t p = (uint64_t)j * lv->cols + i;
     if (f->compact)
         return compact_image_pixel(lv, level, image, p, at);
+    at->word = NO_WORD; /* unused in this layout */
     if (level > 0)
         return refined_image_pixel(lv, image, p, &at->type, &at->slot);
     if (image != 0)
@@ -666,12 +670,16 @@ static int top_pixel(const hpfc_file *f, const hpfc_pixel *px, pixel_at *at)
 }
 
 /* The child image of a refined pixel: its address, or (compact) the rank
- * of its refined bit, which pool_read_pixel checked against the level's
- * count, the next level's images. */
-static inline uint64_t child_address(const hpfc_file *f, uint32_t level, const pixel_at *at)
+ * of its refined bit, checked against the level's count (the next level's
+ * images) by pool_rank. */
+static inline int child_address(const hpfc_file *f, uint32_t level, const pixel_at *at,
+                                uint64_t *child)
 {
     const file_level *lv = &f->lv[level];
-    return f->compact ? at->word : format_get(&lv->pool, at->slot, lv->address_bits);
+    if (f->compact)
+        return pool_rank(&lv->pool, &lv->compact, at->slot, POOL_REFINED, child);
+    *child = format_get(&lv->pool, at->slot, lv->address_bits);
+    return HPFC_OK;
 }
 
 static void copy_path(hpfc_pixel *out, const hpfc_pixel *px, uint32_t depth)
@@ -709,8 +717,10 @@ int hpfc_pixel_child(const hpfc_file *f, const hpfc_pixel *px, uint32_t i, uint3
     if (at.type != HPFC_PIXEL_REFINED)
         return HPFC_E_NO_PIXEL;
     uint32_t d = px->depth; /* < levels - 1: a refined pixel at the last level is corrupt */
-    uint64_t child = child_address(f, d, &at);
-    st = image_pixel(f, d + 1, child, i, j, &child_at);
+    uint64_t child;
+    st = child_address(f, d, &at, &child);
+    if (!st)
+        st = image_pixel(f, d + 1, child, i, j, &child_at);
     if (st)
         return st;
     copy_path(out, px, d);
@@ -791,7 +801,7 @@ static inline int descend(const hpfc_file *f, uint32_t level, uint64_t *image, u
     if (*word)
         out->depth = level;
     else
-        *image = child_address(f, level, &at);
+        return child_address(f, level, &at, image);
     return HPFC_OK;
 }
 
@@ -943,16 +953,18 @@ static int decode_word(const format_bits *pool, uint64_t off, uint32_t word_bits
 }
 
 /* A compact word pixel's word: "++++" for a private one, else its code. */
-static int compact_word(const file_level *lv, uint64_t word, char *buf, size_t cap, size_t *len)
+static int compact_word(const file_level *lv, const pixel_at *at, char *buf, size_t cap, size_t *len)
 {
-    if (word == NO_WORD) {
+    if (at->word == NO_WORD) {
         for (size_t k = 0; buf && k < cap && k < 4; k++)
             buf[k] = '+';
         *len = 4;
         return buf && cap < 4 ? HPFC_E_ARG : HPFC_OK;
     }
-    uint64_t start, end;
-    int st = pool_word_span(&lv->pool, &lv->compact, lv->word_bits, word, &start, &end);
+    uint64_t start, end, word;
+    int st = pool_rank(&lv->pool, &lv->compact, at->slot, POOL_STABBED, &word);
+    if (!st)
+        st = pool_word_span(&lv->pool, &lv->compact, lv->word_bits, word, &start, &end);
     return st ? st : pool_decode_word(&lv->pool, start, end, buf, cap, len);
 }
 
@@ -966,7 +978,7 @@ int hpfc_pixel_word(const hpfc_file *f, const hpfc_pixel *px, char *buf, size_t 
         return HPFC_E_ARG;
     const file_level *lv = &f->lv[px->depth];
     if (f->compact)
-        return compact_word(lv, at.word, buf, cap, len);
+        return compact_word(lv, &at, buf, cap, len);
     return decode_word(&lv->pool, at.slot, lv->word_bits, buf, cap, len);
 }
 
@@ -1057,7 +1069,9 @@ static int slot_bit(const hpfc_file *f, const hpfc_pixel *px, bool leaf_only, ui
     if (st)
         return st;
     uint64_t slot = at.slot;
-    if (px->depth == 0 && !f->compact)
+    if (f->compact)
+        slot = pool_type_bit(&f->lv[px->depth].compact, slot);
+    else if (px->depth == 0)
         slot -= 1; /* the root record starts at its type bit */
     *bit = f->lv[px->depth].info.pool_offset * 8 + slot;
     return HPFC_OK;
@@ -1139,8 +1153,7 @@ int reader_next_refined(const hpfc_file *f, uint32_t level, uint64_t image, read
                 return st;
             if (at.type == HPFC_PIXEL_REFINED) {
                 *pixel = (uint32_t)it->p++;
-                *address = at.word;
-                return HPFC_OK;
+                return child_address(f, level, &at, address);
             }
         }
         return HPFC_E_NO_PIXEL;
