@@ -691,7 +691,10 @@ static size_t check_bad_keys(const hpfc_file *f, hpfc_walker *w, const uint64_t 
         tried++;
     }
     if (hpfc_file_get_level(f, 1, &lv1) == HPFC_OK) { /* a mask bit, and a refined root record */
-        bad += hpfc_key_prev(w, (lv1.pool_offset * 8) << 20, &out) != HPFC_E_ARG;
+        /* paper: bit 0 is a mask bit; compact: pixel 0's type bits start
+         * there, bit 1 is the second of them */
+        uint64_t mask_bit = lv1.pool_offset * 8 + (info.incompat_flags & 1);
+        bad += hpfc_key_prev(w, mask_bit << 20, &out) != HPFC_E_ARG;
         for (uint32_t r = 0; r < info.root_cols * info.root_rows; r++) {
             hpfc_pixel root;
             int type;
