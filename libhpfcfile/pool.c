@@ -74,15 +74,19 @@ uint64_t pool_word_bits(const char *word, uint32_t len)
 int pool_decode_word(const format_bits *pool, uint64_t start, uint64_t end, char *buf, size_t cap,
                      size_t *len)
 {
-    uint64_t pos = start;
-    unsigned plus = 0;
+    uint64_t pos = start, window = 0;
+    unsigned plus = 0, have = 0; /* `have` bits of the word left-aligned in window */
     int ctx = CTX_NONE;
     size_t n = 0;
-    while (pos < end) {
-        uint64_t left = end - pos;
-        unsigned have = left < 56 ? (unsigned)left : 56;
-        uint64_t window = format_peek(pool, pos, have);
-        /* leading ones, at most 56 (the peeked bits end in zeros) */
+    while (pos < end || have) {
+        if (have < 6 && pos < end) { /* a code has at most 6 bits: refill */
+            uint64_t left = end - pos;
+            unsigned take = left < 56 - have ? (unsigned)left : 56 - have;
+            window |= format_peek(pool, pos, take) >> have;
+            have += take;
+            pos += take;
+        }
+        /* leading ones (the window's bits past `have` are zeros) */
         unsigned ones = (unsigned)__builtin_clzll(~window | 1), last = ctx_last[ctx];
         unsigned k = ones < last ? ones : last, bits = ones < last ? ones + 1 : last;
         if (bits > have)
@@ -93,7 +97,8 @@ int pool_decode_word(const format_bits *pool, uint64_t start, uint64_t end, char
         if (buf && n < cap)
             buf[n] = c;
         n++;
-        pos += bits;
+        window <<= bits;
+        have -= bits;
         ctx = next_context(ctx, c);
     }
     if (plus != 3 || n == 3)
