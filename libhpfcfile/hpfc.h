@@ -261,7 +261,7 @@ typedef struct hpfc_feature_table {
 /* Optional metadata recorded with a tree. */
 /* Pool layouts (spec/hpfc-format.md §9 and §15). */
 enum {
-    HPFC_LAYOUT_DEFAULT = 0, /* the library's default: HPFC_LAYOUT_PAPER for now */
+    HPFC_LAYOUT_DEFAULT = 0, /* the library's default: HPFC_LAYOUT_COMPACT */
     HPFC_LAYOUT_PAPER = 1,   /* the paper's fixed slots and addresses (Sect. 4.1) */
     HPFC_LAYOUT_COMPACT = 2, /* words in the bits they need, children by rank (1.2) */
 };
