@@ -410,6 +410,10 @@ static array_result walk_array(const exported_map *m)
     return r;
 }
 
+/* The hPFC files' pool layout: argv[3], paper (default) or compact (A/B,
+ * issue #20). */
+static int hpfc_layout = HPFC_LAYOUT_PAPER;
+
 static hpfc_file *pack(const hpfc_graph *g, int flat, uint8_t **buf)
 {
     hpfc_build_params p;
@@ -420,7 +424,8 @@ static hpfc_file *pack(const hpfc_graph *g, int flat, uint8_t **buf)
     hpfc_file *f = NULL;
     size_t size;
     *buf = NULL;
-    if (hpfc_build(g, &p, &t, NULL) || hpfc_tree_serialize(t, NULL, buf, &size, NULL) ||
+    hpfc_write_options o = {.layout = flat ? HPFC_LAYOUT_PAPER : hpfc_layout};
+    if (hpfc_build(g, &p, &t, NULL) || hpfc_tree_serialize(t, &o, buf, &size, NULL) ||
         hpfc_open_memory(*buf, size, 0, &f))
         f = NULL;
     hpfc_tree_free(t);
@@ -431,6 +436,9 @@ int main(int argc, char **argv)
 {
     int seeds = argc > 1 ? atoi(argv[1]) : 5;
     int with_flat = argc > 2 ? atoi(argv[2]) : 1;
+    if (argc > 3 && strcmp(argv[3], "compact") == 0)
+        hpfc_layout = HPFC_LAYOUT_COMPACT;
+    printf("pool layout of the hPFC files: %s\n", hpfc_layout == HPFC_LAYOUT_COMPACT ? "compact" : "paper");
     printf("Traversal of all darts (BFS by next and twin), Delaunay 4000 points, 20%% edges removed, (n0, n) = (64, 2)\n");
     printf("px/e: words decoded per edge; half = each half-edge followed once without cache\n"
            "  (the paper's traversal of all half-edges), none = the BFS without cache,\n"

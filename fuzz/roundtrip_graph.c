@@ -358,7 +358,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(ti.unit_exp10 == unit);
 
     const char *crs = flags & 8 ? "EPSG:32631" : NULL;
-    hpfc_write_options opts = {.crs = crs};
+    /* flags bit 4: the compact pool layout (spec §16), whose reader the
+     * same oracle then checks against the tree */
+    hpfc_write_options opts = {.crs = crs,
+                               .layout = flags & 16 ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER};
     uint8_t *buf = NULL;
     size_t len = 0;
     FUZZ_CHECK(hpfc_tree_serialize(t, &opts, &buf, &len, NULL) == HPFC_OK);

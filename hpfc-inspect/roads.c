@@ -17,7 +17,8 @@ int roads_init(roads *r, const hpfc_file *file)
         hpfc_level_info lv;
         if (hpfc_file_get_level(file, l, &lv))
             return HPFC_E_ARG;
-        uint64_t per_word = lv.word_bits / 4;
+        /* crossings a word can hold: k_w / 4, or k_w in the compact layout */
+        uint64_t per_word = info.incompat_flags & 0x1 ? lv.word_bits : lv.word_bits / 4;
         if (per_word && lv.word_pixels > (UINT64_MAX - steps) / per_word)
             steps = UINT64_MAX;
         else

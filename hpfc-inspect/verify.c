@@ -184,6 +184,7 @@ typedef struct verifier {
     size_t word_cap;
     ref_list images[HPFC_MAX_LEVELS];
     bool undecodable;    /* some pixel could not be read: skip traversals */
+    bool compact;        /* the compact pool layout (incompat flag bit 0, spec §16) */
     verify_report *r;
 } verifier;
 
@@ -204,13 +205,15 @@ static int push_ref(ref_list *l, uint64_t parent, uint32_t i, uint32_t j)
 }
 
 /* Room for the longest word any level's slot can hold: at most four '+'
- * (1 bit each) and (k_w - 4) / 4 other symbols (4 bits each). */
+ * (1 bit each) and (k_w - 4) / 4 other symbols (4 bits each); k_w
+ * crossings in the compact layout. */
 static int alloc_word(verifier *v)
 {
     uint64_t most = 4;
     for (uint32_t l = 0; l < v->info.levels; l++) {
         uint64_t k = v->lv[l].word_bits;
-        uint64_t n = 4 + (k > 4 ? (k - 4) / 4 : 0);
+        /* compact layout (§16): a crossing costs at least 1 bit */
+        uint64_t n = 4 + (v->compact ? k : k > 4 ? (k - 4) / 4 : 0);
         most = n > most ? n : most;
     }
     v->word_cap = (size_t)most + 1;
@@ -282,9 +285,11 @@ static void check_word(verifier *v, uint32_t l, const hpfc_pixel *px, uint64_t s
         v->undecodable = true;
         return;
     }
+    t->private_px += len == 4;
+    if (v->compact)
+        return; /* no slots: hpfc_check_pool_layout checks the words' index and k_w */
     uint64_t code = 4 + 4 * ((uint64_t)len - 4); /* '+' costs 1 bit, the others 4 */
     t->longest_code = code > t->longest_code ? code : t->longest_code;
-    t->private_px += len == 4;
     check_padding(v, l, px, slot + code, slot + slot_bits, "word");
 }
 
@@ -305,7 +310,7 @@ static int check_pixel(verifier *v, uint32_t l, uint64_t image, const hpfc_pixel
                          : lv->pool_bits / ((uint64_t)v->info.root_cols * v->info.root_rows) - 1;
     if (*type == HPFC_PIXEL_REFINED) {
         t->refined++;
-        if (l == 0)
+        if (l == 0 && !v->compact)
             check_padding(v, l, px, slot + lv->address_bits, slot + payload, "address");
         if (l + 1 >= v->info.levels) /* the library reports this as corrupt first */
             return HPFC_E_CORRUPT;
@@ -347,7 +352,8 @@ static int scan_image(verifier *v, uint32_t l, uint64_t k, level_tally *t)
                  * overlap or alias one another would make every walk over
                  * the tree (this scan, leaf iteration, the traversal)
                  * revisit them, multiplying the work level by level. */
-                if (image != t->next_image) {
+                /* compact: images are numbered in that order */
+                if (image != (v->compact ? k : t->next_image)) {
                     problem(v->r,
                             "level %u image %" PRIu64 " (pixel %s) starts at bit %" PRIu64
                             ", expected %" PRIu64,
@@ -383,10 +389,15 @@ static void check_level_tally(verifier *v, uint32_t l, uint64_t images, const le
                 "level %u: %" PRIu64 " word and %" PRIu64 " refined pixels, the level table says %"
                 PRIu64 " and %" PRIu64,
                 l, t->words, t->refined, lv->word_pixels, lv->refined_pixels);
-    if (t->longest_code != lv->word_bits)
+    if (v->compact) {
+        hpfc_diag d;
+        if (hpfc_check_pool_layout(v->f, l, &d))
+            problem(r, "%s", d.message);
+    } else if (t->longest_code != lv->word_bits) {
         problem(r, "level %u: word_bits is %u, the longest word code has %" PRIu64 " bits", l,
                 lv->word_bits, t->longest_code);
-    if (l > 0 && t->next_image != lv->pool_bits)
+    }
+    if (l > 0 && !v->compact && t->next_image != lv->pool_bits)
         problem(r, "level %u: the images end at bit %" PRIu64 ", pool_bits is %" PRIu64, l,
                 t->next_image, lv->pool_bits);
     uint64_t tail = (lv->pool_bits + 7) / 8 * 8;
@@ -933,6 +944,7 @@ static int open_checked(verifier *v, const mapped_file *mf, hpfc_file **f)
     }
     v->f = *f;
     hpfc_file_get_info(*f, &v->info);
+    v->compact = v->info.incompat_flags & 0x1;
     v->data = mf->data;
     v->r->format_major = v->info.format_major;
     v->r->format_minor = v->info.format_minor;

@@ -617,6 +617,8 @@ typedef struct pixel_view {
     uint64_t leaf_number;
     uint64_t *stretch_face;     /* per stretch (one for a private leaf) */
     uint64_t *edge;             /* per crossing */
+    int compact;                /* compact pool layout (spec §16): images are indices,
+                                   words have no slot */
 } pixel_view;
 
 static void pixel_view_free(pixel_view *v)
@@ -715,6 +717,7 @@ static int read_pixel_view(const hpfc_file *f, pixel_view *v, char *why)
     hpfc_file_info info;
     hpfc_file_get_info(f, &info);
     v->e = info.unit_exp10;
+    v->compact = info.incompat_flags & 0x1;
     pixel_path_text(&v->px, v->path, sizeof v->path);
     int st = hpfc_pixel_type(f, &v->px, &v->type);
     if (!st)
@@ -772,18 +775,24 @@ static void print_pixel_text(FILE *out, const pixel_view *v)
     view_decimal_text(v->b.y0, v->e, y0, sizeof y0);
     view_decimal_text(v->b.x1, v->e, x1, sizeof x1);
     view_decimal_text(v->b.y1, v->e, y1, sizeof y1);
-    fprintf(out, "pixel       %s (depth %u, image at bit %llu of level %u's pool)\n", v->path,
-            v->px.depth, (unsigned long long)v->px.path[v->px.depth].image, v->px.depth);
+    fprintf(out, v->compact ? "pixel       %s (depth %u, image %llu of level %u)\n"
+                            : "pixel       %s (depth %u, image at bit %llu of level %u's pool)\n",
+            v->path, v->px.depth, (unsigned long long)v->px.path[v->px.depth].image, v->px.depth);
     fprintf(out, "type        %s\n", pixel_kind(v));
     fprintf(out, "bounds      [%s, %s) x [%s, %s)\n", x0, x1, y0, y1);
     if (v->type == HPFC_PIXEL_REFINED) {
-        fprintf(out, "child       image at bit %llu of level %u's pool\n",
+        fprintf(out, v->compact ? "child       image %llu of level %u\n"
+                                : "child       image at bit %llu of level %u's pool\n",
                 (unsigned long long)v->child_image, v->px.depth + 1);
     } else {
         fprintf(out, "word        %s (%zu symbols, %u crossings)\n", v->word, v->len, v->wi.n);
-        fprintf(out, "code        ");
-        print_code(out, v->word, v->len);
-        fprintf(out, " (%u of %u slot bits)\n", 4 + 4 * v->wi.n, v->level.word_bits);
+        if (v->compact) {
+            fprintf(out, "code        compact layout: context-coded in the level's word stream\n");
+        } else {
+            fprintf(out, "code        ");
+            print_code(out, v->word, v->len);
+            fprintf(out, " (%u of %u slot bits)\n", 4 + 4 * v->wi.n, v->level.word_bits);
+        }
         fprintf(out, "crossings   W %u, N %u, E %u, S %u\n", v->counts[0], v->counts[1],
                 v->counts[2], v->counts[3]);
         print_components_text(out, v);
@@ -846,12 +855,16 @@ static void json_word(jsonw *w, const pixel_view *v)
 {
     jsonw_string(w, "word", v->word);
     jsonw_u64(w, "symbols", v->len);
-    jsonw_u64(w, "code_bits", 4 + 4ull * v->wi.n);
-    jsonw_u64(w, "slot_bits", v->level.word_bits);
-    jsonw_array_begin(w, "code");
-    for (size_t k = 0; k < v->len; k++)
-        jsonw_string(w, NULL, word_symbol_code(v->word[k]));
-    jsonw_array_end(w);
+    if (v->compact) { /* no slot, no fixed code: spec §16 */
+        jsonw_string(w, "layout", "compact");
+    } else {
+        jsonw_u64(w, "code_bits", 4 + 4ull * v->wi.n);
+        jsonw_u64(w, "slot_bits", v->level.word_bits);
+        jsonw_array_begin(w, "code");
+        for (size_t k = 0; k < v->len; k++)
+            jsonw_string(w, NULL, word_symbol_code(v->word[k]));
+        jsonw_array_end(w);
+    }
     jsonw_object_begin(w, "crossings");
     for (int r = 0; r < 4; r++)
         jsonw_u64(w, road_names[r], v->counts[r]);

@@ -50,6 +50,7 @@ typedef struct pack_args {
     const char *fields;        /* --fields */
     int dateline;
     const char *assign_srs, *source_srs; /* -a_srs, -s_srs (as ogr2ogr) */
+    int layout; /* HPFC_LAYOUT_*: --layout */
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -156,6 +157,10 @@ static void print_help(void)
            "                        than 180 degrees) at +-180 (default), or refuse them\n"
            "  --no-labels           write no LABL section (the faces and edge ids of every\n"
            "                        leaf, which let queries skip numbering the faces)\n"
+           "  --layout compact|paper\n"
+           "                        pool layout: words in the bits they need and\n"
+           "                        children by rank (default; format 1.2), or the\n"
+           "                        paper's fixed word slots and addresses\n"
            "  --json                print the build report as one JSON object\n"
            "  -q, --quiet           print no report (and no progress)\n"
            "  -h, --help            show this help\n"
@@ -279,6 +284,10 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->dateline = strcmp(v, "no") == 0 ? GIS_DATELINE_REJECT : GIS_DATELINE_CUT;
         return strcmp(v, "yes") == 0 || strcmp(v, "no") == 0 ? NULL : "yes or no";
     }
+    if (strcmp(name, "--layout") == 0) {
+        a->layout = strcmp(v, "compact") == 0 ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER;
+        return strcmp(v, "paper") == 0 || strcmp(v, "compact") == 0 ? NULL : "paper or compact";
+    }
     if (strcmp(name, "--vertices") == 0) {
         a->vertex_model = strcmp(v, "junctions") == 0 ? GIS_VERTICES_JUNCTIONS : GIS_VERTICES_ALL;
         return strcmp(v, "all") == 0 || strcmp(v, "junctions") == 0 ? NULL : "all or junctions";
@@ -295,7 +304,8 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
                                         "--layer",    "--projection", "--vertices",
                                         "--invalid",  "--wrap-dateline", "--key",
                                         "--fields",   "--output",   "-o",
-                                        "-l",         "-a_srs",     "-s_srs"};
+                                        "-l",         "-a_srs",     "-s_srs",
+                                        "--layout"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -919,7 +929,8 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     params.progress = show_build_progress;
     params.progress_user = &bar;
     hpfc_write_options wopts = {.crs = r->gis ? r->gis_info.crs : NULL,
-                                .face_labels = !a->no_labels};
+                                .face_labels = !a->no_labels,
+                                .layout = a->layout};
     gis_feature_table ft = {0};
     hpfc_diag diag = {0};
     hpfc_tree *t = NULL;

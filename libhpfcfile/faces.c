@@ -136,14 +136,7 @@ static int leaf_table_init(leaf_table *t, const hpfc_file *f, uint64_t leaves)
         uint64_t n;
         t->first[l] = total;
         t->pool_bit[l] = lv.pool_offset * 8;
-        if (l == 0) {
-            t->unit[l] =
-                1 + (uint64_t)(lv.address_bits > lv.word_bits ? lv.address_bits : lv.word_bits);
-            n = (uint64_t)info.root_cols * info.root_rows;
-        } else {
-            t->unit[l] = lv.word_bits ? lv.word_bits : 1; /* no word slots: no entries needed */
-            n = lv.word_pixels ? lv.pool_bits / t->unit[l] + 1 : 0;
-        }
+        reader_slot_grid(f, l, &t->unit[l], &n);
         if (n > UINT64_MAX / 8 - total)
             return HPFC_E_CORRUPT;
         total += n;

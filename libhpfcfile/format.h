@@ -26,7 +26,7 @@
 
 enum {
     FORMAT_MAJOR = 1,
-    FORMAT_MINOR = 2,               /* 1.1: the FEAT section; 1.2: LABL, ATTR, EDGF */
+    FORMAT_MINOR = 2,               /* 1.1: the FEAT section; 1.2: LABL, ATTR, EDGF, the compact pool */
     FORMAT_HEADER_SIZE = 128,       /* header_size written by this library */
     FORMAT_LEVEL_ENTRY_SIZE = 64,
     FORMAT_SECTION_ENTRY_SIZE = 32,

@@ -296,6 +296,13 @@ typedef struct hpfc_edge_feature_table {
 } hpfc_edge_feature_table;
 
 /* Optional metadata recorded with a tree. */
+/* Pool layouts (spec/hpfc-format.md §9 and §16). */
+enum {
+    HPFC_LAYOUT_DEFAULT = 0, /* the library's default: HPFC_LAYOUT_COMPACT */
+    HPFC_LAYOUT_PAPER = 1,   /* the paper's fixed slots and addresses (Sect. 4.1) */
+    HPFC_LAYOUT_COMPACT = 2, /* words in the bits they need, children by rank (1.2) */
+};
+
 typedef struct hpfc_write_options {
     const char *crs;          /* coordinate reference (e.g. "EPSG:32631" or a
                                  projection description), NULL for none */
@@ -307,6 +314,7 @@ typedef struct hpfc_write_options {
     int face_labels;
     const hpfc_attr_table *attributes;  /* ATTR section, NULL for none */
     const hpfc_edge_feature_table *edge_features; /* EDGF section, NULL for none */
+    int layout;               /* HPFC_LAYOUT_*; hpfc_file_serialize keeps the file's */
 } hpfc_write_options;
 
 /* Serialises the tree into a malloc'ed buffer (*out, *out_size); the caller
@@ -414,6 +422,11 @@ HPFC_API int hpfc_pixel_root(const hpfc_file *file, uint32_t i, uint32_t j, hpfc
 HPFC_API int hpfc_pixel_type(const hpfc_file *file, const hpfc_pixel *px, int *type);
 /* Is the pixel a private word pixel (word "++++")? */
 HPFC_API int hpfc_pixel_is_private(const hpfc_file *file, const hpfc_pixel *px, int *is_private);
+/* The pool layout's own structure at `level`, O(pool): for the compact
+ * layout (spec §16) its block counts, type bits, word index and words agree;
+ * for the paper layout nothing beyond what pixel access checks. HPFC_OK, or
+ * HPFC_E_CORRUPT with the first fault in diag. */
+HPFC_API int hpfc_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag);
 /* Pixel (i, j) of the image a refined pixel points to (px may equal out). */
 HPFC_API int hpfc_pixel_child(const hpfc_file *file, const hpfc_pixel *px, uint32_t i,
                               uint32_t j, hpfc_pixel *out);

@@ -54,6 +54,9 @@ static inline void graph_edge_point(const hpfc_graph *g, size_t e, size_t k,
     *y = p[1];
 }
 
+/* The layout HPFC_LAYOUT_DEFAULT stands for (write.c). */
+extern int write_default_layout;
+
 /* Resets diag (if non-NULL) to 'no culprit'. */
 void diag_clear(hpfc_diag *diag);
 

@@ -301,7 +301,7 @@ int labels_rank_by_walk(const hpfc_file *f, const hpfc_pixel *px, uint64_t *rank
     return *rank < g.info.word_pixels ? HPFC_OK : HPFC_E_CORRUPT;
 }
 
-int reader_leaf_rank(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *rank)
+int labels_leaf_rank_paper(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *rank)
 {
     const labels_view *v = reader_labels(f);
     if (!v->present)
@@ -455,9 +455,7 @@ static int load_record(const hpfc_file *f, const labels_view *v, const hpfc_pixe
 {
     memset(rec, 0, sizeof *rec);
     uint64_t rank;
-    int st = check_leaf(f, leaf);
-    if (!st)
-        st = rank_by_samples(f, v, leaf, &rank);
+    int st = reader_leaf_rank(f, leaf, &rank);
     if (st)
         return st;
     uint64_t g = v->first_leaf[leaf->depth] + rank; /* rank < word_pixels: g < leaves */

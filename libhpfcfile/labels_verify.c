@@ -37,6 +37,12 @@ static int check_samples(const hpfc_file *f, const labels_view *v, hpfc_labels_r
         uint64_t words = 0, off = 0, nm = (uint64_t)fi.cols * fi.rows;
         uint64_t record = 1 + (uint64_t)(li.address_bits > li.word_bits ? li.address_bits : li.word_bits);
         for (uint64_t u = 0; u < units; u++) {
+            if ((u & (step - 1)) == 0 && reader_is_compact(f)) {
+                int st = reader_compact_words_before(f, l, u, &words);
+                if (st)
+                    return problem(r, "level %u unit %llu: %s", l, (unsigned long long)u,
+                                   hpfc_strerror(st));
+            }
             if ((u & (step - 1)) == 0) {
                 uint64_t k = u >> v->sample_shift;
                 uint64_t got = format_get(&v->rank, v->rank_start[l] + k * v->rank_bits[l],
@@ -46,6 +52,8 @@ static int check_samples(const hpfc_file *f, const labels_view *v, hpfc_labels_r
                                    (unsigned long long)k, (unsigned long long)got,
                                    (unsigned long long)words);
             }
+            if (reader_is_compact(f))
+                continue; /* counted at the samples, by rank */
             if (l == 0) {
                 words += !format_get(pool, u * record, 1);
                 continue;

@@ -8,7 +8,8 @@
  * Leaves are visited in the tree's image order, which is the pools' (§9:
  * images in parent order, back to back), so the running word count is the
  * leaf number and the running image offset is where the reader finds the
- * slot; faces_leaf_nodes looks the leaf up by that offset.
+ * slot (in the compact layout, the pixel's type bits); faces_leaf_nodes
+ * looks the leaf up by that position.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -110,6 +111,7 @@ static int visit_all(leaf_visit *v, const hpfc_tree *tree, const hpfc_file *file
 {
     hpfc_file_info fi;
     hpfc_file_get_info(file, &fi);
+    bool compact = reader_is_compact(file);
     uint64_t step = UINT64_C(1) << v->plan->sample_shift;
     for (uint32_t l = 0; l < fi.levels; l++) {
         hpfc_level_info li;
@@ -140,7 +142,11 @@ static int visit_all(leaf_visit *v, const hpfc_tree *tree, const hpfc_file *file
                         slot += l ? li.address_bits : 0;
                         continue;
                     }
-                    if ((st = visit_leaf(v, l, slot, &px, diag)))
+                    /* the compact layout names a leaf by its type-bit position
+                     * (two bits a pixel, spec §16.3), as the faces' leaf table does */
+                    uint64_t key = compact ? 2 * ((l ? im * cols * rows : 0) + (uint64_t)j * cols + i)
+                                           : slot;
+                    if ((st = visit_leaf(v, l, key, &px, diag)))
                         return st;
                     slot += l ? li.word_bits : 0;
                     words++;

@@ -24,6 +24,8 @@
 #include "feat.h"
 #include "format.h"
 #include "labels.h"
+#include "pool.h"
+#include "internal.h"
 #include "reader.h"
 
 /* One level as navigation needs it, derived at open. */
@@ -37,6 +39,7 @@ typedef struct file_level {
     int64_t cell_w, cell_h;
     bool last;
     hpfc_level_info info;
+    pool_level compact;     /* the compact layout's geometry (pool.h) */
 } file_level;
 
 struct hpfc_file {
@@ -51,6 +54,7 @@ struct hpfc_file {
     /* log2 of cols and rows when both are powers of two, else 0: point
      * location then reads every level's cell index off one quotient */
     uint32_t shift_x, shift_y;
+    bool compact;           /* incompat flag: the compact pool layout */
     const uint8_t *feat;    /* the FEAT section, NULL if none */
     uint64_t feat_len;
     labels_view labels;     /* the LABL section (labels.present: the file has one) */
@@ -167,8 +171,9 @@ static int read_header(hpfc_file *f)
         return HPFC_E_TRUNCATED;
     if (in->file_size < f->size)
         return HPFC_E_HEADER;
-    if (in->incompat_flags != 0) /* 1.0 defines none */
+    if (in->incompat_flags & ~(uint32_t)FORMAT_INCOMPAT_COMPACT_POOL) /* 1.2 defines one */
         return HPFC_E_INCOMPATIBLE;
+    f->compact = in->incompat_flags & FORMAT_INCOMPAT_COMPACT_POOL;
     f->directory = d + header_size + (size_t)FORMAT_LEVEL_ENTRY_SIZE * in->levels;
     return HPFC_OK;
 }
@@ -180,6 +185,23 @@ static const uint8_t *level_entry(const hpfc_file *f, uint32_t l)
     return f->data + hdr_get_header_size(f->data) + (size_t)l * FORMAT_LEVEL_ENTRY_SIZE;
 }
 
+/* The compact layout's own fields (§16.1): no address, the stabbed
+ * pixels among the word pixels, a stream of at least one and at most k_w
+ * bits a stabbed word, k_w = 0 exactly when no word is stabbed. */
+static int check_compact_counts(const hpfc_file *f, uint32_t l, const hpfc_level_info *in)
+{
+    const uint8_t *e = level_entry(f, l);
+    uint64_t stabbed = lvl_get_stabbed_pixels(e), stream = lvl_get_stream_bits(e), most;
+    if (in->address_bits != 0 || stabbed > in->word_pixels || in->word_bits > POOL_MAX_WORD_BITS)
+        return HPFC_E_LEVEL_TABLE;
+    if (stabbed == 0)
+        return stream == 0 && in->word_bits == 0 ? HPFC_OK : HPFC_E_LEVEL_TABLE;
+    if (in->word_bits == 0 || stream < stabbed || !format_mul(stabbed, in->word_bits, &most) ||
+        stream > most)
+        return HPFC_E_LEVEL_TABLE;
+    return HPFC_OK;
+}
+
 /* The counts of one level: every pixel is a word or refined pixel, every
  * refined pixel of the level above has its own image, and only the root
  * level lacks a parent. */
@@ -189,7 +211,7 @@ static int check_level_counts(const hpfc_file *f, uint32_t l, const hpfc_level_i
     uint64_t per = l ? (uint64_t)f->info.cols * f->info.rows
                      : (uint64_t)f->info.root_cols * f->info.root_rows;
     uint64_t pixels, sum;
-    if (!format_all_zero(level_entry(f, l) + lvl_OFF_reserved, lvl_SIZE_reserved))
+    if (!f->compact && !format_all_zero(level_entry(f, l) + lvl_OFF_reserved, lvl_SIZE_reserved))
         return HPFC_E_LEVEL_TABLE;
     if (in->images != (l ? parent_refined : 1) || in->images == 0)
         return HPFC_E_LEVEL_TABLE;
@@ -198,6 +220,8 @@ static int check_level_counts(const hpfc_file *f, uint32_t l, const hpfc_level_i
         return HPFC_E_LEVEL_TABLE;
     if (l + 1 == f->info.levels && in->refined_pixels != 0)
         return HPFC_E_LEVEL_TABLE;
+    if (f->compact)
+        return check_compact_counts(f, l, in);
     if (in->word_bits > FORMAT_MAX_WORD_BITS ||
         (in->word_pixels > 0 && in->word_bits < FORMAT_MIN_WORD_BITS))
         return HPFC_E_LEVEL_TABLE;
@@ -247,6 +271,25 @@ static void derive_level(hpfc_file *f, uint32_t l)
     lv->last = l + 1 == f->info.levels;
 }
 
+/* The compact sizes (pool.h) of every level must be the table's s^l. */
+static int read_compact_levels(hpfc_file *f)
+{
+    for (uint32_t l = 0; l < f->info.levels; l++) {
+        const uint8_t *e = level_entry(f, l);
+        const hpfc_level_info *in = &f->lv[l].info;
+        uint64_t per = l ? (uint64_t)f->info.cols * f->info.rows
+                         : (uint64_t)f->info.root_cols * f->info.root_rows;
+        if (!pool_level_sizes(&f->lv[l].compact, in->images * per, in->refined_pixels,
+                              lvl_get_stabbed_pixels(e), lvl_get_stream_bits(e)) ||
+            f->lv[l].compact.pool_bits != in->pool_bits)
+            return HPFC_E_LEVEL_TABLE;
+    }
+    int st = check_pool_places(f);
+    for (uint32_t l = 0; l < f->info.levels && !st; l++)
+        derive_level(f, l);
+    return st;
+}
+
 static int read_levels(hpfc_file *f)
 {
     format_level sizes[HPFC_MAX_LEVELS];
@@ -259,6 +302,8 @@ static int read_levels(hpfc_file *f)
             return st;
         sizes[l] = (format_level){in->word_pixels, in->refined_pixels, in->images, in->word_bits, 0, 0};
     }
+    if (f->compact)
+        return read_compact_levels(f);
     if (!format_level_sizes(sizes, levels, (uint64_t)f->info.root_cols * f->info.root_rows,
                             (uint64_t)f->info.cols * f->info.rows))
         return HPFC_E_LEVEL_TABLE;
@@ -627,37 +672,77 @@ static inline int refined_image_pixel(const file_level *lv, uint64_t image, uint
     return HPFC_OK;
 }
 
-/* The type of pixel (i, j) of the image at bit `image` of `level`, and the
- * bit offset of its slot (address or word). */
+/* A pixel as an access finds it, in either layout. */
+typedef struct pixel_at {
+    int type;       /* HPFC_PIXEL_WORD or HPFC_PIXEL_REFINED */
+    uint64_t slot;  /* paper: pool bit of its address or word slot (root: after the
+                       type bit); compact: its pixel index g in the level */
+    uint64_t word;  /* compact word pixel: 0 stabbed, NO_WORD private (the
+                       ranks are counted only when asked: pool_rank) */
+} pixel_at;
+
+#define NO_WORD UINT64_MAX
+
+/* Pixel p of compact image `image` (its index in the level). */
+static inline int compact_image_pixel(const file_level *lv, uint32_t level, uint64_t image,
+                                      uint64_t p, pixel_at *at)
+{
+    if (image >= lv->info.images)
+        return level ? HPFC_E_CORRUPT : HPFC_E_ARG; /* as a paper image past its pool */
+    uint64_t g = image * lv->image_pixels + p; /* < P: open checked images * n * m */
+    int kind;
+    int st = pool_read_type(&lv->pool, &lv->compact, g, &kind);
+    if (st)
+        return st;
+    if (kind == POOL_REFINED && lv->last)
+        return HPFC_E_CORRUPT;
+    at->type = kind == POOL_REFINED ? HPFC_PIXEL_REFINED : HPFC_PIXEL_WORD;
+    at->slot = g;
+    at->word = kind == POOL_PRIVATE ? NO_WORD : 0;
+    return HPFC_OK;
+}
+
+/* Pixel (i, j) of the image `image` of `level` (paper: its bit offset;
+ * compact: its index). */
 static inline int image_pixel(const hpfc_file *f, uint32_t level, uint64_t image, uint32_t i, uint32_t j,
-                       int *type, uint64_t *slot)
+                              pixel_at *at)
 {
     const file_level *lv = &f->lv[level];
     if (i >= lv->cols || j >= lv->rows)
         return HPFC_E_ARG;
     uint64_t p = (uint64_t)j * lv->cols + i;
+    if (f->compact)
+        return compact_image_pixel(lv, level, image, p, at);
+    at->word = NO_WORD; /* unused in this layout */
     if (level > 0)
-        return refined_image_pixel(lv, image, p, type, slot);
+        return refined_image_pixel(lv, image, p, &at->type, &at->slot);
     if (image != 0)
         return HPFC_E_ARG;
     uint64_t record = p * lv->record_bits; /* fixed records: inside s^0 by construction */
-    *type = (int)format_get(&lv->pool, record, 1);
-    *slot = record + 1;
-    return *type == HPFC_PIXEL_REFINED && lv->last ? HPFC_E_CORRUPT : HPFC_OK;
+    at->type = (int)format_get(&lv->pool, record, 1);
+    at->slot = record + 1;
+    return at->type == HPFC_PIXEL_REFINED && lv->last ? HPFC_E_CORRUPT : HPFC_OK;
 }
 
-static int top_pixel(const hpfc_file *f, const hpfc_pixel *px, int *type, uint64_t *slot)
+static int top_pixel(const hpfc_file *f, const hpfc_pixel *px, pixel_at *at)
 {
     if (!f || !px || px->depth >= f->info.levels)
         return HPFC_E_ARG;
     uint32_t d = px->depth;
-    return image_pixel(f, d, px->path[d].image, px->path[d].i, px->path[d].j, type, slot);
+    return image_pixel(f, d, px->path[d].image, px->path[d].i, px->path[d].j, at);
 }
 
-static uint64_t child_address(const hpfc_file *f, uint32_t level, uint64_t slot)
+/* The child image of a refined pixel: its address, or (compact) the rank
+ * of its refined bit, checked against the level's count (the next level's
+ * images) by pool_rank. */
+static inline int child_address(const hpfc_file *f, uint32_t level, const pixel_at *at,
+                                uint64_t *child)
 {
     const file_level *lv = &f->lv[level];
-    return format_get(&lv->pool, slot, lv->address_bits);
+    if (f->compact)
+        return pool_rank(&lv->pool, &lv->compact, at->slot, POOL_REFINED, child);
+    *child = format_get(&lv->pool, at->slot, lv->address_bits);
+    return HPFC_OK;
 }
 
 static void copy_path(hpfc_pixel *out, const hpfc_pixel *px, uint32_t depth)
@@ -679,25 +764,26 @@ int hpfc_pixel_root(const hpfc_file *f, uint32_t i, uint32_t j, hpfc_pixel *out)
 
 int hpfc_pixel_type(const hpfc_file *f, const hpfc_pixel *px, int *type)
 {
-    uint64_t slot;
-    int t, st = type ? top_pixel(f, px, &t, &slot) : HPFC_E_ARG;
+    pixel_at at;
+    int st = type ? top_pixel(f, px, &at) : HPFC_E_ARG;
     if (!st)
-        *type = t;
+        *type = at.type;
     return st;
 }
 
 int hpfc_pixel_child(const hpfc_file *f, const hpfc_pixel *px, uint32_t i, uint32_t j, hpfc_pixel *out)
 {
-    int type, child_type;
-    uint64_t slot, child_slot;
-    int st = out ? top_pixel(f, px, &type, &slot) : HPFC_E_ARG;
+    pixel_at at, child_at;
+    int st = out ? top_pixel(f, px, &at) : HPFC_E_ARG;
     if (st)
         return st;
-    if (type != HPFC_PIXEL_REFINED)
+    if (at.type != HPFC_PIXEL_REFINED)
         return HPFC_E_NO_PIXEL;
     uint32_t d = px->depth; /* < levels - 1: a refined pixel at the last level is corrupt */
-    uint64_t child = child_address(f, d, slot);
-    st = image_pixel(f, d + 1, child, i, j, &child_type, &child_slot);
+    uint64_t child;
+    st = child_address(f, d, &at, &child);
+    if (!st)
+        st = image_pixel(f, d + 1, child, i, j, &child_at);
     if (st)
         return st;
     copy_path(out, px, d);
@@ -767,19 +853,18 @@ static void entry_pixel(const file_level *lv, const hpfc_pixel *p, uint32_t leve
 static inline int descend(const hpfc_file *f, uint32_t level, uint64_t *image, uint32_t i, uint32_t j,
                           hpfc_pixel *out, bool *word)
 {
-    int type;
-    uint64_t slot;
-    int st = image_pixel(f, level, *image, i, j, &type, &slot);
+    pixel_at at;
+    int st = image_pixel(f, level, *image, i, j, &at);
     if (st)
         return st;
     out->path[level].image = *image;
     out->path[level].i = i;
     out->path[level].j = j;
-    *word = type == HPFC_PIXEL_WORD;
+    *word = at.type == HPFC_PIXEL_WORD;
     if (*word)
         out->depth = level;
     else
-        *image = child_address(f, level, slot);
+        return child_address(f, level, &at, image);
     return HPFC_OK;
 }
 
@@ -930,35 +1015,55 @@ static int decode_word(const format_bits *pool, uint64_t off, uint32_t word_bits
     return buf && n > cap ? HPFC_E_ARG : HPFC_OK;
 }
 
+/* A compact word pixel's word: "++++" for a private one, else its code. */
+static int compact_word(const file_level *lv, const pixel_at *at, char *buf, size_t cap, size_t *len)
+{
+    if (at->word == NO_WORD) {
+        for (size_t k = 0; buf && k < cap && k < 4; k++)
+            buf[k] = '+';
+        *len = 4;
+        return buf && cap < 4 ? HPFC_E_ARG : HPFC_OK;
+    }
+    uint64_t start, end, word;
+    int st = pool_rank(&lv->pool, &lv->compact, at->slot, POOL_STABBED, &word);
+    if (!st)
+        st = pool_word_span(&lv->pool, &lv->compact, lv->word_bits, word, &start, &end);
+    return st ? st : pool_decode_word(&lv->pool, start, end, buf, cap, len);
+}
+
 int hpfc_pixel_word(const hpfc_file *f, const hpfc_pixel *px, char *buf, size_t cap, size_t *len)
 {
-    int type;
-    uint64_t slot;
-    int st = len ? top_pixel(f, px, &type, &slot) : HPFC_E_ARG;
+    pixel_at at;
+    int st = len ? top_pixel(f, px, &at) : HPFC_E_ARG;
     if (st)
         return st;
-    if (type != HPFC_PIXEL_WORD)
+    if (at.type != HPFC_PIXEL_WORD)
         return HPFC_E_ARG;
     const file_level *lv = &f->lv[px->depth];
-    return decode_word(&lv->pool, slot, lv->word_bits, buf, cap, len);
+    if (f->compact)
+        return compact_word(lv, &at, buf, cap, len);
+    return decode_word(&lv->pool, at.slot, lv->word_bits, buf, cap, len);
 }
 
 int hpfc_pixel_is_private(const hpfc_file *f, const hpfc_pixel *px, int *is_private)
 {
-    int type;
-    uint64_t slot;
-    int st = is_private ? top_pixel(f, px, &type, &slot) : HPFC_E_ARG;
+    pixel_at at;
+    int st = is_private ? top_pixel(f, px, &at) : HPFC_E_ARG;
     if (st)
         return st;
     const file_level *lv = &f->lv[px->depth];
-    if (type == HPFC_PIXEL_REFINED) {
+    if (at.type == HPFC_PIXEL_REFINED) {
         *is_private = 0;
+        return HPFC_OK;
+    }
+    if (f->compact) {
+        *is_private = at.word == NO_WORD;
         return HPFC_OK;
     }
     if (lv->word_bits < FORMAT_MIN_WORD_BITS)
         return HPFC_E_CORRUPT;
     /* "++++" is the only word whose code starts with four 0 bits */
-    *is_private = format_peek(&lv->pool, slot, 4) == 0;
+    *is_private = format_peek(&lv->pool, at.slot, 4) == 0;
     return HPFC_OK;
 }
 
@@ -966,12 +1071,25 @@ int hpfc_pixel_is_private(const hpfc_file *f, const hpfc_pixel *px, int *is_priv
 
 /* Over every level, whatever its word count says: a corrupt mask can put a
  * word pixel in any level, and its slot bounds its crossings. */
+/* The crossings a word code of k bits can hold: the paper's code spends 4
+ * bits a crossing after its four '+', the compact one at least 1. */
+static uint32_t crossings_in(const hpfc_file *f, uint32_t k)
+{
+    if (f->compact)
+        return k;
+    return k >= FORMAT_MIN_WORD_BITS ? (k - FORMAT_MIN_WORD_BITS) / 4 : 0;
+}
+
+uint32_t reader_level_max_crossings(const hpfc_file *f, uint32_t level)
+{
+    return crossings_in(f, f->lv[level].word_bits);
+}
+
 uint32_t reader_max_crossings(const hpfc_file *f)
 {
     uint32_t most = 0;
     for (uint32_t l = 0; l < f->info.levels; l++) {
-        uint32_t k = f->lv[l].word_bits;
-        uint32_t c = k >= FORMAT_MIN_WORD_BITS ? (k - FORMAT_MIN_WORD_BITS) / 4 : 0;
+        uint32_t c = crossings_in(f, f->lv[l].word_bits);
         most = c > most ? c : most;
     }
     return most;
@@ -982,7 +1100,7 @@ uint64_t reader_total_crossings(const hpfc_file *f)
     uint64_t total = 0, part;
     for (uint32_t l = 0; l < f->info.levels; l++) {
         const file_level *lv = &f->lv[l];
-        uint64_t c = lv->word_bits >= FORMAT_MIN_WORD_BITS ? (lv->word_bits - FORMAT_MIN_WORD_BITS) / 4 : 0;
+        uint64_t c = crossings_in(f, lv->word_bits);
         if (!format_mul(lv->info.word_pixels, c, &part) || !format_add(total, part, &total))
             return UINT64_MAX;
     }
@@ -1007,14 +1125,16 @@ uint64_t reader_total_leaves(const hpfc_file *f)
  * leaf_only (HPFC_E_ARG then). */
 static int slot_bit(const hpfc_file *f, const hpfc_pixel *px, bool leaf_only, uint64_t *bit)
 {
-    int type;
-    uint64_t slot;
-    int st = bit ? top_pixel(f, px, &type, &slot) : HPFC_E_ARG;
-    if (!st && leaf_only && type != HPFC_PIXEL_WORD)
+    pixel_at at;
+    int st = bit ? top_pixel(f, px, &at) : HPFC_E_ARG;
+    if (!st && leaf_only && at.type != HPFC_PIXEL_WORD)
         st = HPFC_E_ARG;
     if (st)
         return st;
-    if (px->depth == 0)
+    uint64_t slot = at.slot;
+    if (f->compact)
+        slot = pool_type_bit(&f->lv[px->depth].compact, slot);
+    else if (px->depth == 0)
         slot -= 1; /* the root record starts at its type bit */
     *bit = f->lv[px->depth].info.pool_offset * 8 + slot;
     return HPFC_OK;
@@ -1032,6 +1152,27 @@ int reader_leaf_slot_bit(const hpfc_file *f, const hpfc_pixel *px, uint64_t *bit
 
 /* ---- pool layout, for the walker's key index (reader.h) ------------------------------------ */
 
+/* A compact image is one unit of its level's image numbering; its refined
+ * pixels are counted by reading each. */
+static int compact_image_bits(const hpfc_file *f, uint32_t level, uint64_t image, uint64_t *bits,
+                              uint64_t *refined)
+{
+    const file_level *lv = &f->lv[level];
+    if (image >= lv->info.images)
+        return level ? HPFC_E_CORRUPT : HPFC_E_ARG;
+    uint64_t total = 0;
+    for (uint64_t p = 0; p < lv->image_pixels; p++) {
+        pixel_at at;
+        int st = compact_image_pixel(lv, level, image, p, &at);
+        if (st)
+            return st;
+        total += at.type == HPFC_PIXEL_REFINED;
+    }
+    *bits = 1;
+    *refined = total;
+    return HPFC_OK;
+}
+
 int reader_image_bits(const hpfc_file *f, uint32_t level, uint64_t image, uint64_t *bits,
                       uint64_t *refined)
 {
@@ -1039,6 +1180,8 @@ int reader_image_bits(const hpfc_file *f, uint32_t level, uint64_t image, uint64
         return HPFC_E_ARG;
     const file_level *lv = &f->lv[level];
     uint64_t per = lv->image_pixels, pool = lv->pool.bits, total = 0;
+    if (f->compact)
+        return compact_image_bits(f, level, image, bits, refined);
     if (level == 0) {
         if (image != 0)
             return HPFC_E_ARG;
@@ -1065,6 +1208,19 @@ int reader_next_refined(const hpfc_file *f, uint32_t level, uint64_t image, read
 {
     const file_level *lv = &f->lv[level];
     uint64_t per = lv->image_pixels;
+    if (f->compact) {
+        for (; it->p < per; it->p++) {
+            pixel_at at;
+            int st = compact_image_pixel(lv, level, image, it->p, &at);
+            if (st)
+                return st;
+            if (at.type == HPFC_PIXEL_REFINED) {
+                *pixel = (uint32_t)it->p++;
+                return child_address(f, level, &at, address);
+            }
+        }
+        return HPFC_E_NO_PIXEL;
+    }
     if (level == 0) {
         for (; it->p < per; it->p++)
             if (format_get(&lv->pool, it->p * lv->record_bits, 1)) {
@@ -1099,6 +1255,15 @@ int reader_word_at(const hpfc_file *f, uint32_t level, uint64_t image, uint64_t 
 {
     const file_level *lv = &f->lv[level];
     uint64_t per = lv->image_pixels;
+    if (f->compact) {
+        uint64_t g;
+        pixel_at at;
+        if (!pool_pixel_at_bit(&lv->compact, bit, &g) || g / per != image ||
+            compact_image_pixel(lv, level, image, g % per, &at) || at.type != HPFC_PIXEL_WORD)
+            return HPFC_E_ARG;
+        *pixel = (uint32_t)(g % per);
+        return HPFC_OK;
+    }
     if (level == 0) {
         uint64_t p = bit / lv->record_bits;
         if (bit % lv->record_bits || p >= per || format_get(&lv->pool, bit, 1))
@@ -1118,4 +1283,92 @@ int reader_word_at(const hpfc_file *f, uint32_t level, uint64_t image, uint64_t 
         at += refined ? lv->address_bits : lv->word_bits;
     }
     return HPFC_E_ARG;
+}
+
+/* ---- layout-neutral views for the traversal and faces code (reader.h) ----------------------- */
+
+bool reader_is_compact(const hpfc_file *f)
+{
+    return f->compact;
+}
+
+uint64_t reader_image_end(const hpfc_file *f, uint32_t level)
+{
+    const file_level *lv = &f->lv[level];
+    return f->compact ? lv->info.images : lv->info.pool_bits;
+}
+
+int reader_slot_image(const hpfc_file *f, uint32_t level, uint64_t bit, uint64_t *image)
+{
+    const file_level *lv = &f->lv[level];
+    uint64_t g;
+    if (!f->compact || !pool_pixel_at_bit(&lv->compact, bit, &g))
+        return HPFC_E_ARG;
+    *image = g / lv->image_pixels;
+    return HPFC_OK;
+}
+
+void reader_slot_grid(const hpfc_file *f, uint32_t level, uint64_t *unit, uint64_t *entries)
+{
+    const file_level *lv = &f->lv[level];
+    if (f->compact) { /* type bits, two a pixel, in the pool's first type_bits */
+        *unit = 2;
+        *entries = lv->compact.type_bits / 2 + 1;
+    } else if (level == 0) {
+        *unit = lv->record_bits;
+        *entries = lv->image_pixels;
+    } else {
+        *unit = lv->word_bits ? lv->word_bits : 1; /* no word slots: no entries needed */
+        *entries = lv->info.word_pixels ? lv->info.pool_bits / *unit + 1 : 0;
+    }
+}
+
+/* Leaf number (TEAM decision): the word pixels of a level in pool order.
+ * Compact: the pixels before the leaf that are not refined, O(1). */
+int reader_leaf_rank(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *rank)
+{
+    pixel_at at;
+    int st = rank ? top_pixel(f, leaf, &at) : HPFC_E_ARG;
+    if (!st && at.type != HPFC_PIXEL_WORD)
+        st = HPFC_E_ARG;
+    if (st)
+        return st;
+    uint32_t d = leaf->depth;
+    const file_level *lv = &f->lv[d];
+    if (f->compact) {
+        uint64_t g = leaf->path[d].image * lv->image_pixels +
+                     (uint64_t)leaf->path[d].j * lv->cols + leaf->path[d].i;
+        pool_pixel px;
+        st = pool_read_pixel(&lv->pool, &lv->compact, g, &px);
+        if (!st)
+            *rank = g - px.refined;
+        return st;
+    }
+    return labels_leaf_rank_paper(f, leaf, rank);
+}
+
+/* The compact layout's word pixels of a level before unit u (an image,
+ * or a root pixel): what the LABL rank samples count (spec §15.2). */
+int reader_compact_words_before(const hpfc_file *f, uint32_t level, uint64_t unit, uint64_t *words)
+{
+    const file_level *lv = &f->lv[level];
+    uint64_t g = level ? unit * lv->image_pixels : unit;
+    pool_pixel px;
+    int st = pool_read_pixel(&lv->pool, &lv->compact, g, &px);
+    if (!st)
+        *words = g - px.refined;
+    return st;
+}
+
+int hpfc_check_pool_layout(const hpfc_file *f, uint32_t level, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!f || level >= f->info.levels)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_check_pool_layout: no such level");
+    if (!f->compact)
+        return HPFC_OK; /* the paper layout has no index of its own: its pixels say it all */
+    const file_level *lv = &f->lv[level];
+    const char *what = NULL;
+    int st = pool_check_level(&lv->pool, &lv->compact, lv->word_bits, &what);
+    return st ? diag_set(diag, st, "level %u: %s", level, what) : HPFC_OK;
 }

@@ -2,6 +2,8 @@
 #ifndef HPFC_READER_H
 #define HPFC_READER_H
 
+#include <stdbool.h>
+
 #include "hpfc.h"
 
 /* hpfc_faces_build's union-find takes 32-bit words below this many nodes
@@ -11,6 +13,8 @@ extern uint64_t faces_narrow_nodes;
 
 /* Most crossings a word of this file can hold (from the level table). */
 uint32_t reader_max_crossings(const hpfc_file *file);
+/* Most crossings a word of level `level` can hold. */
+uint32_t reader_level_max_crossings(const hpfc_file *file, uint32_t level);
 /* An upper bound on all crossings of the file, to bound walks. */
 uint64_t reader_total_crossings(const hpfc_file *file);
 /* Word pixels (leaves) in all levels, as the level table declares them. */
@@ -51,6 +55,27 @@ int reader_word_at(const hpfc_file *file, uint32_t level, uint64_t image, uint64
  * trusted as it is by hpfc_pixel_move). out may be near. */
 int reader_locate_near(const hpfc_file *file, const hpfc_pixel *near, int64_t x, int64_t y,
                        hpfc_pixel *out);
+/* The file's pools use the compact layout (pool.h). */
+bool reader_is_compact(const hpfc_file *file);
+/* The end of level `level`'s image numbering: images are named 0 .. end
+ * - 1 (paper: bit offsets in the pool, end = s^l; compact: indices, end =
+ * the level's images), and reader_image_bits gives each one's extent. */
+uint64_t reader_image_end(const hpfc_file *file, uint32_t level);
+/* Compact only: the image holding the pixel whose type bits start at pool
+ * bit `bit`; HPFC_E_ARG when none does (or the file is paper). */
+int reader_slot_image(const hpfc_file *file, uint32_t level, uint64_t bit, uint64_t *image);
+/* Slot positions of level `level` (pool-relative) divided by *unit are
+ * distinct integers below *entries, one per pixel that has a slot. */
+void reader_slot_grid(const hpfc_file *file, uint32_t level, uint64_t *unit, uint64_t *entries);
+/* Leaf number (TEAM.md): the rank of a word pixel among its level's word
+ * pixels in pool order (images in pool order, each in raster order).
+ * HPFC_E_ARG for a refined pixel. Compact layout: O(1); paper layout:
+ * labels_leaf_rank_paper (labels.h). */
+int reader_leaf_rank(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
+/* Compact layout: the word pixels of a level before unit u (an image, or
+ * a root pixel), as the LABL rank samples count them. */
+int reader_compact_words_before(const hpfc_file *file, uint32_t level, uint64_t unit,
+                                uint64_t *words);
 /* The FEAT section (checked at open), NULL when the file has none. */
 const uint8_t *reader_feat_section(const hpfc_file *file, uint64_t *length);
 /* The ATTR and EDGF sections (checked at open), NULL when absent. */

@@ -73,7 +73,7 @@ static void file_needs(const hpfc_file *f, uint64_t *bytes, uint64_t *entries)
     hpfc_level_info lv;
     *bytes = *entries = 0;
     for (uint32_t l = 0; hpfc_file_get_level(f, l, &lv) == HPFC_OK; l++) {
-        uint32_t c = lv.word_bits >= FORMAT_MIN_WORD_BITS ? (lv.word_bits - FORMAT_MIN_WORD_BITS) / 4 : 0;
+        uint32_t c = reader_level_max_crossings(f, l);
         *bytes = saturating_mul_add(*bytes, lv.word_pixels, entry_bytes(l, c, c) + block_bytes(c));
         *entries = saturating_mul_add(*entries, lv.word_pixels, 1);
     }

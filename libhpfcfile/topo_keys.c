@@ -58,7 +58,7 @@ static int index_level(hpfc_walker *w, uint32_t l, const hpfc_level_info *lv)
             at += bits;
         }
     }
-    return c == count && at == lv[l + 1].pool_bits ? HPFC_OK : HPFC_E_CORRUPT;
+    return c == count && at == reader_image_end(w->file, l + 1) ? HPFC_OK : HPFC_E_CORRUPT;
 }
 
 static int build_index(hpfc_walker *w)
@@ -113,7 +113,12 @@ static int slot_pixel(hpfc_walker *w, uint64_t pos, hpfc_pixel *px, uint64_t *id
     if (l == w->levels)
         return HPFC_E_ARG;
     uint64_t rel = pos - x->pool_bit[l], index = 0, start = 0;
-    if (l > 0) { /* the last image starting at or before rel (image 0 starts at 0) */
+    if (l > 0 && reader_is_compact(w->file)) { /* images are numbered: the type bits say which */
+        int st = reader_slot_image(w->file, l, rel, &index);
+        if (st)
+            return st;
+        start = index;
+    } else if (l > 0) { /* the last image starting at or before rel (image 0 starts at 0) */
         uint64_t lo = x->first[l], hi = x->first[l + 1];
         while (hi - lo > 1) {
             uint64_t mid = lo + (hi - lo) / 2;

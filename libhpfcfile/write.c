@@ -20,6 +20,7 @@
 #include "format.h"
 #include "internal.h"
 #include "labels.h"
+#include "pool.h"
 #include "reader.h"
 
 typedef struct layout {
@@ -42,6 +43,12 @@ typedef struct layout {
     const hpfc_attr_table *attributes;
     const hpfc_edge_feature_table *edge_features;
     uint64_t attr_offset, attr_length, edgf_offset, edgf_length;
+    /* the compact layout (pool.h): per level, its stabbed words, their
+     * stream's bits and longest code, and the geometry from them */
+    bool compact;
+    uint64_t stabbed[HPFC_MAX_LEVELS], stream_bits[HPFC_MAX_LEVELS];
+    uint32_t longest[HPFC_MAX_LEVELS];
+    pool_level pool[HPFC_MAX_LEVELS];
 } layout;
 
 static uint32_t image_cols(const layout *L, uint32_t level)
@@ -59,6 +66,11 @@ static void layout_free(layout *L)
     for (uint32_t l = 0; l < HPFC_MAX_LEVELS; l++)
         free(L->image_off[l]);
 }
+
+/* HPFC_LAYOUT_DEFAULT means this (the compact layout, since it passes
+ * every test; issue #20); a variable so that the tests can run every case
+ * on both layouts (HPFC_TEST_LAYOUT, tests/meson.build). */
+int write_default_layout = HPFC_LAYOUT_COMPACT;
 
 /* ---- pass 1: counts ------------------------------------------------------ */
 
@@ -105,6 +117,18 @@ static int count_pixel(layout *L, uint32_t level, size_t image, const hpfc_tree_
     lv->word_pixels++;
     if (bits > lv->word_bits)
         lv->word_bits = (uint32_t)bits;
+    uint64_t code = pool_word_bits(px->word, px->word_len);
+    if (code == UINT64_MAX)
+        return diag_set(diag, HPFC_E_ARG, "tree: malformed word at level %u", level);
+    if (code > POOL_MAX_WORD_BITS)
+        return diag_set(diag, HPFC_E_LIMIT, "a word of %llu compact bits exceeds the layout's 2^20 - 1",
+                        (unsigned long long)code);
+    if (code) {
+        L->stabbed[level]++;
+        L->stream_bits[level] += code;
+        if (code > L->longest[level])
+            L->longest[level] = (uint32_t)code;
+    }
     return HPFC_OK;
 }
 
@@ -144,8 +168,29 @@ static void place_images(layout *L, uint32_t level)
     }
 }
 
+/* The compact sizes (pool.h): no addresses, k_w the longest compact code. */
+static int size_compact_levels(layout *L, hpfc_diag *diag)
+{
+    uint64_t root = (uint64_t)L->info.root_cols * L->info.root_rows;
+    uint64_t ppi = (uint64_t)L->info.cols * L->info.rows;
+    for (uint32_t l = 0; l < L->info.levels; l++) {
+        format_level *lv = &L->lv[l];
+        uint64_t pixels;
+        if (!format_mul(lv->images, l ? ppi : root, &pixels) ||
+            !pool_level_sizes(&L->pool[l], pixels, lv->refined_pixels, L->stabbed[l],
+                              L->stream_bits[l]))
+            return diag_set(diag, HPFC_E_LIMIT, "the pools exceed 2^64 bits");
+        lv->word_bits = L->longest[l];
+        lv->address_bits = 0;
+        lv->pool_bits = L->pool[l].pool_bits;
+    }
+    return HPFC_OK;
+}
+
 static int size_levels(layout *L, hpfc_diag *diag)
 {
+    if (L->compact)
+        return size_compact_levels(L, diag);
     uint64_t root = (uint64_t)L->info.root_cols * L->info.root_rows;
     uint64_t ppi = (uint64_t)L->info.cols * L->info.rows;
     if (!format_level_sizes(L->lv, L->info.levels, root, ppi))
@@ -282,6 +327,23 @@ static void emit_level(const layout *L, uint32_t level, uint8_t *pool)
     }
 }
 
+/* A compact level: every pixel of every image in pool order. */
+static void emit_compact_level(const layout *L, uint32_t level, uint8_t *pool)
+{
+    pool_writer pw = {.pool = pool, .pl = &L->pool[level]};
+    for (size_t im = 0; im < L->lv[level].images; im++)
+        for (uint32_t j = 0; j < image_rows(L, level); j++)
+            for (uint32_t i = 0; i < image_cols(L, level); i++) {
+                hpfc_tree_pixel px;
+                hpfc_tree_get_pixel(L->tree, level, im, i, j, &px);
+                int kind = px.type == HPFC_PIXEL_REFINED  ? POOL_REFINED
+                           : pool_word_bits(px.word, px.word_len) ? POOL_STABBED
+                                                                   : POOL_PRIVATE;
+                pool_writer_pixel(&pw, kind, px.word, px.word_len);
+            }
+    pool_writer_finish(&pw);
+}
+
 static void emit_header(const layout *L, uint8_t *h)
 {
     const hpfc_tree_info *t = &L->info;
@@ -290,7 +352,7 @@ static void emit_header(const layout *L, uint8_t *h)
     hdr_set_format_minor(h, FORMAT_MINOR);
     hdr_set_header_size(h, FORMAT_HEADER_SIZE);
     hdr_set_compat_flags(h, 0);
-    hdr_set_incompat_flags(h, 0);
+    hdr_set_incompat_flags(h, L->compact ? FORMAT_INCOMPAT_COMPACT_POOL : 0);
     hdr_set_root_cols(h, t->root_cols);
     hdr_set_root_rows(h, t->root_rows);
     hdr_set_cols(h, t->cols);
@@ -318,6 +380,10 @@ static void emit_level_table(const layout *L, uint8_t *file)
         lvl_set_address_bits(e, lv->address_bits);
         lvl_set_pool_offset(e, L->pool_offset[l]);
         lvl_set_pool_bits(e, lv->pool_bits);
+        if (L->compact) {
+            lvl_set_stabbed_pixels(e, L->stabbed[l]);
+            lvl_set_stream_bits(e, L->stream_bits[l]);
+        }
     }
 }
 
@@ -350,6 +416,9 @@ static void emit(const layout *L, uint8_t *file)
 {
     if (L->source) {
         copy_pools(L, file);
+    } else if (L->compact) {
+        for (uint32_t l = 0; l < L->info.levels; l++)
+            emit_compact_level(L, l, file + L->pool_offset[l]);
     } else {
         emit_root(L, file + L->pool_offset[0]);
         for (uint32_t l = 1; l < L->info.levels; l++)
@@ -452,10 +521,14 @@ int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, u
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: NULL argument");
     *out = NULL;
     *out_size = 0;
+    int kind = opts ? opts->layout : HPFC_LAYOUT_DEFAULT;
+    if (kind < HPFC_LAYOUT_DEFAULT || kind > HPFC_LAYOUT_COMPACT)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: unknown layout %d", kind);
     layout L = {.tree = tree, .crs = opts ? opts->crs : NULL,
                 .features = opts ? opts->features : NULL,
                 .attributes = opts ? opts->attributes : NULL,
-                .edge_features = opts ? opts->edge_features : NULL};
+                .edge_features = opts ? opts->edge_features : NULL,
+                .compact = (kind ? kind : write_default_layout) == HPFC_LAYOUT_COMPACT};
     hpfc_tree_get_info(tree, &L.info);
     int st = check_tree_info(&L.info, diag);
     for (uint32_t l = 0; l < L.info.levels && !st; l++)
@@ -500,11 +573,17 @@ int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts, u
                               .width = fi.width,
                               .height = fi.height,
                               .unit_exp10 = fi.unit_exp10};
+    /* the pools are copied as they are, in their layout */
+    L.compact = reader_is_compact(file);
+    const uint8_t *bytes = reader_bytes(file);
     for (uint32_t l = 0; l < fi.levels; l++) {
         hpfc_level_info li;
         hpfc_file_get_level(file, l, &li);
         L.lv[l] = (format_level){li.word_pixels, li.refined_pixels, li.images,
                                  li.word_bits,   li.address_bits,   li.pool_bits};
+        const uint8_t *e = bytes + hdr_get_header_size(bytes) + (size_t)l * FORMAT_LEVEL_ENTRY_SIZE;
+        L.stabbed[l] = L.compact ? lvl_get_stabbed_pixels(e) : 0;
+        L.stream_bits[l] = L.compact ? lvl_get_stream_bits(e) : 0;
     }
     return serialize_layout(&L, out, out_size, diag);
 }

@@ -31,6 +31,20 @@ static long check_count;
         }                                                                  \
     } while (0)
 
+/* The pool layout the library writes by default, from HPFC_TEST_LAYOUT
+ * ("compact" or unset): tests/meson.build runs the file tests once per
+ * layout. Returns 1 for the compact layout. */
+extern int write_default_layout;
+static inline int check_use_test_layout(void)
+{
+    const char *v = getenv("HPFC_TEST_LAYOUT");
+    int compact = v && v[0] == 'c';
+    write_default_layout = compact ? 2 : 1; /* HPFC_LAYOUT_COMPACT, _PAPER */
+    if (compact)
+        printf("layout: compact\n");
+    return compact;
+}
+
 static inline int check_report(const char *name)
 {
     printf("%s: %ld checks, %d failed\n", name, check_count, check_failures);

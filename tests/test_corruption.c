@@ -38,6 +38,9 @@
 #define STEP_BUDGET 4000 /* operator calls per damaged copy */
 #define MAX_DARTS 256
 
+/* the layout under test (check_use_test_layout) */
+static int test_layout_compact;
+
 static const uint64_t ALLOWED = BIT(HPFC_OK) | BIT(HPFC_E_NO_PIXEL) | BIT(HPFC_E_CORRUPT);
 
 /* What the campaign saw, for the summary line and the checks. */
@@ -650,7 +653,9 @@ static void test_key_layout(void)
     uint8_t *buf = NULL;
     size_t size = 0;
     CHECK_EQ_INT(hpfc_build(g, &p, &t, NULL), HPFC_OK);
-    CHECK_EQ_INT(hpfc_tree_serialize(t, NULL, &buf, &size, NULL), HPFC_OK);
+    /* addresses exist in the paper layout only (compact children are ranks) */
+    const hpfc_write_options paper = {.layout = HPFC_LAYOUT_PAPER};
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &paper, &buf, &size, NULL), HPFC_OK);
     hpfc_file *f = NULL;
     CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
     if (!f)
@@ -717,6 +722,7 @@ done:
 
 int main(void)
 {
+    test_layout_compact = check_use_test_layout();
     const char *root = getenv("HPFC_TEST_DATA");
     CHECK(root != NULL);
     if (root) {

@@ -20,6 +20,9 @@ __extension__ typedef __int128 i128;
 
 /* ---- lattice mapping --------------------------------------------------------- */
 
+/* the layout under test (check_use_test_layout) */
+static int test_layout_compact;
+
 static int64_t lattice(double v, int32_t e)
 {
     int64_t q = INT64_MIN;
@@ -563,6 +566,7 @@ static void test_holes(void)
 
 int main(void)
 {
+    test_layout_compact = check_use_test_layout();
     test_lattice_exact();
     test_lattice_oracle();
     test_units();

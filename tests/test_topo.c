@@ -28,6 +28,9 @@ typedef struct graph_map {
 } graph_map;
 
 /* Counter-clockwise angular order of two directions, from the +x axis. */
+/* the layout under test (check_use_test_layout) */
+static int test_layout_compact;
+
 static int ccw_cmp(const int64_t *a, const int64_t *b)
 {
     int ha = a[1] < 0 || (a[1] == 0 && a[0] < 0), hb = b[1] < 0 || (b[1] == 0 && b[0] < 0);
@@ -688,15 +691,18 @@ static size_t check_bad_keys(const hpfc_file *f, hpfc_walker *w, const uint64_t 
         tried++;
     }
     if (hpfc_file_get_level(f, 1, &lv1) == HPFC_OK) { /* a mask bit, and a refined root record */
-        bad += hpfc_key_prev(w, (lv1.pool_offset * 8) << 20, &out) != HPFC_E_ARG;
-        uint32_t record = 1 + (lv0.address_bits > lv0.word_bits ? lv0.address_bits : lv0.word_bits);
+        /* paper: bit 0 is a mask bit; compact: pixel 0's type bits start
+         * there, bit 1 is the second of them */
+        uint64_t mask_bit = lv1.pool_offset * 8 + (info.incompat_flags & 1);
+        bad += hpfc_key_prev(w, mask_bit << 20, &out) != HPFC_E_ARG;
         for (uint32_t r = 0; r < info.root_cols * info.root_rows; r++) {
             hpfc_pixel root;
             int type;
+            uint64_t at; /* its record (paper) or type bits (compact) */
             hpfc_pixel_root(f, r % info.root_cols, r / info.root_cols, &root);
-            if (hpfc_pixel_type(f, &root, &type) == HPFC_OK && type == HPFC_PIXEL_REFINED) {
-                bad += hpfc_key_twin(w, (lv0.pool_offset * 8 + (uint64_t)r * record) << 20, &out) !=
-                       HPFC_E_ARG;
+            if (hpfc_pixel_type(f, &root, &type) == HPFC_OK && type == HPFC_PIXEL_REFINED &&
+                reader_pixel_slot_bit(f, &root, &at) == HPFC_OK) {
+                bad += hpfc_key_twin(w, at << 20, &out) != HPFC_E_ARG;
                 tried++;
                 break;
             }
@@ -815,7 +821,10 @@ static void oracle_build(const hpfc_file *f, index_oracle *o)
     for (uint32_t l = 0; l < info.levels; l++) {
         hpfc_level_info lv;
         CHECK_EQ_INT(hpfc_file_get_level(f, l, &lv), HPFC_OK);
-        uint64_t k = lv.word_bits >= 4 ? (lv.word_bits - 4) / 4 : 0;
+        /* crossings a slot holds; compact layout: a crossing costs >= 1 bit */
+        uint64_t k = info.incompat_flags & 1 ? lv.word_bits
+                     : lv.word_bits >= 4      ? (lv.word_bits - 4) / 4
+                                              : 0;
         o->k = k > o->k ? k : o->k;
         o->first[l] = pixels;
         pixels += l ? lv.images * o->image_pixels : (uint64_t)info.root_cols * info.root_rows;
@@ -1052,6 +1061,7 @@ static void test_oracle_detects_difference(void)
 
 int main(void)
 {
+    test_layout_compact = check_use_test_layout();
     test_oracle_detects_difference();
     test_generated();
     test_road_with_many_leaves();

@@ -27,6 +27,9 @@
 
 /* ---- pieces ------------------------------------------------------------------------ */
 
+/* the layout under test (check_use_test_layout) */
+static int test_layout_compact;
+
 static void test_crc(void)
 {
     CHECK_EQ_INT(view_crc32c(0, "123456789", 9), 0xE3069283u);
@@ -450,6 +453,7 @@ static void check_graph(const char *name, hpfc_graph *g, uint32_t n0, uint32_t n
 
 int main(void)
 {
+    test_layout_compact = check_use_test_layout();
     test_crc();
     test_words();
     test_decimals();

@@ -90,8 +90,8 @@ run "$INSPECT" --export-graph "$dir/graph.json" "$TESTS/data/invalid/bad_pool_ch
 [ -e "$dir/graph.json" ] && fail "export of a bad file created OUT"
 
 # A tree whose refined pixels share child images (valid checksums) is
-# refused before any walk over it.
-"$PACK" --quiet --root 1 "$TESTS/../data/delaunay-4000.pfc" -o "$tmp/deep.hpfc"
+# refused before any walk over it (paper layout: compact children are ranks).
+"$PACK" --quiet --layout paper --root 1 "$TESTS/../data/delaunay-4000.pfc" -o "$tmp/deep.hpfc"
 gcheck alias "$tmp/deep.hpfc" "$tmp/alias.hpfc" || fail "cannot alias images"
 run "$INSPECT" --export-graph "$dir/graph.json" "$tmp/alias.hpfc"
 expect_error "export aliased images" "hpfc-inspect: $tmp/alias.hpfc: " 1
