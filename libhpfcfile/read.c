@@ -1342,7 +1342,8 @@ int reader_leaf_rank(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *rank)
         st = pool_read_pixel(&lv->pool, &lv->compact, g, &px);
         if (!st)
             *rank = g - px.refined;
-        return st;
+        /* damaged block counts can rank a leaf past the level's leaves */
+        return st ? st : *rank < lv->info.word_pixels ? HPFC_OK : HPFC_E_CORRUPT;
     }
     return labels_leaf_rank_paper(f, leaf, rank);
 }

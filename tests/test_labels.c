@@ -278,6 +278,7 @@ static void check_worked_example(void)
 
 int main(void)
 {
+    check_use_test_layout();
     check_worked_example();
     for (int which = 0; which < GEN_SPECIAL_COUNT; which++) {
         hpfc_graph *g = NULL;
