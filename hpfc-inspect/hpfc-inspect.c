@@ -54,6 +54,7 @@ typedef struct inspect_args {
     const char *file;
     int json;
     int verify;
+    int force;              /* --force, -overwrite: replace an existing OUT */
     const char *graph_out;  /* --export-graph OUT */
     int sections, stats;
     int lonlat;             /* --lonlat: --locate-batch reads lon,lat */
@@ -97,6 +98,8 @@ static void print_help(void)
            "                         (twin, next, prev, origin, target, faces, Euler)\n"
            "  --export-graph OUT     write the map as hpfc-graph JSON to OUT (atomic:\n"
            "                         no partial OUT on failure)\n"
+           "  --force, -overwrite    replace an existing OUT (--export-graph, --render);\n"
+           "                         without it an existing OUT is refused\n"
            "  --sections             the file's map: header, level table, directory, every\n"
            "                         section with offset, length and stored / computed\n"
            "                         CRC-32C, each level's pool with its bits, k_w, k_@\n"
@@ -323,6 +326,8 @@ static int parse_args(int argc, char **argv, inspect_args *a)
             a->json = 1;
         } else if (strcmp(arg, "--verify") == 0) {
             a->verify = 1;
+        } else if (strcmp(arg, "--force") == 0 || strcmp(arg, "-overwrite") == 0) {
+            a->force = 1;
         } else if (strcmp(arg, "--sections") == 0) {
             a->sections = 1;
         } else if (strcmp(arg, "--stats") == 0) {
@@ -697,11 +702,24 @@ static int check_before_export(const char *path)
     return valid ? 0 : EXIT_FAIL;
 }
 
+/* An existing OUT is replaced only with --force, as hpfc-pack's OUTPUT:
+ * 0, or EXIT_FAIL after saying so. Checked before any work. */
+static int check_new_output(const inspect_args *a, const char *out)
+{
+    struct stat st;
+    if (a->force || lstat(out, &st) != 0)
+        return 0;
+    fprintf(stderr, "hpfc-inspect: %s: exists; --force (or -overwrite) replaces it\n", out);
+    return EXIT_FAIL;
+}
+
 /* The map as the reader rebuilds it, once the file's structure verifies. */
 static int run_export(const inspect_args *a)
 {
     if (same_file(a->file, a->graph_out))
         return usage_error("OUT is FILE; refusing to overwrite the input", a->graph_out);
+    if (check_new_output(a, a->graph_out))
+        return EXIT_FAIL;
     if (check_before_export(a->file))
         return EXIT_FAIL;
     hpfc_file *f = NULL;
@@ -755,6 +773,8 @@ static int run_query(const inspect_args *a)
     const char *out = a->values[V_RENDER];
     if (out && same_file(a->file, out))
         return usage_error("OUT is FILE; refusing to overwrite the input", out);
+    if (out && check_new_output(a, out))
+        return EXIT_FAIL;
     hpfc_file *f = NULL;
     errno = 0;
     int st = hpfc_open(a->file, 0, &f);

@@ -3,7 +3,8 @@
 # hpfc-pack (PACK_BIN, not lib.sh's --force wrapper):
 #  - -q is --quiet, -l is --layer;
 #  - an existing OUTPUT is refused (exit 1, untouched) unless --force or
-#    -overwrite (as ogr2ogr);
+#    -overwrite (as ogr2ogr), and so is an existing OUT of hpfc-inspect's
+#    --export-graph and --render;
 #  - OUTPUT is checked before INPUT is read: an OUTPUT that cannot be made
 #    is the one reason given even when INPUT is broken too;
 #  - -o - writes the file to standard output (report on stderr), never a
@@ -15,7 +16,7 @@
 . "$(dirname "$0")/lib.sh"
 # absolute paths: one check runs in $tmp
 abs() { case $1 in /*) printf '%s' "$1" ;; *) printf '%s/%s' "$(pwd)" "$1" ;; esac; }
-PACK_BIN=$(abs "$PACK_BIN") INSPECT=$(abs "$INSPECT") TESTS=$(abs "$TESTS")
+PACK_BIN=$(abs "$PACK_BIN") INSPECT=$(abs "$INSPECT") INSPECT_BIN=$(abs "$INSPECT_BIN") TESTS=$(abs "$TESTS")
 PFC=$TESTS/data/valid/square_diagonal.pfc
 
 # -q, --quiet
@@ -88,13 +89,31 @@ if ! grep -q "not built in" "$tmp/err"; then
     grep -q "no layer 'nosuch'" "$tmp/err" || fail "-l: $(cat "$tmp/err")"
 fi
 
+# hpfc-inspect's outputs (--export-graph, --render): an existing OUT is
+# refused, untouched, before any work; --force and -overwrite replace it
+for out in graph.json map.svg; do
+    case $out in *.json) mode=--export-graph ;; *) mode=--render ;; esac
+    printf 'precious\n' >"$tmp/$out"
+    run "$INSPECT_BIN" $mode "$tmp/$out" "$tmp/q.hpfc"
+    expect_error "$mode over an existing OUT" "hpfc-inspect: " 1
+    grep -q "exists; --force (or -overwrite) replaces it" "$tmp/err" || fail "reason: $(cat "$tmp/err")"
+    check unchanged "$tmp/$out" "precious
+" || fail "$mode changed the existing OUT"
+    for flag in --force -overwrite; do
+        printf 'precious\n' >"$tmp/$out"
+        run "$INSPECT_BIN" $mode "$tmp/$out" $flag "$tmp/q.hpfc"
+        expect_ok "$mode $flag"
+        grep -q precious "$tmp/$out" && fail "$mode $flag did not replace OUT"
+    done
+done
+
 # both tools' --help list the options of issue 17
 run "$PACK_BIN" --help
 for opt in "-q, --quiet" "-l, --layer" "--force, -overwrite" "-a_srs" "-s_srs" "--invalid node|reject"; do
     grep -q -- "$opt" "$tmp/out" || fail "hpfc-pack --help lacks $opt"
 done
 run "$INSPECT" --help
-for opt in --window-lonlat --size --lon-col --lat-col --id-col --format --locate-batch; do
+for opt in --window-lonlat --size --lon-col --lat-col --id-col --format --locate-batch "--force, -overwrite"; do
     grep -q -- "$opt" "$tmp/out" || fail "hpfc-inspect --help lacks $opt"
 done
 

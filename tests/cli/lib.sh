@@ -19,14 +19,18 @@ failures=0
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/hpfc-cli.XXXXXX") || exit 1
 trap 'rm -rf "$tmp"' EXIT INT TERM
 
-# hpfc-pack refuses an existing OUTPUT without --force (issue 17). The
-# scripts pack to the same path again and again, so $PACK is hpfc-pack with
-# --force; PACK_BIN is the tool itself, for the checks of the refusal
-# (cli_conventions).
+# Both tools refuse an existing output without --force (issue 17). The
+# scripts write to the same paths again and again, so $PACK and $INSPECT
+# are the tools with --force; PACK_BIN and INSPECT_BIN are the tools
+# themselves, for the checks of the refusal (cli_conventions).
 PACK_BIN=$PACK
 printf '#!/bin/sh\nexec "%s" --force "$@"\n' "$PACK_BIN" >"$tmp/hpfc-pack-force"
 chmod +x "$tmp/hpfc-pack-force"
 PACK=$tmp/hpfc-pack-force
+INSPECT_BIN=$INSPECT
+printf '#!/bin/sh\nexec "%s" --force "$@"\n' "$INSPECT_BIN" >"$tmp/hpfc-inspect-force"
+chmod +x "$tmp/hpfc-inspect-force"
+INSPECT=$tmp/hpfc-inspect-force
 
 fail() {
     echo "FAIL: $*"
