@@ -180,7 +180,7 @@ int hpfc_locate_batch(const hpfc_file *file, const hpfc_faces *faces, size_t n, 
                       const int64_t *y, const uint8_t *valid, const hpfc_locate_out *out,
                       size_t *failed)
 {
-    if (!file || !faces || !out || (n && (!x || !y)))
+    if (!file || !out || (n && (!x || !y)))
         return HPFC_E_ARG;
     hpfc_features_info fi;
     int st = hpfc_file_features(file, &fi);
