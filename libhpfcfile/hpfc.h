@@ -771,6 +771,64 @@ HPFC_API int hpfc_edge_feature_count(const hpfc_file *file, uint64_t edge, uint3
 HPFC_API int hpfc_edge_feature(const hpfc_file *file, uint64_t edge, uint32_t k,
                                uint32_t *feature);
 
+/* ------------------------------------------------------------------------
+ * Exact geometry (spec/hpfc-format.md §17, the GEOM section): the input
+ * graph's lattice coordinates, read in O(1) per point from the mapped file.
+ * Vertex ids are the input graph's vertex indices (hpfc_graph_add_vertex
+ * order, `.pfc` `v` records), edge ids its edge indices (as LABL's).
+ * Coordinates are absolute lattice coordinates, the numbers the graph was
+ * given: user coordinates are lattice * 10^unit_exp10. Without a GEOM
+ * section these return HPFC_E_NO_SECTION; an id out of range is HPFC_E_ARG;
+ * a section that contradicts itself or the map HPFC_E_CORRUPT.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_geometry_info {
+    uint64_t vertices;       /* V: vertices of the input graph */
+    uint64_t edges;          /* E: edges of the input graph (LABL's edge count) */
+    uint64_t points;         /* interior (shape) points of all edges */
+    uint64_t section_bytes;  /* the whole section */
+} hpfc_geometry_info;
+
+HPFC_API int hpfc_file_geometry(const hpfc_file *file, hpfc_geometry_info *out);
+HPFC_API int hpfc_geometry_vertex(const hpfc_file *file, uint64_t vertex, int64_t *x,
+                                  int64_t *y);
+/* Edge `edge` runs from vertex *u to vertex *v through *point_count points,
+ * its ends included (2 for a straight edge). */
+HPFC_API int hpfc_geometry_edge(const hpfc_file *file, uint64_t edge, uint64_t *u,
+                                uint64_t *v, uint64_t *point_count);
+/* Point k of an edge: k = 0 is vertex u, k = point_count - 1 vertex v. */
+HPFC_API int hpfc_geometry_edge_point(const hpfc_file *file, uint64_t edge, uint64_t k,
+                                      int64_t *x, int64_t *y);
+/* The faces on the left and on the right of an edge run from u to v
+ * (needs LABL too). Equal for a dangling edge. */
+HPFC_API int hpfc_geometry_edge_faces(const hpfc_file *file, uint64_t edge, uint64_t *left,
+                                      uint64_t *right);
+/* The segment of its edge (k: from point k to point k + 1) on which crossing
+ * `crossing` (0-based, word order) of a stabbed leaf lies. O(levels). */
+HPFC_API int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf,
+                                            uint32_t crossing, uint64_t *segment);
+
+/* ------------------------------------------------------------------------
+ * Exact point location (needs LABL and GEOM): the one face that contains a
+ * lattice point, or, when the point lies on an edge or a vertex, the faces
+ * around it, decided by exact integer predicates on the edges that cross
+ * the point's leaf only. O(levels + the leaf's geometry).
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_point_location {
+    hpfc_pixel leaf;      /* the leaf holding the point */
+    int on_boundary;      /* 1: on an edge or a vertex; faces lists those around */
+    int on_vertex;        /* 1: on vertex `vertex` */
+    uint64_t vertex;      /* on_vertex: its id */
+    uint64_t edge;        /* on an edge (not at a vertex): its id */
+} hpfc_point_location;
+
+/* faces[0 .. *count): the face containing (x, y) (one), or the distinct
+ * faces around a boundary point in increasing order. A point outside the
+ * domain gives HPFC_E_NO_PIXEL and *count = 0. cap too small is HPFC_E_ARG
+ * with *count set; faces NULL asks only the count. */
+HPFC_API int hpfc_locate_point(const hpfc_file *file, int64_t x, int64_t y,
+                               hpfc_point_location *out, uint64_t *faces, size_t cap,
+                               size_t *count);
+
 #ifdef __cplusplus
 }
 #endif
