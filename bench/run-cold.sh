@@ -54,16 +54,16 @@ pack() {
 pack counties "labels nolabels" "$counties" --invalid node --layer counties --key name
 pack continent-small "labels nolabels" build-bench/gis/continent-20x12x250.geojson --key name
 pack continent "labels nolabels" build-bench/gis/continent.geojson --key name
-# several hundred MB: a 2000 x 2000 jittered grid mesh (12 M edges, 258 MB
+# several hundred MB: a 2600 x 2600 jittered grid mesh (20 M edges, about 370 MB
 # with LABL; 1.6 GB and about a minute of CPU to pack), labels only
 ninja -C build-bench tests/gen-pfc >/dev/null
-[ -s "$dir/grid2000.pfc" ] || build-bench/tests/gen-pfc grid 1 2000 "$dir/grid2000.pfc"
-pack grid2000 labels "$dir/grid2000.pfc"
+[ -s "$dir/grid2600.pfc" ] || build-bench/tests/gen-pfc grid 1 2600 "$dir/grid2600.pfc"
+pack grid2600 labels "$dir/grid2600.pfc"
 
 echo
 echo "section sizes (bits per edge: LABL beside POOL)"
 for f in "$dir/counties.hpfc" "$dir/continent-small.hpfc" "$dir/continent.hpfc" \
-    "$dir/grid2000.hpfc"; do
+    "$dir/grid2600.hpfc"; do
     "$INSPECT" --sections --json "$f" | python3 -c '
 import json, sys
 d = json.load(sys.stdin)
@@ -74,7 +74,7 @@ done
 echo
 echo "(a) one answer from a fresh open: bench_cold FILE 100 (microseconds)"
 for f in "$dir/counties.hpfc" "$dir/continent-small.hpfc" "$dir/continent.hpfc" \
-    "$dir/grid2000.hpfc"; do
+    "$dir/grid2600.hpfc"; do
     $COLD "$f" 100
 done
 echo "    the same without LABL (each answer numbers the map's faces: 10 opens, 3 on the largest)"
@@ -100,7 +100,7 @@ def medians(args, n):
 cases = [("counties", ["--locate", "-77.03,38.9"]),
          ("continent-small", ["--locate-lonlat", "-100.5,37.2"]),
          ("continent", ["--locate-lonlat", "-100.5,37.2"]),
-         ("grid2000", ["--locate", "16000.5,16000.5"])]
+         ("grid2600", ["--locate", "16000.5,16000.5"])]
 print(f"{'file':<26} {'--version cpu':>14} {'--locate cpu':>13} {'diff cpu':>9} | "
       f"{'--version wall':>14} {'--locate wall':>13} {'diff wall':>9}")
 for name, q in cases:
