@@ -335,14 +335,22 @@ static inline uint64_t format_peek(const format_bits *b, uint64_t off, unsigned 
     return w & ~(UINT64_MAX >> k);
 }
 
-/* The k-bit field (0 <= k <= 64) at bit offset off, as an integer. */
+/* A field of 58 to 64 bits: its first k - 32 bits, then 32. */
+static uint64_t format_get_wide(const format_bits *b, uint64_t off, unsigned k)
+{
+    uint64_t high = format_peek(b, off, k - 32) >> (64 - (k - 32));
+    return high << 32 | format_peek(b, off + k - 32, 32) >> 32;
+}
+
+/* The k-bit field (0 <= k <= 64) at bit offset off, as an integer. Not
+ * recursive, so that compilers inline it into every access. */
 static inline uint64_t format_get(const format_bits *b, uint64_t off, unsigned k)
 {
     if (k == 0)
         return 0;
     if (k <= 57)
         return format_peek(b, off, k) >> (64 - k);
-    return format_get(b, off, k - 32) << 32 | format_get(b, off + k - 32, 32);
+    return format_get_wide(b, off, k);
 }
 
 /* Number of 1 bits in x. Without a popcount instruction in the target,

@@ -13,31 +13,44 @@
  * 'Y', or one that closes a group (']', ')', '='). In each context the
  * symbols the grammar (§3.8) allows there are listed by frequency on the
  * Delaunay and GIS maps measured for the issue; the k-th costs k + 1 bits,
- * k ones then a zero, the last one only its ones. Decoding counts the
- * leading ones: no table, no reserved code. */
+ * k ones then a zero, the last one only its ones (spec §16.5).
+ *
+ * The table is indexed by context and by the number of leading ones of
+ * the next bits (capped at 7: no code has more than 6), so the decoder
+ * makes one lookup a symbol; the encoder searches the same table, which
+ * is the code's only definition. */
 enum { CTX_NONE, CTX_STABBING, CTX_JUNCTION, CTX_CLOSED };
-static const char *const ctx_symbols[4] = {"[(+=", "+][(=", "+Y)[(=", "+][Y)(="};
-static const unsigned ctx_last[4] = {3, 4, 5, 6}; /* index of the all-ones code */
+typedef struct code_entry {
+    char symbol;
+    uint8_t bits;  /* length of its code */
+    uint8_t next;  /* the context after it */
+} code_entry;
+#define CODE_ONES_CAP 7
+static const code_entry codes[4][CODE_ONES_CAP + 1] = {
+    [CTX_NONE] = {{'[', 1, CTX_STABBING}, {'(', 2, CTX_JUNCTION}, {'+', 3, CTX_NONE},
+                  {'=', 3, CTX_CLOSED}, {'=', 3, CTX_CLOSED}, {'=', 3, CTX_CLOSED},
+                  {'=', 3, CTX_CLOSED}, {'=', 3, CTX_CLOSED}},
+    [CTX_STABBING] = {{'+', 1, CTX_STABBING}, {']', 2, CTX_CLOSED}, {'[', 3, CTX_STABBING},
+                      {'(', 4, CTX_JUNCTION}, {'=', 4, CTX_CLOSED}, {'=', 4, CTX_CLOSED},
+                      {'=', 4, CTX_CLOSED}, {'=', 4, CTX_CLOSED}},
+    [CTX_JUNCTION] = {{'+', 1, CTX_JUNCTION}, {'Y', 2, CTX_JUNCTION}, {')', 3, CTX_CLOSED},
+                      {'[', 4, CTX_STABBING}, {'(', 5, CTX_JUNCTION}, {'=', 5, CTX_CLOSED},
+                      {'=', 5, CTX_CLOSED}, {'=', 5, CTX_CLOSED}},
+    [CTX_CLOSED] = {{'+', 1, CTX_CLOSED}, {']', 2, CTX_CLOSED}, {'[', 3, CTX_STABBING},
+                    {'Y', 4, CTX_JUNCTION}, {')', 5, CTX_CLOSED}, {'(', 6, CTX_JUNCTION},
+                    {'=', 6, CTX_CLOSED}, {'=', 6, CTX_CLOSED}},
+};
 
-static int next_context(int ctx, char c)
+/* The code of c in ctx (its first entry: k ones, then a zero unless it is
+ * the all-ones code); its length, 0 when the context does not allow c. */
+static unsigned symbol_code(int ctx, char c, uint64_t *value, int *next)
 {
-    switch (c) {
-    case '+': return ctx;
-    case '[': return CTX_STABBING;
-    case '(': case 'Y': return CTX_JUNCTION;
-    default: return CTX_CLOSED;
-    }
-}
-
-/* The code of c in ctx: its length (0 when the context does not allow c). */
-static unsigned symbol_code(int ctx, char c, uint64_t *value)
-{
-    const char *s = ctx_symbols[ctx];
-    for (unsigned k = 0; s[k]; k++)
-        if (s[k] == c) {
-            unsigned last = ctx_last[ctx];
-            *value = k < last ? (((uint64_t)1 << k) - 1) << 1 : ((uint64_t)1 << last) - 1;
-            return k < last ? k + 1 : last;
+    for (unsigned k = 0; k <= CODE_ONES_CAP; k++)
+        if (codes[ctx][k].symbol == c) {
+            unsigned bits = codes[ctx][k].bits;
+            *value = (((uint64_t)1 << k) - 1) << (bits - k);
+            *next = codes[ctx][k].next;
+            return bits;
         }
     return 0;
 }
@@ -53,13 +66,12 @@ static uint64_t code_word(const char *word, uint32_t len, uint8_t *pool, uint64_
     int ctx = CTX_NONE;
     for (uint32_t k = 0; k + 1 < len; k++) {
         uint64_t value;
-        unsigned n = symbol_code(ctx, word[k], &value);
+        unsigned n = symbol_code(ctx, word[k], &value, &ctx);
         if (n == 0 || (word[k] == '+' && ++plus > 3))
             return UINT64_MAX;
         if (pool)
             format_put(pool, off + bits, n, value);
         bits += n;
-        ctx = next_context(ctx, word[k]);
     }
     return plus == 3 ? bits : UINT64_MAX;
 }
@@ -71,42 +83,72 @@ uint64_t pool_word_bits(const char *word, uint32_t len)
     return code_word(word, len, NULL, 0);
 }
 
+/* The decoder's state from one window of bits to the next. */
+typedef struct decode_state {
+    int ctx;
+    unsigned plus;
+    size_t n;
+} decode_state;
+
+/* Decodes codes from the first `have` bits of window (the bits past them
+ * zeros) while at least `keep` bits are left, so that no code is cut when
+ * keep >= 6 (the longest code); with keep = 1, to the window's end.
+ * Returns the bits left, negative when the last code overran the window.
+ * A fourth '+' is not checked here: the caller checks the count at the end. */
+
+static int decode_window(uint64_t *window, int have, int keep, decode_state *d, char *buf,
+                         size_t cap)
+{
+    /* locals, since a store through buf (a char pointer) may alias *d */
+    uint64_t w = *window;
+    size_t n = d->n;
+    unsigned plus = d->plus;
+    int ctx = d->ctx;
+    while (have >= keep) {
+        unsigned ones = (unsigned)__builtin_clzll(~w | 1);
+        const code_entry *e = &codes[ctx][ones < CODE_ONES_CAP ? ones : CODE_ONES_CAP];
+        if (n < cap)
+            buf[n] = e->symbol;
+        n++;
+        plus += e->symbol == '+';
+        w <<= e->bits;
+        have -= e->bits;
+        ctx = e->next;
+    }
+    *window = w;
+    *d = (decode_state){ctx, plus, n};
+    return have;
+}
+
 int pool_decode_word(const format_bits *pool, uint64_t start, uint64_t end, char *buf, size_t cap,
                      size_t *len)
 {
+    decode_state d = {CTX_NONE, 0, 0};
+    if (!buf)
+        cap = 0;
+    if (end < start)
+        return HPFC_E_CORRUPT;
     uint64_t pos = start, window = 0;
-    unsigned plus = 0, have = 0; /* `have` bits of the word left-aligned in window */
-    int ctx = CTX_NONE;
-    size_t n = 0;
-    while (pos < end || have) {
-        if (have < 6 && pos < end) { /* a code has at most 6 bits: refill */
-            uint64_t left = end - pos;
-            unsigned take = left < 56 - have ? (unsigned)left : 56 - have;
-            window |= format_peek(pool, pos, take) >> have;
-            have += take;
-            pos += take;
-        }
-        /* leading ones (the window's bits past `have` are zeros) */
-        unsigned ones = (unsigned)__builtin_clzll(~window | 1), last = ctx_last[ctx];
-        unsigned k = ones < last ? ones : last, bits = ones < last ? ones + 1 : last;
-        if (bits > have)
-            return HPFC_E_CORRUPT; /* a code cut by the word's end */
-        char c = ctx_symbols[ctx][k];
-        if (c == '+' && ++plus > 3)
-            return HPFC_E_CORRUPT; /* the fourth '+' ends a word: none is stored */
-        if (buf && n < cap)
-            buf[n] = c;
-        n++;
-        window <<= bits;
-        have -= bits;
-        ctx = next_context(ctx, c);
+    int have = 0; /* bits of the word left-aligned in window */
+    /* a long word: refill whenever fewer bits than the longest code are left */
+    while (end - pos > (uint64_t)(56 - have)) {
+        unsigned take = (unsigned)(56 - have);
+        window |= format_peek(pool, pos, take) >> have;
+        have = decode_window(&window, have + (int)take, 6, &d, buf, cap);
+        pos += take;
     }
-    if (plus != 3 || n == 3)
-        return HPFC_E_CORRUPT; /* not a word, or "++++" where the type bits say stabbed */
-    if (buf && n < cap)
-        buf[n] = '+';
-    *len = ++n;
-    return buf && n > cap ? HPFC_E_ARG : HPFC_OK;
+    /* the word's last bits: decode to the end */
+    unsigned take = (unsigned)(end - pos);
+    window |= format_peek(pool, pos, take) >> have;
+    if (decode_window(&window, have + (int)take, 1, &d, buf, cap) < 0)
+        return HPFC_E_CORRUPT; /* a code cut by the word's end */
+    if (d.plus != 3 || d.n == 3)
+        return HPFC_E_CORRUPT; /* not three '+' (a fourth ends a word: none is stored),
+                                  or "++++" where the type bits say stabbed */
+    if (d.n < cap)
+        buf[d.n] = '+';
+    *len = ++d.n;
+    return buf && d.n > cap ? HPFC_E_ARG : HPFC_OK;
 }
 
 /* ---- sizes -------------------------------------------------------------------- */
@@ -246,18 +288,67 @@ int pool_rank(const format_bits *pool, const pool_level *pl, uint64_t g, int kin
 /* ---- words ---------------------------------------------------------------------------- */
 
 /* Position from the top of the one of w after `skip` others (skip <
- * ones(w)): a byte at a time, then a bit at a time (at most 7). */
+ * ones(w)), without a loop over the bytes: the bytes' running counts from
+ * the top are the products of one multiplication, and one subtraction
+ * compares all eight with skip + 1 (every count is at most 64, so the
+ * bytes never borrow from each other); then at most 7 steps in the byte. */
 static unsigned select_in_word(uint64_t w, uint64_t skip)
 {
-    unsigned pos = 0;
-    for (uint64_t c; skip >= (c = format_ones(w >> 56)); w <<= 8, pos += 8)
-        skip -= c;
+    const uint64_t ones8 = 0x0101010101010101ull, high8 = 0x8080808080808080ull;
+    uint64_t r = __builtin_bswap64(w); /* the top byte of w is r's lowest */
+    uint64_t c = r - ((r >> 1) & 0x5555555555555555ull);
+    c = (c & 0x3333333333333333ull) + ((c >> 2) & 0x3333333333333333ull);
+    c = (c + (c >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+    uint64_t running = c * ones8; /* byte k: ones in w's top k + 1 bytes */
+    uint64_t reached = ((running | high8) - (skip + 1) * ones8) & high8;
+    unsigned byte = (unsigned)__builtin_ctzll(reached) / 8;
+    if (byte)
+        skip -= (running >> (8 * (byte - 1))) & 0xFF;
+    unsigned bits = (unsigned)(w >> (56 - 8 * byte)) & 0xFF;
     while (skip--)
-        w &= ~((uint64_t)1 << 63 >> __builtin_clzll(w));
-    return pos + (unsigned)__builtin_clzll(w);
+        bits &= ~(0x80u >> (__builtin_clz(bits) - 24));
+    return 8 * byte + (unsigned)__builtin_clz(bits) - 24;
 }
 
-/* The first one of the high bits at or after `from`, skipping `skip` ones. */
+/* The one of the high bits `skip` ones after the first at or after
+ * `from` (*here), and the next one after it (*next). With `sampled`, the
+ * bit at `from` must itself be a one (a select sample names a boundary). */
+static int select_pair(const format_bits *pool, const pool_level *pl, uint64_t from, uint64_t skip,
+                       bool sampled, uint64_t *here, uint64_t *next)
+{
+    uint64_t end = pl->high_bits;
+    bool found = false;
+    if (sampled && (from >= end || !(format_peek(pool, pl->high_off + from, 1) >> 63)))
+        return HPFC_E_CORRUPT; /* a sample that names no boundary */
+    while (from < end) {
+        unsigned k = end - from < 56 ? (unsigned)(end - from) : 56;
+        uint64_t w = format_peek(pool, pl->high_off + from, k);
+        if (!found) {
+            uint64_t ones = format_ones(w);
+            if (ones <= skip) {
+                skip -= ones;
+                from += k;
+                continue;
+            }
+            unsigned at = select_in_word(w, skip);
+            *here = from + at;
+            found = true;
+            w = at < 63 ? w << (at + 1) : 0; /* the bits after *here */
+            if (w) {
+                *next = *here + 1 + (unsigned)__builtin_clzll(w);
+                return HPFC_OK;
+            }
+        } else if (w) {
+            *next = from + (unsigned)__builtin_clzll(w);
+            return HPFC_OK;
+        }
+        from += k;
+    }
+    return HPFC_E_CORRUPT; /* the boundaries run past the index */
+}
+
+/* The first one of the high bits at or after `from`, skipping `skip` ones
+ * (the verifier's sequential walk). */
 static int select_from(const format_bits *pool, const pool_level *pl, uint64_t from, uint64_t skip,
                        uint64_t *pos)
 {
@@ -295,12 +386,8 @@ int pool_word_span(const format_bits *pool, const pool_level *pl, uint32_t longe
         return HPFC_E_CORRUPT;
     uint64_t t = w / POOL_SELECT_STRIDE;
     uint64_t sample = format_get(pool, pl->select_off + t * pl->select_width, pl->select_width);
-    if (sample >= pl->high_bits || !format_get(pool, pl->high_off + sample, 1))
-        return HPFC_E_CORRUPT; /* a sample that names no boundary */
     uint64_t here, next, a, b;
-    int st = select_from(pool, pl, sample, w % POOL_SELECT_STRIDE, &here);
-    if (!st)
-        st = select_from(pool, pl, here + 1, 0, &next);
+    int st = select_pair(pool, pl, sample, w % POOL_SELECT_STRIDE, true, &here, &next);
     if (!st)
         st = boundary(pool, pl, w, here, &a);
     if (!st)
