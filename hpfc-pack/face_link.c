@@ -3,6 +3,7 @@
  */
 #include "face_link.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -128,6 +129,115 @@ static const map_seg *find_seg(const map_seg *s, size_t n, int64_t ax, int64_t a
 
 /* ---- parts against segments ----------------------------------------------------- */
 
+/* The map's segments, sorted by their first end (s itself), and their
+ * second ends sorted (b_end, built at the first part segment that noding
+ * cut), so that every segment at a point is found in O(log n). */
+typedef struct b_end {
+    int64_t x, y;
+    uint32_t seg;
+} b_end;
+
+typedef struct seg_index {
+    const map_seg *s;
+    size_t n;
+    b_end *by_b;
+} seg_index;
+
+static int cmp_b_end(const void *a, const void *b)
+{
+    const b_end *p = a, *q = b;
+    if (p->x != q->x)
+        return p->x < q->x ? -1 : 1;
+    return (p->y > q->y) - (p->y < q->y);
+}
+
+static int seg_index_second_ends(seg_index *ix)
+{
+    if (ix->by_b)
+        return HPFC_OK;
+    if (ix->n > UINT32_MAX || !(ix->by_b = malloc((ix->n ? ix->n : 1) * sizeof *ix->by_b)))
+        return HPFC_E_NOMEM;
+    for (size_t i = 0; i < ix->n; i++)
+        ix->by_b[i] = (b_end){ix->s[i].bx, ix->s[i].by, (uint32_t)i};
+    sort_in_place(ix->by_b, ix->n, sizeof *ix->by_b, cmp_b_end);
+    return HPFC_OK;
+}
+
+/* First position in s whose first end is >= (x, y), or in by_b whose
+ * second end is. */
+static size_t lower_a(const seg_index *ix, int64_t x, int64_t y)
+{
+    size_t lo = 0, hi = ix->n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        const map_seg *m = &ix->s[mid];
+        if (m->ax < x || (m->ax == x && m->ay < y))
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+static size_t lower_b(const seg_index *ix, int64_t x, int64_t y)
+{
+    size_t lo = 0, hi = ix->n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        const b_end *m = &ix->by_b[mid];
+        if (m->x < x || (m->x == x && m->y < y))
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+__extension__ typedef __int128 i128;
+
+/* Is q within one lattice unit of the line through a and b? Exactly:
+ * |(b - a) x (q - a)| <= max(|dx|, |dy|) accepts every point at distance
+ * <= sqrt(2)/2 (where noding rounds an intersection to), none past 1. */
+static bool near_line(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t qx, int64_t qy)
+{
+    i128 dx = (i128)bx - ax, dy = (i128)by - ay;
+    i128 cross = dx * ((i128)qy - ay) - dy * ((i128)qx - ax);
+    i128 most = dx < 0 ? -dx : dx, ady = dy < 0 ? -dy : dy;
+    most = ady > most ? ady : most;
+    return (cross < 0 ? -cross : cross) <= most;
+}
+
+/* Where q lies along a -> b: (q - a) . (b - a). */
+static i128 along(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t qx, int64_t qy)
+{
+    return ((i128)qx - ax) * ((i128)bx - ax) + ((i128)qy - ay) * ((i128)by - ay);
+}
+
+/* The map segment at (cx, cy) whose other end lies along a -> b nearest
+ * after (cx, cy); NULL if none. */
+static const map_seg *next_along(const seg_index *ix, int64_t cx, int64_t cy, int64_t ax,
+                                 int64_t ay, int64_t bx, int64_t by, int64_t *qx, int64_t *qy)
+{
+    const map_seg *best = NULL;
+    i128 here = along(ax, ay, bx, by, cx, cy), best_at = 0;
+    for (int side = 0; side < 2; side++) {
+        size_t k = side ? lower_b(ix, cx, cy) : lower_a(ix, cx, cy);
+        for (; k < ix->n; k++) {
+            const map_seg *m = side ? &ix->s[ix->by_b[k].seg] : &ix->s[k];
+            int64_t px = side ? m->bx : m->ax, py = side ? m->by : m->ay;
+            if (px != cx || py != cy)
+                break;
+            int64_t ox = side ? m->ax : m->bx, oy = side ? m->ay : m->by;
+            i128 at = along(ax, ay, bx, by, ox, oy);
+            if (at > here && near_line(ax, ay, bx, by, ox, oy) && (!best || at < best_at)) {
+                best = m, best_at = at;
+                *qx = ox, *qy = oy;
+            }
+        }
+    }
+    return best;
+}
+
 typedef struct u64_list {
     uint64_t *v;
     size_t n, cap;
@@ -143,15 +253,41 @@ static int push_u64(u64_list *l, uint64_t x)
 
 /* One segment of a part: the edge's feature (once per run along one edge)
  * and, on the edge's representative segment, a toggle of a ring. */
-static int match_segment(const map_seg *s, size_t n, int64_t ax, int64_t ay, int64_t bx,
-                         int64_t by, uint32_t feature, int ring, u64_list *uses,
-                         u64_list *toggles)
+/* A part's segment that noding cut (or moved): the map segments that run
+ * along it from a to b, each on the edge the feature lies along (EDGF).
+ * Noding keeps the part's own points and rounds each intersection to the
+ * lattice, so the chain goes from point to point of the map, each within a
+ * unit of the line and further along it; it stops where none is (a piece
+ * that noding merged with another feature's differently). The faces' links
+ * do not use these: the walk over faces reaches them (face_link.h). */
+static int follow_noded(seg_index *ix, int64_t ax, int64_t ay, int64_t bx, int64_t by,
+                        uint32_t feature, u64_list *uses)
 {
+    if (seg_index_second_ends(ix))
+        return HPFC_E_NOMEM;
+    int64_t cx = ax, cy = ay;
+    for (size_t step = 0; step < ix->n && (cx != bx || cy != by); step++) {
+        int64_t qx, qy;
+        const map_seg *m = next_along(ix, cx, cy, ax, ay, bx, by, &qx, &qy);
+        if (!m)
+            break;
+        uint64_t key = (uint64_t)m->edge << 32 | feature;
+        if ((uses->n == 0 || uses->v[uses->n - 1] != key) && push_u64(uses, key))
+            return HPFC_E_NOMEM;
+        cx = qx, cy = qy;
+    }
+    return HPFC_OK;
+}
+
+static int match_segment(seg_index *ix, int64_t ax, int64_t ay, int64_t bx, int64_t by,
+                         uint32_t feature, int ring, u64_list *uses, u64_list *toggles)
+{
+    int64_t fx = ax, fy = ay, tx = bx, ty = by; /* the part's direction */
     if (!order_ends(&ax, &ay, &bx, &by))
         return HPFC_OK;
-    const map_seg *m = find_seg(s, n, ax, ay, bx, by);
+    const map_seg *m = find_seg(ix->s, ix->n, ax, ay, bx, by);
     if (!m)
-        return HPFC_OK; /* re-noded: its images are unknown segments */
+        return follow_noded(ix, fx, fy, tx, ty, feature, uses);
     uint64_t key = (uint64_t)m->edge << 32 | feature;
     if ((uses->n == 0 || uses->v[uses->n - 1] != key) && push_u64(uses, key))
         return HPFC_E_NOMEM;
@@ -160,7 +296,7 @@ static int match_segment(const map_seg *s, size_t n, int64_t ax, int64_t ay, int
     return HPFC_OK;
 }
 
-static int match_parts(const gis_features *fs, const map_seg *s, size_t n, u64_list *uses,
+static int match_parts(const gis_features *fs, seg_index *ix, u64_list *uses,
                        u64_list *toggles)
 {
     size_t parts = gis_features_part_count(fs);
@@ -175,11 +311,11 @@ static int match_parts(const gis_features *fs, const map_seg *s, size_t n, u64_l
         px = x0, py = y0;
         while (c.left) {
             gis_part_next(&c, &qx, &qy);
-            if (match_segment(s, n, px, py, qx, qy, feature, ring, uses, toggles))
+            if (match_segment(ix, px, py, qx, qy, feature, ring, uses, toggles))
                 return HPFC_E_NOMEM;
             px = qx, py = qy;
         }
-        if (ring && match_segment(s, n, px, py, x0, y0, feature, ring, uses, toggles))
+        if (ring && match_segment(ix, px, py, x0, y0, feature, ring, uses, toggles))
             return HPFC_E_NOMEM; /* the closing segment */
     }
     return HPFC_OK;
@@ -428,10 +564,12 @@ int face_link_run(face_link *fl, const gis_features *fs, const hpfc_graph *graph
     u64_list uses = {0}, toggles = {0};
     if (!st && !segs)
         st = HPFC_E_NOMEM;
+    seg_index ix = {segs, n_seg, NULL};
     if (!st) {
         mark_known(fs, segs, n_seg, fl->known);
-        st = match_parts(fs, segs, n_seg, &uses, &toggles);
+        st = match_parts(fs, &ix, &uses, &toggles);
     }
+    free(ix.by_b);
     free(segs);
     if (!st)
         st = edge_csr(&uses, fl->edges, 0, &fl->edge_start, &fl->edge_feature);

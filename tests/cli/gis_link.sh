@@ -176,4 +176,31 @@ PY
 run "$INSPECT" --verify "$tmp/lines.hpfc"
 expect_ok "--verify a line layer"
 
+# --- lines that cross: the pieces noding cuts keep their features ------------
+python3 - "$tmp/cross.geojson" <<'PY'
+import json, sys
+lines = {"a": [[0, 0], [10, 10]], "b": [[0, 10], [10, 0]], "c": [[0, 3.3], [4, 3.2], [10, 3.1]]}
+feats = [{"type": "Feature", "properties": {"name": k},
+          "geometry": {"type": "LineString", "coordinates": c}} for k, c in lines.items()]
+json.dump({"type": "FeatureCollection", "features": feats}, open(sys.argv[1], "w"))
+PY
+run "$PACK" --json --key name --projection none "$tmp/cross.geojson" -o "$tmp/cross.hpfc"
+expect_ok "pack crossing lines"
+python3 - "$tmp/out" <<'PY' || fail "crossing lines: an edge noding cut names no feature"
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["noding"] != "none", r["noding"]
+assert r["edges_with_features"] == r["edges"], (r["edges_with_features"], r["edges"])
+PY
+# a point just beside each piece: its leaf's crossings name that line
+for q in "1,1.001 a" "8,8.01 a" "1,8.99 b" "9,1.01 b" "5,3.2 c" "9.9,3.1 c" "2,3.26 c"; do
+    run "$INSPECT" --json --locate "${q% *}" "$tmp/cross.hpfc"
+    expect_ok "--locate ${q% *}"
+    python3 - "$tmp/out" "${q#* }" <<'PY' || fail "crossing lines: --locate ${q% *} does not name ${q#* }"
+import json, sys
+a = json.load(open(sys.argv[1]))
+assert sys.argv[2] in [f.get("key") for f in a.get("along", [])], a
+PY
+done
+
 finish
