@@ -10,6 +10,7 @@
  *     the flood fill's face of the out-dart (hpfc_faces_build) is the face
  *     on the right of u -> v when u -> v leaves the leaf there, on its left
  *     when it enters;
+ *   - hpfc_geometry_verify accepts every map written;
  *   - ids out of range, a file without the section, and the section kept
  *     by hpfc_file_serialize.
  * On generated straight and polyline graphs and the special graphs, under
@@ -259,6 +260,12 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
         CHECK_EQ_INT(hpfc_geometry_vertex(p.f0, 0, &x, &y), HPFC_E_NO_SECTION);
         check_points(p.f, g);
         check_crossings(&p, g);
+        hpfc_geometry_report rep;
+        CHECK_EQ_INT(hpfc_geometry_verify(p.f, &rep), HPFC_OK);
+        if (rep.message[0])
+            fprintf(stderr, "verify: %s\n", rep.message);
+        CHECK_EQ_INT(rep.vertices_checked, hpfc_graph_vertex_count(g));
+        CHECK_EQ_INT(hpfc_geometry_verify(p.f0, &rep), HPFC_E_NO_SECTION);
         /* hpfc_file_serialize keeps the section */
         uint8_t *again = NULL;
         size_t size = 0;
