@@ -1,0 +1,446 @@
+/*
+ * Exact point location (spec/hpfc-format.md §17.8): the face holding a
+ * lattice point, or the faces around it when it lies on an edge or a
+ * vertex, from the located leaf alone.
+ *
+ * The leaf's word, its LABL record (an edge id per crossing, a face per
+ * stretch of its boundary) and GEOM (each crossing's segment, the edges'
+ * points) give the pieces of edges inside the leaf as segments. A point on
+ * one of them is on the boundary. Otherwise a ray leaves the point towards
+ * the east at the height y + delta (delta > 0 infinitesimal, below every
+ * eps term of §3.5): the first segment it meets says the face by the side
+ * the point is on; if it meets none, it leaves the leaf through road E,
+ * between two crossings, on a stretch whose face LABL stores. Every
+ * decision is an integer comparison (geom.h), so ties fall as the
+ * perturbation rule orders them.
+ */
+#include "locate_point.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "reader.h"
+
+void locx_scratch_free(locx_scratch *s)
+{
+    free(s->sym);
+    labels_leaf_free(&s->labels);
+    free(s->road);
+    free(s->segment);
+    free(s->leaving);
+    free(s->kind);
+    free(s->pos);
+    free(s->around);
+    free(s->segs);
+    memset(s, 0, sizeof *s);
+}
+
+static int grow(void **p, size_t *cap, size_t n, size_t size)
+{
+    if (n <= *cap)
+        return HPFC_OK;
+    size_t want = *cap ? *cap : 16;
+    while (want < n)
+        want *= 2;
+    void *q = realloc(*p, want * size);
+    if (!q)
+        return HPFC_E_NOMEM;
+    *p = q;
+    *cap = want;
+    return HPFC_OK;
+}
+
+/* Room for n crossings in every per-crossing array. */
+static int reserve_crossings(locx_scratch *s, size_t n)
+{
+    if (n <= s->crossing_cap)
+        return HPFC_OK;
+    size_t want = s->crossing_cap ? s->crossing_cap : 16;
+    while (want < n)
+        want *= 2;
+    uint32_t *road = realloc(s->road, want * sizeof *road);
+    if (road)
+        s->road = road;
+    uint64_t *seg = road ? realloc(s->segment, want * sizeof *seg) : NULL;
+    if (seg)
+        s->segment = seg;
+    int8_t *lv = seg ? realloc(s->leaving, want * sizeof *lv) : NULL;
+    if (lv)
+        s->leaving = lv;
+    char *kind = lv ? realloc(s->kind, want) : NULL;
+    if (kind)
+        s->kind = kind;
+    line_pos *pos = kind ? realloc(s->pos, want * sizeof *pos) : NULL;
+    if (pos)
+        s->pos = pos;
+    uint64_t *around = pos ? realloc(s->around, want * sizeof *around) : NULL;
+    if (!around)
+        return HPFC_E_NOMEM;
+    s->around = around;
+    s->crossing_cap = want;
+    return HPFC_OK;
+}
+
+/* ---- the leaf ---------------------------------------------------------------------- */
+
+/* What one location knows of its file and leaf. */
+typedef struct leaf_ctx {
+    const hpfc_file *f;
+    const hpfc_pixel *leaf;
+    int64_t dx0, dy0;          /* the domain's south-west corner (absolute) */
+    int64_t x0, y0, x1, y1;    /* the leaf, relative to it */
+    lpoint p;                  /* the point, relative */
+    uint32_t n;                /* crossings */
+    locx_scratch *s;
+} leaf_ctx;
+
+/* Point k of an edge, relative to the domain; a point outside
+ * [0, 2^41]^2 is corrupt (the predicates' products must fit 128 bits). */
+static int edge_point(const leaf_ctx *c, uint64_t edge, uint64_t k, lpoint *out)
+{
+    int64_t x, y;
+    int st = hpfc_geometry_edge_point(c->f, edge, k, &x, &y);
+    if (st)
+        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+    if (x < c->dx0 || y < c->dy0 || x - c->dx0 > HPFC_LATTICE_MAX || y - c->dy0 > HPFC_LATTICE_MAX)
+        return HPFC_E_CORRUPT;
+    *out = (lpoint){x - c->dx0, y - c->dy0};
+    return HPFC_OK;
+}
+
+static bool in_leaf(const leaf_ctx *c, lpoint q)
+{
+    return point_in_cell(q, c->x0, c->y0, c->x1, c->y1);
+}
+
+/* Per crossing: its symbol, road, segment and whether that segment, run
+ * from u to v, leaves the leaf there (GEOM must agree with the word). */
+static int load_crossings(leaf_ctx *c, const char *sym, size_t len)
+{
+    locx_scratch *s = c->s;
+    uint32_t k = 0, road = 0;
+    for (size_t i = 0; i < len; i++) {
+        if (sym[i] == '+') {
+            road++;
+            continue;
+        }
+        if (k >= c->n || road > ROAD_S)
+            return HPFC_E_CORRUPT;
+        s->kind[k] = sym[i];
+        s->road[k++] = road;
+    }
+    for (k = 0; k < c->n; k++) {
+        uint64_t edge = s->labels.edge[k], u, v, count;
+        int st = hpfc_geometry_crossing_segment(c->f, c->leaf, k, &s->segment[k]);
+        if (!st)
+            st = hpfc_geometry_edge(c->f, edge, &u, &v, &count);
+        if (st)
+            return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+        if (count < 2 || s->segment[k] > count - 2)
+            return HPFC_E_CORRUPT;
+        lpoint a, b;
+        bool entering;
+        if ((st = edge_point(c, edge, s->segment[k], &a)) ||
+            (st = edge_point(c, edge, s->segment[k] + 1, &b)))
+            return st;
+        if (!cross_road(a, b, (int)s->road[k], c->x0, c->y0, c->x1, c->y1, &s->pos[k],
+                        &entering))
+            return HPFC_E_CORRUPT; /* the segment does not cross that road */
+        s->leaving[k] = !entering;
+    }
+    return HPFC_OK;
+}
+
+/* ---- the pieces as segments ------------------------------------------------------------- */
+
+/* Appends segments first .. last of `edge` (points first .. last + 1),
+ * tagged with crossing k of their piece. Their inner points lie in the
+ * leaf; so does point `vertex_point` (a vertex of the piece, or
+ * UINT64_MAX for none), which is vertex `vertex`. */
+static int add_run(leaf_ctx *c, uint64_t edge, uint64_t first, uint64_t last, uint32_t k,
+                   uint64_t vertex_point, uint64_t vertex)
+{
+    locx_scratch *s = c->s;
+    lpoint a, b;
+    int st = edge_point(c, edge, first, &a);
+    if (!st && vertex_point == first && !in_leaf(c, a))
+        st = HPFC_E_CORRUPT;
+    for (uint64_t i = first; !st && i <= last; i++) {
+        if ((st = edge_point(c, edge, i + 1, &b)))
+            break;
+        if ((i < last || vertex_point == i + 1) && !in_leaf(c, b))
+            return HPFC_E_CORRUPT; /* GEOM leaves the leaf where the word does not */
+        if ((st = grow((void **)&s->segs, &s->seg_cap, s->seg_count + 1, sizeof *s->segs)))
+            break;
+        s->segs[s->seg_count++] = (locx_segment){
+            .a = a,
+            .b = b,
+            .edge = edge,
+            .index = i,
+            .crossing = k,
+            .vertex = vertex,
+            .vertex_end = vertex_point == i ? 0 : vertex_point == i + 1 ? 1 : -1};
+        a = b;
+    }
+    return st;
+}
+
+/* A junction's piece (vertex to crossing k) or a stabbing's (crossing k,
+ * a '[', to its ']'), as the run of segments of its edge. */
+static int add_piece(leaf_ctx *c, uint32_t k)
+{
+    locx_scratch *s = c->s;
+    uint64_t edge = s->labels.edge[k], u, v, count;
+    int st = hpfc_geometry_edge(c->f, edge, &u, &v, &count);
+    if (st)
+        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+    uint64_t seg = s->segment[k];
+    if (s->kind[k] == '[') {
+        uint32_t b = s->labels.rec.word.pred[k];
+        if (b >= c->n || s->kind[b] != ']' || s->labels.edge[b] != edge ||
+            s->leaving[b] == s->leaving[k])
+            return HPFC_E_CORRUPT;
+        /* run u -> v, the piece enters at its first crossing */
+        uint64_t first = s->leaving[k] ? s->segment[b] : seg;
+        uint64_t last = s->leaving[k] ? seg : s->segment[b];
+        if (first > last)
+            return HPFC_E_CORRUPT;
+        return add_run(c, edge, first, last, k, UINT64_MAX, UINT64_MAX);
+    }
+    /* a junction crossing: the vertex is u if the edge leaves here going
+     * u -> v, else v */
+    if (s->leaving[k])
+        return add_run(c, edge, 0, seg, k, 0, u);
+    return add_run(c, edge, seg, count - 2, k, count - 1, v);
+}
+
+static int collect_segments(leaf_ctx *c)
+{
+    c->s->seg_count = 0;
+    int st = HPFC_OK;
+    for (uint32_t k = 0; k < c->n && !st; k++)
+        if (c->s->kind[k] != ']')
+            st = add_piece(c, k);
+    return st;
+}
+
+/* ---- answers ----------------------------------------------------------------------------- */
+
+/* The faces on the left and on the right of a piece run u -> v: those of
+ * the stretches before and after its crossing k, the right one after k
+ * when the edge leaves the leaf there (§15.1: the face on the right of
+ * out_k is stretch k + 1's). */
+static void piece_sides(const leaf_ctx *c, uint32_t k, uint64_t *left, uint64_t *right)
+{
+    const locx_scratch *s = c->s;
+    uint64_t before = s->labels.face[k], after = s->labels.face[(k + 1) % c->n];
+    *left = s->leaving[k] ? before : after;
+    *right = s->leaving[k] ? after : before;
+}
+
+static bool on_segment(lpoint a, lpoint b, lpoint p)
+{
+    if (orient(a, b, p))
+        return false;
+    int64_t lx = a.x < b.x ? a.x : b.x, hx = a.x < b.x ? b.x : a.x;
+    int64_t ly = a.y < b.y ? a.y : b.y, hy = a.y < b.y ? b.y : a.y;
+    return lx <= p.x && p.x <= hx && ly <= p.y && p.y <= hy;
+}
+
+static size_t sort_unique(uint64_t *v, size_t n)
+{
+    for (size_t i = 1; i < n; i++) {
+        uint64_t t = v[i];
+        size_t j = i;
+        for (; j > 0 && v[j - 1] > t; j--)
+            v[j] = v[j - 1];
+        v[j] = t;
+    }
+    size_t u = 0;
+    for (size_t i = 0; i < n; i++)
+        if (u == 0 || v[u - 1] != v[i])
+            v[u++] = v[i];
+    return u;
+}
+
+/* The faces around a boundary point on segment sg: around its vertex,
+ * those after each crossing of the vertex's component (the sectors
+ * between its edges); on an edge, its two sides. */
+static size_t boundary_faces(const leaf_ctx *c, const locx_segment *sg, lpoint p, int *on_vertex)
+{
+    locx_scratch *s = c->s;
+    lpoint end = sg->vertex_end == 0 ? sg->a : sg->b;
+    *on_vertex = sg->vertex_end >= 0 && end.x == p.x && end.y == p.y;
+    size_t m = 0;
+    if (*on_vertex) {
+        const uint32_t *pred = s->labels.rec.word.pred;
+        uint32_t j = sg->crossing;
+        do {
+            s->around[m++] = s->labels.face[(j + 1) % c->n];
+            j = pred[j];
+        } while (j != sg->crossing && m < c->n);
+    } else {
+        piece_sides(c, sg->crossing, &s->around[0], &s->around[1]);
+        m = 2;
+    }
+    return sort_unique(s->around, m);
+}
+
+/* Where the ray y = p.y + delta meets segment sg east of p and west of the
+ * leaf's east road (x < x1): x = num/den + delta * dx/den. */
+typedef struct ray_hit {
+    i128 num;
+    int64_t den, dx;
+} ray_hit;
+
+static bool ray_meets(const locx_segment *sg, lpoint p, int64_t x1, ray_hit *h)
+{
+    bool a_above = sg->a.y > p.y, b_above = sg->b.y > p.y;
+    if (a_above == b_above)
+        return false;
+    lpoint lo = a_above ? sg->b : sg->a, hi = a_above ? sg->a : sg->b;
+    int64_t dy = hi.y - lo.y, dx = hi.x - lo.x;
+    i128 num = (i128)lo.x * dy + (i128)dx * (p.y - lo.y);
+    /* num/dy == p.x would put p on the segment: answered before */
+    if (num <= (i128)p.x * dy || num >= (i128)x1 * dy)
+        return false;
+    *h = (ray_hit){num, dy, dx};
+    return true;
+}
+
+/* Does hit a come before hit b going east? At one x (a shared end point on
+ * the ray's line) the smaller dx/dy is met first, delta above the line. */
+static bool hit_before(const ray_hit *a, const ray_hit *b)
+{
+    int c = cmp128(a->num * b->den, b->num * a->den);
+    if (c)
+        return c < 0;
+    return (i128)a->dx * b->den < (i128)b->dx * a->den;
+}
+
+/* The stretch through which the ray leaves the leaf: road E's crossings
+ * come north to south in word order; those above y + delta come first. */
+static uint32_t exit_stretch(const leaf_ctx *c)
+{
+    const locx_scratch *s = c->s;
+    uint32_t k = 0;
+    while (k < c->n && s->road[k] < ROAD_E)
+        k++;
+    for (; k < c->n && s->road[k] == ROAD_E; k++) {
+        const line_pos *pos = &s->pos[k];
+        int cmp = cmp128(pos->num, (i128)c->p.y * pos->den);
+        bool above = cmp > 0 || (cmp == 0 && pos->tilt < 0);
+        if (!above)
+            break;
+    }
+    return k % c->n;
+}
+
+/* The point's faces in the stabbed leaf, into s->around; *count of them. */
+static int locate_in_leaf(leaf_ctx *c, hpfc_point_location *out, size_t *count)
+{
+    locx_scratch *s = c->s;
+    int st = collect_segments(c);
+    if (st)
+        return st;
+    for (size_t i = 0; i < s->seg_count; i++) {
+        const locx_segment *sg = &s->segs[i];
+        if (!on_segment(sg->a, sg->b, c->p))
+            continue;
+        out->on_boundary = 1;
+        *count = boundary_faces(c, sg, c->p, &out->on_vertex);
+        if (out->on_vertex)
+            out->vertex = sg->vertex;
+        else
+            out->edge = sg->edge;
+        return HPFC_OK;
+    }
+    const locx_segment *best = NULL;
+    ray_hit hit, h;
+    for (size_t i = 0; i < s->seg_count; i++)
+        if (ray_meets(&s->segs[i], c->p, c->x1, &h) && (!best || hit_before(&h, &hit))) {
+            best = &s->segs[i];
+            hit = h;
+        }
+    *count = 1;
+    if (!best) {
+        s->around[0] = s->labels.face[exit_stretch(c)];
+        return HPFC_OK;
+    }
+    uint64_t left, right;
+    piece_sides(c, best->crossing, &left, &right);
+    s->around[0] = orient(best->a, best->b, c->p) > 0 ? left : right;
+    return HPFC_OK;
+}
+
+/* ---- entry points -------------------------------------------------------------------------- */
+
+static int load_leaf(leaf_ctx *c, int64_t x, int64_t y, hpfc_pixel *leaf)
+{
+    locx_scratch *s = c->s;
+    int st = hpfc_locate(c->f, x, y, leaf);
+    size_t len = 0;
+    int64_t bx0, by0, bx1, by1;
+    if (!st)
+        st = hpfc_pixel_bounds(c->f, leaf, &bx0, &by0, &bx1, &by1);
+    if (!st)
+        st = hpfc_pixel_word(c->f, leaf, NULL, 0, &len);
+    if (!st)
+        st = grow((void **)&s->sym, &s->sym_cap, len ? len : 1, 1);
+    if (!st)
+        st = hpfc_pixel_word(c->f, leaf, s->sym, s->sym_cap, &len);
+    if (!st)
+        st = labels_leaf_load(c->f, leaf, s->sym, len, &s->labels);
+    if (st)
+        return st;
+    c->leaf = leaf;
+    c->x0 = bx0 - c->dx0, c->y0 = by0 - c->dy0, c->x1 = bx1 - c->dx0, c->y1 = by1 - c->dy0;
+    c->p = (lpoint){x - c->dx0, y - c->dy0};
+    c->n = s->labels.rec.word.n;
+    if ((st = reserve_crossings(s, c->n ? c->n : 1)))
+        return st;
+    return c->n ? load_crossings(c, s->sym, len) : HPFC_OK;
+}
+
+int locx_locate(const hpfc_file *f, int64_t x, int64_t y, locx_scratch *s,
+                hpfc_point_location *out, uint64_t *faces, size_t cap, size_t *count)
+{
+    if (!f || !s || !out || !count)
+        return HPFC_E_ARG;
+    *count = 0;
+    hpfc_geometry_info gi;
+    hpfc_labels_info li;
+    int st = hpfc_file_geometry(f, &gi);
+    if (!st)
+        st = hpfc_file_labels(f, &li);
+    if (st)
+        return st;
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    leaf_ctx c = {.f = f, .dx0 = info.x0, .dy0 = info.y0, .s = s};
+    hpfc_point_location loc = {.vertex = UINT64_MAX, .edge = UINT64_MAX};
+    size_t n = 1;
+    if ((st = load_leaf(&c, x, y, &loc.leaf)))
+        return st;
+    if (c.n == 0)
+        s->around[0] = s->labels.face[0]; /* a private leaf lies in one face */
+    else if ((st = locate_in_leaf(&c, &loc, &n)))
+        return st;
+    *out = loc;
+    *count = n;
+    if (!faces)
+        return HPFC_OK;
+    if (cap < n)
+        return HPFC_E_ARG;
+    memcpy(faces, s->around, n * sizeof *faces);
+    return HPFC_OK;
+}
+
+int hpfc_locate_point(const hpfc_file *file, int64_t x, int64_t y, hpfc_point_location *out,
+                      uint64_t *faces, size_t cap, size_t *count)
+{
+    locx_scratch s = {0};
+    int st = locx_locate(file, x, y, &s, out, faces, cap, count);
+    locx_scratch_free(&s);
+    return st;
+}
