@@ -20,15 +20,8 @@
 #include "check.h"
 #include "gen.h"
 #include "hpfc.h"
+#include "hpfc_batch.h"
 #include "tree_oracle.h"
-
-#ifdef LOCX_SHIM /* TEMPORARY until the GEOM writer lands */
-extern const hpfc_graph *geom_shim_graph;
-extern const hpfc_tree *geom_shim_tree;
-#define SHIM_SET(g, t) (geom_shim_graph = (g), geom_shim_tree = (t))
-#else
-#define SHIM_SET(g, t) ((void)0)
-#endif
 
 __extension__ typedef __int128 wide;
 
@@ -245,9 +238,8 @@ static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, packed *p)
     bp.root_cols = bp.root_rows = n0;
     bp.cols = bp.rows = n;
     size_t size = 0;
-    hpfc_write_options o = {.face_labels = 1};
+    hpfc_write_options o = {.face_labels = 1, .geometry = g};
     int st = hpfc_build(g, &bp, &p->tree, NULL);
-    SHIM_SET(g, p->tree);
     if (!st)
         st = hpfc_tree_serialize(p->tree, &o, &p->bytes, &size, NULL);
     if (!st)
@@ -265,6 +257,60 @@ static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, packed *p)
 
 static long points_checked, boundary_points, vertex_points;
 
+/* Every point asked of a map, for the batch call afterwards. */
+static int64_t *asked_x, *asked_y;
+static size_t asked, asked_cap;
+
+static void remember(pt q)
+{
+    if (asked == asked_cap) {
+        size_t cap = asked_cap ? 2 * asked_cap : 4096;
+        int64_t *nx = realloc(asked_x, cap * sizeof *nx), *ny;
+        if (nx)
+            asked_x = nx;
+        if (!nx || !(ny = realloc(asked_y, cap * sizeof *ny)))
+            return;
+        asked_y = ny;
+        asked_cap = cap;
+    }
+    asked_x[asked] = q.x;
+    asked_y[asked++] = q.y;
+}
+
+/* hpfc_locate_batch gives each point hpfc_locate_point's answer. */
+static void check_batch(const packed *p)
+{
+    size_t n = asked;
+    int64_t *face = malloc((n + 1) * sizeof *face), *feature = malloc((n + 1) * sizeof *feature);
+    uint32_t *count = malloc((n + 1) * sizeof *count), *fcount = malloc((n + 1) * sizeof *fcount);
+    uint8_t *flags = malloc(n + 1), *depth = malloc(n + 1);
+    CHECK(face && feature && count && fcount && flags && depth);
+    if (face && feature && count && fcount && flags && depth) {
+        hpfc_locate_out out = {face, count, feature, fcount, flags, depth};
+        size_t failed = 0;
+        CHECK_EQ_INT(hpfc_locate_batch(p->f, NULL, n, asked_x, asked_y, NULL, &out, &failed),
+                     HPFC_OK);
+        long bad = 0;
+        for (size_t k = 0; k < n; k++) {
+            hpfc_point_location loc;
+            uint64_t faces[256];
+            size_t c = 0;
+            int st = hpfc_locate_point(p->f, asked_x[k], asked_y[k], &loc, faces, 256, &c);
+            int want = st == HPFC_E_NO_PIXEL
+                           ? 0
+                           : HPFC_LOC_INSIDE | HPFC_LOC_EXACT | (c == 1 ? HPFC_LOC_SINGLE : 0) |
+                                 (loc.on_boundary ? HPFC_LOC_BOUNDARY : 0) |
+                                 (loc.on_boundary ? 0 : flags[k] & HPFC_LOC_PRIVATE);
+            bad += (flags[k] & ~HPFC_LOC_PRIVATE) != (want & ~HPFC_LOC_PRIVATE) ||
+                   count[k] != c || face[k] != (c == 1 ? (int64_t)faces[0] : -1) ||
+                   depth[k] != (st ? 0 : loc.leaf.depth);
+        }
+        CHECK_EQ_INT(bad, 0);
+    }
+    free(face), free(feature), free(count), free(fcount), free(flags), free(depth);
+    asked = 0;
+}
+
 static void check_point(const hpfc_graph *g, const packed *p, pt q)
 {
     hpfc_file_info fi;
@@ -273,6 +319,7 @@ static void check_point(const hpfc_graph *g, const packed *p, pt q)
     uint64_t faces[256];
     size_t count = 99;
     int st = hpfc_locate_point(p->f, q.x, q.y, &loc, faces, 256, &count);
+    remember(q);
     bool inside = q.x >= fi.x0 && q.y >= fi.y0 && q.x - fi.x0 < fi.width && q.y - fi.y0 < fi.height;
     if (!inside) {
         CHECK_EQ_INT(st, HPFC_E_NO_PIXEL);
@@ -407,6 +454,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, uint64_t see
         if (k % 16 == 0)
             check_leaf_lines(g, &p, q);
     }
+    check_batch(&p);
     unpack(&p);
 }
 
@@ -448,7 +496,6 @@ static void check_api(void)
     hpfc_build_params bp;
     hpfc_build_params_default(&bp);
     CHECK_EQ_INT(hpfc_build(g, &bp, &t, NULL), HPFC_OK);
-    SHIM_SET(NULL, NULL);
     CHECK_EQ_INT(hpfc_tree_serialize(t, &o, &bytes, &size, NULL), HPFC_OK);
     CHECK_EQ_INT(hpfc_open_memory(bytes, size, 0, &f), HPFC_OK);
     CHECK_EQ_INT(hpfc_locate_point(f, vx, vy, &loc, &face, 1, &count), HPFC_E_NO_SECTION);
@@ -485,5 +532,7 @@ int main(void)
     printf("points %ld (on the boundary %ld, on a vertex %ld)\n", points_checked, boundary_points,
            vertex_points);
     CHECK(boundary_points > 1000 && vertex_points > 100);
+    free(asked_x);
+    free(asked_y);
     return check_report("test_locate_point");
 }
