@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "geometry.h"
 #include "reader.h"
 
 void locx_scratch_free(locx_scratch *s)
@@ -113,6 +114,34 @@ static bool in_leaf(const leaf_ctx *c, lpoint q)
     return point_in_cell(q, c->x0, c->y0, c->x1, c->y1);
 }
 
+/* Every crossing's segment at once (hpfc_geometry_crossing_segment's
+ * answer, without finding the leaf's rank and word once per crossing):
+ * GEOM's per-leaf crossing count and per-crossing segment columns, or
+ * segment 0 throughout when no edge has shape points. */
+static int leaf_segments(const leaf_ctx *c)
+{
+    const geom_view *g = reader_geometry(c->f);
+    if (!g->points) {
+        memset(c->s->segment, 0, c->n * sizeof *c->s->segment);
+        return HPFC_OK;
+    }
+    uint64_t rank, start, end = g->crossings;
+    int st = reader_leaf_rank(c->f, c->leaf, &rank);
+    uint64_t gl = st ? 0 : g->first_leaf[c->leaf->depth] + rank;
+    if (!st && gl >= g->leaves)
+        st = HPFC_E_CORRUPT;
+    if (!st)
+        st = geom_column_get(&g->col[GEOM_LCROSS], gl, &start);
+    if (!st && gl + 1 < g->leaves)
+        st = geom_column_get(&g->col[GEOM_LCROSS], gl + 1, &end);
+    /* the leaf's crossings are exactly its word's */
+    if (!st && (start > end || end > g->crossings || end - start != c->n))
+        st = HPFC_E_CORRUPT;
+    for (uint32_t k = 0; k < c->n && !st; k++)
+        st = geom_column_get(&g->col[GEOM_CSEG], start + k, &c->s->segment[k]);
+    return st;
+}
+
 /* Per crossing: its symbol, road, segment and whether that segment, run
  * from u to v, leaves the leaf there (GEOM must agree with the word). */
 static int load_crossings(leaf_ctx *c, const char *sym, size_t len)
@@ -129,11 +158,12 @@ static int load_crossings(leaf_ctx *c, const char *sym, size_t len)
         s->kind[k] = sym[i];
         s->road[k++] = road;
     }
+    int st = leaf_segments(c);
+    if (st)
+        return st;
     for (k = 0; k < c->n; k++) {
         uint64_t edge = s->labels.edge[k], u, v, count;
-        int st = hpfc_geometry_crossing_segment(c->f, c->leaf, k, &s->segment[k]);
-        if (!st)
-            st = hpfc_geometry_edge(c->f, edge, &u, &v, &count);
+        st = hpfc_geometry_edge(c->f, edge, &u, &v, &count);
         if (st)
             return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
         if (count < 2 || s->segment[k] > count - 2)
