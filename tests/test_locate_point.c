@@ -505,10 +505,84 @@ static void check_api(void)
     hpfc_graph_free(g);
 }
 
+/* Damaged GEOM and LABL sections: every byte of both, set to 0x00, 0xFF
+ * and flipped, opened without the checksum; exact location at the map's
+ * vertices, edge midpoints and a grid of points gives a known status and,
+ * on success, faces below the face count, ascending (ASan watches the
+ * reads). */
+static int known(int st)
+{
+    return st == HPFC_OK || st == HPFC_E_CORRUPT || st == HPFC_E_NO_PIXEL ||
+           st == HPFC_E_NO_SECTION || st == HPFC_E_NOMEM || st == HPFC_E_LIMIT;
+}
+
+static void check_damage(int kind)
+{
+    hpfc_graph *g;
+    CHECK_EQ_INT(gen_special(kind, &g), HPFC_OK);
+    packed p;
+    CHECK_EQ_INT(pack(g, 2, 2, &p), HPFC_OK);
+    hpfc_file_info fi;
+    hpfc_file_get_info(p.f, &fi);
+    size_t size = fi.file_size;
+    pt q[96];
+    size_t nq = 0;
+    for (size_t v = 0; v < hpfc_graph_vertex_count(g) && nq < 32; v++)
+        hpfc_graph_vertex(g, v, &q[nq].x, &q[nq].y), nq++;
+    for (size_t e = 0; e < hpfc_graph_edge_count(g) && nq < 64; e++) {
+        size_t count;
+        pt a = graph_point(g, e, 0, &count), b = graph_point(g, e, 1, &count);
+        q[nq++] = (pt){(a.x + b.x) / 2, (a.y + b.y) / 2};
+    }
+    for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 5 && nq < 96; j++)
+            q[nq++] = (pt){fi.x0 + fi.width * i / 6, fi.y0 + fi.height * j / 5};
+    uint8_t *copy = malloc(size);
+    long opened = 0, answered = 0;
+    for (uint32_t k = 0; k < fi.section_count; k++) {
+        hpfc_section_info si;
+        CHECK_EQ_INT(hpfc_file_get_section(p.f, k, &si), HPFC_OK);
+        if (strcmp(si.tag, "GEOM") != 0 && strcmp(si.tag, "LABL") != 0)
+            continue;
+        for (uint64_t at = si.offset; at < si.offset + si.length; at++)
+            for (int how = 0; how < 3; how++) {
+                memcpy(copy, p.bytes, size);
+                copy[at] = how == 0 ? 0x00 : how == 1 ? 0xFF : (uint8_t)~copy[at];
+                hpfc_file *f;
+                if (hpfc_open_memory(copy, size, HPFC_OPEN_SKIP_CHECKSUM, &f) != HPFC_OK)
+                    continue;
+                opened++;
+                hpfc_labels_info li;
+                uint64_t faces_max = hpfc_file_labels(f, &li) == HPFC_OK ? li.faces : 0;
+                for (size_t i = 0; i < nq; i++) {
+                    hpfc_point_location loc;
+                    uint64_t faces[64];
+                    size_t count = 0;
+                    int st = hpfc_locate_point(f, q[i].x, q[i].y, &loc, faces, 64, &count);
+                    CHECK(known(st) || (st == HPFC_E_ARG && count > 64));
+                    if (st)
+                        continue;
+                    answered++;
+                    bool ok = count >= 1 && (loc.on_boundary || count == 1);
+                    for (size_t c = 0; c < count; c++)
+                        ok = ok && faces[c] < faces_max && (c == 0 || faces[c - 1] < faces[c]);
+                    CHECK(ok);
+                }
+                hpfc_close(f);
+            }
+    }
+    CHECK(opened > 0 && answered > 0);
+    free(copy);
+    unpack(&p);
+    hpfc_graph_free(g);
+}
+
 int main(void)
 {
     int compact = check_use_test_layout();
     check_api();
+    check_damage(GEN_SPECIAL_LOOP);
+    check_damage(GEN_SPECIAL_MULTI);
     for (int kind = 0; kind < GEN_SPECIAL_COUNT; kind++) {
         hpfc_graph *g;
         CHECK_EQ_INT(gen_special(kind, &g), HPFC_OK);
