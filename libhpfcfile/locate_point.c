@@ -26,11 +26,7 @@ void locx_scratch_free(locx_scratch *s)
 {
     free(s->sym);
     labels_leaf_free(&s->labels);
-    free(s->road);
-    free(s->segment);
-    free(s->leaving);
-    free(s->kind);
-    free(s->pos);
+    free(s->cr);
     free(s->around);
     free(s->segs);
     memset(s, 0, sizeof *s);
@@ -59,22 +55,10 @@ static int reserve_crossings(locx_scratch *s, size_t n)
     size_t want = s->crossing_cap ? s->crossing_cap : 16;
     while (want < n)
         want *= 2;
-    uint32_t *road = realloc(s->road, want * sizeof *road);
-    if (road)
-        s->road = road;
-    uint64_t *seg = road ? realloc(s->segment, want * sizeof *seg) : NULL;
-    if (seg)
-        s->segment = seg;
-    int8_t *lv = seg ? realloc(s->leaving, want * sizeof *lv) : NULL;
-    if (lv)
-        s->leaving = lv;
-    char *kind = lv ? realloc(s->kind, want) : NULL;
-    if (kind)
-        s->kind = kind;
-    line_pos *pos = kind ? realloc(s->pos, want * sizeof *pos) : NULL;
-    if (pos)
-        s->pos = pos;
-    uint64_t *around = pos ? realloc(s->around, want * sizeof *around) : NULL;
+    locx_crossing *cr = realloc(s->cr, want * sizeof *cr);
+    if (cr)
+        s->cr = cr;
+    uint64_t *around = cr ? realloc(s->around, want * sizeof *around) : NULL;
     if (!around)
         return HPFC_E_NOMEM;
     s->around = around;
@@ -122,7 +106,8 @@ static int leaf_segments(const leaf_ctx *c)
 {
     const geom_view *g = reader_geometry(c->f);
     if (!g->points) {
-        memset(c->s->segment, 0, c->n * sizeof *c->s->segment);
+        for (uint32_t k = 0; k < c->n; k++)
+            c->s->cr[k].segment = 0;
         return HPFC_OK;
     }
     uint64_t rank, start, end = g->crossings;
@@ -138,7 +123,7 @@ static int leaf_segments(const leaf_ctx *c)
     if (!st && (start > end || end > g->crossings || end - start != c->n))
         st = HPFC_E_CORRUPT;
     for (uint32_t k = 0; k < c->n && !st; k++)
-        st = geom_column_get(&g->col[GEOM_CSEG], start + k, &c->s->segment[k]);
+        st = geom_column_get(&g->col[GEOM_CSEG], start + k, &c->s->cr[k].segment);
     return st;
 }
 
@@ -155,48 +140,68 @@ static int load_crossings(leaf_ctx *c, const char *sym, size_t len)
         }
         if (k >= c->n || road > ROAD_S)
             return HPFC_E_CORRUPT;
-        s->kind[k] = sym[i];
-        s->road[k++] = road;
+        s->cr[k].kind = sym[i];
+        s->cr[k++].road = road;
     }
     int st = leaf_segments(c);
     if (st)
         return st;
     for (k = 0; k < c->n; k++) {
-        uint64_t edge = s->labels.edge[k], u, v, count;
-        st = hpfc_geometry_edge(c->f, edge, &u, &v, &count);
+        locx_crossing *x = &s->cr[k];
+        uint64_t edge = s->labels.edge[k];
+        st = hpfc_geometry_edge(c->f, edge, &x->u, &x->v, &x->count);
         if (st)
             return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
-        if (count < 2 || s->segment[k] > count - 2)
+        if (x->count < 2 || x->segment > x->count - 2)
             return HPFC_E_CORRUPT;
-        lpoint a, b;
         bool entering;
-        if ((st = edge_point(c, edge, s->segment[k], &a)) ||
-            (st = edge_point(c, edge, s->segment[k] + 1, &b)))
+        if ((st = edge_point(c, edge, x->segment, &x->a)) ||
+            (st = edge_point(c, edge, x->segment + 1, &x->b)))
             return st;
-        if (!cross_road(a, b, (int)s->road[k], c->x0, c->y0, c->x1, c->y1, &s->pos[k],
+        if (!cross_road(x->a, x->b, (int)x->road, c->x0, c->y0, c->x1, c->y1, &x->pos,
                         &entering))
             return HPFC_E_CORRUPT; /* the segment does not cross that road */
-        s->leaving[k] = !entering;
+        x->leaving = !entering;
     }
     return HPFC_OK;
 }
 
 /* ---- the pieces as segments ------------------------------------------------------------- */
 
+/* Point i of `edge`, taken from the segments of crossings x and y (the
+ * piece's) when it is an end of one, else read from GEOM. */
+static int run_point(const leaf_ctx *c, uint64_t edge, uint64_t i, const locx_crossing *x,
+                     const locx_crossing *y, lpoint *out)
+{
+    for (int k = 0; k < 2; k++, x = y) {
+        if (i == x->segment) {
+            *out = x->a;
+            return HPFC_OK;
+        }
+        if (i == x->segment + 1) {
+            *out = x->b;
+            return HPFC_OK;
+        }
+    }
+    return edge_point(c, edge, i, out);
+}
+
 /* Appends segments first .. last of `edge` (points first .. last + 1),
- * tagged with crossing k of their piece. Their inner points lie in the
- * leaf; so does point `vertex_point` (a vertex of the piece, or
- * UINT64_MAX for none), which is vertex `vertex`. */
+ * tagged with crossing k of their piece (and its partner crossing j, k
+ * itself for a junction's). Their inner points lie in the leaf; so does
+ * point `vertex_point` (a vertex of the piece, or UINT64_MAX for none),
+ * which is vertex `vertex`. */
 static int add_run(leaf_ctx *c, uint64_t edge, uint64_t first, uint64_t last, uint32_t k,
-                   uint64_t vertex_point, uint64_t vertex)
+                   uint32_t j, uint64_t vertex_point, uint64_t vertex)
 {
     locx_scratch *s = c->s;
+    const locx_crossing *x = &s->cr[k], *y = &s->cr[j];
     lpoint a, b;
-    int st = edge_point(c, edge, first, &a);
+    int st = run_point(c, edge, first, x, y, &a);
     if (!st && vertex_point == first && !in_leaf(c, a))
         st = HPFC_E_CORRUPT;
     for (uint64_t i = first; !st && i <= last; i++) {
-        if ((st = edge_point(c, edge, i + 1, &b)))
+        if ((st = run_point(c, edge, i + 1, x, y, &b)))
             break;
         if ((i < last || vertex_point == i + 1) && !in_leaf(c, b))
             return HPFC_E_CORRUPT; /* GEOM leaves the leaf where the word does not */
@@ -220,28 +225,25 @@ static int add_run(leaf_ctx *c, uint64_t edge, uint64_t first, uint64_t last, ui
 static int add_piece(leaf_ctx *c, uint32_t k)
 {
     locx_scratch *s = c->s;
-    uint64_t edge = s->labels.edge[k], u, v, count;
-    int st = hpfc_geometry_edge(c->f, edge, &u, &v, &count);
-    if (st)
-        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
-    uint64_t seg = s->segment[k];
-    if (s->kind[k] == '[') {
+    const locx_crossing *x = &s->cr[k];
+    uint64_t edge = s->labels.edge[k], seg = x->segment;
+    if (x->kind == '[') {
         uint32_t b = s->labels.rec.word.pred[k];
-        if (b >= c->n || s->kind[b] != ']' || s->labels.edge[b] != edge ||
-            s->leaving[b] == s->leaving[k])
+        if (b >= c->n || s->cr[b].kind != ']' || s->labels.edge[b] != edge ||
+            s->cr[b].leaving == x->leaving)
             return HPFC_E_CORRUPT;
         /* run u -> v, the piece enters at its first crossing */
-        uint64_t first = s->leaving[k] ? s->segment[b] : seg;
-        uint64_t last = s->leaving[k] ? seg : s->segment[b];
+        uint64_t first = x->leaving ? s->cr[b].segment : seg;
+        uint64_t last = x->leaving ? seg : s->cr[b].segment;
         if (first > last)
             return HPFC_E_CORRUPT;
-        return add_run(c, edge, first, last, k, UINT64_MAX, UINT64_MAX);
+        return add_run(c, edge, first, last, k, b, UINT64_MAX, UINT64_MAX);
     }
     /* a junction crossing: the vertex is u if the edge leaves here going
      * u -> v, else v */
-    if (s->leaving[k])
-        return add_run(c, edge, 0, seg, k, 0, u);
-    return add_run(c, edge, seg, count - 2, k, count - 1, v);
+    if (x->leaving)
+        return add_run(c, edge, 0, seg, k, k, 0, x->u);
+    return add_run(c, edge, seg, x->count - 2, k, k, x->count - 1, x->v);
 }
 
 static int collect_segments(leaf_ctx *c)
@@ -249,7 +251,7 @@ static int collect_segments(leaf_ctx *c)
     c->s->seg_count = 0;
     int st = HPFC_OK;
     for (uint32_t k = 0; k < c->n && !st; k++)
-        if (c->s->kind[k] != ']')
+        if (c->s->cr[k].kind != ']')
             st = add_piece(c, k);
     return st;
 }
@@ -264,8 +266,8 @@ static void piece_sides(const leaf_ctx *c, uint32_t k, uint64_t *left, uint64_t 
 {
     const locx_scratch *s = c->s;
     uint64_t before = s->labels.face[k], after = s->labels.face[(k + 1) % c->n];
-    *left = s->leaving[k] ? before : after;
-    *right = s->leaving[k] ? after : before;
+    *left = s->cr[k].leaving ? before : after;
+    *right = s->cr[k].leaving ? after : before;
 }
 
 static bool on_segment(lpoint a, lpoint b, lpoint p)
@@ -354,10 +356,10 @@ static uint32_t exit_stretch(const leaf_ctx *c)
 {
     const locx_scratch *s = c->s;
     uint32_t k = 0;
-    while (k < c->n && s->road[k] < ROAD_E)
+    while (k < c->n && s->cr[k].road < ROAD_E)
         k++;
-    for (; k < c->n && s->road[k] == ROAD_E; k++) {
-        const line_pos *pos = &s->pos[k];
+    for (; k < c->n && s->cr[k].road == ROAD_E; k++) {
+        const line_pos *pos = &s->cr[k].pos;
         int cmp = cmp128(pos->num, (i128)c->p.y * pos->den);
         bool above = cmp > 0 || (cmp == 0 && pos->tilt < 0);
         if (!above)
@@ -413,12 +415,15 @@ static int load_leaf(leaf_ctx *c, int64_t x, int64_t y, hpfc_pixel *leaf)
     int64_t bx0, by0, bx1, by1;
     if (!st)
         st = hpfc_pixel_bounds(c->f, leaf, &bx0, &by0, &bx1, &by1);
-    if (!st)
-        st = hpfc_pixel_word(c->f, leaf, NULL, 0, &len);
-    if (!st)
-        st = grow((void **)&s->sym, &s->sym_cap, len ? len : 1, 1);
-    if (!st)
+    if (!st && !s->sym)
+        st = grow((void **)&s->sym, &s->sym_cap, 64, 1);
+    if (!st) /* most words fit the buffer: one decode */
         st = hpfc_pixel_word(c->f, leaf, s->sym, s->sym_cap, &len);
+    if (st == HPFC_E_ARG && len > s->sym_cap) {
+        st = grow((void **)&s->sym, &s->sym_cap, len, 1);
+        if (!st)
+            st = hpfc_pixel_word(c->f, leaf, s->sym, s->sym_cap, &len);
+    }
     if (!st)
         st = labels_leaf_load(c->f, leaf, s->sym, len, &s->labels);
     if (st)
@@ -438,16 +443,20 @@ int locx_locate(const hpfc_file *f, int64_t x, int64_t y, locx_scratch *s,
     if (!f || !s || !out || !count)
         return HPFC_E_ARG;
     *count = 0;
-    hpfc_geometry_info gi;
-    hpfc_labels_info li;
-    int st = hpfc_file_geometry(f, &gi);
-    if (!st)
-        st = hpfc_file_labels(f, &li);
-    if (st)
-        return st;
-    hpfc_file_info info;
-    hpfc_file_get_info(f, &info);
-    leaf_ctx c = {.f = f, .dx0 = info.x0, .dy0 = info.y0, .s = s};
+    if (s->file != f) { /* once per file and scratch */
+        hpfc_geometry_info gi;
+        hpfc_labels_info li;
+        int st = hpfc_file_geometry(f, &gi);
+        if (!st)
+            st = hpfc_file_labels(f, &li);
+        if (st)
+            return st;
+        hpfc_file_info info;
+        hpfc_file_get_info(f, &info);
+        s->file = f, s->dx0 = info.x0, s->dy0 = info.y0;
+    }
+    int st;
+    leaf_ctx c = {.f = f, .dx0 = s->dx0, .dy0 = s->dy0, .s = s};
     hpfc_point_location loc = {.vertex = UINT64_MAX, .edge = UINT64_MAX};
     size_t n = 1;
     if ((st = load_leaf(&c, x, y, &loc.leaf)))

@@ -23,18 +23,27 @@ typedef struct locx_segment {
     int8_t vertex_end;    /* -1: neither end is a vertex; 0: a is one; 1: b is */
 } locx_segment;
 
+/* What one location knows of a crossing of its leaf. */
+typedef struct locx_crossing {
+    uint64_t segment;     /* the segment of its edge it lies on */
+    uint64_t u, v, count; /* its edge's ends and point count */
+    lpoint a, b;          /* that segment's ends, relative */
+    line_pos pos;         /* where it lies on its road's line */
+    uint32_t road;        /* ROAD_W .. ROAD_S */
+    char kind;            /* its symbol */
+    int8_t leaving;       /* 1 when its segment, run u -> v, leaves the leaf */
+} locx_crossing;
+
 /* What one location needs between calls (the batch reuses it); zero it
  * before the first call, locx_scratch_free after the last. */
 typedef struct locx_scratch {
+    const hpfc_file *file;   /* the file the fields below were read from */
+    int64_t dx0, dy0;        /* its domain's south-west corner */
     char *sym;
     size_t sym_cap;
     labels_leaf labels;
-    uint32_t *road;       /* per crossing: its road (ROAD_W .. ROAD_S) */
-    uint64_t *segment;    /* per crossing: the segment it lies on */
-    int8_t *leaving;      /* per crossing: 1 when its segment, run u -> v, leaves the leaf */
-    char *kind;           /* per crossing: its symbol */
-    line_pos *pos;        /* per crossing: where it lies on its road's line */
-    uint64_t *around;     /* the faces of a boundary point */
+    locx_crossing *cr;       /* per crossing */
+    uint64_t *around;        /* the faces of the answer */
     size_t crossing_cap;
     locx_segment *segs;
     size_t seg_count, seg_cap;
