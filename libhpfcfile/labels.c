@@ -669,7 +669,6 @@ void labels_leaf_free(labels_leaf *l)
 {
     labels_word_free(&l->rec.word);
     free(l->edge);
-    free(l->face);
     memset(l, 0, sizeof *l);
 }
 
@@ -687,17 +686,23 @@ int labels_leaf_load(const hpfc_file *f, const hpfc_pixel *leaf, const char *sym
     uint32_t n = rec->word.n, entries = n ? n : 1;
     if (entries > out->cap) {
         uint64_t *e = realloc(out->edge, entries * sizeof *e);
-        if (e)
-            out->edge = e;
-        uint64_t *fc = e ? realloc(out->face, entries * sizeof *fc) : NULL;
-        if (!fc)
+        if (!e)
             return HPFC_E_NOMEM;
-        out->face = fc;
+        out->edge = e;
         out->cap = entries;
     }
     for (uint32_t k = 0; k < n && !st; k++)
         st = record_edge(v, rec, rec->word.piece[k], &out->edge[k]);
-    for (uint32_t t = 0; t < entries && !st; t++)
-        st = stretch_face(v, rec, t, &out->face[t]);
     return st;
+}
+
+int labels_leaf_face(const hpfc_file *f, const labels_leaf *l, uint32_t stretch, uint64_t *face)
+{
+    int st;
+    const labels_view *v = labels_of(f, &st);
+    if (st)
+        return st;
+    if (stretch >= (l->rec.word.n ? l->rec.word.n : 1))
+        return HPFC_E_ARG;
+    return stretch_face(v, &l->rec, stretch, face);
 }

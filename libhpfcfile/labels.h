@@ -124,10 +124,10 @@ static inline uint64_t labels_record_bits(const labels_word *w, uint32_t face_bi
 int labels_word_parse(labels_word *lw, const char *sym, size_t len);
 void labels_word_free(labels_word *lw);
 
-/* A leaf's labels all at once (point location): its word parsed, per
- * crossing its edge id and per stretch its face (one stretch when
- * private). Reuse one value across leaves (its arrays grow), then
- * labels_leaf_free. */
+/* A leaf's labels all at once (point location): its word parsed and per
+ * crossing its edge id; its stretches' faces on demand
+ * (labels_leaf_face). Reuse one value across leaves (its arrays grow),
+ * then labels_leaf_free. */
 typedef struct labels_record {
     labels_word word;
     uint64_t off;         /* the record's bit offset in the label stream */
@@ -135,7 +135,6 @@ typedef struct labels_record {
 typedef struct labels_leaf {
     labels_record rec;    /* rec.word: the word parsed (rec.word.n crossings) */
     uint64_t *edge;       /* per crossing k < word.n */
-    uint64_t *face;       /* per stretch t < max(word.n, 1) */
     size_t cap;
 } labels_leaf;
 
@@ -144,6 +143,9 @@ typedef struct labels_leaf {
 int labels_leaf_load(const hpfc_file *file, const hpfc_pixel *leaf, const char *sym, size_t len,
                      labels_leaf *out);
 void labels_leaf_free(labels_leaf *l);
+/* The face of stretch `stretch` (< max(word.n, 1)) of a loaded leaf. */
+int labels_leaf_face(const hpfc_file *file, const labels_leaf *l, uint32_t stretch,
+                     uint64_t *face);
 
 /* hpfc_faces internals for the writer (faces.c): the nodes of the leaf
  * whose record (level 0) or slot starts at bit `bit` of level `level`'s

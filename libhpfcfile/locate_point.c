@@ -93,6 +93,44 @@ static int edge_point(const leaf_ctx *c, uint64_t edge, uint64_t k, lpoint *out)
     return HPFC_OK;
 }
 
+/* Vertex `vertex`, relative; the crossings before k (the last 32) that
+ * read it already give it without a GEOM read: a junction's edges share
+ * their vertex, and a straight edge's segment ends are its vertices. */
+static int vertex_point(const leaf_ctx *c, uint64_t vertex, uint32_t k, lpoint *out)
+{
+    const locx_crossing *cr = c->s->cr;
+    for (uint32_t j = k > 32 ? k - 32 : 0; j < k; j++) {
+        if (cr[j].u == vertex && cr[j].segment == 0) {
+            *out = cr[j].a;
+            return HPFC_OK;
+        }
+        if (cr[j].v == vertex && cr[j].segment + 2 == cr[j].count) {
+            *out = cr[j].b;
+            return HPFC_OK;
+        }
+    }
+    int64_t x, y;
+    int st = hpfc_geometry_vertex(c->f, vertex, &x, &y);
+    if (st)
+        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+    if (x < c->dx0 || y < c->dy0 || x - c->dx0 > HPFC_LATTICE_MAX || y - c->dy0 > HPFC_LATTICE_MAX)
+        return HPFC_E_CORRUPT;
+    *out = (lpoint){x - c->dx0, y - c->dy0};
+    return HPFC_OK;
+}
+
+/* Point i of crossing k's edge: a vertex through vertex_point, a shape
+ * point from GEOM. */
+static int crossing_point(const leaf_ctx *c, uint32_t k, uint64_t i, lpoint *out)
+{
+    const locx_crossing *x = &c->s->cr[k];
+    if (i == 0)
+        return vertex_point(c, x->u, k, out);
+    if (i + 1 == x->count)
+        return vertex_point(c, x->v, k, out);
+    return edge_point(c, c->s->labels.edge[k], i, out);
+}
+
 static bool in_leaf(const leaf_ctx *c, lpoint q)
 {
     return point_in_cell(q, c->x0, c->y0, c->x1, c->y1);
@@ -155,8 +193,8 @@ static int load_crossings(leaf_ctx *c, const char *sym, size_t len)
         if (x->count < 2 || x->segment > x->count - 2)
             return HPFC_E_CORRUPT;
         bool entering;
-        if ((st = edge_point(c, edge, x->segment, &x->a)) ||
-            (st = edge_point(c, edge, x->segment + 1, &x->b)))
+        if ((st = crossing_point(c, k, x->segment, &x->a)) ||
+            (st = crossing_point(c, k, x->segment + 1, &x->b)))
             return st;
         if (!cross_road(x->a, x->b, (int)x->road, c->x0, c->y0, c->x1, c->y1, &x->pos,
                         &entering))
@@ -262,12 +300,22 @@ static int collect_segments(leaf_ctx *c)
  * the stretches before and after its crossing k, the right one after k
  * when the edge leaves the leaf there (§15.1: the face on the right of
  * out_k is stretch k + 1's). */
-static void piece_sides(const leaf_ctx *c, uint32_t k, uint64_t *left, uint64_t *right)
+static int stretch_face(const leaf_ctx *c, uint32_t t, uint64_t *face)
 {
-    const locx_scratch *s = c->s;
-    uint64_t before = s->labels.face[k], after = s->labels.face[(k + 1) % c->n];
-    *left = s->cr[k].leaving ? before : after;
-    *right = s->cr[k].leaving ? after : before;
+    return labels_leaf_face(c->f, &c->s->labels, t, face);
+}
+
+static int piece_sides(const leaf_ctx *c, uint32_t k, uint64_t *left, uint64_t *right)
+{
+    uint64_t before, after;
+    int st = stretch_face(c, k, &before);
+    if (!st)
+        st = stretch_face(c, (k + 1) % c->n, &after);
+    if (st)
+        return st;
+    *left = c->s->cr[k].leaving ? before : after;
+    *right = c->s->cr[k].leaving ? after : before;
+    return HPFC_OK;
 }
 
 static bool on_segment(lpoint a, lpoint b, lpoint p)
@@ -298,24 +346,27 @@ static size_t sort_unique(uint64_t *v, size_t n)
 /* The faces around a boundary point on segment sg: around its vertex,
  * those after each crossing of the vertex's component (the sectors
  * between its edges); on an edge, its two sides. */
-static size_t boundary_faces(const leaf_ctx *c, const locx_segment *sg, lpoint p, int *on_vertex)
+static int boundary_faces(const leaf_ctx *c, const locx_segment *sg, lpoint p, int *on_vertex,
+                          size_t *count)
 {
     locx_scratch *s = c->s;
     lpoint end = sg->vertex_end == 0 ? sg->a : sg->b;
     *on_vertex = sg->vertex_end >= 0 && end.x == p.x && end.y == p.y;
     size_t m = 0;
+    int st = HPFC_OK;
     if (*on_vertex) {
         const uint32_t *pred = s->labels.rec.word.pred;
         uint32_t j = sg->crossing;
         do {
-            s->around[m++] = s->labels.face[(j + 1) % c->n];
+            st = stretch_face(c, (j + 1) % c->n, &s->around[m++]);
             j = pred[j];
-        } while (j != sg->crossing && m < c->n);
+        } while (!st && j != sg->crossing && m < c->n);
     } else {
-        piece_sides(c, sg->crossing, &s->around[0], &s->around[1]);
+        st = piece_sides(c, sg->crossing, &s->around[0], &s->around[1]);
         m = 2;
     }
-    return sort_unique(s->around, m);
+    *count = sort_unique(s->around, m);
+    return st;
 }
 
 /* Where the ray y = p.y + delta meets segment sg east of p and west of the
@@ -380,12 +431,12 @@ static int locate_in_leaf(leaf_ctx *c, hpfc_point_location *out, size_t *count)
         if (!on_segment(sg->a, sg->b, c->p))
             continue;
         out->on_boundary = 1;
-        *count = boundary_faces(c, sg, c->p, &out->on_vertex);
+        st = boundary_faces(c, sg, c->p, &out->on_vertex, count);
         if (out->on_vertex)
             out->vertex = sg->vertex;
         else
             out->edge = sg->edge;
-        return HPFC_OK;
+        return st;
     }
     const locx_segment *best = NULL;
     ray_hit hit, h;
@@ -396,11 +447,11 @@ static int locate_in_leaf(leaf_ctx *c, hpfc_point_location *out, size_t *count)
         }
     *count = 1;
     if (!best) {
-        s->around[0] = s->labels.face[exit_stretch(c)];
-        return HPFC_OK;
+        return stretch_face(c, exit_stretch(c), &s->around[0]);
     }
     uint64_t left, right;
-    piece_sides(c, best->crossing, &left, &right);
+    if ((st = piece_sides(c, best->crossing, &left, &right)))
+        return st;
     s->around[0] = orient(best->a, best->b, c->p) > 0 ? left : right;
     return HPFC_OK;
 }
@@ -462,8 +513,10 @@ int locx_locate(const hpfc_file *f, int64_t x, int64_t y, locx_scratch *s,
     if ((st = load_leaf(&c, x, y, &loc.leaf)))
         return st;
     if (c.n == 0)
-        s->around[0] = s->labels.face[0]; /* a private leaf lies in one face */
-    else if ((st = locate_in_leaf(&c, &loc, &n)))
+        st = stretch_face(&c, 0, &s->around[0]); /* a private leaf lies in one face */
+    else
+        st = locate_in_leaf(&c, &loc, &n);
+    if (st)
         return st;
     *out = loc;
     *count = n;
