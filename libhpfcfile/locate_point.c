@@ -243,6 +243,12 @@ static int add_run(leaf_ctx *c, uint64_t edge, uint64_t first, uint64_t last, ui
             break;
         if ((i < last || vertex_point == i + 1) && !in_leaf(c, b))
             return HPFC_E_CORRUPT; /* GEOM leaves the leaf where the word does not */
+        /* Pieces are disjoint, so a leaf has at most one segment per
+         * crossing plus one per shape point: a damaged file whose pieces
+         * claim the same long run again and again stops here, not after
+         * crossings x points steps. */
+        if (s->seg_count > s->points + c->n)
+            return HPFC_E_CORRUPT;
         if ((st = grow((void **)&s->segs, &s->seg_cap, s->seg_count + 1, sizeof *s->segs)))
             break;
         s->segs[s->seg_count++] = (locx_segment){
@@ -504,7 +510,7 @@ int locx_locate(const hpfc_file *f, int64_t x, int64_t y, locx_scratch *s,
             return st;
         hpfc_file_info info;
         hpfc_file_get_info(f, &info);
-        s->file = f, s->dx0 = info.x0, s->dy0 = info.y0;
+        s->file = f, s->dx0 = info.x0, s->dy0 = info.y0, s->points = gi.points;
     }
     int st;
     leaf_ctx c = {.f = f, .dx0 = s->dx0, .dy0 = s->dy0, .s = s};

@@ -39,6 +39,7 @@ typedef struct locx_crossing {
 typedef struct locx_scratch {
     const hpfc_file *file;   /* the file the fields below were read from */
     int64_t dx0, dy0;        /* its domain's south-west corner */
+    uint64_t points;         /* its GEOM shape points (bounds a leaf's segments) */
     char *sym;
     size_t sym_cap;
     labels_leaf labels;
