@@ -20,6 +20,13 @@
  * batch with its status. The call keeps no state: each half of the points
  * answered alone gives the same arrays, and a failure at point k fails the
  * batch of point k alone with the same status.
+ *
+ * A file with GEOM and LABL is answered exactly (hpfc_locate_point's
+ * code): then every answer is hpfc_locate_point's (status, face count, the
+ * face when one, BOUNDARY, depth), EXACT is set, and every face it names
+ * is the face of one of the leaf's stretches (hpfc_label_stretch_face);
+ * a vertex or edge it names is below GEOM's counts. A point whose exact
+ * location fails fails the batch at that point with the same status.
  */
 #include "hpfc_batch.h"
 #include "input.h"
@@ -79,6 +86,54 @@ static size_t command_points(const hpfc_file_info *info, fuzz_bytes *cmds, int64
         valid[n++] = (mode & 2) == 0;
     }
     return n;
+}
+
+/* Is `face` the face of some stretch of leaf px? */
+static bool stretch_face_of(const hpfc_file *f, const hpfc_pixel *px, uint64_t face)
+{
+    size_t len;
+    if (hpfc_pixel_word(f, px, NULL, 0, &len) != HPFC_OK || len < 4)
+        return false;
+    uint32_t stretches = len > 4 ? (uint32_t)(len - 4) : 1;
+    for (uint32_t t = 0; t < stretches; t++) {
+        uint64_t g;
+        if (hpfc_label_stretch_face(f, px, t, &g) == HPFC_OK && g == face)
+            return true;
+    }
+    return false;
+}
+
+/* An exact answer against hpfc_locate_point's. */
+static void check_exact(const hpfc_file *f, const hpfc_geometry_info *gi, const answers *a,
+                        size_t k, int64_t x, int64_t y, uint8_t valid)
+{
+    hpfc_point_location loc;
+    uint64_t faces[64];
+    size_t count = 0;
+    int st = valid ? hpfc_locate_point(f, x, y, &loc, faces, 64, &count) : HPFC_E_NO_PIXEL;
+    if (st == HPFC_E_NO_PIXEL) {
+        FUZZ_CHECK(a->face[k] == -1 && a->face_count[k] == 0 && a->flags[k] == 0 &&
+                   a->depth[k] == 0);
+        return;
+    }
+    FUZZ_CHECK(st == HPFC_OK || (st == HPFC_E_ARG && count > 64));
+    FUZZ_CHECK(a->flags[k] & HPFC_LOC_INSIDE && a->flags[k] & HPFC_LOC_EXACT);
+    FUZZ_CHECK(!(a->flags[k] & HPFC_LOC_BOUNDARY) == !loc.on_boundary);
+    FUZZ_CHECK(a->face_count[k] == count && count >= 1);
+    FUZZ_CHECK(a->depth[k] == loc.leaf.depth);
+    FUZZ_CHECK(loc.on_boundary || count == 1);
+    if (st)
+        return;
+    FUZZ_CHECK(a->face[k] == (count == 1 ? (int64_t)faces[0] : -1));
+    for (size_t i = 0; i < count; i++) {
+        FUZZ_CHECK(i == 0 || faces[i - 1] < faces[i]);
+        FUZZ_CHECK(stretch_face_of(f, &loc.leaf, faces[i]));
+    }
+    if (loc.on_vertex) {
+        FUZZ_CHECK(loc.on_boundary && loc.vertex < gi->vertices);
+    } else if (loc.on_boundary) {
+        FUZZ_CHECK(loc.edge < gi->edges);
+    }
 }
 
 static void check_answer(const hpfc_file *f, const hpfc_faces *fc, int features,
@@ -163,15 +218,28 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         goto done;
     }
     FUZZ_CHECK(fuzz_known_status(st));
+    hpfc_geometry_info gi;
+    hpfc_labels_info li;
+    bool exact = hpfc_file_geometry(f, &gi) == HPFC_OK && hpfc_file_labels(f, &li) == HPFC_OK;
     if (st) {
         FUZZ_CHECK(failed < n);
         hpfc_locate_out one = out_of(&b, failed);
         FUZZ_CHECK(hpfc_locate_batch(f, fc, 1, x + failed, y + failed, valid + failed, &one,
                                      NULL) == st);
+        if (exact) { /* the exact location of that point fails the same way */
+            hpfc_point_location loc;
+            size_t count;
+            FUZZ_CHECK(hpfc_locate_point(f, x[failed], y[failed], &loc, NULL, 0, &count) == st ||
+                       st == HPFC_E_NOMEM);
+        }
         goto done;
     }
-    for (size_t k = 0; k < n; k++)
-        check_answer(f, fc, features, &fi, &a, k, x[k], y[k], valid[k]);
+    for (size_t k = 0; k < n; k++) {
+        if (exact)
+            check_exact(f, &gi, &a, k, x[k], y[k], valid[k]);
+        else
+            check_answer(f, fc, features, &fi, &a, k, x[k], y[k], valid[k]);
+    }
     size_t half = n / 2;
     hpfc_locate_out first = out_of(&b, 0), second = out_of(&b, half);
     FUZZ_CHECK(hpfc_locate_batch(f, fc, half, x, y, valid, &first, NULL) == HPFC_OK);

@@ -2,9 +2,13 @@
  * Point queries (contracts §4): --locate X,Y, --locate-lonlat LON,LAT and
  * --locate-batch POINTS.
  *
- * A locator answers each point by one descent (hpfc_locate) and the faces
- * of the leaf it reaches: exactly one in a private leaf, the candidates
- * (every face meeting the leaf) in a stabbed one. A file with a LABL
+ * A file with exact geometry (GEOM and LABL sections, format 1.2) answers
+ * each point exactly (hpfc_locate_point): the one face holding it, or the
+ * faces around it when it lies on an edge or a vertex ("on_boundary"),
+ * "exact": true. Other files are answered by one descent (hpfc_locate)
+ * and the faces of the leaf it reaches: exactly one in a private leaf,
+ * the candidates (every face meeting the leaf) in a stabbed one,
+ * "exact": false. A file with a LABL
  * section stores those faces (hpfc_label_leaf_faces reads the leaf's
  * record: the pixels of one descent, nothing else); a file without one
  * (format 1.0, 1.1, hpfc-pack --no-labels) has its faces numbered once
@@ -34,6 +38,7 @@ typedef struct locator {
     hpfc_file_info info;
     hpfc_faces *faces;       /* NULL when the file stores its labels */
     int labels;              /* the file has a LABL section */
+    int exact;               /* and a GEOM section: hpfc_locate_point answers */
     int features;            /* the file has a FEAT section */
     hpfc_features_info fi;
     uint64_t *cand;          /* candidate faces of one leaf */
@@ -55,6 +60,8 @@ typedef struct answer {
     char *word;
     size_t nfaces, nfeat;
     size_t nalong;           /* features whose lines or rings cross the leaf */
+    int exact;               /* faces is the exact answer (else candidates) */
+    hpfc_point_location loc; /* exact: on_boundary, vertex or edge */
 } answer;
 
 static void locator_close(locator *L)
@@ -107,6 +114,12 @@ static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
         L->features = 1;
     } else if (st != HPFC_E_NO_SECTION)
         return view_fail(why, "features: %s", hpfc_strerror(st));
+    hpfc_geometry_info gi;
+    st = L->labels ? hpfc_file_geometry(f, &gi) : HPFC_E_NO_SECTION;
+    if (st == HPFC_OK)
+        L->exact = 1;
+    else if (st != HPFC_E_NO_SECTION)
+        return view_fail(why, "geometry: %s", hpfc_strerror(st));
     uint32_t edges, links;
     L->edge_features = L->features && L->labels && hpfc_edge_features_info(f, &edges, &links) == HPFC_OK;
     return VIEW_OK;
@@ -214,6 +227,22 @@ static int stored_faces(locator *L, answer *a)
     return HPFC_OK;
 }
 
+/* The exact answer (hpfc_locate_point): one face, or the faces around a
+ * point on an edge or a vertex, ascending. */
+static int exact_faces(locator *L, int64_t x, int64_t y, answer *a)
+{
+    size_t n = 0;
+    int st = hpfc_locate_point(L->f, x, y, &a->loc, L->cand, L->cap, &n);
+    if (st == HPFC_E_ARG && n > L->cap) {
+        if (reserve((void **)&L->cand, &L->cap, n, sizeof *L->cand))
+            return HPFC_E_NOMEM;
+        st = hpfc_locate_point(L->f, x, y, &a->loc, L->cand, L->cap, &n);
+    }
+    a->nfaces = n;
+    a->exact = 1;
+    return st;
+}
+
 /* Answers the lattice point (x, y). */
 static int locate_lattice(locator *L, int64_t x, int64_t y, answer *a)
 {
@@ -237,7 +266,9 @@ static int locate_lattice(locator *L, int64_t x, int64_t y, answer *a)
     if ((st = hpfc_pixel_word(L->f, &a->px, a->word, len + 1, &len)))
         return st;
     a->word[len] = '\0';
-    if (L->labels)
+    if (L->exact)
+        st = exact_faces(L, x, y, a);
+    else if (L->labels)
         st = stored_faces(L, a);
     else
         st = view_pixel_faces(L->f, L->faces, &a->px, L->cand, L->cap, &a->nfaces);
@@ -317,6 +348,20 @@ static void json_along(jsonw *w, const locator *L, const answer *a)
     jsonw_array_end(w);
 }
 
+/* "exact" (the file's geometry decided the face), "on_boundary" (the
+ * point lies on an edge or a vertex: faces are those around it; false for
+ * an answer that is not exact, which cannot tell) and, on the boundary,
+ * the "vertex" or "edge" it lies on (input graph ids). */
+static void json_exact(jsonw *w, const locator *L, const answer *a)
+{
+    jsonw_bool(w, "exact", L->exact);
+    jsonw_bool(w, "on_boundary", a->exact && a->loc.on_boundary);
+    if (a->exact && a->loc.on_vertex)
+        jsonw_u64(w, "vertex", a->loc.vertex);
+    else if (a->exact && a->loc.on_boundary)
+        jsonw_u64(w, "edge", a->loc.edge);
+}
+
 /* One answer as the JSON object of contracts §4. ll: the lon/lat asked
  * for (NULL for a plain point). */
 static void print_json(FILE *out, const locator *L, const decimal *ll, const decimal xy[2],
@@ -340,6 +385,7 @@ static void print_json(FILE *out, const locator *L, const decimal *ll, const dec
         jsonw_null(&w, "depth");
         jsonw_null(&w, "private");
     }
+    json_exact(&w, L, a);
     jsonw_array_begin(&w, "faces");
     for (size_t k = 0; k < a->nfaces; k++)
         jsonw_u64(&w, NULL, L->cand[k]);
@@ -385,17 +431,28 @@ static void print_text(FILE *out, const locator *L, const decimal *ll, const dec
     }
     fprintf(out, "pixel       %s (depth %u)\n", a->path, a->px.depth);
     fprintf(out, "word        %s (%s)\n", a->word, a->is_private ? "private" : "stabbed");
-    fprintf(out, "faces       ");
+    fprintf(out, "%s", a->nfaces == 1 ? "face        " : "faces       ");
     for (size_t k = 0; k < a->nfaces; k++)
         fprintf(out, "%s%llu", k ? " " : "", (unsigned long long)L->cand[k]);
-    fprintf(out, a->is_private ? " (the point's face)\n"
-                               : " (candidates: the faces that meet the pixel)\n");
+    if (a->exact && a->loc.on_vertex)
+        fprintf(out, " (on the boundary: the faces around vertex %llu)\n",
+                (unsigned long long)a->loc.vertex);
+    else if (a->exact && a->loc.on_boundary)
+        fprintf(out, " (on the boundary: the faces beside edge %llu)\n",
+                (unsigned long long)a->loc.edge);
+    else
+        fprintf(out, a->exact || a->is_private
+                         ? " (the point's face)\n"
+                         : " (candidates: the faces that meet the pixel; the file has no exact "
+                           "geometry)\n");
     if (!L->features) {
         fprintf(out, "features    none (the file has no GIS features)\n");
         return;
     }
-    fprintf(out, "features    %zu%s\n", a->nfeat,
-            a->nfeat == 0 ? " (no source feature covers the face)" : "");
+    if (a->nfeat == 0)
+        fprintf(out, "features    none (outside every feature)\n");
+    else
+        fprintf(out, "features    %zu\n", a->nfeat);
     for (size_t k = 0; k < a->nfeat; k++)
         print_feature_text(out, L, L->feat[k]);
     if (!L->edge_features || a->is_private)
@@ -673,6 +730,7 @@ static void json_answer(jsonw *w, const locator *L, const batch_row *row, const 
         jsonw_null(w, "depth");
         jsonw_null(w, "private");
     }
+    json_exact(w, L, a);
     jsonw_array_begin(w, "faces");
     for (size_t k = 0; k < a->nfaces; k++)
         jsonw_u64(w, NULL, L->cand[k]);
@@ -776,7 +834,8 @@ static void print_csv_header(FILE *out, const layout *t)
 {
     static const char *const fixed[] = {"line",  "id",      "lon",   "lat",  "x",
                                         "y",     "inside",  "pixel", "depth", "private",
-                                        "faces", "fids",    "keys",  "error"};
+                                        "exact", "on_boundary", "faces", "fids", "keys",
+                                        "error"};
     int first = 1;
     for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; k++)
         if (t->lonlat || (k != 2 && k != 3))
@@ -845,7 +904,7 @@ static void print_csv_row(FILE *out, const locator *L, const layout *t, const ba
         csv_field(out, d ? buf : "", &first);
     }
     if (row->error) {
-        for (int k = 0; k < 7; k++)
+        for (int k = 0; k < 9; k++)
             csv_field(out, "", &first);
         csv_field(out, row->error, &first);
     } else {
@@ -854,6 +913,8 @@ static void print_csv_row(FILE *out, const locator *L, const layout *t, const ba
         csv_field(out, a->inside ? a->path : "", &first);
         csv_field(out, a->inside ? buf : "", &first);
         csv_field(out, !a->inside ? "" : a->is_private ? "true" : "false", &first);
+        csv_field(out, L->exact ? "true" : "false", &first);
+        csv_field(out, a->exact && a->loc.on_boundary ? "true" : "false", &first);
         csv_lists(out, L, a, &first);
         csv_field(out, "", &first);
     }

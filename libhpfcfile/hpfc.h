@@ -837,14 +837,21 @@ typedef struct hpfc_point_location {
     hpfc_pixel leaf;      /* the leaf holding the point */
     int on_boundary;      /* 1: on an edge or a vertex; faces lists those around */
     int on_vertex;        /* 1: on vertex `vertex` */
-    uint64_t vertex;      /* on_vertex: its id */
-    uint64_t edge;        /* on an edge (not at a vertex): its id */
+    uint64_t vertex;      /* on_vertex: its id (else UINT64_MAX) */
+    uint64_t edge;        /* on an edge (not at a vertex): its id (else UINT64_MAX) */
 } hpfc_point_location;
 
 /* faces[0 .. *count): the face containing (x, y) (one), or the distinct
- * faces around a boundary point in increasing order. A point outside the
- * domain gives HPFC_E_NO_PIXEL and *count = 0. cap too small is HPFC_E_ARG
- * with *count set; faces NULL asks only the count. */
+ * faces around a boundary point in increasing order (around a vertex: the
+ * faces beside its edges; on an edge: its two sides, one face for a
+ * dangling edge or a bridge). The answer is spec §17.8's; ties between
+ * segments and grid lines fall by the perturbation rule of §3.5. A point
+ * outside the domain gives HPFC_E_NO_PIXEL and *count = 0. cap too small
+ * is HPFC_E_ARG with *count and *out set; faces NULL asks only the count.
+ * Without GEOM or LABL: HPFC_E_NO_SECTION; GEOM that contradicts the
+ * leaf's word (a segment off its crossing's road, a piece leaving the
+ * leaf): HPFC_E_CORRUPT. Keeps no state (threads may share the file); its
+ * scratch is allocated per call (hpfc_locate_batch keeps one per array). */
 HPFC_API int hpfc_locate_point(const hpfc_file *file, int64_t x, int64_t y,
                                hpfc_point_location *out, uint64_t *faces, size_t cap,
                                size_t *count);

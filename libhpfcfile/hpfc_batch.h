@@ -8,10 +8,12 @@
  * labels (hpfc_label_leaf_faces, LABL) or, given numbered faces,
  * hpfc_faces_of_private_pixel (a private leaf) or hpfc_faces_of_dart for
  * each crossing of a stabbed leaf, then the FEAT links of those faces
- * (hpfc_face_feature). Without the file's exact
- * geometry (issue 16) a stabbed leaf names its candidate faces, not the
- * one face holding the point; the batch reports how many there are and a
- * face only when there is one.
+ * (hpfc_face_feature). A file with exact geometry (GEOM and LABL) is
+ * answered by hpfc_locate_point's code instead: the one face holding the
+ * point, or the faces around it when it lies on an edge or a vertex
+ * (HPFC_LOC_BOUNDARY). Without it a stabbed leaf names its candidate
+ * faces, not the one face holding the point; the batch reports how many
+ * there are and a face only when there is one.
  */
 #ifndef HPFC_BATCH_H
 #define HPFC_BATCH_H
@@ -26,15 +28,21 @@ extern "C" {
 enum {
     HPFC_LOC_INSIDE = 1u,   /* the point lies in the file's domain */
     HPFC_LOC_PRIVATE = 2u,  /* its leaf is private: the face is the point's */
-    HPFC_LOC_SINGLE = 4u    /* the leaf meets one face only: `face` is set */
+    HPFC_LOC_SINGLE = 4u,   /* one face answers: `face` is set (without
+                               exact geometry: the leaf meets one face only) */
+    HPFC_LOC_EXACT = 8u,    /* exact geometry decided the answer */
+    HPFC_LOC_BOUNDARY = 16u /* exact: the point lies on an edge or a vertex;
+                               the faces counted are those around it */
 };
 
 /* Per-point outputs; any pointer may be NULL when not wanted. Each array
  * has n entries. A point outside the domain, or skipped by `valid`, gets
  * face -1, feature -1, counts 0 and flags 0. */
 typedef struct hpfc_locate_out {
-    int64_t *face;           /* the face when the leaf meets one face, else -1 */
-    uint32_t *face_count;    /* faces meeting the leaf (candidates) */
+    int64_t *face;           /* the face when one answers (the point's with
+                                exact geometry, off the boundary), else -1 */
+    uint32_t *face_count;    /* exact: 1, or the faces around a boundary
+                                point; else the faces meeting the leaf */
     int64_t *feature;        /* the point's feature when every candidate face
                                 links exactly that one feature, else -1 (also
                                 without a FEAT section) */

@@ -420,10 +420,7 @@ int labels_word_parse(labels_word *lw, const char *sym, size_t len)
 
 /* A located leaf's record: its word's regions and pieces, and the bit
  * offset of its labels. */
-typedef struct leaf_record {
-    labels_word word;
-    uint64_t off;
-} leaf_record;
+typedef labels_record leaf_record;
 
 static const labels_view *labels_of(const hpfc_file *f, int *st)
 {
@@ -447,29 +444,20 @@ static int record_offset(const labels_view *v, uint64_t g, uint64_t *off)
     return HPFC_OK;
 }
 
-/* Decodes the leaf's word into `word` (rec->word, free with
+/* Parses the leaf's word sym[0 .. len) into rec->word (free with
  * labels_word_free), finds its record and checks that it lies in the
  * label stream. */
-static int load_record(const hpfc_file *f, const labels_view *v, const hpfc_pixel *leaf,
-                       leaf_record *rec)
+static int load_record_sym(const hpfc_file *f, const labels_view *v, const hpfc_pixel *leaf,
+                           const char *sym, size_t len, leaf_record *rec)
 {
-    memset(rec, 0, sizeof *rec);
+    rec->off = 0;
+    rec->word.heap = NULL;
     uint64_t rank;
     int st = reader_leaf_rank(f, leaf, &rank);
     if (st)
         return st;
     uint64_t g = v->first_leaf[leaf->depth] + rank; /* rank < word_pixels: g < leaves */
-    char small[256], *sym = small;
-    size_t len = 0;
-    if ((st = hpfc_pixel_word(f, leaf, NULL, 0, &len)))
-        return st;
-    if (len > sizeof small && !(sym = malloc(len)))
-        return HPFC_E_NOMEM;
-    st = hpfc_pixel_word(f, leaf, sym, len, &len);
-    if (!st)
-        st = labels_word_parse(&rec->word, sym, len);
-    if (sym != small)
-        free(sym);
+    st = labels_word_parse(&rec->word, sym, len);
     if (!st)
         st = record_offset(v, g, &rec->off);
     if (st) {
@@ -482,6 +470,27 @@ static int load_record(const hpfc_file *f, const labels_view *v, const hpfc_pixe
         return HPFC_E_CORRUPT;
     }
     return HPFC_OK;
+}
+
+/* The same, decoding the leaf's word first. */
+static int load_record(const hpfc_file *f, const labels_view *v, const hpfc_pixel *leaf,
+                       leaf_record *rec)
+{
+    char small[256], *sym = small;
+    size_t len = 0;
+    int st = hpfc_pixel_word(f, leaf, NULL, 0, &len);
+    if (st)
+        return st;
+    if (len > sizeof small && !(sym = malloc(len)))
+        return HPFC_E_NOMEM;
+    st = hpfc_pixel_word(f, leaf, sym, len, &len);
+    if (!st)
+        st = load_record_sym(f, v, leaf, sym, len, rec);
+    else
+        memset(rec, 0, sizeof *rec);
+    if (sym != small)
+        free(sym);
+    return st;
 }
 
 /* Piece q's edge id and side bit. */
@@ -652,4 +661,48 @@ int hpfc_label_dart_edge(const hpfc_file *f, const hpfc_dart *d, uint64_t *edge)
     if (!d)
         return HPFC_E_ARG;
     return hpfc_label_crossing_edge(f, &d->pixel, d->crossing, edge);
+}
+
+/* ---- a whole leaf at once (point location) ------------------------------------------- */
+
+void labels_leaf_free(labels_leaf *l)
+{
+    labels_word_free(&l->rec.word);
+    free(l->edge);
+    memset(l, 0, sizeof *l);
+}
+
+int labels_leaf_load(const hpfc_file *f, const hpfc_pixel *leaf, const char *sym, size_t len,
+                     labels_leaf *out)
+{
+    int st;
+    const labels_view *v = labels_of(f, &st);
+    if (st)
+        return st;
+    labels_word_free(&out->rec.word);
+    leaf_record *rec = &out->rec;
+    if ((st = load_record_sym(f, v, leaf, sym, len, rec)))
+        return st;
+    uint32_t n = rec->word.n, entries = n ? n : 1;
+    if (entries > out->cap) {
+        uint64_t *e = realloc(out->edge, entries * sizeof *e);
+        if (!e)
+            return HPFC_E_NOMEM;
+        out->edge = e;
+        out->cap = entries;
+    }
+    for (uint32_t k = 0; k < n && !st; k++)
+        st = record_edge(v, rec, rec->word.piece[k], &out->edge[k]);
+    return st;
+}
+
+int labels_leaf_face(const hpfc_file *f, const labels_leaf *l, uint32_t stretch, uint64_t *face)
+{
+    int st;
+    const labels_view *v = labels_of(f, &st);
+    if (st)
+        return st;
+    if (stretch >= (l->rec.word.n ? l->rec.word.n : 1))
+        return HPFC_E_ARG;
+    return stretch_face(v, &l->rec, stretch, face);
 }

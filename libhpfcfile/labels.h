@@ -124,6 +124,29 @@ static inline uint64_t labels_record_bits(const labels_word *w, uint32_t face_bi
 int labels_word_parse(labels_word *lw, const char *sym, size_t len);
 void labels_word_free(labels_word *lw);
 
+/* A leaf's labels all at once (point location): its word parsed and per
+ * crossing its edge id; its stretches' faces on demand
+ * (labels_leaf_face). Reuse one value across leaves (its arrays grow),
+ * then labels_leaf_free. */
+typedef struct labels_record {
+    labels_word word;
+    uint64_t off;         /* the record's bit offset in the label stream */
+} labels_record;
+typedef struct labels_leaf {
+    labels_record rec;    /* rec.word: the word parsed (rec.word.n crossings) */
+    uint64_t *edge;       /* per crossing k < word.n */
+    size_t cap;
+} labels_leaf;
+
+/* Loads the labels of `leaf`, whose word is sym[0 .. len) (hpfc_pixel_word).
+ * Statuses as hpfc_label_stretch_face's. */
+int labels_leaf_load(const hpfc_file *file, const hpfc_pixel *leaf, const char *sym, size_t len,
+                     labels_leaf *out);
+void labels_leaf_free(labels_leaf *l);
+/* The face of stretch `stretch` (< max(word.n, 1)) of a loaded leaf. */
+int labels_leaf_face(const hpfc_file *file, const labels_leaf *l, uint32_t stretch,
+                     uint64_t *face);
+
 /* hpfc_faces internals for the writer (faces.c): the nodes of the leaf
  * whose record (level 0) or slot starts at bit `bit` of level `level`'s
  * pool: node base + t is stretch t (one node for a private leaf). */

@@ -1,11 +1,15 @@
 /*
  * Batch point location (hpfc_batch.h): the public calls of one point
  * location, strung together over an array so that a binding crosses into C
- * once per array. No format knowledge lives here.
+ * once per array. A file with exact geometry goes through the code of
+ * hpfc_locate_point (locate_point.c) with one scratch for the whole array;
+ * no format knowledge lives here.
  */
 #include <stdlib.h>
+#include <string.h>
 
 #include "hpfc_batch.h"
+#include "locate_point.h"
 
 /* Growable scratch for one point's candidate faces and features. */
 typedef struct batch_scratch {
@@ -13,6 +17,8 @@ typedef struct batch_scratch {
     size_t face_cap;
     uint32_t *features;
     size_t feature_cap;
+    int exact;              /* the file has GEOM and LABL: locx answers */
+    locx_scratch locx;
 } batch_scratch;
 
 static int grow(void **p, size_t *cap, size_t n, size_t size)
@@ -143,18 +149,37 @@ static void answer_outside(const hpfc_locate_out *o, size_t k)
         o->depth[k] = 0;
 }
 
+/* The exact answer: the point's face, or the faces around it on the
+ * boundary, into s->faces. */
+static int exact_faces(const hpfc_file *f, int64_t x, int64_t y, hpfc_pixel *px,
+                       int *is_private, int *on_boundary, batch_scratch *s, size_t *n)
+{
+    hpfc_point_location loc;
+    int st = locx_locate(f, x, y, &s->locx, &loc, NULL, 0, n);
+    if (!st)
+        st = grow((void **)&s->faces, &s->face_cap, *n ? *n : 1, sizeof *s->faces);
+    if (st)
+        return st;
+    memcpy(s->faces, s->locx.around, *n * sizeof *s->faces); /* where locx keeps them */
+    *px = loc.leaf;
+    *is_private = s->locx.labels.rec.word.n == 0;
+    *on_boundary = loc.on_boundary;
+    return HPFC_OK;
+}
+
 static int answer_point(const hpfc_file *f, const hpfc_faces *fc, int features, int64_t x,
                         int64_t y, const hpfc_locate_out *o, size_t k, batch_scratch *s)
 {
     hpfc_pixel px;
-    int st = hpfc_locate(f, x, y, &px);
+    int is_private = 0, sure = 0, on_boundary = 0;
+    size_t n = 0, m = 0;
+    int st = s->exact ? exact_faces(f, x, y, &px, &is_private, &on_boundary, s, &n)
+                      : hpfc_locate(f, x, y, &px);
     if (st == HPFC_E_NO_PIXEL) {
         answer_outside(o, k);
         return HPFC_OK;
     }
-    int is_private = 0, sure = 0;
-    size_t n = 0, m = 0;
-    if (!st)
+    if (!st && !s->exact)
         st = leaf_faces(f, fc, &px, &is_private, s, &n);
     if (!st && features && (o->feature || o->feature_count))
         st = leaf_features(f, s, n, &m, &sure);
@@ -170,7 +195,9 @@ static int answer_point(const hpfc_file *f, const hpfc_faces *fc, int features, 
         o->feature_count[k] = (uint32_t)m;
     if (o->flags)
         o->flags[k] = (uint8_t)(HPFC_LOC_INSIDE | (is_private ? HPFC_LOC_PRIVATE : 0) |
-                                (n == 1 ? HPFC_LOC_SINGLE : 0));
+                                (n == 1 ? HPFC_LOC_SINGLE : 0) |
+                                (s->exact ? HPFC_LOC_EXACT : 0) |
+                                (on_boundary ? HPFC_LOC_BOUNDARY : 0));
     if (o->depth)
         o->depth[k] = (uint8_t)px.depth;
     return HPFC_OK;
@@ -188,6 +215,9 @@ int hpfc_locate_batch(const hpfc_file *file, const hpfc_faces *faces, size_t n, 
     if (st && st != HPFC_E_NO_SECTION)
         return st;
     batch_scratch s = {0};
+    hpfc_geometry_info gi;
+    hpfc_labels_info li;
+    s.exact = hpfc_file_geometry(file, &gi) == HPFC_OK && hpfc_file_labels(file, &li) == HPFC_OK;
     st = HPFC_OK;
     for (size_t k = 0; k < n && !st; k++) {
         if (valid && !valid[k])
@@ -197,5 +227,6 @@ int hpfc_locate_batch(const hpfc_file *file, const hpfc_faces *faces, size_t n, 
     }
     free(s.faces);
     free(s.features);
+    locx_scratch_free(&s.locx);
     return st;
 }

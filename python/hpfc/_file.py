@@ -4,12 +4,10 @@ The C half (_hpfc._File) holds the mapping and calls libhpfcfile; this half
 shapes its answers into Python values: dicts, lists, numpy arrays, pandas
 frames.
 
-Geometry (edges, faces and features as shapely objects, GeoDataFrames) needs
-the exact coordinates of issue 16, which the file does not hold yet. It will
-come as methods on File next to the ones below (edge_geometry(dart),
-face_geometry(face), feature_geometry(feature), to_geodataframe()), fed by a
-library call per dart or face, and as an on_boundary array in Locations once
-the library decides a point's one face exactly.
+A file with exact geometry (GEOM and LABL sections, format 1.2) answers
+every point exactly (hpfc_locate_point): its one face, or the faces around
+it when it lies on an edge or a vertex (on_boundary). Other files give the
+candidate faces of the point's leaf (exact False).
 """
 
 from . import _hpfc
@@ -60,16 +58,19 @@ class Location:
 
     inside: whether the point lies in the file's domain; x, y: its lattice
     point; pixel: the leaf holding it (None outside); private: the leaf has
-    no crossing, so its one face is the point's; faces: the faces meeting
-    the leaf (the candidates for the point's face), ascending; face: the one
-    face when there is one candidate, else None; features: the features of
-    the candidate faces, ascending; feature: the point's feature when every
-    candidate face links exactly that one feature, else None; key: that
-    feature's key value (None without one).
+    no crossing, so its one face is the point's; exact: the file's geometry
+    decided the answer; faces: with exact, the point's face, or the faces
+    around it when on_boundary (it lies on edge `edge` or on vertex
+    `vertex`, input graph ids), else the faces meeting the leaf (the
+    candidates for the point's face), ascending; face: the one face when
+    there is one, else None; features: the features of those faces,
+    ascending; feature: the point's feature when every face links exactly
+    that one feature, else None; key: that feature's key value (None
+    without one).
     """
 
     __slots__ = ("inside", "x", "y", "pixel", "private", "faces", "face", "features",
-                 "feature", "key")
+                 "feature", "key", "exact", "on_boundary", "vertex", "edge")
 
     def __init__(self, **kw):
         for name in self.__slots__:
@@ -77,14 +78,19 @@ class Location:
 
     def __repr__(self):
         return (f"Location(inside={self.inside}, face={self.face}, faces={self.faces}, "
-                f"feature={self.feature}, key={self.key!r}, pixel={self.pixel})")
+                f"on_boundary={self.on_boundary}, feature={self.feature}, key={self.key!r}, "
+                f"pixel={self.pixel})")
 
 
 class Locations:
     """The answers for an array of points, as numpy arrays of its shape.
 
-    face (int64): the point's face when its leaf meets one face, else -1
-    (outside too); face_count (uint32): faces meeting the leaf (0 outside);
+    face (int64): the point's face (with exact geometry; without it, when
+    its leaf meets one face), else -1 (outside, on a boundary between faces
+    too); face_count (uint32): exact: 1, or the faces around a boundary
+    point; else faces meeting the leaf (0 outside); on_boundary, exact
+    (bool): the point lies on an edge or a vertex, the file's geometry
+    decided the answer;
     feature (int64): the point's feature when every candidate face links
     exactly that one, else -1; feature_count (uint32): distinct features of
     the candidates; inside, private, single (bool): in the domain, in a private
@@ -122,6 +128,14 @@ class Locations:
         return (self.flags & _hpfc.LOC_SINGLE) != 0
 
     @property
+    def on_boundary(self):
+        return (self.flags & _hpfc.LOC_BOUNDARY) != 0
+
+    @property
+    def exact(self):
+        return (self.flags & _hpfc.LOC_EXACT) != 0
+
+    @property
     def key(self):
         if self._key is None:
             keys = np.empty(0, dtype=object)
@@ -141,6 +155,7 @@ class Locations:
             "face_count": self.face_count.ravel(), "feature": self.feature.ravel(),
             "feature_count": self.feature_count.ravel(), "inside": self.inside.ravel(),
             "private": self.private.ravel(), "depth": self.depth.ravel(),
+            "on_boundary": self.on_boundary.ravel(), "exact": self.exact.ravel(),
         }
         if self._file.has_features and self._file.features_info["key_field"] is not None:
             cols["key"] = self.key.ravel()
@@ -256,11 +271,26 @@ class File(_hpfc._File):
             return Location(inside=False, faces=[], features=[])
         return self._locate_scalar_lattice(*point)
 
+    @property
+    def has_geometry(self):
+        """The file has exact geometry (GEOM and LABL): locations are exact."""
+        return self._has_geometry()
+
     def _locate_scalar_lattice(self, x, y):
-        px = self._leaf_at(x, y)
+        exact = self._has_geometry()
+        on_boundary, vertex, edge = False, None, None
+        if exact:
+            answer = self._locate_point(x, y)
+            px = answer[4] if answer is not None else None
+        else:
+            px = self._leaf_at(x, y)
         if px is None:
-            return Location(inside=False, x=x, y=y, faces=[], features=[])
-        faces = px.faces()
+            return Location(inside=False, x=x, y=y, faces=[], features=[], exact=exact,
+                            on_boundary=False)
+        if exact:
+            faces, on_boundary, vertex, edge = answer[:4]
+        else:
+            faces = px.faces()
         features, per_face = [], []
         if self.has_features:
             per_face = [self.face_features(face) for face in faces]
@@ -271,7 +301,8 @@ class File(_hpfc._File):
         key = self.feature(feature)["key"] if feature is not None else None
         return Location(inside=True, x=x, y=y, pixel=px, private=px.is_private, faces=faces,
                         face=faces[0] if len(faces) == 1 else None, features=features,
-                        feature=feature, key=key)
+                        feature=feature, key=key, exact=exact, on_boundary=on_boundary,
+                        vertex=vertex, edge=edge)
 
     def _locate_array(self, u, v, lonlat):
         u, v = np.broadcast_arrays(u, v)

@@ -829,6 +829,77 @@ static PyObject *File_leaf_at(FileObject *self, PyObject *args)
     return pixel_new(self, &px);
 }
 
+/* _locate_point(x, y): hpfc_locate_point's answer for lattice point
+ * (x, y) as (faces, on_boundary, vertex or None, edge or None, leaf), None
+ * outside the domain. */
+static PyObject *File_locate_point(FileObject *self, PyObject *args)
+{
+    PyObject *ox, *oy;
+    int64_t x, y;
+    if (!PyArg_ParseTuple(args, "OO", &ox, &oy) || lattice_arg(ox, &x) || lattice_arg(oy, &y) ||
+        file_ready(self))
+        return NULL;
+    hpfc_point_location loc;
+    uint64_t small[16], *faces = small;
+    size_t count = 0;
+    int st = hpfc_locate_point(self->f, x, y, &loc, faces, 16, &count);
+    if (st == HPFC_E_ARG && count > 16) {
+        if (!(faces = PyMem_Malloc(count * sizeof *faces)))
+            return PyErr_NoMemory();
+        st = hpfc_locate_point(self->f, x, y, &loc, faces, count, &count);
+    }
+    PyObject *list = NULL, *result = NULL;
+    if (st == HPFC_E_NO_PIXEL) {
+        result = Py_NewRef(Py_None);
+        goto done;
+    }
+    if (st) {
+        raise_status(st, "locate_point");
+        goto done;
+    }
+    if (!(list = PyList_New((Py_ssize_t)count)))
+        goto done;
+    for (size_t k = 0; k < count; k++) {
+        PyObject *o = PyLong_FromUnsignedLongLong(faces[k]);
+        if (!o)
+            goto done;
+        PyList_SET_ITEM(list, (Py_ssize_t)k, o);
+    }
+    PyObject *px = pixel_new(self, &loc.leaf);
+    if (!px)
+        goto done;
+    PyObject *vertex = loc.on_vertex ? PyLong_FromUnsignedLongLong(loc.vertex) : Py_NewRef(Py_None);
+    PyObject *edge = loc.on_boundary && !loc.on_vertex ? PyLong_FromUnsignedLongLong(loc.edge)
+                                                       : Py_NewRef(Py_None);
+    if (vertex && edge)
+        result = Py_BuildValue("(OOOOO)", list, loc.on_boundary ? Py_True : Py_False, vertex,
+                               edge, px);
+    Py_XDECREF(vertex);
+    Py_XDECREF(edge);
+    Py_DECREF(px);
+done:
+    Py_XDECREF(list);
+    if (faces != small)
+        PyMem_Free(faces);
+    return result;
+}
+
+/* _has_geometry(): the file has GEOM and LABL, so locations are exact. */
+static PyObject *File_has_geometry(FileObject *self, PyObject *unused)
+{
+    (void)unused;
+    if (file_ready(self))
+        return NULL;
+    hpfc_geometry_info gi;
+    hpfc_labels_info li;
+    int st = hpfc_file_geometry(self->f, &gi);
+    if (!st)
+        st = hpfc_file_labels(self->f, &li);
+    if (st && st != HPFC_E_NO_SECTION)
+        return raise_status(st, "geometry");
+    return PyBool_FromLong(st == HPFC_OK);
+}
+
 static PyObject *File_leaf_first(FileObject *self, PyObject *unused)
 {
     (void)unused;
@@ -1073,6 +1144,8 @@ static PyMethodDef File_methods[] = {
     {"_lattice_points", (PyCFunction)File_lattice_points, METH_VARARGS, NULL},
     {"_locate_into", (PyCFunction)File_locate_into, METH_VARARGS, NULL},
     {"_leaf_at", (PyCFunction)File_leaf_at, METH_VARARGS, NULL},
+    {"_locate_point", (PyCFunction)File_locate_point, METH_VARARGS, NULL},
+    {"_has_geometry", (PyCFunction)File_has_geometry, METH_NOARGS, NULL},
     {"_leaf_first", (PyCFunction)File_leaf_first, METH_NOARGS, NULL},
     {"_leaf_next", (PyCFunction)File_leaf_next, METH_O, NULL},
     {"root", (PyCFunction)File_root, METH_VARARGS, "root(i, j): pixel (i, j) of the root image"},
@@ -1180,7 +1253,9 @@ PyMODINIT_FUNC PyInit__hpfc(void)
         PyModule_AddStringConstant(m, "library_version", hpfc_version_string()) < 0 ||
         PyModule_AddIntConstant(m, "LOC_INSIDE", HPFC_LOC_INSIDE) < 0 ||
         PyModule_AddIntConstant(m, "LOC_PRIVATE", HPFC_LOC_PRIVATE) < 0 ||
-        PyModule_AddIntConstant(m, "LOC_SINGLE", HPFC_LOC_SINGLE) < 0) {
+        PyModule_AddIntConstant(m, "LOC_SINGLE", HPFC_LOC_SINGLE) < 0 ||
+        PyModule_AddIntConstant(m, "LOC_EXACT", HPFC_LOC_EXACT) < 0 ||
+        PyModule_AddIntConstant(m, "LOC_BOUNDARY", HPFC_LOC_BOUNDARY) < 0) {
         Py_DECREF(m);
         return NULL;
     }

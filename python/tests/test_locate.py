@@ -43,6 +43,8 @@ def check_scalar_against_batch(f, xs, ys, batch, lonlat=False):
         assert batch.feature_count[k] == len(one.features), k
         assert batch.feature[k] == (one.feature if one.feature is not None else -1), k
         assert batch.key[k] == one.key, k
+        assert bool(batch.exact[k]) == bool(one.exact and one.inside), k
+        assert bool(batch.on_boundary[k]) == bool(one.on_boundary), k
         if one.feature is not None:  # the point's feature whichever candidate holds it
             assert all(f.face_features(face) == [one.feature] for face in one.faces), k
         if one.inside:
@@ -50,6 +52,9 @@ def check_scalar_against_batch(f, xs, ys, batch, lonlat=False):
             assert bool(batch.private[k]) == one.pixel.is_private, k
             assert batch.depth[k] == one.pixel.depth, k
             assert bool(batch.single[k]) == (len(one.faces) == 1), k
+            assert one.exact == f.has_geometry, k
+            if one.exact and not one.on_boundary:  # exact: one face, off the borders
+                assert len(one.faces) == 1, k
 
 
 def check_against_cli(f, inspect_tool, path, xs, ys, lonlat=False):
@@ -63,6 +68,9 @@ def check_against_cli(f, inspect_tool, path, xs, ys, lonlat=False):
         one = f.locate_lonlat(xs[k], ys[k]) if lonlat else f.locate(xs[k], ys[k])
         assert c["inside"] == one.inside, (k, c)
         assert c["faces"] == one.faces, (k, c)
+        assert c["exact"] == f.has_geometry, (k, c)
+        assert c["on_boundary"] == bool(one.on_boundary), (k, c)
+        assert c.get("vertex") == one.vertex and c.get("edge") == one.edge, (k, c)
         assert [feature_of_cli(e) for e in c["features"]] == [
             (f.feature(i)["fid"], f.feature(i)["key"] if f.features_info["key_field"] else None,
              f.feature(i)["layer"]) for i in one.features], (k, c)
@@ -235,3 +243,45 @@ def test_lattice_point_and_reprs(counties, delaunay):
         assert one.inside
         assert len(one.pixel.path) == one.pixel.depth + 1
         assert str(one.pixel) == "/".join(f"{i},{j}" for i, j in one.pixel.path)
+
+
+def read_pfc(path):
+    """The vertices and straight edges of a .pfc file (unit 0)."""
+    vertices, edges = [], []
+    for line in open(path):
+        part = line.split()
+        if part and part[0] == "v":
+            vertices.append((int(part[1]), int(part[2])))
+        elif part and part[0] == "e" and len(part) == 3:
+            edges.append((int(part[1]), int(part[2])))
+    return vertices, edges
+
+
+def test_exact_boundary_points(delaunay):
+    """On a file with exact geometry every input vertex is on the boundary
+    (that very vertex), every lattice midpoint of an edge on that edge, the
+    numpy path agreeing with the scalar one."""
+    from conftest import DATA
+
+    vertices, edges = read_pfc(DATA / "delaunay-4000.pfc")
+    with hpfc.open(delaunay) as f:
+        if not f.has_geometry:
+            pytest.skip("packed without exact geometry")
+        for v, (x, y) in enumerate(vertices[:300]):
+            one = f.locate_lattice(x, y)
+            assert one.on_boundary and one.vertex == v and one.edge is None, (v, one)
+            assert len(one.faces) >= 1 and one.face == (one.faces[0] if len(one.faces) == 1 else None)
+        mids = [(e, (vertices[u][0] + vertices[w][0]) // 2, (vertices[u][1] + vertices[w][1]) // 2)
+                for e, (u, w) in enumerate(edges[:2000])
+                if (vertices[u][0] + vertices[w][0]) % 2 == 0 and (vertices[u][1] + vertices[w][1]) % 2 == 0]
+        assert len(mids) > 50
+        xs = np.array([m[1] for m in mids]), np.array([m[2] for m in mids])
+        batch = f.locate_lattice(*xs)
+        assert batch.on_boundary.all() and batch.exact.all()
+        for k, (e, x, y) in enumerate(mids):
+            one = f.locate_lattice(x, y)
+            assert one.on_boundary and one.edge == e and one.vertex is None, (e, one)
+            assert batch.face_count[k] == len(one.faces) and 1 <= len(one.faces) <= 2
+            # a point next to it, off the edge, lies in one of the edge's faces
+            near = f.locate_lattice(x + 1, y)
+            assert near.on_boundary or (len(near.faces) == 1)

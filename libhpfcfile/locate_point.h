@@ -1,0 +1,60 @@
+/*
+ * locate_point.h: exact point location (spec/hpfc-format.md §17.8), the
+ * code behind hpfc_locate_point, shared with the batch call so that both
+ * give the same answer. Internal to the library.
+ */
+#ifndef HPFC_LOCATE_POINT_H
+#define HPFC_LOCATE_POINT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "geom.h"
+#include "hpfc.h"
+#include "labels.h"
+
+/* One segment of an edge piece inside the located leaf, u -> v direction
+ * (a runs from point i to point i + 1 of its edge). */
+typedef struct locx_segment {
+    lpoint a, b;          /* relative to the domain's south-west corner */
+    uint64_t edge, index; /* edge id, segment index */
+    uint32_t crossing;    /* a crossing of its piece: its faces by §15 */
+    uint64_t vertex;      /* the vertex id of its vertex end, if it has one */
+    int8_t vertex_end;    /* -1: neither end is a vertex; 0: a is one; 1: b is */
+} locx_segment;
+
+/* What one location knows of a crossing of its leaf. */
+typedef struct locx_crossing {
+    uint64_t segment;     /* the segment of its edge it lies on */
+    uint64_t u, v, count; /* its edge's ends and point count */
+    lpoint a, b;          /* that segment's ends, relative */
+    line_pos pos;         /* where it lies on its road's line */
+    uint32_t road;        /* ROAD_W .. ROAD_S */
+    char kind;            /* its symbol */
+    int8_t leaving;       /* 1 when its segment, run u -> v, leaves the leaf */
+} locx_crossing;
+
+/* What one location needs between calls (the batch reuses it); zero it
+ * before the first call, locx_scratch_free after the last. */
+typedef struct locx_scratch {
+    const hpfc_file *file;   /* the file the fields below were read from */
+    int64_t dx0, dy0;        /* its domain's south-west corner */
+    uint64_t points;         /* its GEOM shape points (bounds a leaf's segments) */
+    char *sym;
+    size_t sym_cap;
+    labels_leaf labels;
+    locx_crossing *cr;       /* per crossing */
+    uint64_t *around;        /* the faces of the answer */
+    size_t crossing_cap;
+    locx_segment *segs;
+    size_t seg_count, seg_cap;
+} locx_scratch;
+
+void locx_scratch_free(locx_scratch *s);
+
+/* hpfc_locate_point with caller-kept scratch; the faces are also left in
+ * s->around[0 .. *count) (so faces may be NULL). */
+int locx_locate(const hpfc_file *file, int64_t x, int64_t y, locx_scratch *s,
+                hpfc_point_location *out, uint64_t *faces, size_t cap, size_t *count);
+
+#endif
