@@ -893,6 +893,11 @@ static int run(exporter *x)
                         x->o->file);
         return fail(x, "%s: geometry: %s", x->o->file, hpfc_strerror(st));
     }
+    hpfc_features_info fi;
+    if (!x->o->faces && (st = hpfc_file_features(x->f, &fi)) == HPFC_E_NO_SECTION)
+        return fail(x, "%s: the file has no features (FEAT section); --export-faces writes its "
+                       "faces",
+                    x->o->file);
     if (setup_srs(x))
         return 1;
     return write_atomically(x);
