@@ -38,6 +38,7 @@ typedef struct pack_args {
     hpfc_build_params params;
     int json, quiet;
     int no_labels;            /* --no-labels: no LABL section */
+    int no_geometry;          /* --no-geometry: no GEOM section */
     int force;                 /* --force, -overwrite: replace an existing OUTPUT */
     int to_stdout;             /* -o -: the file on standard output, the report on stderr */
     /* GIS input (gis_input.h) */
@@ -157,6 +158,9 @@ static void print_help(void)
            "                        than 180 degrees) at +-180 (default), or refuse them\n"
            "  --no-labels           write no LABL section (the faces and edge ids of every\n"
            "                        leaf, which let queries skip numbering the faces)\n"
+           "  --no-geometry         write no GEOM section (the exact coordinates of every\n"
+           "                        vertex and shape point, which exact point location\n"
+           "                        and export need)\n"
            "  --layout compact|paper\n"
            "                        pool layout: words in the bits they need and\n"
            "                        children by rank (default; format 1.2), or the\n"
@@ -357,6 +361,8 @@ static int parse_args(int argc, char **argv, pack_args *a)
             a->quiet = 1;
         else if (strcmp(arg, "--no-labels") == 0)
             a->no_labels = 1;
+        else if (strcmp(arg, "--no-geometry") == 0)
+            a->no_geometry = 1;
         else if (strcmp(arg, "--force") == 0 || strcmp(arg, "-overwrite") == 0)
             a->force = 1;
         else if (!value_option(a, argv, argc, &i, &status)) {
@@ -930,7 +936,8 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     params.progress_user = &bar;
     hpfc_write_options wopts = {.crs = r->gis ? r->gis_info.crs : NULL,
                                 .face_labels = !a->no_labels,
-                                .layout = a->layout};
+                                .layout = a->layout,
+                                .geometry = a->no_geometry ? NULL : g};
     gis_feature_table ft = {0};
     hpfc_diag diag = {0};
     hpfc_tree *t = NULL;

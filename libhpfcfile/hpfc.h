@@ -315,6 +315,12 @@ typedef struct hpfc_write_options {
     const hpfc_attr_table *attributes;  /* ATTR section, NULL for none */
     const hpfc_edge_feature_table *edge_features; /* EDGF section, NULL for none */
     int layout;               /* HPFC_LAYOUT_*; hpfc_file_serialize keeps the file's */
+    /* Write the GEOM section (spec §17: exact coordinates, shape points,
+     * crossings' segments) from this graph, the one the tree was built
+     * from (hpfc_tree_serialize; HPFC_E_ARG for another graph); NULL for
+     * none. hpfc_file_serialize ignores it and keeps the source file's
+     * GEOM section, which stays true since its pools are copied. */
+    const hpfc_graph *geometry;
 } hpfc_write_options;
 
 /* Serialises the tree into a malloc'ed buffer (*out, *out_size); the caller

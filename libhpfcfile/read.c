@@ -23,6 +23,7 @@
 #include "attrs.h"
 #include "feat.h"
 #include "format.h"
+#include "geometry.h"
 #include "labels.h"
 #include "pool.h"
 #include "internal.h"
@@ -60,6 +61,7 @@ struct hpfc_file {
     labels_view labels;     /* the LABL section (labels.present: the file has one) */
     const uint8_t *attr, *edgf; /* the ATTR and EDGF sections, NULL if none */
     uint64_t attr_len, edgf_len;
+    geom_view geom;         /* the GEOM section (geom.present: the file has one) */
 };
 
 /* ---- open: header ---------------------------------------------------------- */
@@ -367,7 +369,8 @@ static int check_section_entry(const hpfc_file *f, const uint8_t *e, span *out)
         length > f->info.file_size - offset)
         return HPFC_E_SECTION;
     bool known = tag_is(e, FORMAT_TAG_POOL) || tag_is(e, FORMAT_TAG_CRS) || tag_is(e, FORMAT_TAG_FEAT) ||
-                 tag_is(e, FORMAT_TAG_LABL) || tag_is(e, FORMAT_TAG_ATTR) || tag_is(e, FORMAT_TAG_EDGF);
+                 tag_is(e, FORMAT_TAG_LABL) || tag_is(e, FORMAT_TAG_ATTR) || tag_is(e, FORMAT_TAG_EDGF) ||
+                 tag_is(e, FORMAT_TAG_GEOM);
     if (!known && (flags & FORMAT_SECTION_REQUIRED))
         return HPFC_E_INCOMPATIBLE;
     *out = (span){offset, offset + length, (uint32_t)le_load(e + sec_OFF_tag, sec_SIZE_tag)};
@@ -434,6 +437,19 @@ static int read_labl(hpfc_file *f, const uint8_t *labl)
     return labels_open(&f->labels, f->data + sec_get_offset(labl), sec_get_length(labl), &lv);
 }
 
+/* GEOM after LABL: its edge count must be LABL's. */
+static int read_geom(hpfc_file *f, const uint8_t *geom)
+{
+    geom_levels lv = {.levels = f->info.levels,
+                      .width = f->info.width,
+                      .height = f->info.height,
+                      .has_labels = f->labels.present,
+                      .label_edges = f->labels.edges};
+    for (uint32_t l = 0; l < f->info.levels; l++)
+        lv.word_pixels[l] = f->lv[l].info.word_pixels;
+    return geometry_open(&f->geom, f->data + sec_get_offset(geom), sec_get_length(geom), &lv);
+}
+
 /* An optional section checked by `check`: its bytes into *at, *len. */
 static int read_optional(hpfc_file *f, const uint8_t *entry, int (*check)(const uint8_t *, uint64_t),
                          const uint8_t **at, uint64_t *len)
@@ -453,7 +469,8 @@ static int read_directory(hpfc_file *f)
     span *spans = malloc((count ? count : 1) * sizeof *spans);
     if (!spans)
         return HPFC_E_NOMEM;
-    const uint8_t *pool = NULL, *crs = NULL, *feat = NULL, *labl = NULL, *attr = NULL, *edgf = NULL;
+    const uint8_t *pool = NULL, *crs = NULL, *feat = NULL, *labl = NULL, *attr = NULL, *edgf = NULL,
+                  *geom = NULL;
     int st = HPFC_OK;
     for (uint32_t k = 0; k < count && !st; k++) {
         const uint8_t *e = section_entry(f, k);
@@ -470,6 +487,8 @@ static int read_directory(hpfc_file *f)
             attr = e;
         else if (tag_is(e, FORMAT_TAG_EDGF))
             edgf = e;
+        else if (tag_is(e, FORMAT_TAG_GEOM))
+            geom = e;
     }
     if (!st)
         st = check_section_set(spans, count);
@@ -486,6 +505,8 @@ static int read_directory(hpfc_file *f)
         st = read_optional(f, attr, attr_section_check, &f->attr, &f->attr_len);
     if (!st && edgf)
         st = read_optional(f, edgf, edgf_section_check, &f->edgf, &f->edgf_len);
+    if (!st && geom)
+        st = read_geom(f, geom);
     if (!st)
         st = check_pools_in_section(f, pool);
     return st;
@@ -586,6 +607,11 @@ const uint8_t *reader_attr_section(const hpfc_file *f, uint64_t *length)
 {
     *length = f->attr_len;
     return f->attr;
+}
+
+const geom_view *reader_geometry(const hpfc_file *f)
+{
+    return &f->geom;
 }
 
 const uint8_t *reader_edgf_section(const hpfc_file *f, uint64_t *length)

@@ -18,6 +18,7 @@
 #include "attrs.h"
 #include "feat.h"
 #include "format.h"
+#include "geometry.h"
 #include "internal.h"
 #include "labels.h"
 #include "pool.h"
@@ -37,6 +38,8 @@ typedef struct layout {
     uint64_t feat_offset, feat_length;
     const uint8_t *labl;     /* the LABL section's bytes, NULL for none */
     uint64_t labl_offset, labl_length;
+    const uint8_t *geom;     /* the GEOM section's bytes, NULL for none */
+    uint64_t geom_offset, geom_length;
     const char *crs;
     const hpfc_feature_table *features;
     /* ATTR and EDGF (§7.2, §7.3), after FEAT */
@@ -221,7 +224,7 @@ static int place_sections(layout *L, hpfc_diag *diag)
             return st;
     }
     L->section_count = 1 + (L->crs != NULL) + (L->features != NULL) + (L->attributes != NULL) +
-                       (L->edge_features != NULL) + (L->labl != NULL);
+                       (L->edge_features != NULL) + (L->labl != NULL) + (L->geom != NULL);
     L->meta_size = FORMAT_HEADER_SIZE + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * L->info.levels +
                    (uint64_t)FORMAT_SECTION_ENTRY_SIZE * L->section_count;
     L->pool_section = format_align8(L->meta_size);
@@ -255,6 +258,10 @@ static int place_sections(layout *L, hpfc_diag *diag)
     if (L->labl) {
         L->labl_offset = format_align8(L->file_size);
         L->file_size = L->labl_offset + L->labl_length;
+    }
+    if (L->geom) {
+        L->geom_offset = format_align8(L->file_size);
+        L->file_size = L->geom_offset + L->geom_length;
     }
     if (L->file_size > FORMAT_MAX_FILE_SIZE)
         return diag_set(diag, HPFC_E_LIMIT, "the file would exceed the format's 2^41 bytes");
@@ -434,6 +441,8 @@ static void emit(const layout *L, uint8_t *file)
         edgf_section_emit(L->edge_features, file + L->edgf_offset);
     if (L->labl)
         memcpy(file + L->labl_offset, L->labl, (size_t)L->labl_length);
+    if (L->geom)
+        memcpy(file + L->geom_offset, L->geom, (size_t)L->geom_length);
     emit_header(L, file);
     emit_level_table(L, file);
     emit_section(file, 0, FORMAT_TAG_POOL, FORMAT_SECTION_REQUIRED, L->pool_section, L->pool_length,
@@ -448,7 +457,9 @@ static void emit(const layout *L, uint8_t *file)
     if (L->edge_features)
         emit_section(file, next++, FORMAT_TAG_EDGF, 0, L->edgf_offset, L->edgf_length, L->info.levels);
     if (L->labl)
-        emit_section(file, next, FORMAT_TAG_LABL, 0, L->labl_offset, L->labl_length, L->info.levels);
+        emit_section(file, next++, FORMAT_TAG_LABL, 0, L->labl_offset, L->labl_length, L->info.levels);
+    if (L->geom)
+        emit_section(file, next, FORMAT_TAG_GEOM, 0, L->geom_offset, L->geom_length, L->info.levels);
     hdr_set_meta_crc32c(file, format_meta_crc(file, L->meta_size));
 }
 
@@ -513,6 +524,20 @@ static int make_labels(layout *L, hpfc_diag *diag)
     return st;
 }
 
+/* The GEOM section of the tree laid out in L, from the graph it was built
+ * from (spec §17). */
+static int make_geometry(layout *L, const hpfc_graph *graph, hpfc_diag *diag)
+{
+    uint8_t *geom = NULL;
+    uint64_t length = 0;
+    int st = geometry_build(L->tree, graph, &geom, &length, diag);
+    if (!st) {
+        L->geom = geom;
+        L->geom_length = length;
+    }
+    return st;
+}
+
 int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, uint8_t **out,
                         size_t *out_size, hpfc_diag *diag)
 {
@@ -537,9 +562,12 @@ int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, u
         st = size_levels(&L, diag);
     if (!st && opts && opts->face_labels)
         st = make_labels(&L, diag);
+    if (!st && opts && opts->geometry)
+        st = make_geometry(&L, opts->geometry, diag);
     if (!st)
         st = serialize_layout(&L, out, out_size, diag);
     free((void *)L.labl);
+    free((void *)L.geom);
     layout_free(&L);
     return st;
 }
@@ -560,6 +588,11 @@ int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts, u
     if (labels->present) { /* the pools are copied bit for bit: the labels stay true */
         L.labl = labels->section;
         L.labl_length = labels->section_length;
+    }
+    const geom_view *geometry = reader_geometry(file);
+    if (geometry->present) { /* ids and coordinates do not depend on the sections replaced */
+        L.geom = geometry->section;
+        L.geom_length = geometry->section_length;
     }
     hpfc_file_info fi;
     hpfc_file_get_info(file, &fi);

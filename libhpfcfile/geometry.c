@@ -1,0 +1,353 @@
+/*
+ * The GEOM section on the read side (spec/hpfc-format.md §17): the header
+ * and layout checked at open in O(1), then every value read in O(1) from
+ * its column and checked against what it must name (a coordinate inside
+ * the domain, a vertex id below V, a point range inside P, a segment of
+ * its own edge), so that a damaged section gives HPFC_E_CORRUPT, never a
+ * read outside the section or a point outside the map.
+ */
+#include <string.h>
+
+#include "geometry.h"
+#include "internal.h"
+#include "labels.h"
+#include "reader.h"
+
+/* ---- layout --------------------------------------------------------------------- */
+
+bool geom_column_counts(uint64_t vertices, uint64_t edges, uint64_t points, uint64_t leaves,
+                        uint64_t crossings, uint64_t counts[GEOM_COLUMNS])
+{
+    bool shaped = points > 0;
+    counts[GEOM_VX] = counts[GEOM_VY] = vertices;
+    counts[GEOM_EU] = counts[GEOM_EV] = edges;
+    counts[GEOM_EPOINT] = shaped ? edges : 0;
+    counts[GEOM_PX] = counts[GEOM_PY] = points;
+    counts[GEOM_LCROSS] = shaped ? leaves : 0;
+    counts[GEOM_CSEG] = shaped ? crossings : 0;
+    /* without shape points nothing is stored per leaf or crossing */
+    return shaped || (leaves == 0 && crossings == 0);
+}
+
+static uint64_t block_count(uint64_t n, uint32_t shift)
+{
+    return (n >> shift) + ((n & ((UINT64_C(1) << shift) - 1)) != 0);
+}
+
+bool geom_compute_layout(const uint64_t counts[GEOM_COLUMNS], uint64_t edges,
+                         const uint32_t shift[GEOM_COLUMNS], const uint32_t offset_bits[GEOM_COLUMNS],
+                         const uint32_t base_bits[GEOM_COLUMNS],
+                         const uint64_t payload_bits[GEOM_COLUMNS], geom_layout *out)
+{
+    memset(out, 0, sizeof *out);
+    out->orient_at = GEOM_META_SIZE;
+    uint64_t end = out->orient_at + format_pool_bytes(edges);
+    if (edges > UINT64_MAX - 8)
+        return false;
+    for (int c = 0; c < GEOM_COLUMNS; c++) {
+        if (shift[c] > GEOM_MAX_SHIFT || offset_bits[c] > 64 || base_bits[c] > 64)
+            return false;
+        uint64_t entry = offset_bits[c] + base_bits[c] + GEOM_WIDTH_BITS;
+        if (end > UINT64_MAX - 8 ||
+            !format_mul(block_count(counts[c], shift[c]), entry, &out->dir_bits[c]))
+            return false;
+        out->dir_at[c] = format_align8(end);
+        if (!format_add(out->dir_at[c], format_pool_bytes(out->dir_bits[c]), &end) ||
+            end > UINT64_MAX - 8)
+            return false;
+        out->payload_at[c] = format_align8(end);
+        if (!format_add(out->payload_at[c], format_pool_bytes(payload_bits[c]), &end))
+            return false;
+    }
+    out->length = end;
+    return true;
+}
+
+static format_bits stream(const uint8_t *sec, uint64_t length, uint64_t at, uint64_t bits)
+{
+    return (format_bits){.base = sec + at, .bits = bits, .avail = length - at};
+}
+
+int geometry_open(geom_view *v, const uint8_t *sec, uint64_t length, const geom_levels *lv)
+{
+    memset(v, 0, sizeof *v);
+    if (length < GEOM_META_SIZE || geom_get_reserved(sec))
+        return HPFC_E_SECTION;
+    uint64_t leaves = 0;
+    for (uint32_t l = 0; l < lv->levels; l++) {
+        v->first_leaf[l] = leaves;
+        if (!format_add(leaves, lv->word_pixels[l], &leaves))
+            return HPFC_E_SECTION;
+    }
+    v->first_leaf[lv->levels] = leaves;
+    v->vertices = geom_get_vertex_count(sec);
+    v->edges = geom_get_edge_count(sec);
+    v->points = geom_get_point_count(sec);
+    v->leaves = geom_get_leaf_count(sec);
+    v->crossings = geom_get_crossing_count(sec);
+    uint64_t counts[GEOM_COLUMNS];
+    if (v->vertices == 0 || v->edges == 0 || (v->points && v->leaves != leaves) ||
+        !geom_column_counts(v->vertices, v->edges, v->points, v->leaves, v->crossings, counts) ||
+        (lv->has_labels && lv->label_edges != v->edges))
+        return HPFC_E_SECTION;
+    uint32_t shift[GEOM_COLUMNS], ob[GEOM_COLUMNS], bb[GEOM_COLUMNS];
+    uint64_t payload[GEOM_COLUMNS];
+    for (int c = 0; c < GEOM_COLUMNS; c++) {
+        const uint8_t *d = sec + GEOM_HEADER_SIZE + (size_t)c * GEOM_COLUMN_SIZE;
+        if (!format_all_zero(d + geomc_OFF_reserved, geomc_SIZE_reserved))
+            return HPFC_E_SECTION;
+        shift[c] = geomc_get_block_shift(d);
+        ob[c] = geomc_get_offset_bits(d);
+        bb[c] = geomc_get_base_bits(d);
+        payload[c] = geomc_get_payload_bits(d);
+    }
+    geom_layout lay;
+    if (!geom_compute_layout(counts, v->edges, shift, ob, bb, payload, &lay) || lay.length != length)
+        return HPFC_E_SECTION;
+    v->orient = stream(sec, length, lay.orient_at, v->edges);
+    for (int c = 0; c < GEOM_COLUMNS; c++) {
+        geom_column *col = &v->col[c];
+        col->count = counts[c];
+        col->shift = shift[c];
+        col->offset_bits = ob[c];
+        col->base_bits = bb[c];
+        col->entry_bits = ob[c] + bb[c] + GEOM_WIDTH_BITS;
+        col->dir = stream(sec, length, lay.dir_at[c], lay.dir_bits[c]);
+        col->payload = stream(sec, length, lay.payload_at[c], payload[c]);
+    }
+    v->width = (uint64_t)lv->width;
+    v->height = (uint64_t)lv->height;
+    v->section = sec;
+    v->section_length = length;
+    v->present = true;
+    return HPFC_OK;
+}
+
+int geom_column_get(const geom_column *c, uint64_t i, uint64_t *value)
+{
+    if (i >= c->count)
+        return HPFC_E_CORRUPT;
+    uint64_t block = i >> c->shift, q = i & ((UINT64_C(1) << c->shift) - 1);
+    uint64_t at = block * c->entry_bits; /* < dir bits: checked at open */
+    uint64_t off = format_get(&c->dir, at, c->offset_bits);
+    uint64_t base = format_get(&c->dir, at + c->offset_bits, c->base_bits);
+    uint32_t width = (uint32_t)format_get(&c->dir, at + c->offset_bits + c->base_bits,
+                                          GEOM_WIDTH_BITS);
+    uint64_t pos, end;
+    if (width > 64 || !format_mul(q, width, &pos) || !format_add(off, pos, &pos) ||
+        !format_add(pos, width, &end) || end > c->payload.bits)
+        return HPFC_E_CORRUPT;
+    uint64_t delta = format_get(&c->payload, pos, width);
+    if (delta > UINT64_MAX - base)
+        return HPFC_E_CORRUPT;
+    *value = base + delta;
+    return HPFC_OK;
+}
+
+/* ---- accessors ---------------------------------------------------------------- */
+
+static const geom_view *geometry_of(const hpfc_file *file)
+{
+    const geom_view *v = file ? reader_geometry(file) : NULL;
+    return v && v->present ? v : NULL;
+}
+
+int hpfc_file_geometry(const hpfc_file *file, hpfc_geometry_info *out)
+{
+    if (!file || !out)
+        return HPFC_E_ARG;
+    const geom_view *v = geometry_of(file);
+    if (!v)
+        return HPFC_E_NO_SECTION;
+    *out = (hpfc_geometry_info){.vertices = v->vertices,
+                                .edges = v->edges,
+                                .points = v->points,
+                                .section_bytes = v->section_length};
+    return HPFC_OK;
+}
+
+/* An absolute coordinate from a column: inside the domain, else corrupt. */
+static int point_at(const hpfc_file *file, const geom_view *v, int cx, uint64_t i, int64_t *x,
+                    int64_t *y)
+{
+    uint64_t dx, dy;
+    int st = geom_column_get(&v->col[cx], i, &dx);
+    if (!st)
+        st = geom_column_get(&v->col[cx + 1], i, &dy);
+    if (!st && (dx >= v->width || dy >= v->height))
+        st = HPFC_E_CORRUPT;
+    if (st)
+        return st;
+    hpfc_file_info fi;
+    hpfc_file_get_info(file, &fi);
+    *x = fi.x0 + (int64_t)dx;
+    *y = fi.y0 + (int64_t)dy;
+    return HPFC_OK;
+}
+
+int hpfc_geometry_vertex(const hpfc_file *file, uint64_t vertex, int64_t *x, int64_t *y)
+{
+    if (!file || !x || !y)
+        return HPFC_E_ARG;
+    const geom_view *v = geometry_of(file);
+    if (!v)
+        return HPFC_E_NO_SECTION;
+    if (vertex >= v->vertices)
+        return HPFC_E_ARG;
+    return point_at(file, v, GEOM_VX, vertex, x, y);
+}
+
+/* Edge e's end vertices and its shape points [first, first + n). */
+typedef struct edge_rec {
+    uint64_t u, v, first, n;
+} edge_rec;
+
+static int edge_record(const geom_view *v, uint64_t e, edge_rec *r)
+{
+    int st = geom_column_get(&v->col[GEOM_EU], e, &r->u);
+    if (!st)
+        st = geom_column_get(&v->col[GEOM_EV], e, &r->v);
+    if (!st && (r->u >= v->vertices || r->v >= v->vertices))
+        st = HPFC_E_CORRUPT;
+    r->first = r->n = 0;
+    if (!st && v->points) {
+        uint64_t next = v->points;
+        st = geom_column_get(&v->col[GEOM_EPOINT], e, &r->first);
+        if (!st && e + 1 < v->edges)
+            st = geom_column_get(&v->col[GEOM_EPOINT], e + 1, &next);
+        if (!st && (r->first > next || next > v->points))
+            st = HPFC_E_CORRUPT;
+        r->n = st ? 0 : next - r->first;
+    }
+    /* a loop needs two shape points (spec §3.9 rule 1) */
+    if (!st && r->u == r->v && r->n < 2)
+        st = HPFC_E_CORRUPT;
+    return st;
+}
+
+int hpfc_geometry_edge(const hpfc_file *file, uint64_t edge, uint64_t *u, uint64_t *v,
+                       uint64_t *point_count)
+{
+    if (!file || !u || !v || !point_count)
+        return HPFC_E_ARG;
+    const geom_view *g = geometry_of(file);
+    if (!g)
+        return HPFC_E_NO_SECTION;
+    if (edge >= g->edges)
+        return HPFC_E_ARG;
+    edge_rec r;
+    int st = edge_record(g, edge, &r);
+    if (st)
+        return st;
+    *u = r.u;
+    *v = r.v;
+    *point_count = r.n + 2;
+    return HPFC_OK;
+}
+
+int hpfc_geometry_edge_point(const hpfc_file *file, uint64_t edge, uint64_t k, int64_t *x,
+                             int64_t *y)
+{
+    if (!file || !x || !y)
+        return HPFC_E_ARG;
+    const geom_view *g = geometry_of(file);
+    if (!g)
+        return HPFC_E_NO_SECTION;
+    if (edge >= g->edges)
+        return HPFC_E_ARG;
+    edge_rec r;
+    int st = edge_record(g, edge, &r);
+    if (st)
+        return st;
+    if (k > r.n + 1)
+        return HPFC_E_ARG;
+    if (k == 0)
+        return point_at(file, g, GEOM_VX, r.u, x, y);
+    if (k == r.n + 1)
+        return point_at(file, g, GEOM_VX, r.v, x, y);
+    return point_at(file, g, GEOM_PX, r.first + k - 1, x, y);
+}
+
+int hpfc_geometry_edge_faces(const hpfc_file *file, uint64_t edge, uint64_t *left,
+                             uint64_t *right)
+{
+    if (!file || !left || !right)
+        return HPFC_E_ARG;
+    const geom_view *g = geometry_of(file);
+    const labels_view *lv = reader_labels(file);
+    if (!g || !lv->present)
+        return HPFC_E_NO_SECTION;
+    if (edge >= g->edges)
+        return HPFC_E_ARG;
+    /* LABL's edge count equals GEOM's (checked at open) */
+    uint32_t r = (uint32_t)format_get(&g->orient, edge, 1);
+    uint64_t fr = format_get(&lv->sides, (2 * edge + r) * lv->face_bits, lv->face_bits);
+    uint64_t fl = format_get(&lv->sides, (2 * edge + !r) * lv->face_bits, lv->face_bits);
+    if (fr >= lv->faces || fl >= lv->faces)
+        return HPFC_E_CORRUPT;
+    *left = fl;
+    *right = fr;
+    return HPFC_OK;
+}
+
+/* The crossings of a word pixel: its word's symbols but the four '+'. */
+static int leaf_crossings(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *n)
+{
+    size_t len = 0;
+    int st = hpfc_pixel_word(file, leaf, NULL, 0, &len);
+    if (st)
+        return st;
+    if (len < 4)
+        return HPFC_E_CORRUPT;
+    *n = len - 4;
+    return HPFC_OK;
+}
+
+int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf,
+                                   uint32_t crossing, uint64_t *segment)
+{
+    if (!file || !leaf || !segment)
+        return HPFC_E_ARG;
+    const geom_view *g = geometry_of(file);
+    if (!g)
+        return HPFC_E_NO_SECTION;
+    uint64_t rank, n;
+    int st = reader_leaf_rank(file, leaf, &rank);
+    if (!st)
+        st = leaf_crossings(file, leaf, &n);
+    if (st)
+        return st;
+    if (crossing >= n)
+        return HPFC_E_ARG;
+    if (!g->points) { /* every edge is one segment */
+        *segment = 0;
+        return HPFC_OK;
+    }
+    uint64_t gl = g->first_leaf[leaf->depth] + rank, start, end = g->crossings, seg;
+    st = geom_column_get(&g->col[GEOM_LCROSS], gl, &start);
+    if (!st && gl + 1 < g->leaves)
+        st = geom_column_get(&g->col[GEOM_LCROSS], gl + 1, &end);
+    /* the leaf's crossings are exactly its word's */
+    if (!st && (start > end || end > g->crossings || end - start != n))
+        st = HPFC_E_CORRUPT;
+    if (!st)
+        st = geom_column_get(&g->col[GEOM_CSEG], start + crossing, &seg);
+    if (st)
+        return st;
+    /* a segment of the crossing's own edge, when LABL names it */
+    uint64_t edge;
+    if (reader_labels(file)->present) {
+        edge_rec r;
+        st = hpfc_label_crossing_edge(file, leaf, crossing, &edge);
+        if (!st && edge >= g->edges)
+            st = HPFC_E_CORRUPT;
+        if (!st)
+            st = edge_record(g, edge, &r);
+        if (!st && seg > r.n)
+            st = HPFC_E_CORRUPT;
+        if (st)
+            return st;
+    }
+    *segment = seg;
+    return HPFC_OK;
+}

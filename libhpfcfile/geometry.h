@@ -1,0 +1,120 @@
+/*
+ * geometry.h: the GEOM section (spec/hpfc-format.md §17): the input
+ * graph's exact lattice coordinates, its edges' end vertices and shape
+ * points, the segment of every crossing of a polyline map, and which of
+ * LABL's two sides lies on the right of each edge run from u to v.
+ * Internal to the library (and its tests and fuzzers).
+ *
+ * Every table of the section is a *column*: n unsigned integers cut into
+ * blocks of 2^shift, each block stored as a base and the offsets from it
+ * in the bits the block needs (frame of reference). Value i is then one
+ * fixed-width directory entry and one field away: O(1), and a block of
+ * neighbouring vertices (or points of one polyline) costs the bits of its
+ * own extent, not of the map's.
+ */
+#ifndef HPFC_GEOMETRY_H
+#define HPFC_GEOMETRY_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "format.h"
+#include "hpfc.h"
+
+#define FORMAT_TAG_GEOM "GEOM"
+
+/* The columns, in the order the section stores them. */
+enum {
+    GEOM_VX = 0,     /* per vertex: x - x0 */
+    GEOM_VY,         /* per vertex: y - y0 */
+    GEOM_EU,         /* per edge: vertex u */
+    GEOM_EV,         /* per edge: vertex v */
+    GEOM_EPOINT,     /* per edge (only with shape points): shape points before it */
+    GEOM_PX,         /* per shape point: x - x0 */
+    GEOM_PY,         /* per shape point: y - y0 */
+    GEOM_LCROSS,     /* per leaf (only with shape points): crossings before it */
+    GEOM_CSEG,       /* per crossing (only with shape points): its segment */
+    GEOM_COLUMNS
+};
+
+enum {
+    GEOM_HEADER_SIZE = 48,
+    GEOM_COLUMN_SIZE = 16,
+    GEOM_META_SIZE = GEOM_HEADER_SIZE + GEOM_COLUMNS * GEOM_COLUMN_SIZE, /* 192 */
+    GEOM_MAX_SHIFT = 16,
+    GEOM_WIDTH_BITS = 7, /* a block's width field: 0 .. 64 */
+};
+
+FORMAT_FIELD(geom, vertex_count, 0, 8, uint64_t)
+FORMAT_FIELD(geom, edge_count, 8, 8, uint64_t)
+FORMAT_FIELD(geom, point_count, 16, 8, uint64_t)
+FORMAT_FIELD(geom, leaf_count, 24, 8, uint64_t)
+FORMAT_FIELD(geom, crossing_count, 32, 8, uint64_t)
+FORMAT_FIELD(geom, reserved, 40, 8, uint64_t)
+/* Column descriptor (16 bytes each, from offset 48). */
+FORMAT_FIELD(geomc, block_shift, 0, 1, uint8_t)
+FORMAT_FIELD(geomc, offset_bits, 1, 1, uint8_t)
+FORMAT_FIELD(geomc, base_bits, 2, 1, uint8_t)
+enum { geomc_OFF_reserved = 3, geomc_SIZE_reserved = 5 };
+FORMAT_FIELD(geomc, payload_bits, 8, 8, uint64_t)
+
+/* A column as the reader sees it. */
+typedef struct geom_column {
+    uint64_t count;
+    uint32_t shift, offset_bits, base_bits, entry_bits;
+    format_bits dir, payload;
+} geom_column;
+
+typedef struct geom_view {
+    bool present;
+    uint64_t vertices, edges, points, leaves, crossings;
+    uint64_t width, height;   /* the domain: coordinates below these */
+    format_bits orient;       /* E bits: the LABL side on the right of u -> v */
+    geom_column col[GEOM_COLUMNS];
+    uint64_t first_leaf[HPFC_MAX_LEVELS + 1]; /* global number of level l's leaf 0 */
+    const uint8_t *section;   /* its bytes */
+    uint64_t section_length;
+} geom_view;
+
+/* The column counts a header implies (and whether they are consistent). */
+bool geom_column_counts(uint64_t vertices, uint64_t edges, uint64_t points, uint64_t leaves,
+                        uint64_t crossings, uint64_t counts[GEOM_COLUMNS]);
+
+/* The byte offsets of the parts: the orientation bits, then per column
+ * its directory and its payload, each on an 8-byte boundary; *length the
+ * exact section length. false on overflow or a field out of range. */
+typedef struct geom_layout {
+    uint64_t orient_at, dir_at[GEOM_COLUMNS], dir_bits[GEOM_COLUMNS], payload_at[GEOM_COLUMNS];
+    uint64_t length;
+} geom_layout;
+bool geom_compute_layout(const uint64_t counts[GEOM_COLUMNS], uint64_t edges,
+                         const uint32_t shift[GEOM_COLUMNS], const uint32_t offset_bits[GEOM_COLUMNS],
+                         const uint32_t base_bits[GEOM_COLUMNS],
+                         const uint64_t payload_bits[GEOM_COLUMNS], geom_layout *out);
+
+/* What the open check needs of the file: its domain and leaves per level. */
+typedef struct geom_levels {
+    uint32_t levels;
+    uint64_t word_pixels[HPFC_MAX_LEVELS];
+    int64_t width, height;
+    bool has_labels;
+    uint64_t label_edges;     /* LABL's edge count when has_labels */
+} geom_levels;
+
+/* Checks a GEOM section's header and layout (O(1)); HPFC_E_SECTION when
+ * it fails. */
+int geometry_open(geom_view *v, const uint8_t *sec, uint64_t length, const geom_levels *lv);
+
+/* Value i of a column (i < count): HPFC_E_CORRUPT when its block's
+ * directory entry or field lies outside the column. */
+int geom_column_get(const geom_column *c, uint64_t i, uint64_t *value);
+
+/* The open file's GEOM view (present == false when it has none). */
+const geom_view *reader_geometry(const hpfc_file *file);
+
+/* Builds the section's bytes from the graph the tree was built from:
+ * *out (malloc'ed), *length. HPFC_E_ARG when the graph is not the tree's. */
+int geometry_build(const hpfc_tree *tree, const hpfc_graph *graph, uint8_t **out,
+                   uint64_t *length, hpfc_diag *diag);
+
+#endif

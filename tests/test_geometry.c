@@ -1,0 +1,329 @@
+/*
+ * The GEOM section (spec/hpfc-format.md §17) against the input graph:
+ *   - every vertex's coordinates, every edge's end vertices and every
+ *     point of every edge read back equal the graph's;
+ *   - every crossing of every leaf: a naive reference lists, road by road,
+ *     every segment of every edge of the graph that crosses the road, in
+ *     the order of the perturbation rule (G2-G5); the crossing's segment
+ *     (hpfc_geometry_crossing_segment) and edge (LABL) must be the k-th;
+ *   - the faces left and right of every edge: at each of its crossings,
+ *     the flood fill's face of the out-dart (hpfc_faces_build) is the face
+ *     on the right of u -> v when u -> v leaves the leaf there, on its left
+ *     when it enters;
+ *   - ids out of range, a file without the section, and the section kept
+ *     by hpfc_file_serialize.
+ * On generated straight and polyline graphs and the special graphs, under
+ * several image sizes, flat and deep, on both pool layouts.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "gen.h"
+#include "geom.h"
+#include "hpfc.h"
+
+typedef struct packed {
+    uint8_t *with, *without;
+    hpfc_file *f, *f0;
+} packed;
+
+static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, packed *p)
+{
+    memset(p, 0, sizeof *p);
+    hpfc_build_params bp;
+    hpfc_build_params_default(&bp);
+    bp.root_cols = bp.root_rows = n0;
+    bp.cols = bp.rows = n;
+    bp.flat = flat;
+    size_t s1, s0;
+    hpfc_tree *tree = NULL;
+    hpfc_write_options o = {.face_labels = 1, .geometry = g};
+    hpfc_write_options o0 = {.face_labels = 1};
+    int st = hpfc_build(g, &bp, &tree, NULL);
+    if (!st)
+        st = hpfc_tree_serialize(tree, &o, &p->with, &s1, NULL);
+    if (!st)
+        st = hpfc_tree_serialize(tree, &o0, &p->without, &s0, NULL);
+    if (!st)
+        st = hpfc_open_memory(p->with, s1, 0, &p->f);
+    if (!st)
+        st = hpfc_open_memory(p->without, s0, 0, &p->f0);
+    hpfc_tree_free(tree);
+    return st;
+}
+
+static void unpack(packed *p)
+{
+    hpfc_close(p->f);
+    hpfc_close(p->f0);
+    free(p->with);
+    free(p->without);
+}
+
+/* Coordinates and edges against the graph. */
+static void check_points(const hpfc_file *f, const hpfc_graph *g)
+{
+    hpfc_geometry_info gi;
+    CHECK_EQ_INT(hpfc_file_geometry(f, &gi), HPFC_OK);
+    size_t nv = hpfc_graph_vertex_count(g), ne = hpfc_graph_edge_count(g), npts = 0;
+    CHECK_EQ_INT(gi.vertices, nv);
+    CHECK_EQ_INT(gi.edges, ne);
+    for (size_t v = 0; v < nv; v++) {
+        int64_t x = 0, y = 0, gx, gy;
+        hpfc_graph_vertex(g, v, &gx, &gy);
+        CHECK_EQ_INT(hpfc_geometry_vertex(f, v, &x, &y), HPFC_OK);
+        if (x != gx || y != gy) {
+            CHECK_EQ_INT(x, gx);
+            CHECK_EQ_INT(y, gy);
+            break;
+        }
+    }
+    int64_t x, y;
+    CHECK_EQ_INT(hpfc_geometry_vertex(f, nv, &x, &y), HPFC_E_ARG);
+    int bad = 0;
+    for (size_t e = 0; e < ne && bad < 3; e++) {
+        uint32_t gu, gv;
+        const int64_t *xy;
+        size_t ni;
+        hpfc_graph_edge(g, e, &gu, &gv, &xy, &ni);
+        npts += ni;
+        uint64_t u = 0, v = 0, count = 0;
+        CHECK_EQ_INT(hpfc_geometry_edge(f, e, &u, &v, &count), HPFC_OK);
+        bad += u != gu || v != gv || count != ni + 2;
+        CHECK_EQ_INT(u, gu);
+        CHECK_EQ_INT(v, gv);
+        CHECK_EQ_INT(count, ni + 2);
+        for (uint64_t k = 0; k < count && count == ni + 2; k++) {
+            int64_t wx, wy;
+            if (k == 0 || k == count - 1)
+                hpfc_graph_vertex(g, k ? gv : gu, &wx, &wy);
+            else
+                wx = xy[2 * (k - 1)], wy = xy[2 * (k - 1) + 1];
+            CHECK_EQ_INT(hpfc_geometry_edge_point(f, e, k, &x, &y), HPFC_OK);
+            if (x != wx || y != wy) {
+                CHECK_EQ_INT(x, wx);
+                CHECK_EQ_INT(y, wy);
+                bad++;
+                break;
+            }
+        }
+        CHECK_EQ_INT(hpfc_geometry_edge_point(f, e, ni + 2, &x, &y), HPFC_E_ARG);
+    }
+    CHECK_EQ_INT(gi.points, npts);
+    uint64_t u, v, c;
+    CHECK_EQ_INT(hpfc_geometry_edge(f, ne, &u, &v, &c), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_geometry_edge_point(f, ne, 0, &x, &y), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_geometry_edge_faces(f, ne, &u, &v), HPFC_E_ARG);
+}
+
+/* The naive reference: every (edge, segment) of the graph crossing road
+ * `road` of the cell, in the word's order along it. */
+typedef struct ref_cross {
+    uint64_t edge, seg;
+    line_pos pos;
+    int road;
+} ref_cross;
+
+static int cmp_ref(const void *a, const void *b)
+{
+    const ref_cross *x = a, *y = b;
+    int c = cmp_line_pos(&x->pos, &y->pos);
+    /* W and N run with the line (north, east), E and S against it */
+    return x->road == ROAD_W || x->road == ROAD_N ? c : -c;
+}
+
+static size_t reference_crossings(const hpfc_graph *g, int64_t ox, int64_t oy, int64_t x0,
+                                  int64_t y0, int64_t x1, int64_t y1, ref_cross *out, size_t cap)
+{
+    size_t n = 0;
+    for (int road = 0; road < 4; road++) {
+        size_t first = n;
+        for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
+            uint32_t u, v;
+            const int64_t *xy;
+            size_t ni;
+            hpfc_graph_edge(g, e, &u, &v, &xy, &ni);
+            for (size_t s = 0; s <= ni; s++) {
+                int64_t ax, ay, bx, by;
+                if (s == 0)
+                    hpfc_graph_vertex(g, u, &ax, &ay);
+                else
+                    ax = xy[2 * (s - 1)], ay = xy[2 * (s - 1) + 1];
+                if (s == ni)
+                    hpfc_graph_vertex(g, v, &bx, &by);
+                else
+                    bx = xy[2 * s], by = xy[2 * s + 1];
+                lpoint a = {ax - ox, ay - oy}, b = {bx - ox, by - oy};
+                line_pos pos;
+                bool entering;
+                if (cross_road(a, b, road, x0 - ox, y0 - oy, x1 - ox, y1 - oy, &pos, &entering) &&
+                    n < cap)
+                    out[n++] = (ref_cross){e, s, pos, road};
+            }
+        }
+        qsort(out + first, n - first, sizeof *out, cmp_ref);
+    }
+    return n;
+}
+
+/* Does u -> v along segment seg of edge e leave the cell at its crossing
+ * on `road`? */
+static bool leaves_cell(const hpfc_graph *g, const ref_cross *r, int64_t ox, int64_t oy,
+                        int64_t x0, int64_t y0, int64_t x1, int64_t y1)
+{
+    uint32_t u, v;
+    const int64_t *xy;
+    size_t ni;
+    hpfc_graph_edge(g, r->edge, &u, &v, &xy, &ni);
+    int64_t ax, ay, bx, by;
+    if (r->seg == 0)
+        hpfc_graph_vertex(g, u, &ax, &ay);
+    else
+        ax = xy[2 * (r->seg - 1)], ay = xy[2 * (r->seg - 1) + 1];
+    if (r->seg == ni)
+        hpfc_graph_vertex(g, v, &bx, &by);
+    else
+        bx = xy[2 * r->seg], by = xy[2 * r->seg + 1];
+    lpoint a = {ax - ox, ay - oy}, b = {bx - ox, by - oy};
+    line_pos pos;
+    bool entering = true;
+    cross_road(a, b, r->road, x0 - ox, y0 - oy, x1 - ox, y1 - oy, &pos, &entering);
+    return !entering;
+}
+
+static void check_crossings(const packed *p, const hpfc_graph *g)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(p->f, &fi);
+    hpfc_faces *fc = NULL;
+    CHECK_EQ_INT(hpfc_faces_build(p->f, &fc), HPFC_OK);
+    size_t ne = hpfc_graph_edge_count(g);
+    uint64_t *left = malloc(ne * sizeof *left), *right = malloc(ne * sizeof *right);
+    for (size_t e = 0; e < ne; e++) {
+        CHECK_EQ_INT(hpfc_geometry_edge_faces(p->f, e, &left[e], &right[e]), HPFC_OK);
+        uint64_t a, b;
+        CHECK_EQ_INT(hpfc_geometry_edge_faces(p->f0, e, &a, &b), HPFC_E_NO_SECTION);
+    }
+    size_t cap = 4096, bad = 0;
+    ref_cross *ref = malloc(cap * sizeof *ref);
+    hpfc_pixel px;
+    int st;
+    for (st = hpfc_leaf_first(p->f, &px); !st && bad < 5; st = hpfc_leaf_next(p->f, &px)) {
+        int64_t x0, y0, x1, y1;
+        CHECK_EQ_INT(hpfc_pixel_bounds(p->f, &px, &x0, &y0, &x1, &y1), HPFC_OK);
+        size_t n = reference_crossings(g, fi.x0, fi.y0, x0, y0, x1, y1, ref, cap), len = 0;
+        CHECK_EQ_INT(hpfc_pixel_word(p->f, &px, NULL, 0, &len), HPFC_OK);
+        CHECK_EQ_INT(len, n + 4);
+        uint64_t seg;
+        CHECK_EQ_INT(hpfc_geometry_crossing_segment(p->f, &px, (uint32_t)n, &seg), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_geometry_crossing_segment(p->f0, &px, 0, &seg), HPFC_E_NO_SECTION);
+        for (size_t k = 0; k < n && len == n + 4; k++) {
+            uint64_t edge = UINT64_MAX, face = UINT64_MAX;
+            seg = UINT64_MAX;
+            CHECK_EQ_INT(hpfc_geometry_crossing_segment(p->f, &px, (uint32_t)k, &seg), HPFC_OK);
+            CHECK_EQ_INT(hpfc_label_crossing_edge(p->f, &px, (uint32_t)k, &edge), HPFC_OK);
+            if (seg != ref[k].seg || edge != ref[k].edge) {
+                CHECK_EQ_INT(seg, ref[k].seg);
+                CHECK_EQ_INT(edge, ref[k].edge);
+                bad++;
+                break;
+            }
+            hpfc_dart d = {.pixel = px, .crossing = (uint32_t)k};
+            CHECK_EQ_INT(hpfc_faces_of_dart(fc, &d, &face), HPFC_OK);
+            /* the out-dart at k runs u -> v iff u -> v leaves the cell there */
+            uint64_t want = leaves_cell(g, &ref[k], fi.x0, fi.y0, x0, y0, x1, y1) ? right[edge]
+                                                                                  : left[edge];
+            if (face != want) {
+                CHECK_EQ_INT(face, want);
+                bad++;
+            }
+        }
+    }
+    CHECK(st == HPFC_E_NO_PIXEL || bad);
+    free(ref);
+    free(left);
+    free(right);
+    hpfc_faces_free(fc);
+}
+
+static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
+{
+    packed p;
+    int st = pack(g, n0, n, flat, &p);
+    CHECK_EQ_INT(st, HPFC_OK);
+    if (!st) {
+        hpfc_geometry_info gi;
+        int64_t x, y;
+        CHECK_EQ_INT(hpfc_file_geometry(p.f0, &gi), HPFC_E_NO_SECTION);
+        CHECK_EQ_INT(hpfc_geometry_vertex(p.f0, 0, &x, &y), HPFC_E_NO_SECTION);
+        check_points(p.f, g);
+        check_crossings(&p, g);
+        /* hpfc_file_serialize keeps the section */
+        uint8_t *again = NULL;
+        size_t size = 0;
+        hpfc_file *f2 = NULL;
+        CHECK_EQ_INT(hpfc_file_serialize(p.f, NULL, &again, &size, NULL), HPFC_OK);
+        CHECK_EQ_INT(hpfc_open_memory(again, size, 0, &f2), HPFC_OK);
+        if (f2)
+            check_points(f2, g);
+        hpfc_close(f2);
+        free(again);
+    }
+    unpack(&p);
+}
+
+static void check_graph(const hpfc_graph *g)
+{
+    check_map(g, 1, 2, 0);
+    check_map(g, 3, 3, 0);
+    check_map(g, 16, 4, 0);
+    check_map(g, 64, 2, 0);
+    check_map(g, 8, 2, 1);
+}
+
+/* A graph that is not the tree's is refused. */
+static void check_wrong_graph(void)
+{
+    hpfc_graph *a = NULL, *b = NULL;
+    hpfc_tree *t = NULL;
+    CHECK_EQ_INT(gen_special(GEN_SPECIAL_TRIANGLE, &a), HPFC_OK);
+    CHECK_EQ_INT(gen_special(GEN_SPECIAL_CRACK, &b), HPFC_OK);
+    hpfc_build_params bp;
+    hpfc_build_params_default(&bp);
+    CHECK_EQ_INT(hpfc_build(a, &bp, &t, NULL), HPFC_OK);
+    hpfc_write_options o = {.geometry = b};
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &o, &bytes, &size, NULL), HPFC_E_ARG);
+    CHECK(bytes == NULL);
+    hpfc_tree_free(t);
+    hpfc_graph_free(a);
+    hpfc_graph_free(b);
+}
+
+int main(void)
+{
+    check_use_test_layout();
+    check_wrong_graph();
+    for (int which = 0; which < GEN_SPECIAL_COUNT; which++) {
+        hpfc_graph *g = NULL;
+        CHECK_EQ_INT(gen_special(which, &g), HPFC_OK);
+        if (g)
+            check_graph(g);
+        hpfc_graph_free(g);
+    }
+    for (uint64_t seed = 1; seed <= 3; seed++) {
+        hpfc_graph *g = NULL;
+        CHECK_EQ_INT(gen_delaunay(seed, 120, 1000, 0.2, &g), HPFC_OK);
+        if (g)
+            check_graph(g);
+        hpfc_graph_free(g);
+        g = NULL;
+        CHECK_EQ_INT(gen_polyline(seed, 200, 600, 0.5, &g), HPFC_OK);
+        if (g)
+            check_graph(g);
+        hpfc_graph_free(g);
+    }
+    return check_report("geometry");
+}
