@@ -10,7 +10,9 @@
  *     the left; bridges and dead ends inside the region absent);
  *   - the rings' signed areas add up to the region's area (holes count
  *     negative), the outer rings counter-clockwise and holes clockwise;
- *   - every ring simple (no point twice but the closing one), one outer
+ *   - every ring simple (no point twice but the closing one), rings that
+ *     meet at a point not crossing there (their arms nest), each polygon's
+ *     interior connected (its rings touch without a cycle), one outer
  *     ring per bounded face, none for the unbounded face, every hole inside
  *     its polygon's outer ring;
  * and every dart's polyline is its input edge, forward or backward, from
@@ -205,6 +207,118 @@ static int segs_equal(segs *a, segs *b)
     return a->n == 0 || memcmp(a->s, b->s, a->n * sizeof *a->s) == 0;
 }
 
+/* ---- rings that touch must not cross ---------------------------------------------- */
+
+/* A ring passing through a point: the directions to its previous and next
+ * points. */
+typedef struct passage {
+    int64_t x, y;
+    int64_t dir[2][2];
+} passage;
+
+static int cmp_passage(const void *pa, const void *pb)
+{
+    const passage *a = pa, *b = pb;
+    if (a->x != b->x)
+        return a->x < b->x ? -1 : 1;
+    return (a->y > b->y) - (a->y < b->y);
+}
+
+typedef struct arm {
+    const int64_t *dir;
+    size_t owner;
+} arm;
+
+static int cmp_arm(const void *pa, const void *pb)
+{
+    return cmp_dir(((const arm *)pa)->dir, ((const arm *)pb)->dir);
+}
+
+/* Where rings (or one ring's passages) share a point, each passage's two
+ * arms must be adjacent in the angular order once the nested passages
+ * between them are taken out: a non-crossing matching, checked with a
+ * stack. 1 when no two passages cross. */
+static int passages_nested(const hpfc_polygons *p)
+{
+    size_t n = p->ring_point[p->ring_count] - p->ring_count, m = 0;
+    passage *ps = malloc((n + 1) * sizeof *ps);
+    for (size_t r = 0; r < p->ring_count; r++) {
+        size_t a = p->ring_point[r], len = p->ring_point[r + 1] - a - 1; /* without the closing point */
+        for (size_t k = 0; k < len; k++) {
+            const int64_t *c = p->xy + 2 * (a + k), *pr = p->xy + 2 * (a + (k + len - 1) % len),
+                          *nx = p->xy + 2 * (a + (k + 1) % len);
+            ps[m] = (passage){c[0], c[1], {{pr[0] - c[0], pr[1] - c[1]}, {nx[0] - c[0], nx[1] - c[1]}}};
+            m++;
+        }
+    }
+    qsort(ps, m, sizeof *ps, cmp_passage);
+    int ok = 1;
+    for (size_t i = 0; i < m && ok;) {
+        size_t j = i;
+        while (j < m && !cmp_passage(&ps[i], &ps[j]))
+            j++;
+        if (j - i >= 2) {
+            size_t na = 2 * (j - i), top = 0;
+            arm *arms = malloc(na * sizeof *arms);
+            size_t *stack = malloc(na * sizeof *stack);
+            for (size_t k = i; k < j; k++)
+                for (int e = 0; e < 2; e++)
+                    arms[2 * (k - i) + (size_t)e] = (arm){ps[k].dir[e], k};
+            qsort(arms, na, sizeof *arms, cmp_arm);
+            for (size_t k = 0; k < na; k++) {
+                if (top && stack[top - 1] == arms[k].owner)
+                    top--;
+                else
+                    stack[top++] = arms[k].owner;
+            }
+            ok = top == 0;
+            free(arms);
+            free(stack);
+        }
+        i = j;
+    }
+    free(ps);
+    return ok;
+}
+
+/* A polygon's interior is connected (OGC) when the graph whose nodes are its
+ * rings and whose edges are the points where two of them touch has no
+ * cycle: two touches between the same rings, or a chain of touches around,
+ * would cut the interior in two. Union-find over the touching points. */
+static size_t uf_find(size_t *parent, size_t a)
+{
+    while (parent[a] != a)
+        a = parent[a] = parent[parent[a]];
+    return a;
+}
+
+static int interior_connected(const hpfc_polygons *p, size_t q)
+{
+    size_t r0 = p->polygon_ring[q], r1 = p->polygon_ring[q + 1], m = 0;
+    size_t n = p->ring_point[r1] - p->ring_point[r0];
+    seg *pts = malloc((n + 1) * sizeof *pts); /* x, y, ring, 0 */
+    size_t *parent = malloc((r1 - r0 + 1) * sizeof *parent);
+    for (size_t r = r0; r < r1; r++) {
+        parent[r - r0] = r - r0;
+        for (size_t k = p->ring_point[r]; k + 1 < p->ring_point[r + 1]; k++)
+            pts[m++] = (seg){{p->xy[2 * k], p->xy[2 * k + 1], (int64_t)(r - r0), 0}};
+    }
+    qsort(pts, m, sizeof *pts, cmp_seg);
+    int ok = 1;
+    for (size_t i = 1; i < m && ok; i++) {
+        if (pts[i].v[0] != pts[i - 1].v[0] || pts[i].v[1] != pts[i - 1].v[1])
+            continue;
+        size_t a = uf_find(parent, (size_t)pts[i - 1].v[2]), b = uf_find(parent, (size_t)pts[i].v[2]);
+        if (a == b)
+            ok = 0;
+        else
+            parent[a] = b;
+    }
+    free(pts);
+    free(parent);
+    return ok;
+}
+
 /* ---- checking an answer --------------------------------------------------------- */
 
 /* Twice the signed area of ring r. */
@@ -285,8 +399,11 @@ static void check_answer(const char *what, const hpfc_polygons *p, segs *want, s
                 ok_inside = 0;
         }
     }
-    int segs_ok = segs_equal(&got, want);
+    int segs_ok = segs_equal(&got, want), nested = passages_nested(p);
+    for (size_t q = 0; q < p->polygon_count; q++)
+        nested &= interior_connected(p, q);
     CHECK(segs_ok);
+    CHECK(nested);
     CHECK(area == want_area2);
     CHECK(ok_simple);
     CHECK(ok_orient);
@@ -295,7 +412,7 @@ static void check_answer(const char *what, const hpfc_polygons *p, segs *want, s
         CHECK_EQ_INT(p->polygon_count, 1);
     if (bounded_face == 0)
         CHECK_EQ_INT(p->polygon_count, 0);
-    if (!segs_ok || area != want_area2 || !ok_simple || !ok_orient || !ok_inside)
+    if (!segs_ok || area != want_area2 || !ok_simple || !ok_orient || !ok_inside || !nested)
         fprintf(stderr, "  in %s: %zu polygons, %zu rings, %zu segments (want %zu)\n", what,
                 p->polygon_count, p->ring_count, got.n, want->n);
     free(got.s);
@@ -563,7 +680,28 @@ static void run_pinches(void)
      * touches: a hole touching its face's outer ring */
     static const int64_t touch_v[] = {0, 0, 100, 0, 100, 100, 0, 100, 50, 0, 30, 40, 70, 40};
     static const uint32_t touch_e[] = {0, 4, 4, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6, 6, 4};
-    hpfc_graph *g = graph_of(bow_v, 9, bow_e, 10);
+    /* three triangles around vertex 4: six arms at one point */
+    static const int64_t fan_v[] = {0, 0, 100, 0, 100, 100, 0, 100, 50, 50,
+                                    80, 45, 80, 55, 35, 80, 25, 75, 25, 25, 35, 20};
+    static const uint32_t fan_e[] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6, 6, 4,
+                                     4, 7, 7, 8, 8, 4, 4, 9, 9, 10, 10, 4};
+    /* four triangles touching corner to corner around a middle face: their
+     * union is four polygons, not one with a hole touching it four times */
+    static const int64_t ring_v[] = {0, 0, 200, 0, 200, 200, 0, 200,
+                                     100, 60, 140, 100, 100, 140, 60, 100,
+                                     120, 40, 160, 120, 80, 160, 40, 80};
+    static const uint32_t ring_e[] = {0, 1, 1, 2, 2, 3, 3, 0,
+                                      4, 8, 8, 5, 5, 4, 5, 9, 9, 6, 6, 5,
+                                      6, 10, 10, 7, 7, 6, 7, 11, 11, 4, 4, 7};
+    hpfc_graph *g = graph_of(ring_v, 12, ring_e, 16);
+    for (uint64_t seed = 0; seed < 40; seed++)
+        run_graph("corner ring", g, 4, 2, 0, seed);
+    hpfc_graph_free(g);
+    g = graph_of(fan_v, 11, fan_e, 13);
+    for (uint64_t seed = 0; seed < 8; seed++)
+        run_graph("fan", g, 4, 2, 0, seed);
+    hpfc_graph_free(g);
+    g = graph_of(bow_v, 9, bow_e, 10);
     run_graph("bow tie", g, 4, 2, 0, 1);
     run_graph("bow tie flat", g, 1, 2, 1, 2);
     hpfc_graph_free(g);
