@@ -275,10 +275,15 @@ static int convert(exporter *x, const hpfc_polygons *p, size_t a, size_t b)
             double lon, lat;
             if (mapproj_inverse(x->plan, ux, uy, &lon, &lat) != 0)
                 return fail(x, "point (%.17g, %.17g) cannot be projected back", ux, uy);
-            if (lon > 180.0 + 1e-9)
-                lon -= 360.0;
-            else if (lon < -180.0 - 1e-9)
-                lon += 360.0;
+            /* A point on the antimeridian or a pole may come back a rounding
+             * step past it (half a lattice unit: under 1e-6 degrees for any
+             * lattice hpfc-pack chooses): it is put back on it, not on the
+             * map's far side. */
+            if (lon > 180.0)
+                lon = lon <= 180.0 + 1e-6 ? 180.0 : lon - 360.0;
+            else if (lon < -180.0)
+                lon = lon >= -180.0 - 1e-6 ? -180.0 : lon + 360.0;
+            lat = lat > 90.0 ? 90.0 : lat < -90.0 ? -90.0 : lat;
             ux = lon, uy = lat;
         }
         x->x[k - a] = ux;

@@ -575,7 +575,7 @@ static void print_text(const char *path, const summary *s)
     double user, metres;
     const char *how;
     lattice_unit(fi, &user, &metres, &how);
-    printf("unit       1 lattice unit = %.17g user units", user);
+    printf("unit       1 lattice unit = %g user units", user);
     if (metres > 0)
         printf(" = %.6g m (%s)\n", metres, how);
     else

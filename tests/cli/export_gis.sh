@@ -76,7 +76,8 @@ PY
 "$py" - "$tmp/world_fields.fgb" <<'PY' || fail "--export --fields all: attributes"
 import sys
 from osgeo import ogr
-layer = ogr.Open(sys.argv[1]).GetLayer(0)
+ds = ogr.Open(sys.argv[1])  # kept: its layers die with it
+layer = ds.GetLayer(0)
 names = [layer.GetLayerDefn().GetFieldDefn(i).GetName() for i in range(layer.GetLayerDefn().GetFieldCount())]
 assert "fid" in names and "source_fid" in names and "id" in names and "name" in names, names
 rows = {f.GetField("fid"): (f.GetField("id"), f.GetField("name")) for f in layer}
@@ -109,7 +110,8 @@ for line in open(sys.argv[1]):
     elif f and f[0] == "e":
         pts.update((float(f[k]), float(f[k + 1])) for k in range(3, len(f) - 1, 2))
 faces = json.load(open(sys.argv[3]))["faces"]
-layer = ogr.Open(sys.argv[2]).GetLayer(0)
+ds = ogr.Open(sys.argv[2])  # kept: its layers die with it
+layer = ds.GetLayer(0)
 seen = set()
 for ft in layer:
     g = ft.GetGeometryRef()
