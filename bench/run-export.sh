@@ -4,14 +4,16 @@
 # converting the same layer from GeoJSON to GeoPackage, in the same run,
 # runs interleaved (bench/export_bench.py). Then the round trip's worst
 # error (tests/cli/export_oracle.py). Results: bench/README.md, "Export".
-#   sh bench/run-export.sh [LAYER.json] [RUNS]
-# LAYER defaults to countries-10m.json of the npm package world-atlas
-# (cd /tmp/gis && npm install world-atlas); its GeoJSON and the packed file
+#   sh bench/run-export.sh [TOPOJSON [LAYER [RUNS]]]
+# TOPOJSON defaults to countries-10m.json of the npm package world-atlas
+# (cd /tmp/gis && npm install world-atlas), its layer LAYER (countries); the
+# layer's GeoJSON and the packed file
 # are made once into build-bench/export/ (untimed).
 set -eu
 cd "$(dirname "$0")/.."
 src=${1:-/tmp/gis/node_modules/world-atlas/countries-10m.json}
-runs=${2:-7}
+layer=${2:-countries}
+runs=${3:-7}
 [ -d build-bench ] || meson setup build-bench --buildtype=release >/dev/null
 ninja -C build-bench hpfc-pack/hpfc-pack hpfc-inspect/hpfc-inspect >/dev/null
 dir=build-bench/export
@@ -20,7 +22,7 @@ name=$(basename "$src" .json)
 geojson=$dir/$name.geojson
 if [ ! -s "$geojson" ]; then
     rm -f "$geojson.tmp.geojson"
-    ogr2ogr -f GeoJSON "$geojson.tmp.geojson" "$src" && mv "$geojson.tmp.geojson" "$geojson"
+    ogr2ogr -f GeoJSON "$geojson.tmp.geojson" "$src" "$layer" && mv "$geojson.tmp.geojson" "$geojson"
 fi
 packed=$dir/$name.hpfc
 if [ ! -s "$packed" ]; then

@@ -14,6 +14,16 @@
 
 __extension__ typedef __int128 s128;
 
+/* Coordinates past this come from a corrupt file (a graph's lie within
+ * HPFC_LATTICE_MAX): refusing them keeps every difference, cross product
+ * and area sum below inside 128 bits. */
+#define COORD_LIMIT (2 * HPFC_LATTICE_MAX)
+
+static int coord_ok(int64_t x, int64_t y)
+{
+    return x >= -COORD_LIMIT && x <= COORD_LIMIT && y >= -COORD_LIMIT && y <= COORD_LIMIT;
+}
+
 /* ---- darts ----------------------------------------------------------------------- */
 
 /* Whether lattice point (x, y) lies in the half-open box [x0, x1) x [y0, y1)
@@ -142,7 +152,7 @@ typedef struct tring {
 
 struct hpfc_shapes {
     const hpfc_file *f;
-    uint64_t vertices, edges, faces;
+    uint64_t vertices, edges, faces, points;
     uint32_t *eu, *ev;
     uint64_t *left, *right, *npoints;
     uint64_t *face_start;       /* faces + 1 */
@@ -237,6 +247,7 @@ static int index_edges(hpfc_shapes *s)
     s->face_start = calloc(s->faces + 2, sizeof *s->face_start);
     if (!s->eu || !s->ev || !s->left || !s->right || !s->npoints || !s->face_start)
         return HPFC_E_NOMEM;
+    uint64_t interior = 0; /* a corrupt file's edges must not claim more points than it has */
     for (uint64_t e = 0; e < E; e++) {
         uint64_t u, v, n, l, r;
         int st = hpfc_geometry_edge(f, e, &u, &v, &n);
@@ -244,8 +255,10 @@ static int index_edges(hpfc_shapes *s)
             st = hpfc_geometry_edge_faces(f, e, &l, &r);
         if (st)
             return st;
-        if (u >= s->vertices || v >= s->vertices || n < 2 || l >= s->faces || r >= s->faces)
+        if (u >= s->vertices || v >= s->vertices || n < 2 || n - 2 > s->points - interior ||
+            l >= s->faces || r >= s->faces)
             return HPFC_E_CORRUPT;
+        interior += n - 2;
         s->eu[e] = (uint32_t)u, s->ev[e] = (uint32_t)v, s->npoints[e] = n;
         s->left[e] = l, s->right[e] = r;
         if (l != r)
@@ -376,7 +389,7 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
     if (!s)
         return HPFC_E_NOMEM;
     s->f = f;
-    s->vertices = gi.vertices, s->edges = gi.edges, s->faces = li.faces;
+    s->vertices = gi.vertices, s->edges = gi.edges, s->faces = li.faces, s->points = gi.points;
     st = index_edges(s);
     if (!st)
         st = index_features(s);
@@ -472,6 +485,9 @@ static int add_dart(hpfc_shapes *s, uint64_t e, int reversed)
         st = hpfc_geometry_edge_point(s->f, e, n - 1, &q1[0], &q1[1]);
     if (st)
         return st;
+    if (!coord_ok(p0[0], p0[1]) || !coord_ok(p1[0], p1[1]) || !coord_ok(q0[0], q0[1]) ||
+        !coord_ok(q1[0], q1[1]))
+        return HPFC_E_CORRUPT;
     int64_t fwd[2] = {p1[0] - p0[0], p1[1] - p0[1]}, bwd[2] = {q0[0] - q1[0], q0[1] - q1[1]};
     if ((!fwd[0] && !fwd[1]) || (!bwd[0] && !bwd[1]))
         return HPFC_E_CORRUPT; /* a zero-length segment */
@@ -532,6 +548,8 @@ static int link_darts(hpfc_shapes *s)
 
 static int add_point(hpfc_shapes *s, int64_t x, int64_t y)
 {
+    if (!coord_ok(x, y))
+        return HPFC_E_CORRUPT;
     if (grow((void **)&s->txy, &s->cap_txy, 2 * (s->ntxy + 1), sizeof *s->txy))
         return HPFC_E_NOMEM;
     s->txy[2 * s->ntxy] = x;
