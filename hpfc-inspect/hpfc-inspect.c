@@ -5,6 +5,8 @@
  *   hpfc-inspect --json FILE                the same as one JSON object
  *   hpfc-inspect --verify [--json] FILE     full structural and topological check
  *   hpfc-inspect --export-graph OUT FILE    the map as hpfc-graph JSON
+ *   hpfc-inspect --export OUT [-f DRIVER] FILE        the features through GDAL (contracts §5)
+ *   hpfc-inspect --export-faces OUT [-f DRIVER] FILE  the faces through GDAL
  *   hpfc-inspect --sections FILE            the file's map, with checksum status
  *   hpfc-inspect --pixel PATH FILE          one pixel taken apart
  *   hpfc-inspect --locate X,Y FILE          the leaf and faces at a point (contracts §4)
