@@ -505,6 +505,8 @@ static int link_darts(hpfc_shapes *s)
 {
     bdart *D = s->darts;
     size_t n = s->ndarts;
+    if (n == 0)
+        return HPFC_OK; /* a face all of whose edges are bridges: no ring */
     qsort(D, n, sizeof *D, cmp_dart);
     for (size_t k = 0; k < n; k++) {
         uint32_t t = D[k].target;
@@ -908,7 +910,7 @@ int hpfc_shapes_feature_lines(hpfc_shapes *s, uint32_t feature, hpfc_polygons *o
         w.ends[2 * k] = (line_end){s->eu[e], (uint32_t)k, 0};
         w.ends[2 * k + 1] = (line_end){s->ev[e], (uint32_t)k, 1};
     }
-    if (!st)
+    if (!st && w.n)
         qsort(w.ends, 2 * w.n, sizeof *w.ends, cmp_line_end);
     size_t lines = 0;
     for (size_t k = 0; k < w.n && !st; k++) {
@@ -932,7 +934,8 @@ int hpfc_shapes_feature_lines(hpfc_shapes *s, uint32_t feature, hpfc_polygons *o
         st = HPFC_E_NOMEM;
     if (st)
         return st;
-    memcpy(s->xy, s->txy, 2 * s->ntxy * sizeof *s->xy);
+    if (s->ntxy)
+        memcpy(s->xy, s->txy, 2 * s->ntxy * sizeof *s->xy);
     s->ring_point[lines] = s->ntxy;
     s->polygon_ring[0] = lines; /* no polygon; the lines are not holes */
     *out = (hpfc_polygons){.polygon_count = 0,
