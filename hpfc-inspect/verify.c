@@ -850,6 +850,30 @@ static void check_labels(verifier *v, const hpfc_faces *faces)
     r->labels = st ? CHECK_FAILED : CHECK_OK;
 }
 
+/* The GEOM section against the map (hpfc_geometry_verify), with the
+ * traversal's vertex and edge counts. */
+static void check_geometry(verifier *v, uint64_t vertices, uint64_t edges)
+{
+    verify_report *r = v->r;
+    hpfc_geometry_info gi;
+    int st = hpfc_file_geometry(v->f, &gi);
+    if (st == HPFC_E_NO_SECTION)
+        return;
+    size_t before = r->problem_count;
+    if (!st && (gi.vertices != vertices || gi.edges != edges))
+        problem(r, "geometry: the GEOM section has %" PRIu64 " vertices and %" PRIu64
+                   " edges, the map %" PRIu64 " and %" PRIu64,
+                gi.vertices, gi.edges, vertices, edges);
+    hpfc_geometry_report rep;
+    if (!st)
+        st = hpfc_geometry_verify(v->f, &rep);
+    if (st == HPFC_E_CORRUPT)
+        problem(r, "geometry: %s", rep.message);
+    else if (st)
+        problem(r, "geometry: %s", hpfc_strerror(st));
+    r->geometry = r->problem_count == before ? CHECK_OK : CHECK_FAILED;
+}
+
 /* The ATTR and EDGF sections (1.2) against FEAT and the map: one row per
  * feature, one entry per edge, every value and link readable. */
 static void check_attr_edgf(verifier *v, uint32_t features, uint64_t edges)
@@ -898,6 +922,7 @@ static int check_topology(verifier *v)
         tp.nfaces = hpfc_faces_count(tp.faces);
         check_features(v, tp.nfaces);
         check_labels(v, tp.faces);
+        check_geometry(v, tp.m.nv, tp.m.nd / 2);
         hpfc_features_info fi;
         if (hpfc_file_features(v->f, &fi) == HPFC_OK) {
             size_t before = v->r->problem_count;
@@ -986,7 +1011,7 @@ int verify_file(const char *path, unsigned flags, verify_report *r)
 {
     memset(r, 0, sizeof *r);
     r->format = r->checksums = r->structure = r->roads = r->topology = CHECK_SKIPPED;
-    r->euler = r->loops_ok = r->features = r->labels = CHECK_SKIPPED;
+    r->euler = r->loops_ok = r->features = r->labels = r->geometry = CHECK_SKIPPED;
     double t0 = now_seconds();
     mapped_file mf;
     int err, st = map_file(path, &mf, &err);
@@ -1056,6 +1081,8 @@ void verify_print_text(FILE *out, const char *path, const verify_report *r)
         fprintf(out, "features        FEAT section: %s\n", state_word(r->features));
     if (r->labels != CHECK_SKIPPED)
         fprintf(out, "labels          LABL section: %s\n", state_word(r->labels));
+    if (r->geometry != CHECK_SKIPPED)
+        fprintf(out, "geometry        GEOM section: %s\n", state_word(r->geometry));
     fprintf(out, "time            %.3f s\n", r->seconds);
     if (r->problem_count == 0) {
         fprintf(out, "verdict         valid\n");
@@ -1088,6 +1115,8 @@ void verify_print_json(FILE *out, const char *path, const verify_report *r)
         jsonw_string(&w, "features", state_json(r->features));
     if (r->labels != CHECK_SKIPPED) /* only files with a LABL section */
         jsonw_string(&w, "labels", state_json(r->labels));
+    if (r->geometry != CHECK_SKIPPED) /* only files with a GEOM section */
+        jsonw_string(&w, "geometry", state_json(r->geometry));
     jsonw_object_end(&w);
     if (r->format == CHECK_OK) {
         jsonw_u64(&w, "levels", r->levels);

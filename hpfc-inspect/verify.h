@@ -36,6 +36,7 @@ typedef struct verify_report {
     int loops_ok;   /* boundary loops = F + C - 1 */
     int features;   /* the FEAT section: its face count, every entry readable */
     int labels;     /* the LABL section: every stored label equals the recomputed one */
+    int geometry;   /* the GEOM section: planar, in its leaves, on its roads (§17.5) */
 
     uint16_t format_major, format_minor;
     uint32_t levels;

@@ -90,6 +90,12 @@ int geometry_open(geom_view *v, const uint8_t *sec, uint64_t length, const geom_
         !geom_column_counts(v->vertices, v->edges, v->points, v->leaves, v->crossings, counts) ||
         (lv->has_labels && lv->label_edges != v->edges))
         return HPFC_E_SECTION;
+    /* No two points of a valid map coincide, so two of them never share a
+     * block of width 0 in both columns: each costs a bit at least (§17.4).
+     * This bounds every loop over the points by the section's size. */
+    uint64_t most = length > (UINT64_MAX - 1) / 8 ? UINT64_MAX : 8 * length + 1;
+    if (v->vertices > most || v->points > most || v->vertices > UINT32_MAX)
+        return HPFC_E_SECTION;
     uint32_t shift[GEOM_COLUMNS], ob[GEOM_COLUMNS], bb[GEOM_COLUMNS];
     uint64_t payload[GEOM_COLUMNS];
     for (int c = 0; c < GEOM_COLUMNS; c++) {

@@ -812,6 +812,20 @@ HPFC_API int hpfc_geometry_edge_faces(const hpfc_file *file, uint64_t edge, uint
  * `crossing` (0-based, word order) of a stabbed leaf lies. O(levels). */
 HPFC_API int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf,
                                             uint32_t crossing, uint64_t *segment);
+/* The section against itself and the map (hpfc-inspect --verify, spec
+ * §17.5): every vertex, edge and point reads; the coordinates form a valid
+ * planar map (hpfc_graph_validate); every leaf holds as many vertices as
+ * its word has junctions; with LABL, every crossing's segment crosses its
+ * road, in the word's order along it, with the faces hpfc_geometry_edge_faces
+ * gives on its two sides. HPFC_OK; HPFC_E_CORRUPT with report->message
+ * naming the first disagreement; HPFC_E_NO_SECTION; HPFC_E_NOMEM. O(file)
+ * plus O(n log n) for planarity. (Added by the GEOM work, below the
+ * contract's own calls.) */
+typedef struct hpfc_geometry_report {
+    uint64_t vertices_checked, crossings_checked;
+    char message[240];
+} hpfc_geometry_report;
+HPFC_API int hpfc_geometry_verify(const hpfc_file *file, hpfc_geometry_report *report);
 
 /* ------------------------------------------------------------------------
  * Exact point location (needs LABL and GEOM): the one face that contains a
