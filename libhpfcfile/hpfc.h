@@ -911,7 +911,10 @@ typedef struct hpfc_polygons {
  * feature link, 8 a vertex. The answers live in the object until its next
  * call: one per thread. Statuses: HPFC_E_NO_SECTION without GEOM or LABL,
  * HPFC_E_CORRUPT when the sections disagree (an edge's face past the face
- * count, GEOM's edge count not LABL's), HPFC_E_NOMEM. */
+ * count, GEOM's edge count not LABL's) or claim more edges, vertices, faces
+ * or shape points than their bits can hold (checked before any allocation),
+ * HPFC_E_LIMIT past 2^32 - 1 vertices, edges or faces, HPFC_E_NOMEM. Safe
+ * on untrusted files: every answer is bounded by the file's size. */
 typedef struct hpfc_shapes hpfc_shapes;
 HPFC_API int hpfc_shapes_create(const hpfc_file *file, hpfc_shapes **out);
 HPFC_API void hpfc_shapes_free(hpfc_shapes *shapes);
