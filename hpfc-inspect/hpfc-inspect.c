@@ -5,6 +5,8 @@
  *   hpfc-inspect --json FILE                the same as one JSON object
  *   hpfc-inspect --verify [--json] FILE     full structural and topological check
  *   hpfc-inspect --export-graph OUT FILE    the map as hpfc-graph JSON
+ *   hpfc-inspect --export OUT [-f DRIVER] FILE        the features through GDAL (contracts §5)
+ *   hpfc-inspect --export-faces OUT [-f DRIVER] FILE  the faces through GDAL
  *   hpfc-inspect --sections FILE            the file's map, with checksum status
  *   hpfc-inspect --pixel PATH FILE          one pixel taken apart
  *   hpfc-inspect --locate X,Y FILE          the leaf and faces at a point (contracts §4)
@@ -32,6 +34,7 @@
 #include <unistd.h>
 
 #include "export.h"
+#include "export_gis.h"
 #include "hpfc.h"
 #include "jsonw.h"
 #include "locate.h"
@@ -44,11 +47,13 @@ enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
 /* The options with a value that the queries of views.c and render.c take. */
 enum {
     V_PIXEL, V_LOCATE, V_LOCATE_LONLAT, V_LOCATE_BATCH, V_RENDER, V_WINDOW, V_SIZE,
-    V_WINDOW_LONLAT, V_LON_COL, V_LAT_COL, V_ID_COL, V_FORMAT, V_COUNT
+    V_WINDOW_LONLAT, V_LON_COL, V_LAT_COL, V_ID_COL, V_FORMAT, V_EXPORT, V_EXPORT_FACES,
+    V_DRIVER, V_COUNT
 };
 static const char *const value_names[V_COUNT] = {
     "--pixel", "--locate", "--locate-lonlat", "--locate-batch", "--render", "--window", "--size",
-    "--window-lonlat", "--lon-col", "--lat-col", "--id-col", "--format"};
+    "--window-lonlat", "--lon-col", "--lat-col", "--id-col", "--format", "--export",
+    "--export-faces", "-f"};
 
 typedef struct inspect_args {
     const char *file;
@@ -71,6 +76,7 @@ typedef struct summary {
     hpfc_level_info levels[HPFC_MAX_LEVELS];
     hpfc_section_info *sections;    /* info.section_count entries */
     uint64_t word_pixels, refined_pixels;
+    int has_geometry;               /* a GEOM section opens */
 } summary;
 
 static void print_help(void)
@@ -78,6 +84,7 @@ static void print_help(void)
     printf("usage: hpfc-inspect [--json] FILE\n"
            "       hpfc-inspect --verify [--json] FILE\n"
            "       hpfc-inspect --export-graph OUT.json [--json] FILE\n"
+           "       hpfc-inspect --export OUT | --export-faces OUT [-f DRIVER] [--json] FILE\n"
            "       hpfc-inspect --sections | --stats [--json] FILE\n"
            "       hpfc-inspect --pixel PATH | --locate X,Y | --locate-lonlat LON,LAT [--json] FILE\n"
            "       hpfc-inspect --locate-batch POINTS [--lonlat] [--lon-col C] [--lat-col C]\n"
@@ -98,7 +105,19 @@ static void print_help(void)
            "                         (twin, next, prev, origin, target, faces, Euler)\n"
            "  --export-graph OUT     write the map as hpfc-graph JSON to OUT (atomic:\n"
            "                         no partial OUT on failure)\n"
-           "  --force, -overwrite    replace an existing OUT (--export-graph, --render);\n"
+           );
+    printf(
+           "  --export OUT           write every feature as its exact (multi)polygon (the\n"
+           "                         union of its faces) or (multi)line string, with its\n"
+           "                         fid, key and stored attributes, one layer per source\n"
+           "                         layer, in the source SRS (projected back to lon/lat\n"
+           "                         when hpfc-pack projected it), through GDAL; atomic\n"
+           "  --export-faces OUT     the same for the bounded faces: face id, and the fids\n"
+           "                         and keys of their features\n"
+           "  -f DRIVER              with --export*: the GDAL driver (ogr2ogr's names:\n"
+           "                         GPKG, GeoJSON, FlatGeobuf, \"ESRI Shapefile\", ...);\n"
+           "                         default: from OUT's extension\n"
+           "  --force, -overwrite    replace an existing OUT (--export*, --render);\n"
            "                         without it an existing OUT is refused\n"
            "  --sections             the file's map: header, level table, directory, every\n"
            "                         section with offset, length and stored / computed\n"
@@ -167,6 +186,8 @@ static void print_help(void)
            "  hpfc-inspect --locate-batch points.txt --lonlat counties.hpfc\n"
            "  hpfc-inspect --locate-batch cities.csv --id-col name --format csv counties.hpfc\n"
            "  hpfc-inspect --stats --json map.hpfc\n"
+           "  hpfc-inspect --export countries.gpkg countries.hpfc\n"
+           "  hpfc-inspect --export-faces faces.fgb -f FlatGeobuf counties.hpfc\n"
            "  hpfc-inspect --render map.png --window 0,0,500,300 --size 1600x960 map.hpfc\n"
            "  hpfc-inspect --render texas.svg --window-lonlat -107,25,-93,37 counties.hpfc\n"
            "\n"
@@ -243,10 +264,17 @@ static int parse_queries(inspect_args *a)
     char why[VIEW_WHY];
     const char **v = a->values;
     int queries = a->verify + !!a->graph_out + a->sections + a->stats + !!v[V_PIXEL] +
-                  !!v[V_LOCATE] + !!v[V_LOCATE_LONLAT] + !!v[V_LOCATE_BATCH] + !!v[V_RENDER];
+                  !!v[V_LOCATE] + !!v[V_LOCATE_LONLAT] + !!v[V_LOCATE_BATCH] + !!v[V_RENDER] +
+                  !!v[V_EXPORT] + !!v[V_EXPORT_FACES];
     if (queries > 1)
-        return usage_error("use one of --verify, --export-graph, --sections, --stats, --pixel, "
-                           "--locate, --locate-lonlat, --locate-batch and --render", NULL);
+        return usage_error("use one of --verify, --export-graph, --export, --export-faces, "
+                           "--sections, --stats, --pixel, --locate, --locate-lonlat, "
+                           "--locate-batch and --render", NULL);
+    if (v[V_DRIVER] && !v[V_EXPORT] && !v[V_EXPORT_FACES])
+        return usage_error("only with --export or --export-faces", "-f");
+    for (int k = V_EXPORT; k <= V_DRIVER; k++)
+        if (v[k] && !v[k][0])
+            return usage_error("empty value", value_names[k]);
     if (a->lonlat && !v[V_LOCATE_BATCH])
         return usage_error("only with --locate-batch", "--lonlat");
     for (int k = V_LON_COL; k <= V_FORMAT; k++)
@@ -369,6 +397,8 @@ static int read_summary(const hpfc_file *f, summary *s)
         s->word_pixels += s->levels[l].word_pixels;
         s->refined_pixels += s->levels[l].refined_pixels;
     }
+    hpfc_geometry_info gi;
+    s->has_geometry = hpfc_file_geometry(f, &gi) == HPFC_OK;
     s->sections = calloc(s->info.section_count ? s->info.section_count : 1, sizeof *s->sections);
     if (!s->sections)
         return HPFC_E_NOMEM;
@@ -378,6 +408,53 @@ static int read_summary(const hpfc_file *f, summary *s)
             return st;
     }
     return HPFC_OK;
+}
+
+/* ---- the lattice unit (issue 16: resolution stated) ------------------------------- */
+
+/* What one lattice unit is: 10^unit_exp10 user units, and in metres when
+ * the CRS section's description names its unit (+units=, +to_meter=, or
+ * degrees of a longlat CRS: then metres along the equator). *metres is 0
+ * when unknown; *how says which. Every coordinate of the file is a lattice
+ * point, so this is the finest and the coarsest step of its geometry. */
+static void lattice_unit(const hpfc_file_info *fi, double *user, double *metres,
+                         const char **how)
+{
+    double u = 1.0;
+    for (int32_t k = 0; k < (fi->unit_exp10 < 0 ? -fi->unit_exp10 : fi->unit_exp10); k++)
+        u *= 10.0;
+    *user = fi->unit_exp10 < 0 ? 1.0 / u : u;
+    *metres = 0.0;
+    *how = "unknown: the file records no CRS";
+    if (!fi->crs)
+        return;
+    *how = "unknown: the CRS does not name its unit";
+    char desc[512];
+    size_t n = 0;
+    while (n < fi->crs_len && n < sizeof desc - 1 && fi->crs[n] != ';')
+        n++;
+    memcpy(desc, fi->crs, n);
+    desc[n] = '\0';
+    const char *to_meter = strstr(desc, "+to_meter=");
+    if (strstr(desc, "+proj=longlat") || strstr(desc, "+proj=latlong")) {
+        *metres = *user * 6378137.0 * 3.14159265358979323846 / 180.0;
+        *how = "degrees: metres along the equator";
+    } else if (strstr(desc, "+units=m ") || (n >= 8 && strcmp(desc + n - 8, "+units=m") == 0)) {
+        *metres = *user;
+        *how = "metres of the projected plane";
+    } else if (strstr(desc, "+units=km")) {
+        *metres = *user * 1000.0;
+        *how = "kilometres of the projected plane";
+    } else if (strstr(desc, "+units=us-ft")) {
+        *metres = *user * 1200.0 / 3937.0;
+        *how = "US survey feet of the projected plane";
+    } else if (strstr(desc, "+units=ft")) {
+        *metres = *user * 0.3048;
+        *how = "feet of the projected plane";
+    } else if (to_meter) {
+        *metres = *user * strtod(to_meter + 10, NULL);
+        *how = "+to_meter of the projected plane";
+    }
 }
 
 static void print_json(const char *path, const summary *s)
@@ -408,6 +485,18 @@ static void print_json(const char *path, const summary *s)
     jsonw_i64(&w, "height", fi->height);
     jsonw_object_end(&w);
     jsonw_i64(&w, "unit_exp10", fi->unit_exp10);
+    double user, metres;
+    const char *how;
+    lattice_unit(fi, &user, &metres, &how);
+    jsonw_object_begin(&w, "lattice_unit");
+    jsonw_real(&w, "user", user);
+    if (metres > 0)
+        jsonw_real(&w, "metres", metres);
+    else
+        jsonw_null(&w, "metres");
+    jsonw_string(&w, "metres_are", how);
+    jsonw_object_end(&w);
+    jsonw_bool(&w, "exact_geometry", s->has_geometry);
     if (fi->crs)
         jsonw_string_n(&w, "crs", fi->crs, fi->crs_len);
     else
@@ -485,6 +574,18 @@ static void print_text(const char *path, const summary *s)
     else
         printf("none");
     printf("\n");
+    double user, metres;
+    const char *how;
+    lattice_unit(fi, &user, &metres, &how);
+    printf("unit       1 lattice unit = %g user units", user);
+    if (metres > 0)
+        printf(" = %.6g m (%s)\n", metres, how);
+    else
+        printf(" (metres %s)\n", how);
+    printf("geometry   %s\n", s->has_geometry
+                                  ? "exact (GEOM section): every vertex and shape point is a "
+                                    "lattice point"
+                                  : "none: each vertex is known to its leaf pixel only");
     printf("pixels     %llu (%llu word, %llu refined)\n",
            (unsigned long long)(s->word_pixels + s->refined_pixels),
            (unsigned long long)s->word_pixels, (unsigned long long)s->refined_pixels);
@@ -741,6 +842,20 @@ static int run_export(const inspect_args *a)
     return status;
 }
 
+/* ---- --export, --export-faces (export_gis.c) ---------------------------------- */
+
+static int run_export_gis(const inspect_args *a)
+{
+    gis_export_options o = {.file = a->file, .driver = a->values[V_DRIVER], .json = a->json};
+    o.faces = a->values[V_EXPORT_FACES] != NULL;
+    o.output = o.faces ? a->values[V_EXPORT_FACES] : a->values[V_EXPORT];
+    if (same_file(a->file, o.output))
+        return usage_error("OUT is FILE; refusing to overwrite the input", o.output);
+    if (check_new_output(a, o.output))
+        return EXIT_FAIL;
+    return export_gis(&o, stdout) ? EXIT_FAIL : 0;
+}
+
 /* ---- queries (views.c, render.c) ---------------------------------------------- */
 
 static int run_render(const inspect_args *a, const hpfc_file *f, char *why)
@@ -834,6 +949,8 @@ int main(int argc, char **argv)
         status = run_verify(&a);
     else if (a.graph_out)
         status = run_export(&a);
+    else if (a.values[V_EXPORT] || a.values[V_EXPORT_FACES])
+        status = run_export_gis(&a);
     else if (a.sections || a.stats || a.values[V_PIXEL] || a.values[V_LOCATE] ||
              a.values[V_LOCATE_LONLAT] || a.values[V_LOCATE_BATCH] || a.values[V_RENDER])
         status = run_query(&a);

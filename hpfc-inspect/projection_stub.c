@@ -23,6 +23,15 @@ int mapproj_forward(const mapproj_plan *plan, double lon, double lat, double *x,
     return -1;
 }
 
+int mapproj_inverse(const mapproj_plan *plan, double x, double y, double *lon, double *lat)
+{
+    (void)plan;
+    (void)x;
+    (void)y;
+    *lon = *lat = 0;
+    return -1;
+}
+
 void mapproj_free(mapproj_plan *plan)
 {
     (void)plan;

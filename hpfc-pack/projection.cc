@@ -194,6 +194,35 @@ extern "C" int mapproj_forward(const mapproj_plan *p, double lon, double lat, do
     return std::isfinite(*x) && std::isfinite(*y) ? 0 : -1;
 }
 
+extern "C" int mapproj_inverse(const mapproj_plan *p, double x, double y, double *lon,
+                               double *lat)
+{
+    const double deg = M_PI / 180.0;
+    x -= p->x_0;
+    y -= p->y_0;
+    y += p->y0;
+    switch (p->kind) {
+    case MAPPROJ_NONE:
+        *lon = x;
+        *lat = y;
+        break;
+    case MAPPROJ_TM:
+        p->tm->Reverse(p->lon0, x, y, *lat, *lon);
+        break;
+    case MAPPROJ_LCC:
+        p->lcc->Reverse(p->lon0, x, y, *lat, *lon);
+        break;
+    case MAPPROJ_AEA:
+        p->aea->Reverse(p->lon0, x, y, *lat, *lon);
+        break;
+    default:
+        *lon = x / (p->a * deg) + p->lon0;
+        *lat = y / (p->a * deg);
+        break;
+    }
+    return std::isfinite(*lon) && std::isfinite(*lat) ? 0 : -1;
+}
+
 extern "C" const char *mapproj_describe(const mapproj_plan *p)
 {
     return p->text.c_str();

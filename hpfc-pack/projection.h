@@ -52,6 +52,10 @@ mapproj_kind mapproj_plan_kind(const mapproj_plan *plan);
  * not finite (for example a point on the far side of a conic's apex). */
 int mapproj_forward(const mapproj_plan *plan, double lon, double lat, double *x, double *y);
 
+/* The inverse: (x, y) metres back to (lon, lat) degrees; 0 on success,
+ * -1 when the result is not finite. */
+int mapproj_inverse(const mapproj_plan *plan, double x, double y, double *lon, double *lat);
+
 /* "+proj=tmerc +lat_0=... +lon_0=... +k=1 +x_0=0 +y_0=0 +ellps=WGS84
  * +units=m +no_defs", owned by the plan. */
 const char *mapproj_describe(const mapproj_plan *plan);

@@ -856,6 +856,97 @@ HPFC_API int hpfc_locate_point(const hpfc_file *file, int64_t x, int64_t y,
                                hpfc_point_location *out, uint64_t *faces, size_t cap,
                                size_t *count);
 
+
+/* ------------------------------------------------------------------------
+ * Geometry back from the file (needs GEOM and LABL; FEAT and EDGF for the
+ * features): a dart's exact polyline, a face's boundary as exact rings, a
+ * feature's geometry as the union of its faces or the lines along its
+ * edges. Every coordinate is an absolute lattice point, exact; user
+ * coordinates are lattice * 10^unit_exp10 (hpfc_user_point). No
+ * floating-point value decides anything.
+ *
+ * Rings. A region's boundary is the set of edges with the region on
+ * exactly one side (an edge with the region on both sides, a dead end or a
+ * bridge inside it, is no part of it), each run with the region on its
+ * left. At a vertex where several such edges meet, each edge arriving is
+ * continued by the first edge leaving clockwise from it (the region's
+ * corner there), and a walk that comes back to a vertex it has visited is
+ * cut there into two rings; so every ring is simple (no vertex twice, the
+ * first point repeated last), rings meet at most at vertices and never
+ * cross, and a region pinched at a vertex gives two rings touching there.
+ * A ring that runs counter-clockwise (exact signed area > 0) is an outer
+ * ring; clockwise, a hole. Each hole goes with the smallest outer ring that
+ * contains it. A bounded face has exactly one outer ring; the unbounded
+ * face (0) only holes.
+ * ------------------------------------------------------------------------ */
+
+/* The edge of dart d and the way d runs along it: *reversed 0 when d goes
+ * from the edge's u to its v, 1 when from v to u. Decided exactly: which
+ * end lies in d's pixel, and for an edge with both ends there, on which of
+ * its segments d's crossing lies. */
+HPFC_API int hpfc_geometry_dart_edge(const hpfc_file *file, const hpfc_dart *d, uint64_t *edge,
+                                     int *reversed);
+/* The exact polyline of dart d, from its origin to its target, both
+ * included: xy[2k], xy[2k + 1] for k < *count. xy NULL asks only the count;
+ * cap (points) too small is HPFC_E_ARG with *count set. */
+HPFC_API int hpfc_geometry_dart_points(const hpfc_file *file, const hpfc_dart *d, int64_t *xy,
+                                       size_t cap, size_t *count);
+
+/* User coordinates of a lattice point: x * 10^unit_exp10, correctly
+ * rounded to double. */
+HPFC_API void hpfc_user_point(const hpfc_file *file, int64_t x, int64_t y, double *ux,
+                              double *uy);
+
+/* Polygons as rings of lattice points. Polygon p is rings
+ * [polygon_ring[p], polygon_ring[p + 1]): its outer ring, then its holes.
+ * Rings [polygon_ring[polygon_count], ring_count) are holes that no outer
+ * ring of the answer contains (the unbounded face's). Ring r is points
+ * [ring_point[r], ring_point[r + 1]) of xy (2 int64 a point), closed: its
+ * last point equals its first. Lines (hpfc_shapes_feature_lines) are
+ * rings [0, ring_count) as open polylines, with polygon_count 0 and
+ * polygon_ring[0] == ring_count. */
+typedef struct hpfc_polygons {
+    size_t polygon_count, ring_count, point_count;
+    const size_t *polygon_ring;  /* polygon_count + 1 entries */
+    const size_t *ring_point;    /* ring_count + 1 entries */
+    const int64_t *xy;           /* 2 * point_count values */
+} hpfc_polygons;
+
+/* The index over a file's geometry that the region calls need: each
+ * edge's ends and faces, each face's edges, each feature's faces and edges.
+ * Built once in O(edges + faces + links); 40 bytes an edge, 12 a face, 8 a
+ * feature link, 8 a vertex. The answers live in the object until its next
+ * call: one per thread. Statuses: HPFC_E_NO_SECTION without GEOM or LABL,
+ * HPFC_E_CORRUPT when the sections disagree (an edge's face past the face
+ * count, GEOM's edge count not LABL's) or claim more edges, vertices, faces
+ * or shape points than their bits can hold (checked before any allocation),
+ * HPFC_E_LIMIT past 2^32 - 1 vertices, edges or faces, HPFC_E_NOMEM. Safe
+ * on untrusted files: every answer is bounded by the file's size. */
+typedef struct hpfc_shapes hpfc_shapes;
+HPFC_API int hpfc_shapes_create(const hpfc_file *file, hpfc_shapes **out);
+HPFC_API void hpfc_shapes_free(hpfc_shapes *shapes);
+HPFC_API uint64_t hpfc_shapes_face_count(const hpfc_shapes *shapes);
+
+/* The rings of face `face` (HPFC_E_ARG past the face count). O(the face's
+ * boundary + holes x outer rings' points they are tested against);
+ * HPFC_E_CORRUPT when the boundary does not close into rings. */
+HPFC_API int hpfc_shapes_face(hpfc_shapes *shapes, uint64_t face, hpfc_polygons *out);
+/* The geometry of feature `feature` (an index into FEAT's features) as the
+ * union of its faces: the boundary of the faces linked to it, as above.
+ * HPFC_E_NO_SECTION without FEAT; a feature with no face gives no ring. */
+HPFC_API int hpfc_shapes_feature(hpfc_shapes *shapes, uint32_t feature, hpfc_polygons *out);
+/* The lines of a feature: the edges EDGF links to it, joined end to end
+ * through every vertex where exactly two of them meet; each polyline runs
+ * the way its lowest-numbered edge goes from u to v, and a closed one
+ * repeats its first point.
+ * HPFC_E_NO_SECTION without EDGF. */
+HPFC_API int hpfc_shapes_feature_lines(hpfc_shapes *shapes, uint32_t feature,
+                                       hpfc_polygons *out);
+/* Faces linked to a feature (0: a line feature, or one that covers no
+ * face). */
+HPFC_API int hpfc_shapes_feature_face_count(const hpfc_shapes *shapes, uint32_t feature,
+                                            uint64_t *count);
+
 #ifdef __cplusplus
 }
 #endif

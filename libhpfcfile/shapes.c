@@ -1,0 +1,958 @@
+/*
+ * shapes.c: geometry back from a file (hpfc.h, "Geometry back from the
+ * file"): a dart's polyline, and the rings of a face or of a feature's
+ * faces, assembled from the GEOM section's coordinates and each edge's
+ * left and right faces. Exact throughout: directions are compared by the
+ * sign of integer cross products, orientations by exact signed areas, and
+ * containment by an exact crossing count, all in 128-bit integers
+ * (absolute lattice coordinates stay within 2^41, HPFC_LATTICE_MAX).
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+
+__extension__ typedef __int128 s128;
+
+/* Coordinates past this come from a corrupt file (a graph's lie within
+ * HPFC_LATTICE_MAX): refusing them keeps every difference, cross product
+ * and area sum below inside 128 bits. */
+#define COORD_LIMIT (2 * HPFC_LATTICE_MAX)
+
+static int coord_ok(int64_t x, int64_t y)
+{
+    return x >= -COORD_LIMIT && x <= COORD_LIMIT && y >= -COORD_LIMIT && y <= COORD_LIMIT;
+}
+
+/* ---- darts ----------------------------------------------------------------------- */
+
+/* Whether lattice point (x, y) lies in the half-open box [x0, x1) x [y0, y1)
+ * (the perturbation rule's cells, spec §3.5). */
+static int in_box(int64_t x, int64_t y, const int64_t b[4])
+{
+    return x >= b[0] && x < b[2] && y >= b[1] && y < b[3];
+}
+
+int hpfc_geometry_dart_edge(const hpfc_file *f, const hpfc_dart *d, uint64_t *edge,
+                            int *reversed)
+{
+    if (!f || !d || !edge || !reversed)
+        return HPFC_E_ARG;
+    uint64_t e, u, v, n;
+    int64_t box[4], ux, uy, vx, vy;
+    int st = hpfc_label_dart_edge(f, d, &e);
+    if (!st)
+        st = hpfc_geometry_edge(f, e, &u, &v, &n);
+    if (!st)
+        st = hpfc_pixel_bounds(f, &d->pixel, &box[0], &box[1], &box[2], &box[3]);
+    if (!st)
+        st = hpfc_geometry_vertex(f, u, &ux, &uy);
+    if (!st)
+        st = hpfc_geometry_vertex(f, v, &vx, &vy);
+    if (st)
+        return st;
+    int has_u = in_box(ux, uy, box), has_v = in_box(vx, vy, box);
+    if (has_u != has_v) {
+        *edge = e;
+        *reversed = has_v;
+        return HPFC_OK;
+    }
+    if (!has_u || n < 3)
+        return HPFC_E_CORRUPT; /* a straight edge cannot leave a box and come back */
+    /* Both ends in the pixel: the edge leaves it first on the first segment
+     * with an end outside (seen from u), and last comes back on the last
+     * such segment; the box being convex, these differ. */
+    uint64_t seg, first = n, last = n;
+    for (uint64_t k = 1; k + 1 < n; k++) {
+        int64_t x, y;
+        if ((st = hpfc_geometry_edge_point(f, e, k, &x, &y)))
+            return st;
+        if (!in_box(x, y, box)) {
+            if (first == n)
+                first = k - 1;
+            last = k;
+        }
+    }
+    if (first == n || (st = hpfc_geometry_crossing_segment(f, &d->pixel, d->crossing, &seg)))
+        return st ? st : HPFC_E_CORRUPT;
+    if (seg != first && seg != last)
+        return HPFC_E_CORRUPT;
+    *edge = e;
+    *reversed = seg == last;
+    return HPFC_OK;
+}
+
+int hpfc_geometry_dart_points(const hpfc_file *f, const hpfc_dart *d, int64_t *xy, size_t cap,
+                              size_t *count)
+{
+    if (!count)
+        return HPFC_E_ARG;
+    uint64_t e, u, v, n;
+    int rev, st = hpfc_geometry_dart_edge(f, d, &e, &rev);
+    if (!st)
+        st = hpfc_geometry_edge(f, e, &u, &v, &n);
+    if (st)
+        return st;
+    if (n > SIZE_MAX / 2)
+        return HPFC_E_LIMIT;
+    *count = (size_t)n;
+    if (!xy)
+        return HPFC_OK;
+    if (cap < n)
+        return HPFC_E_ARG;
+    for (uint64_t k = 0; k < n && !st; k++)
+        st = hpfc_geometry_edge_point(f, e, rev ? n - 1 - k : k, &xy[2 * k], &xy[2 * k + 1]);
+    return st;
+}
+
+/* ---- user coordinates ------------------------------------------------------------ */
+
+/* v * 10^e, correctly rounded: powers of ten up to 10^22 are exact doubles,
+ * so one multiplication or division rounds once. */
+static double scaled(int64_t v, int32_t e)
+{
+    double p = 1.0;
+    int32_t m = e < 0 ? -e : e;
+    for (int32_t k = 0; k < m && k < 22; k++)
+        p *= 10.0;
+    double r = e < 0 ? (double)v / p : (double)v * p;
+    for (int32_t k = 22; k < m; k++)
+        r = e < 0 ? r / 10.0 : r * 10.0;
+    return r;
+}
+
+void hpfc_user_point(const hpfc_file *f, int64_t x, int64_t y, double *ux, double *uy)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(f, &fi);
+    *ux = scaled(x, fi.unit_exp10);
+    *uy = scaled(y, fi.unit_exp10);
+}
+
+/* ---- the index ------------------------------------------------------------------- */
+
+/* A dart of a region's boundary: edge << 1 | reversed, with what the
+ * assembly needs of it. */
+typedef struct bdart {
+    uint64_t code;
+    uint32_t origin, target;
+    int64_t out[2];   /* direction leaving the origin */
+    int64_t back[2];  /* direction from the target back along the last segment */
+    uint32_t next;    /* the dart continuing it */
+    uint8_t has_prev, used;
+} bdart;
+
+/* A ring being assembled: points [start, end) of the scratch points. */
+typedef struct tring {
+    size_t start, end;
+    s128 area2;       /* twice the signed area */
+    int64_t box[4];   /* xmin, ymin, xmax, ymax */
+    size_t owner;     /* holes: the outer ring's index, SIZE_MAX: none */
+} tring;
+
+struct hpfc_shapes {
+    const hpfc_file *f;
+    uint64_t vertices, edges, faces, points;
+    uint32_t *eu, *ev;
+    uint64_t *left, *right, *npoints;
+    uint64_t *face_start;       /* faces + 1 */
+    uint32_t *face_edge;
+    int have_features, have_edge_features;
+    uint32_t features;
+    uint64_t *feat_start;       /* features + 1 */
+    uint32_t *feat_face;
+    uint64_t *fe_start;         /* features + 1 (EDGF) */
+    uint32_t *fe_edge;
+    uint32_t *face_mark, mark;  /* face_mark[f] == mark: f is in the region */
+    uint32_t *vmark, *vpos, vgen;
+    /* scratch, reused by every call */
+    bdart *darts;
+    size_t ndarts, cap_darts;
+    uint32_t *cycle;
+    size_t cap_cycle;
+    int64_t *txy;
+    size_t ntxy, cap_txy;       /* points (pairs) */
+    tring *rings;
+    size_t nrings, cap_rings;
+    /* the answer */
+    int64_t *xy;
+    size_t cap_xy;
+    size_t *ring_point, cap_ring_point;
+    size_t *polygon_ring, cap_polygon_ring;
+};
+
+/* Grows *p (elements of size `size`) to hold at least n; 0 or -1. */
+static int grow(void **p, size_t *cap, size_t n, size_t size)
+{
+    if (n <= *cap)
+        return 0;
+    size_t c = *cap ? *cap : 16;
+    while (c < n) {
+        if (c > SIZE_MAX / 2 / size)
+            return -1;
+        c *= 2;
+    }
+    void *q = realloc(*p, c * size);
+    if (!q)
+        return -1;
+    *p = q;
+    *cap = c;
+    return 0;
+}
+
+void hpfc_shapes_free(hpfc_shapes *s)
+{
+    if (!s)
+        return;
+    free(s->eu);
+    free(s->ev);
+    free(s->left);
+    free(s->right);
+    free(s->npoints);
+    free(s->face_start);
+    free(s->face_edge);
+    free(s->feat_start);
+    free(s->feat_face);
+    free(s->fe_start);
+    free(s->fe_edge);
+    free(s->face_mark);
+    free(s->vmark);
+    free(s->vpos);
+    free(s->darts);
+    free(s->cycle);
+    free(s->txy);
+    free(s->rings);
+    free(s->xy);
+    free(s->ring_point);
+    free(s->polygon_ring);
+    free(s);
+}
+
+uint64_t hpfc_shapes_face_count(const hpfc_shapes *s)
+{
+    return s ? s->faces : 0;
+}
+
+/* Each edge's ends, point count and faces; each face's edges (an edge
+ * with one face on both sides bounds nothing and is left out). */
+static int index_edges(hpfc_shapes *s)
+{
+    const hpfc_file *f = s->f;
+    uint64_t E = s->edges;
+    s->eu = malloc((E + 1) * sizeof *s->eu);
+    s->ev = malloc((E + 1) * sizeof *s->ev);
+    s->left = malloc((E + 1) * sizeof *s->left);
+    s->right = malloc((E + 1) * sizeof *s->right);
+    s->npoints = malloc((E + 1) * sizeof *s->npoints);
+    s->face_start = calloc(s->faces + 2, sizeof *s->face_start);
+    if (!s->eu || !s->ev || !s->left || !s->right || !s->npoints || !s->face_start)
+        return HPFC_E_NOMEM;
+    uint64_t interior = 0; /* a corrupt file's edges must not claim more points than it has */
+    for (uint64_t e = 0; e < E; e++) {
+        uint64_t u, v, n, l, r;
+        int st = hpfc_geometry_edge(f, e, &u, &v, &n);
+        if (!st)
+            st = hpfc_geometry_edge_faces(f, e, &l, &r);
+        if (st)
+            return st;
+        if (u >= s->vertices || v >= s->vertices || n < 2 || n - 2 > s->points - interior ||
+            l >= s->faces || r >= s->faces)
+            return HPFC_E_CORRUPT;
+        interior += n - 2;
+        s->eu[e] = (uint32_t)u, s->ev[e] = (uint32_t)v, s->npoints[e] = n;
+        s->left[e] = l, s->right[e] = r;
+        if (l != r)
+            s->face_start[l + 1]++, s->face_start[r + 1]++;
+    }
+    for (uint64_t k = 0; k < s->faces; k++)
+        s->face_start[k + 1] += s->face_start[k];
+    s->face_edge = malloc((s->face_start[s->faces] + 1) * sizeof *s->face_edge);
+    uint64_t *fill = malloc((s->faces + 1) * sizeof *fill);
+    if (!s->face_edge || !fill) {
+        free(fill);
+        return HPFC_E_NOMEM;
+    }
+    memcpy(fill, s->face_start, s->faces * sizeof *fill);
+    for (uint64_t e = 0; e < E; e++)
+        if (s->left[e] != s->right[e]) {
+            s->face_edge[fill[s->left[e]]++] = (uint32_t)e;
+            s->face_edge[fill[s->right[e]]++] = (uint32_t)e;
+        }
+    free(fill);
+    return HPFC_OK;
+}
+
+/* A CSR from links given as (owner, item) by `get`, inverted: for each
+ * feature, its items in increasing order. */
+typedef int (*link_fn)(const hpfc_file *f, uint64_t owner, uint32_t k, uint32_t *feature);
+typedef int (*link_count_fn)(const hpfc_file *f, uint64_t owner, uint32_t *count);
+
+static int invert_links(const hpfc_file *f, uint64_t owners, uint32_t features,
+                        link_count_fn count_of, link_fn get, uint64_t **start_out,
+                        uint32_t **items_out)
+{
+    uint64_t *start = calloc((size_t)features + 2, sizeof *start);
+    if (!start)
+        return HPFC_E_NOMEM;
+    *start_out = start;
+    int st = HPFC_OK;
+    for (int pass = 0; pass < 2 && !st; pass++) {
+        uint64_t *fill = NULL;
+        if (pass == 1) {
+            for (uint32_t k = 0; k < features; k++)
+                start[k + 1] += start[k];
+            *items_out = malloc((start[features] + 1) * sizeof **items_out);
+            fill = malloc(((size_t)features + 1) * sizeof *fill);
+            if (!*items_out || !fill) {
+                free(fill);
+                return HPFC_E_NOMEM;
+            }
+            memcpy(fill, start, (size_t)features * sizeof *fill);
+        }
+        for (uint64_t o = 0; o < owners && !st; o++) {
+            uint32_t n, ft;
+            if ((st = count_of(f, o, &n)))
+                break;
+            for (uint32_t k = 0; k < n && !st; k++) {
+                if ((st = get(f, o, k, &ft)))
+                    break;
+                if (ft >= features)
+                    st = HPFC_E_CORRUPT;
+                else if (pass == 0)
+                    start[ft + 1]++;
+                else
+                    (*items_out)[fill[ft]++] = (uint32_t)o;
+            }
+        }
+        free(fill);
+    }
+    return st;
+}
+
+static int edge_feature_count(const hpfc_file *f, uint64_t e, uint32_t *n)
+{
+    return hpfc_edge_feature_count(f, e, n);
+}
+
+static int face_feature_count(const hpfc_file *f, uint64_t face, uint32_t *n)
+{
+    return hpfc_face_feature_count(f, face, n);
+}
+
+/* FEAT's faces of each feature and EDGF's edges, where the file has them. */
+static int index_features(hpfc_shapes *s)
+{
+    hpfc_features_info fi;
+    int st = hpfc_file_features(s->f, &fi);
+    if (st == HPFC_E_NO_SECTION)
+        return HPFC_OK;
+    if (st)
+        return st;
+    s->have_features = 1;
+    s->features = fi.features;
+    /* a FEAT table numbered against other faces is not to be used (§7.1) */
+    uint64_t faces = fi.faces == s->faces ? s->faces : 0;
+    if ((st = invert_links(s->f, faces, fi.features, face_feature_count, hpfc_face_feature,
+                           &s->feat_start, &s->feat_face)))
+        return st;
+    uint32_t edges, links;
+    st = hpfc_edge_features_info(s->f, &edges, &links);
+    if (st == HPFC_E_NO_SECTION)
+        return HPFC_OK;
+    if (st)
+        return st;
+    if (edges != s->edges)
+        return HPFC_E_CORRUPT;
+    s->have_edge_features = 1;
+    return invert_links(s->f, edges, fi.features, edge_feature_count, hpfc_edge_feature,
+                        &s->fe_start, &s->fe_edge);
+}
+
+int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
+{
+    if (!f || !out)
+        return HPFC_E_ARG;
+    *out = NULL;
+    hpfc_geometry_info gi;
+    hpfc_labels_info li;
+    int st = hpfc_file_geometry(f, &gi);
+    if (!st)
+        st = hpfc_file_labels(f, &li);
+    if (st)
+        return st;
+    if (gi.edges != li.edges)
+        return HPFC_E_CORRUPT;
+    /* Counts a corrupt file may invent, bounded by what a valid one pays
+     * for, before anything is allocated or walked: LABL stores an edge id
+     * of edge_bits for every crossing and every edge has crossings; no
+     * vertex is isolated (V <= 2E); Euler's formula with at most V
+     * components gives F <= E + 1; and GEOM spends at least a bit on each
+     * shape point (consecutive points differ). */
+    uint64_t edge_room = li.edge_bits ? li.label_bits / li.edge_bits + 1 : 1;
+    if (gi.edges > edge_room || gi.vertices > 2 * gi.edges || li.faces > gi.edges + 1 ||
+        gi.points / 8 > gi.section_bytes)
+        return HPFC_E_CORRUPT;
+    if (gi.vertices >= UINT32_MAX || gi.edges >= UINT32_MAX || li.faces >= UINT32_MAX ||
+        gi.vertices > SIZE_MAX / 16 || gi.edges > SIZE_MAX / 64)
+        return HPFC_E_LIMIT;
+    hpfc_shapes *s = calloc(1, sizeof *s);
+    if (!s)
+        return HPFC_E_NOMEM;
+    s->f = f;
+    s->vertices = gi.vertices, s->edges = gi.edges, s->faces = li.faces, s->points = gi.points;
+    st = index_edges(s);
+    if (!st)
+        st = index_features(s);
+    if (!st) {
+        s->face_mark = calloc(s->faces + 1, sizeof *s->face_mark);
+        s->vmark = calloc(s->vertices + 1, sizeof *s->vmark);
+        s->vpos = calloc(s->vertices + 1, sizeof *s->vpos);
+        if (!s->face_mark || !s->vmark || !s->vpos)
+            st = HPFC_E_NOMEM;
+    }
+    if (st) {
+        hpfc_shapes_free(s);
+        return st;
+    }
+    *out = s;
+    return HPFC_OK;
+}
+
+int hpfc_shapes_feature_face_count(const hpfc_shapes *s, uint32_t feature, uint64_t *count)
+{
+    if (!s || !count)
+        return HPFC_E_ARG;
+    if (!s->have_features)
+        return HPFC_E_NO_SECTION;
+    if (feature >= s->features)
+        return HPFC_E_ARG;
+    *count = s->feat_start[feature + 1] - s->feat_start[feature];
+    return HPFC_OK;
+}
+
+/* ---- exact predicates -------------------------------------------------------------- */
+
+/* 0 for directions in [0, pi), 1 in [pi, 2 pi), counter-clockwise from +x. */
+static int half_of(const int64_t d[2])
+{
+    return d[1] < 0 || (d[1] == 0 && d[0] < 0);
+}
+
+/* The order of two non-zero directions by angle counter-clockwise from +x. */
+static int cmp_angle(const int64_t a[2], const int64_t b[2])
+{
+    int ha = half_of(a), hb = half_of(b);
+    if (ha != hb)
+        return ha - hb;
+    s128 c = (s128)a[0] * b[1] - (s128)a[1] * b[0];
+    return c > 0 ? -1 : c < 0;
+}
+
+static int cmp_dart(const void *pa, const void *pb)
+{
+    const bdart *a = pa, *b = pb;
+    if (a->origin != b->origin)
+        return a->origin < b->origin ? -1 : 1;
+    return cmp_angle(a->out, b->out);
+}
+
+/* Where lattice point p (doubled) lies against a ring of doubled points:
+ * 1 inside, 0 outside, -1 on it. Exact (crossing count to +x, half-open in
+ * y). */
+static int point_in_ring(const int64_t p[2], const int64_t *xy, size_t n)
+{
+    int inside = 0;
+    for (size_t k = 0; k + 1 < n; k++) {
+        int64_t ax = 2 * xy[2 * k], ay = 2 * xy[2 * k + 1];
+        int64_t bx = 2 * xy[2 * k + 2], by = 2 * xy[2 * k + 3];
+        s128 c = (s128)(bx - ax) * (p[1] - ay) - (s128)(by - ay) * (p[0] - ax);
+        if (c == 0 && p[0] >= (ax < bx ? ax : bx) && p[0] <= (ax < bx ? bx : ax) &&
+            p[1] >= (ay < by ? ay : by) && p[1] <= (ay < by ? by : ay))
+            return -1;
+        if ((ay > p[1]) != (by > p[1]) && (c > 0) == (by > ay))
+            inside = !inside;
+    }
+    return inside;
+}
+
+/* ---- assembling rings -------------------------------------------------------------- */
+
+static int add_dart(hpfc_shapes *s, uint64_t e, int reversed)
+{
+    if (grow((void **)&s->darts, &s->cap_darts, s->ndarts + 1, sizeof *s->darts))
+        return HPFC_E_NOMEM;
+    bdart *d = &s->darts[s->ndarts++];
+    memset(d, 0, sizeof *d);
+    d->code = e << 1 | (uint64_t)reversed;
+    uint64_t n = s->npoints[e];
+    int64_t p0[2], p1[2], q0[2], q1[2]; /* first two and last two points, u -> v */
+    int st = hpfc_geometry_edge_point(s->f, e, 0, &p0[0], &p0[1]);
+    if (!st)
+        st = hpfc_geometry_edge_point(s->f, e, 1, &p1[0], &p1[1]);
+    if (!st)
+        st = hpfc_geometry_edge_point(s->f, e, n - 2, &q0[0], &q0[1]);
+    if (!st)
+        st = hpfc_geometry_edge_point(s->f, e, n - 1, &q1[0], &q1[1]);
+    if (st)
+        return st;
+    if (!coord_ok(p0[0], p0[1]) || !coord_ok(p1[0], p1[1]) || !coord_ok(q0[0], q0[1]) ||
+        !coord_ok(q1[0], q1[1]))
+        return HPFC_E_CORRUPT;
+    int64_t fwd[2] = {p1[0] - p0[0], p1[1] - p0[1]}, bwd[2] = {q0[0] - q1[0], q0[1] - q1[1]};
+    if ((!fwd[0] && !fwd[1]) || (!bwd[0] && !bwd[1]))
+        return HPFC_E_CORRUPT; /* a zero-length segment */
+    d->origin = reversed ? s->ev[e] : s->eu[e];
+    d->target = reversed ? s->eu[e] : s->ev[e];
+    memcpy(d->out, reversed ? bwd : fwd, sizeof d->out);
+    memcpy(d->back, reversed ? fwd : bwd, sizeof d->back);
+    return HPFC_OK;
+}
+
+/* Links each dart to the one continuing it: at its target, the first dart
+ * leaving clockwise from the way it came (the region's corner). A file
+ * whose boundary does not pair up is corrupt. */
+static int link_darts(hpfc_shapes *s)
+{
+    bdart *D = s->darts;
+    size_t n = s->ndarts;
+    if (n == 0)
+        return HPFC_OK; /* a face all of whose edges are bridges: no ring */
+    qsort(D, n, sizeof *D, cmp_dart);
+    for (size_t k = 0; k < n; k++) {
+        uint32_t t = D[k].target;
+        size_t lo = 0, hi = n; /* the darts leaving t: [lo, hi) */
+        while (lo < hi) {
+            size_t mid = lo + (hi - lo) / 2;
+            if (D[mid].origin < t)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        size_t first = lo;
+        hi = n;
+        while (lo < hi) {
+            size_t mid = lo + (hi - lo) / 2;
+            if (D[mid].origin <= t)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        size_t end = lo;
+        if (first == end)
+            return HPFC_E_CORRUPT; /* the boundary ends at t */
+        /* the first of them at an angle not below the way back */
+        lo = first, hi = end;
+        while (lo < hi) {
+            size_t mid = lo + (hi - lo) / 2;
+            if (cmp_angle(D[mid].out, D[k].back) < 0)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        size_t next = lo > first ? lo - 1 : end - 1;
+        if (D[next].has_prev)
+            return HPFC_E_CORRUPT;
+        D[next].has_prev = 1;
+        D[k].next = (uint32_t)next;
+    }
+    return HPFC_OK;
+}
+
+static int add_point(hpfc_shapes *s, int64_t x, int64_t y)
+{
+    if (!coord_ok(x, y))
+        return HPFC_E_CORRUPT;
+    if (grow((void **)&s->txy, &s->cap_txy, 2 * (s->ntxy + 1), sizeof *s->txy))
+        return HPFC_E_NOMEM;
+    s->txy[2 * s->ntxy] = x;
+    s->txy[2 * s->ntxy + 1] = y;
+    s->ntxy++;
+    return HPFC_OK;
+}
+
+/* Ring from darts cycle[a .. b): each dart's points but its last, then the
+ * first point again; its area and box. */
+static int emit_ring(hpfc_shapes *s, size_t a, size_t b)
+{
+    if (grow((void **)&s->rings, &s->cap_rings, s->nrings + 1, sizeof *s->rings))
+        return HPFC_E_NOMEM;
+    tring *r = &s->rings[s->nrings];
+    r->start = s->ntxy;
+    r->owner = SIZE_MAX;
+    int st = HPFC_OK;
+    for (size_t k = a; k < b && !st; k++) {
+        const bdart *d = &s->darts[s->cycle[k]];
+        uint64_t e = d->code >> 1, n = s->npoints[e];
+        int rev = (int)(d->code & 1);
+        for (uint64_t j = 0; j + 1 < n && !st; j++) {
+            int64_t x, y;
+            st = hpfc_geometry_edge_point(s->f, e, rev ? n - 1 - j : j, &x, &y);
+            if (!st)
+                st = add_point(s, x, y);
+        }
+    }
+    if (st)
+        return st;
+    if (s->ntxy - r->start < 2)
+        return HPFC_E_CORRUPT;
+    if ((st = add_point(s, s->txy[2 * r->start], s->txy[2 * r->start + 1])))
+        return st;
+    r->end = s->ntxy;
+    s128 area = 0;
+    const int64_t *p = s->txy + 2 * r->start;
+    r->box[0] = r->box[2] = p[0];
+    r->box[1] = r->box[3] = p[1];
+    for (size_t k = 0; k + 1 < r->end - r->start; k++) {
+        area += (s128)p[2 * k] * p[2 * k + 3] - (s128)p[2 * k + 2] * p[2 * k + 1];
+        int64_t x = p[2 * k + 2], y = p[2 * k + 3];
+        r->box[0] = x < r->box[0] ? x : r->box[0];
+        r->box[1] = y < r->box[1] ? y : r->box[1];
+        r->box[2] = x > r->box[2] ? x : r->box[2];
+        r->box[3] = y > r->box[3] ? y : r->box[3];
+    }
+    if (area == 0)
+        return HPFC_E_CORRUPT; /* a simple ring of distinct edges encloses something */
+    r->area2 = area;
+    s->nrings++;
+    return HPFC_OK;
+}
+
+/* Follows the links from every unused dart; each closed walk is cut into
+ * simple rings wherever it comes back to a vertex it has passed. */
+static int trace_rings(hpfc_shapes *s)
+{
+    size_t n = s->ndarts;
+    if (grow((void **)&s->cycle, &s->cap_cycle, n + 1, sizeof *s->cycle))
+        return HPFC_E_NOMEM;
+    for (size_t start = 0; start < n; start++) {
+        if (s->darts[start].used)
+            continue;
+        if (++s->vgen == 0) { /* the stamps wrapped: forget them all */
+            memset(s->vmark, 0, (s->vertices + 1) * sizeof *s->vmark);
+            s->vgen = 1;
+        }
+        size_t top = 0; /* the walk so far, cut loops removed: cycle[0 .. top) */
+        size_t d = start;
+        for (size_t steps = 0; !s->darts[d].used; steps++) {
+            if (steps > n)
+                return HPFC_E_CORRUPT;
+            bdart *D = &s->darts[d];
+            D->used = 1;
+            uint32_t o = D->origin;
+            if (s->vmark[o] == s->vgen) { /* back at o: the darts since form a ring */
+                size_t at = s->vpos[o];
+                int st = emit_ring(s, at, top);
+                if (st)
+                    return st;
+                for (size_t k = at; k < top; k++)
+                    s->vmark[s->darts[s->cycle[k]].origin] = 0;
+                top = at;
+            }
+            s->vmark[o] = s->vgen;
+            s->vpos[o] = (uint32_t)top;
+            s->cycle[top++] = (uint32_t)d;
+            d = D->next;
+        }
+        if (d != start)
+            return HPFC_E_CORRUPT; /* the links do not close this walk */
+        if (top) {
+            int st = emit_ring(s, 0, top);
+            if (st)
+                return st;
+        }
+    }
+    return HPFC_OK;
+}
+
+/* Whether ring h lies inside ring o: the first point of h (or middle of
+ * its segments) that is not on o decides; rings never cross. */
+static int ring_inside(const hpfc_shapes *s, const tring *h, const tring *o)
+{
+    if (h->box[0] < o->box[0] || h->box[1] < o->box[1] || h->box[2] > o->box[2] ||
+        h->box[3] > o->box[3])
+        return 0;
+    const int64_t *hp = s->txy + 2 * h->start, *op = s->txy + 2 * o->start;
+    size_t hn = h->end - h->start, on = o->end - o->start;
+    for (size_t k = 0; k + 1 < hn; k++) {
+        int64_t p[2] = {2 * hp[2 * k], 2 * hp[2 * k + 1]};
+        int w = point_in_ring(p, op, on);
+        if (w >= 0)
+            return w;
+    }
+    for (size_t k = 0; k + 1 < hn; k++) {
+        int64_t p[2] = {hp[2 * k] + hp[2 * k + 2], hp[2 * k + 1] + hp[2 * k + 3]};
+        int w = point_in_ring(p, op, on);
+        if (w >= 0)
+            return w;
+    }
+    return 0;
+}
+
+/* Each hole to the smallest outer ring containing it; then the answer:
+ * polygons (outer, holes), the holes of none last. */
+static int arrange(hpfc_shapes *s, hpfc_polygons *out)
+{
+    size_t nr = s->nrings, outers = 0;
+    for (size_t h = 0; h < nr; h++) {
+        tring *H = &s->rings[h];
+        if (H->area2 > 0) {
+            outers++;
+            continue;
+        }
+        for (size_t o = 0; o < nr; o++) {
+            const tring *O = &s->rings[o];
+            if (O->area2 <= 0 || (H->owner != SIZE_MAX && O->area2 >= s->rings[H->owner].area2))
+                continue;
+            if (O->area2 > -H->area2 && ring_inside(s, H, O))
+                H->owner = o;
+        }
+    }
+    if (grow((void **)&s->xy, &s->cap_xy, 2 * s->ntxy + 2, sizeof *s->xy) ||
+        grow((void **)&s->ring_point, &s->cap_ring_point, nr + 1, sizeof *s->ring_point) ||
+        grow((void **)&s->polygon_ring, &s->cap_polygon_ring, outers + 1,
+             sizeof *s->polygon_ring))
+        return HPFC_E_NOMEM;
+    size_t rings = 0, points = 0, polygons = 0;
+#define PUT_RING(r)                                                                          \
+    do {                                                                                     \
+        const tring *R_ = &s->rings[r];                                                      \
+        size_t n_ = R_->end - R_->start;                                                     \
+        memcpy(s->xy + 2 * points, s->txy + 2 * R_->start, 2 * n_ * sizeof *s->xy);          \
+        s->ring_point[rings++] = points;                                                     \
+        points += n_;                                                                        \
+    } while (0)
+    for (size_t o = 0; o < nr; o++) {
+        if (s->rings[o].area2 <= 0)
+            continue;
+        s->polygon_ring[polygons++] = rings;
+        PUT_RING(o);
+        for (size_t h = 0; h < nr; h++)
+            if (s->rings[h].area2 < 0 && s->rings[h].owner == o)
+                PUT_RING(h);
+    }
+    s->polygon_ring[polygons] = rings;
+    for (size_t h = 0; h < nr; h++)
+        if (s->rings[h].area2 < 0 && s->rings[h].owner == SIZE_MAX)
+            PUT_RING(h);
+#undef PUT_RING
+    s->ring_point[rings] = points;
+    *out = (hpfc_polygons){.polygon_count = polygons,
+                           .ring_count = rings,
+                           .point_count = points,
+                           .polygon_ring = s->polygon_ring,
+                           .ring_point = s->ring_point,
+                           .xy = s->xy};
+    return HPFC_OK;
+}
+
+static void reset(hpfc_shapes *s)
+{
+    s->ndarts = s->ntxy = s->nrings = 0;
+}
+
+/* The region's boundary darts are collected; then linked, traced and
+ * arranged. */
+static int assemble(hpfc_shapes *s, hpfc_polygons *out)
+{
+    int st = link_darts(s);
+    if (!st)
+        st = trace_rings(s);
+    if (!st)
+        st = arrange(s, out);
+    return st;
+}
+
+int hpfc_shapes_face(hpfc_shapes *s, uint64_t face, hpfc_polygons *out)
+{
+    if (!s || !out || face >= s->faces)
+        return HPFC_E_ARG;
+    reset(s);
+    int st = HPFC_OK;
+    for (uint64_t k = s->face_start[face]; k < s->face_start[face + 1] && !st; k++) {
+        uint32_t e = s->face_edge[k];
+        /* the face on the left: u -> v when it is the left face */
+        st = add_dart(s, e, s->left[e] != face);
+    }
+    return st ? st : assemble(s, out);
+}
+
+/* A new mark for the region's faces (the stamps cleared when they wrap). */
+static uint32_t next_mark(hpfc_shapes *s)
+{
+    if (++s->mark == 0) {
+        memset(s->face_mark, 0, (s->faces + 1) * sizeof *s->face_mark);
+        s->mark = 1;
+    }
+    return s->mark;
+}
+
+int hpfc_shapes_feature(hpfc_shapes *s, uint32_t feature, hpfc_polygons *out)
+{
+    if (!s || !out)
+        return HPFC_E_ARG;
+    if (!s->have_features)
+        return HPFC_E_NO_SECTION;
+    if (feature >= s->features)
+        return HPFC_E_ARG;
+    reset(s);
+    uint32_t m = next_mark(s);
+    uint64_t a = s->feat_start[feature], b = s->feat_start[feature + 1];
+    for (uint64_t k = a; k < b; k++)
+        s->face_mark[s->feat_face[k]] = m;
+    int st = HPFC_OK;
+    for (uint64_t k = a; k < b && !st; k++) {
+        uint32_t face = s->feat_face[k];
+        for (uint64_t j = s->face_start[face]; j < s->face_start[face + 1] && !st; j++) {
+            uint32_t e = s->face_edge[j];
+            int in_left = s->face_mark[s->left[e]] == m, in_right = s->face_mark[s->right[e]] == m;
+            /* once per edge: from the face on its side inside the feature */
+            if (in_left != in_right && (in_left ? s->left[e] : s->right[e]) == face)
+                st = add_dart(s, e, in_right);
+        }
+    }
+    return st ? st : assemble(s, out);
+}
+
+/* ---- lines --------------------------------------------------------------------------- */
+
+/* One end of one of the feature's edges, at vertex `vertex`. */
+typedef struct line_end {
+    uint32_t vertex;
+    uint32_t k;    /* index into the feature's edges */
+    uint32_t end;  /* 0: the edge's u, 1: its v */
+} line_end;
+
+static int cmp_line_end(const void *pa, const void *pb)
+{
+    const line_end *a = pa, *b = pb;
+    if (a->vertex != b->vertex)
+        return a->vertex < b->vertex ? -1 : 1;
+    if (a->k != b->k)
+        return a->k < b->k ? -1 : 1;
+    return (a->end > b->end) - (a->end < b->end);
+}
+
+typedef struct line_walk {
+    hpfc_shapes *s;
+    const uint32_t *edges;
+    size_t n;
+    line_end *ends;   /* 2n, by vertex */
+    uint8_t *used;
+} line_walk;
+
+/* The other end at vertex v when exactly two ends meet there (the chain
+ * goes on), else NULL. `at` is the end the walk arrived by. */
+static const line_end *continuation(const line_walk *w, uint32_t v, const line_end *at)
+{
+    size_t lo = 0, hi = 2 * w->n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (w->ends[mid].vertex < v)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    if (lo + 1 >= 2 * w->n || w->ends[lo + 1].vertex != v ||
+        (lo + 2 < 2 * w->n && w->ends[lo + 2].vertex == v))
+        return NULL;
+    const line_end *a = &w->ends[lo], *b = &w->ends[lo + 1];
+    return a->k == at->k && a->end == at->end ? b : a;
+}
+
+/* Appends one polyline: from end `from` (its edge walked away from it) on
+ * through vertices of degree 2, until an end, a branch or a used edge. */
+static int walk_line(line_walk *w, line_end from)
+{
+    hpfc_shapes *s = w->s;
+    int st = HPFC_OK, first = 1;
+    for (size_t steps = 0; steps < w->n && !w->used[from.k] && !st; steps++) {
+        uint32_t e = w->edges[from.k];
+        uint64_t n = s->npoints[e];
+        w->used[from.k] = 1;
+        for (uint64_t j = first ? 0 : 1; j < n && !st; j++) {
+            int64_t x, y;
+            st = hpfc_geometry_edge_point(s->f, e, from.end ? n - 1 - j : j, &x, &y);
+            if (!st)
+                st = add_point(s, x, y);
+        }
+        first = 0;
+        line_end arrived = {from.end ? s->eu[e] : s->ev[e], from.k, 1 - from.end};
+        const line_end *next = continuation(w, arrived.vertex, &arrived);
+        if (!next)
+            break;
+        from = *next;
+    }
+    return st;
+}
+
+/* Where the polyline through edge k starts: walked back from k's u through
+ * vertices of degree 2; k's own u end when the chain closes. */
+static line_end line_start(const line_walk *w, uint32_t k)
+{
+    const hpfc_shapes *s = w->s;
+    line_end at = {s->eu[w->edges[k]], k, 0};
+    for (size_t steps = 0; steps < w->n; steps++) {
+        const line_end *o = continuation(w, at.vertex, &at);
+        if (!o || o->k == k || w->used[o->k])
+            break;
+        uint32_t e = w->edges[o->k];
+        at = (line_end){o->end ? s->eu[e] : s->ev[e], o->k, 1 - o->end};
+    }
+    return at; /* the walk goes forward from here, along at.k */
+}
+
+int hpfc_shapes_feature_lines(hpfc_shapes *s, uint32_t feature, hpfc_polygons *out)
+{
+    if (!s || !out)
+        return HPFC_E_ARG;
+    if (!s->have_edge_features)
+        return HPFC_E_NO_SECTION;
+    if (feature >= s->features)
+        return HPFC_E_ARG;
+    reset(s);
+    line_walk w = {.s = s, .edges = s->fe_edge + s->fe_start[feature]};
+    w.n = (size_t)(s->fe_start[feature + 1] - s->fe_start[feature]);
+    w.used = calloc(w.n + 1, 1);
+    w.ends = malloc((2 * w.n + 1) * sizeof *w.ends);
+    int st = w.used && w.ends ? HPFC_OK : HPFC_E_NOMEM;
+    for (size_t k = 0; k < w.n && !st; k++) {
+        uint32_t e = w.edges[k];
+        w.ends[2 * k] = (line_end){s->eu[e], (uint32_t)k, 0};
+        w.ends[2 * k + 1] = (line_end){s->ev[e], (uint32_t)k, 1};
+    }
+    if (!st && w.n)
+        qsort(w.ends, 2 * w.n, sizeof *w.ends, cmp_line_end);
+    size_t lines = 0;
+    for (size_t k = 0; k < w.n && !st; k++) {
+        if (w.used[k])
+            continue;
+        if (grow((void **)&s->ring_point, &s->cap_ring_point, lines + 2,
+                 sizeof *s->ring_point)) {
+            st = HPFC_E_NOMEM;
+            break;
+        }
+        s->ring_point[lines++] = s->ntxy;
+        st = walk_line(&w, line_start(&w, (uint32_t)k));
+    }
+    free(w.used);
+    free(w.ends);
+    if (!st && (grow((void **)&s->xy, &s->cap_xy, 2 * s->ntxy + 2, sizeof *s->xy) ||
+                grow((void **)&s->polygon_ring, &s->cap_polygon_ring, 1,
+                     sizeof *s->polygon_ring) ||
+                grow((void **)&s->ring_point, &s->cap_ring_point, lines + 1,
+                     sizeof *s->ring_point)))
+        st = HPFC_E_NOMEM;
+    if (st)
+        return st;
+    if (s->ntxy)
+        memcpy(s->xy, s->txy, 2 * s->ntxy * sizeof *s->xy);
+    s->ring_point[lines] = s->ntxy;
+    s->polygon_ring[0] = lines; /* no polygon; the lines are not holes */
+    *out = (hpfc_polygons){.polygon_count = 0,
+                           .ring_count = lines,
+                           .point_count = s->ntxy,
+                           .polygon_ring = s->polygon_ring,
+                           .ring_point = s->ring_point,
+                           .xy = s->xy};
+    return HPFC_OK;
+}

@@ -1,0 +1,856 @@
+/*
+ * Geometry back from the file (hpfc_geometry_dart_*, hpfc_shapes_*) against
+ * an independent oracle built from the input graph alone: its faces traced
+ * by the textbook rule (at each vertex the darts sorted by exact angle, a
+ * face's next dart the one after the twin counter-clockwise), each face's
+ * exact doubled area, its directed segments, and which edges are bridges
+ * (both darts in one face walk). Checked, for every face and for random
+ * features (unions of faces):
+ *   - the rings' directed segments are exactly the oracle's (the region on
+ *     the left; bridges and dead ends inside the region absent);
+ *   - the rings' signed areas add up to the region's area (holes count
+ *     negative), the outer rings counter-clockwise and holes clockwise;
+ *   - every ring simple (no point twice but the closing one), rings that
+ *     meet at a point not crossing there (their arms nest), each polygon's
+ *     interior connected (its rings touch without a cycle), one outer
+ *     ring per bounded face, none for the unbounded face, every hole inside
+ *     its polygon's outer ring;
+ * a feature's lines (random edge sets) are its edges' segments in as many
+ * polylines as the set has chains, and every dart's polyline is its input
+ * edge, forward or backward, from
+ * the end in the dart's pixel, its twin's the reverse. On the .pfc
+ * fixtures, hand-made pinches (two triangles meeting at a vertex, a hole
+ * touching its face's outer ring), the special graphs and random Delaunay
+ * graphs with edges removed (bridges, dead ends, islands) and polylines,
+ * deep and flat, in both pool layouts (HPFC_TEST_LAYOUT).
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "gen.h"
+#include "hpfc.h"
+
+__extension__ typedef __int128 s128;
+
+/* ---- the oracle ----------------------------------------------------------------- */
+
+typedef struct oracle {
+    size_t nv, ne, nd;
+    int64_t *dir;          /* per dart: direction leaving its origin */
+    uint32_t *origin;      /* per dart */
+    uint32_t *next;        /* per dart: next dart, face on the right */
+    uint32_t *walk;        /* per dart: its face walk */
+    size_t nwalks;
+    s128 *walk_area2;      /* per walk: twice its signed area */
+} oracle;
+
+static const hpfc_graph *G;
+
+static int half(const int64_t *d)
+{
+    return d[1] < 0 || (d[1] == 0 && d[0] < 0);
+}
+
+static int cmp_dir(const int64_t *a, const int64_t *b)
+{
+    if (half(a) != half(b))
+        return half(a) - half(b);
+    s128 c = (s128)a[0] * b[1] - (s128)a[1] * b[0];
+    return c > 0 ? -1 : c < 0;
+}
+
+static const oracle *O_sort;
+static int cmp_dart_at(const void *pa, const void *pb)
+{
+    uint32_t a = *(const uint32_t *)pa, b = *(const uint32_t *)pb;
+    if (O_sort->origin[a] != O_sort->origin[b])
+        return O_sort->origin[a] < O_sort->origin[b] ? -1 : 1;
+    return cmp_dir(O_sort->dir + 2 * a, O_sort->dir + 2 * b);
+}
+
+/* Point k of dart d (d = 2e: u -> v, 2e + 1: v -> u). */
+static void dart_point(uint32_t d, size_t k, int64_t *x, int64_t *y)
+{
+    size_t e = d / 2;
+    const int64_t *in;
+    size_t n_in;
+    uint32_t u, v;
+    hpfc_graph_edge(G, e, &u, &v, &in, &n_in);
+    size_t n = n_in + 2, j = d & 1 ? n - 1 - k : k;
+    if (j == 0)
+        hpfc_graph_vertex(G, u, x, y);
+    else if (j == n - 1)
+        hpfc_graph_vertex(G, v, x, y);
+    else
+        *x = in[2 * (j - 1)], *y = in[2 * (j - 1) + 1];
+}
+
+static size_t dart_npoints(uint32_t d)
+{
+    const int64_t *in;
+    size_t n_in;
+    uint32_t u, v;
+    hpfc_graph_edge(G, d / 2, &u, &v, &in, &n_in);
+    return n_in + 2;
+}
+
+static void oracle_build(oracle *o)
+{
+    memset(o, 0, sizeof *o);
+    o->nv = hpfc_graph_vertex_count(G), o->ne = hpfc_graph_edge_count(G), o->nd = 2 * o->ne;
+    o->dir = malloc(2 * o->nd * sizeof *o->dir);
+    o->origin = malloc(o->nd * sizeof *o->origin);
+    o->next = malloc(o->nd * sizeof *o->next);
+    o->walk = malloc(o->nd * sizeof *o->walk);
+    o->walk_area2 = calloc(o->nd + 1, sizeof *o->walk_area2);
+    uint32_t *order = malloc(o->nd * sizeof *order), *pos = malloc(o->nd * sizeof *pos);
+    for (uint32_t d = 0; d < o->nd; d++) {
+        int64_t x0, y0, x1, y1;
+        dart_point(d, 0, &x0, &y0);
+        dart_point(d, 1, &x1, &y1);
+        o->dir[2 * d] = x1 - x0, o->dir[2 * d + 1] = y1 - y0;
+        uint32_t u, v;
+        const int64_t *in;
+        size_t n_in;
+        hpfc_graph_edge(G, d / 2, &u, &v, &in, &n_in);
+        o->origin[d] = d & 1 ? v : u;
+        order[d] = d;
+    }
+    O_sort = o;
+    qsort(order, o->nd, sizeof *order, cmp_dart_at);
+    for (uint32_t k = 0; k < o->nd; k++)
+        pos[order[k]] = k;
+    /* next (face on the right): after the twin, counter-clockwise */
+    for (uint32_t d = 0; d < o->nd; d++) {
+        uint32_t t = d ^ 1, k = pos[t] + 1;
+        if (k == o->nd || o->origin[order[k]] != o->origin[t]) {
+            k = pos[t];
+            while (k > 0 && o->origin[order[k - 1]] == o->origin[t])
+                k--;
+        }
+        o->next[d] = order[k];
+    }
+    for (uint32_t d = 0; d < o->nd; d++)
+        o->walk[d] = UINT32_MAX;
+    for (uint32_t d = 0; d < o->nd; d++) {
+        if (o->walk[d] != UINT32_MAX)
+            continue;
+        uint32_t w = (uint32_t)o->nwalks++;
+        for (uint32_t c = d; o->walk[c] == UINT32_MAX; c = o->next[c]) {
+            o->walk[c] = w;
+            for (size_t k = 0; k + 1 < dart_npoints(c); k++) {
+                int64_t ax, ay, bx, by;
+                dart_point(c, k, &ax, &ay);
+                dart_point(c, k + 1, &bx, &by);
+                o->walk_area2[w] += (s128)ax * by - (s128)bx * ay;
+            }
+        }
+    }
+    free(order);
+    free(pos);
+}
+
+static void oracle_free(oracle *o)
+{
+    free(o->dir);
+    free(o->origin);
+    free(o->next);
+    free(o->walk);
+    free(o->walk_area2);
+}
+
+/* ---- segments ------------------------------------------------------------------- */
+
+typedef struct seg {
+    int64_t v[4];
+} seg;
+
+static int cmp_seg(const void *pa, const void *pb)
+{
+    const seg *a = pa, *b = pb;
+    for (int k = 0; k < 4; k++)
+        if (a->v[k] != b->v[k])
+            return a->v[k] < b->v[k] ? -1 : 1;
+    return 0;
+}
+
+typedef struct segs {
+    seg *s;
+    size_t n, cap;
+} segs;
+
+static void segs_add(segs *l, int64_t ax, int64_t ay, int64_t bx, int64_t by)
+{
+    if (l->n == l->cap) {
+        l->cap = l->cap ? 2 * l->cap : 256;
+        l->s = realloc(l->s, l->cap * sizeof *l->s);
+    }
+    l->s[l->n++] = (seg){{ax, ay, bx, by}};
+}
+
+/* Dart d's segments, face on its LEFT: the dart itself run forward. */
+static void segs_of_dart(segs *l, uint32_t d)
+{
+    for (size_t k = 0; k + 1 < dart_npoints(d); k++) {
+        int64_t ax, ay, bx, by;
+        dart_point(d, k, &ax, &ay);
+        dart_point(d, k + 1, &bx, &by);
+        segs_add(l, ax, ay, bx, by);
+    }
+}
+
+static int segs_equal(segs *a, segs *b)
+{
+    if (a->n != b->n)
+        return 0;
+    qsort(a->s, a->n, sizeof *a->s, cmp_seg);
+    qsort(b->s, b->n, sizeof *b->s, cmp_seg);
+    return a->n == 0 || memcmp(a->s, b->s, a->n * sizeof *a->s) == 0;
+}
+
+/* ---- rings that touch must not cross ---------------------------------------------- */
+
+/* A ring passing through a point: the directions to its previous and next
+ * points. */
+typedef struct passage {
+    int64_t x, y;
+    int64_t dir[2][2];
+} passage;
+
+static int cmp_passage(const void *pa, const void *pb)
+{
+    const passage *a = pa, *b = pb;
+    if (a->x != b->x)
+        return a->x < b->x ? -1 : 1;
+    return (a->y > b->y) - (a->y < b->y);
+}
+
+typedef struct arm {
+    const int64_t *dir;
+    size_t owner;
+} arm;
+
+static int cmp_arm(const void *pa, const void *pb)
+{
+    return cmp_dir(((const arm *)pa)->dir, ((const arm *)pb)->dir);
+}
+
+/* Where rings (or one ring's passages) share a point, each passage's two
+ * arms must be adjacent in the angular order once the nested passages
+ * between them are taken out: a non-crossing matching, checked with a
+ * stack. 1 when no two passages cross. */
+static int passages_nested(const hpfc_polygons *p)
+{
+    size_t n = p->ring_point[p->ring_count] - p->ring_count, m = 0;
+    passage *ps = malloc((n + 1) * sizeof *ps);
+    for (size_t r = 0; r < p->ring_count; r++) {
+        size_t a = p->ring_point[r], len = p->ring_point[r + 1] - a - 1; /* without the closing point */
+        for (size_t k = 0; k < len; k++) {
+            const int64_t *c = p->xy + 2 * (a + k), *pr = p->xy + 2 * (a + (k + len - 1) % len),
+                          *nx = p->xy + 2 * (a + (k + 1) % len);
+            ps[m] = (passage){c[0], c[1], {{pr[0] - c[0], pr[1] - c[1]}, {nx[0] - c[0], nx[1] - c[1]}}};
+            m++;
+        }
+    }
+    qsort(ps, m, sizeof *ps, cmp_passage);
+    int ok = 1;
+    for (size_t i = 0; i < m && ok;) {
+        size_t j = i;
+        while (j < m && !cmp_passage(&ps[i], &ps[j]))
+            j++;
+        if (j - i >= 2) {
+            size_t na = 2 * (j - i), top = 0;
+            arm *arms = malloc(na * sizeof *arms);
+            size_t *stack = malloc(na * sizeof *stack);
+            for (size_t k = i; k < j; k++)
+                for (int e = 0; e < 2; e++)
+                    arms[2 * (k - i) + (size_t)e] = (arm){ps[k].dir[e], k};
+            qsort(arms, na, sizeof *arms, cmp_arm);
+            for (size_t k = 0; k < na; k++) {
+                if (top && stack[top - 1] == arms[k].owner)
+                    top--;
+                else
+                    stack[top++] = arms[k].owner;
+            }
+            ok = top == 0;
+            free(arms);
+            free(stack);
+        }
+        i = j;
+    }
+    free(ps);
+    return ok;
+}
+
+/* A polygon's interior is connected (OGC) when the graph whose nodes are its
+ * rings and whose edges are the points where two of them touch has no
+ * cycle: two touches between the same rings, or a chain of touches around,
+ * would cut the interior in two. Union-find over the touching points. */
+static size_t uf_find(size_t *parent, size_t a)
+{
+    while (parent[a] != a)
+        a = parent[a] = parent[parent[a]];
+    return a;
+}
+
+static int interior_connected(const hpfc_polygons *p, size_t q)
+{
+    size_t r0 = p->polygon_ring[q], r1 = p->polygon_ring[q + 1], m = 0;
+    size_t n = p->ring_point[r1] - p->ring_point[r0];
+    seg *pts = malloc((n + 1) * sizeof *pts); /* x, y, ring, 0 */
+    size_t *parent = malloc((r1 - r0 + 1) * sizeof *parent);
+    for (size_t r = r0; r < r1; r++) {
+        parent[r - r0] = r - r0;
+        for (size_t k = p->ring_point[r]; k + 1 < p->ring_point[r + 1]; k++)
+            pts[m++] = (seg){{p->xy[2 * k], p->xy[2 * k + 1], (int64_t)(r - r0), 0}};
+    }
+    qsort(pts, m, sizeof *pts, cmp_seg);
+    int ok = 1;
+    for (size_t i = 1; i < m && ok; i++) {
+        if (pts[i].v[0] != pts[i - 1].v[0] || pts[i].v[1] != pts[i - 1].v[1])
+            continue;
+        size_t a = uf_find(parent, (size_t)pts[i - 1].v[2]), b = uf_find(parent, (size_t)pts[i].v[2]);
+        if (a == b)
+            ok = 0;
+        else
+            parent[a] = b;
+    }
+    free(pts);
+    free(parent);
+    return ok;
+}
+
+/* ---- checking an answer --------------------------------------------------------- */
+
+/* Twice the signed area of ring r. */
+static s128 ring_area2(const hpfc_polygons *p, size_t r)
+{
+    s128 a = 0;
+    for (size_t k = p->ring_point[r]; k + 1 < p->ring_point[r + 1]; k++)
+        a += (s128)p->xy[2 * k] * p->xy[2 * k + 3] - (s128)p->xy[2 * k + 2] * p->xy[2 * k + 1];
+    return a;
+}
+
+/* A naive even-odd test of point (px, py) (doubled) against ring r: 1 in,
+ * 0 out, -1 on. */
+static int naive_inside(const hpfc_polygons *p, size_t r, int64_t px, int64_t py)
+{
+    int in = 0;
+    for (size_t k = p->ring_point[r]; k + 1 < p->ring_point[r + 1]; k++) {
+        int64_t ax = 2 * p->xy[2 * k], ay = 2 * p->xy[2 * k + 1];
+        int64_t bx = 2 * p->xy[2 * k + 2], by = 2 * p->xy[2 * k + 3];
+        s128 c = (s128)(bx - ax) * (py - ay) - (s128)(by - ay) * (px - ax);
+        int64_t lox = ax < bx ? ax : bx, hix = ax < bx ? bx : ax;
+        int64_t loy = ay < by ? ay : by, hiy = ay < by ? by : ay;
+        if (c == 0 && px >= lox && px <= hix && py >= loy && py <= hiy)
+            return -1;
+        if ((ay > py) != (by > py)) {
+            /* x of the crossing > px ? */
+            s128 lhs = (s128)(px - ax) * (by - ay), rhs = (s128)(bx - ax) * (py - ay);
+            if (by > ay ? rhs > lhs : rhs < lhs)
+                in = !in;
+        }
+    }
+    return in;
+}
+
+/* Rings simple and closed, outer rings positive, holes negative and inside
+ * their outer ring; the directed segments and the area sum as expected. */
+static void check_answer(const char *what, const hpfc_polygons *p, segs *want, s128 want_area2,
+                         int bounded_face)
+{
+    segs got = {0};
+    s128 area = 0;
+    int ok_simple = 1, ok_orient = 1, ok_inside = 1;
+    for (size_t r = 0; r < p->ring_count; r++) {
+        size_t a = p->ring_point[r], b = p->ring_point[r + 1];
+        CHECK(b >= a + 4);
+        if (b < a + 2)
+            continue;
+        CHECK(p->xy[2 * a] == p->xy[2 * (b - 1)] && p->xy[2 * a + 1] == p->xy[2 * (b - 1) + 1]);
+        segs pts = {0};
+        for (size_t k = a; k + 1 < b; k++) {
+            segs_add(&got, p->xy[2 * k], p->xy[2 * k + 1], p->xy[2 * k + 2], p->xy[2 * k + 3]);
+            segs_add(&pts, p->xy[2 * k], p->xy[2 * k + 1], 0, 0);
+        }
+        qsort(pts.s, pts.n, sizeof *pts.s, cmp_seg);
+        for (size_t k = 1; k < pts.n; k++)
+            if (!cmp_seg(&pts.s[k - 1], &pts.s[k]))
+                ok_simple = 0;
+        free(pts.s);
+        s128 ar = ring_area2(p, r);
+        area += ar;
+        int is_outer = 0;
+        for (size_t q = 0; q < p->polygon_count; q++)
+            is_outer |= p->polygon_ring[q] == r;
+        if (is_outer ? ar <= 0 : ar >= 0)
+            ok_orient = 0;
+    }
+    /* each hole: some point of it strictly inside its outer ring */
+    for (size_t q = 0; q < p->polygon_count; q++) {
+        size_t outer = p->polygon_ring[q];
+        for (size_t h = outer + 1; h < p->polygon_ring[q + 1]; h++) {
+            int verdict = -1;
+            for (size_t k = p->ring_point[h]; verdict < 0 && k + 1 < p->ring_point[h + 1]; k++)
+                verdict = naive_inside(p, outer, 2 * p->xy[2 * k], 2 * p->xy[2 * k + 1]);
+            for (size_t k = p->ring_point[h]; verdict < 0 && k + 1 < p->ring_point[h + 1]; k++)
+                verdict = naive_inside(p, outer, p->xy[2 * k] + p->xy[2 * k + 2],
+                                       p->xy[2 * k + 1] + p->xy[2 * k + 3]);
+            if (verdict != 1)
+                ok_inside = 0;
+        }
+    }
+    int segs_ok = segs_equal(&got, want), nested = passages_nested(p);
+    for (size_t q = 0; q < p->polygon_count; q++)
+        nested &= interior_connected(p, q);
+    CHECK(segs_ok);
+    CHECK(nested);
+    CHECK(area == want_area2);
+    CHECK(ok_simple);
+    CHECK(ok_orient);
+    CHECK(ok_inside);
+    if (bounded_face == 1)
+        CHECK_EQ_INT(p->polygon_count, 1);
+    if (bounded_face == 0)
+        CHECK_EQ_INT(p->polygon_count, 0);
+    if (!segs_ok || area != want_area2 || !ok_simple || !ok_orient || !ok_inside || !nested)
+        fprintf(stderr, "  in %s: %zu polygons, %zu rings, %zu segments (want %zu)\n", what,
+                p->polygon_count, p->ring_count, got.n, want->n);
+    free(got.s);
+}
+
+/* ---- lines ---------------------------------------------------------------------- */
+
+static size_t uf_root(size_t *parent, size_t a)
+{
+    while (parent[a] != a)
+        a = parent[a] = parent[parent[a]];
+    return a;
+}
+
+/* A feature's lines against its edges: the same undirected segments, and
+ * as many polylines as the edge set has chains (an open chain for every two
+ * ends at vertices where other than two of its edges meet, a closed one for
+ * every component whose vertices all have two). */
+static void check_lines(const char *what, const hpfc_polygons *p, const uint8_t *in_set)
+{
+    size_t ne = hpfc_graph_edge_count(G), nv = hpfc_graph_vertex_count(G);
+    segs want = {0}, got = {0};
+    uint32_t *deg = calloc(nv + 1, sizeof *deg);
+    size_t *parent = malloc((nv + 1) * sizeof *parent);
+    for (size_t v = 0; v < nv; v++)
+        parent[v] = v;
+    for (size_t e = 0; e < ne; e++) {
+        if (!in_set[e])
+            continue;
+        uint32_t u, v;
+        const int64_t *in;
+        size_t n_in;
+        hpfc_graph_edge(G, e, &u, &v, &in, &n_in);
+        deg[u]++, deg[v]++;
+        parent[uf_root(parent, u)] = uf_root(parent, v);
+        for (size_t k = 0; k + 1 < n_in + 2; k++) {
+            int64_t ax, ay, bx, by;
+            dart_point((uint32_t)(2 * e), k, &ax, &ay);
+            dart_point((uint32_t)(2 * e), k + 1, &bx, &by);
+            if (ax > bx || (ax == bx && ay > by))
+                segs_add(&want, bx, by, ax, ay);
+            else
+                segs_add(&want, ax, ay, bx, by);
+        }
+    }
+    size_t chains = 0;
+    uint8_t *open = calloc(nv + 1, 1);
+    for (size_t v = 0; v < nv; v++)
+        if (deg[v] && deg[v] != 2) {
+            chains += deg[v];
+            open[uf_root(parent, v)] = 1;
+        }
+    chains /= 2;
+    for (size_t v = 0; v < nv; v++)
+        if (deg[v] && uf_root(parent, v) == v && !open[v])
+            chains++;
+    for (size_t r = 0; r < p->ring_count; r++)
+        for (size_t k = p->ring_point[r]; k + 1 < p->ring_point[r + 1]; k++) {
+            int64_t ax = p->xy[2 * k], ay = p->xy[2 * k + 1], bx = p->xy[2 * k + 2],
+                    by = p->xy[2 * k + 3];
+            if (ax > bx || (ax == bx && ay > by))
+                segs_add(&got, bx, by, ax, ay);
+            else
+                segs_add(&got, ax, ay, bx, by);
+        }
+    int ok = segs_equal(&got, &want);
+    CHECK(ok);
+    CHECK_EQ_INT(p->ring_count, chains);
+    CHECK_EQ_INT(p->polygon_count, 0);
+    if (!ok || p->ring_count != chains)
+        fprintf(stderr, "  in %s: %zu lines (want %zu), %zu segments (want %zu)\n", what,
+                p->ring_count, chains, got.n, want.n);
+    free(want.s);
+    free(got.s);
+    free(deg);
+    free(parent);
+    free(open);
+}
+
+/* ---- one file ------------------------------------------------------------------- */
+
+typedef struct packed {
+    hpfc_tree *tree;
+    uint8_t *buf, *buf2;
+    hpfc_file *f;
+} packed;
+
+static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, packed *p)
+{
+    memset(p, 0, sizeof *p);
+    hpfc_build_params bp;
+    hpfc_build_params_default(&bp);
+    bp.root_cols = bp.root_rows = n0;
+    bp.cols = bp.rows = n;
+    bp.flat = flat;
+    size_t size;
+    hpfc_write_options o = {.face_labels = 1, .geometry = g};
+    int st = hpfc_build(g, &bp, &p->tree, NULL);
+    if (!st)
+        st = hpfc_tree_serialize(p->tree, &o, &p->buf, &size, NULL);
+    if (!st)
+        st = hpfc_open_memory(p->buf, size, 0, &p->f);
+    return st;
+}
+
+static void unpack(packed *p)
+{
+    hpfc_close(p->f);
+    free(p->buf);
+    free(p->buf2);
+    hpfc_tree_free(p->tree);
+}
+
+/* Every dart of the file: its polyline is its edge's, run from the end in
+ * its pixel; its twin's is the reverse. */
+static void check_darts(const hpfc_file *f)
+{
+    hpfc_walker *w;
+    CHECK_EQ_INT(hpfc_walker_create(f, &w), HPFC_OK);
+    hpfc_pixel px;
+    int st = hpfc_leaf_first(f, &px), bad = 0;
+    size_t darts = 0, cap = 0;
+    int64_t *xy = NULL, *txy = NULL;
+    while (!st) {
+        uint32_t nv = 0;
+        hpfc_pixel_vertex_count(w, &px, &nv);
+        for (uint32_t k = 0; k < nv; k++) {
+            hpfc_vertex v;
+            uint32_t deg = 0;
+            hpfc_pixel_vertex(w, &px, k, &v);
+            hpfc_vertex_degree(w, &v, &deg);
+            for (uint32_t j = 0; j < deg; j++) {
+                hpfc_dart d, t;
+                uint64_t e, te;
+                int rev, trev;
+                size_t n, tn;
+                hpfc_vertex_dart(w, &v, j, &d);
+                hpfc_dart_twin(w, &d, &t);
+                if (hpfc_geometry_dart_edge(f, &d, &e, &rev) ||
+                    hpfc_geometry_dart_edge(f, &t, &te, &trev) || e != te || rev == trev ||
+                    hpfc_geometry_dart_points(f, &d, NULL, 0, &n) ||
+                    hpfc_geometry_dart_points(f, &t, NULL, 0, &tn) || n != tn ||
+                    n != dart_npoints((uint32_t)(2 * e))) {
+                    bad++;
+                    continue;
+                }
+                if (n > cap) {
+                    cap = 2 * n;
+                    xy = realloc(xy, 2 * cap * sizeof *xy);
+                    txy = realloc(txy, 2 * cap * sizeof *txy);
+                }
+                hpfc_geometry_dart_points(f, &d, xy, cap, &n);
+                hpfc_geometry_dart_points(f, &t, txy, cap, &tn);
+                int64_t b[4];
+                hpfc_pixel_bounds(f, &d.pixel, &b[0], &b[1], &b[2], &b[3]);
+                if (xy[0] < b[0] || xy[0] >= b[2] || xy[1] < b[1] || xy[1] >= b[3])
+                    bad++;
+                for (size_t q = 0; q < n; q++) {
+                    int64_t x, y;
+                    dart_point((uint32_t)(2 * e + (uint64_t)rev), q, &x, &y);
+                    if (xy[2 * q] != x || xy[2 * q + 1] != y ||
+                        txy[2 * (n - 1 - q)] != x || txy[2 * (n - 1 - q) + 1] != y)
+                        bad++;
+                }
+                darts++;
+            }
+        }
+        st = hpfc_leaf_next(f, &px);
+    }
+    CHECK_EQ_INT(st, HPFC_E_NO_PIXEL);
+    CHECK_EQ_INT(bad, 0);
+    CHECK_EQ_INT(darts, 2 * hpfc_graph_edge_count(G));
+    free(xy);
+    free(txy);
+    hpfc_walker_free(w);
+}
+
+/* The library's face of each oracle walk (through the left/right faces of
+ * one of its darts: the walk's face is on the dart's right), all darts of a
+ * walk agreeing. */
+static uint64_t *walk_faces(const hpfc_file *f, const oracle *o)
+{
+    uint64_t *wf = malloc((o->nwalks + 1) * sizeof *wf);
+    for (size_t w = 0; w < o->nwalks; w++)
+        wf[w] = UINT64_MAX;
+    int bad = 0;
+    for (uint32_t d = 0; d < o->nd; d++) {
+        uint64_t l, r;
+        if (hpfc_geometry_edge_faces(f, d / 2, &l, &r)) {
+            bad++;
+            continue;
+        }
+        uint64_t face = d & 1 ? l : r;
+        if (wf[o->walk[d]] == UINT64_MAX)
+            wf[o->walk[d]] = face;
+        else if (wf[o->walk[d]] != face)
+            bad++;
+    }
+    CHECK_EQ_INT(bad, 0);
+    return wf;
+}
+
+/* Every face against the oracle; then random features. */
+static void check_file(const char *name, const packed *p, uint64_t seed)
+{
+    oracle o;
+    oracle_build(&o);
+    check_darts(p->f);
+    hpfc_shapes *s;
+    int st = hpfc_shapes_create(p->f, &s);
+    CHECK_EQ_INT(st, HPFC_OK);
+    if (st) {
+        oracle_free(&o);
+        return;
+    }
+    uint64_t nf = hpfc_shapes_face_count(s);
+    uint64_t *wf = walk_faces(p->f, &o);
+    s128 *face_area = calloc(nf + 1, sizeof *face_area);
+    for (size_t w = 0; w < o.nwalks; w++)
+        if (wf[w] < nf)
+            face_area[wf[w]] -= o.walk_area2[w]; /* walks have the face on the right */
+    /* per face: its darts with it on the left, bridges left out */
+    for (uint64_t face = 0; face < nf; face++) {
+        segs want = {0};
+        for (uint32_t d = 0; d < o.nd; d++)
+            if (wf[o.walk[d ^ 1]] == face && o.walk[d] != o.walk[d ^ 1] &&
+                wf[o.walk[d]] != face)
+                segs_of_dart(&want, d); /* face on the right of the twin: on d's left */
+        hpfc_polygons poly;
+        char what[160];
+        snprintf(what, sizeof what, "%s face %llu", name, (unsigned long long)face);
+        st = hpfc_shapes_face(s, face, &poly);
+        CHECK_EQ_INT(st, HPFC_OK);
+        if (!st)
+            check_answer(what, &poly, &want, face_area[face], face == 0 ? 0 : want.n ? 1 : -1);
+        free(want.s);
+    }
+    CHECK_EQ_INT(hpfc_shapes_face(s, nf, &(hpfc_polygons){0}), HPFC_E_ARG);
+    hpfc_shapes_free(s);
+
+    /* features: three, each a random set of bounded faces */
+    enum { NFEAT = 3 };
+    uint32_t *start = calloc(nf + 1, sizeof *start), *links = malloc(NFEAT * nf * sizeof *links);
+    uint8_t *member = calloc(NFEAT * nf + 1, 1);
+    gen_rng rng;
+    gen_rng_seed(&rng, seed);
+    uint32_t nl = 0;
+    for (uint64_t face = 0; face < nf; face++) {
+        start[face] = nl;
+        for (uint32_t k = 0; k < NFEAT && face > 0; k++)
+            if (gen_rng_below(&rng, 3) == 0 || (k == 0 && face % 2)) {
+                links[nl++] = k;
+                member[k * nf + face] = 1;
+            }
+    }
+    start[nf] = nl;
+    int64_t fid[NFEAT] = {0, 1, 2};
+    uint32_t layer[NFEAT] = {0, 0, 0};
+    const char *lname[1] = {"random"};
+    hpfc_feature_table ft = {.feature_count = NFEAT, .fid = fid, .layer = layer,
+                             .layer_count = 1, .layer_name = lname, .face_count = (uint32_t)nf,
+                             .face_start = start, .face_feature = links};
+    /* and each feature's lines: a random set of edges (EDGF) */
+    size_t ne = hpfc_graph_edge_count(G);
+    uint32_t *estart = calloc(ne + 1, sizeof *estart), *elinks = malloc(NFEAT * ne * sizeof *elinks);
+    uint8_t *on_edge = calloc(NFEAT * ne + 1, 1);
+    uint32_t nel = 0;
+    for (size_t e = 0; e < ne; e++) {
+        estart[e] = nel;
+        for (uint32_t k = 0; k < NFEAT; k++)
+            if (gen_rng_below(&rng, k + 2) == 0) {
+                elinks[nel++] = k;
+                on_edge[k * ne + e] = 1;
+            }
+    }
+    estart[ne] = nel;
+    hpfc_edge_feature_table eft = {.edge_count = (uint32_t)ne, .feature_count = NFEAT,
+                                   .edge_start = estart, .edge_feature = elinks};
+    hpfc_write_options wo = {.features = &ft, .face_labels = 1, .edge_features = &eft};
+    uint8_t *buf = NULL;
+    size_t size;
+    hpfc_file *f2 = NULL;
+    st = hpfc_file_serialize(p->f, &wo, &buf, &size, NULL);
+    if (!st)
+        st = hpfc_open_memory(buf, size, 0, &f2);
+    CHECK_EQ_INT(st, HPFC_OK);
+    if (!st)
+        st = hpfc_shapes_create(f2, &s);
+    CHECK_EQ_INT(st, HPFC_OK);
+    for (uint32_t k = 0; k < NFEAT && !st; k++) {
+        segs want = {0};
+        s128 area = 0;
+        for (uint64_t face = 0; face < nf; face++)
+            if (member[k * nf + face])
+                area += face_area[face];
+        for (uint32_t d = 0; d < o.nd; d++) {
+            uint64_t left = wf[o.walk[d ^ 1]], right = wf[o.walk[d]];
+            if (member[k * nf + left] && !member[k * nf + right])
+                segs_of_dart(&want, d);
+        }
+        hpfc_polygons poly;
+        char what[160];
+        snprintf(what, sizeof what, "%s feature %u", name, k);
+        st = hpfc_shapes_feature(s, k, &poly);
+        CHECK_EQ_INT(st, HPFC_OK);
+        if (!st)
+            check_answer(what, &poly, &want, area, -1);
+        free(want.s);
+        snprintf(what, sizeof what, "%s lines of feature %u", name, k);
+        st = hpfc_shapes_feature_lines(s, k, &poly);
+        CHECK_EQ_INT(st, HPFC_OK);
+        if (!st)
+            check_lines(what, &poly, on_edge + k * ne);
+        st = 0;
+    }
+    if (f2)
+        hpfc_shapes_free(s);
+    hpfc_close(f2);
+    free(buf);
+    free(start);
+    free(links);
+    free(member);
+    free(estart);
+    free(elinks);
+    free(on_edge);
+    free(face_area);
+    free(wf);
+    oracle_free(&o);
+}
+
+static void run_graph(const char *name, const hpfc_graph *g, uint32_t n0, uint32_t n, int flat,
+                      uint64_t seed)
+{
+    packed p;
+    G = g;
+    int st = pack(g, n0, n, flat, &p);
+    CHECK_EQ_INT(st, HPFC_OK);
+    if (!st)
+        check_file(name, &p, seed);
+    unpack(&p);
+}
+
+/* ---- hand-made pinches ---------------------------------------------------------- */
+
+static hpfc_graph *graph_of(const int64_t *v, size_t nv, const uint32_t *e, size_t ne)
+{
+    hpfc_graph *g;
+    hpfc_graph_create(&g);
+    for (size_t k = 0; k < nv; k++)
+        hpfc_graph_add_vertex(g, v[2 * k], v[2 * k + 1], NULL);
+    for (size_t k = 0; k < ne; k++)
+        hpfc_graph_add_edge(g, e[2 * k], e[2 * k + 1], NULL, 0, NULL);
+    return g;
+}
+
+static void run_pinches(void)
+{
+    /* a square around a bow tie: two triangles meeting at vertex 4 */
+    static const int64_t bow_v[] = {0, 0, 100, 0, 100, 100, 0, 100, 50, 50,
+                                    20, 40, 20, 60, 80, 40, 80, 60};
+    static const uint32_t bow_e[] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6, 6, 4, 4, 7, 7, 8, 8, 4};
+    /* a square whose bottom side has a vertex (4) that a triangle inside
+     * touches: a hole touching its face's outer ring */
+    static const int64_t touch_v[] = {0, 0, 100, 0, 100, 100, 0, 100, 50, 0, 30, 40, 70, 40};
+    static const uint32_t touch_e[] = {0, 4, 4, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6, 6, 4};
+    /* three triangles around vertex 4: six arms at one point */
+    static const int64_t fan_v[] = {0, 0, 100, 0, 100, 100, 0, 100, 50, 50,
+                                    80, 45, 80, 55, 35, 80, 25, 75, 25, 25, 35, 20};
+    static const uint32_t fan_e[] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6, 6, 4,
+                                     4, 7, 7, 8, 8, 4, 4, 9, 9, 10, 10, 4};
+    /* four triangles touching corner to corner around a middle face: their
+     * union is four polygons, not one with a hole touching it four times */
+    static const int64_t ring_v[] = {0, 0, 200, 0, 200, 200, 0, 200,
+                                     100, 60, 140, 100, 100, 140, 60, 100,
+                                     120, 40, 160, 120, 80, 160, 40, 80};
+    static const uint32_t ring_e[] = {0, 1, 1, 2, 2, 3, 3, 0,
+                                      4, 8, 8, 5, 5, 4, 5, 9, 9, 6, 6, 5,
+                                      6, 10, 10, 7, 7, 6, 7, 11, 11, 4, 4, 7};
+    hpfc_graph *g = graph_of(ring_v, 12, ring_e, 16);
+    for (uint64_t seed = 0; seed < 40; seed++)
+        run_graph("corner ring", g, 4, 2, 0, seed);
+    hpfc_graph_free(g);
+    g = graph_of(fan_v, 11, fan_e, 13);
+    for (uint64_t seed = 0; seed < 8; seed++)
+        run_graph("fan", g, 4, 2, 0, seed);
+    hpfc_graph_free(g);
+    g = graph_of(bow_v, 9, bow_e, 10);
+    run_graph("bow tie", g, 4, 2, 0, 1);
+    run_graph("bow tie flat", g, 1, 2, 1, 2);
+    hpfc_graph_free(g);
+    g = graph_of(touch_v, 7, touch_e, 8);
+    run_graph("touching hole", g, 4, 2, 0, 3);
+    run_graph("touching hole 1x1", g, 1, 2, 0, 4);
+    hpfc_graph_free(g);
+}
+
+int main(void)
+{
+    check_use_test_layout();
+    run_pinches();
+    for (int k = 0; k < GEN_SPECIAL_COUNT; k++) {
+        hpfc_graph *g;
+        if (gen_special(k, &g))
+            continue;
+        run_graph(gen_special_name(k), g, 4, 2, 0, (uint64_t)k);
+        run_graph(gen_special_name(k), g, 1, 3, 0, (uint64_t)k + 100);
+        hpfc_graph_free(g);
+    }
+    const char *root = getenv("HPFC_TEST_DATA");
+    static const char *const fixtures[] = {"crack_dead_end.pfc", "loop.pfc", "multi_edges.pfc",
+                                           "polyline_decimals.pfc", "square_diagonal.pfc",
+                                           "two_components_hole.pfc", "crlf_tabs.pfc"};
+    for (size_t k = 0; root && k < sizeof fixtures / sizeof *fixtures; k++) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/valid/%s", root, fixtures[k]);
+        hpfc_graph *g;
+        int st = hpfc_pfc_read_file(path, &g, NULL);
+        CHECK_EQ_INT(st, HPFC_OK);
+        if (st)
+            continue;
+        run_graph(fixtures[k], g, 4, 2, 0, k);
+        hpfc_graph_free(g);
+    }
+    for (uint64_t seed = 1; seed <= 12; seed++) {
+        hpfc_graph *g;
+        char name[64];
+        snprintf(name, sizeof name, "delaunay seed %llu", (unsigned long long)seed);
+        if (gen_delaunay(seed, 60 + 20 * seed, 1 << 12, 0.1 * (double)(seed % 6), &g) == 0) {
+            run_graph(name, g, 4 + (uint32_t)(seed % 3) * 4, 2 + (uint32_t)(seed % 2), 0, seed);
+            hpfc_graph_free(g);
+        }
+        snprintf(name, sizeof name, "polyline seed %llu", (unsigned long long)seed);
+        if (gen_polyline(seed, 80 + 10 * seed, 1 << 12, 0.5, &g) == 0) {
+            run_graph(name, g, 8, 2, seed % 4 == 0, seed + 50);
+            hpfc_graph_free(g);
+        }
+    }
+    return check_report("shapes");
+}
