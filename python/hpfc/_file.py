@@ -14,6 +14,7 @@ the library decides a point's one face exactly.
 
 from . import _hpfc
 from ._errors import Error
+from ._geometry import GeometryMixin
 
 WEST, NORTH, EAST, SOUTH = 0, 1, 2, 3
 
@@ -147,7 +148,7 @@ class Locations:
         return pd.DataFrame(cols)
 
 
-class File(_hpfc._File):
+class File(GeometryMixin, _hpfc._File):
     """An open .hpfc file, memory-mapped (hpfc.open(path)).
 
     Opening checks the header, level table and section directory only
@@ -162,6 +163,11 @@ class File(_hpfc._File):
 
     def __enter__(self):
         return self
+
+    def close(self):
+        """Unmaps the file (and drops the geometry index built on it)."""
+        super().close()
+        self.__dict__.pop("_shapes_index", None)
 
     def __exit__(self, *exc):
         self.close()
