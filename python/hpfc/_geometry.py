@@ -50,7 +50,7 @@ def _ids(value, name):
 def _one_id(value, name):
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name}: an integer expected, got {type(value).__name__}")
-    if value < 0:
+    if value < 0 or value >= 2**64:
         raise IndexError(f"{name} {value} out of range")
     return int(value)
 
