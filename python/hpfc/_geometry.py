@@ -457,12 +457,17 @@ class _ShapesIndex:
     links)), and the conversions of lattice points."""
 
     def __init__(self, file):
+        import threading
+
         self._file = file
         self._c = _hpfc._Shapes(file)
+        # the library's index answers one call at a time: threads take turns
+        self._lock = threading.Lock()
 
     @property
     def face_count(self):
-        return self._c._face_count()
+        with self._lock:
+            return self._c._face_count()
 
     def _mode(self, coords):
         if coords not in COORDS:
@@ -472,22 +477,28 @@ class _ShapesIndex:
         return coords
 
     def _to_user(self, xy, out, lonlat):
-        self._c._to_user(np.ascontiguousarray(xy, dtype=np.int64).reshape(-1),
-                         out.reshape(-1), lonlat)
+        xy = np.ascontiguousarray(xy, dtype=np.int64).reshape(-1)
+        with self._lock:
+            self._c._to_user(xy, out.reshape(-1), lonlat)
 
     def collect(self, kind, ids):
-        part, polygon, ring, xy, hole_only = self._c._collect(kind, ids)
+        with self._lock:
+            part, polygon, ring, xy, hole_only = self._c._collect(kind, ids)
         return RingArrays(self, "polygons" if polygon is not None else "lines", ids, part,
                           polygon, ring, xy, hole_only)
 
     def vertex(self, v):
-        return self._c._vertex(v)
+        with self._lock:
+            return self._c._vertex(v)
 
     def edge(self, e):
-        return self._c._edge(e)
+        with self._lock:
+            return self._c._edge(e)
 
     def dart_edge(self, d):
-        return self._c._dart_edge(d)
+        with self._lock:
+            return self._c._dart_edge(d)
 
     def feature_face_count(self, k):
-        return self._c._feature_face_count(k)
+        with self._lock:
+            return self._c._feature_face_count(k)

@@ -519,3 +519,19 @@ for k in range(n):
 print(json.dumps({"raised": raised, "answered": answered, "other": other,
                   "names": sorted(names)}))
 '''
+
+
+def test_threads_share_a_file(counties):
+    """The library's index answers one call at a time; threads take turns
+    and each gets the whole answer."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    path, _ = counties
+    with hpfc.open(path) as f:
+        want = f.feature_arrays()
+        with ThreadPoolExecutor(4) as pool:
+            got = list(pool.map(lambda _: f.feature_arrays(), range(16)))
+        for a in got:
+            assert np.array_equal(a.xy, want.xy)
+            assert np.array_equal(a.ring_offsets, want.ring_offsets)
+            assert np.array_equal(a.part_offsets, want.part_offsets)
