@@ -105,9 +105,9 @@ class RingArrays:
     def to_shapely(self, coords="user"):
         """One shapely geometry (or None) per item; see File.face_geometry,
         feature_geometry and edge_geometry for what each kind gives."""
+        pts = self.coords(coords)
         import shapely.geometry as sg
 
-        pts = self.coords(coords)
         ro = self.ring_offsets
         out = []
         for i in range(len(self)):
