@@ -426,6 +426,36 @@ def test_tables_without_geopandas_or_shapely(counties, monkeypatch):
         assert isinstance(faces[0]["geometry"], hpfc.RingArrays)
 
 
+@needs_shapely
+def test_same_as_command_line_export(counties, inspect_tool, tmp_path):
+    """features_geodataframe() against hpfc-inspect --export (GeoJSON):
+    the same features, fids, keys and geometry, in the same SRS."""
+    import subprocess
+
+    path, _ = counties
+    out = tmp_path / "export.geojson"
+    r = subprocess.run([inspect_tool, str(path), "--export", str(out)], capture_output=True,
+                       text=True, check=False)
+    if r.returncode != 0 and "GDAL" in r.stderr and "not built" in r.stderr:
+        pytest.skip(r.stderr.strip())
+    assert r.returncode == 0, r.stderr
+    exported = json.loads(out.read_text())
+    with hpfc.open(path) as f:
+        rows = f.feature_records()
+        assert exported["crs"]["properties"]["name"].endswith("CRS84")  # EPSG:4326, lon/lat
+        assert f.crs_for("source") == "EPSG:4326"
+        assert len(exported["features"]) == len(rows)
+        for ft, row in zip(exported["features"], rows):
+            assert ft["properties"]["fid"] == row["fid"]
+            assert ft["properties"]["name"] == row["name"]
+            assert ft["properties"]["source_fid"] == row["source_fid"]
+            theirs = sg.shape(ft["geometry"])
+            # GDAL's GeoJSON keeps 15 significant digits
+            assert theirs.hausdorff_distance(row["geometry"]) < 1e-12, row["fid"]
+            assert len(getattr(theirs, "geoms", [theirs])) == \
+                len(getattr(row["geometry"], "geoms", [row["geometry"]]))
+
+
 # ---- bad input ---------------------------------------------------------------------------
 
 
