@@ -15,7 +15,9 @@
  *     interior connected (its rings touch without a cycle), one outer
  *     ring per bounded face, none for the unbounded face, every hole inside
  *     its polygon's outer ring;
- * and every dart's polyline is its input edge, forward or backward, from
+ * a feature's lines (random edge sets) are its edges' segments in as many
+ * polylines as the set has chains, and every dart's polyline is its input
+ * edge, forward or backward, from
  * the end in the dart's pixel, its twin's the reverse. On the .pfc
  * fixtures, hand-made pinches (two triangles meeting at a vertex, a hole
  * touching its face's outer ring), the special graphs and random Delaunay
@@ -418,6 +420,80 @@ static void check_answer(const char *what, const hpfc_polygons *p, segs *want, s
     free(got.s);
 }
 
+/* ---- lines ---------------------------------------------------------------------- */
+
+static size_t uf_root(size_t *parent, size_t a)
+{
+    while (parent[a] != a)
+        a = parent[a] = parent[parent[a]];
+    return a;
+}
+
+/* A feature's lines against its edges: the same undirected segments, and
+ * as many polylines as the edge set has chains (an open chain for every two
+ * ends at vertices where other than two of its edges meet, a closed one for
+ * every component whose vertices all have two). */
+static void check_lines(const char *what, const hpfc_polygons *p, const uint8_t *in_set)
+{
+    size_t ne = hpfc_graph_edge_count(G), nv = hpfc_graph_vertex_count(G);
+    segs want = {0}, got = {0};
+    uint32_t *deg = calloc(nv + 1, sizeof *deg);
+    size_t *parent = malloc((nv + 1) * sizeof *parent);
+    for (size_t v = 0; v < nv; v++)
+        parent[v] = v;
+    for (size_t e = 0; e < ne; e++) {
+        if (!in_set[e])
+            continue;
+        uint32_t u, v;
+        const int64_t *in;
+        size_t n_in;
+        hpfc_graph_edge(G, e, &u, &v, &in, &n_in);
+        deg[u]++, deg[v]++;
+        parent[uf_root(parent, u)] = uf_root(parent, v);
+        for (size_t k = 0; k + 1 < n_in + 2; k++) {
+            int64_t ax, ay, bx, by;
+            dart_point((uint32_t)(2 * e), k, &ax, &ay);
+            dart_point((uint32_t)(2 * e), k + 1, &bx, &by);
+            if (ax > bx || (ax == bx && ay > by))
+                segs_add(&want, bx, by, ax, ay);
+            else
+                segs_add(&want, ax, ay, bx, by);
+        }
+    }
+    size_t chains = 0;
+    uint8_t *open = calloc(nv + 1, 1);
+    for (size_t v = 0; v < nv; v++)
+        if (deg[v] && deg[v] != 2) {
+            chains += deg[v];
+            open[uf_root(parent, v)] = 1;
+        }
+    chains /= 2;
+    for (size_t v = 0; v < nv; v++)
+        if (deg[v] && uf_root(parent, v) == v && !open[v])
+            chains++;
+    for (size_t r = 0; r < p->ring_count; r++)
+        for (size_t k = p->ring_point[r]; k + 1 < p->ring_point[r + 1]; k++) {
+            int64_t ax = p->xy[2 * k], ay = p->xy[2 * k + 1], bx = p->xy[2 * k + 2],
+                    by = p->xy[2 * k + 3];
+            if (ax > bx || (ax == bx && ay > by))
+                segs_add(&got, bx, by, ax, ay);
+            else
+                segs_add(&got, ax, ay, bx, by);
+        }
+    int ok = segs_equal(&got, &want);
+    CHECK(ok);
+    CHECK_EQ_INT(p->ring_count, chains);
+    CHECK_EQ_INT(p->polygon_count, 0);
+    if (!ok || p->ring_count != chains)
+        fprintf(stderr, "  in %s: %zu lines (want %zu), %zu segments (want %zu)\n", what,
+                p->ring_count, chains, got.n, want.n);
+    free(want.s);
+    free(got.s);
+    free(deg);
+    free(parent);
+    free(open);
+}
+
 /* ---- one file ------------------------------------------------------------------- */
 
 typedef struct packed {
@@ -601,7 +677,23 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
     hpfc_feature_table ft = {.feature_count = NFEAT, .fid = fid, .layer = layer,
                              .layer_count = 1, .layer_name = lname, .face_count = (uint32_t)nf,
                              .face_start = start, .face_feature = links};
-    hpfc_write_options wo = {.features = &ft, .face_labels = 1};
+    /* and each feature's lines: a random set of edges (EDGF) */
+    size_t ne = hpfc_graph_edge_count(G);
+    uint32_t *estart = calloc(ne + 1, sizeof *estart), *elinks = malloc(NFEAT * ne * sizeof *elinks);
+    uint8_t *on_edge = calloc(NFEAT * ne + 1, 1);
+    uint32_t nel = 0;
+    for (size_t e = 0; e < ne; e++) {
+        estart[e] = nel;
+        for (uint32_t k = 0; k < NFEAT; k++)
+            if (gen_rng_below(&rng, k + 2) == 0) {
+                elinks[nel++] = k;
+                on_edge[k * ne + e] = 1;
+            }
+    }
+    estart[ne] = nel;
+    hpfc_edge_feature_table eft = {.edge_count = (uint32_t)ne, .feature_count = NFEAT,
+                                   .edge_start = estart, .edge_feature = elinks};
+    hpfc_write_options wo = {.features = &ft, .face_labels = 1, .edge_features = &eft};
     uint8_t *buf = NULL;
     size_t size;
     hpfc_file *f2 = NULL;
@@ -631,6 +723,11 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
         if (!st)
             check_answer(what, &poly, &want, area, -1);
         free(want.s);
+        snprintf(what, sizeof what, "%s lines of feature %u", name, k);
+        st = hpfc_shapes_feature_lines(s, k, &poly);
+        CHECK_EQ_INT(st, HPFC_OK);
+        if (!st)
+            check_lines(what, &poly, on_edge + k * ne);
         st = 0;
     }
     if (f2)
@@ -640,6 +737,9 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
     free(start);
     free(links);
     free(member);
+    free(estart);
+    free(elinks);
+    free(on_edge);
     free(face_area);
     free(wf);
     oracle_free(&o);
