@@ -200,16 +200,22 @@ class GeometryMixin:
     def source_is_lonlat(self):
         """Whether hpfc-pack projected a geographic (lon, lat) source: then
         coords="source" gives lon/lat, as hpfc-inspect --export writes."""
-        desc, code = _split_crs(self.crs)
-        if not _made_by_pack(desc):
-            return False
-        if code is None:
-            return True
-        geographic = _is_geographic(code)
-        # Without pyproj or GDAL: hpfc-pack projects geographic sources only;
-        # a projected source keeps its own description, which is not one of
-        # hpfc-pack's (false origin, other projections) in practice.
-        return True if geographic is None else geographic
+        known = self.__dict__.get("_source_lonlat")
+        if known is None:
+            desc, code = _split_crs(self.crs)
+            if not _made_by_pack(desc):
+                known = False
+            elif code is None:
+                known = True
+            else:
+                geographic = _is_geographic(code)
+                # Without pyproj or GDAL: hpfc-pack projects geographic sources
+                # only; a projected source keeps its own description, which is
+                # not one of hpfc-pack's (false origin, other projections) in
+                # practice.
+                known = True if geographic is None else geographic
+            self.__dict__["_source_lonlat"] = known
+        return known
 
     def crs_for(self, coords="source"):
         """The CRS of coordinates `coords` as a string pyproj and geopandas
