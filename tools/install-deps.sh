@@ -5,8 +5,9 @@ set -eu
 PACKAGES="gcc meson ninja-build pkg-config python3 libcairo2-dev g++ libgdal-dev gdal-bin libgeos-dev libgeographiclib-dev libdraco-dev draco python3-gdal"
 # The Python package (python/): Debian's interpreter, numpy, pytest, meson-python
 # (pip install .), venv (tools/test-python.sh); shapely, pandas, geopandas
-# for frames and the bench against geopandas.sjoin.
-PACKAGES="$PACKAGES python3-dev python3-numpy python3-pytest python3-mesonpy python3-venv python3-shapely python3-pandas python3-geopandas"
+# for geometry, frames and the bench against geopandas.sjoin; pyproj (a
+# dependency of geopandas, named because the geometry tests project with it).
+PACKAGES="$PACKAGES python3-dev python3-numpy python3-pytest python3-mesonpy python3-venv python3-shapely python3-pandas python3-geopandas python3-pyproj"
 missing=""
 for p in $PACKAGES; do
     dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"

@@ -15,9 +15,10 @@ from ._errors import Error
 from . import _hpfc
 from ._hpfc import Pixel
 from ._file import (EAST, NORTH, SOUTH, WEST, File, Location, Locations, open)
+from ._geometry import RingArrays
 
 library_version = _hpfc.library_version
 strerror = _hpfc.strerror
 
-__all__ = ["Error", "File", "Location", "Locations", "Pixel", "open", "strerror",
+__all__ = ["Error", "File", "Location", "Locations", "Pixel", "RingArrays", "open", "strerror",
            "library_version", "WEST", "NORTH", "EAST", "SOUTH"]

@@ -12,6 +12,7 @@ candidate faces of the point's leaf (exact False).
 
 from . import _hpfc
 from ._errors import Error
+from ._geometry import GeometryMixin
 
 WEST, NORTH, EAST, SOUTH = 0, 1, 2, 3
 
@@ -162,7 +163,7 @@ class Locations:
         return pd.DataFrame(cols)
 
 
-class File(_hpfc._File):
+class File(GeometryMixin, _hpfc._File):
     """An open .hpfc file, memory-mapped (hpfc.open(path)).
 
     Opening checks the header, level table and section directory only
@@ -177,6 +178,11 @@ class File(_hpfc._File):
 
     def __enter__(self):
         return self
+
+    def close(self):
+        """Unmaps the file (and drops the geometry index built on it)."""
+        super().close()
+        self.__dict__.pop("_shapes_index", None)
 
     def __exit__(self, *exc):
         self.close()

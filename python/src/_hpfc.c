@@ -28,6 +28,7 @@
 #include "hpfc_batch.h"
 #include "lattice_point.h"
 #include "projection.h"
+#include "shapes.h"
 
 static PyObject *ErrorType; /* hpfc._errors.Error */
 
@@ -79,6 +80,11 @@ static PyObject *raise_status(int st, const char *context)
         Py_DECREF(err);
     }
     return NULL;
+}
+
+PyObject *pyhpfc_raise(int st, const char *context)
+{
+    return raise_status(st, context);
 }
 
 /* ---- _File -------------------------------------------------------------------- */
@@ -343,6 +349,20 @@ static int file_walker(FileObject *self)
         return -1;
     }
     return 0;
+}
+
+/* For shapes.c (shapes.h). */
+const hpfc_file *pyhpfc_file_of(PyObject *file, int **busy)
+{
+    if (!PyObject_TypeCheck(file, &FileType)) {
+        PyErr_Format(PyExc_TypeError, "an hpfc file expected, got %s", Py_TYPE(file)->tp_name);
+        return NULL;
+    }
+    FileObject *self = (FileObject *)file;
+    if (file_ready(self))
+        return NULL;
+    *busy = &self->busy;
+    return self->f;
 }
 
 /* ---- arrays ----------------------------------------------------------------- */
@@ -1248,6 +1268,10 @@ PyMODINIT_FUNC PyInit__hpfc(void)
     PyObject *m = PyModule_Create(&module_def);
     if (!m)
         return NULL;
+    if (pyhpfc_shapes_add(m) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
     if (PyModule_AddObject(m, "_File", Py_NewRef((PyObject *)&FileType)) < 0 ||
         PyModule_AddObject(m, "Pixel", Py_NewRef((PyObject *)&PixelType)) < 0 ||
         PyModule_AddStringConstant(m, "library_version", hpfc_version_string()) < 0 ||
