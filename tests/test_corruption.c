@@ -654,9 +654,7 @@ static void generated_campaigns(void)
         {"Delaunay 10 points, 2x2 root, 2x2 images, labels", -1, 2, 2, 2, 2, 0, NULL, 1, 0},
         {"polyline 16 points, 3x1 root, 2x2 images, labels", -2, 3, 1, 2, 2, 0, NULL, 1, 0},
         {"polyline 16 points, 2x2 root, 2x2 images, labels, geometry", -2, 2, 2, 2, 2, 0, NULL, 1, 1},
-        {"hole, 2x2 root, 2x2 images, labels, geometry", GEN_SPECIAL_HOLE, 2, 2, 2, 2, 0, NULL, 1, 1},
         {"multi-edges, 3x1 root, 2x2 images, geometry", GEN_SPECIAL_MULTI, 3, 1, 2, 2, 0, NULL, 0, 1},
-        {"Delaunay 10 points, 2x2 root, 2x2 images, labels, geometry", -1, 2, 2, 2, 2, 0, NULL, 1, 1},
     };
     for (size_t k = 0; k < sizeof list / sizeof *list; k++) {
         const generated *gd = &list[k];
@@ -821,10 +819,10 @@ int main(void)
            seen.label_files, seen.label_calls, seen.label_corrupt, seen.label_verified,
            seen.label_disagreed);
     /* damaged GEOM sections reached the geometry code and the verifier */
-    CHECK(seen.geom_files > 1000);
+    CHECK(seen.geom_files > 500);
     CHECK(seen.geom_corrupt > 10);
-    CHECK(seen.geom_disagreed > 100);
-    CHECK(seen.geom_verified > 100);
+    CHECK(seen.geom_disagreed > 50);
+    CHECK(seen.geom_verified > 50);
     printf("geometry: %ld damaged copies with a GEOM section, %ld geometry calls (%ld CORRUPT); "
            "hpfc_geometry_verify accepted %ld, reported %ld\n",
            seen.geom_files, seen.geom_calls, seen.geom_corrupt, seen.geom_verified,
