@@ -813,7 +813,7 @@ HPFC_API int hpfc_geometry_edge_faces(const hpfc_file *file, uint64_t edge, uint
 HPFC_API int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf,
                                             uint32_t crossing, uint64_t *segment);
 /* The section against itself and the map (hpfc-inspect --verify, spec
- * §17.5): every vertex, edge and point reads; the coordinates form a valid
+ * §17.5): zero padding; every vertex, edge and point reads; the coordinates form a valid
  * planar map (hpfc_graph_validate); every leaf holds as many vertices as
  * its word has junctions; with LABL, every crossing's segment crosses its
  * road, in the word's order along it, with the faces hpfc_geometry_edge_faces
