@@ -123,10 +123,42 @@ int geometry_open(geom_view *v, const uint8_t *sec, uint64_t length, const geom_
     }
     v->width = (uint64_t)lv->width;
     v->height = (uint64_t)lv->height;
+    v->layout = lay;
     v->section = sec;
     v->section_length = length;
     v->present = true;
     return HPFC_OK;
+}
+
+/* The stream of `bits` bits at byte `at` ends with zero bits, and the
+ * bytes from its end to `next` are zero. */
+static bool tail_zero(const uint8_t *sec, uint64_t at, uint64_t bits, uint64_t next, uint64_t *bad)
+{
+    uint64_t end = at + bits / 8;
+    if (bits % 8 && (sec[end] & (0xFF >> (bits % 8)))) {
+        *bad = end;
+        return false;
+    }
+    for (uint64_t k = at + format_pool_bytes(bits); k < next; k++)
+        if (sec[k]) {
+            *bad = k;
+            return false;
+        }
+    return true;
+}
+
+bool geom_padding_zero(const geom_view *v, uint64_t *at)
+{
+    const geom_layout *l = &v->layout;
+    if (!tail_zero(v->section, l->orient_at, v->edges, l->dir_at[0], at))
+        return false;
+    for (int c = 0; c < GEOM_COLUMNS; c++) {
+        uint64_t next = c + 1 < GEOM_COLUMNS ? l->dir_at[c + 1] : v->section_length;
+        if (!tail_zero(v->section, l->dir_at[c], l->dir_bits[c], l->payload_at[c], at) ||
+            !tail_zero(v->section, l->payload_at[c], v->col[c].payload.bits, next, at))
+            return false;
+    }
+    return true;
 }
 
 int geom_column_get(const geom_column *c, uint64_t i, uint64_t *value)

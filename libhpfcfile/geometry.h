@@ -58,6 +58,13 @@ FORMAT_FIELD(geomc, base_bits, 2, 1, uint8_t)
 enum { geomc_OFF_reserved = 3, geomc_SIZE_reserved = 5 };
 FORMAT_FIELD(geomc, payload_bits, 8, 8, uint64_t)
 
+/* The byte offsets of the parts: the orientation bits, then per column
+ * its directory and its payload, each on an 8-byte boundary; *length the
+ * exact section length. false on overflow or a field out of range. */
+typedef struct geom_layout {
+    uint64_t orient_at, dir_at[GEOM_COLUMNS], dir_bits[GEOM_COLUMNS], payload_at[GEOM_COLUMNS];
+    uint64_t length;
+} geom_layout;
 /* A column as the reader sees it. */
 typedef struct geom_column {
     uint64_t count;
@@ -72,6 +79,7 @@ typedef struct geom_view {
     format_bits orient;       /* E bits: the LABL side on the right of u -> v */
     geom_column col[GEOM_COLUMNS];
     uint64_t first_leaf[HPFC_MAX_LEVELS + 1]; /* global number of level l's leaf 0 */
+    geom_layout layout;       /* where its parts lie */
     const uint8_t *section;   /* its bytes */
     uint64_t section_length;
 } geom_view;
@@ -80,13 +88,6 @@ typedef struct geom_view {
 bool geom_column_counts(uint64_t vertices, uint64_t edges, uint64_t points, uint64_t leaves,
                         uint64_t crossings, uint64_t counts[GEOM_COLUMNS]);
 
-/* The byte offsets of the parts: the orientation bits, then per column
- * its directory and its payload, each on an 8-byte boundary; *length the
- * exact section length. false on overflow or a field out of range. */
-typedef struct geom_layout {
-    uint64_t orient_at, dir_at[GEOM_COLUMNS], dir_bits[GEOM_COLUMNS], payload_at[GEOM_COLUMNS];
-    uint64_t length;
-} geom_layout;
 bool geom_compute_layout(const uint64_t counts[GEOM_COLUMNS], uint64_t edges,
                          const uint32_t shift[GEOM_COLUMNS], const uint32_t offset_bits[GEOM_COLUMNS],
                          const uint32_t base_bits[GEOM_COLUMNS],
@@ -104,6 +105,11 @@ typedef struct geom_levels {
 /* Checks a GEOM section's header and layout (O(1)); HPFC_E_SECTION when
  * it fails. */
 int geometry_open(geom_view *v, const uint8_t *sec, uint64_t length, const geom_levels *lv);
+
+/* Every byte between the parts and every bit after a stream's last bit
+ * up to its last byte is zero (§17.2): false at the first that is not,
+ * with the byte's offset in *at. O(section). */
+bool geom_padding_zero(const geom_view *v, uint64_t *at);
 
 /* Value i of a column (i < count): HPFC_E_CORRUPT when its block's
  * directory entry or field lies outside the column. */

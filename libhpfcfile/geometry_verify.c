@@ -2,6 +2,7 @@
  * hpfc_geometry_verify: the GEOM section against itself and the map
  * (spec/hpfc-format.md §17.5), for hpfc-inspect --verify:
  *
+ *   0. the padding between and after the parts is zero;
  *   1. every vertex, edge and shape point reads (ids and ranges in bounds,
  *      coordinates inside the domain);
  *   2. the coordinates make a valid planar graph (hpfc_graph_validate on a
@@ -242,6 +243,9 @@ int hpfc_geometry_verify(const hpfc_file *f, hpfc_geometry_report *r)
     const geom_view *g = reader_geometry(f);
     if (!g->present)
         return HPFC_E_NO_SECTION;
+    uint64_t at;
+    if (!geom_padding_zero(g, &at))
+        return problem(r, "byte %llu of the section is padding but not zero", (unsigned long long)at);
     int st = check_graph(f, g, r);
     if (st)
         return st;

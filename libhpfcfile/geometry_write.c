@@ -45,25 +45,36 @@ static bool vec_push(u64vec *a, uint64_t x)
     return true;
 }
 
-/* One column's values and the encoding chosen for them. */
+/* The encoding chosen for one column. */
 typedef struct column_plan {
-    u64vec vals;
+    uint64_t n;
     uint32_t shift, offset_bits, base_bits;
     uint64_t payload_bits;
 } column_plan;
 
-/* Bits of the column with blocks of 2^shift values; fills the widths. */
-static uint64_t column_size(const u64vec *a, uint32_t shift, uint32_t *offset_bits,
-                            uint32_t *base_bits, uint64_t *payload_bits)
+typedef struct geom_plan geom_plan;
+static uint64_t column_value(const geom_plan *p, int c, uint64_t i);
+
+/* The smallest and largest values of block [b, end) of column c. */
+static void block_range(const geom_plan *p, int c, uint64_t b, uint64_t end, uint64_t *lo,
+                        uint64_t *hi)
+{
+    *lo = UINT64_MAX, *hi = 0;
+    for (uint64_t i = b; i < end; i++) {
+        uint64_t v = column_value(p, c, i);
+        *lo = v < *lo ? v : *lo;
+        *hi = v > *hi ? v : *hi;
+    }
+}
+
+/* Bits of column c with blocks of 2^shift values; fills the widths. */
+static uint64_t column_size(const geom_plan *p, int c, uint64_t n, uint32_t shift,
+                            uint32_t *offset_bits, uint32_t *base_bits, uint64_t *payload_bits)
 {
     uint64_t B = UINT64_C(1) << shift, payload = 0, max_base = 0, max_off = 0, blocks = 0;
-    for (size_t b = 0; b < a->n; b += B, blocks++) {
-        size_t end = a->n - b < B ? a->n : b + B;
-        uint64_t lo = UINT64_MAX, hi = 0;
-        for (size_t i = b; i < end; i++) {
-            lo = a->v[i] < lo ? a->v[i] : lo;
-            hi = a->v[i] > hi ? a->v[i] : hi;
-        }
+    for (uint64_t b = 0; b < n; b += B, blocks++) {
+        uint64_t end = n - b < B ? n : b + B, lo, hi;
+        block_range(p, c, b, end, &lo, &hi);
         max_base = lo > max_base ? lo : max_base;
         max_off = payload;
         payload += (end - b) * (uint64_t)bits_for(hi - lo);
@@ -74,80 +85,86 @@ static uint64_t column_size(const u64vec *a, uint32_t shift, uint32_t *offset_bi
     return blocks * (*offset_bits + *base_bits + GEOM_WIDTH_BITS) + payload;
 }
 
-static void plan_column(column_plan *c)
+static void plan_column(const geom_plan *p, int c, column_plan *cp)
 {
     uint64_t best = UINT64_MAX;
     for (uint32_t s = 0; s <= 12; s++) {
         uint32_t ob, bb;
-        uint64_t pb, size = column_size(&c->vals, s, &ob, &bb, &pb);
+        uint64_t pb, size = column_size(p, c, cp->n, s, &ob, &bb, &pb);
         if (size < best) {
             best = size;
-            c->shift = s, c->offset_bits = ob, c->base_bits = bb, c->payload_bits = pb;
+            cp->shift = s, cp->offset_bits = ob, cp->base_bits = bb, cp->payload_bits = pb;
         }
     }
 }
 
-static void emit_column(const column_plan *c, uint8_t *dir, uint8_t *payload)
+static void emit_column(const geom_plan *p, int c, const column_plan *cp, uint8_t *dir,
+                        uint8_t *payload)
 {
-    uint64_t B = UINT64_C(1) << c->shift, at = 0, entry = c->offset_bits + c->base_bits + GEOM_WIDTH_BITS;
-    for (size_t b = 0, k = 0; b < c->vals.n; b += B, k++) {
-        size_t end = c->vals.n - b < B ? c->vals.n : b + B;
-        uint64_t lo = UINT64_MAX, hi = 0;
-        for (size_t i = b; i < end; i++) {
-            lo = c->vals.v[i] < lo ? c->vals.v[i] : lo;
-            hi = c->vals.v[i] > hi ? c->vals.v[i] : hi;
-        }
+    uint64_t B = UINT64_C(1) << cp->shift, at = 0;
+    uint64_t entry = cp->offset_bits + cp->base_bits + GEOM_WIDTH_BITS;
+    for (uint64_t b = 0, k = 0; b < cp->n; b += B, k++) {
+        uint64_t end = cp->n - b < B ? cp->n : b + B, lo, hi;
+        block_range(p, c, b, end, &lo, &hi);
         uint32_t w = bits_for(hi - lo);
-        format_put(dir, k * entry, c->offset_bits, at);
-        format_put(dir, k * entry + c->offset_bits, c->base_bits, lo);
-        format_put(dir, k * entry + c->offset_bits + c->base_bits, GEOM_WIDTH_BITS, w);
-        for (size_t i = b; i < end; i++, at += w)
-            format_put(payload, at, w, c->vals.v[i] - lo);
+        format_put(dir, k * entry, cp->offset_bits, at);
+        format_put(dir, k * entry + cp->offset_bits, cp->base_bits, lo);
+        format_put(dir, k * entry + cp->offset_bits + cp->base_bits, GEOM_WIDTH_BITS, w);
+        for (uint64_t i = b; i < end; i++, at += w)
+            format_put(payload, at, w, column_value(p, c, i) - lo);
     }
 }
 
-typedef struct geom_plan {
+/* The graph's columns are read from the graph itself; only the tree's
+ * (each leaf's first crossing, each crossing's segment) are collected. */
+struct geom_plan {
     const hpfc_graph *g;
     hpfc_tree_info ti;
     column_plan col[GEOM_COLUMNS];
+    u64vec lcross, cseg;
     uint8_t *orient;        /* E bits, as the section stores them */
     uint8_t *seen;          /* per edge: its first crossing was met */
     uint64_t leaves, crossings;
-} geom_plan;
+};
+
+static uint64_t column_value(const geom_plan *p, int c, uint64_t i)
+{
+    const hpfc_graph *g = p->g;
+    switch (c) {
+    case GEOM_VX: return (uint64_t)(g->vxy[2 * i] - p->ti.x0);
+    case GEOM_VY: return (uint64_t)(g->vxy[2 * i + 1] - p->ti.y0);
+    case GEOM_EU: return g->eu[i];
+    case GEOM_EV: return g->ev[i];
+    case GEOM_EPOINT: return g->eoff[i];
+    case GEOM_PX: return (uint64_t)(g->pts[2 * i] - p->ti.x0);
+    case GEOM_PY: return (uint64_t)(g->pts[2 * i + 1] - p->ti.y0);
+    case GEOM_LCROSS: return p->lcross.v[i];
+    default: return p->cseg.v[i];
+    }
+}
 
 static void plan_free(geom_plan *p)
 {
-    for (int c = 0; c < GEOM_COLUMNS; c++)
-        free(p->col[c].vals.v);
+    free(p->lcross.v);
+    free(p->cseg.v);
     free(p->orient);
     free(p->seen);
 }
 
-/* Coordinates, end vertices and shape points, from the graph. */
-static int plan_graph(geom_plan *p, hpfc_diag *diag)
+/* Every vertex and shape point inside the tree's domain (the columns
+ * store them relative to its corner, below W and H). */
+static int check_graph_domain(const geom_plan *p, hpfc_diag *diag)
 {
     const hpfc_graph *g = p->g;
     uint64_t W = (uint64_t)p->ti.width, H = (uint64_t)p->ti.height;
-    bool ok = true;
-    for (size_t k = 0; k < g->nv && ok; k++) {
-        uint64_t x = (uint64_t)(g->vxy[2 * k] - p->ti.x0), y = (uint64_t)(g->vxy[2 * k + 1] - p->ti.y0);
-        if (x >= W || y >= H)
+    for (size_t k = 0; k < g->nv; k++)
+        if (column_value(p, GEOM_VX, k) >= W || column_value(p, GEOM_VY, k) >= H)
             return diag_set(diag, HPFC_E_ARG, "geometry: vertex %zu lies outside the tree's domain", k);
-        ok = vec_push(&p->col[GEOM_VX].vals, x) && vec_push(&p->col[GEOM_VY].vals, y);
-    }
-    for (size_t e = 0; e < g->ne && ok; e++) {
-        ok = vec_push(&p->col[GEOM_EU].vals, g->eu[e]) && vec_push(&p->col[GEOM_EV].vals, g->ev[e]);
-        if (ok && g->npts)
-            ok = vec_push(&p->col[GEOM_EPOINT].vals, g->eoff[e]);
-    }
-    for (size_t k = 0; k < g->npts && ok; k++) {
-        uint64_t x = (uint64_t)(g->pts[2 * k] - p->ti.x0), y = (uint64_t)(g->pts[2 * k + 1] - p->ti.y0);
-        if (x >= W || y >= H)
-            return diag_set(diag, HPFC_E_ARG, "geometry: shape point %zu lies outside the tree's domain",
-                            k);
-        ok = vec_push(&p->col[GEOM_PX].vals, x) && vec_push(&p->col[GEOM_PY].vals, y);
-    }
-    return ok ? HPFC_OK : diag_set(diag, HPFC_E_NOMEM, "geometry: out of memory");
+    for (size_t k = 0; k < g->npts; k++)
+        if (column_value(p, GEOM_PX, k) >= W || column_value(p, GEOM_PY, k) >= H)
+            return diag_set(diag, HPFC_E_ARG,
+                            "geometry: shape point %zu lies outside the tree's domain", k);
+    return HPFC_OK;
 }
 
 /* Does edge e, run from u to v, enter the pixel at its crossing on road
@@ -172,7 +189,7 @@ static int edge_enters(const geom_plan *p, uint64_t e, uint64_t seg, int road,
 static int plan_leaf(geom_plan *p, const hpfc_tree_pixel *px, hpfc_diag *diag)
 {
     bool shaped = p->g->npts > 0;
-    if (shaped && !vec_push(&p->col[GEOM_LCROSS].vals, p->crossings))
+    if (shaped && !vec_push(&p->lcross, p->crossings))
         return diag_set(diag, HPFC_E_NOMEM, "geometry: out of memory");
     p->leaves++;
     int road = 0;
@@ -186,7 +203,7 @@ static int plan_leaf(geom_plan *p, const hpfc_tree_pixel *px, hpfc_diag *diag)
         p->crossings++;
         if (e >= p->g->ne || seg + 1 >= graph_edge_point_count(p->g, e) || road > 3)
             return diag_set(diag, HPFC_E_ARG, "geometry: a crossing of the tree names no segment of the graph");
-        if (shaped && !vec_push(&p->col[GEOM_CSEG].vals, seg))
+        if (shaped && !vec_push(&p->cseg, seg))
             return diag_set(diag, HPFC_E_NOMEM, "geometry: out of memory");
         if (p->seen[e >> 3] & (1u << (e & 7)))
             continue;
@@ -239,7 +256,7 @@ int geometry_build(const hpfc_tree *tree, const hpfc_graph *graph, uint8_t **out
     if (!(p.orient = calloc(1, bytes)) || !(p.seen = calloc(1, bytes)))
         st = diag_set(diag, HPFC_E_NOMEM, "geometry: out of memory");
     if (!st)
-        st = plan_graph(&p, diag);
+        st = check_graph_domain(&p, diag);
     if (!st)
         st = plan_tree(&p, tree, diag);
     uint64_t counts[GEOM_COLUMNS], payload[GEOM_COLUMNS];
@@ -250,13 +267,13 @@ int geometry_build(const hpfc_tree *tree, const hpfc_graph *graph, uint8_t **out
         geom_column_counts(graph->nv, graph->ne, points, points ? p.leaves : 0,
                            points ? p.crossings : 0, counts);
         for (int c = 0; c < GEOM_COLUMNS; c++) {
-            plan_column(&p.col[c]);
+            p.col[c].n = counts[c];
+            plan_column(&p, c, &p.col[c]);
             shift[c] = p.col[c].shift, ob[c] = p.col[c].offset_bits, bb[c] = p.col[c].base_bits;
             payload[c] = p.col[c].payload_bits;
-            if (p.col[c].vals.n != counts[c])
-                st = diag_set(diag, HPFC_E_ARG, "geometry: column %d has %zu values, not %llu", c,
-                              p.col[c].vals.n, (unsigned long long)counts[c]);
         }
+        if (p.lcross.n != counts[GEOM_LCROSS] || p.cseg.n != counts[GEOM_CSEG])
+            st = diag_set(diag, HPFC_E_ARG, "geometry: the tree's crossings do not add up");
     }
     if (!st && (!geom_compute_layout(counts, graph->ne, shift, ob, bb, payload, &lay) ||
                 lay.length > SIZE_MAX))
@@ -277,7 +294,7 @@ int geometry_build(const hpfc_tree *tree, const hpfc_graph *graph, uint8_t **out
             geomc_set_offset_bits(d, (uint8_t)ob[c]);
             geomc_set_base_bits(d, (uint8_t)bb[c]);
             geomc_set_payload_bits(d, payload[c]);
-            emit_column(&p.col[c], sec + lay.dir_at[c], sec + lay.payload_at[c]);
+            emit_column(&p, c, &p.col[c], sec + lay.dir_at[c], sec + lay.payload_at[c]);
         }
         *out = sec;
         *length = lay.length;

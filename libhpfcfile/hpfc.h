@@ -813,7 +813,7 @@ HPFC_API int hpfc_geometry_edge_faces(const hpfc_file *file, uint64_t edge, uint
 HPFC_API int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf,
                                             uint32_t crossing, uint64_t *segment);
 /* The section against itself and the map (hpfc-inspect --verify, spec
- * §17.5): every vertex, edge and point reads; the coordinates form a valid
+ * §17.5): zero padding; every vertex, edge and point reads; the coordinates form a valid
  * planar map (hpfc_graph_validate); every leaf holds as many vertices as
  * its word has junctions; with LABL, every crossing's segment crosses its
  * road, in the word's order along it, with the faces hpfc_geometry_edge_faces
@@ -911,7 +911,10 @@ typedef struct hpfc_polygons {
  * feature link, 8 a vertex. The answers live in the object until its next
  * call: one per thread. Statuses: HPFC_E_NO_SECTION without GEOM or LABL,
  * HPFC_E_CORRUPT when the sections disagree (an edge's face past the face
- * count, GEOM's edge count not LABL's), HPFC_E_NOMEM. */
+ * count, GEOM's edge count not LABL's) or claim more edges, vertices, faces
+ * or shape points than their bits can hold (checked before any allocation),
+ * HPFC_E_LIMIT past 2^32 - 1 vertices, edges or faces, HPFC_E_NOMEM. Safe
+ * on untrusted files: every answer is bounded by the file's size. */
 typedef struct hpfc_shapes hpfc_shapes;
 HPFC_API int hpfc_shapes_create(const hpfc_file *file, hpfc_shapes **out);
 HPFC_API void hpfc_shapes_free(hpfc_shapes *shapes);

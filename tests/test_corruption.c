@@ -49,6 +49,7 @@ static struct {
     long budget_exhausted, corrupt, steps, cache_mismatches, key_calls, key_mismatches, key_corrupt;
     long index_calls, index_mismatches;
     long label_files, label_calls, label_corrupt, label_verified, label_disagreed;
+    long geom_files, geom_calls, geom_corrupt, geom_verified, geom_disagreed;
     uint64_t open_codes, walk_codes;
 } seen;
 
@@ -281,6 +282,65 @@ static void walk_labels(walk *k, const hpfc_faces *faces)
     seen.label_disagreed += st == HPFC_E_CORRUPT;
 }
 
+/* The GEOM accessors on every vertex and edge (at most 64 points each) and
+ * on the crossings of the first 64 leaves, then hpfc_geometry_verify:
+ * never another status than OK or CORRUPT, every coordinate inside the
+ * domain, every id inside its count, a disagreement reported with its
+ * reason. */
+static void walk_geometry(walk *k)
+{
+    hpfc_geometry_info gi;
+    int st = hpfc_file_geometry(k->f, &gi);
+    CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
+    if (st)
+        return;
+    seen.geom_files++;
+    hpfc_file_info fi;
+    hpfc_file_get_info(k->f, &fi);
+    long corrupt = 0;
+    for (uint64_t v = 0; v < gi.vertices && v < 4096; v++) {
+        int64_t x, y;
+        if (!note(k, hpfc_geometry_vertex(k->f, v, &x, &y)))
+            CHECK(x >= fi.x0 && x - fi.x0 < fi.width && y >= fi.y0 && y - fi.y0 < fi.height);
+        seen.geom_calls++;
+    }
+    for (uint64_t e = 0; e < gi.edges && e < 4096; e++) {
+        uint64_t u, v, n, left, right;
+        int s1 = note(k, hpfc_geometry_edge(k->f, e, &u, &v, &n));
+        corrupt += s1 == HPFC_E_CORRUPT;
+        if (!s1)
+            CHECK(u < gi.vertices && v < gi.vertices && n >= 2);
+        for (uint64_t p = 0; !s1 && p < n && p < 64; p++) {
+            int64_t x, y;
+            if (!note(k, hpfc_geometry_edge_point(k->f, e, p, &x, &y)))
+                CHECK(x >= fi.x0 && x - fi.x0 < fi.width && y >= fi.y0 && y - fi.y0 < fi.height);
+        }
+        st = hpfc_geometry_edge_faces(k->f, e, &left, &right);
+        if (st != HPFC_E_NO_SECTION)
+            note(k, st);
+        seen.geom_calls += 2;
+    }
+    hpfc_pixel px;
+    int left = 64;
+    for (st = hpfc_leaf_first(k->f, &px); !st && left-- > 0; st = hpfc_leaf_next(k->f, &px)) {
+        size_t len = 0;
+        if (hpfc_pixel_word(k->f, &px, NULL, 0, &len) != HPFC_OK || len < 4)
+            continue;
+        for (uint32_t c = 0; c + 4 < len && c < 64; c++) {
+            uint64_t seg;
+            corrupt += note(k, hpfc_geometry_crossing_segment(k->f, &px, c, &seg)) == HPFC_E_CORRUPT;
+            seen.geom_calls++;
+        }
+    }
+    seen.geom_corrupt += corrupt;
+    hpfc_geometry_report rep;
+    st = hpfc_geometry_verify(k->f, &rep);
+    CHECK(st == HPFC_OK || st == HPFC_E_CORRUPT);
+    CHECK(st != HPFC_E_CORRUPT || rep.message[0] != '\0');
+    seen.geom_verified += st == HPFC_OK;
+    seen.geom_disagreed += st == HPFC_E_CORRUPT;
+}
+
 /* The traversal of one opened (possibly corrupt) file: the statuses seen. */
 static uint64_t traverse(const hpfc_file *f)
 {
@@ -306,6 +366,7 @@ static uint64_t traverse(const hpfc_file *f)
         }
     }
     walk_labels(&k, faces);
+    walk_geometry(&k);
     hpfc_faces_free(faces);
 done:
     hpfc_walker_free(k.w);
@@ -575,22 +636,27 @@ typedef struct generated {
     int flat;
     const char *crs;
     int labels; /* with a LABL section */
+    int geometry; /* with a GEOM section */
 } generated;
 
 static void generated_campaigns(void)
 {
     static const generated list[] = {
-        {"hole, 2x2 root, 3x2 images, CRS", GEN_SPECIAL_HOLE, 2, 2, 3, 2, 0, "EPSG:4326", 0},
-        {"loop, 1x1 root, 2x3 images", GEN_SPECIAL_LOOP, 1, 1, 2, 3, 0, NULL, 0},
-        {"multi-edges, 3x1 root, 2x2 images", GEN_SPECIAL_MULTI, 3, 1, 2, 2, 0, NULL, 0},
-        {"crack, flat", GEN_SPECIAL_CRACK, 4, 4, 2, 2, 1, NULL, 0},
-        {"Delaunay 10 points, 2x3 root, 3x3 images", -1, 2, 3, 3, 3, 0, NULL, 0},
-        {"polyline 16 points, 1x1 root, 2x2 images", -2, 1, 1, 2, 2, 0, NULL, 0},
-        {"triangle, 1x2 root, 4x2 images", GEN_SPECIAL_TRIANGLE, 1, 2, 4, 2, 0, NULL, 0},
-        {"hole, 2x2 root, 2x2 images, labels", GEN_SPECIAL_HOLE, 2, 2, 2, 2, 0, NULL, 1},
-        {"loop, 1x1 root, 3x2 images, labels", GEN_SPECIAL_LOOP, 1, 1, 3, 2, 0, NULL, 1},
-        {"Delaunay 10 points, 2x2 root, 2x2 images, labels", -1, 2, 2, 2, 2, 0, NULL, 1},
-        {"polyline 16 points, 3x1 root, 2x2 images, labels", -2, 3, 1, 2, 2, 0, NULL, 1},
+        {"hole, 2x2 root, 3x2 images, CRS", GEN_SPECIAL_HOLE, 2, 2, 3, 2, 0, "EPSG:4326", 0, 0},
+        {"loop, 1x1 root, 2x3 images", GEN_SPECIAL_LOOP, 1, 1, 2, 3, 0, NULL, 0, 0},
+        {"multi-edges, 3x1 root, 2x2 images", GEN_SPECIAL_MULTI, 3, 1, 2, 2, 0, NULL, 0, 0},
+        {"crack, flat", GEN_SPECIAL_CRACK, 4, 4, 2, 2, 1, NULL, 0, 0},
+        {"Delaunay 10 points, 2x3 root, 3x3 images", -1, 2, 3, 3, 3, 0, NULL, 0, 0},
+        {"polyline 16 points, 1x1 root, 2x2 images", -2, 1, 1, 2, 2, 0, NULL, 0, 0},
+        {"triangle, 1x2 root, 4x2 images", GEN_SPECIAL_TRIANGLE, 1, 2, 4, 2, 0, NULL, 0, 0},
+        {"hole, 2x2 root, 2x2 images, labels", GEN_SPECIAL_HOLE, 2, 2, 2, 2, 0, NULL, 1, 0},
+        {"loop, 1x1 root, 3x2 images, labels", GEN_SPECIAL_LOOP, 1, 1, 3, 2, 0, NULL, 1, 0},
+        {"Delaunay 10 points, 2x2 root, 2x2 images, labels", -1, 2, 2, 2, 2, 0, NULL, 1, 0},
+        {"polyline 16 points, 3x1 root, 2x2 images, labels", -2, 3, 1, 2, 2, 0, NULL, 1, 0},
+        {"polyline 16 points, 2x2 root, 2x2 images, labels, geometry", -2, 2, 2, 2, 2, 0, NULL, 1, 1},
+        {"hole, 2x2 root, 2x2 images, labels, geometry", GEN_SPECIAL_HOLE, 2, 2, 2, 2, 0, NULL, 1, 1},
+        {"multi-edges, 3x1 root, 2x2 images, geometry", GEN_SPECIAL_MULTI, 3, 1, 2, 2, 0, NULL, 0, 1},
+        {"Delaunay 10 points, 2x2 root, 2x2 images, labels, geometry", -1, 2, 2, 2, 2, 0, NULL, 1, 1},
     };
     for (size_t k = 0; k < sizeof list / sizeof *list; k++) {
         const generated *gd = &list[k];
@@ -608,7 +674,8 @@ static void generated_campaigns(void)
             CHECK_EQ_INT(hpfc_build(g, &p, &t, NULL), HPFC_OK);
         uint8_t *buf = NULL;
         size_t size = 0;
-        hpfc_write_options opts = {.crs = gd->crs, .face_labels = gd->labels};
+        hpfc_write_options opts = {.crs = gd->crs, .face_labels = gd->labels,
+                                   .geometry = gd->geometry ? g : NULL};
         if (t)
             CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, NULL), HPFC_OK);
         CHECK(buf == NULL || size <= 4096); /* keep the campaign fast */
@@ -753,6 +820,15 @@ int main(void)
            "hpfc_labels_verify accepted %ld, reported %ld\n",
            seen.label_files, seen.label_calls, seen.label_corrupt, seen.label_verified,
            seen.label_disagreed);
+    /* damaged GEOM sections reached the geometry code and the verifier */
+    CHECK(seen.geom_files > 1000);
+    CHECK(seen.geom_corrupt > 10);
+    CHECK(seen.geom_disagreed > 100);
+    CHECK(seen.geom_verified > 100);
+    printf("geometry: %ld damaged copies with a GEOM section, %ld geometry calls (%ld CORRUPT); "
+           "hpfc_geometry_verify accepted %ld, reported %ld\n",
+           seen.geom_files, seen.geom_calls, seen.geom_corrupt, seen.geom_verified,
+           seen.geom_disagreed);
     printf("keys: %ld calls, %ld CORRUPT, %ld differ from the dart operators; %ld index calls, "
            "%ld broke a promise\n",
            seen.key_calls, seen.key_corrupt, seen.key_mismatches, seen.index_calls,

@@ -204,9 +204,11 @@ static int segs_equal(segs *a, segs *b)
 {
     if (a->n != b->n)
         return 0;
+    if (a->n == 0)
+        return 1; /* both empty (and their arrays NULL) */
     qsort(a->s, a->n, sizeof *a->s, cmp_seg);
     qsort(b->s, b->n, sizeof *b->s, cmp_seg);
-    return a->n == 0 || memcmp(a->s, b->s, a->n * sizeof *a->s) == 0;
+    return memcmp(a->s, b->s, a->n * sizeof *a->s) == 0;
 }
 
 /* ---- rings that touch must not cross ---------------------------------------------- */

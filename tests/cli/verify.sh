@@ -154,4 +154,36 @@ while [ $seed -lt 40 ]; do
 done
 [ $caught -ge 30 ] || fail "re-checksummed label flips: only $caught of 40 caught"
 
+# The GEOM section: every packed file has it (hpfc-pack's default) and
+# --verify checks it; --no-geometry leaves it out. Flipped bits in it
+# (checksums fixed up) are one line naming the geometry, or another valid
+# file (a coordinate moved within its leaf and its roads' order), never a
+# crash; a query on the damaged file never crashes either.
+run "$INSPECT" --verify "$tmp/good.hpfc"
+grep -q '^geometry *GEOM section: ok$' "$tmp/out" || fail "verify: no geometry line"
+"$PACK" --quiet --root 1 --no-geometry "$TESTS/data/valid/two_components_hole.pfc" \
+    -o "$tmp/nogeom.hpfc" || fail "cannot pack without geometry"
+run "$INSPECT" --verify "$tmp/nogeom.hpfc"
+expect_ok "verify without GEOM"
+grep -q '^geometry' "$tmp/out" && fail "verify: a geometry line without GEOM"
+gcheck flip "$tmp/good.hpfc" "$tmp/geom" 40 fix GEOM || fail "cannot flip geometry bits"
+caught=0
+seed=0
+while [ $seed -lt 40 ]; do
+    f=$tmp/geom$seed.hpfc
+    run "$INSPECT" --verify "$f"
+    case $rc in
+        0) expect_ok "verify a re-checksummed geometry flip ($seed)" ;;
+        1)
+            expect_one_line "verify a re-checksummed geometry flip ($seed)" "hpfc-inspect: $f: "
+            caught=$((caught + 1))
+            ;;
+        *) fail "verify a re-checksummed geometry flip ($seed): exit status $rc (crash?)" ;;
+    esac
+    run "$INSPECT" --locate 0,0 "$f"
+    [ "$rc" -le 1 ] || fail "locate on a geometry flip ($seed): exit status $rc (crash?)"
+    seed=$((seed + 1))
+done
+[ $caught -ge 30 ] || fail "re-checksummed geometry flips: only $caught of 40 caught"
+
 finish
