@@ -366,8 +366,10 @@ HPFC_API int hpfc_verify_checksums(const hpfc_file *file);
  * frees. The pools are copied bit for bit, so pixels, darts, keys and face
  * ids stay the same; no tree is needed. This is how a map gets its features
  * once its faces are numbered: serialise the tree, open the bytes, free the
- * tree, link, then hpfc_file_write_file(). Other sections are not copied;
- * the output has this library's format version. Safe on any file that
+ * tree, link, then hpfc_file_write_file(). The file's LABL and GEOM
+ * sections are kept (they describe the pools, copied unchanged); its ATTR
+ * and EDGF sections only through opts; the output has this library's
+ * format version. Safe on any file that
  * opened: every pool was bounds-checked at open. */
 HPFC_API int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts,
                                  uint8_t **out, size_t *out_size, hpfc_diag *diag);
