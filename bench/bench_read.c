@@ -147,7 +147,7 @@ static hpfc_file *pack_graph(hpfc_graph *g, uint8_t **buf, int layout)
 }
 
 /* (b): leaves found at random points, then fetched and decoded in turn. */
-static void bench_fetch(int layout, const char *name)
+static void bench_fetch(int layout, const char *name, int rounds)
 {
     hpfc_graph *g = NULL;
     uint8_t *buf = NULL;
@@ -166,7 +166,6 @@ static void bench_fetch(int layout, const char *name)
                     info.y0 + (int64_t)(rng() % (uint64_t)info.height), &px[k]);
     char word[4096];
     size_t len, total = 0;
-    const int rounds = 200;
     double t0 = now();
     for (int r = 0; r < rounds; r++)
         for (int k = 0; k < N; k++) {
@@ -179,7 +178,7 @@ static void bench_fetch(int layout, const char *name)
     printf("(b) %-7s fetch + decode of random leaf pixels (grid mesh 300x300, %.0f KB file, %.1f bits/edge): "
            "%.1f ns each (mean word %.1f symbols)\n",
            name, (double)info.file_size / 1e3, 8.0 * (double)info.file_size / (double)hpfc_graph_edge_count(g),
-           1e9 * t / (rounds * N), (double)total / (rounds * N));
+           rounds ? 1e9 * t / (rounds * N) : 0.0, rounds ? (double)total / (rounds * N) : 0.0);
     free(px);
     hpfc_close(f);
     free(buf);
@@ -231,12 +230,20 @@ static void bench_locate_deep(int layout, const char *name)
     hpfc_graph_free(g);
 }
 
-int main(void)
+/* `bench_read fetch paper|compact ROUNDS` runs only (b)'s loop, ROUNDS
+ * times: bench/run-ab.sh counts its instructions under cachegrind as the
+ * difference of two ROUNDS, which cancels the packing and the locates. */
+int main(int argc, char **argv)
 {
+    if (argc == 4 && strcmp(argv[1], "fetch") == 0) {
+        int k = strcmp(argv[2], "compact") == 0;
+        bench_fetch(layouts[k].layout, layouts[k].name, atoi(argv[3]));
+        return 0;
+    }
     bench_open();
     for (int round = 0; round < 2; round++) /* A B A B: the machine drifts */
         for (int k = 0; k < 2; k++)
-            bench_fetch(layouts[k].layout, layouts[k].name);
+            bench_fetch(layouts[k].layout, layouts[k].name, 200);
     for (int round = 0; round < 2; round++)
         for (int k = 0; k < 2; k++)
             bench_locate_deep(layouts[k].layout, layouts[k].name);
