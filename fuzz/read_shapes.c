@@ -15,8 +15,14 @@
  * least four points, outer rings counter-clockwise and holes clockwise
  * (exact signed area), lines at least two points; a dart's polyline has
  * the count the count query gives.
+ *
+ * The Python package's ragged arrays (python/src/ragged.c) are built from
+ * the same answers, one array per run: every face, feature, feature's
+ * lines, edge and dart key probed is appended to it, and the arrays must
+ * hold exactly the library's points and offsets (ragged_check).
  */
 #include "input.h"
+#include "ragged.h"
 
 #define FUZZ_ITEMS 256
 #define FUZZ_LEAVES 64
@@ -68,10 +74,70 @@ static void check_answer(const hpfc_polygons *p, int lines)
 typedef struct shp {
     const hpfc_file *f;
     hpfc_shapes *s;
+    hpfc_walker *w;
     uint64_t faces;
     uint32_t features;
     int have_features;
+    ragged polys, lines; /* the package's arrays: faces and features; lines */
+    size_t poly_items, line_items;
 } shp;
+
+static int ragged_offsets_ok(const ragged_i64s *a, int64_t last)
+{
+    if (a->n == 0 || a->v[0] != 0 || a->v[a->n - 1] != last)
+        return 0;
+    for (size_t k = 1; k < a->n; k++)
+        if (a->v[k] < a->v[k - 1])
+            return 0;
+    return 1;
+}
+
+/* The arrays' structure: each level's offsets start at 0, never decrease
+ * and end at the next level's size; one part per item, one hole flag per
+ * polygon. */
+static void ragged_check(const ragged *r, int polygons, size_t items)
+{
+    FUZZ_CHECK(r->xy.n % 2 == 0);
+    FUZZ_CHECK(ragged_offsets_ok(&r->ring, (int64_t)(r->xy.n / 2)));
+    FUZZ_CHECK(r->part.n == items + 1);
+    if (polygons) {
+        FUZZ_CHECK(ragged_offsets_ok(&r->polygon, (int64_t)r->ring.n - 1));
+        FUZZ_CHECK(ragged_offsets_ok(&r->part, (int64_t)r->polygon.n - 1));
+        FUZZ_CHECK(r->hole_only.n == r->polygon.n - 1);
+    } else {
+        FUZZ_CHECK(ragged_offsets_ok(&r->part, (int64_t)r->ring.n - 1));
+    }
+}
+
+/* Item `id` appended to the arrays with status `expect`; its points, read
+ * back from the tail, must be `points` points xy (a copy of the library's
+ * answer: the call inside ragged_add reuses its buffers), unless xy is
+ * NULL. */
+static void ragged_probe(shp *z, int kind, uint64_t id, int expect, const int64_t *xy,
+                         size_t points)
+{
+    int polygons = kind == RAGGED_FACE || kind == RAGGED_FEATURE;
+    ragged *r = polygons ? &z->polys : &z->lines;
+    size_t *items = polygons ? &z->poly_items : &z->line_items;
+    size_t xy_before = r->xy.n;
+    const ragged_source src = {.file = z->f, .shapes = z->s, .walker = z->w};
+    int st = ragged_add(r, &src, kind, id);
+    if (st == HPFC_E_NOMEM) /* a partial tail: the package drops the arrays */
+        return;
+    FUZZ_CHECK(st == expect);
+    if (st) { /* the package raises and drops the arrays; here, start anew */
+        ragged_free(r);
+        FUZZ_CHECK(ragged_start(r, polygons) == HPFC_OK);
+        *items = 0;
+        return;
+    }
+    ++*items;
+    ragged_check(r, polygons, *items);
+    if (xy) {
+        FUZZ_CHECK(r->xy.n - xy_before == 2 * points);
+        FUZZ_CHECK(points == 0 || memcmp(r->xy.v + xy_before, xy, 2 * points * sizeof *xy) == 0);
+    }
+}
 
 static void probe_face(shp *z, uint64_t face)
 {
@@ -80,8 +146,18 @@ static void probe_face(shp *z, uint64_t face)
     check_status(st);
     if (face >= z->faces)
         FUZZ_CHECK(st == HPFC_E_ARG);
-    if (!st)
+    int64_t *xy = NULL;
+    size_t points = 0;
+    if (!st) {
         check_answer(&p, 0);
+        points = p.point_count;
+        xy = malloc((2 * points + 1) * sizeof *xy);
+        if (!xy)
+            return;
+        memcpy(xy, p.xy, 2 * points * sizeof *xy);
+    }
+    ragged_probe(z, RAGGED_FACE, face, st, xy, points);
+    free(xy);
 }
 
 static void probe_feature(shp *z, uint32_t k)
@@ -98,10 +174,38 @@ static void probe_feature(shp *z, uint32_t k)
     check_status(st);
     if (!st)
         check_answer(&p, 0);
+    ragged_probe(z, RAGGED_FEATURE, k, st, NULL, 0);
     st = hpfc_shapes_feature_lines(z->s, k, &p);
     check_status(st);
     if (!st)
         check_answer(&p, 1);
+    ragged_probe(z, RAGGED_FEATURE_LINES, k, st, NULL, 0);
+}
+
+/* An input edge's polyline in the package's arrays, point by point the
+ * library's. */
+static void probe_edge(shp *z, uint64_t e)
+{
+    uint64_t u, v, n = 0;
+    int st = hpfc_geometry_edge(z->f, e, &u, &v, &n);
+    check_status(st);
+    size_t before = z->lines.xy.n;
+    const ragged_source src = {.file = z->f, .shapes = z->s, .walker = z->w};
+    int got = ragged_add(&z->lines, &src, RAGGED_EDGE, e);
+    check_status(got);
+    if (st || got) { /* the package raises: start anew */
+        ragged_free(&z->lines);
+        FUZZ_CHECK(ragged_start(&z->lines, 0) == HPFC_OK);
+        z->line_items = 0;
+        return;
+    }
+    ragged_check(&z->lines, 0, ++z->line_items);
+    FUZZ_CHECK(z->lines.xy.n - before == 2 * n);
+    for (uint64_t k = 0; k < n && k < 64; k++) {
+        int64_t x, y;
+        FUZZ_CHECK(hpfc_geometry_edge_point(z->f, e, k, &x, &y) == HPFC_OK);
+        FUZZ_CHECK(z->lines.xy.v[before + 2 * k] == x && z->lines.xy.v[before + 2 * k + 1] == y);
+    }
 }
 
 static void probe_dart(shp *z, const hpfc_pixel *px, uint32_t crossing)
@@ -126,6 +230,20 @@ static void probe_dart(shp *z, const hpfc_pixel *px, uint32_t crossing)
     if (!st)
         FUZZ_CHECK(n2 == n && n >= 2);
     free(xy);
+    if (z->w) { /* the package names darts by key */
+        size_t before = z->lines.xy.n;
+        const ragged_source src = {.file = z->f, .shapes = z->s, .walker = z->w};
+        st = ragged_add(&z->lines, &src, RAGGED_DART, hpfc_dart_key(z->f, &d));
+        check_status(st);
+        if (st) {
+            ragged_free(&z->lines);
+            FUZZ_CHECK(ragged_start(&z->lines, 0) == HPFC_OK);
+            z->line_items = 0;
+            return;
+        }
+        ragged_check(&z->lines, 0, ++z->line_items);
+        FUZZ_CHECK(z->lines.xy.n - before >= 4);
+    }
 }
 
 static void explore(shp *z)
@@ -136,6 +254,12 @@ static void explore(shp *z)
     for (uint32_t k = 0; k < z->features && k < FUZZ_ITEMS; k++)
         probe_feature(z, k);
     probe_feature(z, z->features);
+    hpfc_geometry_info gi;
+    if (hpfc_file_geometry(z->f, &gi) == HPFC_OK) {
+        for (uint64_t e = 0; e < gi.edges && e < FUZZ_ITEMS; e++)
+            probe_edge(z, e);
+        probe_edge(z, gi.edges);
+    }
     hpfc_pixel px;
     int st = hpfc_leaf_first(z->f, &px);
     for (int leaves = 0; !st && leaves < FUZZ_LEAVES; leaves++) {
@@ -152,7 +276,7 @@ static void run_commands(shp *z, fuzz_bytes *in)
     hpfc_pixel px;
     int have_leaf = hpfc_leaf_first(z->f, &px) == HPFC_OK;
     for (int steps = 0; steps < 64 && !fuzz_empty(in); steps++) {
-        switch (fuzz_u8(in) % 4) {
+        switch (fuzz_u8(in) % 5) {
         case 0:
             probe_face(z, fuzz_u8(in) & 1 ? fuzz_u64(in) : fuzz_u16(in) % (z->faces + 1));
             break;
@@ -163,9 +287,12 @@ static void run_commands(shp *z, fuzz_bytes *in)
             if (have_leaf)
                 have_leaf = hpfc_leaf_next(z->f, &px) == HPFC_OK;
             break;
-        default:
+        case 3:
             if (have_leaf)
                 probe_dart(z, &px, fuzz_u8(in));
+            break;
+        default:
+            probe_edge(z, fuzz_u8(in) & 1 ? fuzz_u64(in) : fuzz_u16(in));
             break;
         }
     }
@@ -183,7 +310,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         shp z = {.f = f};
         int st = hpfc_shapes_create(f, &z.s);
         check_status(st);
-        if (st == HPFC_OK) {
+        if (st == HPFC_OK && ragged_start(&z.polys, 1) == HPFC_OK &&
+            ragged_start(&z.lines, 0) == HPFC_OK) {
+            if (hpfc_walker_create(f, &z.w) != HPFC_OK)
+                z.w = NULL;
             z.faces = hpfc_shapes_face_count(z.s);
             hpfc_features_info fi;
             z.have_features = hpfc_file_features(f, &fi) == HPFC_OK;
@@ -192,8 +322,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 explore(&z);
             else
                 run_commands(&z, &cmds);
-            hpfc_shapes_free(z.s);
         }
+        ragged_free(&z.polys);
+        ragged_free(&z.lines);
+        hpfc_walker_free(z.w);
+        hpfc_shapes_free(z.s);
         hpfc_close(f);
     }
     free(file);

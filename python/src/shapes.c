@@ -6,14 +6,9 @@
  * hpfc_geometry_dart_points, plus the features' ATTR values.
  *
  * Answers leave as flat int64 arrays (bytes) in one layout for every
- * kind, that of GeoArrow's ragged arrays: for a list of ids, item i is
- * polygons [part[i], part[i + 1]) (lines for line kinds), polygon p rings
- * [polygon[p], polygon[p + 1]), ring r points [ring[r], ring[r + 1]) of xy
- * (2 int64 a point, absolute lattice coordinates, exact). A hole that no
- * outer ring of its answer contains (the unbounded face's) is a polygon of
- * its own, flagged in `hole_only`. Python builds numpy arrays and shapely
- * objects from them; nothing here computes geometry, it copies the
- * library's answers.
+ * kind, that of GeoArrow's ragged arrays, assembled by ragged.c (plain C,
+ * fuzzed by fuzz/read_shapes.c). Python builds numpy arrays and shapely
+ * objects from them; nothing here computes geometry.
  *
  * Lifetime: a _Shapes holds its _File, checks before every call that the
  * file is still the one it indexed (close() frees the mapping), and counts
@@ -31,6 +26,7 @@
 
 #include "hpfc.h"
 #include "projection.h"
+#include "ragged.h"
 #include "shapes.h"
 
 typedef struct {
@@ -124,165 +120,7 @@ static int Shapes_init(ShapesObject *self, PyObject *args, PyObject *kwds)
     return 0;
 }
 
-/* ---- growable int64 arrays ----------------------------------------------------- */
-
-typedef struct {
-    int64_t *v;
-    size_t n, cap;
-} i64s;
-
-static int put(i64s *a, int64_t x)
-{
-    if (a->n == a->cap) {
-        size_t c = a->cap ? 2 * a->cap : 256;
-        int64_t *p = realloc(a->v, c * sizeof *p);
-        if (!p)
-            return -1;
-        a->v = p, a->cap = c;
-    }
-    a->v[a->n++] = x;
-    return 0;
-}
-
-static int reserve(i64s *a, size_t more)
-{
-    if (a->n + more <= a->cap)
-        return 0;
-    size_t c = a->cap ? a->cap : 256;
-    while (c < a->n + more)
-        c *= 2;
-    int64_t *p = realloc(a->v, c * sizeof *p);
-    if (!p)
-        return -1;
-    a->v = p, a->cap = c;
-    return 0;
-}
-
-typedef struct {
-    i64s part, polygon, ring, xy, hole_only;
-} ragged;
-
-static void ragged_free(ragged *r)
-{
-    free(r->part.v);
-    free(r->polygon.v);
-    free(r->ring.v);
-    free(r->xy.v);
-    free(r->hole_only.v);
-}
-
-static int ragged_start(ragged *r, int polygons)
-{
-    return put(&r->part, 0) || (polygons && put(&r->polygon, 0)) || put(&r->ring, 0);
-}
-
-/* Appends one answer of the library: its polygons (outer ring, holes),
- * then each unplaced hole as a polygon of its own. */
-static int add_polygons(ragged *r, const hpfc_polygons *p)
-{
-    if (reserve(&r->xy, 2 * p->point_count))
-        return -1;
-    memcpy(r->xy.v + r->xy.n, p->xy, 2 * p->point_count * sizeof *p->xy);
-    int64_t base = (int64_t)r->xy.n / 2;
-    r->xy.n += 2 * p->point_count;
-    for (size_t k = 0; k < p->ring_count; k++)
-        if (put(&r->ring, base + (int64_t)p->ring_point[k + 1]))
-            return -1;
-    int64_t rbase = (int64_t)r->ring.n - 1 - (int64_t)p->ring_count;
-    for (size_t k = 0; k < p->polygon_count; k++)
-        if (put(&r->polygon, rbase + (int64_t)p->polygon_ring[k + 1]) || put(&r->hole_only, 0))
-            return -1;
-    for (size_t k = p->polygon_ring[p->polygon_count]; k < p->ring_count; k++)
-        if (put(&r->polygon, rbase + (int64_t)k + 1) || put(&r->hole_only, 1))
-            return -1;
-    return put(&r->part, (int64_t)r->polygon.n - 1);
-}
-
-/* Appends lines (hpfc_shapes_feature_lines): rings as polylines. */
-static int add_lines(ragged *r, const hpfc_polygons *p)
-{
-    if (reserve(&r->xy, 2 * p->point_count))
-        return -1;
-    memcpy(r->xy.v + r->xy.n, p->xy, 2 * p->point_count * sizeof *p->xy);
-    int64_t base = (int64_t)r->xy.n / 2;
-    r->xy.n += 2 * p->point_count;
-    for (size_t k = 0; k < p->ring_count; k++)
-        if (put(&r->ring, base + (int64_t)p->ring_point[k + 1]))
-            return -1;
-    return put(&r->part, (int64_t)r->ring.n - 1);
-}
-
-/* Appends one polyline of n points, read by `point(k)` in the caller. */
-static int close_line(ragged *r)
-{
-    return put(&r->ring, (int64_t)r->xy.n / 2) || put(&r->part, (int64_t)r->ring.n - 1);
-}
-
-enum { KIND_FACE = 0, KIND_FEATURE = 1, KIND_FEATURE_LINES = 2, KIND_EDGE = 3, KIND_DART = 4 };
-
-static int add_edge(ragged *r, const hpfc_file *f, uint64_t e)
-{
-    uint64_t u, v, n;
-    int st = hpfc_geometry_edge(f, e, &u, &v, &n);
-    if (st)
-        return st;
-    if (n > (SIZE_MAX / 2) / sizeof(int64_t) || reserve(&r->xy, 2 * (size_t)n))
-        return HPFC_E_NOMEM;
-    for (uint64_t k = 0; k < n; k++) {
-        int64_t *xy = r->xy.v + r->xy.n;
-        if ((st = hpfc_geometry_edge_point(f, e, k, &xy[0], &xy[1])))
-            return st;
-        r->xy.n += 2;
-    }
-    return close_line(r) ? HPFC_E_NOMEM : HPFC_OK;
-}
-
-static int add_dart(ragged *r, const hpfc_file *f, hpfc_walker *w, uint64_t key)
-{
-    hpfc_dart d;
-    size_t n = 0;
-    int st = hpfc_dart_from_key(w, key, &d);
-    if (!st)
-        st = hpfc_geometry_dart_points(f, &d, NULL, 0, &n);
-    if (st)
-        return st;
-    if (n > (SIZE_MAX / 2) / sizeof(int64_t) || reserve(&r->xy, 2 * n))
-        return HPFC_E_NOMEM;
-    if ((st = hpfc_geometry_dart_points(f, &d, r->xy.v + r->xy.n, n, &n)))
-        return st;
-    r->xy.n += 2 * n;
-    return close_line(r) ? HPFC_E_NOMEM : HPFC_OK;
-}
-
-/* Item `id` of `kind` appended; a library status, HPFC_E_NOMEM when an
- * array cannot grow. */
-static int add_item(ShapesObject *self, ragged *r, int kind, uint64_t id)
-{
-    hpfc_polygons p;
-    int st;
-    switch (kind) {
-    case KIND_FACE:
-        if ((st = hpfc_shapes_face(self->shapes, id, &p)))
-            return st;
-        return add_polygons(r, &p) ? HPFC_E_NOMEM : HPFC_OK;
-    case KIND_FEATURE:
-    case KIND_FEATURE_LINES:
-        if (id > UINT32_MAX)
-            return HPFC_E_ARG;
-        st = kind == KIND_FEATURE ? hpfc_shapes_feature(self->shapes, (uint32_t)id, &p)
-                                  : hpfc_shapes_feature_lines(self->shapes, (uint32_t)id, &p);
-        if (st)
-            return st;
-        return (kind == KIND_FEATURE ? add_polygons(r, &p) : add_lines(r, &p)) ? HPFC_E_NOMEM
-                                                                                : HPFC_OK;
-    case KIND_EDGE:
-        return add_edge(r, self->f, id);
-    default:
-        return add_dart(r, self->f, self->walker, id);
-    }
-}
-
-static PyObject *bytes_of(const i64s *a)
+static PyObject *bytes_of(const ragged_i64s *a)
 {
     return PyBytes_FromStringAndSize((const char *)a->v, (Py_ssize_t)(a->n * sizeof(int64_t)));
 }
@@ -297,14 +135,14 @@ static PyObject *Shapes_collect(ShapesObject *self, PyObject *args)
     PyObject *ids_obj;
     if (!PyArg_ParseTuple(args, "iO", &kind, &ids_obj))
         return NULL;
-    if (kind < KIND_FACE || kind > KIND_DART) {
+    if (kind < RAGGED_FACE || kind > RAGGED_DART) {
         PyErr_Format(PyExc_ValueError, "unknown geometry kind %d", kind);
         return NULL;
     }
     int *busy;
     if (!shapes_file(self, &busy))
         return NULL;
-    if (kind == KIND_DART && !self->walker) {
+    if (kind == RAGGED_DART && !self->walker) {
         int st = hpfc_walker_create(self->f, &self->walker);
         if (st)
             return pyhpfc_raise(st, "darts");
@@ -322,15 +160,16 @@ static PyObject *Shapes_collect(ShapesObject *self, PyObject *args)
     }
     size_t n = (size_t)(ids.len / 8);
     const uint64_t *id = ids.buf;
-    int polygons = kind == KIND_FACE || kind == KIND_FEATURE;
-    ragged r = {0};
-    int st = ragged_start(&r, polygons) ? HPFC_E_NOMEM : HPFC_OK;
+    int polygons = kind == RAGGED_FACE || kind == RAGGED_FEATURE;
+    ragged r;
+    int st = ragged_start(&r, polygons);
+    const ragged_source src = {.file = self->f, .shapes = self->shapes, .walker = self->walker};
     size_t k = 0;
     self->busy = 1;
     (*busy)++;
     Py_BEGIN_ALLOW_THREADS
     for (; k < n && !st; k++)
-        st = add_item(self, &r, kind, id[k]);
+        st = ragged_add(&r, &src, kind, id[k]);
     Py_END_ALLOW_THREADS
     (*busy)--;
     self->busy = 0;
