@@ -9,8 +9,8 @@ TopoJSON of npm's us-atlas, GeoJSON, ...). N random lon/lat points over the
 conterminous United States (default 1,000,000, seed 1) are answered three
 ways, timed best of --repeats (default 3; geopandas once: it takes minutes):
   - hpfc: File.locate_lonlat (File.locate when the file records no CRS, so
-    its coordinates are lon/lat already), after a warm-up that numbers the
-    faces (timed apart);
+    its coordinates are lon/lat already), after a warm-up call (timed
+    apart: numpy's import; files without LABL number their faces there);
   - the C batch path: bench_locate_batch on the same points (same lattice
     conversion, hpfc_locate_batch), whose checksums must equal Python's;
   - geopandas.sjoin(points, polygons, predicate="within") on the same
@@ -72,7 +72,8 @@ def main():
     hp_s, hits = best_of(lambda: locate(lon, lat), args.repeats, hp_cpu)
     print(f"hpfc        {args.n} points: {hp_s:.3f} s ({hp_s * 1e9 / args.n:.0f} ns/point), "
           f"{hp_cpu[0]:.3f} s CPU; "
-          f"faces numbered once: {faces_s:.3f} s; {'lon/lat via CRS' if lonlat else 'lon/lat lattice'}")
+          f"first call (numpy's import; older files: the faces numbered): {faces_s:.3f} s; "
+          f"{'lon/lat via CRS' if lonlat else 'lon/lat lattice'}")
     print(f"            inside {hits.inside.mean():.3f}, single face {hits.single.mean():.3f}, "
           f"one feature {(hits.feature >= 0).mean():.3f}, some feature {(hits.feature_count > 0).mean():.3f}")
 
