@@ -167,10 +167,21 @@ int geom_column_get(const geom_column *c, uint64_t i, uint64_t *value)
         return HPFC_E_CORRUPT;
     uint64_t block = i >> c->shift, q = i & ((UINT64_C(1) << c->shift) - 1);
     uint64_t at = block * c->entry_bits; /* < dir bits: checked at open */
-    uint64_t off = format_get(&c->dir, at, c->offset_bits);
-    uint64_t base = format_get(&c->dir, at + c->offset_bits, c->base_bits);
-    uint32_t width = (uint32_t)format_get(&c->dir, at + c->offset_bits + c->base_bits,
-                                          GEOM_WIDTH_BITS);
+    uint64_t off, base;
+    uint32_t width;
+    if (c->entry_bits <= 57) {
+        /* the usual case: the block's entry in one read, then split */
+        uint64_t e = format_get(&c->dir, at, c->entry_bits);
+        width = (uint32_t)(e & ((1u << GEOM_WIDTH_BITS) - 1));
+        e >>= GEOM_WIDTH_BITS;
+        base = e & ((UINT64_C(1) << c->base_bits) - 1); /* base_bits <= 50 here */
+        off = e >> c->base_bits;
+    } else {
+        off = format_get(&c->dir, at, c->offset_bits);
+        base = format_get(&c->dir, at + c->offset_bits, c->base_bits);
+        width = (uint32_t)format_get(&c->dir, at + c->offset_bits + c->base_bits,
+                                     GEOM_WIDTH_BITS);
+    }
     uint64_t pos, end;
     if (width > 64 || !format_mul(q, width, &pos) || !format_add(off, pos, &pos) ||
         !format_add(pos, width, &end) || end > c->payload.bits)

@@ -22,6 +22,7 @@
 #include "check.h"
 #include "gen.h"
 #include "geom.h"
+#include "geometry.h"
 #include "hpfc.h"
 
 typedef struct packed {
@@ -377,9 +378,43 @@ static void check_worked_example(void)
     hpfc_graph_free(g);
 }
 
+/* geom_column_get reads a block's directory entry (offset, base, width)
+ * in one read when it fits 57 bits and field by field otherwise: both
+ * must give back the values written, in every block. */
+static void check_column_entries(void)
+{
+    for (int wide = 0; wide < 2; wide++) {
+        const uint32_t ob = wide ? 30 : 12, bb = wide ? 40 : 20, entry = ob + bb + GEOM_WIDTH_BITS;
+        const unsigned width = 5, shift = 2, count = 11; /* 3 blocks of 4, the last short */
+        const uint64_t base[3] = {wide ? (UINT64_C(1) << 39) + 5 : 1000, wide ? 77 : 3,
+                                  wide ? (UINT64_C(1) << 40) - 40 : (UINT64_C(1) << 20) - 40};
+        uint8_t dir[32] = {0}, payload[16] = {0};
+        for (uint64_t b = 0; b < 3; b++) {
+            format_put(dir, b * entry, ob, b * 4 * width + (wide ? 3 : 1));
+            format_put(dir, b * entry + ob, bb, base[b]);
+            format_put(dir, b * entry + ob + bb, GEOM_WIDTH_BITS, width);
+        }
+        const uint64_t lead = wide ? 3 : 1; /* payload bits before block 0's values */
+        for (uint64_t i = 0; i < count; i++)
+            format_put(payload, lead + i * width, width, (i * 7) % 32);
+        geom_column c = {.count = count, .shift = shift, .offset_bits = ob, .base_bits = bb,
+                         .entry_bits = entry,
+                         .dir = {dir, 3 * entry, sizeof dir},
+                         .payload = {payload, lead + count * width, sizeof payload}};
+        for (uint64_t i = 0; i < count; i++) {
+            uint64_t v = 0;
+            CHECK_EQ_INT(geom_column_get(&c, i, &v), HPFC_OK);
+            CHECK(v == base[i >> shift] + (i * 7) % 32);
+        }
+        uint64_t v;
+        CHECK_EQ_INT(geom_column_get(&c, count, &v), HPFC_E_CORRUPT);
+    }
+}
+
 int main(void)
 {
     check_use_test_layout();
+    check_column_entries();
     check_wrong_graph();
     check_worked_example();
     for (int which = 0; which < GEN_SPECIAL_COUNT; which++) {
