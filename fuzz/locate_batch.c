@@ -18,8 +18,10 @@
  * a feature only with a FEAT section, below its feature count and counted
  * in feature_count; a FEAT section that does not read fails the whole
  * batch with its status. The call keeps no state: each half of the points
- * answered alone gives the same arrays, and a failure at point k fails the
- * batch of point k alone with the same status.
+ * answered alone, and each point alone, gives the same arrays (a batch of
+ * 64 or more points is answered in Morton order with the last leaf
+ * reused, a smaller one in input order), and a failure at point k fails
+ * the batch of point k alone with the same status.
  *
  * A file with GEOM and LABL is answered exactly (hpfc_locate_point's
  * code): then every answer is hpfc_locate_point's (status, face count, the
@@ -245,6 +247,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(hpfc_locate_batch(f, fc, half, x, y, valid, &first, NULL) == HPFC_OK);
     FUZZ_CHECK(hpfc_locate_batch(f, fc, n - half, x + half, y + half, valid + half, &second,
                                  NULL) == HPFC_OK);
+    FUZZ_CHECK(same_answers(&a, &b, 0, n));
+    /* A batch of 64 points or more is answered in Morton order, reusing the
+     * last point's leaf and feature answer: each point asked alone (no
+     * order, no reuse) answers the same. */
+    for (size_t k = 0; k < n && n >= 64; k++) {
+        hpfc_locate_out one = out_of(&b, k);
+        FUZZ_CHECK(hpfc_locate_batch(f, fc, 1, x + k, y + k, valid + k, &one, NULL) == HPFC_OK);
+    }
     FUZZ_CHECK(same_answers(&a, &b, 0, n));
     /* NULL outputs are allowed and change nothing else */
     hpfc_locate_out faces_only = {b.face, NULL, NULL, NULL, NULL, NULL};

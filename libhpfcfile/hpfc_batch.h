@@ -58,7 +58,13 @@ typedef struct hpfc_locate_out {
  * file has no LABL section). Stops at the first failure with its
  * status (HPFC_E_CORRUPT, HPFC_E_NOMEM, ...) and the failing index in
  * *failed (when non-NULL); outputs before it are filled. Keeps no state:
- * threads may answer parts of one array at once. */
+ * threads may answer parts of one array at once.
+ *
+ * With exact geometry, 64 points or more are answered in chunks of 2^18
+ * in Morton order of their position (about 60 bytes of scratch a point,
+ * 16 MB at most), so that consecutive points share their leaf, which is
+ * then read once; the answers are those of input order, and without the
+ * memory for the order the call answers in input order. */
 HPFC_API int hpfc_locate_batch(const hpfc_file *file, const hpfc_faces *faces, size_t n,
                                const int64_t *x, const int64_t *y, const uint8_t *valid,
                                const hpfc_locate_out *out, size_t *failed);

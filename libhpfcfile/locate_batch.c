@@ -2,8 +2,9 @@
  * Batch point location (hpfc_batch.h): the public calls of one point
  * location, strung together over an array so that a binding crosses into C
  * once per array. A file with exact geometry goes through the code of
- * hpfc_locate_point (locate_point.c) with one scratch for the whole array;
- * no format knowledge lives here.
+ * hpfc_locate_point (locate_point.c) with one scratch for the whole array,
+ * in space-filling-curve order so that the locator's last leaf answers
+ * most points; no format knowledge lives here.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -19,6 +20,11 @@ typedef struct batch_scratch {
     size_t feature_cap;
     int exact;              /* the file has GEOM and LABL: locx answers */
     locx_scratch locx;
+    /* features[0 .. feature_m) answer the one face feature_face (valid
+     * when have_face_features): the next point in that face reuses them */
+    int have_face_features, feature_sure;
+    uint64_t feature_face;
+    size_t feature_m;
 } batch_scratch;
 
 static int grow(void **p, size_t *cap, size_t n, size_t size)
@@ -115,6 +121,12 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
  * lies in it whichever candidate face holds it. */
 static int leaf_features(const hpfc_file *f, batch_scratch *s, size_t n, size_t *m, int *sure)
 {
+    if (n == 1 && s->have_face_features && s->feature_face == s->faces[0]) {
+        *m = s->feature_m;
+        *sure = s->feature_sure;
+        return HPFC_OK;
+    }
+    s->have_face_features = 0;
     size_t total = 0;
     *sure = n > 0;
     for (size_t k = 0; k < n; k++) {
@@ -130,6 +142,12 @@ static int leaf_features(const hpfc_file *f, batch_scratch *s, size_t n, size_t 
             *sure = 0;
     }
     *m = unique_u32(s->features, total);
+    if (n == 1) {
+        s->have_face_features = 1;
+        s->feature_face = s->faces[0];
+        s->feature_m = *m;
+        s->feature_sure = *sure;
+    }
     return HPFC_OK;
 }
 
@@ -151,36 +169,39 @@ static void answer_outside(const hpfc_locate_out *o, size_t k)
 
 /* The exact answer: the point's face, or the faces around it on the
  * boundary, into s->faces. */
-static int exact_faces(const hpfc_file *f, int64_t x, int64_t y, hpfc_pixel *px,
+static int exact_faces(const hpfc_file *f, int64_t x, int64_t y, uint32_t *depth,
                        int *is_private, int *on_boundary, batch_scratch *s, size_t *n)
 {
-    hpfc_point_location loc;
-    int st = locx_locate(f, x, y, &s->locx, &loc, NULL, 0, n);
+    locx_answer a;
+    int st = locx_locate(f, x, y, &s->locx, &a, n);
     if (!st)
         st = grow((void **)&s->faces, &s->face_cap, *n ? *n : 1, sizeof *s->faces);
     if (st)
         return st;
     memcpy(s->faces, s->locx.around, *n * sizeof *s->faces); /* where locx keeps them */
-    *px = loc.leaf;
+    *depth = s->locx.leaf.depth;
     *is_private = s->locx.labels.rec.word.n == 0;
-    *on_boundary = loc.on_boundary;
+    *on_boundary = a.on_boundary;
     return HPFC_OK;
 }
 
 static int answer_point(const hpfc_file *f, const hpfc_faces *fc, int features, int64_t x,
                         int64_t y, const hpfc_locate_out *o, size_t k, batch_scratch *s)
 {
-    hpfc_pixel px;
+    hpfc_pixel px; /* without exact geometry */
+    uint32_t depth = 0;
     int is_private = 0, sure = 0, on_boundary = 0;
     size_t n = 0, m = 0;
-    int st = s->exact ? exact_faces(f, x, y, &px, &is_private, &on_boundary, s, &n)
+    int st = s->exact ? exact_faces(f, x, y, &depth, &is_private, &on_boundary, s, &n)
                       : hpfc_locate(f, x, y, &px);
     if (st == HPFC_E_NO_PIXEL) {
         answer_outside(o, k);
         return HPFC_OK;
     }
-    if (!st && !s->exact)
+    if (!st && !s->exact) {
+        depth = px.depth;
         st = leaf_faces(f, fc, &px, &is_private, s, &n);
+    }
     if (!st && features && (o->feature || o->feature_count))
         st = leaf_features(f, s, n, &m, &sure);
     if (st)
@@ -199,8 +220,160 @@ static int answer_point(const hpfc_file *f, const hpfc_faces *fc, int features, 
                                 (s->exact ? HPFC_LOC_EXACT : 0) |
                                 (on_boundary ? HPFC_LOC_BOUNDARY : 0));
     if (o->depth)
-        o->depth[k] = (uint8_t)px.depth;
+        o->depth[k] = (uint8_t)depth;
     return HPFC_OK;
+}
+
+/* ---- space-filling-curve order ------------------------------------------------------ */
+
+/* Points are answered chunk by chunk in Morton order of their position in
+ * the domain, so that consecutive points mostly share their leaf (the
+ * exact locator then reuses it whole) or most of their descent. The order
+ * changes no answer: each point's is computed on its own. */
+enum { ORDER_CHUNK = 1u << 18, ORDER_MIN = 64 };
+
+typedef struct order_item {
+    uint32_t key, index; /* Morton code of 16-bit cell coordinates; index in the chunk */
+} order_item;
+
+/* Interleaves the low 16 bits of x (even bits) and y (odd bits). */
+static uint32_t morton16(uint32_t x, uint32_t y)
+{
+    uint64_t v = (uint64_t)(x & 0xFFFF) | (uint64_t)(y & 0xFFFF) << 32;
+    v = (v | v << 8) & 0x00FF00FF00FF00FFull;
+    v = (v | v << 4) & 0x0F0F0F0F0F0F0F0Full;
+    v = (v | v << 2) & 0x3333333333333333ull;
+    v = (v | v << 1) & 0x5555555555555555ull;
+    return (uint32_t)(v | v >> 31);
+}
+
+/* A point's key: its cell on a 65536 x 65536 grid over the domain;
+ * points outside it clamp to the grid's edge (they answer at once). */
+static uint32_t order_key(const hpfc_file_info *fi, unsigned shift, int64_t x, int64_t y)
+{
+    uint64_t rx = x < fi->x0 ? 0 : (uint64_t)x - (uint64_t)fi->x0;
+    uint64_t ry = y < fi->y0 ? 0 : (uint64_t)y - (uint64_t)fi->y0;
+    rx >>= shift, ry >>= shift;
+    return morton16((uint32_t)(rx > 0xFFFF ? 0xFFFF : rx), (uint32_t)(ry > 0xFFFF ? 0xFFFF : ry));
+}
+
+/* items[0 .. n) sorted by key (LSD radix, four bytes), tmp as scratch. */
+static void order_sort(order_item *items, order_item *tmp, size_t n)
+{
+    for (unsigned byte = 0; byte < 4; byte++) {
+        size_t count[257] = {0};
+        for (size_t k = 0; k < n; k++)
+            count[(items[k].key >> (8 * byte) & 0xFF) + 1]++;
+        for (unsigned b = 0; b < 256; b++)
+            count[b + 1] += count[b];
+        for (size_t k = 0; k < n; k++)
+            tmp[count[items[k].key >> (8 * byte) & 0xFF]++] = items[k];
+        order_item *t = items;
+        items = tmp, tmp = t; /* four passes: the result ends in `items` */
+    }
+}
+
+/* The shift that maps the domain's larger side below 2^16. */
+static unsigned order_shift(const hpfc_file_info *fi)
+{
+    uint64_t side = (uint64_t)(fi->width > fi->height ? fi->width : fi->height);
+    unsigned shift = 0;
+    while (shift < 63 && (side - 1) >> shift > 0xFFFF)
+        shift++;
+    return shift;
+}
+
+/* Answers points [first, first + n) in input order. */
+static int answer_in_order(const hpfc_file *file, const hpfc_faces *faces, int features,
+                           size_t first, size_t n, const int64_t *x, const int64_t *y,
+                           const uint8_t *valid, const hpfc_locate_out *out, size_t *failed,
+                           batch_scratch *s)
+{
+    int st = HPFC_OK;
+    for (size_t k = first; k < first + n && !st; k++) {
+        if (valid && !valid[k])
+            answer_outside(out, k);
+        else if ((st = answer_point(file, faces, features, x[k], y[k], out, k, s)) && failed)
+            *failed = k;
+    }
+    return st;
+}
+
+/* A chunk's buffers in Morton order: the points gathered, their answers
+ * (scattered back to the caller's arrays afterwards). Gathering and
+ * scattering in passes of their own keeps the answering loop on
+ * sequential memory; the CPU overlaps the passes' cache misses. */
+typedef struct order_buf {
+    order_item *items, *tmp;
+    int64_t *x, *y, *face, *feature;
+    uint32_t *face_count, *feature_count;
+    uint8_t *valid, *flags, *depth;
+} order_buf;
+
+static void order_free(order_buf *b)
+{
+    free(b->items), free(b->tmp), free(b->x), free(b->y), free(b->face), free(b->feature);
+    free(b->face_count), free(b->feature_count), free(b->valid), free(b->flags), free(b->depth);
+}
+
+static int order_alloc(order_buf *b, size_t n)
+{
+    *b = (order_buf){0};
+    b->items = malloc(n * sizeof *b->items), b->tmp = malloc(n * sizeof *b->tmp);
+    b->x = malloc(n * sizeof *b->x), b->y = malloc(n * sizeof *b->y);
+    b->face = malloc(n * sizeof *b->face), b->feature = malloc(n * sizeof *b->feature);
+    b->face_count = malloc(n * sizeof *b->face_count);
+    b->feature_count = malloc(n * sizeof *b->feature_count);
+    b->valid = malloc(n), b->flags = malloc(n), b->depth = malloc(n);
+    if (b->items && b->tmp && b->x && b->y && b->face && b->feature && b->face_count &&
+        b->feature_count && b->valid && b->flags && b->depth)
+        return 0;
+    order_free(b);
+    return -1;
+}
+
+/* Answers a chunk in Morton order; 1 on a failure, and then the caller
+ * answers the chunk again in input order, which names the first failing
+ * point and fills the answers before it, as the contract says. */
+static int answer_sorted(const hpfc_file *file, const hpfc_faces *faces, int features,
+                         size_t first, size_t n, const int64_t *x, const int64_t *y,
+                         const uint8_t *valid, const hpfc_locate_out *out, order_buf *b,
+                         batch_scratch *s)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(file, &fi);
+    unsigned shift = order_shift(&fi);
+    for (size_t k = 0; k < n; k++)
+        b->items[k] = (order_item){order_key(&fi, shift, x[first + k], y[first + k]), (uint32_t)k};
+    order_sort(b->items, b->tmp, n);
+    for (size_t i = 0; i < n; i++) {
+        size_t k = first + b->items[i].index;
+        b->x[i] = x[k], b->y[i] = y[k], b->valid[i] = valid ? valid[k] != 0 : 1;
+    }
+    const hpfc_locate_out sorted = {b->face, b->face_count, b->feature, b->feature_count,
+                                    b->flags, b->depth};
+    for (size_t i = 0; i < n; i++) {
+        if (!b->valid[i])
+            answer_outside(&sorted, i);
+        else if (answer_point(file, faces, features, b->x[i], b->y[i], &sorted, i, s))
+            return 1;
+    }
+    for (size_t i = 0; i < n; i++) {
+        size_t k = first + b->items[i].index;
+        if (out->face)
+            out->face[k] = b->face[i];
+        if (out->face_count)
+            out->face_count[k] = b->face_count[i];
+        if (out->feature)
+            out->feature[k] = b->feature[i];
+        if (out->feature_count)
+            out->feature_count[k] = b->feature_count[i];
+        if (out->flags)
+            out->flags[k] = b->flags[i];
+        if (out->depth)
+            out->depth[k] = b->depth[i];
+    }
+    return 0;
 }
 
 int hpfc_locate_batch(const hpfc_file *file, const hpfc_faces *faces, size_t n, const int64_t *x,
@@ -218,13 +391,19 @@ int hpfc_locate_batch(const hpfc_file *file, const hpfc_faces *faces, size_t n, 
     hpfc_geometry_info gi;
     hpfc_labels_info li;
     s.exact = hpfc_file_geometry(file, &gi) == HPFC_OK && hpfc_file_labels(file, &li) == HPFC_OK;
+    /* the exact locator reuses leaves: worth an order when points are many
+     * (without memory for it, input order gives the same answers) */
+    size_t chunk = n < ORDER_CHUNK ? n : ORDER_CHUNK;
+    order_buf b = {0};
+    int sorted = s.exact && n >= ORDER_MIN && order_alloc(&b, chunk) == 0;
     st = HPFC_OK;
-    for (size_t k = 0; k < n && !st; k++) {
-        if (valid && !valid[k])
-            answer_outside(out, k);
-        else if ((st = answer_point(file, faces, features, x[k], y[k], out, k, &s)) && failed)
-            *failed = k;
+    for (size_t first = 0; first < n && !st; first += chunk) {
+        size_t m = n - first < chunk ? n - first : chunk;
+        if (!sorted || answer_sorted(file, faces, features, first, m, x, y, valid, out, &b, &s))
+            st = answer_in_order(file, faces, features, first, m, x, y, valid, out, failed, &s);
     }
+    if (sorted)
+        order_free(&b);
     free(s.faces);
     free(s.features);
     locx_scratch_free(&s.locx);

@@ -426,12 +426,10 @@ static uint32_t exit_stretch(const leaf_ctx *c)
 }
 
 /* The point's faces in the stabbed leaf, into s->around; *count of them. */
-static int locate_in_leaf(leaf_ctx *c, hpfc_point_location *out, size_t *count)
+static int locate_in_leaf(leaf_ctx *c, locx_answer *out, size_t *count)
 {
     locx_scratch *s = c->s;
-    int st = collect_segments(c);
-    if (st)
-        return st;
+    int st;
     for (size_t i = 0; i < s->seg_count; i++) {
         const locx_segment *sg = &s->segs[i];
         if (!on_segment(sg->a, sg->b, c->p))
@@ -464,10 +462,15 @@ static int locate_in_leaf(leaf_ctx *c, hpfc_point_location *out, size_t *count)
 
 /* ---- entry points -------------------------------------------------------------------------- */
 
-static int load_leaf(leaf_ctx *c, int64_t x, int64_t y, hpfc_pixel *leaf)
+/* The point's leaf loaded into c and s: its bounds, word, LABL record,
+ * crossings and (stabbed) segments. The descent starts below the levels
+ * it shares with the last leaf when that one is whole. */
+static int load_leaf(leaf_ctx *c, int64_t x, int64_t y)
 {
     locx_scratch *s = c->s;
-    int st = hpfc_locate(c->f, x, y, leaf);
+    hpfc_pixel *leaf = &s->leaf;
+    int st = reader_locate_near(c->f, s->have_leaf ? leaf : NULL, x, y, leaf);
+    s->have_leaf = 0;
     size_t len = 0;
     int64_t bx0, by0, bx1, by1;
     if (!st)
@@ -487,20 +490,38 @@ static int load_leaf(leaf_ctx *c, int64_t x, int64_t y, hpfc_pixel *leaf)
         return st;
     c->leaf = leaf;
     c->x0 = bx0 - c->dx0, c->y0 = by0 - c->dy0, c->x1 = bx1 - c->dx0, c->y1 = by1 - c->dy0;
-    c->p = (lpoint){x - c->dx0, y - c->dy0};
     c->n = s->labels.rec.word.n;
     if ((st = reserve_crossings(s, c->n ? c->n : 1)))
         return st;
-    return c->n ? load_crossings(c, s->sym, len) : HPFC_OK;
+    s->seg_count = 0;
+    if (c->n && ((st = load_crossings(c, s->sym, len)) || (st = collect_segments(c))))
+        return st;
+    s->leaf_x0 = bx0, s->leaf_y0 = by0, s->leaf_x1 = bx1, s->leaf_y1 = by1;
+    s->have_leaf = 1;
+    return HPFC_OK;
 }
 
-int locx_locate(const hpfc_file *f, int64_t x, int64_t y, locx_scratch *s,
-                hpfc_point_location *out, uint64_t *faces, size_t cap, size_t *count)
+/* The leaf of the last answer holds (x, y): c takes it as it is. */
+static bool reuse_leaf(leaf_ctx *c, int64_t x, int64_t y)
+{
+    const locx_scratch *s = c->s;
+    if (!s->have_leaf || x < s->leaf_x0 || x >= s->leaf_x1 || y < s->leaf_y0 || y >= s->leaf_y1)
+        return false;
+    c->leaf = &s->leaf;
+    c->x0 = s->leaf_x0 - c->dx0, c->y0 = s->leaf_y0 - c->dy0;
+    c->x1 = s->leaf_x1 - c->dx0, c->y1 = s->leaf_y1 - c->dy0;
+    c->n = s->labels.rec.word.n;
+    return true;
+}
+
+int locx_locate(const hpfc_file *f, int64_t x, int64_t y, locx_scratch *s, locx_answer *out,
+                size_t *count)
 {
     if (!f || !s || !out || !count)
         return HPFC_E_ARG;
     *count = 0;
     if (s->file != f) { /* once per file and scratch */
+        s->have_leaf = 0;
         hpfc_geometry_info gi;
         hpfc_labels_info li;
         int st = hpfc_file_geometry(f, &gi);
@@ -514,31 +535,41 @@ int locx_locate(const hpfc_file *f, int64_t x, int64_t y, locx_scratch *s,
     }
     int st;
     leaf_ctx c = {.f = f, .dx0 = s->dx0, .dy0 = s->dy0, .s = s};
-    hpfc_point_location loc = {.vertex = UINT64_MAX, .edge = UINT64_MAX};
+    locx_answer a = {.vertex = UINT64_MAX, .edge = UINT64_MAX};
     size_t n = 1;
-    if ((st = load_leaf(&c, x, y, &loc.leaf)))
+    if (!reuse_leaf(&c, x, y) && (st = load_leaf(&c, x, y)))
         return st;
+    c.p = (lpoint){x - c.dx0, y - c.dy0};
     if (c.n == 0)
         st = stretch_face(&c, 0, &s->around[0]); /* a private leaf lies in one face */
     else
-        st = locate_in_leaf(&c, &loc, &n);
-    if (st)
+        st = locate_in_leaf(&c, &a, &n);
+    if (st) {
+        s->have_leaf = 0;
         return st;
-    *out = loc;
+    }
+    *out = a;
     *count = n;
-    if (!faces)
-        return HPFC_OK;
-    if (cap < n)
-        return HPFC_E_ARG;
-    memcpy(faces, s->around, n * sizeof *faces);
     return HPFC_OK;
 }
 
 int hpfc_locate_point(const hpfc_file *file, int64_t x, int64_t y, hpfc_point_location *out,
                       uint64_t *faces, size_t cap, size_t *count)
 {
+    if (!out || !count)
+        return HPFC_E_ARG;
     locx_scratch s = {0};
-    int st = locx_locate(file, x, y, &s, out, faces, cap, count);
+    locx_answer a;
+    int st = locx_locate(file, x, y, &s, &a, count);
+    if (!st) {
+        out->leaf = s.leaf;
+        out->on_boundary = a.on_boundary, out->on_vertex = a.on_vertex;
+        out->vertex = a.vertex, out->edge = a.edge;
+        if (faces && cap < *count)
+            st = HPFC_E_ARG;
+        else if (faces)
+            memcpy(faces, s.around, *count * sizeof *faces);
+    }
     locx_scratch_free(&s);
     return st;
 }

@@ -48,13 +48,28 @@ typedef struct locx_scratch {
     size_t crossing_cap;
     locx_segment *segs;
     size_t seg_count, seg_cap;
+    /* The leaf of the last answer, loaded (word, labels, crossings,
+     * segments) and kept for the next point: a point in it skips the
+     * descent and every read but its answer's. A batch in space-filling-
+     * curve order finds most points in the leaf before. have_leaf is
+     * false after any failure. */
+    int have_leaf;
+    hpfc_pixel leaf;
+    int64_t leaf_x0, leaf_y0, leaf_x1, leaf_y1; /* its bounds, absolute, half-open */
 } locx_scratch;
 
 void locx_scratch_free(locx_scratch *s);
 
-/* hpfc_locate_point with caller-kept scratch; the faces are also left in
- * s->around[0 .. *count) (so faces may be NULL). */
-int locx_locate(const hpfc_file *file, int64_t x, int64_t y, locx_scratch *s,
-                hpfc_point_location *out, uint64_t *faces, size_t cap, size_t *count);
+/* What a location says besides its faces and leaf. */
+typedef struct locx_answer {
+    int on_boundary, on_vertex;
+    uint64_t vertex, edge; /* UINT64_MAX when not on one */
+} locx_answer;
+
+/* hpfc_locate_point's answer with caller-kept scratch: the faces in
+ * s->around[0 .. *count), the leaf in s->leaf (both valid until the next
+ * call), the rest in *out. */
+int locx_locate(const hpfc_file *file, int64_t x, int64_t y, locx_scratch *s, locx_answer *out,
+                size_t *count);
 
 #endif
