@@ -6,7 +6,7 @@
 # N random lattice points per layer (default 1,000,000); the layers are
 # us-atlas counties-10m and world-atlas countries-10m from NODE_MODULES
 # (default /tmp/x/node_modules: `cd /tmp/x && npm install us-atlas
-# world-atlas`), packed with hpfc-pack's defaults plus --invalid node and
+# world-atlas`), packed with hpfc-pack's defaults (which node invalid rings) and
 # a key. Release build in build-bench/.
 set -eu
 cd "$(dirname "$0")/.."
@@ -18,7 +18,7 @@ dir=build-bench/exact
 mkdir -p "$dir"
 pack() { # NAME INPUT LAYER KEY
     [ -s "$dir/$1.hpfc" ] ||
-        build-bench/hpfc-pack/hpfc-pack --quiet --invalid node --layer "$3" --key "$4" "$2" -o "$dir/$1.hpfc"
+        build-bench/hpfc-pack/hpfc-pack --quiet --layer "$3" --key "$4" "$2" -o "$dir/$1.hpfc"
 }
 pack counties "$nm/us-atlas/counties-10m.json" counties id
 pack countries "$nm/world-atlas/countries-10m.json" countries name
