@@ -7,7 +7,8 @@
 # us-atlas counties-10m and world-atlas countries-10m from NODE_MODULES
 # (default /tmp/x/node_modules: `cd /tmp/x && npm install us-atlas
 # world-atlas`), packed with hpfc-pack's defaults (which node invalid rings) and
-# a key. Release build in build-bench/.
+# a key. Release build in build-bench/. With Debian's libs2-dev installed
+# (before build-bench is set up) the bench also answers with S2.
 set -eu
 cd "$(dirname "$0")/.."
 n=${1:-1000000}
