@@ -127,7 +127,10 @@ static void print_help(void)
            "                        which no edge lies inside a single pixel\n"
            "  --max-pixels N        refuse a --flat grid of more than N pixels\n"
            "                        (default %llu)\n"
-           , (unsigned long long)HPFC_DEFAULT_MAX_FLAT_PIXELS);
+           "  --leaf-points N       also refine a pixel holding more than N shape points\n"
+           "                        of polyline edges (--vertices junctions), so a query\n"
+           "                        reads few segments per leaf (default %u; 0: no bound)\n"
+           , (unsigned long long)HPFC_DEFAULT_MAX_FLAT_PIXELS, HPFC_DEFAULT_MAX_LEAF_POINTS);
     printf(
            "  -l, --layer NAME      GIS input: read layer NAME (repeatable; default: all)\n"
            "  -a_srs SRS, -s_srs SRS\n"
@@ -257,6 +260,13 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         return parse_positive(v, strlen(v), UINT64_MAX, &p->max_flat_pixels)
                    ? NULL
                    : "a positive integer";
+    if (strcmp(name, "--leaf-points") == 0) {
+        uint64_t n = 0;
+        if (strcmp(v, "0") != 0 && !parse_positive(v, strlen(v), UINT32_MAX, &n))
+            return "0 (no bound) or a positive integer";
+        p->max_leaf_points = (uint32_t)n;
+        return NULL;
+    }
     if (strcmp(name, "--layer") == 0 || strcmp(name, "-l") == 0) {
         if (a->n_layers == sizeof a->layers / sizeof a->layers[0])
             return "at most 64 layers";
@@ -304,7 +314,7 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
  * (*status is set to EXIT_USAGE when its value is missing or invalid). */
 static int value_option(pack_args *a, char **argv, int argc, int *i, int *status)
 {
-    static const char *const names[] = {"--root",     "--refine",   "--max-pixels",
+    static const char *const names[] = {"--root",     "--refine",   "--max-pixels", "--leaf-points",
                                         "--layer",    "--projection", "--vertices",
                                         "--invalid",  "--wrap-dateline", "--key",
                                         "--fields",   "--output",   "-o",

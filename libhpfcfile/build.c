@@ -10,7 +10,10 @@
  *
  * Refinement. An edge lies inside a pixel iff all its points lie in it, so
  * the deepest pixel containing an edge follows from its bounding box alone.
- * A pixel is refined iff it contains some edge.
+ * A pixel is refined iff it contains some edge, or (below depth K) more
+ * than max_leaf_points shape points: a long polyline held whole by no
+ * pixel would otherwise leave leaves of hundreds of segments, and a
+ * query's cost in a leaf grows with its segments.
  *
  * Words. The tree is built level by level. Each image carries the segments
  * that meet it; they are handed down to the pixels they meet, and a word
@@ -562,6 +565,26 @@ static bool holds_edge(const builder *b, const tlevel *lv, uint32_t level, int64
     return false;
 }
 
+/* Does the pixel hold more shape points (interior points of edges) than the
+ * bound? Point k >= 1 of an edge starts its segment k, so each point is
+ * counted once, from the one segment of the list it starts. */
+static bool holds_too_many_points(const builder *b, const int64_t cell[4], const uint32_t *list,
+                                  size_t n)
+{
+    uint32_t bound = b->p.max_leaf_points, held = 0;
+    if (bound == 0 || n <= bound)
+        return false;
+    for (size_t i = 0; i < n; i++) {
+        const seg *s = &b->segs[list[i]];
+        if (s->k == 0)
+            continue;
+        if (point_in_cell(edge_point(b, s->edge, s->k), cell[0], cell[1], cell[2], cell[3]) &&
+            ++held > bound)
+            return true;
+    }
+    return false;
+}
+
 static int push_child(builder *b, tlevel *next, int64_t gx, int64_t gy, const uint32_t *list,
                       size_t n, uint32_t *child)
 {
@@ -608,13 +631,14 @@ static int build_image(builder *b, uint32_t level, size_t image, image_scratch *
         int64_t i = (int64_t)(p % lv->cols), j = (int64_t)(p / lv->cols);
         int64_t gx = gx0 + i, gy = gy0 + (lv->rows - 1 - j);
         tpixel *px = &lv->pix[image * per + p];
-        if (!b->p.flat && holds_edge(b, lv, level, gx, gy, sub, ns)) {
+        int64_t cell[4] = {gx * lv->cell_w, gy * lv->cell_h, (gx + 1) * lv->cell_w, (gy + 1) * lv->cell_h};
+        if (!b->p.flat && (holds_edge(b, lv, level, gx, gy, sub, ns) ||
+                           (level < b->max_depth && holds_too_many_points(b, cell, sub, ns)))) {
             uint32_t child = 0;
             b->t->info.refined_pixels++;
             st = push_child(b, &b->t->levels[level + 1], gx, gy, sub, ns, &child);
             *px = (tpixel){child, TPIXEL_REFINED};
         } else {
-            int64_t cell[4] = {gx * lv->cell_w, gy * lv->cell_h, (gx + 1) * lv->cell_w, (gy + 1) * lv->cell_h};
             b->t->info.word_pixels++;
             st = make_word(b, w, sub, ns, cell, px);
         }
@@ -832,6 +856,7 @@ void hpfc_build_params_default(hpfc_build_params *p)
     p->cols = p->rows = 2;
     p->flat = 0;
     p->max_flat_pixels = HPFC_DEFAULT_MAX_FLAT_PIXELS;
+    p->max_leaf_points = HPFC_DEFAULT_MAX_LEAF_POINTS;
     p->progress = NULL;
     p->progress_user = NULL;
 }

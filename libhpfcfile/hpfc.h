@@ -171,6 +171,10 @@ typedef struct hpfc_build_params {
     uint32_t cols, rows;            /* n x m of refined images, >= 2 (2 x 2) */
     int flat;                       /* build a one-level rPFC instead */
     uint64_t max_flat_pixels;       /* refuse a flat grid above this */
+    /* Also refine a pixel that holds more shape points (interior points of
+     * polyline edges) than this, down to 1 x 1 pixels (0: no bound). Keeps
+     * a located leaf's exact geometry short. */
+    uint32_t max_leaf_points;
     /* Called as the build goes (NULL: not at all): level l's images done
      * of its total, at most every 4096 images and at each level's end. */
     void (*progress)(void *user, uint32_t level, uint64_t images_done, uint64_t images_total);
@@ -178,6 +182,7 @@ typedef struct hpfc_build_params {
 } hpfc_build_params;
 
 #define HPFC_DEFAULT_MAX_FLAT_PIXELS ((uint64_t)1 << 28)
+#define HPFC_DEFAULT_MAX_LEAF_POINTS 16
 
 HPFC_API void hpfc_build_params_default(hpfc_build_params *params);
 

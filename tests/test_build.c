@@ -24,17 +24,24 @@ static hpfc_graph *graph_from(const int64_t *xy, size_t nv, const uint32_t *uv, 
     return g;
 }
 
-static hpfc_tree *build(const hpfc_graph *g, uint32_t n0, uint32_t m0, uint32_t n, uint32_t m, int flat)
+static hpfc_tree *build_bounded(const hpfc_graph *g, uint32_t n0, uint32_t m0, uint32_t n, uint32_t m,
+                                int flat, uint32_t max_leaf_points)
 {
     hpfc_build_params p;
     hpfc_build_params_default(&p);
     p.root_cols = n0, p.root_rows = m0, p.cols = n, p.rows = m, p.flat = flat;
+    p.max_leaf_points = max_leaf_points;
     hpfc_tree *t = NULL;
     hpfc_diag d;
     int st = hpfc_build(g, &p, &t, &d);
     if (st)
         fprintf(stderr, "build failed: %s: %s\n", hpfc_strerror(st), d.message);
     return t;
+}
+
+static hpfc_tree *build(const hpfc_graph *g, uint32_t n0, uint32_t m0, uint32_t n, uint32_t m, int flat)
+{
+    return build_bounded(g, n0, m0, n, m, flat, HPFC_DEFAULT_MAX_LEAF_POINTS);
 }
 
 static bool word_is(const hpfc_tree_pixel *px, const char *w)
@@ -68,7 +75,7 @@ static void test_every_symbol(void)
     CHECK(word_is(&px, "+(+Y)++"));    /* a with three branches */
     hpfc_tree_get_pixel(t, 0, 0, 1, 1, &px);
     CHECK(word_is(&px, "(=+)+++"));    /* b and the dead end d */
-    CHECK_EQ_INT(oracle_check_tree(g, t), 0);
+    CHECK_EQ_INT(oracle_check_tree(g, t, HPFC_DEFAULT_MAX_LEAF_POINTS), 0);
     hpfc_tree_free(t);
     hpfc_graph_free(g);
 }
@@ -131,7 +138,7 @@ static void test_vertex_on_road(void)
     CHECK_EQ_INT(px.x0, 7);           /* a vertex on a road goes east ... */
     CHECK(oracle_locate(t, 12, 11, &px, &level));
     CHECK_EQ_INT(px.y0, 11);          /* ... or north */
-    CHECK_EQ_INT(oracle_check_tree(g, t), 0);
+    CHECK_EQ_INT(oracle_check_tree(g, t, HPFC_DEFAULT_MAX_LEAF_POINTS), 0);
     hpfc_tree_free(t);
     hpfc_graph_free(g);
 }
@@ -155,7 +162,7 @@ static void test_vertex_on_crossroad(void)
     CHECK(leaf_has(t, 11, 6, RN, 2));
     CHECK(leaf_has(t, 11, 6, RW, 2));
     CHECK(!leaf_touches(t, 10, 7, 2));  /* the NW pixel never sees it */
-    CHECK_EQ_INT(oracle_check_tree(g, t), 0);
+    CHECK_EQ_INT(oracle_check_tree(g, t, HPFC_DEFAULT_MAX_LEAF_POINTS), 0);
     hpfc_tree_free(t);
     hpfc_graph_free(g);
 }
@@ -176,7 +183,7 @@ static void test_edge_along_road(void)
     CHECK(leaf_has(t, 7, 3, RS, 3) || leaf_has(t, 7, 2, RN, 3)); /* crosses y = 3 east of x = 7 */
     CHECK(!leaf_touches(t, 6, 2, 3));
     CHECK(!leaf_touches(t, 6, 3, 3));
-    CHECK_EQ_INT(oracle_check_tree(g, t), 0);
+    CHECK_EQ_INT(oracle_check_tree(g, t, HPFC_DEFAULT_MAX_LEAF_POINTS), 0);
     hpfc_tree_free(t);
     hpfc_graph_free(g);
 }
@@ -198,7 +205,7 @@ static void test_edge_through_crossroad(void)
     CHECK(leaf_has(t, 7, 11, RW, 3));
     CHECK(leaf_has(t, 7, 11, RS, 3));
     CHECK(!leaf_touches(t, 6, 10, 3));    /* SW of the crossroad: untouched */
-    CHECK_EQ_INT(oracle_check_tree(g, t), 0);
+    CHECK_EQ_INT(oracle_check_tree(g, t, HPFC_DEFAULT_MAX_LEAF_POINTS), 0);
     hpfc_tree_free(t);
     hpfc_graph_free(g);
 }
@@ -361,27 +368,44 @@ static void compare_with_flat(const hpfc_graph *g, const hpfc_tree *t, const sha
     hpfc_tree_get_info(flat, &info);
     CHECK_EQ_INT(info.levels, 1);
     if ((uint64_t)info.root_cols * info.root_rows <= (1 << 14))
-        CHECK_EQ_INT(oracle_check_tree(g, flat), 0);
+        CHECK_EQ_INT(oracle_check_tree(g, flat, 0), 0);
     CHECK_EQ_INT(oracle_compare_flat(flat, t), 0);
     hpfc_tree_free(flat);
 }
 
-static void check_graph_all_shapes(const hpfc_graph *g, const char *what, bool compare_flat)
+/* Bounds on shape points per leaf: none, the tightest, a small one and the
+ * default. Returns the refined pixels of the tightest bound's trees beyond
+ * the unbounded ones', so a caller can tell the bound was exercised. */
+static const uint32_t LEAF_BOUNDS[] = {0, 1, 3, HPFC_DEFAULT_MAX_LEAF_POINTS};
+
+static uint64_t check_graph_all_shapes(const hpfc_graph *g, const char *what, bool compare_flat)
 {
+    uint64_t extra_refined = 0;
     for (size_t s = 0; s < sizeof SHAPES / sizeof *SHAPES; s++) {
         const shape *sh = &SHAPES[s];
-        hpfc_tree *t = build(g, sh->n0, sh->m0, sh->n, sh->m, 0);
-        CHECK(t != NULL);
-        if (!t)
-            continue;
-        int fails = oracle_check_tree(g, t);
-        if (fails)
-            fprintf(stderr, "%s with %ux%u/%ux%u: %d oracle failures\n", what, sh->n0, sh->m0, sh->n, sh->m, fails);
-        CHECK_EQ_INT(fails, 0);
-        if (compare_flat)
-            compare_with_flat(g, t, sh);
-        hpfc_tree_free(t);
+        uint64_t refined[sizeof LEAF_BOUNDS / sizeof *LEAF_BOUNDS] = {0};
+        for (size_t b = 0; b < sizeof LEAF_BOUNDS / sizeof *LEAF_BOUNDS; b++) {
+            hpfc_tree *t = build_bounded(g, sh->n0, sh->m0, sh->n, sh->m, 0, LEAF_BOUNDS[b]);
+            CHECK(t != NULL);
+            if (!t)
+                continue;
+            int fails = oracle_check_tree(g, t, LEAF_BOUNDS[b]);
+            if (fails)
+                fprintf(stderr, "%s with %ux%u/%ux%u, leaf bound %u: %d oracle failures\n", what, sh->n0,
+                        sh->m0, sh->n, sh->m, LEAF_BOUNDS[b], fails);
+            CHECK_EQ_INT(fails, 0);
+            hpfc_tree_info info;
+            hpfc_tree_get_info(t, &info);
+            refined[b] = info.refined_pixels;
+            /* the flat grid is the unbounded tree's finest leaves */
+            if (compare_flat && LEAF_BOUNDS[b] == 0)
+                compare_with_flat(g, t, sh);
+            hpfc_tree_free(t);
+        }
+        CHECK(refined[1] >= refined[2] && refined[2] >= refined[0]);
+        extra_refined += refined[1] - refined[0];
     }
+    return extra_refined;
 }
 
 /* For n0 = m0 = 1 and n = m = 2, every refined pixel splits into its four
@@ -427,7 +451,8 @@ static void test_generated(void)
         g = NULL;
         CHECK_EQ_INT(gen_polyline(seed, 120, 1 << 12, 0.5, &g), HPFC_OK);
         if (g) {
-            check_graph_all_shapes(g, "polyline", seed <= 2);
+            /* polylines put several shape points in a leaf: the bound must bite */
+            CHECK(check_graph_all_shapes(g, "polyline", seed <= 2) > 0);
             check_quadtree(g);
         }
         hpfc_graph_free(g);

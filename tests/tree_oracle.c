@@ -75,6 +75,7 @@ void oracle_road_counts(const char *w, size_t len, size_t counts[4])
 typedef struct check_ctx {
     const hpfc_graph *g;
     hpfc_tree_info info;
+    uint32_t max_leaf_points;
     int failures;
     uint32_t *vertex_hits;   /* word pixels holding each vertex */
     size_t *degree;
@@ -119,6 +120,16 @@ static bool edge_inside(const check_ctx *c, size_t e, const int64_t cell[4])
         if (!point_in_cell(rel_point(c, c->g, e, k), cell[0], cell[1], cell[2], cell[3]))
             return false;
     return true;
+}
+
+/* Interior points of every edge that lie in the pixel (naive: all edges). */
+static size_t shape_points_inside(const check_ctx *c, const int64_t cell[4])
+{
+    size_t n = 0;
+    for (size_t e = 0; e < hpfc_graph_edge_count(c->g); e++)
+        for (size_t k = 1; k + 1 < edge_points(c->g, e); k++)
+            n += point_in_cell(rel_point(c, c->g, e, k), cell[0], cell[1], cell[2], cell[3]);
+    return n;
 }
 
 typedef struct naive_crossing {
@@ -238,22 +249,26 @@ static void check_pixel(const hpfc_tree *t, uint32_t level, size_t image, uint32
     bool holds = false;
     for (size_t e = 0; e < hpfc_graph_edge_count(c->g) && !holds; e++)
         holds = edge_inside(c, e, cell);
+    bool unit = cell[2] - cell[0] == 1 && cell[3] - cell[1] == 1;
+    bool crowded = c->max_leaf_points && !unit && shape_points_inside(c, cell) > c->max_leaf_points;
     if (px->type == HPFC_PIXEL_REFINED) {
-        if (!holds)
-            fail(c, level, image, i, j, "refined pixel holds no whole edge");
+        if (!holds && !crowded)
+            fail(c, level, image, i, j, "refined pixel holds no whole edge and few shape points");
         return;
     }
     if (holds)
         fail(c, level, image, i, j, "word pixel holds a whole edge");
+    if (crowded)
+        fail(c, level, image, i, j, "word pixel holds more shape points than the bound");
     if (!oracle_word_is_valid(px->word, px->word_len))
         fail(c, level, image, i, j, "word is not well nested");
     check_junctions(c, px, cell, level, image, i, j);
     check_roads(c, px, cell, level, image, i, j);
 }
 
-int oracle_check_tree(const hpfc_graph *g, const hpfc_tree *t)
+int oracle_check_tree(const hpfc_graph *g, const hpfc_tree *t, uint32_t max_leaf_points)
 {
-    check_ctx c = {.g = g};
+    check_ctx c = {.g = g, .max_leaf_points = max_leaf_points};
     hpfc_tree_get_info(t, &c.info);
     size_t nv = hpfc_graph_vertex_count(g);
     c.vertex_hits = calloc(nv + 1, sizeof *c.vertex_hits);

@@ -20,9 +20,11 @@ void oracle_for_each_pixel(const hpfc_tree *t, pixel_fn fn, void *ctx);
  * the fourth last? */
 bool oracle_word_is_valid(const char *word, size_t len);
 
-/* Runs every check of the tree against the graph; returns the number of
- * failures (each printed to stderr with the pixel concerned). */
-int oracle_check_tree(const hpfc_graph *g, const hpfc_tree *t);
+/* Runs every check of the tree against the graph, built with the bound
+ * max_leaf_points on shape points per leaf (0: none; spec §3.9 rule 3);
+ * returns the number of failures (each printed to stderr with the pixel
+ * concerned). */
+int oracle_check_tree(const hpfc_graph *g, const hpfc_tree *t, uint32_t max_leaf_points);
 
 /* Checks that the flat rPFC `flat` and the hPFC `tree` of the same graph
  * describe the same crossings, in the same order, on every road of every
