@@ -63,6 +63,7 @@ typedef struct scene {
     uint64_t visits, max_visits; /* pixels visited; all pixels the levels count */
     hpfc_faces *faces;       /* for the fills: every face's colour */
     int features;            /* the file has a FEAT section: colour by feature */
+    int exact;               /* the file has GEOM and LABL: exact point location */
     uint64_t *cand;          /* candidate faces of one stabbed leaf */
     size_t cand_cap;
 } scene;
@@ -156,7 +157,8 @@ static uint32_t face_rgb(const scene *s, uint64_t face)
 
 /* A leaf's fill: its face's colour when private; in a stabbed leaf, which
  * the drawn edges cut, the mean of the faces that meet it (one colour when
- * they agree), since the file does not say which part lies where. */
+ * they agree): the word alone does not say which part lies where (a leaf
+ * large on screen is refilled by stabbed_leaf_rgb). */
 static int leaf_rgb(scene *s, const hpfc_pixel *leaf, uint32_t *rgb)
 {
     int is_private;
@@ -377,6 +379,29 @@ static int majority_rgb(scene *s, const hpfc_pixel *px, const frect *r, uint32_t
     return HPFC_OK;
 }
 
+/* A stabbed leaf large on screen: with exact geometry, the colour of the
+ * face that holds the leaf's centre (a leaf may be mostly one face whose
+ * border holds little of its boundary); else, or when the centre lies on an
+ * edge, the majority of its boundary. */
+static int stabbed_leaf_rgb(scene *s, const hpfc_pixel *px, const lbox *b, const frect *r,
+                            uint32_t *rgb)
+{
+    if (s->exact) {
+        hpfc_point_location at;
+        uint64_t face;
+        size_t n = 0;
+        int64_t cx = b->x0 + (b->x1 - b->x0) / 2, cy = b->y0 + (b->y1 - b->y0) / 2;
+        int st = hpfc_locate_point(s->f, cx, cy, &at, &face, 1, &n);
+        if (st == HPFC_OK && !at.on_boundary && n == 1) {
+            *rgb = face_rgb(s, face);
+            return HPFC_OK;
+        }
+        if (st != HPFC_OK && st != HPFC_E_ARG)
+            return st;
+    }
+    return majority_rgb(s, px, r, rgb);
+}
+
 static int add_leaf(scene *s, const hpfc_pixel *px, const lbox *b, int shaded)
 {
     frect r = box_rect(s, b, px->depth);
@@ -401,7 +426,7 @@ static int add_leaf(scene *s, const hpfc_pixel *px, const lbox *b, int shaded)
     }
     if ((st = reserve_leaf(s, s->wi.n)) || (st = crossing_points(s, b)))
         return st;
-    if (!shaded && (st = majority_rgb(s, px, &r, &s->rects.v[s->rects.n - 1].rgb)))
+    if (!shaded && (st = stabbed_leaf_rgb(s, px, b, &r, &s->rects.v[s->rects.n - 1].rgb)))
         return st;
     fpt centre = {r.x + r.w / 2, r.y + r.h / 2};
     return draw_components(s, centre, sqrt((double)r.w * r.w + (double)r.h * r.h));
@@ -493,10 +518,11 @@ static double pow10i(int32_t e)
     return e < 0 ? 1 / v : v;
 }
 
-/* The data's extent in lattice units: the union of the leaves that hold a
- * vertex (every edge runs between two), grown by 2 % a side and kept in
- * the domain; the domain itself for a map without vertices. One pass over
- * the leaves, stopped on a corrupt file as build_scene is. */
+/* The data's extent in lattice units: the union of the leaves that some
+ * edge meets (the stabbed ones: with polyline edges a vertex's leaves may
+ * hold a small part of the map), grown by 2 % a side and kept in the
+ * domain; the domain itself for a map without edges. One pass over the
+ * leaves, stopped on a corrupt file as build_scene is. */
 static int data_extent(scene *s, double ext[4])
 {
     const hpfc_file_info *in = &s->info;
@@ -515,7 +541,7 @@ static int data_extent(scene *s, double ext[4])
             return st;
         if (word_parse(&s->wi, s->r.buf, len))
             return HPFC_E_CORRUPT;
-        if (s->wi.nvert == 0)
+        if (s->wi.n == 0)
             continue;
         if ((st = roads_box(s->f, &px, &b)) != HPFC_OK)
             return st;
@@ -652,6 +678,8 @@ static int open_scene(scene *s, const hpfc_file *f, char *why)
         return 1;
     }
     s->features = st == HPFC_OK;
+    hpfc_geometry_info gi;
+    s->exact = hpfc_file_geometry(f, &gi) == HPFC_OK;
     return 0;
 }
 
