@@ -144,8 +144,10 @@ static void print_help(void)
            "                        tm, lcc, aea (central meridian at the data's median\n"
            "                        longitude, across the antimeridian too) or eqc\n"
            "  --vertices all|junctions\n"
-           "                        GIS input: every shape point is a vertex (default), or\n"
-           "                        only points where other than two edges meet\n"
+           "                        GIS input: every shape point is a vertex, or only\n"
+           "                        points where other than two edges meet (default;\n"
+           "                        the points between are kept exactly as polyline\n"
+           "                        shape points)\n"
            "  --invalid node|reject GIS input: node the rings of invalid polygons as\n"
            "                        linework (default; counted in the report), or refuse\n"
            "                        them\n"
@@ -347,6 +349,10 @@ static int parse_args(int argc, char **argv, pack_args *a)
     memset(a, 0, sizeof *a);
     hpfc_build_params_default(&a->params);
     a->invalid_mode = GIS_INVALID_NODE; /* real layers have invalid rings (issue 17) */
+    /* A GIS user expects topology at junctions (as TopoJSON's arcs) and the
+     * shape points kept exactly (GEOM): 2-5x smaller than a vertex at every
+     * shape point, and with --leaf-points as fast to query (bench/README.md). */
+    a->vertex_model = GIS_VERTICES_JUNCTIONS;
     for (int i = 1; i < argc && status < 0; i++) {
         const char *arg = argv[i];
         if (only_files || arg[0] != '-' || strcmp(arg, "-") == 0) {
@@ -698,6 +704,7 @@ static void print_json(FILE *out, const pack_args *a, const pack_report *r)
     jsonw_u64(&w, "root_rows", t->root_rows);
     jsonw_u64(&w, "refine_cols", t->cols);
     jsonw_u64(&w, "refine_rows", t->rows);
+    jsonw_u64(&w, "leaf_points", a->params.flat ? 0 : a->params.max_leaf_points);
     jsonw_u64(&w, "depth", t->levels - 1);
     jsonw_u64(&w, "level_count", t->levels);
     jsonw_array_begin(&w, "levels");
@@ -774,8 +781,11 @@ static void print_text(FILE *out, const pack_args *a, const pack_report *r)
            (unsigned long long)t->vertices, (unsigned long long)t->edges,
            (unsigned long long)t->faces, (unsigned long long)t->components,
            t->components == 1 ? "" : "s");
-    fprintf(out, "images     root %ux%u, refined %ux%u%s\n", t->root_cols, t->root_rows, t->cols,
+    fprintf(out, "images     root %ux%u, refined %ux%u%s", t->root_cols, t->root_rows, t->cols,
            t->rows, a->params.flat ? " (flat rPFC)" : "");
+    if (!a->params.flat && a->params.max_leaf_points)
+        fprintf(out, ", at most %u shape points a leaf", a->params.max_leaf_points);
+    fputc('\n', out);
     fprintf(out, "depth      %u (%u level%s)\n", t->levels - 1, t->levels, t->levels == 1 ? "" : "s");
     fprintf(out, "\n%5s %10s %12s %12s %12s %5s %5s %14s\n", "level", "images", "word", "refined",
            "private", "k_w", "k_@", "pool bits");

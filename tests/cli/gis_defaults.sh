@@ -136,4 +136,28 @@ python3 -c "import sys; sys.exit(0 if -110 <= float(sys.argv[1]) <= -90 else 1)"
 run "$INSPECT" --locate-lonlat 173,51 --json "$tmp/lcc.hpfc"
 grep -q '"fid": *2[,}]' "$tmp/out" || fail "lcc: (173, 51) is not in Island: $(cat "$tmp/out")"
 
+# ---- 3. the vertex model: junctions, shape points kept, leaves bounded -------
+# (issue 16: a file no larger than FlatGeobuf by default). The states' outer
+# arcs have 3 shape points each, so with --leaf-points 1 the leaves holding
+# them must refine further than the default's.
+run "$PACK" --json "$tmp/states.json" -o "$tmp/d.hpfc"
+[ "$rc" -eq 0 ] || fail "defaults: exit $rc: $(cat "$tmp/err")"
+[ "$(field "$tmp/out" vertex_model)" = junctions ] ||
+    fail "default vertex model: $(field "$tmp/out" vertex_model)"
+[ "$(field "$tmp/out" leaf_points)" = 16 ] || fail "default leaf points: $(field "$tmp/out" leaf_points)"
+run "$INSPECT" --json "$tmp/d.hpfc"
+python3 -c 'import json,sys; g=json.load(open(sys.argv[1]))["exact_geometry"]; sys.exit(0 if g else 1)' "$tmp/out" ||
+    fail "defaults: no exact geometry"
+run "$PACK" --json --root 1 "$tmp/states.json" -o "$tmp/b16.hpfc"
+refined16=$(field "$tmp/out" refined_pixels)
+run "$PACK" --json --root 1 --leaf-points 1 "$tmp/states.json" -o "$tmp/b1.hpfc"
+refined1=$(field "$tmp/out" refined_pixels)
+[ "$refined1" -gt "$refined16" ] || fail "--leaf-points 1 refines no more than 16 ($refined1, $refined16)"
+for f in b16 b1; do
+    run "$INSPECT" --verify "$tmp/$f.hpfc"
+    expect_ok "--verify --leaf-points file $f"
+done
+run "$INSPECT" --locate-lonlat -105,42.5 --json "$tmp/b1.hpfc"
+grep -q '"key":"West"\|"fid":0' "$tmp/out" || fail "--leaf-points 1: (-105, 42.5) not in West: $(cat "$tmp/out")"
+
 finish
