@@ -181,8 +181,8 @@ static OGRSpatialReferenceH srs_from(const char *text, int proj4)
     return s;
 }
 
-/* Whether a description is one hpfc-pack's projection made (projection.cc:
- * tmerc, lcc, aea or eqc, no false origin, metres). */
+/* Whether a description is one hpfc-pack's projection made
+ * (common/projection.cc: tmerc, lcc, aea or eqc, no false origin, metres). */
 static int made_by_pack(const char *desc)
 {
     size_t n = strlen(desc);

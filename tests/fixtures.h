@@ -2,7 +2,7 @@
  * fixtures.h: the verdicts of tests/data/invalid/ for the test programs.
  *
  * tests/data/invalid/EXPECTED lists every invalid fixture as "FILE
- * HPFC_E_NAME"; test_format checks the .hpfc ones, test_pfc the .pfc ones.
+ * HPFC_E_NAME"; test_open checks the .hpfc ones, test_pfc the .pfc ones.
  * check_invalid_fixtures() runs one kind: every file of that suffix must
  * have a line, every line a file, and the file must give its status.
  * check_valid_fixtures() runs tests/data/valid/: every file gives HPFC_OK.

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../hpfc-pack/mesh_graph.h"
+#include "mesh_graph.h"
 #include "check.h"
 #include "export.h"
 #include "gen.h"

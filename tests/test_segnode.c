@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../hpfc-pack/segnode.h"
+#include "segnode.h"
 #include "check.h"
 
 __extension__ typedef __int128 i128;

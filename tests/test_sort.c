@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../hpfc-pack/sort.h"
+#include "sort.h"
 #include "check.h"
 
 typedef struct point16 {

@@ -149,8 +149,8 @@ def _split_crs(text):
 
 
 def _made_by_pack(desc):
-    """A projection hpfc-pack's projection.cc describes (tmerc, lcc, aea,
-    eqc, no false origin, metres), as hpfc-inspect --export decides it."""
+    """A projection hpfc-pack's common/projection.cc describes (tmerc, lcc,
+    aea, eqc, no false origin, metres), as hpfc-inspect --export decides it."""
     return bool(desc) and desc.startswith(("+proj=tmerc ", "+proj=lcc ", "+proj=aea ",
                                            "+proj=eqc ")) \
         and " +x_0=0 +y_0=0 " in desc and desc.endswith("+units=m +no_defs")

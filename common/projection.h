@@ -1,12 +1,13 @@
 /*
- * projection.h: a small C interface over GeographicLib's map projections,
- * for hpfc-pack's GIS input (projection.cc). Geographic (lon, lat) degrees
+ * projection.h: a small C interface over GeographicLib's map projections
+ * (projection.cc), for hpfc-pack's GIS input and for the (lon, lat) points
+ * of hpfc-inspect and the Python package. Geographic (lon, lat) degrees
  * go to plane metres; the PROJ-style description of the projection is what
  * the .hpfc file's CRS section records, so that a reader can map (lon, lat)
  * back to user coordinates with any PROJ-compatible library.
  */
-#ifndef HPFC_PACK_PROJECTION_H
-#define HPFC_PACK_PROJECTION_H
+#ifndef HPFC_PROJECTION_H
+#define HPFC_PROJECTION_H
 
 #include <stddef.h>
 

@@ -1,6 +1,7 @@
 /*
- * projection_stub.c: hpfc-inspect built without GeographicLib. Points in
- * (lon, lat) cannot be placed; everything else works.
+ * projection_stub.c: projection.h for hpfc-inspect and the Python package
+ * built without GeographicLib. Points in (lon, lat) cannot be placed;
+ * everything else works.
  */
 #include <stdio.h>
 

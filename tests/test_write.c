@@ -1,0 +1,233 @@
+/*
+ * Writing files (hpfc_tree_write_file, hpfc_file_serialize,
+ * hpfc_file_write_file; spec/hpfc-format.md): the atomic writer made to fail
+ * (missing directory, file size limit, a directory as target, no write
+ * permission) leaves the old file byte-identical and no temporary;
+ * hpfc_open maps what was written; a file serialised again with other
+ * optional sections equals the tree writer's bytes.
+ */
+#include <dirent.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "file_helpers.h"
+#include "gen.h"
+#include "hpfc.h"
+
+/* ---- files: atomic writes, hpfc_open -------------------------------------------------- */
+
+static uint8_t *read_all(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    size_t cap = 1 << 16, n = 0;
+    uint8_t *buf = malloc(cap);
+    for (size_t got; (got = fread(buf + n, 1, cap - n, f)) > 0;) {
+        n += got;
+        if (n == cap)
+            buf = realloc(buf, cap *= 2);
+    }
+    fclose(f);
+    *size = n;
+    return buf;
+}
+
+static bool file_equals(const char *path, const uint8_t *want, size_t size)
+{
+    size_t n = 0;
+    uint8_t *got = read_all(path, &n);
+    bool same = got && n == size && memcmp(got, want, size) == 0;
+    free(got);
+    return same;
+}
+
+/* Number of entries in dir, "." and ".." excluded. */
+static int dir_entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    int n = 0;
+    if (!d)
+        return -1;
+    for (struct dirent *de; (de = readdir(d));)
+        n += strcmp(de->d_name, ".") && strcmp(de->d_name, "..");
+    closedir(d);
+    return n;
+}
+
+static void test_write_file(void)
+{
+    char dir[] = "/tmp/hpfc-test-write-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[256], sub[256], bad[256];
+    snprintf(path, sizeof path, "%s/map.hpfc", dir);
+    snprintf(sub, sizeof sub, "%s/sub", dir);
+    snprintf(bad, sizeof bad, "%s/no/such/dir/map.hpfc", dir);
+    hpfc_tree *a = special_tree(GEN_SPECIAL_TRIANGLE, 4), *b = special_tree(GEN_SPECIAL_HOLE, 3);
+    if (!a || !b)
+        return;
+    size_t size_a, size_b;
+    uint8_t *buf_a = serialize(a, NULL, &size_a), *buf_b = serialize(b, "EPSG:4326", &size_b);
+    hpfc_diag d;
+
+    /* a missing directory: a clean failure, nothing created */
+    CHECK_EQ_INT(hpfc_tree_write_file(a, NULL, bad, &d), HPFC_E_IO);
+    CHECK_EQ_INT(d.status, HPFC_E_IO);
+    CHECK_EQ_INT(dir_entries(dir), 0);
+
+    /* a new file, then a replacement */
+    CHECK_EQ_INT(hpfc_tree_write_file(a, NULL, path, &d), HPFC_OK);
+    CHECK(file_equals(path, buf_a, size_a));
+    CHECK_EQ_INT(dir_entries(dir), 1);
+    hpfc_write_options opts = {.crs = "EPSG:4326"};
+    CHECK_EQ_INT(hpfc_tree_write_file(b, &opts, path, &d), HPFC_OK);
+    CHECK(file_equals(path, buf_b, size_b));
+    CHECK_EQ_INT(dir_entries(dir), 1);
+
+    /* hpfc_open maps it */
+    hpfc_file *f = NULL;
+    CHECK_EQ_INT(hpfc_open(path, 0, &f), HPFC_OK);
+    if (f) {
+        hpfc_file_info fi;
+        hpfc_file_get_info(f, &fi);
+        CHECK(fi.crs_len == 9 && memcmp(fi.crs, "EPSG:4326", 9) == 0);
+        CHECK_EQ_INT(hpfc_verify_checksums(f), HPFC_OK);
+        CHECK_EQ_INT(probe_file(f, 1 << 20) & ~(OKB | BIT(HPFC_E_NO_PIXEL)), 0);
+    }
+    hpfc_close(f);
+
+    /* a write that fails half-way (file size limit): the old file stays
+     * byte-identical and no temporary is left */
+    struct rlimit old_limit, small;
+    if (getrlimit(RLIMIT_FSIZE, &old_limit) == 0) {
+        void (*old_handler)(int) = signal(SIGXFSZ, SIG_IGN);
+        small = old_limit;
+        small.rlim_cur = 64;
+        CHECK_EQ_INT(setrlimit(RLIMIT_FSIZE, &small), 0);
+        CHECK_EQ_INT(hpfc_tree_write_file(a, NULL, path, &d), HPFC_E_IO);
+        CHECK_EQ_INT(setrlimit(RLIMIT_FSIZE, &old_limit), 0);
+        signal(SIGXFSZ, old_handler);
+        CHECK(file_equals(path, buf_b, size_b));
+        CHECK_EQ_INT(dir_entries(dir), 1);
+    }
+
+    /* the target is a directory: the rename fails, nothing changes */
+    CHECK_EQ_INT(mkdir(sub, 0755), 0);
+    CHECK_EQ_INT(hpfc_tree_write_file(a, NULL, sub, &d), HPFC_E_IO);
+    CHECK_EQ_INT(dir_entries(dir), 2);
+    CHECK_EQ_INT(dir_entries(sub), 0);
+
+    /* a directory we may not write to (meaningless for root) */
+    if (geteuid() != 0) {
+        CHECK_EQ_INT(chmod(dir, 0555), 0);
+        CHECK_EQ_INT(hpfc_tree_write_file(a, NULL, path, &d), HPFC_E_IO);
+        CHECK_EQ_INT(chmod(dir, 0755), 0);
+        CHECK(file_equals(path, buf_b, size_b));
+        CHECK_EQ_INT(dir_entries(dir), 2);
+    }
+
+    /* hpfc_open's failures */
+    CHECK_EQ_INT(hpfc_open(bad, 0, &f), HPFC_E_IO);
+    CHECK(f == NULL);
+    CHECK_EQ_INT(hpfc_open(sub, 0, &f), HPFC_E_IO);
+    char empty[256];
+    snprintf(empty, sizeof empty, "%s/empty.hpfc", dir);
+    FILE *e = fopen(empty, "wb");
+    CHECK(e != NULL);
+    if (e)
+        fclose(e);
+    CHECK_EQ_INT(hpfc_open(empty, 0, &f), HPFC_E_TRUNCATED);
+    CHECK_EQ_INT(hpfc_open(NULL, 0, &f), HPFC_E_ARG);
+
+    CHECK_EQ_INT(hpfc_tree_write_file(a, NULL, NULL, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_tree_write_file(NULL, NULL, path, &d), HPFC_E_ARG);
+    remove(empty);
+    remove(path);
+    rmdir(sub);
+    CHECK_EQ_INT(rmdir(dir), 0); /* empty: nothing stray was left */
+    free(buf_a);
+    free(buf_b);
+    hpfc_tree_free(a);
+    hpfc_tree_free(b);
+}
+
+/* hpfc_file_serialize of a file serialised from tree t with `from` equals
+ * hpfc_tree_serialize of t with `to`, byte for byte: the pools are copied
+ * and the sections laid out as the tree writer lays them. */
+static void check_reserialized(const hpfc_tree *t, const hpfc_write_options *from,
+                               const hpfc_write_options *to, const char *path)
+{
+    uint8_t *src = NULL, *want = NULL, *got = NULL;
+    size_t src_size = 0, want_size = 0, got_size = 0;
+    hpfc_diag d;
+    hpfc_file *f = NULL;
+    CHECK_EQ_INT(hpfc_tree_serialize(t, from, &src, &src_size, &d), HPFC_OK);
+    CHECK_EQ_INT(hpfc_tree_serialize(t, to, &want, &want_size, &d), HPFC_OK);
+    CHECK_EQ_INT(hpfc_open_memory(src, src_size, 0, &f), HPFC_OK);
+    if (f) {
+        CHECK_EQ_INT(hpfc_file_serialize(f, to, &got, &got_size, &d), HPFC_OK);
+        CHECK(got && got_size == want_size && memcmp(got, want, want_size) == 0);
+        CHECK_EQ_INT(hpfc_file_write_file(f, to, path, &d), HPFC_OK);
+        CHECK(file_equals(path, want, want_size));
+    }
+    hpfc_close(f);
+    free(src), free(want), free(got);
+}
+
+static void test_file_serialize(void)
+{
+    char dir[] = "/tmp/hpfc-test-write-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[256];
+    snprintf(path, sizeof path, "%s/map.hpfc", dir);
+    hpfc_tree *t = special_tree(GEN_SPECIAL_HOLE, 3);
+    if (!t)
+        return;
+    size_t size;
+    uint8_t *plain = serialize(t, NULL, &size);
+    hpfc_file *f = NULL;
+    hpfc_faces *fc = NULL;
+    CHECK_EQ_INT(hpfc_open_memory(plain, size, 0, &f), HPFC_OK);
+    CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
+    feat_fixture x;
+    feat_fixture_make(&x, (uint32_t)hpfc_faces_count(fc));
+    hpfc_faces_free(fc);
+    const hpfc_write_options opts[4] = {
+        {.crs = NULL},
+        {.crs = "EPSG:4326"},
+        {.features = &x.t},
+        {.crs = "+proj=lcc +lat_1=33", .features = &x.t}};
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++)
+            check_reserialized(t, &opts[a], &opts[b], path);
+    /* opts NULL: no optional section */
+    uint8_t *got = NULL;
+    size_t got_size = 0;
+    hpfc_diag d;
+    CHECK_EQ_INT(hpfc_file_serialize(f, NULL, &got, &got_size, &d), HPFC_OK);
+    CHECK(got && got_size == size && memcmp(got, plain, size) == 0);
+    free(got);
+    CHECK_EQ_INT(hpfc_file_serialize(NULL, NULL, &got, &got_size, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_serialize(f, NULL, NULL, &got_size, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_write_file(f, NULL, NULL, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_write_file(NULL, NULL, path, &d), HPFC_E_ARG);
+    hpfc_close(f);
+    free(plain);
+    free(x.start), free(x.link);
+    hpfc_tree_free(t);
+    remove(path);
+    rmdir(dir);
+}
+
+int main(void)
+{
+    check_use_test_layout();
+    test_write_file();
+    test_file_serialize();
+    return check_report("test_write");
+}
