@@ -22,6 +22,14 @@ import struct
 import subprocess
 import sys
 
+# hpfc-pack's defaults (--vertices junctions --leaf-points 16), the same
+# without the leaf bound, and a vertex at every shape point.
+CONFIGS = [
+    ("defaults", []),
+    ("`--leaf-points 0`", ["--leaf-points", "0"]),
+    ("`--vertices all`", ["--vertices", "all"]),
+]
+
 LAYERS = [
     ("us-atlas counties-10m", "us-atlas/counties-10m.json", "counties"),
     ("world-atlas countries-10m", "world-atlas/countries-10m.json", "countries"),
@@ -129,10 +137,9 @@ def main():
             "TopoJSON (quantized, this object)": topojson_one_object(src, layer, f"{base}.topo.json"),
         }
         hpfc = {}
-        for model in ("all", "junctions"):
-            out = f"{base}.{model}.hpfc"
-            run(pack, src, "-l", layer, "--fields", "all", "--vertices", model, "-o", out,
-                "--force", "-q")
+        for model, options in CONFIGS:
+            out = f"{base}.{len(hpfc)}.hpfc"
+            run(pack, src, "-l", layer, "--fields", "all", *options, "-o", out, "--force", "-q")
             data, secs = sections(out)
             v, e, p = geom_counts(data, secs)
             hpfc[model] = (len(data), secs["GEOM"][1], v, e, p)
@@ -147,7 +154,7 @@ def main():
                   f"{size / points:.2f} |")
             first = False
         for model, (size, geom, v, e, p) in hpfc.items():
-            print(f"| | | hpfc `--vertices {model} --fields all`, whole file | {size:,} | "
+            print(f"| | | hpfc {model} `--fields all`, whole file | {size:,} | "
                   f"{size / points:.2f} |")
             print(f"| | | its GEOM section ({v:,} vertices, {e:,} edges, {p:,} shape points: "
                   f"{8 * geom / (v + p):.1f} bits per stored point) | {geom:,} | "
