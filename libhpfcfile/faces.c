@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "labels.h"
 #include "reader.h"
 #include "topo.h"
@@ -209,7 +210,7 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
     /* A tree has exactly as many leaves as the level table declares word
      * pixels. Addresses that alias one child image make the tree a DAG
      * whose leaf paths can number n^L in a small file: counting stops there. */
-    uint64_t leaves = 0, most = reader_total_leaves(fc->file);
+    uint64_t leaves = 0, most = file_total_leaves(fc->file);
     int st = hpfc_leaf_first(fc->file, &px);
     for (; !st; st = hpfc_leaf_next(fc->file, &px))
         if (++leaves > most)

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "labels.h"
 #include "reader.h"
 #include "topo.h"
@@ -32,12 +33,12 @@ static int check_samples(const hpfc_file *f, const labels_view *v, hpfc_labels_r
     for (uint32_t l = 0; l < fi.levels; l++) {
         hpfc_level_info li;
         hpfc_file_get_level(f, l, &li);
-        const format_bits *pool = reader_pool(f, l);
+        const format_bits *pool = &f->lv[l].pool;
         uint64_t units = l ? li.images : (uint64_t)fi.root_cols * fi.root_rows;
         uint64_t words = 0, off = 0, nm = (uint64_t)fi.cols * fi.rows;
         uint64_t record = 1 + (uint64_t)(li.address_bits > li.word_bits ? li.address_bits : li.word_bits);
         for (uint64_t u = 0; u < units; u++) {
-            if ((u & (step - 1)) == 0 && reader_is_compact(f)) {
+            if ((u & (step - 1)) == 0 && f->compact) {
                 int st = reader_compact_words_before(f, l, u, &words);
                 if (st)
                     return problem(r, "level %u unit %llu: %s", l, (unsigned long long)u,
@@ -52,7 +53,7 @@ static int check_samples(const hpfc_file *f, const labels_view *v, hpfc_labels_r
                                    (unsigned long long)k, (unsigned long long)got,
                                    (unsigned long long)words);
             }
-            if (reader_is_compact(f))
+            if (f->compact)
                 continue; /* counted at the samples, by rank */
             if (l == 0) {
                 words += !format_get(pool, u * record, 1);
@@ -82,7 +83,7 @@ typedef struct verifier {
 static int check_leaf(verifier *z, const hpfc_pixel *px)
 {
     uint64_t rank, g, want, got;
-    int st = reader_leaf_rank(z->f, px, &rank);
+    int st = labels_leaf_rank(z->f, px, &rank);
     if (st)
         return problem(z->r, "a leaf at depth %u has no number: %s", px->depth, hpfc_strerror(st));
     g = z->v->first_leaf[px->depth] + rank;
@@ -168,7 +169,7 @@ int hpfc_labels_verify(const hpfc_file *f, const hpfc_faces *fc, hpfc_labels_rep
     if (!f || !fc || !r)
         return HPFC_E_ARG;
     memset(r, 0, sizeof *r);
-    const labels_view *v = reader_labels(f);
+    const labels_view *v = &f->labels;
     if (!v->present)
         return HPFC_E_NO_SECTION;
     if (v->faces != hpfc_faces_count(fc))

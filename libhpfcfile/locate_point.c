@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "geometry.h"
 #include "reader.h"
 
@@ -142,14 +143,14 @@ static bool in_leaf(const leaf_ctx *c, lpoint q)
  * segment 0 throughout when no edge has shape points. */
 static int leaf_segments(const leaf_ctx *c)
 {
-    const geom_view *g = reader_geometry(c->f);
+    const geom_view *g = &c->f->geom;
     if (!g->points) {
         for (uint32_t k = 0; k < c->n; k++)
             c->s->cr[k].segment = 0;
         return HPFC_OK;
     }
     uint64_t rank, start, end = g->crossings;
-    int st = reader_leaf_rank(c->f, c->leaf, &rank);
+    int st = labels_leaf_rank(c->f, c->leaf, &rank);
     uint64_t gl = st ? 0 : g->first_leaf[c->leaf->depth] + rank;
     if (!st && gl >= g->leaves)
         st = HPFC_E_CORRUPT;

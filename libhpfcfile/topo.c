@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "internal.h"
 #include "reader.h"
 
@@ -56,11 +57,11 @@ int hpfc_walker_create(const hpfc_file *file, hpfc_walker **out)
     if (!w)
         return HPFC_E_NOMEM;
     w->file = file;
-    w->cap = reader_max_crossings(file);
-    w->budget = reader_total_crossings(file) + 1;
+    w->cap = file_max_crossings(file);
+    w->budget = file_total_crossings(file) + 1;
     /* a road can border more leaves than the file has crossings (private
      * leaves around a deep refinement), never more than it has leaves */
-    w->leaf_budget = reader_total_leaves(file) + 1;
+    w->leaf_budget = file_total_leaves(file) + 1;
     int st = local_alloc(&w->here, w->cap);
     if (!st)
         st = local_alloc(&w->there, w->cap);

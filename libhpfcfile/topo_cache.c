@@ -24,6 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "format.h"
 #include "reader.h"
 #include "topo.h"
@@ -73,7 +74,7 @@ static void file_needs(const hpfc_file *f, uint64_t *bytes, uint64_t *entries)
     hpfc_level_info lv;
     *bytes = *entries = 0;
     for (uint32_t l = 0; hpfc_file_get_level(f, l, &lv) == HPFC_OK; l++) {
-        uint32_t c = reader_level_max_crossings(f, l);
+        uint32_t c = file_level_max_crossings(f, l);
         *bytes = saturating_mul_add(*bytes, lv.word_pixels, entry_bytes(l, c, c) + block_bytes(c));
         *entries = saturating_mul_add(*entries, lv.word_pixels, 1);
     }

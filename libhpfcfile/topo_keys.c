@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "reader.h"
 #include "topo.h"
 
@@ -113,7 +114,7 @@ static int slot_pixel(hpfc_walker *w, uint64_t pos, hpfc_pixel *px, uint64_t *id
     if (l == w->levels)
         return HPFC_E_ARG;
     uint64_t rel = pos - x->pool_bit[l], index = 0, start = 0;
-    if (l > 0 && reader_is_compact(w->file)) { /* images are numbered: the type bits say which */
+    if (l > 0 && w->file->compact) { /* images are numbered: the type bits say which */
         int st = reader_slot_image(w->file, l, rel, &index);
         if (st)
             return st;

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "file.h"
 #include "gen.h"
 #include "hpfc.h"
 #include "labels.h"
@@ -71,7 +72,7 @@ static void check_ranks(const packed *p)
 {
     hpfc_file_info fi;
     hpfc_file_get_info(p->f, &fi);
-    uint64_t leaves = reader_total_leaves(p->f);
+    uint64_t leaves = file_total_leaves(p->f);
     slot_rank *sr[HPFC_MAX_LEVELS] = {0};
     uint64_t count[HPFC_MAX_LEVELS] = {0};
     for (uint32_t l = 0; l < fi.levels; l++)
@@ -214,7 +215,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
     CHECK_EQ_INT(hpfc_labels_verify(p.f, fc, &rep), HPFC_OK);
     if (rep.message[0])
         fprintf(stderr, "verify: %s\n", rep.message);
-    CHECK_EQ_INT(rep.leaves_checked, reader_total_leaves(p.f));
+    CHECK_EQ_INT(rep.leaves_checked, file_total_leaves(p.f));
     /* hpfc_file_serialize keeps the section: the same labels after */
     uint8_t *again = NULL;
     size_t size = 0;
