@@ -62,6 +62,14 @@ struct hpfc_file {
     geom_view geom;         /* the GEOM section (geom.present: the file has one) */
 };
 
+/* The file has exact geometry: GEOM and LABL (open checked that their edge
+ * counts agree), what point location, the shapes and the exact batch need.
+ * Their callers answer HPFC_E_NO_SECTION when it has not. */
+static inline bool file_has_exact_geometry(const hpfc_file *f)
+{
+    return f->geom.present && f->labels.present;
+}
+
 /* Most crossings a word of this file can hold (from the level table). */
 uint32_t file_max_crossings(const hpfc_file *f);
 /* Most crossings a word of level `level` can hold. */

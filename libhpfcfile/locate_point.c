@@ -523,16 +523,11 @@ int locx_locate(const hpfc_file *f, int64_t x, int64_t y, locx_scratch *s, locx_
     *count = 0;
     if (s->file != f) { /* once per file and scratch */
         s->have_leaf = 0;
-        hpfc_geometry_info gi;
-        hpfc_labels_info li;
-        int st = hpfc_file_geometry(f, &gi);
-        if (!st)
-            st = hpfc_file_labels(f, &li);
-        if (st)
-            return st;
+        if (!file_has_exact_geometry(f))
+            return HPFC_E_NO_SECTION;
         hpfc_file_info info;
         hpfc_file_get_info(f, &info);
-        s->file = f, s->dx0 = info.x0, s->dy0 = info.y0, s->points = gi.points;
+        s->file = f, s->dx0 = info.x0, s->dy0 = info.y0, s->points = f->geom.points;
     }
     int st;
     leaf_ctx c = {.f = f, .dx0 = s->dx0, .dy0 = s->dy0, .s = s};
