@@ -131,11 +131,6 @@ HPFC_API int hpfc_graph_add_edge(hpfc_graph *graph, uint32_t u, uint32_t v,
                                  const int64_t *interior_xy, size_t n_interior,
                                  uint32_t *out_index);
 
-/* Records the 1-based source line of the last vertex / edge added, so that
- * diagnostics can name it. */
-HPFC_API void hpfc_graph_set_last_vertex_line(hpfc_graph *graph, uint32_t line);
-HPFC_API void hpfc_graph_set_last_edge_line(hpfc_graph *graph, uint32_t line);
-
 HPFC_API size_t hpfc_graph_vertex_count(const hpfc_graph *graph);
 HPFC_API size_t hpfc_graph_edge_count(const hpfc_graph *graph);
 HPFC_API void hpfc_graph_vertex(const hpfc_graph *graph, size_t index,

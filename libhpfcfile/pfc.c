@@ -568,7 +568,7 @@ static int build_vertex(pfc_reader *r)
         return st;
     if ((st = hpfc_graph_add_vertex(r->g, x, y, NULL)))
         return graph_failure(r, st);
-    hpfc_graph_set_last_vertex_line(r->g, r->line);
+    graph_set_last_vertex_line(r->g, r->line);
     return HPFC_OK;
 }
 
@@ -624,7 +624,7 @@ static int build_edge(pfc_reader *r)
         return st;
     if ((st = hpfc_graph_add_edge(r->g, (uint32_t)u, (uint32_t)v, r->xy, ncoord / 2, NULL)))
         return graph_failure(r, st);
-    hpfc_graph_set_last_edge_line(r->g, r->line);
+    graph_set_last_edge_line(r->g, r->line);
     return HPFC_OK;
 }
 
