@@ -108,7 +108,7 @@ static inline path_step *word_path(cached_word *e)
  * together at the arena's end, so a warm walk on keys reads a bucket and
  * one block line per step from about a third of the memory the entries
  * take, most of it then in the core's L2 cache instead of farther away
- * (the warm walk of bench_traverse went from 7.7 to 5.2 ns an operator).
+ * (bench/README.md, "Notes", has the warm walk before and after).
  * A block is written only from its entry (the arrival recorded there, the
  * arrival entry's slot, pred and dense id): a copy, never another answer,
  * and it goes when the entries go. */
