@@ -89,12 +89,12 @@ static int check_leaf(verifier *z, const hpfc_pixel *px)
     g = z->v->first_leaf[px->depth] + rank;
     if (z->length[g] != UINT64_MAX)
         return problem(z->r, "two leaves have number %llu", (unsigned long long)g);
-    if ((st = topo_parse_pixel(z->w, &z->w->here, px)))
+    if ((st = topo_parse_pixel(z->w, &z->w->p_word, px)))
         return problem(z->r, "leaf %llu: %s", (unsigned long long)g, hpfc_strerror(st));
-    const local_word *lw = &z->w->here;
+    const local_word *lw = &z->w->p_word;
     uint32_t stabbings = 0;
     for (uint32_t c = 0; c < lw->ncomp; c++)
-        stabbings += lw->comp_vertex[c] == NONE;
+        stabbings += lw->comp_vertex[c] == TOPO_NONE;
     z->length[g] = lw->n ? (uint64_t)(lw->n - stabbings) * (z->v->edge_bits + 1) : z->v->face_bits;
     for (uint32_t t = 0; t < (lw->n ? lw->n : 1); t++) {
         if (lw->n) {
@@ -119,11 +119,11 @@ static int check_leaf(verifier *z, const hpfc_pixel *px)
             return problem(z->r, "leaf %llu crossing %u: %s", (unsigned long long)g, k,
                            hpfc_strerror(st));
         z->r->labels_checked++;
-        if (k >= z->w->here.road_off[HPFC_EAST])
+        if (k >= z->w->p_word.road_off[HPFC_EAST])
             continue; /* E and S roads: checked from the leaf across */
         hpfc_pixel q;
         uint32_t m;
-        if ((st = topo_cross_road(z->w, px, true, &z->w->here, k, &q, &z->w->there, &m)) ||
+        if ((st = topo_cross_road(z->w, px, true, &z->w->p_word, k, &q, &z->w->q_word, &m)) ||
             (st = hpfc_label_crossing_edge(z->f, &q, m, &want)))
             return problem(z->r, "leaf %llu crossing %u across its road: %s",
                            (unsigned long long)g, k, hpfc_strerror(st));
