@@ -19,9 +19,9 @@
  * the section, every leaf's number is the pool walk's and every stretch's
  * face is hpfc_faces_build's.
  */
+#include "file.h"
 #include "input.h"
 #include "labels.h"
-#include "reader.h"
 
 #define FUZZ_STEPS 2000
 #define FUZZ_LEAVES 512
@@ -163,7 +163,7 @@ static void explore(lab *z)
         if (hpfc_locate(z->f, x, y, &px) == HPFC_OK)
             probe_pixel(z, &px, 7);
     }
-    if (reader_total_leaves(z->f) <= 4096)
+    if (file_total_leaves(z->f) <= 4096)
         verify(z);
 }
 

@@ -15,8 +15,8 @@
 #include <string.h>
 
 #include "attrs.h"
+#include "file.h"
 #include "format.h"
-#include "reader.h"
 
 /* Cells at most 2^37: the cells then take at most 2^40 bytes, below the
  * format's file size limit, and no size below overflows 64 bits. */
@@ -154,10 +154,9 @@ int attr_section_check(const uint8_t *s, uint64_t length)
 
 static int attr_section_of(const hpfc_file *file, const uint8_t **s)
 {
-    uint64_t length;
     if (!file)
         return HPFC_E_ARG;
-    *s = reader_attr_section(file, &length);
+    *s = file->attr;
     return *s ? HPFC_OK : HPFC_E_NO_SECTION;
 }
 
@@ -326,10 +325,9 @@ int edgf_section_check(const uint8_t *s, uint64_t length)
 
 static int edgf_section_of(const hpfc_file *file, const uint8_t **s)
 {
-    uint64_t length;
     if (!file)
         return HPFC_E_ARG;
-    *s = reader_edgf_section(file, &length);
+    *s = file->edgf;
     return *s ? HPFC_OK : HPFC_E_NO_SECTION;
 }
 

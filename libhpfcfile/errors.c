@@ -55,9 +55,63 @@ int diag_set(hpfc_diag *diag, int status, const char *fmt, ...)
     return status;
 }
 
-double lattice_to_user(int64_t v, int32_t exp10)
+void diag_point(hpfc_diag *diag, double x, double y, int32_t exp10)
 {
-    return (double)v * pow(10.0, (double)exp10);
+    if (diag) {
+        diag->has_point = 1;
+        diag->x = x * pow(10.0, (double)exp10);
+        diag->y = y * pow(10.0, (double)exp10);
+    }
+}
+
+/* Fractional digits written out in full: a graph's unit goes down to
+ * 10^-30 (hpfc_graph_set_unit_exp10), and 20 digits, a sign, "0." and 30
+ * zeros fit in 64 bytes; likewise up to 10^30 (30 trailing zeros). */
+#define LATTICE_TEXT_MAX_DIGITS 30
+
+const char *lattice_to_text(int64_t v, int64_t d, char buf[64])
+{
+    char digits[32];
+    uint64_t a = v < 0 ? (uint64_t)0 - (uint64_t)v : (uint64_t)v;
+    int n = snprintf(digits, sizeof digits, "%llu", (unsigned long long)a);
+    char *o = buf;
+    if (v < 0)
+        *o++ = '-';
+    if (a == 0 || d == 0) {
+        strcpy(o, digits);
+        return buf;
+    }
+    if (d > LATTICE_TEXT_MAX_DIGITS || d < -LATTICE_TEXT_MAX_DIGITS) {
+        snprintf(o, 60, "%se%lld", digits, (long long)-d);
+        return buf;
+    }
+    if (d < 0) { /* a unit coarser than 1: trailing zeros */
+        strcpy(o, digits);
+        o += n;
+        for (int64_t k = 0; k < -d; k++)
+            *o++ = '0';
+        *o = '\0';
+        return buf;
+    }
+    if (n <= d) {
+        *o++ = '0';
+        *o++ = '.';
+        for (int64_t k = n; k < d; k++)
+            *o++ = '0';
+        strcpy(o, digits);
+    } else {
+        memcpy(o, digits, (size_t)(n - d));
+        o += n - d;
+        *o++ = '.';
+        strcpy(o, digits + (n - d));
+    }
+    /* Drop the fraction's trailing zeros: "2.50" reads better as "2.5". */
+    o = buf + strlen(buf) - 1;
+    while (*o == '0')
+        *o-- = '\0';
+    if (*o == '.')
+        *o = '\0';
+    return buf;
 }
 
 void diag_clear(hpfc_diag *diag)

@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "labels.h"
 #include "reader.h"
 #include "topo.h"
@@ -209,7 +210,7 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
     /* A tree has exactly as many leaves as the level table declares word
      * pixels. Addresses that alias one child image make the tree a DAG
      * whose leaf paths can number n^L in a small file: counting stops there. */
-    uint64_t leaves = 0, most = reader_total_leaves(fc->file);
+    uint64_t leaves = 0, most = file_total_leaves(fc->file);
     int st = hpfc_leaf_first(fc->file, &px);
     for (; !st; st = hpfc_leaf_next(fc->file, &px))
         if (++leaves > most)
@@ -220,11 +221,11 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
         return st;
     for (st = hpfc_leaf_first(fc->file, &px); !st; st = hpfc_leaf_next(fc->file, &px)) {
         uint64_t *e = leaf_entry(fc, &px, &st);
-        if (st || (st = topo_parse_pixel(w, &w->here, &px)))
+        if (st || (st = topo_parse_pixel(w, &w->p_word, &px)))
             return st;
         if (!e || *e != ENTRY_EMPTY) /* outside its level's entries, or two paths to one leaf */
             return HPFC_E_CORRUPT;
-        uint64_t n = w->here.n, nodes = n ? n : 1;
+        uint64_t n = w->p_word.n, nodes = n ? n : 1;
         if (n > ENTRY_COUNT_MAX || fc->nodes > ENTRY_BASE_MAX - nodes)
             return HPFC_E_LIMIT; /* 2^24 crossings in one leaf, 2^40 nodes in all */
         *e = fc->nodes << ENTRY_COUNT_BITS | n;
@@ -246,18 +247,18 @@ static void unite_inside(node_array *parent, const local_word *lw, uint64_t base
  * and makes both unions; its neighbour, whose road is E or S, skips it. */
 static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
 {
-    const local_word *lw = &w->here;
+    const local_word *lw = &w->p_word;
     for (uint32_t k = 0; k < lw->road_off[HPFC_EAST]; k++) {
         hpfc_pixel q;
         uint32_t mk;
         uint64_t qbase;
-        int st = topo_cross_road(w, p, true, lw, k, &q, &w->there, &mk);
+        int st = topo_cross_road(w, p, true, lw, k, &q, &w->q_word, &mk);
         if (!st)
             st = node_base(fc, &q, &qbase);
         if (st)
             return st;
         unite(&fc->parent, out_node(base, lw->n, k), in_node(qbase, mk));
-        unite(&fc->parent, out_node(qbase, w->there.n, mk), in_node(base, k));
+        unite(&fc->parent, out_node(qbase, w->q_word.n, mk), in_node(base, k));
     }
     return HPFC_OK;
 }
@@ -266,10 +267,10 @@ static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uin
  * neighbour spans P's whole side, join P's region there with Q's. */
 static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
 {
-    box pb, qb;
+    topo_box pb, qb;
     int st = topo_leaf_box(fc->file, p, &pb);
     for (int road = 0; road < 4 && !st; road++) {
-        if (w->here.road_off[road + 1] != w->here.road_off[road])
+        if (w->p_word.road_off[road + 1] != w->p_word.road_off[road])
             continue; /* crossings link both sides through the sidewalks */
         int64_t lo, hi, qlo, qhi;
         topo_road_extent(&pb, road, &lo, &hi);
@@ -285,16 +286,16 @@ static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p
         if (qlo > lo || qhi < hi)
             continue; /* smaller leaves across: each handles its own side */
         uint64_t before, qbase;
-        uint64_t pnode = gap_node(&w->here, base, road, 0);
+        uint64_t pnode = gap_node(&w->p_word, base, road, 0);
         if ((st = topo_crossings_after(w, p, &pb, road, qlo, qhi, topo_road_count, &before)) ||
-            (st = node_base(fc, &q, &qbase)) || (st = topo_parse_pixel(w, &w->there, &q)))
+            (st = node_base(fc, &q, &qbase)) || (st = topo_parse_pixel(w, &w->q_word, &q)))
             break;
         int opposite = (road + 2) % 4;
-        if (before > w->there.road_off[opposite + 1] - w->there.road_off[opposite]) {
+        if (before > w->q_word.road_off[opposite + 1] - w->q_word.road_off[opposite]) {
             st = HPFC_E_CORRUPT; /* more crossings on P's side than on Q's road */
             break;
         }
-        unite(&fc->parent, pnode, gap_node(&w->there, qbase, opposite, before));
+        unite(&fc->parent, pnode, gap_node(&w->q_word, qbase, opposite, before));
     }
     return st;
 }
@@ -306,9 +307,9 @@ static int unite_all(hpfc_faces *fc, hpfc_walker *w)
     int st;
     for (st = hpfc_leaf_first(fc->file, &px); !st; st = hpfc_leaf_next(fc->file, &px)) {
         uint64_t base;
-        if ((st = node_base(fc, &px, &base)) || (st = topo_parse_pixel(w, &w->here, &px)))
+        if ((st = node_base(fc, &px, &base)) || (st = topo_parse_pixel(w, &w->p_word, &px)))
             return st;
-        unite_inside(&fc->parent, &w->here, base);
+        unite_inside(&fc->parent, &w->p_word, base);
         if ((st = unite_across(fc, w, &px, base)) || (st = unite_empty_roads(fc, w, &px, base)))
             return st;
     }
@@ -327,11 +328,11 @@ static int number_faces(hpfc_faces *fc, hpfc_walker *w)
     if (!st)
         st = node_base(fc, &corner, &base);
     if (!st)
-        st = topo_parse_pixel(w, &w->here, &corner);
+        st = topo_parse_pixel(w, &w->p_word, &corner);
     if (st)
         return st;
     node_array *parent = &fc->parent;
-    uint64_t outer = find(parent, gap_node(&w->here, base, HPFC_NORTH, 0));
+    uint64_t outer = find(parent, gap_node(&w->p_word, base, HPFC_NORTH, 0));
     for (uint64_t x = 0; x < fc->nodes; x++) /* every node now points at its root */
         node_set(parent, x, find(parent, x));
     /* Face ids in place, in order of each face's smallest node, the outer

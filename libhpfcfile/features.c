@@ -13,8 +13,8 @@
 #include <string.h>
 
 #include "feat.h"
+#include "file.h"
 #include "format.h"
-#include "reader.h"
 
 /* ---- layout ----------------------------------------------------------------- */
 
@@ -157,10 +157,9 @@ int feat_section_check(const uint8_t *s, uint64_t length)
 
 static int section_of(const hpfc_file *file, const uint8_t **s)
 {
-    uint64_t length;
     if (!file)
         return HPFC_E_ARG;
-    *s = reader_feat_section(file, &length);
+    *s = file->feat;
     return *s ? HPFC_OK : HPFC_E_NO_SECTION;
 }
 

@@ -1,6 +1,8 @@
 /*
- * format.h: the .hpfc binary format 1.0 (spec/hpfc-format.md) as the writer
- * and the reader see it. Internal to the library (and its tests).
+ * format.h: the .hpfc binary format (spec/hpfc-format.md) as the writer
+ * and the reader see it: the format version it writes is FORMAT_MAJOR.
+ * FORMAT_MINOR below (1.2), not the library's own (hpfc_version.h, from
+ * meson's project version). Internal to the library (and its tests).
  *
  * - Every field of the header, the level table and the section directory is
  *   touched only through the get/set helpers below, named after the spec's
@@ -26,7 +28,7 @@
 
 enum {
     FORMAT_MAJOR = 1,
-    FORMAT_MINOR = 2,               /* 1.1: the FEAT section; 1.2: LABL, ATTR, EDGF, the compact pool */
+    FORMAT_MINOR = 2,               /* 1.1: FEAT; 1.2: LABL, ATTR, EDGF, GEOM, the compact pool */
     FORMAT_HEADER_SIZE = 128,       /* header_size written by this library */
     FORMAT_LEVEL_ENTRY_SIZE = 64,
     FORMAT_SECTION_ENTRY_SIZE = 32,

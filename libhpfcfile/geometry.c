@@ -8,10 +8,10 @@
  */
 #include <string.h>
 
+#include "file.h"
 #include "geometry.h"
 #include "internal.h"
 #include "labels.h"
-#include "reader.h"
 
 /* ---- layout --------------------------------------------------------------------- */
 
@@ -197,7 +197,7 @@ int geom_column_get(const geom_column *c, uint64_t i, uint64_t *value)
 
 static const geom_view *geometry_of(const hpfc_file *file)
 {
-    const geom_view *v = file ? reader_geometry(file) : NULL;
+    const geom_view *v = file ? &file->geom : NULL;
     return v && v->present ? v : NULL;
 }
 
@@ -227,10 +227,8 @@ static int point_at(const hpfc_file *file, const geom_view *v, int cx, uint64_t 
         st = HPFC_E_CORRUPT;
     if (st)
         return st;
-    hpfc_file_info fi;
-    hpfc_file_get_info(file, &fi);
-    *x = fi.x0 + (int64_t)dx;
-    *y = fi.y0 + (int64_t)dy;
+    *x = file->info.x0 + (int64_t)dx;
+    *y = file->info.y0 + (int64_t)dy;
     return HPFC_OK;
 }
 
@@ -323,7 +321,7 @@ int hpfc_geometry_edge_faces(const hpfc_file *file, uint64_t edge, uint64_t *lef
     if (!file || !left || !right)
         return HPFC_E_ARG;
     const geom_view *g = geometry_of(file);
-    const labels_view *lv = reader_labels(file);
+    const labels_view *lv = &file->labels;
     if (!g || !lv->present)
         return HPFC_E_NO_SECTION;
     if (edge >= g->edges)
@@ -361,7 +359,7 @@ int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf
     if (!g)
         return HPFC_E_NO_SECTION;
     uint64_t rank, n;
-    int st = reader_leaf_rank(file, leaf, &rank);
+    int st = labels_leaf_rank(file, leaf, &rank);
     if (!st)
         st = leaf_crossings(file, leaf, &n);
     if (st)
@@ -385,7 +383,7 @@ int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf
         return st;
     /* a segment of the crossing's own edge, when LABL names it */
     uint64_t edge;
-    if (reader_labels(file)->present) {
+    if (file->labels.present) {
         edge_rec r;
         st = hpfc_label_crossing_edge(file, leaf, crossing, &edge);
         if (!st && edge >= g->edges)

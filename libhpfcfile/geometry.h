@@ -115,9 +115,6 @@ bool geom_padding_zero(const geom_view *v, uint64_t *at);
  * directory entry or field lies outside the column. */
 int geom_column_get(const geom_column *c, uint64_t i, uint64_t *value);
 
-/* The open file's GEOM view (present == false when it has none). */
-const geom_view *reader_geometry(const hpfc_file *file);
-
 /* Builds the section's bytes from the graph the tree was built from:
  * *out (malloc'ed), *length. HPFC_E_ARG when the graph is not the tree's. */
 int geometry_build(const hpfc_tree *tree, const hpfc_graph *graph, uint8_t **out,

@@ -26,8 +26,8 @@
 #include "geom.h"
 #include "geometry.h"
 #include "internal.h"
+#include "file.h"
 #include "labels.h"
-#include "reader.h"
 
 static int problem(hpfc_geometry_report *r, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -124,7 +124,7 @@ static int count_vertices(const hpfc_file *f, const geom_view *g, uint32_t *per_
         if (!st)
             st = hpfc_locate(f, x, y, &px);
         if (!st)
-            st = reader_leaf_rank(f, &px, &rank);
+            st = labels_leaf_rank(f, &px, &rank);
         if (st)
             return st == HPFC_E_NOMEM ? st
                                       : problem(r, "vertex %llu: no leaf holds it (%s)",
@@ -188,7 +188,7 @@ static int check_leaf(const hpfc_file *f, const geom_view *g, const hpfc_pixel *
 {
     uint64_t rank;
     int64_t cell[4];
-    int st = reader_leaf_rank(f, px, &rank);
+    int st = labels_leaf_rank(f, px, &rank);
     if (!st)
         st = read_word(f, px, w);
     if (!st)
@@ -240,7 +240,7 @@ int hpfc_geometry_verify(const hpfc_file *f, hpfc_geometry_report *r)
     if (!f || !r)
         return HPFC_E_ARG;
     memset(r, 0, sizeof *r);
-    const geom_view *g = reader_geometry(f);
+    const geom_view *g = &f->geom;
     if (!g->present)
         return HPFC_E_NO_SECTION;
     uint64_t at;
@@ -249,13 +249,13 @@ int hpfc_geometry_verify(const hpfc_file *f, hpfc_geometry_report *r)
     int st = check_graph(f, g, r);
     if (st)
         return st;
-    uint64_t leaves = reader_total_leaves(f);
+    uint64_t leaves = file_total_leaves(f);
     uint32_t *per_leaf = calloc(leaves ? leaves : 1, sizeof *per_leaf);
     if (!per_leaf)
         return HPFC_E_NOMEM;
     st = count_vertices(f, g, per_leaf, leaves, r);
     r->vertices_checked = st ? 0 : g->vertices;
-    bool labels = reader_labels(f)->present;
+    bool labels = f->labels.present;
     word_buf w = {0};
     hpfc_pixel px;
     uint64_t seen = 0;

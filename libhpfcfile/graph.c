@@ -159,13 +159,13 @@ int hpfc_graph_add_edge(hpfc_graph *g, uint32_t u, uint32_t v,
     return HPFC_OK;
 }
 
-void hpfc_graph_set_last_vertex_line(hpfc_graph *g, uint32_t line)
+void graph_set_last_vertex_line(hpfc_graph *g, uint32_t line)
 {
     if (g && g->nv)
         set_line(&g->vline, g->cap_v, g->nv - 1, line);
 }
 
-void hpfc_graph_set_last_edge_line(hpfc_graph *g, uint32_t line)
+void graph_set_last_edge_line(hpfc_graph *g, uint32_t line)
 {
     if (g && g->ne)
         set_line(&g->eline, g->cap_e, g->ne - 1, line);

@@ -131,11 +131,6 @@ HPFC_API int hpfc_graph_add_edge(hpfc_graph *graph, uint32_t u, uint32_t v,
                                  const int64_t *interior_xy, size_t n_interior,
                                  uint32_t *out_index);
 
-/* Records the 1-based source line of the last vertex / edge added, so that
- * diagnostics can name it. */
-HPFC_API void hpfc_graph_set_last_vertex_line(hpfc_graph *graph, uint32_t line);
-HPFC_API void hpfc_graph_set_last_edge_line(hpfc_graph *graph, uint32_t line);
-
 HPFC_API size_t hpfc_graph_vertex_count(const hpfc_graph *graph);
 HPFC_API size_t hpfc_graph_edge_count(const hpfc_graph *graph);
 HPFC_API void hpfc_graph_vertex(const hpfc_graph *graph, size_t index,
@@ -537,9 +532,9 @@ HPFC_API uint64_t hpfc_dart_key(const hpfc_file *file, const hpfc_dart *d);
 /* Keys as handles. A dart or vertex key (spec/hpfc-format.md §3.10: the
  * word pixel's slot position << 20 | crossing or local vertex id) names its
  * dart or vertex on its own, so a traversal can keep 8-byte keys in its
- * queues and sets instead of 776-byte hpfc_dart values. Any key of the file
- * works on any walker of it: one stored earlier, or got from another walker
- * or process.
+ * queues and sets instead of hpfc_dart values (a whole pixel path each).
+ * Any key of the file works on any walker of it: one stored earlier, or got
+ * from another walker or process.
  *
  * hpfc_key_twin/next/prev give the key of twin/next/prev of the dart, and
  * hpfc_key_origin/target the key of its origin/target vertex: exactly
@@ -560,12 +555,11 @@ HPFC_API uint64_t hpfc_dart_key(const hpfc_file *file, const hpfc_dart *d);
  * Cost: a key whose pixel the walker's cache holds costs one hash probe
  * more than the operator's own work, and no pixel path is built; a twin,
  * next or prev the cache has answered before is then one hash probe and
- * one load from a compact copy of the answers (about 3 ns, bench/README.md).
+ * one load from a compact copy of the answers (bench/README.md, #4).
  * Otherwise the key is resolved to its pixel path, O(levels * log(images)),
  * and the operator runs as on a dart. The first such key builds the
  * walker's parent index, once, by one pass over the pools: O(pixels) time
- * and 16 bytes per image of the levels below the root (data/delaunay-4000
- * packed by default: 1,380 images, 22 KB, about 0.05 ms), kept until
+ * and 16 bytes per image of the levels below the root, kept until
  * hpfc_walker_free. A file whose layout fails that pass gives its status to
  * every key call of the walker after it (the dart operators still work).
  *
@@ -643,10 +637,10 @@ typedef struct hpfc_faces hpfc_faces;
 
 /* Memory: 8 bytes per k_w bits of every level's pool (a table of the
  * leaves by position, about 9 bytes a leaf) and 4 bytes per crossing and
- * per private leaf (8 past 2^31 of them); a continental map of 4.66 M
- * leaves: 73 MB. HPFC_E_CORRUPT
- * on a file whose pixels contradict each other, HPFC_E_LIMIT past 2^24
- * crossings in one leaf or 2^40 crossings in all, HPFC_E_NOMEM. */
+ * per private leaf (8 past 2^31 of them); bench/README.md has a continental
+ * map's figures. HPFC_E_CORRUPT on a file whose pixels contradict each
+ * other, HPFC_E_LIMIT past 2^24 crossings in one leaf or 2^40 crossings in
+ * all, HPFC_E_NOMEM. */
 HPFC_API int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out);
 HPFC_API void hpfc_faces_free(hpfc_faces *faces);
 HPFC_API uint64_t hpfc_faces_count(const hpfc_faces *faces);

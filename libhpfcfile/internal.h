@@ -1,4 +1,7 @@
-/* Internal declarations shared by the library's translation units. */
+/* internal.h: the graph as the library holds it (struct hpfc_graph, its
+ * accessors, the source lines the .pfc reader records and the checks every
+ * graph input shares) and the diagnostics helpers. Internal to the library
+ * (and its tests and fuzzers). */
 #ifndef HPFC_INTERNAL_H
 #define HPFC_INTERNAL_H
 
@@ -67,7 +70,26 @@ int diag_set(hpfc_diag *diag, int status, const char *fmt, ...)
 #endif
     ;
 
-/* User coordinate of a lattice value, for messages only. */
-double lattice_to_user(int64_t v, int32_t exp10);
+/* Fills diag's point (if diag is non-NULL) for a message about lattice
+ * point (x, y): user coordinates, x * 10^exp10. */
+void diag_point(hpfc_diag *diag, double x, double y, int32_t exp10);
+
+/* Writes lattice value v at scale 10^-frac_digits as an exact decimal
+ * ("-1.25", "4", "3000"), for messages; frac_digits beyond 30 (a .pfc
+ * file about to fail with HPFC_E_LIMIT) as "<digits>e-<d>". Returns buf. */
+const char *lattice_to_text(int64_t v, int64_t frac_digits, char buf[64]);
+
+/* Records the 1-based source line of the last vertex / edge added (the
+ * .pfc reader's), so that diagnostics can name it. */
+void graph_set_last_vertex_line(hpfc_graph *g, uint32_t line);
+void graph_set_last_edge_line(hpfc_graph *g, uint32_t line);
+
+/* The whole-graph checks both the .pfc reader and hpfc_graph_validate run
+ * (graph_check.c): two points at one place (vertices only, or interior
+ * points too) is HPFC_E_DUPLICATE_POINT, a vertex no edge uses
+ * HPFC_E_ISOLATED_VERTEX; diag names the culprit (its line, its point) and
+ * the message starts with "line N: " when the graph knows N. */
+int graph_check_duplicates(const hpfc_graph *g, bool interior, hpfc_diag *diag);
+int graph_check_isolated(const hpfc_graph *g, hpfc_diag *diag);
 
 #endif

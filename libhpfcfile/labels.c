@@ -16,8 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "labels.h"
-#include "reader.h"
 
 #define NONE_REGION UINT32_MAX
 
@@ -130,62 +130,39 @@ int labels_open(labels_view *v, const uint8_t *sec, uint64_t length, const label
 
 /* ---- leaf numbers -------------------------------------------------------------- */
 
-/* What the rank needs of a level. */
-typedef struct level_geom {
-    const format_bits *pool;
-    uint64_t nm;            /* pixels per image (root: n0 * m0) */
-    uint64_t record;        /* level 0: bits per record */
-    uint32_t kw, ka;
-    hpfc_level_info info;
-} level_geom;
-
-static int level_geom_get(const hpfc_file *f, uint32_t l, level_geom *g)
-{
-    hpfc_file_info fi;
-    hpfc_file_get_info(f, &fi);
-    if (hpfc_file_get_level(f, l, &g->info))
-        return HPFC_E_ARG;
-    g->pool = reader_pool(f, l);
-    g->kw = g->info.word_bits;
-    g->ka = g->info.address_bits;
-    g->nm = l ? (uint64_t)fi.cols * fi.rows : (uint64_t)fi.root_cols * fi.root_rows;
-    g->record = 1 + (uint64_t)(g->ka > g->kw ? g->ka : g->kw);
-    return HPFC_OK;
-}
-
 /* Refined pixels (1 bits) among the first p mask bits of the image at bit
  * `image`, which must hold its mask in the pool. */
-static int mask_ones(const level_geom *g, uint64_t image, uint64_t p, uint64_t *ones)
+static int mask_ones(const file_level *g, uint64_t image, uint64_t p, uint64_t *ones)
 {
-    if (image > g->pool->bits || g->nm > g->pool->bits - image)
+    if (image > g->pool.bits || g->image_pixels > g->pool.bits - image)
         return HPFC_E_CORRUPT;
-    *ones = format_popcount(g->pool, image, p);
+    *ones = format_popcount(&g->pool, image, p);
     return HPFC_OK;
 }
 
 /* The bit after the image at `image` (its mask checked inside the pool);
  * *zeros: its word pixels. */
-static int image_end(const level_geom *g, uint64_t image, uint64_t *end, uint64_t *zeros)
+static int image_end(const file_level *g, uint64_t image, uint64_t *end, uint64_t *zeros)
 {
     uint64_t ones, t, size;
-    int st = mask_ones(g, image, g->nm, &ones);
+    int st = mask_ones(g, image, g->image_pixels, &ones);
     if (st)
         return st;
-    *zeros = g->nm - ones;
-    if (!format_mul(*zeros, g->kw, &size) || !format_mul(ones, g->ka, &t) ||
-        !format_add(size, t, &size) || !format_add(size, g->nm, &size) ||
-        size > g->pool->bits - image)
+    *zeros = g->image_pixels - ones;
+    if (!format_mul(*zeros, g->word_bits, &size) || !format_mul(ones, g->address_bits, &t) ||
+        !format_add(size, t, &size) || !format_add(size, g->image_pixels, &size) ||
+        size > g->pool.bits - image)
         return HPFC_E_CORRUPT;
     *end = image + size;
     return HPFC_OK;
 }
 
 /* Word records among root records [from, to). */
-static uint64_t root_words(const level_geom *g, uint64_t from, uint64_t to)
+static uint64_t root_words(const file_level *g, uint64_t from, uint64_t to)
 {
     uint64_t words = 0;
     for (uint64_t r = from; r < to; r++) /* s^0 holds every record */
-        words += !format_get(g->pool, r * g->record, 1);
+        words += !format_get(&g->pool, r * g->record_bits, 1);
     return words;
 }
 
@@ -206,12 +183,12 @@ static int check_leaf(const hpfc_file *f, const hpfc_pixel *leaf)
 
 /* The bit offset of image u of a level (W7: images back to back in index
  * order), given the word pixels before it. */
-static int image_offset(const level_geom *g, uint64_t u, uint64_t words, uint64_t *off)
+static int image_offset(const file_level *g, uint64_t u, uint64_t words, uint64_t *off)
 {
     uint64_t pixels, a, b;
-    if (!format_mul(u, g->nm, &pixels) || words > pixels || words > g->info.word_pixels ||
-        pixels - words > g->info.refined_pixels || !format_mul(words, g->kw, &a) ||
-        !format_mul(pixels - words, g->ka, &b) || !format_add(a, b, &a) ||
+    if (!format_mul(u, g->image_pixels, &pixels) || words > pixels || words > g->info.word_pixels ||
+        pixels - words > g->info.refined_pixels || !format_mul(words, g->word_bits, &a) ||
+        !format_mul(pixels - words, g->address_bits, &b) || !format_add(a, b, &a) ||
         !format_add(a, pixels, off))
         return HPFC_E_CORRUPT;
     return HPFC_OK;
@@ -220,19 +197,16 @@ static int image_offset(const level_geom *g, uint64_t u, uint64_t words, uint64_
 static int rank_by_samples(const hpfc_file *f, const labels_view *v, const hpfc_pixel *px,
                            uint64_t *rank)
 {
-    hpfc_file_info fi;
-    hpfc_file_get_info(f, &fi);
+    const hpfc_file_info *fi = &f->info;
     uint64_t index = 0; /* the image's index in its level */
     for (uint32_t l = 0; l <= px->depth; l++) {
-        level_geom g;
-        int st = level_geom_get(f, l, &g);
-        if (st)
-            return st;
+        const file_level *g = &f->lv[l]; /* l <= depth < levels: check_leaf */
+        int st;
         uint64_t words, ones_before, p;
         if (l == 0) {
-            p = (uint64_t)px->path[0].j * fi.root_cols + px->path[0].i;
+            p = (uint64_t)px->path[0].j * fi->root_cols + px->path[0].i;
             uint64_t k = p >> v->sample_shift;
-            words = rank_sample(v, 0, k) + root_words(&g, k << v->sample_shift, p);
+            words = rank_sample(v, 0, k) + root_words(g, k << v->sample_shift, p);
             if (words > p)
                 return HPFC_E_CORRUPT;
             ones_before = p - words;
@@ -241,29 +215,29 @@ static int rank_by_samples(const hpfc_file *f, const labels_view *v, const hpfc_
             if (k >= v->samples[l])
                 return HPFC_E_CORRUPT;
             words = rank_sample(v, l, k);
-            if ((st = image_offset(&g, u, words, &off)))
+            if ((st = image_offset(g, u, words, &off)))
                 return st;
             for (; u < index; u++, words += zeros) /* at most 2^sample_shift - 1 images */
-                if ((st = image_end(&g, off, &off, &zeros)))
+                if ((st = image_end(g, off, &off, &zeros)))
                     return st;
             if (off != px->path[l].image)
                 return HPFC_E_CORRUPT; /* the samples or the layout contradict §9 */
-            p = (uint64_t)px->path[l].j * fi.cols + px->path[l].i;
+            p = (uint64_t)px->path[l].j * fi->cols + px->path[l].i;
             uint64_t pixels, ones_in;
-            if ((st = mask_ones(&g, off, p, &ones_in)))
+            if ((st = mask_ones(g, off, p, &ones_in)))
                 return st;
-            if (!format_mul(index, g.nm, &pixels) || words > pixels)
+            if (!format_mul(index, g->image_pixels, &pixels) || words > pixels)
                 return HPFC_E_CORRUPT;
             ones_before = (pixels - words) + ones_in; /* refined pixels before this one */
             words += p - ones_in;                     /* word pixels before this one */
         }
         if (l == px->depth) {
-            if (words >= g.info.word_pixels)
+            if (words >= g->info.word_pixels)
                 return HPFC_E_CORRUPT;
             *rank = words;
             return HPFC_OK;
         }
-        if (ones_before >= g.info.refined_pixels)
+        if (ones_before >= g->info.refined_pixels)
             return HPFC_E_CORRUPT;
         index = ones_before; /* the k-th refined pixel points at image k (§9) */
     }
@@ -275,39 +249,50 @@ int labels_rank_by_walk(const hpfc_file *f, const hpfc_pixel *px, uint64_t *rank
     int st = check_leaf(f, px);
     if (st)
         return st;
-    hpfc_file_info fi;
-    hpfc_file_get_info(f, &fi);
+    const hpfc_file_info *fi = &f->info;
     uint32_t l = px->depth;
-    level_geom g;
-    if ((st = level_geom_get(f, l, &g)))
-        return st;
+    const file_level *g = &f->lv[l];
     uint64_t words = 0, off = 0, zeros, ones;
     if (l == 0) {
-        *rank = root_words(&g, 0, (uint64_t)px->path[0].j * fi.root_cols + px->path[0].i);
+        *rank = root_words(g, 0, (uint64_t)px->path[0].j * fi->root_cols + px->path[0].i);
         return HPFC_OK;
     }
     uint64_t images = 0;
     while (off < px->path[l].image) {
-        if (++images > g.info.images || (st = image_end(&g, off, &off, &zeros)))
+        if (++images > g->info.images || (st = image_end(g, off, &off, &zeros)))
             return st ? st : HPFC_E_CORRUPT;
         words += zeros;
     }
     if (off != px->path[l].image)
         return HPFC_E_CORRUPT; /* not an image of the back-to-back layout */
-    uint64_t p = (uint64_t)px->path[l].j * fi.cols + px->path[l].i;
-    if ((st = mask_ones(&g, off, p, &ones)))
+    uint64_t p = (uint64_t)px->path[l].j * fi->cols + px->path[l].i;
+    if ((st = mask_ones(g, off, p, &ones)))
         return st;
     *rank = words + (p - ones);
-    return *rank < g.info.word_pixels ? HPFC_OK : HPFC_E_CORRUPT;
+    return *rank < g->info.word_pixels ? HPFC_OK : HPFC_E_CORRUPT;
 }
 
-int labels_leaf_rank_paper(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *rank)
+/* Leaf number (TEAM decision): the word pixels of a level in pool order.
+ * Compact: the pixels before the leaf that are not refined, O(1); paper:
+ * through the rank samples, else by the walk. */
+int labels_leaf_rank(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *rank)
 {
-    const labels_view *v = reader_labels(f);
-    if (!v->present)
-        return labels_rank_by_walk(f, leaf, rank);
-    int st = check_leaf(f, leaf);
-    return st ? st : rank_by_samples(f, v, leaf, rank);
+    int st = rank ? check_leaf(f, leaf) : HPFC_E_ARG;
+    if (st)
+        return st;
+    if (!f->compact)
+        return f->labels.present ? rank_by_samples(f, &f->labels, leaf, rank)
+                                 : labels_rank_by_walk(f, leaf, rank);
+    uint32_t d = leaf->depth;
+    const file_level *lv = &f->lv[d];
+    uint64_t g = leaf->path[d].image * lv->image_pixels + (uint64_t)leaf->path[d].j * lv->cols +
+                 leaf->path[d].i;
+    pool_pixel px;
+    st = pool_read_pixel(&lv->pool, &lv->compact, g, &px);
+    if (!st)
+        *rank = g - px.refined;
+    /* damaged block counts can rank a leaf past the level's leaves */
+    return st ? st : *rank < lv->info.word_pixels ? HPFC_OK : HPFC_E_CORRUPT;
 }
 
 /* ---- words: regions and pieces -------------------------------------------------------- */
@@ -424,7 +409,7 @@ typedef labels_record leaf_record;
 
 static const labels_view *labels_of(const hpfc_file *f, int *st)
 {
-    const labels_view *v = f ? reader_labels(f) : NULL;
+    const labels_view *v = f ? &f->labels : NULL;
     *st = !f ? HPFC_E_ARG : !v->present ? HPFC_E_NO_SECTION : HPFC_OK;
     return v;
 }
@@ -453,7 +438,7 @@ static int load_record_sym(const hpfc_file *f, const labels_view *v, const hpfc_
     rec->off = 0;
     rec->word.heap = NULL;
     uint64_t rank;
-    int st = reader_leaf_rank(f, leaf, &rank);
+    int st = labels_leaf_rank(f, leaf, &rank);
     if (st)
         return st;
     uint64_t g = v->first_leaf[leaf->depth] + rank; /* rank < word_pixels: g < leaves */
@@ -570,7 +555,7 @@ int hpfc_leaf_number(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *numbe
 {
     if (!f || !leaf || !number)
         return HPFC_E_ARG;
-    return reader_leaf_rank(f, leaf, number);
+    return labels_leaf_rank(f, leaf, number);
 }
 
 int hpfc_label_leaf_faces(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *faces,

@@ -81,19 +81,14 @@ bool labels_compute_layout(const labels_levels *lv, const uint32_t *rank_bits, u
  * HPFC_E_SECTION when it fails. O(levels). */
 int labels_open(labels_view *v, const uint8_t *sec, uint64_t length, const labels_levels *lv);
 
-/* The open file's LABL view (present == false when it has none). */
-const labels_view *reader_labels(const hpfc_file *file);
-/* Level l's pool as the bit reader sees it. */
-const format_bits *reader_pool(const hpfc_file *file, uint32_t level);
-
-/* The leaf number of a word pixel of the paper layout (spec §15.3; the
- * compact layout's is reader_leaf_rank's own): its rank among its level's
- * leaves in pool order. Through the LABL rank samples when the file has
+/* The leaf number of a word pixel (spec §15.3): its rank among its
+ * level's leaves in pool order. Compact layout: O(1) from the type blocks'
+ * counts. Paper layout: through the LABL rank samples when the file has
  * them (O(levels * 2^sample_shift)), else by a walk over the level's pool
  * before the leaf (O(pool)). HPFC_E_ARG for a refined pixel or a path
  * outside the file, HPFC_E_CORRUPT when the pools or the samples
- * contradict the layout of §9. */
-int labels_leaf_rank_paper(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
+ * contradict the layout of §9 (or §16). */
+int labels_leaf_rank(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
 /* The slow walk on its own (the tests' oracle). */
 int labels_rank_by_walk(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
 

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "labels.h"
 #include "reader.h"
 #include "topo.h"
@@ -32,12 +33,12 @@ static int check_samples(const hpfc_file *f, const labels_view *v, hpfc_labels_r
     for (uint32_t l = 0; l < fi.levels; l++) {
         hpfc_level_info li;
         hpfc_file_get_level(f, l, &li);
-        const format_bits *pool = reader_pool(f, l);
+        const format_bits *pool = &f->lv[l].pool;
         uint64_t units = l ? li.images : (uint64_t)fi.root_cols * fi.root_rows;
         uint64_t words = 0, off = 0, nm = (uint64_t)fi.cols * fi.rows;
         uint64_t record = 1 + (uint64_t)(li.address_bits > li.word_bits ? li.address_bits : li.word_bits);
         for (uint64_t u = 0; u < units; u++) {
-            if ((u & (step - 1)) == 0 && reader_is_compact(f)) {
+            if ((u & (step - 1)) == 0 && f->compact) {
                 int st = reader_compact_words_before(f, l, u, &words);
                 if (st)
                     return problem(r, "level %u unit %llu: %s", l, (unsigned long long)u,
@@ -52,7 +53,7 @@ static int check_samples(const hpfc_file *f, const labels_view *v, hpfc_labels_r
                                    (unsigned long long)k, (unsigned long long)got,
                                    (unsigned long long)words);
             }
-            if (reader_is_compact(f))
+            if (f->compact)
                 continue; /* counted at the samples, by rank */
             if (l == 0) {
                 words += !format_get(pool, u * record, 1);
@@ -82,18 +83,18 @@ typedef struct verifier {
 static int check_leaf(verifier *z, const hpfc_pixel *px)
 {
     uint64_t rank, g, want, got;
-    int st = reader_leaf_rank(z->f, px, &rank);
+    int st = labels_leaf_rank(z->f, px, &rank);
     if (st)
         return problem(z->r, "a leaf at depth %u has no number: %s", px->depth, hpfc_strerror(st));
     g = z->v->first_leaf[px->depth] + rank;
     if (z->length[g] != UINT64_MAX)
         return problem(z->r, "two leaves have number %llu", (unsigned long long)g);
-    if ((st = topo_parse_pixel(z->w, &z->w->here, px)))
+    if ((st = topo_parse_pixel(z->w, &z->w->p_word, px)))
         return problem(z->r, "leaf %llu: %s", (unsigned long long)g, hpfc_strerror(st));
-    const local_word *lw = &z->w->here;
+    const local_word *lw = &z->w->p_word;
     uint32_t stabbings = 0;
     for (uint32_t c = 0; c < lw->ncomp; c++)
-        stabbings += lw->comp_vertex[c] == NONE;
+        stabbings += lw->comp_vertex[c] == TOPO_NONE;
     z->length[g] = lw->n ? (uint64_t)(lw->n - stabbings) * (z->v->edge_bits + 1) : z->v->face_bits;
     for (uint32_t t = 0; t < (lw->n ? lw->n : 1); t++) {
         if (lw->n) {
@@ -118,11 +119,11 @@ static int check_leaf(verifier *z, const hpfc_pixel *px)
             return problem(z->r, "leaf %llu crossing %u: %s", (unsigned long long)g, k,
                            hpfc_strerror(st));
         z->r->labels_checked++;
-        if (k >= z->w->here.road_off[HPFC_EAST])
+        if (k >= z->w->p_word.road_off[HPFC_EAST])
             continue; /* E and S roads: checked from the leaf across */
         hpfc_pixel q;
         uint32_t m;
-        if ((st = topo_cross_road(z->w, px, true, &z->w->here, k, &q, &z->w->there, &m)) ||
+        if ((st = topo_cross_road(z->w, px, true, &z->w->p_word, k, &q, &z->w->q_word, &m)) ||
             (st = hpfc_label_crossing_edge(z->f, &q, m, &want)))
             return problem(z->r, "leaf %llu crossing %u across its road: %s",
                            (unsigned long long)g, k, hpfc_strerror(st));
@@ -168,7 +169,7 @@ int hpfc_labels_verify(const hpfc_file *f, const hpfc_faces *fc, hpfc_labels_rep
     if (!f || !fc || !r)
         return HPFC_E_ARG;
     memset(r, 0, sizeof *r);
-    const labels_view *v = reader_labels(f);
+    const labels_view *v = &f->labels;
     if (!v->present)
         return HPFC_E_NO_SECTION;
     if (v->faces != hpfc_faces_count(fc))

@@ -15,8 +15,8 @@
 #include <string.h>
 
 #include "internal.h"
+#include "file.h"
 #include "labels.h"
-#include "reader.h"
 
 /* What pass 1 learns: each leaf's record offset, each level's samples. */
 typedef struct label_plan {
@@ -111,7 +111,7 @@ static int visit_all(leaf_visit *v, const hpfc_tree *tree, const hpfc_file *file
 {
     hpfc_file_info fi;
     hpfc_file_get_info(file, &fi);
-    bool compact = reader_is_compact(file);
+    bool compact = file->compact;
     uint64_t step = UINT64_C(1) << v->plan->sample_shift;
     for (uint32_t l = 0; l < fi.levels; l++) {
         hpfc_level_info li;

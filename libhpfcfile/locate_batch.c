@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "hpfc_batch.h"
 #include "locate_point.h"
 
@@ -388,9 +389,7 @@ int hpfc_locate_batch(const hpfc_file *file, const hpfc_faces *faces, size_t n, 
     if (st && st != HPFC_E_NO_SECTION)
         return st;
     batch_scratch s = {0};
-    hpfc_geometry_info gi;
-    hpfc_labels_info li;
-    s.exact = hpfc_file_geometry(file, &gi) == HPFC_OK && hpfc_file_labels(file, &li) == HPFC_OK;
+    s.exact = file_has_exact_geometry(file);
     /* the exact locator reuses leaves: worth an order when points are many
      * (without memory for it, input order gives the same answers) */
     size_t chunk = n < ORDER_CHUNK ? n : ORDER_CHUNK;

@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "geometry.h"
 #include "reader.h"
 
@@ -142,14 +143,14 @@ static bool in_leaf(const leaf_ctx *c, lpoint q)
  * segment 0 throughout when no edge has shape points. */
 static int leaf_segments(const leaf_ctx *c)
 {
-    const geom_view *g = reader_geometry(c->f);
+    const geom_view *g = &c->f->geom;
     if (!g->points) {
         for (uint32_t k = 0; k < c->n; k++)
             c->s->cr[k].segment = 0;
         return HPFC_OK;
     }
     uint64_t rank, start, end = g->crossings;
-    int st = reader_leaf_rank(c->f, c->leaf, &rank);
+    int st = labels_leaf_rank(c->f, c->leaf, &rank);
     uint64_t gl = st ? 0 : g->first_leaf[c->leaf->depth] + rank;
     if (!st && gl >= g->leaves)
         st = HPFC_E_CORRUPT;
@@ -522,16 +523,11 @@ int locx_locate(const hpfc_file *f, int64_t x, int64_t y, locx_scratch *s, locx_
     *count = 0;
     if (s->file != f) { /* once per file and scratch */
         s->have_leaf = 0;
-        hpfc_geometry_info gi;
-        hpfc_labels_info li;
-        int st = hpfc_file_geometry(f, &gi);
-        if (!st)
-            st = hpfc_file_labels(f, &li);
-        if (st)
-            return st;
+        if (!file_has_exact_geometry(f))
+            return HPFC_E_NO_SECTION;
         hpfc_file_info info;
         hpfc_file_get_info(f, &info);
-        s->file = f, s->dx0 = info.x0, s->dy0 = info.y0, s->points = gi.points;
+        s->file = f, s->dx0 = info.x0, s->dy0 = info.y0, s->points = f->geom.points;
     }
     int st;
     leaf_ctx c = {.f = f, .dx0 = s->dx0, .dy0 = s->dy0, .s = s};

@@ -120,55 +120,11 @@ static const char *quote(const pfc_token *t, char buf[PFC_QUOTE_MAX + 4])
     return buf;
 }
 
-/* Writes lattice value v at scale 10^-d as an exact decimal ("-1.25"). */
-static const char *format_lattice(int64_t v, int64_t d, char buf[64])
+/* The exponent of user coordinates at scale 10^-d, for the diag's point.
+ * Beyond 10^-400 a double is 0 anyway; the clamp keeps the cast safe. */
+static int32_t user_exp10(const pfc_reader *r)
 {
-    char digits[32];
-    uint64_t a = v < 0 ? (uint64_t)0 - (uint64_t)v : (uint64_t)v;
-    int n = snprintf(digits, sizeof digits, "%llu", (unsigned long long)a);
-    char *o = buf;
-    if (v < 0)
-        *o++ = '-';
-    if (d <= 0 || a == 0) {
-        strcpy(o, digits);
-        return buf;
-    }
-    if (d > PFC_MAX_FRAC_DIGITS) {   /* a file about to fail with HPFC_E_LIMIT */
-        snprintf(o, 60, "%se-%lld", digits, (long long)d);
-        return buf;
-    }
-    /* d <= PFC_MAX_FRAC_DIGITS here, so everything fits in 64 bytes. */
-    if (n <= d) {
-        *o++ = '0';
-        *o++ = '.';
-        for (int64_t k = n; k < d; k++)
-            *o++ = '0';
-        strcpy(o, digits);
-    } else {
-        memcpy(o, digits, (size_t)(n - d));
-        o += n - d;
-        *o++ = '.';
-        strcpy(o, digits + (n - d));
-    }
-    /* Drop the fraction's trailing zeros: "2.50" reads better as "2.5". */
-    o = buf + strlen(buf) - 1;
-    while (*o == '0')
-        *o-- = '\0';
-    if (*o == '.')
-        *o = '\0';
-    return buf;
-}
-
-/* Fills the diag's point (user coordinates) for messages about a point. */
-static void diag_point(pfc_reader *r, int64_t x, int64_t y)
-{
-    /* Beyond 10^-400 a double is 0 anyway; the clamp keeps the cast safe. */
-    int32_t e = r->d > 400 ? -400 : (int32_t)-r->d;
-    if (!r->diag)
-        return;
-    r->diag->has_point = 1;
-    r->diag->x = lattice_to_user(x, e);
-    r->diag->y = lattice_to_user(y, e);
+    return r->d > 400 ? -400 : (int32_t)-r->d;
 }
 
 static void diag_edge(pfc_reader *r, size_t edge)
@@ -612,7 +568,7 @@ static int build_vertex(pfc_reader *r)
         return st;
     if ((st = hpfc_graph_add_vertex(r->g, x, y, NULL)))
         return graph_failure(r, st);
-    hpfc_graph_set_last_vertex_line(r->g, r->line);
+    graph_set_last_vertex_line(r->g, r->line);
     return HPFC_OK;
 }
 
@@ -639,10 +595,10 @@ static int check_zero_length(pfc_reader *r, uint32_t u, uint32_t v, size_t n_int
         if (a[0] != b[0] || a[1] != b[1])
             continue;
         diag_edge(r, r->g->ne);
-        diag_point(r, a[0], a[1]);
+        diag_point(r->diag, (double)a[0], (double)a[1], user_exp10(r));
         return fail(r, HPFC_E_ZERO_LENGTH, r->line,
                     "zero-length segment: edge points %zu and %zu are both (%s, %s)",
-                    k - 1, k, format_lattice(a[0], r->d, xs), format_lattice(a[1], r->d, ys));
+                    k - 1, k, lattice_to_text(a[0], r->d, xs), lattice_to_text(a[1], r->d, ys));
     }
     return HPFC_OK;
 }
@@ -668,7 +624,7 @@ static int build_edge(pfc_reader *r)
         return st;
     if ((st = hpfc_graph_add_edge(r->g, (uint32_t)u, (uint32_t)v, r->xy, ncoord / 2, NULL)))
         return graph_failure(r, st);
-    hpfc_graph_set_last_edge_line(r->g, r->line);
+    graph_set_last_edge_line(r->g, r->line);
     return HPFC_OK;
 }
 
@@ -696,74 +652,15 @@ static int pass2(pfc_reader *r)
  * Whole-graph checks
  * ------------------------------------------------------------------------ */
 
-typedef struct pfc_vertex_key {
-    int64_t x, y;
-    size_t index;
-} pfc_vertex_key;
-
-static int compare_keys(const void *pa, const void *pb)
+/* Duplicate vertices then isolated ones (graph_check.c), in the order of
+ * spec/pfc-format.md §5; every vertex has its line, so the messages have
+ * the "line N: " shape. */
+static int check_graph(pfc_reader *r)
 {
-    const pfc_vertex_key *a = pa, *b = pb;
-    if (a->x != b->x)
-        return a->x < b->x ? -1 : 1;
-    if (a->y != b->y)
-        return a->y < b->y ? -1 : 1;
-    return a->index < b->index ? -1 : a->index > b->index;
-}
-
-/* Two vertices at one point. After sorting by (x, y, index), each group of
- * equal points starts with its earliest vertex followed by its first repeat;
- * the repeat defined earliest in the file is the one reported. */
-static int check_duplicates(pfc_reader *r)
-{
-    const hpfc_graph *g = r->g;
-    size_t first = 0, repeat = SIZE_MAX;
-    char xs[64], ys[64];
-    pfc_vertex_key *keys = malloc((g->nv ? g->nv : 1) * sizeof *keys);   /* nv < 2^32 */
-    if (!keys)
-        return fail(r, HPFC_E_NOMEM, last_line(r), "out of memory");
-    for (size_t i = 0; i < g->nv; i++)
-        keys[i] = (pfc_vertex_key){g->vxy[2 * i], g->vxy[2 * i + 1], i};
-    qsort(keys, g->nv, sizeof *keys, compare_keys);
-    for (size_t i = 1; i < g->nv; i++) {
-        bool same = keys[i].x == keys[i - 1].x && keys[i].y == keys[i - 1].y;
-        bool starts_group = i == 1 || keys[i - 1].x != keys[i - 2].x ||
-                            keys[i - 1].y != keys[i - 2].y;
-        if (same && starts_group && keys[i].index < repeat) {
-            repeat = keys[i].index;
-            first = keys[i - 1].index;
-        }
-    }
-    free(keys);
-    if (repeat == SIZE_MAX)
-        return HPFC_OK;
-    diag_point(r, g->vxy[2 * repeat], g->vxy[2 * repeat + 1]);
-    return fail(r, HPFC_E_DUPLICATE_POINT, graph_vertex_line(g, repeat),
-                "vertex %zu is at the same point (%s, %s) as vertex %zu on line %u", repeat,
-                format_lattice(g->vxy[2 * repeat], r->d, xs),
-                format_lattice(g->vxy[2 * repeat + 1], r->d, ys), first,
-                (unsigned)graph_vertex_line(g, first));
-}
-
-/* Every vertex needs an edge. */
-static int check_isolated(pfc_reader *r)
-{
-    const hpfc_graph *g = r->g;
-    unsigned char *used = calloc(g->nv ? g->nv : 1, 1);
-    size_t lonely = SIZE_MAX;
-    if (!used)
-        return fail(r, HPFC_E_NOMEM, last_line(r), "out of memory");
-    for (size_t e = 0; e < g->ne; e++)
-        used[g->eu[e]] = used[g->ev[e]] = 1;
-    for (size_t i = 0; i < g->nv && lonely == SIZE_MAX; i++)
-        if (!used[i])
-            lonely = i;
-    free(used);
-    if (lonely == SIZE_MAX)
-        return HPFC_OK;
-    diag_point(r, g->vxy[2 * lonely], g->vxy[2 * lonely + 1]);
-    return fail(r, HPFC_E_ISOLATED_VERTEX, graph_vertex_line(g, lonely),
-                "vertex %zu has no edge (isolated vertex)", lonely);
+    int st = graph_check_duplicates(r->g, false, r->diag);
+    if (!st)
+        st = graph_check_isolated(r->g, r->diag);
+    return st == HPFC_E_NOMEM ? fail(r, st, last_line(r), "out of memory") : st;
 }
 
 /* The unit exponent of the graph is -d; the graph cannot go finer. */
@@ -801,9 +698,7 @@ int hpfc_pfc_parse(const char *text, size_t length, hpfc_graph **out, hpfc_diag 
     if (!st)
         st = check_resolution(&r);
     if (!st)
-        st = check_duplicates(&r);
-    if (!st)
-        st = check_isolated(&r);
+        st = check_graph(&r);
     free(r.tok);
     free(r.xy);
     if (st) {

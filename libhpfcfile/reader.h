@@ -1,4 +1,7 @@
-/* Reader internals shared with the traversal code (topo.c). */
+/* reader.h: navigation's internals (read.c) for the traversal, faces,
+ * labels and geometry code: pixel paths from points, slot positions, and
+ * layout-neutral views of the pools. What open checked and the file's
+ * fields are in file.h. */
 #ifndef HPFC_READER_H
 #define HPFC_READER_H
 
@@ -11,21 +14,11 @@
  * only so that the tests can run the 64-bit path on small maps. */
 extern uint64_t faces_narrow_nodes;
 
-/* Most crossings a word of this file can hold (from the level table). */
-uint32_t reader_max_crossings(const hpfc_file *file);
-/* Most crossings a word of level `level` can hold. */
-uint32_t reader_level_max_crossings(const hpfc_file *file, uint32_t level);
-/* An upper bound on all crossings of the file, to bound walks. */
-uint64_t reader_total_crossings(const hpfc_file *file);
-/* Word pixels (leaves) in all levels, as the level table declares them. */
-uint64_t reader_total_leaves(const hpfc_file *file);
 /* Absolute bit position in the file of a word pixel's record or slot: a
  * unique, stable number per pixel. */
 int reader_pixel_slot_bit(const hpfc_file *file, const hpfc_pixel *px, uint64_t *bit);
 /* The same for a word pixel only: HPFC_E_ARG for a refined one. */
 int reader_leaf_slot_bit(const hpfc_file *file, const hpfc_pixel *px, uint64_t *bit);
-/* The file's bytes (its whole size, as opened). */
-const uint8_t *reader_bytes(const hpfc_file *file);
 /* The image at bit `image` of `level`'s pool (the root image, 0, at level
  * 0), checked as a pixel access checks it: the whole image lies in the
  * pool and the last level has no refined pixel (HPFC_E_CORRUPT otherwise).
@@ -55,8 +48,6 @@ int reader_word_at(const hpfc_file *file, uint32_t level, uint64_t image, uint64
  * trusted as it is by hpfc_pixel_move). out may be near. */
 int reader_locate_near(const hpfc_file *file, const hpfc_pixel *near, int64_t x, int64_t y,
                        hpfc_pixel *out);
-/* The file's pools use the compact layout (pool.h). */
-bool reader_is_compact(const hpfc_file *file);
 /* The end of level `level`'s image numbering: images are named 0 .. end
  * - 1 (paper: bit offsets in the pool, end = s^l; compact: indices, end =
  * the level's images), and reader_image_bits gives each one's extent. */
@@ -67,19 +58,9 @@ int reader_slot_image(const hpfc_file *file, uint32_t level, uint64_t bit, uint6
 /* Slot positions of level `level` (pool-relative) divided by *unit are
  * distinct integers below *entries, one per pixel that has a slot. */
 void reader_slot_grid(const hpfc_file *file, uint32_t level, uint64_t *unit, uint64_t *entries);
-/* Leaf number (TEAM.md): the rank of a word pixel among its level's word
- * pixels in pool order (images in pool order, each in raster order).
- * HPFC_E_ARG for a refined pixel. Compact layout: O(1); paper layout:
- * labels_leaf_rank_paper (labels.h). */
-int reader_leaf_rank(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
 /* Compact layout: the word pixels of a level before unit u (an image, or
  * a root pixel), as the LABL rank samples count them. */
 int reader_compact_words_before(const hpfc_file *file, uint32_t level, uint64_t unit,
                                 uint64_t *words);
-/* The FEAT section (checked at open), NULL when the file has none. */
-const uint8_t *reader_feat_section(const hpfc_file *file, uint64_t *length);
-/* The ATTR and EDGF sections (checked at open), NULL when absent. */
-const uint8_t *reader_attr_section(const hpfc_file *file, uint64_t *length);
-const uint8_t *reader_edgf_section(const hpfc_file *file, uint64_t *length);
 
 #endif

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "internal.h"
 
 __extension__ typedef __int128 s128;
@@ -373,14 +374,11 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
     if (!f || !out)
         return HPFC_E_ARG;
     *out = NULL;
-    hpfc_geometry_info gi;
-    hpfc_labels_info li;
-    int st = hpfc_file_geometry(f, &gi);
-    if (!st)
-        st = hpfc_file_labels(f, &li);
-    if (st)
-        return st;
-    if (gi.edges != li.edges)
+    if (!file_has_exact_geometry(f))
+        return HPFC_E_NO_SECTION;
+    const geom_view *gi = &f->geom;
+    const labels_view *li = &f->labels;
+    if (gi->edges != li->edges)
         return HPFC_E_CORRUPT;
     /* Counts a corrupt file may invent, bounded by what a valid one pays
      * for, before anything is allocated or walked: LABL stores an edge id
@@ -388,18 +386,19 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
      * vertex is isolated (V <= 2E); Euler's formula with at most V
      * components gives F <= E + 1; and GEOM spends at least a bit on each
      * shape point (consecutive points differ). */
-    uint64_t edge_room = li.edge_bits ? li.label_bits / li.edge_bits + 1 : 1;
-    if (gi.edges > edge_room || gi.vertices > 2 * gi.edges || li.faces > gi.edges + 1 ||
-        gi.points / 8 > gi.section_bytes)
+    uint64_t edge_room = li->edge_bits ? li->label_bits / li->edge_bits + 1 : 1;
+    if (gi->edges > edge_room || gi->vertices > 2 * gi->edges || li->faces > gi->edges + 1 ||
+        gi->points / 8 > gi->section_length)
         return HPFC_E_CORRUPT;
-    if (gi.vertices >= UINT32_MAX || gi.edges >= UINT32_MAX || li.faces >= UINT32_MAX ||
-        gi.vertices > SIZE_MAX / 16 || gi.edges > SIZE_MAX / 64)
+    if (gi->vertices >= UINT32_MAX || gi->edges >= UINT32_MAX || li->faces >= UINT32_MAX ||
+        gi->vertices > SIZE_MAX / 16 || gi->edges > SIZE_MAX / 64)
         return HPFC_E_LIMIT;
+    int st;
     hpfc_shapes *s = calloc(1, sizeof *s);
     if (!s)
         return HPFC_E_NOMEM;
     s->f = f;
-    s->vertices = gi.vertices, s->edges = gi.edges, s->faces = li.faces, s->points = gi.points;
+    s->vertices = gi->vertices, s->edges = gi->edges, s->faces = li->faces, s->points = gi->points;
     st = index_edges(s);
     if (!st)
         st = index_features(s);

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "internal.h"
 #include "reader.h"
 
@@ -56,19 +57,19 @@ int hpfc_walker_create(const hpfc_file *file, hpfc_walker **out)
     if (!w)
         return HPFC_E_NOMEM;
     w->file = file;
-    w->cap = reader_max_crossings(file);
-    w->budget = reader_total_crossings(file) + 1;
+    w->cap = file_max_crossings(file);
+    w->budget = file_total_crossings(file) + 1;
     /* a road can border more leaves than the file has crossings (private
      * leaves around a deep refinement), never more than it has leaves */
-    w->leaf_budget = reader_total_leaves(file) + 1;
-    int st = local_alloc(&w->here, w->cap);
+    w->leaf_budget = file_total_leaves(file) + 1;
+    int st = local_alloc(&w->p_word, w->cap);
     if (!st)
-        st = local_alloc(&w->there, w->cap);
+        st = local_alloc(&w->q_word, w->cap);
     if (!st && !(w->scratch = malloc((size_t)w->cap + 4)))
         st = HPFC_E_NOMEM;
     if (!st)
         st = topo_cache_init(w, HPFC_WALKER_DEFAULT_CACHE);
-    if (st == HPFC_E_NOMEM && w->solo)
+    if (st == HPFC_E_NOMEM && w->uncached)
         st = HPFC_OK; /* no room for the default cache: walk without it */
     if (st) {
         hpfc_walker_free(w);
@@ -87,8 +88,8 @@ void hpfc_walker_free(hpfc_walker *w)
 {
     if (!w)
         return;
-    local_free(&w->here);
-    local_free(&w->there);
+    local_free(&w->p_word);
+    local_free(&w->q_word);
     free(w->scratch);
     topo_cache_free(w);
     topo_keys_free(w);
@@ -100,7 +101,7 @@ void hpfc_walker_free(hpfc_walker *w)
 static void add_crossing(local_word *lw, uint32_t k, uint32_t c)
 {
     lw->comp[k] = c;
-    if (lw->comp_last[c] == NONE) {
+    if (lw->comp_last[c] == TOPO_NONE) {
         lw->comp_first[c] = k;
     } else {
         lw->succ[lw->comp_last[c]] = k;
@@ -113,9 +114,9 @@ static void add_crossing(local_word *lw, uint32_t k, uint32_t c)
 static uint32_t new_component(local_word *lw, bool junction)
 {
     uint32_t c = lw->ncomp++;
-    lw->comp_last[c] = NONE;
+    lw->comp_last[c] = TOPO_NONE;
     lw->comp_size[c] = 0;
-    lw->comp_vertex[c] = NONE;
+    lw->comp_vertex[c] = TOPO_NONE;
     if (junction) {
         lw->vertex_comp[lw->nvert] = c;
         lw->comp_vertex[c] = lw->nvert++;
@@ -136,7 +137,7 @@ int topo_parse_symbols(local_word *lw, const char *sym, size_t len)
             lw->road_off[++plus] = lw->n;
             continue;
         }
-        uint32_t k = lw->n++, top = depth ? lw->stack[depth - 1] : NONE;
+        uint32_t k = lw->n++, top = depth ? lw->stack[depth - 1] : TOPO_NONE;
         switch (c) {
         case '=': add_crossing(lw, k, new_component(lw, true)); break;
         case '(':
@@ -147,12 +148,12 @@ int topo_parse_symbols(local_word *lw, const char *sym, size_t len)
             break;
         }
         case 'Y':
-            if (top == NONE || lw->comp_vertex[top] == NONE)
+            if (top == TOPO_NONE || lw->comp_vertex[top] == TOPO_NONE)
                 return HPFC_E_CORRUPT;
             add_crossing(lw, k, top);
             break;
         default: /* ')' or ']' */
-            if (top == NONE || (lw->comp_vertex[top] == NONE) != (c == ']'))
+            if (top == TOPO_NONE || (lw->comp_vertex[top] == TOPO_NONE) != (c == ']'))
                 return HPFC_E_CORRUPT;
             depth--;
             add_crossing(lw, k, top);
@@ -186,8 +187,8 @@ void topo_count_roads(local_word *lw, const char *sym, size_t len)
 int topo_decode_word(hpfc_walker *w, local_word *lw, const hpfc_pixel *px, size_t *len)
 {
     w->visited++;
-    if (lw == &w->here)
-        w->here_valid = false; /* parse_here revalidates it */
+    if (lw == &w->p_word)
+        w->p_word_valid = false; /* parse_p_word revalidates it */
     int st = hpfc_pixel_word(w->file, px, lw->sym, (size_t)w->cap + 4, len);
     return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
 }
@@ -220,14 +221,14 @@ int topo_road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *co
 
 /* ---- crossing identification -------------------------------------------- */
 
-int topo_leaf_box(const hpfc_file *f, const hpfc_pixel *px, box *b)
+int topo_leaf_box(const hpfc_file *f, const hpfc_pixel *px, topo_box *b)
 {
     return hpfc_pixel_bounds(f, px, &b->x0, &b->y0, &b->x1, &b->y1);
 }
 
-/* The lattice point at position t along road `road` of box b, on b's side
+/* The lattice point at position t along road `road` of topo_box b, on b's side
  * (inside = true) or just across the road. */
-static void road_point(const box *b, int road, int64_t t, bool inside, int64_t *x, int64_t *y)
+static void road_point(const topo_box *b, int road, int64_t t, bool inside, int64_t *x, int64_t *y)
 {
     switch (road) {
     case HPFC_WEST: *x = inside ? b->x0 : b->x0 - 1, *y = t; break;
@@ -237,8 +238,8 @@ static void road_point(const box *b, int road, int64_t t, bool inside, int64_t *
     }
 }
 
-/* Extent of box b along the line of `road`: [lo, hi). */
-void topo_road_extent(const box *b, int road, int64_t *lo, int64_t *hi)
+/* Extent of topo_box b along the line of `road`: [lo, hi). */
+void topo_road_extent(const topo_box *b, int road, int64_t *lo, int64_t *hi)
 {
     bool vertical = road == HPFC_WEST || road == HPFC_EAST;
     *lo = vertical ? b->y0 : b->x0;
@@ -252,8 +253,8 @@ bool topo_road_ascends(int road)
     return road == HPFC_WEST || road == HPFC_NORTH;
 }
 
-int topo_locate_on_road(const hpfc_file *f, const hpfc_pixel *near, const box *b, int road,
-                        int64_t t, bool inside, hpfc_pixel *out, box *out_box)
+int topo_locate_on_road(const hpfc_file *f, const hpfc_pixel *near, const topo_box *b, int road,
+                        int64_t t, bool inside, hpfc_pixel *out, topo_box *out_box)
 {
     int64_t x, y;
     road_point(b, road, t, inside, &x, &y);
@@ -263,7 +264,7 @@ int topo_locate_on_road(const hpfc_file *f, const hpfc_pixel *near, const box *b
     return st == HPFC_E_NO_PIXEL ? HPFC_E_CORRUPT : st;
 }
 
-int topo_crossings_after(hpfc_walker *w, const hpfc_pixel *near, const box *b, int road,
+int topo_crossings_after(hpfc_walker *w, const hpfc_pixel *near, const topo_box *b, int road,
                          int64_t qlo, int64_t qhi, topo_road_counter count_of, uint64_t *sum)
 {
     int64_t lo, hi;
@@ -273,7 +274,7 @@ int topo_crossings_after(hpfc_walker *w, const hpfc_pixel *near, const box *b, i
     *sum = 0;
     for (uint64_t steps = 0; up ? t < qhi : t >= qlo; steps++) {
         hpfc_pixel l;
-        box lb;
+        topo_box lb;
         uint32_t count;
         int st = steps > w->leaf_budget
                      ? HPFC_E_CORRUPT
@@ -302,7 +303,7 @@ int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const l
     int opposite = (road + 2) % 4;
     uint32_t c = lw->road_off[road + 1] - lw->road_off[road];
     uint32_t after = c - 1 - (k - lw->road_off[road]); /* crossings after k on P's road */
-    box pb, qb;
+    topo_box pb, qb;
     int st = topo_leaf_box(f, p, &pb);
     int64_t lo, hi, qlo, qhi;
     topo_road_extent(&pb, road, &lo, &hi);
@@ -357,21 +358,21 @@ int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const l
 
 /* ---- darts without the cache ---------------------------------------------- */
 
-/* Parses px into w->here unless it is already there: operators on one dart
+/* Parses px into w->p_word unless it is already there: operators on one dart
  * or vertex in a row parse its pixel once. */
-static int parse_here(hpfc_walker *w, const hpfc_pixel *px)
+static int parse_p_word(hpfc_walker *w, const hpfc_pixel *px)
 {
     uint64_t slot;
     int st = reader_pixel_slot_bit(w->file, px, &slot);
     if (st)
         return st;
-    if (w->here_valid && w->here_slot == slot)
+    if (w->p_word_valid && w->p_word_slot == slot)
         return HPFC_OK;
-    w->here_valid = false;
-    if ((st = topo_parse_pixel(w, &w->here, px)))
+    w->p_word_valid = false;
+    if ((st = topo_parse_pixel(w, &w->p_word, px)))
         return st;
-    w->here_valid = true;
-    w->here_slot = slot;
+    w->p_word_valid = true;
+    w->p_word_slot = slot;
     return HPFC_OK;
 }
 
@@ -384,40 +385,40 @@ static int copy_pixel(hpfc_pixel *dst, const hpfc_pixel *src)
     return HPFC_OK;
 }
 
-/* Parses the dart's pixel into w->here and checks the dart names a
+/* Parses the dart's pixel into w->p_word and checks the dart names a
  * crossing of a junction there. */
 static int load_dart(hpfc_walker *w, const hpfc_dart *d)
 {
-    int st = parse_here(w, &d->pixel);
+    int st = parse_p_word(w, &d->pixel);
     if (st)
         return st;
-    if (d->crossing >= w->here.n || w->here.comp_vertex[w->here.comp[d->crossing]] == NONE)
+    if (d->crossing >= w->p_word.n || w->p_word.comp_vertex[w->p_word.comp[d->crossing]] == TOPO_NONE)
         return HPFC_E_ARG;
     return HPFC_OK;
 }
 
-/* Follows dart d (parsed in w->here) through its stabbings to the pixel of
- * its target vertex: on return w->there holds that pixel, *end the pixel
+/* Follows dart d (parsed in w->p_word) through its stabbings to the pixel of
+ * its target vertex: on return w->q_word holds that pixel, *end the pixel
  * and *m the crossing where the edge enters it (in_m). */
 static int walk(hpfc_walker *w, const hpfc_dart *d, hpfc_pixel *end, uint32_t *m)
 {
     hpfc_pixel cur;
     int st = copy_pixel(&cur, &d->pixel);
     uint32_t k = d->crossing;
-    local_word *at = &w->here, *next = &w->there;
+    local_word *at = &w->p_word, *next = &w->q_word;
     for (uint64_t steps = 0; !st; steps++) {
         if (steps > w->budget)
             return HPFC_E_CORRUPT;
         uint32_t mm;
         if ((st = topo_cross_road(w, &cur, false, at, k, end, next, &mm)))
             break;
-        if (next->comp_vertex[next->comp[mm]] != NONE) {
-            if (next != &w->there) { /* keep the answer in w->there */
-                local_word t = w->there;
-                w->there = w->here;
-                w->here = t;
+        if (next->comp_vertex[next->comp[mm]] != TOPO_NONE) {
+            if (next != &w->q_word) { /* keep the answer in w->q_word */
+                local_word t = w->q_word;
+                w->q_word = w->p_word;
+                w->p_word = t;
             }
-            w->here_valid = false;
+            w->p_word_valid = false;
             *m = mm;
             return HPFC_OK;
         }
@@ -428,7 +429,7 @@ static int walk(hpfc_walker *w, const hpfc_dart *d, hpfc_pixel *end, uint32_t *m
         at = next;
         next = t;
     }
-    w->here_valid = false;
+    w->p_word_valid = false;
     return st;
 }
 
@@ -436,7 +437,7 @@ static int walk(hpfc_walker *w, const hpfc_dart *d, hpfc_pixel *end, uint32_t *m
  * that dart's twin), followed to its target without the cache: *end gets
  * the target's pixel, written only on success. */
 static int plain_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
-                        arrival *a)
+                        topo_arrival *a)
 {
     int st = load_dart(w, d);
     if (st)
@@ -444,19 +445,19 @@ static int plain_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc
     hpfc_dart from;
     hpfc_pixel there;
     uint32_t m;
-    from.crossing = from_succ ? w->here.succ[d->crossing] : d->crossing;
+    from.crossing = from_succ ? w->p_word.succ[d->crossing] : d->crossing;
     if ((st = copy_pixel(&from.pixel, &d->pixel)) || (st = walk(w, &from, &there, &m)))
         return st;
     a->m = m;
-    a->pred = w->there.pred[m];
-    a->vertex = w->there.comp_vertex[w->there.comp[m]];
+    a->pred = w->q_word.pred[m];
+    a->vertex = w->q_word.comp_vertex[w->q_word.comp[m]];
     return copy_pixel(end, &there);
 }
 
 /* Through the cache when it can hold what the walk needs: a walk that
  * empties it starts again once, in the emptied cache; then, or for a word
  * the cache cannot hold, without it. The answers are the same. */
-static int arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end, arrival *a)
+static int arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end, topo_arrival *a)
 {
     if (!w || !d)
         return HPFC_E_ARG;
@@ -472,7 +473,7 @@ static int arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel
 
 int hpfc_dart_twin(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
 {
-    arrival a;
+    topo_arrival a;
     int st = out ? arrive(w, d, false, &out->pixel, &a) : HPFC_E_ARG;
     if (!st)
         out->crossing = a.m; /* twin(d) = out_m where d arrives */
@@ -481,7 +482,7 @@ int hpfc_dart_twin(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
 
 int hpfc_dart_next(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
 {
-    arrival a;
+    topo_arrival a;
     int st = out ? arrive(w, d, false, &out->pixel, &a) : HPFC_E_ARG;
     if (!st)
         out->crossing = a.pred; /* next(in_m) = out_pred[m] */
@@ -490,7 +491,7 @@ int hpfc_dart_next(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
 
 int hpfc_dart_prev(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
 {
-    arrival a; /* prev(out_k) = twin(out_succ[k]) */
+    topo_arrival a; /* prev(out_k) = twin(out_succ[k]) */
     int st = out ? arrive(w, d, true, &out->pixel, &a) : HPFC_E_ARG;
     if (!st)
         out->crossing = a.m;
@@ -499,7 +500,7 @@ int hpfc_dart_prev(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out)
 
 int hpfc_dart_target(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out)
 {
-    arrival a;
+    topo_arrival a;
     int st = out ? arrive(w, d, false, &out->pixel, &a) : HPFC_E_ARG;
     if (!st)
         out->local = a.vertex;
@@ -523,7 +524,7 @@ int hpfc_dart_origin(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out)
     int st = parsed_word(w, &d->pixel, &e);
     if (st)
         return st;
-    if (d->crossing >= e->n || word_crossings(e)[d->crossing].vertex == NONE)
+    if (d->crossing >= e->n || word_crossings(e)[d->crossing].vertex == TOPO_NONE)
         return HPFC_E_ARG;
     out->local = word_crossings(e)[d->crossing].vertex;
     return copy_pixel(&out->pixel, &d->pixel);
@@ -599,14 +600,14 @@ uint64_t hpfc_vertex_key(const hpfc_file *f, const hpfc_vertex *v)
 {
     uint64_t slot = 0;
     reader_pixel_slot_bit(f, &v->pixel, &slot);
-    return slot << 20 | (v->local & 0xFFFFFu);
+    return topo_key(slot, v->local);
 }
 
 uint64_t hpfc_dart_key(const hpfc_file *f, const hpfc_dart *d)
 {
     uint64_t slot = 0;
     reader_pixel_slot_bit(f, &d->pixel, &slot);
-    return slot << 20 | (d->crossing & 0xFFFFFu);
+    return topo_key(slot, d->crossing);
 }
 
 /* Descends from px to the first leaf below it (pixel (0,0) of each image). */

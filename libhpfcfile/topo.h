@@ -1,4 +1,5 @@
-/* Traversal internals shared by topo.c, topo_cache.c and faces.c. */
+/* topo.h: traversal internals shared by topo.c, topo_cache.c, topo_keys.c,
+ * topo_links.c, faces.c and labels_verify.c. */
 #ifndef HPFC_TOPO_H
 #define HPFC_TOPO_H
 
@@ -6,7 +7,18 @@
 
 #include "hpfc.h"
 
-#define NONE UINT32_MAX
+/* No index: a stabbing's vertex, a link not found, no dart. */
+#define TOPO_NONE UINT32_MAX
+
+/* A dart or vertex key (spec/hpfc-format.md §3.10): the word pixel's slot
+ * position, then TOPO_KEY_SHIFT bits of crossing or local vertex id. */
+#define TOPO_KEY_SHIFT 20
+#define TOPO_KEY_LOW ((1u << TOPO_KEY_SHIFT) - 1)
+
+static inline uint64_t topo_key(uint64_t slot, uint32_t id)
+{
+    return slot << TOPO_KEY_SHIFT | (id & TOPO_KEY_LOW);
+}
 
 /* The parsed structure of one word. */
 typedef struct local_word {
@@ -15,7 +27,7 @@ typedef struct local_word {
     uint32_t ncomp, nvert;
     uint32_t *comp;          /* per crossing */
     uint32_t *pred, *succ;   /* per crossing, cyclic within its component */
-    uint32_t *comp_vertex;   /* per component: local vertex, NONE for a stabbing */
+    uint32_t *comp_vertex;   /* per component: local vertex, TOPO_NONE for a stabbing */
     uint32_t *comp_first;    /* per component: first crossing (word order) */
     uint32_t *comp_last;
     uint32_t *comp_size;
@@ -50,13 +62,13 @@ typedef struct path_step {
 typedef struct cached_crossing {
     /* the crossing seen from across its road: entry `link` (a cache
      * reference) and its crossing `link_m`; link == 0: not identified yet;
-     * link_m == NONE: identification failed with status `link` */
+     * link_m == TOPO_NONE: identification failed with status `link` */
     uint32_t link, link_m;
     /* for a junction's crossing: where its out-dart's edge arrives (entry,
      * crossing), once a walk has followed it; arrival == 0: not yet */
     uint32_t arrival, arrival_m;
     uint32_t pred, succ;     /* cyclic within its component */
-    uint32_t vertex;         /* local vertex of its component, NONE for a stabbing */
+    uint32_t vertex;         /* local vertex of its component, TOPO_NONE for a stabbing */
     uint32_t unused;         /* keeps crossings 8-byte sized (32 bytes) */
 } cached_crossing;
 
@@ -108,7 +120,7 @@ static inline path_step *word_path(cached_word *e)
  * together at the arena's end, so a warm walk on keys reads a bucket and
  * one block line per step from about a third of the memory the entries
  * take, most of it then in the core's L2 cache instead of farther away
- * (the warm walk of bench_traverse went from 7.7 to 5.2 ns an operator).
+ * (bench/README.md, "Notes", has the warm walk before and after).
  * A block is written only from its entry (the arrival recorded there, the
  * arrival entry's slot, pred and dense id): a copy, never another answer,
  * and it goes when the entries go. */
@@ -126,7 +138,7 @@ typedef struct key_answer {
     uint64_t slot;
     uint32_t m, pred;
     uint32_t pixel; /* that entry's dense pixel id, KEY_PIXEL_UNKNOWN if not known */
-    uint32_t succ;  /* succ of the crossing in its component; NONE: no dart */
+    uint32_t succ;  /* succ of the crossing in its component; TOPO_NONE: no dart */
 } key_answer;
 
 #define KEY_PIXEL_UNKNOWN UINT32_MAX
@@ -183,14 +195,14 @@ struct hpfc_walker {
     uint32_t cap;            /* most crossings of any word in the file */
     uint64_t budget;         /* most stabbings a walk may follow */
     uint64_t leaf_budget;    /* most leaves a walk along one road may meet */
-    local_word here, there;
+    local_word p_word, q_word; /* a pixel P's parsed word, and Q's across its road */
     char *scratch;           /* symbols of other leaves (road counts) */
     uint64_t visited;        /* words decoded */
-    bool here_valid;         /* `here` holds the pixel at bit here_slot */
-    uint64_t here_slot;
+    bool p_word_valid;       /* p_word holds the pixel at bit p_word_slot */
+    uint64_t p_word_slot;
     word_cache cache;
-    cached_word *solo;       /* one word built outside the cache */
-    bool solo_valid;
+    cached_word *uncached;   /* one word built outside the cache */
+    bool uncached_valid;
     key_index keys; /* built on the first key that is not cached */
 };
 
@@ -206,7 +218,7 @@ static inline key_block *cache_block(const word_cache *c, uint32_t ref)
     return (key_block *)(void *)(c->arena + (size_t)(ref - 1) * 8);
 }
 
-/* Allocates the cache (limit bytes, 0 = none) and the solo entry. */
+/* Allocates the cache (limit bytes, 0 = none) and the uncached entry. */
 int topo_cache_init(hpfc_walker *w, size_t limit);
 void topo_cache_free(hpfc_walker *w);
 /* The entry of word pixel px (full path), decoded into the cache if it is
@@ -246,7 +258,7 @@ int topo_cache_key(hpfc_walker *w, uint32_t ref);
 /* Records in entry ref's key block, if it has one, crossing k's arrival
  * (as its cached crossing holds it). */
 void topo_block_arrival(hpfc_walker *w, uint32_t ref, uint32_t k);
-/* px's entry from the cache, or else built in the walker's solo entry (valid
+/* px's entry from the cache, or else built in the walker's uncached entry (valid
  * until the next call): for operators that look at one word. */
 int topo_word_view(hpfc_walker *w, const hpfc_pixel *px, cached_word **out);
 /* The pixel of an entry. */
@@ -254,16 +266,16 @@ void topo_entry_pixel(cached_word *e, hpfc_pixel *px);
 
 /* Where an edge arrives: crossing m of its target's pixel (twin = out_m),
  * pred(m) (next = out_pred(m)) and the target vertex. */
-typedef struct arrival {
+typedef struct topo_arrival {
     uint32_t m, pred, vertex;
-} arrival;
+} topo_arrival;
 
 /* Dart d, or with from_succ the dart out_succ(k) of its origin (prev(d) is
  * that dart's twin), followed to its target through the cache
  * (topo_links.c): *end gets the target's pixel, written only on success.
  * The same answers as without the cache, or TOPO_RETRY / TOPO_UNCACHED. */
 int topo_cached_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
-                       arrival *a);
+                       topo_arrival *a);
 /* The walk of topo_cached_arrive from crossing k (a junction's) of entry
  * ref: the entry and crossing where it arrives. */
 int topo_cached_follow(hpfc_walker *w, uint32_t ref, uint32_t k, uint32_t *end_ref,
@@ -273,9 +285,9 @@ void topo_keys_free(hpfc_walker *w);
 
 /* ---- parsing and crossing identification (topo.c) ------------------------- */
 
-typedef struct box {
+typedef struct topo_box {
     int64_t x0, y0, x1, y1;
-} box;
+} topo_box;
 
 /* Decodes px's word into lw->sym, *len symbols (HPFC_E_CORRUPT if the slot
  * holds no word that fits the walker). */
@@ -288,16 +300,16 @@ void topo_count_roads(local_word *lw, const char *sym, size_t len);
 int topo_parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px);
 /* Crossings on road `road` of a word pixel. */
 int topo_road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count);
-int topo_leaf_box(const hpfc_file *f, const hpfc_pixel *px, box *b);
-/* Extent [lo, hi) of box b along the line of `road`. */
-void topo_road_extent(const box *b, int road, int64_t *lo, int64_t *hi);
+int topo_leaf_box(const hpfc_file *f, const hpfc_pixel *px, topo_box *b);
+/* Extent [lo, hi) of topo_box b along the line of `road`. */
+void topo_road_extent(const topo_box *b, int road, int64_t *lo, int64_t *hi);
 /* Whether the road's clockwise order runs toward increasing coordinates. */
 bool topo_road_ascends(int road);
 /* The leaf at position t along b's road, on b's side (inside) or across;
  * located from `near`, a pixel next to it (reader_locate_near; NULL: from
  * the root). out may be near. */
-int topo_locate_on_road(const hpfc_file *f, const hpfc_pixel *near, const box *b, int road,
-                        int64_t t, bool inside, hpfc_pixel *out, box *out_box);
+int topo_locate_on_road(const hpfc_file *f, const hpfc_pixel *near, const topo_box *b, int road,
+                        int64_t t, bool inside, hpfc_pixel *out, topo_box *out_box);
 /* Crossing k of P (parsed in lw) seen from across its road: pixel Q (parsed
  * into qlw, which must differ from lw) and the crossing's index *m in Q.
  * p_located: P's path is a descent the reader made (leaf iteration, point
@@ -314,7 +326,7 @@ typedef int (*topo_road_counter)(hpfc_walker *w, const hpfc_pixel *px, int road,
  * b's clockwise order, up to the end of the extent [qlo, qhi), each leaf's
  * count taken from `count`; the first located from `near`, each next from
  * the one before. */
-int topo_crossings_after(hpfc_walker *w, const hpfc_pixel *near, const box *b, int road,
+int topo_crossings_after(hpfc_walker *w, const hpfc_pixel *near, const topo_box *b, int road,
                          int64_t qlo, int64_t qhi, topo_road_counter count, uint64_t *sum);
 
 #endif

@@ -24,6 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "format.h"
 #include "reader.h"
 #include "topo.h"
@@ -73,7 +74,7 @@ static void file_needs(const hpfc_file *f, uint64_t *bytes, uint64_t *entries)
     hpfc_level_info lv;
     *bytes = *entries = 0;
     for (uint32_t l = 0; hpfc_file_get_level(f, l, &lv) == HPFC_OK; l++) {
-        uint32_t c = reader_level_max_crossings(f, l);
+        uint32_t c = file_level_max_crossings(f, l);
         *bytes = saturating_mul_add(*bytes, lv.word_pixels, entry_bytes(l, c, c) + block_bytes(c));
         *entries = saturating_mul_add(*entries, lv.word_pixels, 1);
     }
@@ -134,12 +135,12 @@ int topo_cache_init(hpfc_walker *w, size_t limit)
     hpfc_file_info info;
     hpfc_file_get_info(w->file, &info);
     w->levels = info.levels;
-    if (!w->solo) {
-        w->solo = malloc(entry_bytes(w->levels - 1, w->cap, w->cap));
-        if (!w->solo)
+    if (!w->uncached) {
+        w->uncached = malloc(entry_bytes(w->levels - 1, w->cap, w->cap));
+        if (!w->uncached)
             return HPFC_E_NOMEM;
     }
-    w->solo_valid = false;
+    w->uncached_valid = false;
     if (limit && limit == w->cache.limit) { /* keep the memory, drop the words */
         cache_flush(&w->cache);
         return HPFC_OK;
@@ -151,8 +152,8 @@ int topo_cache_init(hpfc_walker *w, size_t limit)
 void topo_cache_free(hpfc_walker *w)
 {
     cache_release(&w->cache);
-    free(w->solo);
-    w->solo = NULL;
+    free(w->uncached);
+    w->uncached = NULL;
 }
 
 int hpfc_walker_set_cache_size(hpfc_walker *w, size_t bytes)
@@ -213,10 +214,10 @@ static key_answer entry_answer(const word_cache *c, cached_word *e, uint32_t k)
 {
     const cached_crossing *x = &word_crossings(e)[k];
     key_answer a = {.slot = 0,
-                    .m = NONE,
-                    .pred = NONE,
+                    .m = TOPO_NONE,
+                    .pred = TOPO_NONE,
                     .pixel = KEY_PIXEL_UNKNOWN,
-                    .succ = x->vertex == NONE ? NONE : x->succ};
+                    .succ = x->vertex == TOPO_NONE ? TOPO_NONE : x->succ};
     if (x->arrival) {
         cached_word *t = cache_entry(c, x->arrival);
         a.slot = t->slot;
@@ -277,8 +278,8 @@ static int cache_reserve(word_cache *c, size_t bytes, uint32_t *ref)
 
 /* ---- building entries ----------------------------------------------------- */
 
-/* Decodes px's word into w->here and parses it: *parse_status is the
- * grammar's verdict; the road counts in w->here hold either way. `own`: the
+/* Decodes px's word into w->p_word and parses it: *parse_status is the
+ * grammar's verdict; the road counts in w->p_word hold either way. `own`: the
  * caller's pixel, whose slot is checked first (as every operator always
  * did, so a bad path stays an argument error). */
 static int decode_and_parse(hpfc_walker *w, const hpfc_pixel *px, bool own, int *parse_status,
@@ -287,14 +288,14 @@ static int decode_and_parse(hpfc_walker *w, const hpfc_pixel *px, bool own, int 
     size_t len;
     int st = own ? reader_pixel_slot_bit(w->file, px, slot) : HPFC_OK;
     if (!st)
-        st = topo_decode_word(w, &w->here, px, &len);
+        st = topo_decode_word(w, &w->p_word, px, &len);
     if (!st && !own) /* the word decoded: its slot is there */
         st = reader_pixel_slot_bit(w->file, px, slot);
     if (st)
         return st;
-    *parse_status = topo_parse_symbols(&w->here, w->here.sym, len);
+    *parse_status = topo_parse_symbols(&w->p_word, w->p_word.sym, len);
     if (*parse_status)
-        topo_count_roads(&w->here, w->here.sym, len);
+        topo_count_roads(&w->p_word, w->p_word.sym, len);
     return HPFC_OK;
 }
 
@@ -314,13 +315,13 @@ static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *l
     cached_crossing *x = word_crossings(e);
     for (uint32_t k = 0; k < e->n; k++)
         x[k] = (cached_crossing){.link = 0,
-                                 .link_m = NONE,
+                                 .link_m = TOPO_NONE,
                                  .arrival = 0,
-                                 .arrival_m = NONE,
+                                 .arrival_m = TOPO_NONE,
                                  .unused = 0,
                                  .pred = ok ? lw->pred[k] : k,
                                  .succ = ok ? lw->succ[k] : k,
-                                 .vertex = ok ? lw->comp_vertex[lw->comp[k]] : NONE};
+                                 .vertex = ok ? lw->comp_vertex[lw->comp[k]] : TOPO_NONE};
     cached_vertex *v = word_vertices(e);
     for (uint32_t u = 0; u < e->nvert; u++) {
         uint32_t comp = lw->vertex_comp[u];
@@ -342,29 +343,29 @@ int topo_cache_load(hpfc_walker *w, const hpfc_pixel *px, bool own, uint32_t *re
     int parse_status, st = decode_and_parse(w, px, own, &parse_status, &slot);
     if (st)
         return st;
-    size_t bytes = entry_bytes(px->depth, w->here.n, parse_status ? 0 : w->here.nvert);
+    size_t bytes = entry_bytes(px->depth, w->p_word.n, parse_status ? 0 : w->p_word.nvert);
     if ((st = cache_reserve(c, bytes, ref)))
         return st;
-    fill_entry(cache_entry(c, *ref), px, &w->here, parse_status, slot);
+    fill_entry(cache_entry(c, *ref), px, &w->p_word, parse_status, slot);
     index_put(c->index, c->mask, h, *ref);
     return HPFC_OK;
 }
 
-/* The solo entry: a one-word cache for when the cache is off or too small. */
-static int solo_view(hpfc_walker *w, const hpfc_pixel *px, cached_word **out)
+/* The uncached entry: a one-word cache for when the cache is off or too small. */
+static int uncached_view(hpfc_walker *w, const hpfc_pixel *px, cached_word **out)
 {
     if (px->depth >= w->levels)
         return HPFC_E_ARG;
-    if (!w->solo_valid || !same_path(w->solo, px)) {
+    if (!w->uncached_valid || !same_path(w->uncached, px)) {
         uint64_t slot;
         int parse_status, st = decode_and_parse(w, px, true, &parse_status, &slot);
-        w->solo_valid = false;
+        w->uncached_valid = false;
         if (st)
             return st;
-        fill_entry(w->solo, px, &w->here, parse_status, slot);
-        w->solo_valid = true;
+        fill_entry(w->uncached, px, &w->p_word, parse_status, slot);
+        w->uncached_valid = true;
     }
-    *out = w->solo;
+    *out = w->uncached;
     return HPFC_OK;
 }
 
@@ -376,7 +377,7 @@ int topo_word_view(hpfc_walker *w, const hpfc_pixel *px, cached_word **out)
         st = topo_cache_load(w, px, true, &ref);
     if (st == HPFC_OK)
         *out = cache_entry(&w->cache, ref);
-    return st < 0 ? solo_view(w, px, out) : st;
+    return st < 0 ? uncached_view(w, px, out) : st;
 }
 
 void topo_entry_pixel(cached_word *e, hpfc_pixel *px)

@@ -21,11 +21,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file.h"
 #include "reader.h"
 #include "topo.h"
-
-#define KEY_SHIFT 20
-#define KEY_LOW ((1u << KEY_SHIFT) - 1)
 
 void topo_keys_free(hpfc_walker *w)
 {
@@ -113,7 +111,7 @@ static int slot_pixel(hpfc_walker *w, uint64_t pos, hpfc_pixel *px, uint64_t *id
     if (l == w->levels)
         return HPFC_E_ARG;
     uint64_t rel = pos - x->pool_bit[l], index = 0, start = 0;
-    if (l > 0 && reader_is_compact(w->file)) { /* images are numbered: the type bits say which */
+    if (l > 0 && w->file->compact) { /* images are numbered: the type bits say which */
         int st = reader_slot_image(w->file, l, rel, &index);
         if (st)
             return st;
@@ -170,7 +168,7 @@ static int ensure_index(hpfc_walker *w)
 static int key_pixel(hpfc_walker *w, uint64_t key, hpfc_pixel *px, uint64_t *id)
 {
     int st = ensure_index(w);
-    return st ? st : slot_pixel(w, key >> KEY_SHIFT, px, id);
+    return st ? st : slot_pixel(w, key >> TOPO_KEY_SHIFT, px, id);
 }
 
 /* The dense id of a cache entry's pixel, recorded in it. An entry built by
@@ -241,7 +239,7 @@ static int key_entry(hpfc_walker *w, uint64_t key, uint32_t *ref)
  * and keyed (key_entry); its word's parse status. */
 static int keyed_word(hpfc_walker *w, uint64_t key, uint32_t *ref, cached_word **e)
 {
-    const key_block *b = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT);
+    const key_block *b = topo_cache_find_slot(&w->cache, key >> TOPO_KEY_SHIFT);
     int st = HPFC_OK;
     if (b)
         *ref = b->ref;
@@ -267,16 +265,16 @@ static int entry_dart_index(hpfc_walker *w, uint32_t ref, uint32_t m, uint64_t *
  * the entry the answer comes from (a twin, next or prev). */
 static int cached_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64_t *index)
 {
-    uint32_t ref, end, m, k = key & KEY_LOW;
+    uint32_t ref, end, m, k = key & TOPO_KEY_LOW;
     cached_word *e;
     int st = keyed_word(w, key, &ref, &e);
     if (st)
         return st;
     cached_crossing *x = word_crossings(e);
-    if (k >= e->n || x[k].vertex == NONE)
+    if (k >= e->n || x[k].vertex == TOPO_NONE)
         return HPFC_E_ARG;
     if (op == OP_ORIGIN) {
-        *out = e->slot << KEY_SHIFT | x[k].vertex;
+        *out = e->slot << TOPO_KEY_SHIFT | x[k].vertex;
         return HPFC_OK;
     }
     /* twin(d) = out_m where d arrives, next(d) = out_pred(m), prev(d) =
@@ -292,7 +290,7 @@ static int cached_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64
             return st;
         topo_block_arrival(w, ref, from); /* with the pixel id now known */
     }
-    *out = t->slot << KEY_SHIFT | r;
+    *out = t->slot << TOPO_KEY_SHIFT | r;
     return HPFC_OK;
 }
 
@@ -302,12 +300,12 @@ static int cached_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64
  * way, which gives the same answer or the error. */
 static inline bool block_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out, uint64_t *index)
 {
-    key_block *b = topo_cache_find_slot(&w->cache, key >> KEY_SHIFT);
-    uint32_t k = key & KEY_LOW;
+    key_block *b = topo_cache_find_slot(&w->cache, key >> TOPO_KEY_SHIFT);
+    uint32_t k = key & TOPO_KEY_LOW;
     if (!b || k >= b->n)
         return false;
     const key_answer *a = block_answers(b);
-    if (op == OP_PREV && (k = a[k].succ) == NONE)
+    if (op == OP_PREV && (k = a[k].succ) == TOPO_NONE)
         return false;
     if (!a[k].slot) /* not walked yet, or no dart: the entry says which */
         return false;
@@ -317,7 +315,7 @@ static inline bool block_op(hpfc_walker *w, uint64_t key, int op, uint64_t *out,
             return false;
         *index = (uint64_t)a[k].pixel * w->cap + m;
     }
-    *out = a[k].slot << KEY_SHIFT | m;
+    *out = a[k].slot << TOPO_KEY_SHIFT | m;
     return true;
 }
 
@@ -449,12 +447,12 @@ static bool names_one(cached_word *e, uint32_t local, bool vertex)
 {
     if (vertex)
         return local < e->nvert;
-    return local < e->n && word_crossings(e)[local].vertex != NONE;
+    return local < e->n && word_crossings(e)[local].vertex != TOPO_NONE;
 }
 
 static int cached_index(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *index)
 {
-    uint32_t ref, local = key & KEY_LOW;
+    uint32_t ref, local = key & TOPO_KEY_LOW;
     cached_word *e;
     int st = keyed_word(w, key, &ref, &e);
     if (st)
@@ -514,7 +512,7 @@ static int key_path(hpfc_walker *w, uint64_t key, bool vertex, hpfc_pixel *out)
     hpfc_pixel px;
     uint64_t id;
     int st = w ? key_word(w, key, &px, &id, &e) : HPFC_E_ARG;
-    if (!st && !names_one(e, key & KEY_LOW, vertex))
+    if (!st && !names_one(e, key & TOPO_KEY_LOW, vertex))
         st = HPFC_E_ARG;
     if (!st)
         topo_entry_pixel(e, out); /* the path just resolved */
@@ -525,7 +523,7 @@ int hpfc_dart_from_key(hpfc_walker *w, uint64_t key, hpfc_dart *out)
 {
     int st = out ? key_path(w, key, false, &out->pixel) : HPFC_E_ARG;
     if (!st)
-        out->crossing = key & KEY_LOW;
+        out->crossing = key & TOPO_KEY_LOW;
     return st;
 }
 
@@ -533,7 +531,7 @@ int hpfc_vertex_from_key(hpfc_walker *w, uint64_t key, hpfc_vertex *out)
 {
     int st = out ? key_path(w, key, true, &out->pixel) : HPFC_E_ARG;
     if (!st)
-        out->local = key & KEY_LOW;
+        out->local = key & TOPO_KEY_LOW;
     return st;
 }
 
@@ -543,7 +541,7 @@ static int plain_index(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *inde
     cached_word *e;
     hpfc_pixel px;
     uint64_t id;
-    uint32_t local = key & KEY_LOW;
+    uint32_t local = key & TOPO_KEY_LOW;
     int st = key_word(w, key, &px, &id, &e);
     if (!st && !names_one(e, local, vertex))
         st = HPFC_E_ARG;

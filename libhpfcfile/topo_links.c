@@ -19,7 +19,7 @@ typedef struct road_job {
     uint32_t pref;           /* P's entry */
     int road, opposite;
     uint32_t first, count;   /* P's crossings on the road */
-    box pb;                  /* P's box */
+    topo_box pb;             /* P's box */
 } road_job;
 
 static cached_word *entry_of(const hpfc_walker *w, uint32_t ref)
@@ -47,7 +47,7 @@ static int fail_ranks(const hpfc_walker *w, const road_job *j, uint64_t from, in
     if (st <= 0)
         return st;
     for (uint64_t rank = from; rank < j->count; rank++)
-        set_link(ranked(w, j, rank), (uint32_t)st, NONE);
+        set_link(ranked(w, j, rank), (uint32_t)st, TOPO_NONE);
     return HPFC_OK;
 }
 
@@ -88,8 +88,8 @@ static int load_neighbour(hpfc_walker *w, const hpfc_pixel *q, uint32_t *ref)
  * two leaves is identified once, from the larger (or either equal) side.
  * When any condition fails, Q identifies the road itself later. */
 
-/* Q's side (box qb) lies inside P's on P's road line. */
-static bool on_side(const road_job *j, const box *qb)
+/* Q's side (topo_box qb) lies inside P's on P's road line. */
+static bool on_side(const road_job *j, const topo_box *qb)
 {
     int64_t lo, hi, qlo, qhi;
     topo_road_extent(&j->pb, j->road, &lo, &hi);
@@ -131,12 +131,12 @@ static void link_back(hpfc_walker *w, const road_job *j, uint32_t qref, uint64_t
         if (rank < j->count)
             set_link(c, j->pref, pfirst + (uint32_t)rank);
         else
-            set_link(c, HPFC_E_CORRUPT, NONE);
+            set_link(c, HPFC_E_CORRUPT, TOPO_NONE);
     }
 }
 
 /* Case (a): Q spans P's side. */
-static int link_to_spanning(hpfc_walker *w, const road_job *j, const hpfc_pixel *q, const box *qb)
+static int link_to_spanning(hpfc_walker *w, const road_job *j, const hpfc_pixel *q, const topo_box *qb)
 {
     int64_t lo, hi, qlo, qhi;
     topo_road_extent(&j->pb, j->road, &lo, &hi);
@@ -155,7 +155,7 @@ static int link_to_spanning(hpfc_walker *w, const road_job *j, const hpfc_pixel 
         if (rank + sum < qcount)
             set_link(ranked(w, j, rank), qref, qfirst + (uint32_t)(rank + sum));
         else
-            set_link(ranked(w, j, rank), HPFC_E_CORRUPT, NONE);
+            set_link(ranked(w, j, rank), HPFC_E_CORRUPT, TOPO_NONE);
     }
     if (qlo == lo && qhi == hi) /* equal sides: no leaf after Q, no point located */
         link_back(w, j, qref, 0);
@@ -174,7 +174,7 @@ typedef struct side_leaf {
  * each takes the next ranks of P's crossings. The walk goes on to the end
  * of the side (while the leaves fit in SIDE_LEAVES) to link back; what it
  * meets after P's last crossing never changes P's links. */
-static int link_along(hpfc_walker *w, const road_job *j, hpfc_pixel *q, box *qb)
+static int link_along(hpfc_walker *w, const road_job *j, hpfc_pixel *q, topo_box *qb)
 {
     int64_t lo, hi;
     topo_road_extent(&j->pb, j->road, &lo, &hi);
@@ -238,7 +238,7 @@ static int link_road(hpfc_walker *w, uint32_t pref, int road)
     cached_word *pe = entry_of(w, pref);
     road_job j = {pref, road, (road + 2) % 4, pe->road_off[road], road_crossings(w, pref, road), {0}};
     hpfc_pixel p, q;
-    box qb;
+    topo_box qb;
     topo_entry_pixel(pe, &p);
     int st = topo_leaf_box(w->file, &p, &j.pb);
     /* Algorithm 1's first neighbour: the leaf across that spans P's side,
@@ -266,17 +266,17 @@ static int cached_dart(hpfc_walker *w, const hpfc_dart *d, uint32_t *ref)
     cached_word *e = entry_of(w, *ref);
     if (e->parse_status)
         return e->parse_status;
-    if (d->crossing >= e->n || word_crossings(e)[d->crossing].vertex == NONE)
+    if (d->crossing >= e->n || word_crossings(e)[d->crossing].vertex == TOPO_NONE)
         return HPFC_E_ARG;
     return HPFC_OK;
 }
 
 /* The answer of an arrival recorded in entry ref, crossing m. */
-static void arrived(hpfc_walker *w, uint32_t ref, uint32_t m, hpfc_pixel *end, arrival *a)
+static void arrived(hpfc_walker *w, uint32_t ref, uint32_t m, hpfc_pixel *end, topo_arrival *a)
 {
     cached_word *e = entry_of(w, ref);
     const cached_crossing *y = &word_crossings(e)[m];
-    *a = (arrival){m, y->pred, y->vertex};
+    *a = (topo_arrival){m, y->pred, y->vertex};
     topo_entry_pixel(e, end);
 }
 
@@ -303,12 +303,12 @@ int topo_cached_follow(hpfc_walker *w, uint32_t ref, uint32_t k, uint32_t *end_r
             return st;
         if (!x->link) /* link_road leaves no crossing of the road unanswered */
             return HPFC_E_CORRUPT;
-        if (x->link_m == NONE)
+        if (x->link_m == TOPO_NONE)
             return (int)x->link;
         ref = x->link;
         e = entry_of(w, ref);
         const cached_crossing *y = &word_crossings(e)[x->link_m];
-        if (y->vertex != NONE) {
+        if (y->vertex != TOPO_NONE) {
             start->arrival = *end_ref = ref;
             start->arrival_m = *end_m = x->link_m;
             topo_block_arrival(w, start_ref, start_k);
@@ -319,7 +319,7 @@ int topo_cached_follow(hpfc_walker *w, uint32_t ref, uint32_t k, uint32_t *end_r
 }
 
 int topo_cached_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
-                       arrival *a)
+                       topo_arrival *a)
 {
     uint32_t ref, end_ref, m;
     int st = cached_dart(w, d, &ref);

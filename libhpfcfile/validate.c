@@ -1,5 +1,7 @@
 /*
- * Exact validation of a graph as a planar embedding (hpfc_graph_validate).
+ * Exact validation of a graph as a planar embedding (hpfc_graph_validate):
+ * each edge on its own (loops, zero-length segments), then the whole-graph
+ * checks the .pfc reader runs too (graph_check.c), then planarity.
  *
  * Planarity is checked by bucketing segments into a uniform grid of about
  * one cell per segment (with the same exact segment/cell test the builder
@@ -21,23 +23,6 @@ static void describe_edge(const hpfc_graph *g, size_t e, char *buf, size_t size)
         snprintf(buf, size, "edge %zu (line %u)", e, graph_edge_line(g, e));
     else
         snprintf(buf, size, "edge %zu", e);
-}
-
-static void describe_vertex(const hpfc_graph *g, size_t v, char *buf, size_t size)
-{
-    if (graph_vertex_line(g, v))
-        snprintf(buf, size, "vertex %zu (line %u)", v, graph_vertex_line(g, v));
-    else
-        snprintf(buf, size, "vertex %zu", v);
-}
-
-static void diag_point(hpfc_diag *diag, const hpfc_graph *g, double x, double y)
-{
-    if (diag) {
-        diag->has_point = 1;
-        diag->x = x * pow(10.0, g->unit_exp10);
-        diag->y = y * pow(10.0, g->unit_exp10);
-    }
 }
 
 static void diag_edges(hpfc_diag *diag, const hpfc_graph *g, int64_t e0, int64_t e1)
@@ -67,7 +52,7 @@ static int check_edges_locally(const hpfc_graph *g, hpfc_diag *diag)
             if (ax == bx && ay == by) {
                 describe_edge(g, e, what, sizeof what);
                 diag_edges(diag, g, (int64_t)e, -1);
-                diag_point(diag, g, (double)ax, (double)ay);
+                diag_point(diag, (double)ax, (double)ay, g->unit_exp10);
                 return diag_set(diag, HPFC_E_ZERO_LENGTH,
                                 "%s has a zero-length segment at (%.17g, %.17g)",
                                 what, diag ? diag->x : 0.0, diag ? diag->y : 0.0);
@@ -75,89 +60,6 @@ static int check_edges_locally(const hpfc_graph *g, hpfc_diag *diag)
         }
     }
     return HPFC_OK;
-}
-
-static int check_isolated(const hpfc_graph *g, hpfc_diag *diag)
-{
-    uint8_t *used = calloc(g->nv ? g->nv : 1, 1);
-    if (!used)
-        return diag_set(diag, HPFC_E_NOMEM, "out of memory");
-    for (size_t e = 0; e < g->ne; e++)
-        used[g->eu[e]] = used[g->ev[e]] = 1;
-    int st = HPFC_OK;
-    for (size_t v = 0; v < g->nv && !st; v++) {
-        if (!used[v]) {
-            char what[64];
-            describe_vertex(g, v, what, sizeof what);
-            if (diag)
-                diag->line = graph_vertex_line(g, v);
-            st = diag_set(diag, HPFC_E_ISOLATED_VERTEX, "%s has no incident edge", what);
-        }
-    }
-    free(used);
-    return st;
-}
-
-/* A point of the graph: a vertex (edge < 0) or interior point k of edge. */
-typedef struct point_ref {
-    int64_t x, y;
-    int64_t edge;   /* -1 for a vertex */
-    size_t index;   /* vertex index, or interior point index */
-} point_ref;
-
-static int cmp_point_ref(const void *pa, const void *pb)
-{
-    const point_ref *a = pa, *b = pb;
-    if (a->x != b->x)
-        return a->x < b->x ? -1 : 1;
-    if (a->y != b->y)
-        return a->y < b->y ? -1 : 1;
-    return 0;
-}
-
-static void describe_point_ref(const hpfc_graph *g, const point_ref *p, char *buf, size_t size)
-{
-    char what[64];
-    if (p->edge < 0) {
-        describe_vertex(g, p->index, buf, size);
-        return;
-    }
-    describe_edge(g, (size_t)p->edge, what, sizeof what);
-    snprintf(buf, size, "interior point %zu of %s", p->index + 1, what);
-}
-
-static int check_duplicates(const hpfc_graph *g, hpfc_diag *diag)
-{
-    size_t n = g->nv + g->npts;
-    point_ref *refs = malloc((n ? n : 1) * sizeof *refs);
-    if (!refs)
-        return diag_set(diag, HPFC_E_NOMEM, "out of memory");
-    size_t k = 0;
-    for (size_t v = 0; v < g->nv; v++)
-        refs[k++] = (point_ref){g->vxy[2 * v], g->vxy[2 * v + 1], -1, v};
-    for (size_t e = 0; e < g->ne; e++)
-        for (size_t p = g->eoff[e]; p < g->eoff[e + 1]; p++)
-            refs[k++] = (point_ref){g->pts[2 * p], g->pts[2 * p + 1], (int64_t)e, p - g->eoff[e]};
-    qsort(refs, n, sizeof *refs, cmp_point_ref);
-    int st = HPFC_OK;
-    for (size_t i = 1; i < n && !st; i++) {
-        if (cmp_point_ref(&refs[i - 1], &refs[i]) == 0) {
-            char a[96], b[96];
-            describe_point_ref(g, &refs[i - 1], a, sizeof a);
-            describe_point_ref(g, &refs[i], b, sizeof b);
-            if (diag) {
-                diag->edge[0] = refs[i - 1].edge;
-                diag->edge[1] = refs[i].edge;
-                diag->line = refs[i - 1].edge < 0 ? graph_vertex_line(g, (size_t)refs[i - 1].index)
-                                                  : graph_edge_line(g, (size_t)refs[i - 1].edge);
-            }
-            diag_point(diag, g, (double)refs[i].x, (double)refs[i].y);
-            st = diag_set(diag, HPFC_E_DUPLICATE_POINT, "%s and %s are at the same point (%.17g, %.17g)",
-                          a, b, diag ? diag->x : 0.0, diag ? diag->y : 0.0);
-        }
-    }
-    free(refs);
-    return st;
 }
 
 /* ---- planarity ---------------------------------------------------------- */
@@ -320,7 +222,7 @@ static int report_conflict(const hpfc_graph *g, const seg_table *t, uint32_t s1,
     describe_edge(g, e1, a, sizeof a);
     describe_edge(g, e2, b, sizeof b);
     diag_edges(diag, g, e1, e2);
-    diag_point(diag, g, at[0] + (double)bg->ox, at[1] + (double)bg->oy);
+    diag_point(diag, at[0] + (double)bg->ox, at[1] + (double)bg->oy, g->unit_exp10);
     if (e1 == e2)
         return diag_set(diag, HPFC_E_NONPLANAR, "%s intersects itself at (%.17g, %.17g)", a,
                         diag ? diag->x : 0.0, diag ? diag->y : 0.0);
@@ -383,9 +285,9 @@ int hpfc_graph_validate(const hpfc_graph *g, hpfc_diag *diag)
         return diag_set(diag, HPFC_E_EMPTY, "the graph has no edge");
     int st = check_edges_locally(g, diag);
     if (!st)
-        st = check_isolated(g, diag);
+        st = graph_check_isolated(g, diag);
     if (!st)
-        st = check_duplicates(g, diag);
+        st = graph_check_duplicates(g, true, diag);
     if (!st)
         st = check_planarity(g, diag);
     return st;

@@ -17,12 +17,12 @@
 
 #include "attrs.h"
 #include "feat.h"
+#include "file.h"
 #include "format.h"
 #include "geometry.h"
 #include "internal.h"
 #include "labels.h"
 #include "pool.h"
-#include "reader.h"
 
 typedef struct layout {
     const hpfc_tree *tree;   /* the map to lay out, or */
@@ -410,7 +410,7 @@ static void emit_section(uint8_t *file, uint32_t index, const char *tag, uint32_
  * same sizes (its level table was checked at open). */
 static void copy_pools(const layout *L, uint8_t *file)
 {
-    const uint8_t *from = reader_bytes(L->source);
+    const uint8_t *from = L->source->data;
     for (uint32_t l = 0; l < L->info.levels; l++) {
         hpfc_level_info li;
         hpfc_file_get_level(L->source, l, &li);
@@ -584,12 +584,12 @@ int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts, u
                 .features = opts ? opts->features : NULL,
                 .attributes = opts ? opts->attributes : NULL,
                 .edge_features = opts ? opts->edge_features : NULL};
-    const labels_view *labels = reader_labels(file);
+    const labels_view *labels = &file->labels;
     if (labels->present) { /* the pools are copied bit for bit: the labels stay true */
         L.labl = labels->section;
         L.labl_length = labels->section_length;
     }
-    const geom_view *geometry = reader_geometry(file);
+    const geom_view *geometry = &file->geom;
     if (geometry->present) { /* ids and coordinates do not depend on the sections replaced */
         L.geom = geometry->section;
         L.geom_length = geometry->section_length;
@@ -607,8 +607,8 @@ int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts, u
                               .height = fi.height,
                               .unit_exp10 = fi.unit_exp10};
     /* the pools are copied as they are, in their layout */
-    L.compact = reader_is_compact(file);
-    const uint8_t *bytes = reader_bytes(file);
+    L.compact = file->compact;
+    const uint8_t *bytes = file->data;
     for (uint32_t l = 0; l < fi.levels; l++) {
         hpfc_level_info li;
         hpfc_file_get_level(file, l, &li);

@@ -263,6 +263,31 @@ static void test_invalid_graphs(void)
         CHECK_EQ_INT(build_status(g, &d), HPFC_E_DUPLICATE_POINT);
         hpfc_graph_free(g);
     }
+    {   /* the culprit is a function of the graph, not of the sort: the pair
+         * whose later point comes first (vertices by index, then interior
+         * points by edge), even where another pair lies first by place */
+        hpfc_graph *g;
+        hpfc_graph_create(&g);
+        hpfc_graph_set_unit_exp10(g, -1);
+        const int64_t xy[] = {0, 0, 20, 0, 0, 20, 20, 20};
+        for (size_t v = 0; v < 4; v++)
+            hpfc_graph_add_vertex(g, xy[2 * v], xy[2 * v + 1], NULL);
+        const int64_t mid[] = {7, 7}, corner[] = {0, 20};
+        hpfc_graph_add_edge(g, 0, 1, mid, 1, NULL);
+        hpfc_graph_add_edge(g, 2, 3, mid, 1, NULL);
+        hpfc_graph_add_edge(g, 1, 3, corner, 1, NULL); /* on vertex 2, at a smaller x */
+        CHECK_EQ_INT(hpfc_graph_validate(g, &d), HPFC_E_DUPLICATE_POINT);
+        CHECK(strcmp(d.message, "interior point 1 of edge 1 is at the same point (0.7, 0.7) as "
+                                "interior point 1 of edge 0") == 0);
+        CHECK(d.edge[0] == 0 && d.edge[1] == 1 && d.line == 0);
+        CHECK(d.has_point && d.x == 7 * 0.1 && d.y == 7 * 0.1);
+        hpfc_graph_add_vertex(g, 0, 0, NULL); /* vertex 4 on vertex 0: a vertex pair first */
+        hpfc_graph_add_edge(g, 4, 3, NULL, 0, NULL);
+        CHECK_EQ_INT(hpfc_graph_validate(g, &d), HPFC_E_DUPLICATE_POINT);
+        CHECK(strcmp(d.message, "vertex 4 is at the same point (0, 0) as vertex 0") == 0);
+        CHECK(d.edge[0] == -1 && d.edge[1] == -1);
+        hpfc_graph_free(g);
+    }
     {   /* a polyline that crosses itself */
         hpfc_graph *g;
         hpfc_graph_create(&g);
@@ -306,6 +331,8 @@ static void test_invalid_graphs(void)
         const uint32_t uv[] = {0, 1};
         hpfc_graph *g = graph_from(xy, 3, uv, 1);
         CHECK_EQ_INT(build_status(g, &d), HPFC_E_ISOLATED_VERTEX);
+        CHECK(strcmp(d.message, "vertex 2 has no edge (isolated vertex)") == 0);
+        CHECK(d.has_point && d.x == 4 && d.y == 4);
         hpfc_graph_free(g);
         g = graph_from(xy, 0, uv, 0);
         CHECK_EQ_INT(build_status(g, &d), HPFC_E_EMPTY);

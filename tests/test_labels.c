@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "file.h"
 #include "gen.h"
 #include "hpfc.h"
 #include "labels.h"
@@ -71,7 +72,7 @@ static void check_ranks(const packed *p)
 {
     hpfc_file_info fi;
     hpfc_file_get_info(p->f, &fi);
-    uint64_t leaves = reader_total_leaves(p->f);
+    uint64_t leaves = file_total_leaves(p->f);
     slot_rank *sr[HPFC_MAX_LEVELS] = {0};
     uint64_t count[HPFC_MAX_LEVELS] = {0};
     for (uint32_t l = 0; l < fi.levels; l++)
@@ -146,14 +147,14 @@ static void check_leaf_faces(const packed *p, const hpfc_faces *fc, const hpfc_p
 static void check_leaf_edges(const packed *p, hpfc_walker *w, const hpfc_pixel *px,
                              uint64_t *darts_of_edge, const hpfc_graph *g)
 {
-    const local_word *lw = &w->here;
+    const local_word *lw = &w->p_word;
     for (uint32_t k = 0; k < lw->n; k++) {
         uint64_t e = UINT64_MAX, e2 = UINT64_MAX;
         CHECK_EQ_INT(hpfc_label_crossing_edge(p->f, px, k, &e), HPFC_OK);
         CHECK(e < hpfc_graph_edge_count(g));
         if (e >= hpfc_graph_edge_count(g))
             continue;
-        if (lw->comp_vertex[lw->comp[k]] != NONE) { /* a dart: its origin's pixel holds an end */
+        if (lw->comp_vertex[lw->comp[k]] != TOPO_NONE) { /* a dart: its origin's pixel holds an end */
             darts_of_edge[e]++;
             uint32_t u, v;
             const int64_t *xy;
@@ -172,7 +173,7 @@ static void check_leaf_edges(const packed *p, hpfc_walker *w, const hpfc_pixel *
         if (k < lw->road_off[HPFC_EAST]) { /* W and N roads: across is Q's E or S */
             hpfc_pixel q;
             uint32_t m;
-            CHECK_EQ_INT(topo_cross_road(w, px, true, lw, k, &q, &w->there, &m), HPFC_OK);
+            CHECK_EQ_INT(topo_cross_road(w, px, true, lw, k, &q, &w->q_word, &m), HPFC_OK);
             CHECK_EQ_INT(hpfc_label_crossing_edge(p->f, &q, m, &e2), HPFC_OK);
             CHECK_EQ_INT(e2, e);
         }
@@ -201,8 +202,8 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
     uint64_t *darts_of_edge = calloc(hpfc_graph_edge_count(g), sizeof *darts_of_edge);
     hpfc_pixel px;
     for (st = hpfc_leaf_first(p.f, &px); !st; st = hpfc_leaf_next(p.f, &px)) {
-        CHECK_EQ_INT(topo_parse_pixel(w, &w->here, &px), HPFC_OK);
-        check_leaf_faces(&p, fc, &px, &w->here);
+        CHECK_EQ_INT(topo_parse_pixel(w, &w->p_word, &px), HPFC_OK);
+        check_leaf_faces(&p, fc, &px, &w->p_word);
         check_leaf_edges(&p, w, &px, darts_of_edge, g);
     }
     for (size_t e = 0; e < hpfc_graph_edge_count(g); e++)
@@ -214,7 +215,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
     CHECK_EQ_INT(hpfc_labels_verify(p.f, fc, &rep), HPFC_OK);
     if (rep.message[0])
         fprintf(stderr, "verify: %s\n", rep.message);
-    CHECK_EQ_INT(rep.leaves_checked, reader_total_leaves(p.f));
+    CHECK_EQ_INT(rep.leaves_checked, file_total_leaves(p.f));
     /* hpfc_file_serialize keeps the section: the same labels after */
     uint8_t *again = NULL;
     size_t size = 0;
