@@ -188,7 +188,7 @@ static int gather_along(locator *L, answer *a)
     size_t crossings = strlen(a->word) - 4; /* a word of c crossings has c + 4 symbols */
     for (size_t k = 0; k < crossings; k++) {
         uint64_t edge;
-        uint32_t count, feature;
+        uint32_t count = 0, feature; /* read by the loop below even after a failed call */
         int st = hpfc_label_crossing_edge(L->f, &a->px, (uint32_t)k, &edge);
         if (!st)
             st = hpfc_edge_feature_count(L->f, edge, &count);

@@ -377,11 +377,6 @@ typedef struct ring_finder {
 #endif
 } ring_finder;
 
-static int cmp_size(const void *a, const void *b)
-{
-    size_t x = *(const size_t *)a, y = *(const size_t *)b;
-    return (x > y) - (x < y);
-}
 
 static int scan_boxes(ring_finder *rf, const face_witness *w)
 {
@@ -442,6 +437,12 @@ static int ring_index(ring_finder *rf)
         GEOSSTRtree_insert_r(rf->ctx, rf->tree, rf->boxes[r], (void *)(uintptr_t)(r + 1));
     }
     return 0;
+}
+
+static int cmp_size(const void *a, const void *b)
+{
+    size_t x = *(const size_t *)a, y = *(const size_t *)b;
+    return (x > y) - (x < y);
 }
 
 static int query_tree(ring_finder *rf, const face_witness *w)
