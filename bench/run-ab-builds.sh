@@ -45,25 +45,15 @@ if command -v valgrind >/dev/null 2>&1; then
     done
 fi
 python3 - "$OUT" <<'PY'
-import os, re, statistics, sys
+import os, statistics, sys
+sys.path.insert(0, "bench")
+from ab_figures import FETCHES_PER_10_ROUNDS as N, cachegrind_count, read_figures, traverse_figures
 out = sys.argv[1]
 figures = {}  # (figure, side) -> values
-def add(fig, side, v):
-    figures.setdefault((fig, side), []).append(float(v))
-for line in open(out + "/read"):
-    m = re.match(r"(A|B) \((b|c)\) (\w+) .*: ([\d.]+) ns each", line)
-    if m:
-        kind = {"b": "fetch + decode", "c": "locate, depth >= 16"}[m.group(2)]
-        add(f"{kind}, {m.group(3)}", m.group(1), m.group(4))
-# bench_traverse's ns per operation are its columns 9-17 (run-ab.sh names them)
-walks = ["dart walk, no cache", "dart walk, cold cache", "dart walk, warm cache",
-         "key walk, cold", "key walk, warm", "key operators alone",
-         "bitmap walk, cold", "bitmap walk, warm", "bitmap walk, if"]
-for line in open(out + "/traverse"):
-    tok = line.replace("|", " ").split()
-    if len(tok) > 18 and tok[2].isdigit() and tok[3].isdigit():
-        for k, name in enumerate(walks):
-            add(f"{name}, {tok[1]}", tok[0], tok[10 + k])
+for (side,), name, layout, ns in read_figures(out + "/read", prefixed=1):
+    figures.setdefault((f"{name}, {layout}", side), []).append(ns)
+for (side, layout), name, ns in traverse_figures(out + "/traverse", prefixed=2):
+    figures.setdefault((f"{name}, {layout}", side), []).append(ns)
 print(f"{'figure (ns, median of runs)':36s} {'A':>9s} {'B':>9s} {'B/A':>6s}  runs")
 for (name, side), a in sorted(figures.items()):
     if side != "A" or (name, "B") not in figures:
@@ -71,16 +61,13 @@ for (name, side), a in sorted(figures.items()):
     b = figures[(name, "B")]
     ma, mb = statistics.median(a), statistics.median(b)
     print(f"{name:36s} {ma:9.1f} {mb:9.1f} {mb / ma:6.2f}  {len(a)}")
-def refs(path):
-    m = re.search(r"I\s+refs:\s+([\d,]+)", open(path).read())
-    return int(m.group(1).replace(",", ""))
 if os.path.exists(f"{out}/cg.A.paper.0"):
     print("instructions (cachegrind)                  A            B    B/A")
     for layout in ("paper", "compact"):
-        per = {s: (refs(f"{out}/cg.{s}.{layout}.10") - refs(f"{out}/cg.{s}.{layout}.0")) / 40960
+        per = {s: (cachegrind_count(f"{out}/cg.{s}.{layout}.10") - cachegrind_count(f"{out}/cg.{s}.{layout}.0")) / N
                for s in "AB"}
         print(f"  one fetch + decode, {layout:8s} {per['A']:12.1f} {per['B']:12.1f} {per['B'] / per['A']:6.3f}")
-        walk = {s: refs(f"{out}/cg.{s}.{layout}.walk") for s in "AB"}
+        walk = {s: cachegrind_count(f"{out}/cg.{s}.{layout}.walk") for s in "AB"}
         print(f"  bench_traverse 1 0, {layout:8s} {walk['A']:12d} {walk['B']:12d} {walk['B'] / walk['A']:6.3f}")
 else:
     print("valgrind not installed: no instruction counts")

@@ -29,29 +29,17 @@ while [ "$i" -lt "$ROUNDS" ]; do
 done
 echo "load after:  $(cut -d' ' -f1-3 /proc/loadavg)"
 python3 - "$OUT" <<'PY'
-import re, statistics, sys
+import statistics, sys
+sys.path.insert(0, "bench")
+from ab_figures import WALKS, read_figures, traverse_figures
 out = sys.argv[1]
 figures = {}  # (figure, layout) -> list of ns
-def add(fig, layout, v):
-    figures.setdefault((fig, layout), []).append(float(v))
-for line in open(out + "/read"):
-    m = re.match(r"\((b|c)\) (\w+) .*: ([\d.]+) ns each", line)
-    if m:
-        add({"b": "fetch + decode", "c": "locate, depth >= 16"}[m.group(1)], m.group(2), m.group(3))
-# bench_traverse rows (after the layout this script prefixes): seed, edges,
-# words per edge (3 columns), rPFC (3), then ns per operation: columns 9-17
-# are the dart walk (none, cold, warm), the key walk (cold, warm, alone) and
-# the bitmap walk (cold, warm, if); see its header.
-walks = ["dart walk, no cache", "dart walk, cold cache", "dart walk, warm cache",
-         "key walk, cold", "key walk, warm", "key operators alone",
-         "bitmap walk, cold", "bitmap walk, warm", "bitmap walk, if"]
-for line in open(out + "/traverse"):
-    tok = line.replace("|", " ").split()
-    if len(tok) > 17 and tok[1].isdigit() and tok[2].isdigit():
-        for k, name in enumerate(walks):
-            add(name, tok[0], tok[9 + k])
+for _, name, layout, ns in read_figures(out + "/read"):
+    figures.setdefault((name, layout), []).append(ns)
+for (layout,), name, ns in traverse_figures(out + "/traverse", prefixed=1):
+    figures.setdefault((name, layout), []).append(ns)
 print(f"{'figure (ns, median of runs)':32s} {'paper':>9s} {'compact':>9s} {'ratio':>6s}  runs")
-for name in ["fetch + decode", "locate, depth >= 16"] + walks:
+for name in ["fetch + decode", "locate, depth >= 16"] + WALKS:
     p, c = figures.get((name, "paper")), figures.get((name, "compact"))
     if p and c:
         mp, mc = statistics.median(p), statistics.median(c)
@@ -65,16 +53,15 @@ if command -v valgrind >/dev/null 2>&1; then
         done
     done
     python3 - "$OUT" <<'PY'
-import re, sys
+import sys
+sys.path.insert(0, "bench")
+from ab_figures import FETCHES_PER_10_ROUNDS as N, cachegrind_count
 out = sys.argv[1]
-def counts(layout, r):
-    text = open(f"{out}/cg.{layout}.{r}").read()
-    get = lambda key: int(re.search(key + r"\s+refs:\s+([\d,]+)" if key == "I" else key + r":\s+([\d,]+)", text).group(1).replace(",", ""))
-    return get("I"), get("D1  misses")
 per = {}
 for layout in ("paper", "compact"):
-    (i0, d0), (i10, d10) = counts(layout, 0), counts(layout, 10)
-    per[layout] = ((i10 - i0) / 40960, (d10 - d0) / 40960)
+    counts = {r: (cachegrind_count(f"{out}/cg.{layout}.{r}"),
+                  cachegrind_count(f"{out}/cg.{layout}.{r}", "D1  misses")) for r in (0, 10)}
+    per[layout] = ((counts[10][0] - counts[0][0]) / N, (counts[10][1] - counts[0][1]) / N)
 print("per fetch + decode (cachegrind, 40,960 fetches): instructions paper %.0f, compact %.0f (%.2fx); "
       "L1 data misses paper %.2f, compact %.2f" % (per["paper"][0], per["compact"][0],
       per["compact"][0] / per["paper"][0], per["paper"][1], per["compact"][1]))
