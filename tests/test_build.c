@@ -401,10 +401,12 @@ static void compare_with_flat(const hpfc_graph *g, const hpfc_tree *t, const sha
 }
 
 /* Bounds on shape points per leaf: none, the tightest, a small one and the
- * default. Returns the refined pixels of the tightest bound's trees beyond
- * the unbounded ones', so a caller can tell the bound was exercised. */
+ * default. */
 static const uint32_t LEAF_BOUNDS[] = {0, 1, 3, HPFC_DEFAULT_MAX_LEAF_POINTS};
 
+/* Builds g with every image shape and leaf bound and checks each tree with
+ * the oracle. Returns the refined pixels of the tightest bound's trees
+ * beyond the unbounded ones', so a caller can tell the bound was exercised. */
 static uint64_t check_graph_all_shapes(const hpfc_graph *g, const char *what, bool compare_flat)
 {
     uint64_t extra_refined = 0;
