@@ -374,18 +374,6 @@ static int read_crs(hpfc_file *f, const uint8_t *crs)
     return HPFC_OK;
 }
 
-static int read_feat(hpfc_file *f, const uint8_t *feat)
-{
-    const uint8_t *s = f->data + sec_get_offset(feat);
-    uint64_t length = sec_get_length(feat);
-    int st = feat_section_check(s, length);
-    if (!st) {
-        f->feat = s;
-        f->feat_len = length;
-    }
-    return st;
-}
-
 static int read_labl(hpfc_file *f, const uint8_t *labl)
 {
     labels_levels lv = {.levels = f->info.levels};
@@ -409,16 +397,16 @@ static int read_geom(hpfc_file *f, const uint8_t *geom)
     return geometry_open(&f->geom, f->data + sec_get_offset(geom), sec_get_length(geom), &lv);
 }
 
-/* An optional section checked by `check`: its bytes into *at, *len. */
-static int read_optional(hpfc_file *f, const uint8_t *entry, int (*check)(const uint8_t *, uint64_t),
-                         const uint8_t **at, uint64_t *len)
+/* A section checked by `check` against its own counts; its start into *at.
+ * Its length is not kept: the check bounds every record the section's
+ * accessors read by the section's length, once, here. */
+static int read_checked(hpfc_file *f, const uint8_t *entry, int (*check)(const uint8_t *, uint64_t),
+                        const uint8_t **at)
 {
     const uint8_t *s = f->data + sec_get_offset(entry);
     int st = check(s, sec_get_length(entry));
-    if (!st) {
+    if (!st)
         *at = s;
-        *len = sec_get_length(entry);
-    }
     return st;
 }
 
@@ -457,13 +445,13 @@ static int read_directory(hpfc_file *f)
     if (!st && crs)
         st = read_crs(f, crs);
     if (!st && feat)
-        st = read_feat(f, feat);
+        st = read_checked(f, feat, feat_section_check, &f->feat);
     if (!st && labl)
         st = read_labl(f, labl);
     if (!st && attr)
-        st = read_optional(f, attr, attr_section_check, &f->attr, &f->attr_len);
+        st = read_checked(f, attr, attr_section_check, &f->attr);
     if (!st && edgf)
-        st = read_optional(f, edgf, edgf_section_check, &f->edgf, &f->edgf_len);
+        st = read_checked(f, edgf, edgf_section_check, &f->edgf);
     if (!st && geom)
         st = read_geom(f, geom);
     if (!st)

@@ -54,11 +54,11 @@ struct hpfc_file {
      * location then reads every level's cell index off one quotient */
     uint32_t shift_x, shift_y;
     bool compact;           /* incompat flag: the compact pool layout */
-    const uint8_t *feat;    /* the FEAT section, NULL if none */
-    uint64_t feat_len;
+    /* FEAT, ATTR and EDGF, NULL when absent: checked at open against their
+     * lengths, so their accessors need only the start */
+    const uint8_t *feat;
     labels_view labels;     /* the LABL section (labels.present: the file has one) */
-    const uint8_t *attr, *edgf; /* the ATTR and EDGF sections, NULL if none */
-    uint64_t attr_len, edgf_len;
+    const uint8_t *attr, *edgf;
     geom_view geom;         /* the GEOM section (geom.present: the file has one) */
 };
 
