@@ -84,7 +84,8 @@ static void probe_pixel(lab *z, const hpfc_pixel *px, uint32_t extra_crossing)
         for (size_t k = 0; s2 == HPFC_OK && k < count2; k++)
             FUZZ_CHECK(z->faces[k] < z->li.faces);
         if (count > 0)
-            FUZZ_CHECK(hpfc_label_leaf_faces(z->f, px, z->faces, count - 1, &count2) == HPFC_E_ARG);
+            FUZZ_CHECK(hpfc_label_leaf_faces(z->f, px, z->faces, count - 1, &count2) ==
+                       HPFC_E_BUFFER_SMALL);
     }
     if (!shaped)
         return;

@@ -233,7 +233,7 @@ static int exact_faces(locator *L, int64_t x, int64_t y, answer *a)
 {
     size_t n = 0;
     int st = hpfc_locate_point(L->f, x, y, &a->loc, L->cand, L->cap, &n);
-    if (st == HPFC_E_ARG && n > L->cap) {
+    if (st == HPFC_E_BUFFER_SMALL) {
         if (reserve((void **)&L->cand, &L->cap, n, sizeof *L->cand))
             return HPFC_E_NOMEM;
         st = hpfc_locate_point(L->f, x, y, &a->loc, L->cand, L->cap, &n);

@@ -396,7 +396,7 @@ static int stabbed_leaf_rgb(scene *s, const hpfc_pixel *px, const lbox *b, const
             *rgb = face_rgb(s, face);
             return HPFC_OK;
         }
-        if (st != HPFC_OK && st != HPFC_E_ARG)
+        if (st != HPFC_OK && st != HPFC_E_BUFFER_SMALL)
             return st;
     }
     return majority_rgb(s, px, r, rgb);

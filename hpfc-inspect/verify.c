@@ -268,7 +268,7 @@ static void check_word(verifier *v, uint32_t l, const hpfc_pixel *px, uint64_t s
     size_t len;
     uint32_t vertices;
     int st = hpfc_pixel_word(v->f, px, v->word, v->word_cap, &len);
-    if (st == HPFC_E_ARG)
+    if (st == HPFC_E_BUFFER_SMALL)
         st = HPFC_E_CORRUPT; /* longer than its slot allows: cannot happen */
     if (st) {
         problem(v->r, "pixel %s: word does not decode (%s)", pixel_name(px, name, sizeof name),
@@ -492,7 +492,7 @@ static int road_counts(verifier *v, const hpfc_pixel *px, uint64_t count[4])
     size_t len;
     int st = hpfc_pixel_word(v->f, px, v->word, v->word_cap, &len);
     if (st)
-        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+        return st == HPFC_E_BUFFER_SMALL ? HPFC_E_CORRUPT : st;
     int road = 0;
     memset(count, 0, 4 * sizeof count[0]);
     for (size_t s = 0; s < len; s++) {

@@ -11,6 +11,7 @@ const char *hpfc_strerror(int status)
     case HPFC_E_NOMEM: return "out of memory";
     case HPFC_E_ARG: return "invalid argument";
     case HPFC_E_IO: return "input/output error";
+    case HPFC_E_BUFFER_SMALL: return "the caller's buffer is too small";
     case HPFC_E_PFC_SYNTAX: return "syntax error in .pfc input";
     case HPFC_E_PFC_VERSION: return "missing or unsupported .pfc header";
     case HPFC_E_VERTEX_INDEX: return "vertex index out of range";

@@ -14,6 +14,10 @@
  *   - Every function that can fail returns an `int` status: HPFC_OK (0) or one
  *     of the pinned HPFC_E_* codes below. Results come back through
  *     out-parameters. hpfc_strerror() names every code.
+ *   - Variable-length answers go to a caller's buffer of `cap` items: a NULL
+ *     buffer asks only the count; a buffer too small gives
+ *     HPFC_E_BUFFER_SMALL with the count needed set, so the caller can grow
+ *     it and call again. HPFC_E_ARG always means a wrong argument.
  *   - Objects are opaque handles with a create/free (or open/close) pair; the
  *     free functions accept NULL.
  *   - Functions that take a `hpfc_diag *` fill it (when non-NULL) with a
@@ -53,6 +57,8 @@ enum {
     HPFC_E_NOMEM = 1,           /* an allocation failed */
     HPFC_E_ARG = 2,             /* a caller passed an invalid argument */
     HPFC_E_IO = 3,              /* the operating system refused a read/write */
+    HPFC_E_BUFFER_SMALL = 4,    /* the caller's buffer is too small: the count
+                                   it needs has been written (nothing else) */
 
     /* .pfc input (spec/pfc-format.md) */
     HPFC_E_PFC_SYNTAX = 10,     /* unknown record, bad number, missing/extra field */
@@ -453,7 +459,8 @@ HPFC_API int hpfc_pixel_bounds(const hpfc_file *file, const hpfc_pixel *px, int6
                                int64_t *y0, int64_t *x1, int64_t *y1);
 /* Decodes a word pixel's word in place into symbols "+=[]()Y". With
  * buf == NULL (or too small), *len receives the length and HPFC_OK (or
- * HPFC_E_ARG when cap is too small) is returned. */
+ * HPFC_E_BUFFER_SMALL when cap is too small) is returned. A refined pixel
+ * is HPFC_E_ARG. */
 HPFC_API int hpfc_pixel_word(const hpfc_file *file, const hpfc_pixel *px, char *buf,
                              size_t cap, size_t *len);
 
@@ -717,7 +724,7 @@ typedef struct hpfc_labels_info {
 HPFC_API int hpfc_file_labels(const hpfc_file *file, hpfc_labels_info *out);
 /* The faces of a leaf's regions, in region order: *count of them (1 for a
  * private leaf); faces NULL asks only the count; cap too small is
- * HPFC_E_ARG with *count set. A point located in a private leaf is in
+ * HPFC_E_BUFFER_SMALL with *count set. A point located in a private leaf is in
  * faces[0]; in a stabbed one, in one of them. */
 HPFC_API int hpfc_label_leaf_faces(const hpfc_file *file, const hpfc_pixel *leaf,
                                    uint64_t *faces, size_t cap, size_t *count);
@@ -848,7 +855,8 @@ typedef struct hpfc_point_location {
  * dangling edge or a bridge). The answer is spec §17.8's; ties between
  * segments and grid lines fall by the perturbation rule of §3.5. A point
  * outside the domain gives HPFC_E_NO_PIXEL and *count = 0. cap too small
- * is HPFC_E_ARG with *count and *out set; faces NULL asks only the count.
+ * is HPFC_E_BUFFER_SMALL with *count and *out set; faces NULL asks only the
+ * count.
  * Without GEOM or LABL: HPFC_E_NO_SECTION; GEOM that contradicts the
  * leaf's word (a segment off its crossing's road, a piece leaving the
  * leaf): HPFC_E_CORRUPT. Keeps no state (threads may share the file); its
@@ -889,7 +897,7 @@ HPFC_API int hpfc_geometry_dart_edge(const hpfc_file *file, const hpfc_dart *d, 
                                      int *reversed);
 /* The exact polyline of dart d, from its origin to its target, both
  * included: xy[2k], xy[2k + 1] for k < *count. xy NULL asks only the count;
- * cap (points) too small is HPFC_E_ARG with *count set. */
+ * cap (points) too small is HPFC_E_BUFFER_SMALL with *count set. */
 HPFC_API int hpfc_geometry_dart_points(const hpfc_file *file, const hpfc_dart *d, int64_t *xy,
                                        size_t cap, size_t *count);
 

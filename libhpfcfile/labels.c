@@ -572,7 +572,7 @@ int hpfc_label_leaf_faces(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *
         return st;
     *count = rec.word.regions;
     if (faces && cap < rec.word.regions)
-        st = HPFC_E_ARG;
+        st = HPFC_E_BUFFER_SMALL;
     /* regions are numbered in the order their smallest stretch comes */
     for (uint32_t t = 0, r = 0; faces && !st && r < rec.word.regions; t++)
         if (rec.word.n == 0 || rec.word.region[t] == r)

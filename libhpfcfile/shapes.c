@@ -100,7 +100,7 @@ int hpfc_geometry_dart_points(const hpfc_file *f, const hpfc_dart *d, int64_t *x
     if (!xy)
         return HPFC_OK;
     if (cap < n)
-        return HPFC_E_ARG;
+        return HPFC_E_BUFFER_SMALL;
     for (uint64_t k = 0; k < n && !st; k++)
         st = hpfc_geometry_edge_point(f, e, rev ? n - 1 - k : k, &xy[2 * k], &xy[2 * k + 1]);
     return st;

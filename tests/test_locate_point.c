@@ -479,7 +479,8 @@ static void check_api(void)
     CHECK_EQ_INT(loc.vertex, 0);
     size_t need = count;
     if (need > 1)
-        CHECK_EQ_INT(hpfc_locate_point(p.f, vx, vy, &loc, &face, 1, &count), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_locate_point(p.f, vx, vy, &loc, &face, 1, &count),
+                     HPFC_E_BUFFER_SMALL);
     CHECK_EQ_INT(count, need);
     CHECK_EQ_INT(hpfc_locate_point(p.f, fi.x0 - 1, fi.y0, &loc, &face, 1, &count),
                  HPFC_E_NO_PIXEL);

@@ -568,6 +568,10 @@ static void check_darts(const hpfc_file *f)
                     xy = realloc(xy, 2 * cap * sizeof *xy);
                     txy = realloc(txy, 2 * cap * sizeof *txy);
                 }
+                size_t short_n = 0; /* one point short: the count needed */
+                if (hpfc_geometry_dart_points(f, &d, xy, n - 1, &short_n) !=
+                        HPFC_E_BUFFER_SMALL || short_n != n)
+                    bad++;
                 hpfc_geometry_dart_points(f, &d, xy, cap, &n);
                 hpfc_geometry_dart_points(f, &t, txy, cap, &tn);
                 int64_t b[4];

@@ -41,6 +41,7 @@ static const char *status_name(int st)
     case HPFC_E_NOMEM: return "HPFC_E_NOMEM";
     case HPFC_E_ARG: return "HPFC_E_ARG";
     case HPFC_E_IO: return "HPFC_E_IO";
+    case HPFC_E_BUFFER_SMALL: return "HPFC_E_BUFFER_SMALL";
     case HPFC_E_PFC_SYNTAX: return "HPFC_E_PFC_SYNTAX";
     case HPFC_E_PFC_VERSION: return "HPFC_E_PFC_VERSION";
     case HPFC_E_VERTEX_INDEX: return "HPFC_E_VERTEX_INDEX";
@@ -863,7 +864,7 @@ static PyObject *File_locate_point(FileObject *self, PyObject *args)
     uint64_t small[16], *faces = small;
     size_t count = 0;
     int st = hpfc_locate_point(self->f, x, y, &loc, faces, 16, &count);
-    if (st == HPFC_E_ARG && count > 16) {
+    if (st == HPFC_E_BUFFER_SMALL) {
         if (!(faces = PyMem_Malloc(count * sizeof *faces)))
             return PyErr_NoMemory();
         st = hpfc_locate_point(self->f, x, y, &loc, faces, count, &count);
