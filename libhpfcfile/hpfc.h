@@ -28,6 +28,34 @@
  *     the graph's decimal unit exponent (0 unless set). No floating-point
  *     value ever decides anything topological.
  *
+ * Structs that grow. The structs the library fills (hpfc_tree_info,
+ * hpfc_file_info, hpfc_level_info, hpfc_section_info, hpfc_features_info,
+ * hpfc_labels_info, hpfc_geometry_info) and those it reads
+ * (hpfc_build_params, hpfc_write_options, hpfc_batch.h's hpfc_locate_out)
+ * may gain fields in later releases. Each call that takes one is a
+ * function named `..._sized` that also takes the struct's size as the
+ * caller was compiled, e.g. hpfc_file_get_info_sized(file, &info,
+ * sizeof info), behind a macro of the plain name that passes
+ * sizeof(the struct) itself: ordinary calls read as they always did, and a
+ * program compiled against an older hpfc.h keeps working with a newer
+ * library. The library reads and writes only the bytes that size covers:
+ * what it reads gets defaults for the fields past them, what it writes
+ * ends there. A caller compiled against a newer hpfc.h gets the fields
+ * this library does not know zeroed, and HPFC_E_ARG when it sets one of
+ * them in an input struct (it would be ignored otherwise). This is zstd's
+ * and libspng's aim by another road: a setter per field (spng_set_option,
+ * ZSTD_CCtx_setParameter) would turn each option into a call, and a size
+ * field inside the struct (Windows' cbSize) would have to be set by every
+ * caller that zero-initialises its options, as most do. The plain names
+ * are macros: take the address of the `_sized` function instead. For the
+ * library's maintainers: a field is only ever appended, at an offset no
+ * smaller than the struct's previous sizeof (pad explicitly where
+ * alignment would put it inside the old padding), and a new input field's
+ * default is 0 (hpfc_build_params's come from hpfc_build_params_default).
+ * Other structs (hpfc_diag, the reports, hpfc_pixel, the tables a
+ * hpfc_write_options points to, ...) are fixed: changing one makes a new
+ * type.
+ *
  * Thread safety: a graph or tree may be read from several threads at once
  * but must not be modified concurrently. Functions keep no global state.
  */
@@ -185,14 +213,20 @@ typedef struct hpfc_build_params {
 #define HPFC_DEFAULT_MAX_FLAT_PIXELS ((uint64_t)1 << 28)
 #define HPFC_DEFAULT_MAX_LEAF_POINTS 16
 
-HPFC_API void hpfc_build_params_default(hpfc_build_params *params);
+/* Sets every field of the caller's `size` bytes of *params to its default
+ * (the defaults above, progress NULL). */
+HPFC_API void hpfc_build_params_init(hpfc_build_params *params, size_t size);
+#define hpfc_build_params_default(params) \
+    hpfc_build_params_init((params), sizeof(hpfc_build_params))
 
 typedef struct hpfc_tree hpfc_tree;
 
-/* Validates the graph and builds its hPFC. The graph is not kept. */
-HPFC_API int hpfc_build(const hpfc_graph *graph,
-                        const hpfc_build_params *params, hpfc_tree **out,
-                        hpfc_diag *diag);
+/* Validates the graph and builds its hPFC. The graph is not kept. Fields
+ * past params_size get their defaults. */
+HPFC_API int hpfc_build_sized(const hpfc_graph *graph, const hpfc_build_params *params,
+                              size_t params_size, hpfc_tree **out, hpfc_diag *diag);
+#define hpfc_build(graph, params, out, diag) \
+    hpfc_build_sized((graph), (params), sizeof(hpfc_build_params), (out), (diag))
 HPFC_API void hpfc_tree_free(hpfc_tree *tree);
 
 /* Geometry of a tree. The domain is [x0, x0 + width) x [y0, y0 + height) in
@@ -209,7 +243,10 @@ typedef struct hpfc_tree_info {
     uint32_t max_word_symbols;
 } hpfc_tree_info;
 
-HPFC_API void hpfc_tree_get_info(const hpfc_tree *tree, hpfc_tree_info *info);
+HPFC_API void hpfc_tree_get_info_sized(const hpfc_tree *tree, hpfc_tree_info *info,
+                                       size_t size);
+#define hpfc_tree_get_info(tree, info) \
+    hpfc_tree_get_info_sized((tree), (info), sizeof(hpfc_tree_info))
 
 /* Images of a level are numbered 0, 1, ... in pool order: the children of
  * level l's refined pixels, in the order those pixels appear in level l
@@ -329,16 +366,27 @@ typedef struct hpfc_write_options {
     const hpfc_graph *geometry;
 } hpfc_write_options;
 
+/* Every write call takes its options (NULL: all defaults) with their size
+ * (hpfc.h's introduction, "Structs that grow"); a zeroed
+ * hpfc_write_options is the defaults, and every field added later keeps
+ * 0 as its default. */
+
 /* Serialises the tree into a malloc'ed buffer (*out, *out_size); the caller
  * frees it with free(). */
-HPFC_API int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts,
-                                 uint8_t **out, size_t *out_size, hpfc_diag *diag);
+HPFC_API int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
+                                       size_t opts_size, uint8_t **out, size_t *out_size,
+                                       hpfc_diag *diag);
+#define hpfc_tree_serialize(tree, opts, out, out_size, diag) \
+    hpfc_tree_serialize_sized((tree), (opts), sizeof(hpfc_write_options), (out), (out_size), \
+                              (diag))
 
 /* Writes the tree to `path` atomically: a temporary file in the same
  * directory, fsync, rename. On failure no partial file is left and an
  * existing file at `path` is untouched. */
-HPFC_API int hpfc_tree_write_file(const hpfc_tree *tree, const hpfc_write_options *opts,
-                                  const char *path, hpfc_diag *diag);
+HPFC_API int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
+                                        size_t opts_size, const char *path, hpfc_diag *diag);
+#define hpfc_tree_write_file(tree, opts, path, diag) \
+    hpfc_tree_write_file_sized((tree), (opts), sizeof(hpfc_write_options), (path), (diag))
 
 /* ------------------------------------------------------------------------
  * Reading .hpfc files: a zero-copy reader over a memory-mapped file or a
@@ -377,11 +425,17 @@ HPFC_API int hpfc_verify_checksums(const hpfc_file *file);
  * and EDGF sections only through opts; the output has this library's
  * format version. Safe on any file that
  * opened: every pool was bounds-checked at open. */
-HPFC_API int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts,
-                                 uint8_t **out, size_t *out_size, hpfc_diag *diag);
+HPFC_API int hpfc_file_serialize_sized(const hpfc_file *file, const hpfc_write_options *opts,
+                                       size_t opts_size, uint8_t **out, size_t *out_size,
+                                       hpfc_diag *diag);
+#define hpfc_file_serialize(file, opts, out, out_size, diag) \
+    hpfc_file_serialize_sized((file), (opts), sizeof(hpfc_write_options), (out), (out_size), \
+                              (diag))
 /* The same, written to `path` atomically as hpfc_tree_write_file() does. */
-HPFC_API int hpfc_file_write_file(const hpfc_file *file, const hpfc_write_options *opts,
-                                  const char *path, hpfc_diag *diag);
+HPFC_API int hpfc_file_write_file_sized(const hpfc_file *file, const hpfc_write_options *opts,
+                                        size_t opts_size, const char *path, hpfc_diag *diag);
+#define hpfc_file_write_file(file, opts, path, diag) \
+    hpfc_file_write_file_sized((file), (opts), sizeof(hpfc_write_options), (path), (diag))
 
 #define HPFC_MAX_LEVELS 48
 
@@ -414,9 +468,18 @@ typedef struct hpfc_section_info {
     uint32_t crc32c;
 } hpfc_section_info;
 
-HPFC_API void hpfc_file_get_info(const hpfc_file *file, hpfc_file_info *info);
-HPFC_API int hpfc_file_get_level(const hpfc_file *file, uint32_t level, hpfc_level_info *out);
-HPFC_API int hpfc_file_get_section(const hpfc_file *file, uint32_t index, hpfc_section_info *out);
+HPFC_API void hpfc_file_get_info_sized(const hpfc_file *file, hpfc_file_info *info,
+                                       size_t size);
+#define hpfc_file_get_info(file, info) \
+    hpfc_file_get_info_sized((file), (info), sizeof(hpfc_file_info))
+HPFC_API int hpfc_file_get_level_sized(const hpfc_file *file, uint32_t level,
+                                       hpfc_level_info *out, size_t size);
+#define hpfc_file_get_level(file, level, out) \
+    hpfc_file_get_level_sized((file), (level), (out), sizeof(hpfc_level_info))
+HPFC_API int hpfc_file_get_section_sized(const hpfc_file *file, uint32_t index,
+                                         hpfc_section_info *out, size_t size);
+#define hpfc_file_get_section(file, index, out) \
+    hpfc_file_get_section_sized((file), (index), (out), sizeof(hpfc_section_info))
 
 /* A pixel: the paper's stack of (image, i, j) triplets from the root. An
  * image is named by its bit offset in its level's pool (the root is 0). */
@@ -679,7 +742,10 @@ typedef struct hpfc_feature {
     size_t key_len;
 } hpfc_feature;
 
-HPFC_API int hpfc_file_features(const hpfc_file *file, hpfc_features_info *out);
+HPFC_API int hpfc_file_features_sized(const hpfc_file *file, hpfc_features_info *out,
+                                      size_t size);
+#define hpfc_file_features(file, out) \
+    hpfc_file_features_sized((file), (out), sizeof(hpfc_features_info))
 HPFC_API int hpfc_feature_get(const hpfc_file *file, uint32_t index, hpfc_feature *out);
 HPFC_API int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name,
                              size_t *len);
@@ -721,7 +787,9 @@ typedef struct hpfc_labels_info {
     uint64_t rank_bits;             /* the leaf-number samples */
 } hpfc_labels_info;
 
-HPFC_API int hpfc_file_labels(const hpfc_file *file, hpfc_labels_info *out);
+HPFC_API int hpfc_file_labels_sized(const hpfc_file *file, hpfc_labels_info *out,
+                                    size_t size);
+#define hpfc_file_labels(file, out) hpfc_file_labels_sized((file), (out), sizeof(hpfc_labels_info))
 /* The faces of a leaf's regions, in region order: *count of them (1 for a
  * private leaf); faces NULL asks only the count; cap too small is
  * HPFC_E_BUFFER_SMALL with *count set. A point located in a private leaf is in
@@ -802,7 +870,10 @@ typedef struct hpfc_geometry_info {
     uint64_t section_bytes;  /* the whole section */
 } hpfc_geometry_info;
 
-HPFC_API int hpfc_file_geometry(const hpfc_file *file, hpfc_geometry_info *out);
+HPFC_API int hpfc_file_geometry_sized(const hpfc_file *file, hpfc_geometry_info *out,
+                                      size_t size);
+#define hpfc_file_geometry(file, out) \
+    hpfc_file_geometry_sized((file), (out), sizeof(hpfc_geometry_info))
 HPFC_API int hpfc_geometry_vertex(const hpfc_file *file, uint64_t vertex, int64_t *x,
                                   int64_t *y);
 /* Edge `edge` runs from vertex *u to vertex *v through *point_count points,

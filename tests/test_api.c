@@ -1,8 +1,11 @@
 /*
  * test_api.c: the conventions of the public header itself, checked against
  * independent sources: every status code against the spec's table (§12.4)
- * and every `HPFC_E_NAME (number)` the specs cite.
+ * and every `HPFC_E_NAME (number)` the specs cite; the structs that grow
+ * (a caller compiled against an older or a newer hpfc.h, simulated by the
+ * size it passes).
  */
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,6 +13,7 @@
 
 #include "check.h"
 #include "hpfc.h"
+#include "hpfc_batch.h"
 
 /* Every code of hpfc.h, by the header's own names and values. */
 #define CODE(c) {c, #c}
@@ -122,6 +126,256 @@ static void check_strerror(void)
     CHECK(strcmp(hpfc_strerror(5), unknown) == 0);
 }
 
+/* ---- structs that grow ------------------------------------------------------ */
+
+#define CANARY 0xA5
+#define EXTRA 32
+
+/* A struct of the library's with room past it, every byte a canary. */
+typedef union grown {
+    hpfc_tree_info tree;
+    hpfc_file_info file;
+    hpfc_level_info level;
+    hpfc_section_info section;
+    hpfc_labels_info labels;
+    hpfc_geometry_info geometry;
+    hpfc_build_params params;
+    unsigned char bytes[sizeof(hpfc_file_info) + sizeof(hpfc_tree_info) + EXTRA];
+} grown;
+
+static void fill_canary(grown *g)
+{
+    memset(g, CANARY, sizeof *g);
+}
+
+/* An older caller (size bytes) gets the first size bytes of the full
+ * answer and nothing past them; a newer one (full + EXTRA) gets the full
+ * answer and zeros past it. */
+static void check_out(const char *what, const void *full, size_t full_size, const grown *older,
+                      size_t size, const grown *newer)
+{
+    size_t bad = 0;
+    for (size_t k = 0; k < sizeof older->bytes; k++)
+        bad += k < size ? older->bytes[k] != ((const unsigned char *)full)[k]
+                        : older->bytes[k] != CANARY;
+    for (size_t k = 0; k < full_size + EXTRA; k++)
+        bad += k < full_size ? newer->bytes[k] != ((const unsigned char *)full)[k]
+                             : newer->bytes[k] != 0;
+    for (size_t k = full_size + EXTRA; k < sizeof newer->bytes; k++)
+        bad += newer->bytes[k] != CANARY;
+    if (bad)
+        fprintf(stderr, "%s: %zu bytes wrong\n", what, bad);
+    CHECK_EQ_INT(bad, 0);
+}
+
+/* A map whose polyline edge holds 200 shape points in a small area: the
+ * leaf bound (max_leaf_points) changes its tree. */
+static hpfc_graph *zigzag_map(void)
+{
+    hpfc_graph *g = NULL;
+    uint32_t v[6];
+    const int64_t corner[4][2] = {{0, 0}, {100000, 0}, {100000, 100000}, {0, 100000}};
+    hpfc_graph_create(&g);
+    for (int k = 0; k < 4; k++)
+        hpfc_graph_add_vertex(g, corner[k][0], corner[k][1], &v[k]);
+    for (int k = 0; k < 4; k++)
+        hpfc_graph_add_edge(g, v[k], v[(k + 1) % 4], NULL, 0, NULL);
+    int64_t xy[400];
+    for (int k = 0; k < 200; k++) {
+        xy[2 * k] = 10000 + 10 * (k + 1);
+        xy[2 * k + 1] = 10005 + 5 * (k % 2);
+    }
+    hpfc_graph_add_vertex(g, 10000, 10000, &v[4]);
+    hpfc_graph_add_vertex(g, 10000 + 10 * 201, 10000, &v[5]);
+    hpfc_graph_add_edge(g, v[4], v[5], xy, 200, NULL);
+    return g;
+}
+
+static int progress_calls;
+static void count_progress(void *user, uint32_t level, uint64_t done, uint64_t total)
+{
+    (void)user, (void)level, (void)done, (void)total;
+    progress_calls++;
+}
+
+static int same_tree(const hpfc_tree *a, const hpfc_tree *b)
+{
+    hpfc_tree_info ia, ib;
+    hpfc_tree_get_info(a, &ia);
+    hpfc_tree_get_info(b, &ib);
+    return memcmp(&ia, &ib, sizeof ia) == 0;
+}
+
+/* Build parameters of an older caller: the fields past its size (here
+ * max_leaf_points and the progress callback) take their defaults, whatever
+ * the bytes there hold; a newer caller's unknown fields must be zero. */
+static void check_build_params(const hpfc_graph *g, hpfc_tree **with_default)
+{
+    const size_t older = offsetof(hpfc_build_params, max_leaf_points);
+    grown p;
+    fill_canary(&p);
+    hpfc_build_params_init(&p.params, older);
+    hpfc_build_params full;
+    hpfc_build_params_default(&full);
+    CHECK(memcmp(&p.params, &full, older) == 0);
+    CHECK_EQ_INT(p.bytes[older], CANARY);
+    CHECK_EQ_INT(full.max_leaf_points, HPFC_DEFAULT_MAX_LEAF_POINTS);
+    CHECK(full.progress == NULL);
+
+    hpfc_tree *t_default = NULL, *t_short = NULL, *t_unbounded = NULL, *t = NULL;
+    CHECK_EQ_INT(hpfc_build(g, &full, &t_default, NULL), HPFC_OK);
+    p.params.max_leaf_points = 0; /* past the older caller's size: not read */
+    p.params.progress = count_progress;
+    progress_calls = 0;
+    CHECK_EQ_INT(hpfc_build_sized(g, &p.params, older, &t_short, NULL), HPFC_OK);
+    CHECK_EQ_INT(progress_calls, 0);
+    hpfc_build_params unbounded = full;
+    unbounded.max_leaf_points = 0;
+    unbounded.progress = count_progress;
+    CHECK_EQ_INT(hpfc_build(g, &unbounded, &t_unbounded, NULL), HPFC_OK);
+    CHECK(progress_calls > 0);
+    if (t_default && t_short && t_unbounded) {
+        CHECK(same_tree(t_short, t_default));
+        CHECK(!same_tree(t_unbounded, t_default)); /* the bound matters on this map */
+    }
+    /* a newer caller: its extra fields at 0 are fine, set ones refused */
+    grown newer;
+    memset(&newer, 0, sizeof newer);
+    newer.params = full;
+    CHECK_EQ_INT(hpfc_build_sized(g, &newer.params, sizeof full + 8, &t, NULL), HPFC_OK);
+    if (t && t_default)
+        CHECK(same_tree(t, t_default));
+    hpfc_tree_free(t);
+    t = NULL;
+    newer.bytes[sizeof full + 3] = 1;
+    CHECK_EQ_INT(hpfc_build_sized(g, &newer.params, sizeof full + 8, &t, NULL), HPFC_E_ARG);
+    CHECK(t == NULL);
+    hpfc_tree_free(t_short);
+    hpfc_tree_free(t_unbounded);
+    *with_default = t_default;
+}
+
+/* Write options of an older caller: fields past its size (layout,
+ * geometry) are not read, even invalid ones. */
+static void check_write_options(const hpfc_tree *t, const hpfc_graph *g)
+{
+    const size_t older = offsetof(hpfc_write_options, layout);
+    hpfc_write_options short_opts = {.face_labels = 1, .layout = 99, .geometry = g};
+    const hpfc_write_options same = {.face_labels = 1};
+    uint8_t *a = NULL, *b = NULL;
+    size_t na = 0, nb = 0;
+    CHECK_EQ_INT(hpfc_tree_serialize_sized(t, &short_opts, older, &a, &na, NULL), HPFC_OK);
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &same, &b, &nb, NULL), HPFC_OK);
+    CHECK(a && b && na == nb && memcmp(a, b, na) == 0);
+    free(a);
+    free(b);
+    /* read in full, the invalid layout is refused */
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &short_opts, &a, &na, NULL), HPFC_E_ARG);
+    CHECK(a == NULL);
+    /* a newer caller's unknown option set: refused, not ignored */
+    grown newer;
+    memset(&newer, 0, sizeof newer);
+    memcpy(&newer, &same, sizeof same);
+    newer.bytes[sizeof same] = 1;
+    CHECK_EQ_INT(hpfc_tree_serialize_sized(t, (const hpfc_write_options *)&newer,
+                                           sizeof same + 8, &a, &na, NULL),
+                 HPFC_E_ARG);
+}
+
+/* Every info call, older and newer callers against the full answer. */
+static void check_infos(const hpfc_tree *t, const hpfc_graph *g)
+{
+    grown older, newer;
+    hpfc_tree_info ti;
+    hpfc_tree_get_info(t, &ti);
+    size_t size = offsetof(hpfc_tree_info, vertices);
+    fill_canary(&older), fill_canary(&newer);
+    hpfc_tree_get_info_sized(t, &older.tree, size);
+    hpfc_tree_get_info_sized(t, &newer.tree, sizeof ti + EXTRA);
+    check_out("tree_info", &ti, sizeof ti, &older, size, &newer);
+
+    const hpfc_write_options o = {.face_labels = 1, .geometry = g};
+    uint8_t *buf = NULL;
+    size_t n = 0;
+    hpfc_file *f = NULL;
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &o, &buf, &n, NULL), HPFC_OK);
+    CHECK_EQ_INT(hpfc_open_memory(buf, n, 0, &f), HPFC_OK);
+    if (!f) {
+        free(buf);
+        return;
+    }
+    hpfc_file_info fi;
+    hpfc_file_get_info(f, &fi);
+    size = offsetof(hpfc_file_info, section_count);
+    fill_canary(&older), fill_canary(&newer);
+    hpfc_file_get_info_sized(f, &older.file, size);
+    hpfc_file_get_info_sized(f, &newer.file, sizeof fi + EXTRA);
+    check_out("file_info", &fi, sizeof fi, &older, size, &newer);
+
+    hpfc_level_info li;
+    CHECK_EQ_INT(hpfc_file_get_level(f, 0, &li), HPFC_OK);
+    size = offsetof(hpfc_level_info, pool_offset);
+    fill_canary(&older), fill_canary(&newer);
+    CHECK_EQ_INT(hpfc_file_get_level_sized(f, 0, &older.level, size), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_level_sized(f, 0, &newer.level, sizeof li + EXTRA), HPFC_OK);
+    check_out("level_info", &li, sizeof li, &older, size, &newer);
+
+    hpfc_section_info si;
+    CHECK_EQ_INT(hpfc_file_get_section(f, 0, &si), HPFC_OK);
+    size = offsetof(hpfc_section_info, length);
+    fill_canary(&older), fill_canary(&newer);
+    CHECK_EQ_INT(hpfc_file_get_section_sized(f, 0, &older.section, size), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_section_sized(f, 0, &newer.section, sizeof si + EXTRA), HPFC_OK);
+    check_out("section_info", &si, sizeof si, &older, size, &newer);
+
+    hpfc_labels_info lb;
+    CHECK_EQ_INT(hpfc_file_labels(f, &lb), HPFC_OK);
+    size = offsetof(hpfc_labels_info, section_bytes);
+    fill_canary(&older), fill_canary(&newer);
+    CHECK_EQ_INT(hpfc_file_labels_sized(f, &older.labels, size), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_labels_sized(f, &newer.labels, sizeof lb + EXTRA), HPFC_OK);
+    check_out("labels_info", &lb, sizeof lb, &older, size, &newer);
+
+    hpfc_geometry_info gi;
+    CHECK_EQ_INT(hpfc_file_geometry(f, &gi), HPFC_OK);
+    CHECK_EQ_INT(gi.points, 200);
+    size = offsetof(hpfc_geometry_info, points);
+    fill_canary(&older), fill_canary(&newer);
+    CHECK_EQ_INT(hpfc_file_geometry_sized(f, &older.geometry, size), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_geometry_sized(f, &newer.geometry, sizeof gi + EXTRA), HPFC_OK);
+    check_out("geometry_info", &gi, sizeof gi, &older, size, &newer);
+
+    /* hpfc_locate_out, an input struct of output arrays: an older caller's
+     * struct ends before `feature`, so neither it nor `flags` is written */
+    const int64_t x[1] = {50000}, y[1] = {50000};
+    int64_t face[1] = {-7}, feature[1] = {-7};
+    uint8_t flags[1] = {CANARY};
+    const hpfc_locate_out lo = {.face = face, .feature = feature, .flags = flags};
+    CHECK_EQ_INT(hpfc_locate_batch_sized(f, NULL, 1, x, y, NULL, &lo,
+                                         offsetof(hpfc_locate_out, feature), NULL),
+                 HPFC_OK);
+    CHECK(face[0] > 0); /* the square's inside, not the unbounded face */
+    CHECK(feature[0] == -7 && flags[0] == CANARY);
+    CHECK_EQ_INT(hpfc_locate_batch(f, NULL, 1, x, y, NULL, &lo, NULL), HPFC_OK);
+    CHECK(feature[0] == -1 && flags[0] != CANARY);
+    hpfc_close(f);
+    free(buf);
+}
+
+static void check_sized_structs(void)
+{
+    hpfc_graph *g = zigzag_map();
+    hpfc_tree *t = NULL;
+    CHECK_EQ_INT(hpfc_graph_validate(g, NULL), HPFC_OK);
+    check_build_params(g, &t);
+    if (t) {
+        check_write_options(t, g);
+        check_infos(t, g);
+    }
+    hpfc_tree_free(t);
+    hpfc_graph_free(g);
+}
+
 int main(void)
 {
     const char *dir = getenv("HPFC_SPEC_DIR");
@@ -135,6 +389,7 @@ int main(void)
     check_citations(spec, "hpfc-format.md");
     check_citations(pfc, "pfc-format.md");
     check_strerror();
+    check_sized_structs();
     free(spec);
     free(pfc);
     return check_report("api");
