@@ -178,7 +178,7 @@ static void reserialize(const hpfc_file *f, const uint8_t *data, const char *crs
         FUZZ_CHECK(memcmp(data + x.pool_offset, out + y.pool_offset, (x.pool_bits + 7) / 8) == 0);
     }
     hpfc_close(g);
-    free(out);
+    hpfc_free(out);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

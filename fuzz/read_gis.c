@@ -166,7 +166,7 @@ static void pack_features(const hpfc_graph *g, hpfc_tree *t, const hpfc_file *f,
     check_recorded_features(f2, &ft);
     check_recorded_attributes(f2, &at, &ft);
     hpfc_close(f2);
-    free(with_feat);
+    hpfc_free(with_feat);
     gis_feature_table_free(&ft);
 }
 
@@ -194,7 +194,7 @@ static void pack(const hpfc_graph *g, const gis_info *info)
     else
         hpfc_tree_free(t);
     hpfc_close(f);
-    free(bytes);
+    hpfc_free(bytes);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -377,7 +377,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     check_map(f, g, &gf, faces_expected);
 
     hpfc_close(f);
-    free(buf);
+    hpfc_free(buf);
     free(gf.degree);
     hpfc_tree_free(t);
     hpfc_graph_free(g);

@@ -1,5 +1,11 @@
+/*
+ * errors.c: what every caller of the library shares: the status codes'
+ * texts, diagnostics, the version, and hpfc_free for what the library
+ * hands over.
+ */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "internal.h"
@@ -42,6 +48,16 @@ const char *hpfc_strerror(int status)
 const char *hpfc_version_string(void)
 {
     return HPFC_VERSION_STRING;
+}
+
+unsigned hpfc_version_number(void)
+{
+    return HPFC_VERSION_NUMBER;
+}
+
+void hpfc_free(void *buffer)
+{
+    free(buffer);
 }
 
 int diag_set(hpfc_diag *diag, int status, const char *fmt, ...)

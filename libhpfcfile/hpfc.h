@@ -121,8 +121,18 @@ enum {
 /* A short static English description of a status code. Never NULL. */
 HPFC_API const char *hpfc_strerror(int status);
 
-/* The library's version, "MAJOR.MINOR.PATCH". */
+/* The library's version, "MAJOR.MINOR.PATCH", and as one number,
+ * MAJOR * 10000 + MINOR * 100 + PATCH (as ZSTD_versionNumber): what the
+ * running library is, where HPFC_VERSION_STRING and HPFC_VERSION_NUMBER
+ * (hpfc_version.h) say what the caller was compiled against. */
 HPFC_API const char *hpfc_version_string(void);
+HPFC_API unsigned hpfc_version_number(void);
+
+/* Frees a buffer the library allocated and handed over (the serialised
+ * files of hpfc_tree_serialize and hpfc_file_serialize). Always use it
+ * rather than free(): the library and its caller may not share an
+ * allocator (another C runtime, a sanitizer, a binding). NULL is fine. */
+HPFC_API void hpfc_free(void *buffer);
 
 /* Explanation of a failure, filled by functions that take one. */
 typedef struct hpfc_diag {
@@ -371,8 +381,8 @@ typedef struct hpfc_write_options {
  * hpfc_write_options is the defaults, and every field added later keeps
  * 0 as its default. */
 
-/* Serialises the tree into a malloc'ed buffer (*out, *out_size); the caller
- * frees it with free(). */
+/* Serialises the tree into a new buffer (*out, *out_size); the caller
+ * frees it with hpfc_free(). */
 HPFC_API int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
                                        size_t opts_size, uint8_t **out, size_t *out_size,
                                        hpfc_diag *diag);
@@ -416,15 +426,15 @@ HPFC_API void hpfc_close(hpfc_file *file);
 HPFC_API int hpfc_verify_checksums(const hpfc_file *file);
 
 /* Serialises an open file's map again with opts' CRS and FEAT sections in
- * place of its own (opts NULL: neither), into a malloc'ed buffer the caller
- * frees. The pools are copied bit for bit, so pixels, darts, keys and face
- * ids stay the same; no tree is needed. This is how a map gets its features
- * once its faces are numbered: serialise the tree, open the bytes, free the
- * tree, link, then hpfc_file_write_file(). The file's LABL and GEOM
- * sections are kept (they describe the pools, copied unchanged); its ATTR
- * and EDGF sections only through opts; the output has this library's
- * format version. Safe on any file that
- * opened: every pool was bounds-checked at open. */
+ * place of its own (opts NULL: neither), into a new buffer the caller
+ * frees with hpfc_free(). The pools are copied bit for bit, so pixels,
+ * darts, keys and face ids stay the same; no tree is needed. This is how a
+ * map gets its features once its faces are numbered: serialise the tree,
+ * open the bytes, free the tree, link, then hpfc_file_write_file(). The
+ * file's LABL and GEOM sections are kept (they describe the pools, copied
+ * unchanged); its ATTR and EDGF sections only through opts; the output has
+ * this library's format version. Safe on any file that opened: every pool
+ * was bounds-checked at open. */
 HPFC_API int hpfc_file_serialize_sized(const hpfc_file *file, const hpfc_write_options *opts,
                                        size_t opts_size, uint8_t **out, size_t *out_size,
                                        hpfc_diag *diag);

@@ -267,8 +267,8 @@ static void check_write_options(const hpfc_tree *t, const hpfc_graph *g)
     CHECK_EQ_INT(hpfc_tree_serialize_sized(t, &short_opts, older, &a, &na, NULL), HPFC_OK);
     CHECK_EQ_INT(hpfc_tree_serialize(t, &same, &b, &nb, NULL), HPFC_OK);
     CHECK(a && b && na == nb && memcmp(a, b, na) == 0);
-    free(a);
-    free(b);
+    hpfc_free(a);
+    hpfc_free(b);
     /* read in full, the invalid layout is refused */
     CHECK_EQ_INT(hpfc_tree_serialize(t, &short_opts, &a, &na, NULL), HPFC_E_ARG);
     CHECK(a == NULL);
@@ -301,7 +301,7 @@ static void check_infos(const hpfc_tree *t, const hpfc_graph *g)
     CHECK_EQ_INT(hpfc_tree_serialize(t, &o, &buf, &n, NULL), HPFC_OK);
     CHECK_EQ_INT(hpfc_open_memory(buf, n, 0, &f), HPFC_OK);
     if (!f) {
-        free(buf);
+        hpfc_free(buf);
         return;
     }
     hpfc_file_info fi;
@@ -359,7 +359,25 @@ static void check_infos(const hpfc_tree *t, const hpfc_graph *g)
     CHECK_EQ_INT(hpfc_locate_batch(f, NULL, 1, x, y, NULL, &lo, NULL), HPFC_OK);
     CHECK(feature[0] == -1 && flags[0] != CANARY);
     hpfc_close(f);
-    free(buf);
+    hpfc_free(buf);
+}
+
+/* ---- version --------------------------------------------------------------- */
+
+/* The running library's number is the header's, and both agree with the
+ * string "MAJOR.MINOR.PATCH". */
+static void check_version(void)
+{
+    unsigned major = 0, minor = 0, patch = 0;
+    int fields = sscanf(hpfc_version_string(), "%u.%u.%u", &major, &minor, &patch);
+    CHECK_EQ_INT(fields, 3);
+    CHECK(strcmp(hpfc_version_string(), HPFC_VERSION_STRING) == 0);
+    CHECK_EQ_INT(hpfc_version_number(), HPFC_VERSION_NUMBER);
+    CHECK_EQ_INT(hpfc_version_number(), major * 10000 + minor * 100 + patch);
+    CHECK_EQ_INT(major, HPFC_VERSION_MAJOR);
+    CHECK_EQ_INT(minor, HPFC_VERSION_MINOR);
+    CHECK_EQ_INT(patch, HPFC_VERSION_PATCH);
+    hpfc_free(NULL); /* accepts NULL, as free() */
 }
 
 static void check_sized_structs(void)
@@ -390,6 +408,7 @@ int main(void)
     check_citations(pfc, "pfc-format.md");
     check_strerror();
     check_sized_structs();
+    check_version();
     free(spec);
     free(pfc);
     return check_report("api");

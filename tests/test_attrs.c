@@ -252,7 +252,7 @@ static void test_sections(void)
         size_t again_size = 0;
         CHECK_EQ_INT(hpfc_file_serialize(f, &opts, &again, &again_size, &d), HPFC_OK);
         CHECK(again_size == size && memcmp(again, buf, size) == 0);
-        free(again);
+        hpfc_free(again);
         hpfc_close(f);
     }
     /* without the sections: NO_SECTION */
@@ -266,7 +266,7 @@ static void test_sections(void)
     CHECK_EQ_INT(hpfc_attr_get(f, 0, 0, &v), HPFC_E_NO_SECTION);
     CHECK_EQ_INT(hpfc_edge_feature_count(f, 0, &a), HPFC_E_NO_SECTION);
     hpfc_close(f);
-    free(plain);
+    hpfc_free(plain);
 
     damage_section(buf, size, "ATTR");
     damage_section(buf, size, "EDGF");
@@ -285,7 +285,7 @@ static void test_sections(void)
     x.edge_feature[0] = 0;
     x.edge_start[2] = 0; /* offsets decrease */
     CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &bad, &bad_size, &d), HPFC_E_ARG);
-    free(buf);
+    hpfc_free(buf);
     free(x.face_start);
     free(x.face_feature);
     hpfc_tree_free(t);

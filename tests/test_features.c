@@ -156,7 +156,7 @@ static void test_features(void)
         }
 
     /* inconsistent tables are refused by the writer */
-    free(buf);
+    hpfc_free(buf);
     uint32_t saved = x.link[0];
     x.link[0] = 7; /* no such feature */
     CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, &d), HPFC_E_ARG);
@@ -169,7 +169,7 @@ static void test_features(void)
     CHECK(buf == NULL);
     free(x.start);
     free(x.link);
-    free(plain);
+    hpfc_free(plain);
     hpfc_tree_free(t);
 }
 

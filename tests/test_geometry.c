@@ -59,8 +59,8 @@ static void unpack(packed *p)
 {
     hpfc_close(p->f);
     hpfc_close(p->f0);
-    free(p->with);
-    free(p->without);
+    hpfc_free(p->with);
+    hpfc_free(p->without);
 }
 
 /* Coordinates and edges against the graph. */
@@ -276,7 +276,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
         if (f2)
             check_points(f2, g);
         hpfc_close(f2);
-        free(again);
+        hpfc_free(again);
     }
     unpack(&p);
 }

@@ -53,8 +53,8 @@ static void unpack(packed *p)
 {
     hpfc_close(p->f);
     hpfc_close(p->f0);
-    free(p->with);
-    free(p->without);
+    hpfc_free(p->with);
+    hpfc_free(p->without);
     hpfc_tree_free(p->tree);
 }
 
@@ -230,7 +230,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
     CHECK_EQ_INT(hpfc_file_labels(f2, &li2), HPFC_OK);
     CHECK_EQ_INT(li2.section_bytes, li.section_bytes);
     hpfc_close(f2);
-    free(again);
+    hpfc_free(again);
     free(darts_of_edge);
     hpfc_walker_free(w);
     hpfc_faces_free(fc);

@@ -223,7 +223,7 @@ static void unpack(packed *p)
     hpfc_walker_free(p->w);
     hpfc_faces_free(p->faces);
     hpfc_close(p->f);
-    free(p->bytes);
+    hpfc_free(p->bytes);
     hpfc_tree_free(p->tree);
     free(p->left);
     free(p->right);
@@ -501,7 +501,7 @@ static void check_api(void)
     CHECK_EQ_INT(hpfc_open_memory(bytes, size, 0, &f), HPFC_OK);
     CHECK_EQ_INT(hpfc_locate_point(f, vx, vy, &loc, &face, 1, &count), HPFC_E_NO_SECTION);
     hpfc_close(f);
-    free(bytes);
+    hpfc_free(bytes);
     hpfc_tree_free(t);
     hpfc_graph_free(g);
 }

@@ -412,7 +412,7 @@ static size_t round_trip(const hpfc_tree *t, const char *crs, uint64_t seed)
     hpfc_file *f = NULL;
     CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
     if (!f) {
-        free(buf);
+        hpfc_free(buf);
         return 0;
     }
     w.f = f;
@@ -438,7 +438,7 @@ static size_t round_trip(const hpfc_tree *t, const char *crs, uint64_t seed)
     covered.max_levels = w.info.levels > covered.max_levels ? w.info.levels : covered.max_levels;
     hpfc_close(f);
     free(w.leaves);
-    free(buf);
+    hpfc_free(buf);
     return w.pixels;
 }
 
@@ -500,7 +500,7 @@ static void test_fig7_file(void)
     if (f)
         check_paper_moves(f);
     hpfc_close(f);
-    free(buf);
+    hpfc_free(buf);
     CHECK_EQ_INT(round_trip(t, NULL, 1), 12 + 16 + 24);
     hpfc_tree_free(t);
 }
@@ -592,7 +592,7 @@ static void test_pool_corruption(void)
     CHECK(corrupt > (test_layout_compact ? 30u : 100u)); /* some flips must be detected while navigating */
     printf("pool corruption: %zu flips, %zu detected while navigating\n", flips, corrupt);
     free(copy);
-    free(buf);
+    hpfc_free(buf);
 }
 
 /* ---- arguments and small cases -------------------------------------------------------- */

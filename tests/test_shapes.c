@@ -525,7 +525,7 @@ static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, packed *
 static void unpack(packed *p)
 {
     hpfc_close(p->f);
-    free(p->buf);
+    hpfc_free(p->buf);
     free(p->buf2);
     hpfc_tree_free(p->tree);
 }
@@ -739,7 +739,7 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
     if (f2)
         hpfc_shapes_free(s);
     hpfc_close(f2);
-    free(buf);
+    hpfc_free(buf);
     free(start);
     free(links);
     free(member);
