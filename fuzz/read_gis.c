@@ -88,7 +88,7 @@ static void check_recorded_attributes(const hpfc_file *f, const hpfc_attr_table 
         for (uint32_t c = 0; c < columns; c++) {
             hpfc_attr_value v;
             const hpfc_attr_value *w = &at->cells[(size_t)k * columns + c];
-            FUZZ_CHECK(hpfc_attr_get(f, k, c, &v) == HPFC_OK && v.type == w->type);
+            FUZZ_CHECK(hpfc_file_get_attr(f, k, c, &v) == HPFC_OK && v.type == w->type);
             FUZZ_CHECK(v.type != HPFC_ATTR_INTEGER || v.i == w->i);
             FUZZ_CHECK(v.type != HPFC_ATTR_REAL || memcmp(&v.r, &w->r, sizeof v.r) == 0);
             FUZZ_CHECK(v.type != HPFC_ATTR_STRING ||
@@ -112,7 +112,7 @@ static void check_recorded_attributes(const hpfc_file *f, const hpfc_attr_table 
 static void check_recorded_features(const hpfc_file *f, const gis_feature_table *ft)
 {
     hpfc_features_info fi;
-    FUZZ_CHECK(hpfc_file_features(f, &fi) == HPFC_OK);
+    FUZZ_CHECK(hpfc_file_get_features(f, &fi) == HPFC_OK);
     FUZZ_CHECK(fi.features == ft->table.feature_count && fi.faces == ft->table.face_count);
     for (uint32_t face = 0; face < fi.faces; face++) {
         uint32_t n;

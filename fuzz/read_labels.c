@@ -234,7 +234,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (hpfc_open_memory(file, file_size, HPFC_OPEN_SKIP_CHECKSUM, &f) == HPFC_OK) {
         lab z = {.f = f, .steps = FUZZ_STEPS};
         hpfc_file_get_info(f, &z.info);
-        int st = hpfc_file_labels(f, &z.li);
+        int st = hpfc_file_get_labels(f, &z.li);
         FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
         if (st == HPFC_OK) {
             FUZZ_CHECK(z.li.faces > 0 && z.li.edges > 0);

@@ -169,7 +169,7 @@ static const char *string_at(const uint8_t *s, uint32_t off)
     return (const char *)(s + section_parts(s).strings + off);
 }
 
-int hpfc_file_features_sized(const hpfc_file *file, hpfc_features_info *out, size_t size)
+int hpfc_file_get_features_sized(const hpfc_file *file, hpfc_features_info *out, size_t size)
 {
     const uint8_t *s;
     if (!out)
@@ -190,7 +190,7 @@ int hpfc_file_features_sized(const hpfc_file *file, hpfc_features_info *out, siz
     return HPFC_OK;
 }
 
-int hpfc_feature_get(const hpfc_file *file, uint32_t index, hpfc_feature *out)
+int hpfc_file_get_feature(const hpfc_file *file, uint32_t index, hpfc_feature *out)
 {
     const uint8_t *s;
     if (!out)

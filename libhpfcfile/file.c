@@ -549,7 +549,7 @@ void hpfc_close(hpfc_file *f)
     free(f);
 }
 
-int hpfc_verify_checksums(const hpfc_file *f)
+int hpfc_file_verify_checksums(const hpfc_file *f)
 {
     if (!f)
         return HPFC_E_ARG;
@@ -586,11 +586,13 @@ int hpfc_file_get_section_sized(const hpfc_file *f, uint32_t index, hpfc_section
     if (!f || !out || index >= f->info.section_count)
         return HPFC_E_ARG;
     const uint8_t *e = section_entry(f, index);
-    hpfc_section_info full = {.flags = sec_get_flags(e),
-                              .offset = sec_get_offset(e),
-                              .length = sec_get_length(e),
-                              .crc32c = sec_get_crc32c(e)};
+    hpfc_section_info full;
+    memset(&full, 0, sizeof full); /* padding too: the caller gets known bytes */
     memcpy(full.tag, e + sec_OFF_tag, sec_SIZE_tag);
+    full.flags = sec_get_flags(e);
+    full.offset = sec_get_offset(e);
+    full.length = sec_get_length(e);
+    full.crc32c = sec_get_crc32c(e);
     sized_out(out, size, &full, sizeof full);
     return HPFC_OK;
 }
@@ -646,11 +648,11 @@ uint64_t file_total_leaves(const hpfc_file *f)
 
 /* ---- the compact pools' own index ------------------------------------------------------- */
 
-int hpfc_check_pool_layout(const hpfc_file *f, uint32_t level, hpfc_diag *diag)
+int hpfc_file_check_pool_layout(const hpfc_file *f, uint32_t level, hpfc_diag *diag)
 {
     diag_clear(diag);
     if (!f || level >= f->info.levels)
-        return diag_set(diag, HPFC_E_ARG, "hpfc_check_pool_layout: no such level");
+        return diag_set(diag, HPFC_E_ARG, "hpfc_file_check_pool_layout: no such level");
     if (!f->compact)
         return HPFC_OK; /* the paper layout has no index of its own: its pixels say it all */
     const file_level *lv = &f->lv[level];

@@ -202,7 +202,7 @@ static const geom_view *geometry_of(const hpfc_file *file)
     return v && v->present ? v : NULL;
 }
 
-int hpfc_file_geometry_sized(const hpfc_file *file, hpfc_geometry_info *out, size_t size)
+int hpfc_file_get_geometry_sized(const hpfc_file *file, hpfc_geometry_info *out, size_t size)
 {
     if (!file || !out)
         return HPFC_E_ARG;

@@ -20,6 +20,24 @@
  *     it and call again. HPFC_E_ARG always means a wrong argument.
  *   - Objects are opaque handles with a create/free (or open/close) pair; the
  *     free functions accept NULL.
+ *   - Names. A function is hpfc_<object>_<what>: <object> is what it acts
+ *     on or answers about (graph, tree, file, walker, pixel, vertex, dart,
+ *     key, faces, label, geometry, attr, layer, shapes, ...), and the
+ *     handle it reads through (the file, walker, tree, faces or shapes)
+ *     is its first argument, whatever the object: hpfc_pixel_word(file,
+ *     px, ...) and hpfc_pixel_vertex(walker, px, ...) are both about a
+ *     pixel, one read through the file, the other through a walker's
+ *     cache. When the object is the handle itself, the prefix is the
+ *     handle's (hpfc_file_verify_checksums, hpfc_walker_set_cache_size).
+ *     `get` is in the name of exactly the calls that fill a caller's struct
+ *     describing the handle or one of its parts, as hpfc_<handle>_get_<part>
+ *     (hpfc_file_get_info, hpfc_file_get_level, hpfc_file_get_feature,
+ *     hpfc_tree_get_pixel); a call that answers numbers or strings through
+ *     out-parameters names what it answers, without `get`
+ *     (hpfc_layer_name, hpfc_pixel_type, hpfc_geometry_vertex). Counts end
+ *     in _count. hpfc_open, hpfc_open_memory, hpfc_close and hpfc_locate,
+ *     the file's own life and its one basic query, keep their short names.
+ *     Older names stay callable, deprecated, at the end of this header.
  *   - Functions that take a `hpfc_diag *` fill it (when non-NULL) with a
  *     one-line human-readable explanation of a failure: which line of a
  *     `.pfc` file, which edges and which point.
@@ -423,7 +441,7 @@ HPFC_API int hpfc_open_memory(const void *data, size_t size, unsigned flags,
 HPFC_API void hpfc_close(hpfc_file *file);
 
 /* Verifies every section checksum (reads the whole file). */
-HPFC_API int hpfc_verify_checksums(const hpfc_file *file);
+HPFC_API int hpfc_file_verify_checksums(const hpfc_file *file);
 
 /* Serialises an open file's map again with opts' CRS and FEAT sections in
  * place of its own (opts NULL: neither), into a new buffer the caller
@@ -513,7 +531,7 @@ HPFC_API int hpfc_pixel_is_private(const hpfc_file *file, const hpfc_pixel *px, 
  * layout (spec §16) its block counts, type bits, word index and words agree;
  * for the paper layout nothing beyond what pixel access checks. HPFC_OK, or
  * HPFC_E_CORRUPT with the first fault in diag. */
-HPFC_API int hpfc_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag);
+HPFC_API int hpfc_file_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag);
 /* Pixel (i, j) of the image a refined pixel points to (px may equal out). */
 HPFC_API int hpfc_pixel_child(const hpfc_file *file, const hpfc_pixel *px, uint32_t i,
                               uint32_t j, hpfc_pixel *out);
@@ -752,11 +770,11 @@ typedef struct hpfc_feature {
     size_t key_len;
 } hpfc_feature;
 
-HPFC_API int hpfc_file_features_sized(const hpfc_file *file, hpfc_features_info *out,
-                                      size_t size);
-#define hpfc_file_features(file, out) \
-    hpfc_file_features_sized((file), (out), sizeof(hpfc_features_info))
-HPFC_API int hpfc_feature_get(const hpfc_file *file, uint32_t index, hpfc_feature *out);
+HPFC_API int hpfc_file_get_features_sized(const hpfc_file *file, hpfc_features_info *out,
+                                          size_t size);
+#define hpfc_file_get_features(file, out) \
+    hpfc_file_get_features_sized((file), (out), sizeof(hpfc_features_info))
+HPFC_API int hpfc_file_get_feature(const hpfc_file *file, uint32_t index, hpfc_feature *out);
 HPFC_API int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name,
                              size_t *len);
 /* The features of face `face` (an id of hpfc_faces_build): *count of them,
@@ -797,9 +815,10 @@ typedef struct hpfc_labels_info {
     uint64_t rank_bits;             /* the leaf-number samples */
 } hpfc_labels_info;
 
-HPFC_API int hpfc_file_labels_sized(const hpfc_file *file, hpfc_labels_info *out,
-                                    size_t size);
-#define hpfc_file_labels(file, out) hpfc_file_labels_sized((file), (out), sizeof(hpfc_labels_info))
+HPFC_API int hpfc_file_get_labels_sized(const hpfc_file *file, hpfc_labels_info *out,
+                                        size_t size);
+#define hpfc_file_get_labels(file, out) \
+    hpfc_file_get_labels_sized((file), (out), sizeof(hpfc_labels_info))
 /* The faces of a leaf's regions, in region order: *count of them (1 for a
  * private leaf); faces NULL asks only the count; cap too small is
  * HPFC_E_BUFFER_SMALL with *count set. A point located in a private leaf is in
@@ -850,8 +869,8 @@ HPFC_API int hpfc_attr_column(const hpfc_file *file, uint32_t column, const char
 /* The column named name[0 .. len) (HPFC_E_ARG when there is none). */
 HPFC_API int hpfc_attr_find(const hpfc_file *file, const char *name, size_t len,
                             uint32_t *column);
-HPFC_API int hpfc_attr_get(const hpfc_file *file, uint32_t feature, uint32_t column,
-                           hpfc_attr_value *out);
+HPFC_API int hpfc_file_get_attr(const hpfc_file *file, uint32_t feature, uint32_t column,
+                                hpfc_attr_value *out);
 
 /* ------------------------------------------------------------------------
  * Features of edges (spec/hpfc-format.md §7.3, the EDGF section): which
@@ -880,10 +899,10 @@ typedef struct hpfc_geometry_info {
     uint64_t section_bytes;  /* the whole section */
 } hpfc_geometry_info;
 
-HPFC_API int hpfc_file_geometry_sized(const hpfc_file *file, hpfc_geometry_info *out,
-                                      size_t size);
-#define hpfc_file_geometry(file, out) \
-    hpfc_file_geometry_sized((file), (out), sizeof(hpfc_geometry_info))
+HPFC_API int hpfc_file_get_geometry_sized(const hpfc_file *file, hpfc_geometry_info *out,
+                                          size_t size);
+#define hpfc_file_get_geometry(file, out) \
+    hpfc_file_get_geometry_sized((file), (out), sizeof(hpfc_geometry_info))
 HPFC_API int hpfc_geometry_vertex(const hpfc_file *file, uint64_t vertex, int64_t *x,
                                   int64_t *y);
 /* Edge `edge` runs from vertex *u to vertex *v through *point_count points,
@@ -1036,6 +1055,54 @@ HPFC_API int hpfc_shapes_feature_lines(hpfc_shapes *shapes, uint32_t feature,
  * face). */
 HPFC_API int hpfc_shapes_feature_face_count(const hpfc_shapes *shapes, uint32_t feature,
                                             uint64_t *count);
+
+/* ------------------------------------------------------------------------
+ * Deprecated names. Calls renamed to follow the naming rule above; the old
+ * names still compile (with a deprecation warning) and will be removed at
+ * 1.0. CHANGELOG.md lists them.
+ * ------------------------------------------------------------------------ */
+#if defined(__GNUC__) || defined(__clang__)
+#define HPFC_DEPRECATED(use) __attribute__((deprecated("use " use)))
+#else
+#define HPFC_DEPRECATED(use)
+#endif
+
+HPFC_DEPRECATED("hpfc_file_verify_checksums")
+static inline int hpfc_verify_checksums(const hpfc_file *file)
+{
+    return hpfc_file_verify_checksums(file);
+}
+HPFC_DEPRECATED("hpfc_file_check_pool_layout")
+static inline int hpfc_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag)
+{
+    return hpfc_file_check_pool_layout(file, level, diag);
+}
+HPFC_DEPRECATED("hpfc_file_get_features")
+static inline int hpfc_file_features(const hpfc_file *file, hpfc_features_info *out)
+{
+    return hpfc_file_get_features(file, out);
+}
+HPFC_DEPRECATED("hpfc_file_get_feature")
+static inline int hpfc_feature_get(const hpfc_file *file, uint32_t index, hpfc_feature *out)
+{
+    return hpfc_file_get_feature(file, index, out);
+}
+HPFC_DEPRECATED("hpfc_file_get_labels")
+static inline int hpfc_file_labels(const hpfc_file *file, hpfc_labels_info *out)
+{
+    return hpfc_file_get_labels(file, out);
+}
+HPFC_DEPRECATED("hpfc_file_get_attr")
+static inline int hpfc_attr_get(const hpfc_file *file, uint32_t feature, uint32_t column,
+                                hpfc_attr_value *out)
+{
+    return hpfc_file_get_attr(file, feature, column, out);
+}
+HPFC_DEPRECATED("hpfc_file_get_geometry")
+static inline int hpfc_file_geometry(const hpfc_file *file, hpfc_geometry_info *out)
+{
+    return hpfc_file_get_geometry(file, out);
+}
 
 #ifdef __cplusplus
 }

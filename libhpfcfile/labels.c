@@ -532,7 +532,7 @@ static int record_edge(const labels_view *v, const leaf_record *rec, uint32_t pi
 
 /* ---- public -------------------------------------------------------------------------------- */
 
-int hpfc_file_labels_sized(const hpfc_file *f, hpfc_labels_info *out, size_t size)
+int hpfc_file_get_labels_sized(const hpfc_file *f, hpfc_labels_info *out, size_t size)
 {
     int st;
     const labels_view *v = labels_of(f, &st);

@@ -388,7 +388,7 @@ int hpfc_locate_batch_sized(const hpfc_file *file, const hpfc_faces *faces, size
         sized_in(&full, sizeof full, out_arg, out_size))
         return HPFC_E_ARG;
     hpfc_features_info fi;
-    int st = hpfc_file_features(file, &fi);
+    int st = hpfc_file_get_features(file, &fi);
     int features = st == HPFC_OK;
     if (st && st != HPFC_E_NO_SECTION)
         return st;

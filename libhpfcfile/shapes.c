@@ -344,7 +344,7 @@ static int face_feature_count(const hpfc_file *f, uint64_t face, uint32_t *n)
 static int index_features(hpfc_shapes *s)
 {
     hpfc_features_info fi;
-    int st = hpfc_file_features(s->f, &fi);
+    int st = hpfc_file_get_features(s->f, &fi);
     if (st == HPFC_E_NO_SECTION)
         return HPFC_OK;
     if (st)

@@ -282,6 +282,31 @@ static void check_write_options(const hpfc_tree *t, const hpfc_graph *g)
                  HPFC_E_ARG);
 }
 
+/* The names renamed by the naming rule still compile and answer alike. */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+static void check_deprecated_names(const hpfc_file *f)
+{
+    hpfc_labels_info la, lb;
+    hpfc_geometry_info ga, gb;
+    hpfc_features_info fi;
+    hpfc_feature feature;
+    hpfc_attr_value value;
+    CHECK_EQ_INT(hpfc_file_labels(f, &la), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_labels(f, &lb), HPFC_OK);
+    CHECK(memcmp(&la, &lb, sizeof la) == 0);
+    CHECK_EQ_INT(hpfc_file_geometry(f, &ga), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_geometry(f, &gb), HPFC_OK);
+    CHECK(memcmp(&ga, &gb, sizeof ga) == 0);
+    CHECK_EQ_INT(hpfc_verify_checksums(f), HPFC_OK);
+    CHECK_EQ_INT(hpfc_check_pool_layout(f, 0, NULL), HPFC_OK);
+    CHECK_EQ_INT(hpfc_check_pool_layout(f, 99, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_features(f, &fi), HPFC_E_NO_SECTION); /* no FEAT written */
+    CHECK_EQ_INT(hpfc_feature_get(f, 0, &feature), HPFC_E_NO_SECTION);
+    CHECK_EQ_INT(hpfc_attr_get(f, 0, 0, &value), HPFC_E_NO_SECTION);
+}
+#pragma GCC diagnostic pop
+
 /* Every info call, older and newer callers against the full answer. */
 static void check_infos(const hpfc_tree *t, const hpfc_graph *g)
 {
@@ -329,21 +354,22 @@ static void check_infos(const hpfc_tree *t, const hpfc_graph *g)
     check_out("section_info", &si, sizeof si, &older, size, &newer);
 
     hpfc_labels_info lb;
-    CHECK_EQ_INT(hpfc_file_labels(f, &lb), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_labels(f, &lb), HPFC_OK);
     size = offsetof(hpfc_labels_info, section_bytes);
     fill_canary(&older), fill_canary(&newer);
-    CHECK_EQ_INT(hpfc_file_labels_sized(f, &older.labels, size), HPFC_OK);
-    CHECK_EQ_INT(hpfc_file_labels_sized(f, &newer.labels, sizeof lb + EXTRA), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_labels_sized(f, &older.labels, size), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_labels_sized(f, &newer.labels, sizeof lb + EXTRA), HPFC_OK);
     check_out("labels_info", &lb, sizeof lb, &older, size, &newer);
 
     hpfc_geometry_info gi;
-    CHECK_EQ_INT(hpfc_file_geometry(f, &gi), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_geometry(f, &gi), HPFC_OK);
     CHECK_EQ_INT(gi.points, 200);
     size = offsetof(hpfc_geometry_info, points);
     fill_canary(&older), fill_canary(&newer);
-    CHECK_EQ_INT(hpfc_file_geometry_sized(f, &older.geometry, size), HPFC_OK);
-    CHECK_EQ_INT(hpfc_file_geometry_sized(f, &newer.geometry, sizeof gi + EXTRA), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_geometry_sized(f, &older.geometry, size), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_geometry_sized(f, &newer.geometry, sizeof gi + EXTRA), HPFC_OK);
     check_out("geometry_info", &gi, sizeof gi, &older, size, &newer);
+    check_deprecated_names(f);
 
     /* hpfc_locate_out, an input struct of output arrays: an older caller's
      * struct ends before `feature`, so neither it nor `flags` is written */

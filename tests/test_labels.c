@@ -194,8 +194,8 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
         return;
     }
     hpfc_labels_info li;
-    CHECK_EQ_INT(hpfc_file_labels(p.f0, &li), HPFC_E_NO_SECTION);
-    CHECK_EQ_INT(hpfc_file_labels(p.f, &li), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_labels(p.f0, &li), HPFC_E_NO_SECTION);
+    CHECK_EQ_INT(hpfc_file_get_labels(p.f, &li), HPFC_OK);
     CHECK_EQ_INT(li.edges, hpfc_graph_edge_count(g));
     check_ranks(&p);
     hpfc_faces *fc = NULL;
@@ -227,7 +227,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
     CHECK_EQ_INT(hpfc_file_serialize(p.f, NULL, &again, &size, NULL), HPFC_OK);
     CHECK_EQ_INT(hpfc_open_memory(again, size, 0, &f2), HPFC_OK);
     hpfc_labels_info li2;
-    CHECK_EQ_INT(hpfc_file_labels(f2, &li2), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_labels(f2, &li2), HPFC_OK);
     CHECK_EQ_INT(li2.section_bytes, li.section_bytes);
     hpfc_close(f2);
     hpfc_free(again);

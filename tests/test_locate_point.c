@@ -554,7 +554,7 @@ static void check_damage(int kind)
                     continue;
                 opened++;
                 hpfc_labels_info li;
-                uint64_t faces_max = hpfc_file_labels(f, &li) == HPFC_OK ? li.faces : 0;
+                uint64_t faces_max = hpfc_file_get_labels(f, &li) == HPFC_OK ? li.faces : 0;
                 for (size_t i = 0; i < nq; i++) {
                     hpfc_point_location loc;
                     uint64_t faces[64];

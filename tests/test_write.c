@@ -96,7 +96,7 @@ static void test_write_file(void)
         hpfc_file_info fi;
         hpfc_file_get_info(f, &fi);
         CHECK(fi.crs_len == 9 && memcmp(fi.crs, "EPSG:4326", 9) == 0);
-        CHECK_EQ_INT(hpfc_verify_checksums(f), HPFC_OK);
+        CHECK_EQ_INT(hpfc_file_verify_checksums(f), HPFC_OK);
         CHECK_EQ_INT(probe_file(f, 1 << 20) & ~(OKB | BIT(HPFC_E_NO_PIXEL)), 0);
     }
     hpfc_close(f);

@@ -297,7 +297,7 @@ static PyObject *File_verify_checksums(FileObject *self, PyObject *unused)
     int st;
     self->busy++;
     Py_BEGIN_ALLOW_THREADS
-    st = hpfc_verify_checksums(self->f);
+    st = hpfc_file_verify_checksums(self->f);
     Py_END_ALLOW_THREADS
     self->busy--;
     if (st)
@@ -467,7 +467,7 @@ static PyObject *File_locate_into(FileObject *self, PyObject *args)
         return NULL;
     /* The stored labels answer without numbering the faces first. */
     hpfc_labels_info labels;
-    int stored = hpfc_file_labels(self->f, &labels) == HPFC_OK;
+    int stored = hpfc_file_get_labels(self->f, &labels) == HPFC_OK;
     if (!stored && file_faces(self))
         return NULL;
     static const char *names[9] = {"x", "y", "valid", "face", "face_count", "feature",
@@ -913,9 +913,9 @@ static PyObject *File_has_geometry(FileObject *self, PyObject *unused)
         return NULL;
     hpfc_geometry_info gi;
     hpfc_labels_info li;
-    int st = hpfc_file_geometry(self->f, &gi);
+    int st = hpfc_file_get_geometry(self->f, &gi);
     if (!st)
-        st = hpfc_file_labels(self->f, &li);
+        st = hpfc_file_get_labels(self->f, &li);
     if (st && st != HPFC_E_NO_SECTION)
         return raise_status(st, "geometry");
     return PyBool_FromLong(st == HPFC_OK);
@@ -958,7 +958,7 @@ static PyObject *File_features_info(FileObject *self, PyObject *unused)
     if (file_ready(self))
         return NULL;
     hpfc_features_info fi;
-    int st = hpfc_file_features(self->f, &fi);
+    int st = hpfc_file_get_features(self->f, &fi);
     if (st == HPFC_E_NO_SECTION)
         Py_RETURN_NONE;
     if (st)
@@ -1003,7 +1003,7 @@ static PyObject *File_feature(FileObject *self, PyObject *arg)
     if (file_ready(self) || u32_arg(arg, &index, "feature index"))
         return NULL;
     hpfc_feature ft;
-    int st = hpfc_feature_get(self->f, index, &ft);
+    int st = hpfc_file_get_feature(self->f, index, &ft);
     if (st)
         return raise_status(st, "feature");
     PyObject *key = ft.key ? PyUnicode_DecodeUTF8(ft.key, (Py_ssize_t)ft.key_len, "replace")
