@@ -236,7 +236,7 @@ static void flat_size(const hpfc_graph *g, const hpfc_tree_info *info, paper_row
     if (st)
         die("flat hpfc_tree_serialize", st, &diag);
     row->flat_bytes = size;
-    free(bytes);
+    hpfc_free(bytes);
     hpfc_tree_free(t);
 }
 
@@ -266,7 +266,7 @@ static void paper_case(uint64_t seed, int runs, paper_row *row)
     if (st)
         die("hpfc_tree_serialize", st, &diag);
     row->hpfc_bytes = size;
-    free(bytes);
+    hpfc_free(bytes);
     flat_size(g, &info, row);
     hpfc_tree_free(t);
     hpfc_graph_free(g);

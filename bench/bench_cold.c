@@ -48,7 +48,7 @@ static int point_faces(const hpfc_file *f, const hpfc_pixel *px, uint64_t *faces
                        size_t *n)
 {
     hpfc_labels_info li;
-    if (hpfc_file_labels(f, &li) == HPFC_OK)
+    if (hpfc_file_get_labels(f, &li) == HPFC_OK)
         return hpfc_label_leaf_faces(f, px, faces, cap, n);
     hpfc_faces *fc = NULL;
     int is_private = 0, st = hpfc_faces_build(f, &fc);
@@ -84,14 +84,14 @@ static int answer(const char *path, int64_t x, int64_t y, size_t *features)
         st = point_faces(f, &px, faces, 256, &n);
     *features = 0;
     hpfc_features_info fi;
-    if (!st && hpfc_file_features(f, &fi) == HPFC_OK) {
+    if (!st && hpfc_file_get_features(f, &fi) == HPFC_OK) {
         for (size_t k = 0; k < n && !st; k++) {
             uint32_t count = 0, feature;
             st = hpfc_face_feature_count(f, faces[k], &count);
             for (uint32_t i = 0; i < count && !st; i++) {
                 hpfc_feature ft;
                 if (!(st = hpfc_face_feature(f, faces[k], i, &feature)))
-                    st = hpfc_feature_get(f, feature, &ft);
+                    st = hpfc_file_get_feature(f, feature, &ft);
                 *features += !st;
             }
         }
@@ -120,7 +120,7 @@ int main(int argc, char **argv)
     hpfc_file_info info;
     hpfc_labels_info li;
     hpfc_file_get_info(f, &info);
-    int labels = hpfc_file_labels(f, &li) == HPFC_OK;
+    int labels = hpfc_file_get_labels(f, &li) == HPFC_OK;
     hpfc_close(f);
     struct stat sb;
     double mb = stat(path, &sb) == 0 ? (double)sb.st_size / 1e6 : 0;

@@ -153,7 +153,7 @@ static void add_face(const hpfc_file *f, uint64_t face, answer *a)
     if (hpfc_face_feature_count(f, face, &count))
         return;
     for (uint32_t k = 0; k < count; k++)
-        if (!hpfc_face_feature(f, face, k, &feature) && !hpfc_feature_get(f, feature, &ft)) {
+        if (!hpfc_face_feature(f, face, k, &feature) && !hpfc_file_get_feature(f, feature, &ft)) {
             int seen = 0;
             for (int i = 0; i < a->n; i++)
                 seen |= a->fid[i] == ft.fid;

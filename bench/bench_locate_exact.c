@@ -353,7 +353,7 @@ int main(int argc, char **argv)
     hpfc_file_get_info(f, &info);
     hpfc_geometry_info gi;
     hpfc_features_info fi;
-    if (hpfc_file_geometry(f, &gi) || hpfc_file_features(f, &fi)) {
+    if (hpfc_file_get_geometry(f, &gi) || hpfc_file_get_features(f, &fi)) {
         fprintf(stderr, "bench_locate_exact: %s has no GEOM or no FEAT section\n", argv[2]);
         return 1;
     }
@@ -451,7 +451,7 @@ int main(int argc, char **argv)
     for (size_t k = 0; k < n; k++) {
         int64_t mine = -1, theirs = geos_k[k] >= 0 ? G.position[geos_k[k]] : -1;
         hpfc_feature ft;
-        if (feature[k] >= 0 && !hpfc_feature_get(f, (uint32_t)feature[k], &ft))
+        if (feature[k] >= 0 && !hpfc_file_get_feature(f, (uint32_t)feature[k], &ft))
             mine = ft.fid;
         boundary += (flags[k] & HPFC_LOC_BOUNDARY) != 0;
         inside_hpfc += mine >= 0, inside_geos += theirs >= 0;

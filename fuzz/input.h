@@ -105,6 +105,7 @@ static inline bool fuzz_known_status(int st)
     case HPFC_OK:
     case HPFC_E_NOMEM:
     case HPFC_E_ARG:
+    case HPFC_E_BUFFER_SMALL:
     case HPFC_E_LIMIT:
     case HPFC_E_CORRUPT:
     case HPFC_E_NO_PIXEL:

@@ -118,7 +118,7 @@ static void check_exact(const hpfc_file *f, const hpfc_geometry_info *gi, const 
                    a->depth[k] == 0);
         return;
     }
-    FUZZ_CHECK(st == HPFC_OK || (st == HPFC_E_ARG && count > 64));
+    FUZZ_CHECK(st == HPFC_OK || (st == HPFC_E_BUFFER_SMALL && count > 64));
     FUZZ_CHECK(a->flags[k] & HPFC_LOC_INSIDE && a->flags[k] & HPFC_LOC_EXACT);
     FUZZ_CHECK(!(a->flags[k] & HPFC_LOC_BOUNDARY) == !loc.on_boundary);
     FUZZ_CHECK(a->face_count[k] == count && count >= 1);
@@ -207,7 +207,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     hpfc_file_info info;
     hpfc_file_get_info(f, &info);
     hpfc_features_info fi;
-    int feature_status = hpfc_file_features(f, &fi);
+    int feature_status = hpfc_file_get_features(f, &fi);
     int features = feature_status == HPFC_OK;
     size_t n = fuzz_empty(&cmds) ? default_points(&info, x, y, valid)
                                  : command_points(&info, &cmds, x, y, valid);
@@ -222,7 +222,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(fuzz_known_status(st));
     hpfc_geometry_info gi;
     hpfc_labels_info li;
-    bool exact = hpfc_file_geometry(f, &gi) == HPFC_OK && hpfc_file_labels(f, &li) == HPFC_OK;
+    bool exact =
+        hpfc_file_get_geometry(f, &gi) == HPFC_OK && hpfc_file_get_labels(f, &li) == HPFC_OK;
     if (st) {
         FUZZ_CHECK(failed < n);
         hpfc_locate_out one = out_of(&b, failed);

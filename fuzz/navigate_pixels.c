@@ -85,7 +85,7 @@ static void decode(nav *n, const hpfc_pixel *px, size_t cap)
     }
     FUZZ_CHECK(len2 == len && len >= 4);
     if (len > cap) {
-        FUZZ_CHECK(st_word == HPFC_E_ARG);
+        FUZZ_CHECK(st_word == HPFC_E_BUFFER_SMALL);
         return;
     }
     FUZZ_CHECK(st_word == HPFC_OK);

@@ -28,7 +28,7 @@ static int feature_status_ok(int st)
 static void probe_features(const hpfc_file *f)
 {
     hpfc_features_info fi;
-    int st = hpfc_file_features(f, &fi);
+    int st = hpfc_file_get_features(f, &fi);
     FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
     if (st)
         return;
@@ -38,9 +38,9 @@ static void probe_features(const hpfc_file *f)
     size_t len;
     uint32_t count, feature;
     for (uint32_t k = 0; k < fi.features && k < 256; k++) {
-        FUZZ_CHECK(feature_status_ok(hpfc_feature_get(f, k, &ft)));
+        FUZZ_CHECK(feature_status_ok(hpfc_file_get_feature(f, k, &ft)));
     }
-    FUZZ_CHECK(hpfc_feature_get(f, fi.features, &ft) == HPFC_E_ARG);
+    FUZZ_CHECK(hpfc_file_get_feature(f, fi.features, &ft) == HPFC_E_ARG);
     for (uint32_t l = 0; l < fi.layers && l < 256; l++)
         FUZZ_CHECK(feature_status_ok(hpfc_layer_name(f, l, &name, &len)));
     FUZZ_CHECK(hpfc_layer_name(f, fi.layers, &name, &len) == HPFC_E_ARG);
@@ -80,7 +80,7 @@ static void probe_attributes(const hpfc_file *f, const uint8_t *base, size_t siz
         }
         for (uint32_t k = 0; k <= features && k < 64; k++) {
             hpfc_attr_value v;
-            int s2 = hpfc_attr_get(f, k, c, &v);
+            int s2 = hpfc_file_get_attr(f, k, c, &v);
             if (k == features || c == columns) /* a damaged column may be found first */
                 FUZZ_CHECK(s2 == HPFC_E_ARG || (c < columns && s2 == HPFC_E_CORRUPT));
             else
@@ -142,7 +142,7 @@ static void query(const hpfc_file *f)
     hpfc_section_info s;
     FUZZ_CHECK(hpfc_file_get_section(f, info.section_count, &s) == HPFC_E_ARG);
     probe_features(f);
-    int st = hpfc_verify_checksums(f);
+    int st = hpfc_file_verify_checksums(f);
     FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_CHECKSUM);
 }
 
@@ -158,7 +158,7 @@ static void reserialize(const hpfc_file *f, const uint8_t *data, const char *crs
     hpfc_file *g = NULL;
     if (!st) {
         FUZZ_CHECK(hpfc_open_memory(out, size, 0, &g) == HPFC_OK);
-        FUZZ_CHECK(hpfc_verify_checksums(g) == HPFC_OK);
+        FUZZ_CHECK(hpfc_file_verify_checksums(g) == HPFC_OK);
     }
     hpfc_file_info a, b;
     hpfc_file_get_info(f, &a);
@@ -178,7 +178,7 @@ static void reserialize(const hpfc_file *f, const uint8_t *data, const char *crs
         FUZZ_CHECK(memcmp(data + x.pool_offset, out + y.pool_offset, (x.pool_bits + 7) / 8) == 0);
     }
     hpfc_close(g);
-    free(out);
+    hpfc_free(out);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -225,8 +225,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (hpfc_open_memory(file, file_size, HPFC_OPEN_SKIP_CHECKSUM, &f) == HPFC_OK) {
         geo z = {.f = f, .steps = FUZZ_STEPS};
         hpfc_file_get_info(f, &z.info);
-        z.has_labels = hpfc_file_labels(f, &z.li) == HPFC_OK;
-        int st = hpfc_file_geometry(f, &z.gi);
+        z.has_labels = hpfc_file_get_labels(f, &z.li) == HPFC_OK;
+        int st = hpfc_file_get_geometry(f, &z.gi);
         FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
         if (st == HPFC_OK) {
             FUZZ_CHECK(z.gi.vertices > 0 && z.gi.edges > 0);

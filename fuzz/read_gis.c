@@ -88,7 +88,7 @@ static void check_recorded_attributes(const hpfc_file *f, const hpfc_attr_table 
         for (uint32_t c = 0; c < columns; c++) {
             hpfc_attr_value v;
             const hpfc_attr_value *w = &at->cells[(size_t)k * columns + c];
-            FUZZ_CHECK(hpfc_attr_get(f, k, c, &v) == HPFC_OK && v.type == w->type);
+            FUZZ_CHECK(hpfc_file_get_attr(f, k, c, &v) == HPFC_OK && v.type == w->type);
             FUZZ_CHECK(v.type != HPFC_ATTR_INTEGER || v.i == w->i);
             FUZZ_CHECK(v.type != HPFC_ATTR_REAL || memcmp(&v.r, &w->r, sizeof v.r) == 0);
             FUZZ_CHECK(v.type != HPFC_ATTR_STRING ||
@@ -112,7 +112,7 @@ static void check_recorded_attributes(const hpfc_file *f, const hpfc_attr_table 
 static void check_recorded_features(const hpfc_file *f, const gis_feature_table *ft)
 {
     hpfc_features_info fi;
-    FUZZ_CHECK(hpfc_file_features(f, &fi) == HPFC_OK);
+    FUZZ_CHECK(hpfc_file_get_features(f, &fi) == HPFC_OK);
     FUZZ_CHECK(fi.features == ft->table.feature_count && fi.faces == ft->table.face_count);
     for (uint32_t face = 0; face < fi.faces; face++) {
         uint32_t n;
@@ -166,7 +166,7 @@ static void pack_features(const hpfc_graph *g, hpfc_tree *t, const hpfc_file *f,
     check_recorded_features(f2, &ft);
     check_recorded_attributes(f2, &at, &ft);
     hpfc_close(f2);
-    free(with_feat);
+    hpfc_free(with_feat);
     gis_feature_table_free(&ft);
 }
 
@@ -194,7 +194,7 @@ static void pack(const hpfc_graph *g, const gis_info *info)
     else
         hpfc_tree_free(t);
     hpfc_close(f);
-    free(bytes);
+    hpfc_free(bytes);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -84,7 +84,8 @@ static void probe_pixel(lab *z, const hpfc_pixel *px, uint32_t extra_crossing)
         for (size_t k = 0; s2 == HPFC_OK && k < count2; k++)
             FUZZ_CHECK(z->faces[k] < z->li.faces);
         if (count > 0)
-            FUZZ_CHECK(hpfc_label_leaf_faces(z->f, px, z->faces, count - 1, &count2) == HPFC_E_ARG);
+            FUZZ_CHECK(hpfc_label_leaf_faces(z->f, px, z->faces, count - 1, &count2) ==
+                       HPFC_E_BUFFER_SMALL);
     }
     if (!shaped)
         return;
@@ -233,7 +234,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (hpfc_open_memory(file, file_size, HPFC_OPEN_SKIP_CHECKSUM, &f) == HPFC_OK) {
         lab z = {.f = f, .steps = FUZZ_STEPS};
         hpfc_file_get_info(f, &z.info);
-        int st = hpfc_file_labels(f, &z.li);
+        int st = hpfc_file_get_labels(f, &z.li);
         FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
         if (st == HPFC_OK) {
             FUZZ_CHECK(z.li.faces > 0 && z.li.edges > 0);

@@ -255,7 +255,7 @@ static void explore(shp *z)
         probe_feature(z, k);
     probe_feature(z, z->features);
     hpfc_geometry_info gi;
-    if (hpfc_file_geometry(z->f, &gi) == HPFC_OK) {
+    if (hpfc_file_get_geometry(z->f, &gi) == HPFC_OK) {
         for (uint64_t e = 0; e < gi.edges && e < FUZZ_ITEMS; e++)
             probe_edge(z, e);
         probe_edge(z, gi.edges);
@@ -316,7 +316,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 z.w = NULL;
             z.faces = hpfc_shapes_face_count(z.s);
             hpfc_features_info fi;
-            z.have_features = hpfc_file_features(f, &fi) == HPFC_OK;
+            z.have_features = hpfc_file_get_features(f, &fi) == HPFC_OK;
             z.features = z.have_features ? fi.features : 0;
             if (fuzz_empty(&cmds))
                 explore(&z);

@@ -367,7 +367,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(hpfc_tree_serialize(t, &opts, &buf, &len, NULL) == HPFC_OK);
     hpfc_file *f = NULL;
     FUZZ_CHECK(hpfc_open_memory(buf, len, 0, &f) == HPFC_OK);
-    FUZZ_CHECK(hpfc_verify_checksums(f) == HPFC_OK);
+    FUZZ_CHECK(hpfc_file_verify_checksums(f) == HPFC_OK);
     hpfc_file_info fi;
     hpfc_file_get_info(f, &fi);
     FUZZ_CHECK(fi.unit_exp10 == unit && fi.levels == ti.levels && fi.file_size == len);
@@ -377,7 +377,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     check_map(f, g, &gf, faces_expected);
 
     hpfc_close(f);
-    free(buf);
+    hpfc_free(buf);
     free(gf.degree);
     hpfc_tree_free(t);
     hpfc_graph_free(g);

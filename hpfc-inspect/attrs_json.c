@@ -19,7 +19,7 @@ void json_feature_attributes(jsonw *w, const hpfc_file *f, uint32_t feature)
         int type;
         hpfc_attr_value v;
         if (hpfc_attr_column(f, c, &name, &len, &type) != HPFC_OK ||
-            hpfc_attr_get(f, feature, c, &v) != HPFC_OK) {
+            hpfc_file_get_attr(f, feature, c, &v) != HPFC_OK) {
             jsonw_string(w, "error", "corrupt");
             break;
         }

@@ -435,7 +435,7 @@ static int make_fields(exporter *x, OGRLayerH layer, columns *c)
         add_field(x, layer, "fid", OFTInteger64, &c->fid_field))
         return 1;
     hpfc_features_info fi;
-    if (hpfc_file_features(x->f, &fi) == HPFC_OK && fi.key_field) {
+    if (hpfc_file_get_features(x->f, &fi) == HPFC_OK && fi.key_field) {
         char *key = dup_n(fi.key_field, fi.key_field_len);
         if (!key)
             return fail(x, "out of memory");
@@ -488,7 +488,7 @@ static int fill_fields(exporter *x, OGRFeatureH ft, const columns *c, uint32_t k
     }
     for (uint32_t col = 0; col < c->count; col++) {
         hpfc_attr_value v;
-        int st = hpfc_attr_get(x->f, k, col, &v), field = c->attr_field[col];
+        int st = hpfc_file_get_attr(x->f, k, col, &v), field = c->attr_field[col];
         if (st)
             return fail(x, "feature %u, attribute %u: %s", k, col, hpfc_strerror(st));
         if (v.type == HPFC_ATTR_INTEGER)
@@ -511,7 +511,7 @@ static OGRwkbGeometryType layer_type(exporter *x, uint32_t layer, uint32_t featu
     for (uint32_t k = 0; k < features; k++) {
         hpfc_feature ft;
         uint64_t faces = 0;
-        if (hpfc_feature_get(x->f, k, &ft) || ft.layer != layer)
+        if (hpfc_file_get_feature(x->f, k, &ft) || ft.layer != layer)
             continue;
         hpfc_shapes_feature_face_count(x->shapes, k, &faces);
         if (faces)
@@ -559,7 +559,7 @@ static int write_feature(exporter *x, OGRLayerH layer, const columns *c, uint32_
 static int write_features(exporter *x)
 {
     hpfc_features_info fi;
-    int st = hpfc_file_features(x->f, &fi);
+    int st = hpfc_file_get_features(x->f, &fi);
     if (st == HPFC_E_NO_SECTION)
         return fail(x, "the file has no features (FEAT section); --export-faces writes its "
                        "faces");
@@ -583,7 +583,7 @@ static int write_features(exporter *x)
         int tx = layer && !r && OGR_L_StartTransaction(layer) == OGRERR_NONE;
         for (uint32_t k = 0; k < fi.features && !r; k++) {
             hpfc_feature feat;
-            if ((st = hpfc_feature_get(x->f, k, &feat)))
+            if ((st = hpfc_file_get_feature(x->f, k, &feat)))
                 r = fail(x, "feature %u: %s", k, hpfc_strerror(st));
             else if (feat.layer == l)
                 r = write_feature(x, layer, &c, k, &feat);
@@ -638,7 +638,7 @@ static int face_fields(exporter *x, OGRFeatureH ft, uint64_t face, int fids_fiel
         char buf[32];
         int st = hpfc_face_feature(x->f, face, k, &index);
         if (!st)
-            st = hpfc_feature_get(x->f, index, &feat);
+            st = hpfc_file_get_feature(x->f, index, &feat);
         if (st) {
             r = fail(x, "face %llu: %s", (unsigned long long)face, hpfc_strerror(st));
             break;
@@ -668,7 +668,7 @@ static int write_faces(exporter *x)
         return 1;
     int face_field = -1, count_field = -1, fids_field = -1, keys_field = -1;
     hpfc_features_info fi;
-    int have_features = hpfc_file_features(x->f, &fi) == HPFC_OK;
+    int have_features = hpfc_file_get_features(x->f, &fi) == HPFC_OK;
     if ((!x->fid_column && add_field(x, layer, "face", OFTInteger64, &face_field)) ||
         (have_features && (add_field(x, layer, "features", OFTInteger, &count_field) ||
                            add_field(x, layer, "fids", OFTString, &fids_field))) ||
@@ -887,7 +887,7 @@ static int run(exporter *x)
                     st == HPFC_E_IO && errno ? strerror(errno) : hpfc_strerror(st));
     hpfc_file_get_info(x->f, &x->fi);
     /* a damaged file must not give a plausible but wrong map */
-    if ((st = hpfc_verify_checksums(x->f)))
+    if ((st = hpfc_file_verify_checksums(x->f)))
         return fail(x, "%s: %s", x->o->file, hpfc_strerror(st));
     if (choose_driver(x))
         return 1;
@@ -899,7 +899,7 @@ static int run(exporter *x)
         return fail(x, "%s: geometry: %s", x->o->file, hpfc_strerror(st));
     }
     hpfc_features_info fi;
-    if (!x->o->faces && (st = hpfc_file_features(x->f, &fi)) == HPFC_E_NO_SECTION)
+    if (!x->o->faces && (st = hpfc_file_get_features(x->f, &fi)) == HPFC_E_NO_SECTION)
         return fail(x, "%s: the file has no features (FEAT section); --export-faces writes its "
                        "faces",
                     x->o->file);

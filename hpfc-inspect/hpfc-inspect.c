@@ -398,7 +398,7 @@ static int read_summary(const hpfc_file *f, summary *s)
         s->refined_pixels += s->levels[l].refined_pixels;
     }
     hpfc_geometry_info gi;
-    s->has_geometry = hpfc_file_geometry(f, &gi) == HPFC_OK;
+    s->has_geometry = hpfc_file_get_geometry(f, &gi) == HPFC_OK;
     s->sections = calloc(s->info.section_count ? s->info.section_count : 1, sizeof *s->sections);
     if (!s->sections)
         return HPFC_E_NOMEM;

@@ -95,7 +95,7 @@ static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
         return VIEW_FAIL;
     hpfc_labels_info li;
     uint64_t faces;
-    int st = hpfc_file_labels(f, &li);
+    int st = hpfc_file_get_labels(f, &li);
     if (st == HPFC_OK) {
         L->labels = 1;
         faces = li.faces;
@@ -106,7 +106,7 @@ static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
     } else {
         faces = hpfc_faces_count(L->faces);
     }
-    st = hpfc_file_features(f, &L->fi);
+    st = hpfc_file_get_features(f, &L->fi);
     if (st == HPFC_OK) {
         if (L->fi.faces != faces)
             return view_fail(why, "features: the FEAT section lists %u faces, the map has %llu",
@@ -115,7 +115,7 @@ static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
     } else if (st != HPFC_E_NO_SECTION)
         return view_fail(why, "features: %s", hpfc_strerror(st));
     hpfc_geometry_info gi;
-    st = L->labels ? hpfc_file_geometry(f, &gi) : HPFC_E_NO_SECTION;
+    st = L->labels ? hpfc_file_get_geometry(f, &gi) : HPFC_E_NO_SECTION;
     if (st == HPFC_OK)
         L->exact = 1;
     else if (st != HPFC_E_NO_SECTION)
@@ -233,7 +233,7 @@ static int exact_faces(locator *L, int64_t x, int64_t y, answer *a)
 {
     size_t n = 0;
     int st = hpfc_locate_point(L->f, x, y, &a->loc, L->cand, L->cap, &n);
-    if (st == HPFC_E_ARG && n > L->cap) {
+    if (st == HPFC_E_BUFFER_SMALL) {
         if (reserve((void **)&L->cand, &L->cap, n, sizeof *L->cand))
             return HPFC_E_NOMEM;
         st = hpfc_locate_point(L->f, x, y, &a->loc, L->cand, L->cap, &n);
@@ -323,7 +323,7 @@ static void json_feature(jsonw *w, const locator *L, uint32_t index)
     const char *layer;
     size_t layer_len;
     jsonw_object_begin(w, NULL);
-    if (hpfc_feature_get(L->f, index, &ft) == HPFC_OK) {
+    if (hpfc_file_get_feature(L->f, index, &ft) == HPFC_OK) {
         jsonw_i64(w, "fid", ft.fid);
         if (L->fi.key_field && ft.key)
             jsonw_string_n(w, "key", ft.key, ft.key_len);
@@ -407,7 +407,7 @@ static void print_feature_text(FILE *out, const locator *L, uint32_t index)
     hpfc_feature ft;
     const char *layer = "";
     size_t layer_len = 0;
-    if (hpfc_feature_get(L->f, index, &ft) != HPFC_OK)
+    if (hpfc_file_get_feature(L->f, index, &ft) != HPFC_OK)
         return;
     hpfc_layer_name(L->f, ft.layer, &layer, &layer_len);
     fprintf(out, "            fid %lld in layer '%.*s'", (long long)ft.fid, (int)layer_len, layer);
@@ -874,7 +874,7 @@ static void csv_lists(FILE *out, const locator *L, const answer *a, int *first)
     }
     for (size_t k = 0; k < a->nfeat; k++) {
         hpfc_feature ft;
-        if (hpfc_feature_get(L->f, L->feat[k], &ft) != HPFC_OK)
+        if (hpfc_file_get_feature(L->f, L->feat[k], &ft) != HPFC_OK)
             continue;
         snprintf(buf, sizeof buf, "%lld", (long long)ft.fid);
         text_add(&fids, " ", buf, strlen(buf));

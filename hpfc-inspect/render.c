@@ -396,7 +396,7 @@ static int stabbed_leaf_rgb(scene *s, const hpfc_pixel *px, const lbox *b, const
             *rgb = face_rgb(s, face);
             return HPFC_OK;
         }
-        if (st != HPFC_OK && st != HPFC_E_ARG)
+        if (st != HPFC_OK && st != HPFC_E_BUFFER_SMALL)
             return st;
     }
     return majority_rgb(s, px, r, rgb);
@@ -667,7 +667,7 @@ static int open_scene(scene *s, const hpfc_file *f, char *why)
         snprintf(why, VIEW_WHY, "render: %s", hpfc_strerror(st));
         return 1;
     }
-    st = hpfc_file_features(f, &fi);
+    st = hpfc_file_get_features(f, &fi);
     if (st == HPFC_OK && fi.faces != hpfc_faces_count(s->faces)) {
         snprintf(why, VIEW_WHY, "features: the FEAT section lists %u faces, the map has %llu",
                  fi.faces, (unsigned long long)hpfc_faces_count(s->faces));
@@ -679,7 +679,7 @@ static int open_scene(scene *s, const hpfc_file *f, char *why)
     }
     s->features = st == HPFC_OK;
     hpfc_geometry_info gi;
-    s->exact = hpfc_file_geometry(f, &gi) == HPFC_OK;
+    s->exact = hpfc_file_get_geometry(f, &gi) == HPFC_OK;
     return 0;
 }
 

@@ -5,7 +5,7 @@
  * (the first VERIFY_MAX_PROBLEMS verbatim):
  *
  *   format     hpfc_open: everything the reader checks at open (§12.3);
- *   checksums  hpfc_verify_checksums (R18);
+ *   checksums  hpfc_file_verify_checksums (R18);
  *   structure  every pixel of every level, reached from the root with
  *              hpfc_pixel_child in pool order: each decodes, each word matches
  *              the grammar (parsed by the traversal API), images lie back to
@@ -268,7 +268,7 @@ static void check_word(verifier *v, uint32_t l, const hpfc_pixel *px, uint64_t s
     size_t len;
     uint32_t vertices;
     int st = hpfc_pixel_word(v->f, px, v->word, v->word_cap, &len);
-    if (st == HPFC_E_ARG)
+    if (st == HPFC_E_BUFFER_SMALL)
         st = HPFC_E_CORRUPT; /* longer than its slot allows: cannot happen */
     if (st) {
         problem(v->r, "pixel %s: word does not decode (%s)", pixel_name(px, name, sizeof name),
@@ -287,7 +287,7 @@ static void check_word(verifier *v, uint32_t l, const hpfc_pixel *px, uint64_t s
     }
     t->private_px += len == 4;
     if (v->compact)
-        return; /* no slots: hpfc_check_pool_layout checks the words' index and k_w */
+        return; /* no slots: hpfc_file_check_pool_layout checks the words' index and k_w */
     uint64_t code = 4 + 4 * ((uint64_t)len - 4); /* '+' costs 1 bit, the others 4 */
     t->longest_code = code > t->longest_code ? code : t->longest_code;
     check_padding(v, l, px, slot + code, slot + slot_bits, "word");
@@ -391,7 +391,7 @@ static void check_level_tally(verifier *v, uint32_t l, uint64_t images, const le
                 l, t->words, t->refined, lv->word_pixels, lv->refined_pixels);
     if (v->compact) {
         hpfc_diag d;
-        if (hpfc_check_pool_layout(v->f, l, &d))
+        if (hpfc_file_check_pool_layout(v->f, l, &d))
             problem(r, "%s", d.message);
     } else if (t->longest_code != lv->word_bits) {
         problem(r, "level %u: word_bits is %u, the longest word code has %" PRIu64 " bits", l,
@@ -492,7 +492,7 @@ static int road_counts(verifier *v, const hpfc_pixel *px, uint64_t count[4])
     size_t len;
     int st = hpfc_pixel_word(v->f, px, v->word, v->word_cap, &len);
     if (st)
-        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+        return st == HPFC_E_BUFFER_SMALL ? HPFC_E_CORRUPT : st;
     int road = 0;
     memset(count, 0, 4 * sizeof count[0]);
     for (size_t s = 0; s < len; s++) {
@@ -803,7 +803,7 @@ static void check_features(verifier *v, uint64_t faces)
 {
     verify_report *r = v->r;
     hpfc_features_info fi;
-    int st = hpfc_file_features(v->f, &fi);
+    int st = hpfc_file_get_features(v->f, &fi);
     if (st == HPFC_E_NO_SECTION)
         return;
     size_t before = r->problem_count;
@@ -814,7 +814,7 @@ static void check_features(verifier *v, uint64_t faces)
                 faces);
     for (uint32_t k = 0; !st && k < fi.features && r->problem_count == before; k++) {
         hpfc_feature ft;
-        if ((st = hpfc_feature_get(v->f, k, &ft)))
+        if ((st = hpfc_file_get_feature(v->f, k, &ft)))
             problem(r, "features: feature %u: %s", k, hpfc_strerror(st));
     }
     for (uint32_t l = 0; !st && l < fi.layers && r->problem_count == before; l++) {
@@ -856,7 +856,7 @@ static void check_geometry(verifier *v, uint64_t vertices, uint64_t edges)
 {
     verify_report *r = v->r;
     hpfc_geometry_info gi;
-    int st = hpfc_file_geometry(v->f, &gi);
+    int st = hpfc_file_get_geometry(v->f, &gi);
     if (st == HPFC_E_NO_SECTION)
         return;
     size_t before = r->problem_count;
@@ -888,7 +888,7 @@ static void check_attr_edgf(verifier *v, uint32_t features, uint64_t edges)
     for (uint32_t k = 0; !st && k < rows; k++)
         for (uint32_t c = 0; !st && c < columns; c++) {
             hpfc_attr_value val;
-            if ((st = hpfc_attr_get(v->f, k, c, &val)))
+            if ((st = hpfc_file_get_attr(v->f, k, c, &val)))
                 problem(r, "attributes: feature %u column %u: %s", k, c, hpfc_strerror(st));
         }
     st = hpfc_edge_features_info(v->f, &n, &links);
@@ -924,7 +924,7 @@ static int check_topology(verifier *v)
         check_labels(v, tp.faces);
         check_geometry(v, tp.m.nv, tp.m.nd / 2);
         hpfc_features_info fi;
-        if (hpfc_file_features(v->f, &fi) == HPFC_OK) {
+        if (hpfc_file_get_features(v->f, &fi) == HPFC_OK) {
             size_t before = v->r->problem_count;
             check_attr_edgf(v, fi.features, tp.m.nd / 2);
             if (v->r->problem_count != before)
@@ -988,7 +988,7 @@ static int open_checked(verifier *v, const mapped_file *mf, hpfc_file **f)
 static int run_checks(verifier *v, unsigned flags)
 {
     verify_report *r = v->r;
-    int st = hpfc_verify_checksums(v->f);
+    int st = hpfc_file_verify_checksums(v->f);
     r->checksums = st ? CHECK_FAILED : CHECK_OK;
     if (st)
         problem(r, "section checksums: %s", hpfc_strerror(st));

@@ -310,7 +310,7 @@ typedef struct file_map {
     section_row *sections;
     uint32_t header_size, meta_crc, meta_computed;
     uint64_t meta_size;
-    int api_status;   /* hpfc_verify_checksums */
+    int api_status;   /* hpfc_file_verify_checksums */
     uint32_t bad;     /* checksums that do not match */
 } file_map;
 
@@ -361,7 +361,7 @@ static int read_map(const hpfc_file *f, const char *path, file_map *m, char *why
     if (bad_io)
         return view_fail(why, "cannot reread the file (changed since it was opened?)");
     m->bad += m->meta_computed != m->meta_crc;
-    m->api_status = hpfc_verify_checksums(f);
+    m->api_status = hpfc_file_verify_checksums(f);
     return VIEW_OK;
 }
 
@@ -675,7 +675,7 @@ static int read_vertices(const hpfc_file *f, pixel_view *v, char *why)
 static int read_labels(const hpfc_file *f, pixel_view *v, char *why)
 {
     hpfc_labels_info li;
-    if (hpfc_file_labels(f, &li) != HPFC_OK)
+    if (hpfc_file_get_labels(f, &li) != HPFC_OK)
         return VIEW_OK;
     uint32_t n = v->wi.n, stretches = n ? n : 1;
     v->stretch_face = calloc(stretches, sizeof *v->stretch_face);

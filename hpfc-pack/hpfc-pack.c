@@ -942,7 +942,7 @@ static int write_stdout(const hpfc_file *f, const hpfc_write_options *wopts, pac
     }
     if (!st)
         r->file_bytes = size;
-    free(bytes);
+    hpfc_free(bytes);
     return st;
 }
 
@@ -1011,7 +1011,7 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
         r->file_bytes = (uint64_t)written.st_size; /* with the FEAT section */
     r->write_s = now_seconds() - t0;
     hpfc_close(f);
-    free(bytes);
+    hpfc_free(bytes);
     gis_feature_table_free(&ft);
     if (st) {
         complain("%s: %s", a->output, diag_text(&diag, st));

@@ -233,7 +233,8 @@ int hpfc_attr_find(const hpfc_file *file, const char *name, size_t len, uint32_t
     return HPFC_E_ARG;
 }
 
-int hpfc_attr_get(const hpfc_file *file, uint32_t feature, uint32_t column, hpfc_attr_value *out)
+int hpfc_file_get_attr(const hpfc_file *file, uint32_t feature, uint32_t column,
+                       hpfc_attr_value *out)
 {
     const uint8_t *s, *e;
     if (!out)

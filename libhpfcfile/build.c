@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "geom.h"
+#include "sized.h"
 #include "tree.h"
 
 /* Segment k of an edge (0 = the one leaving u). Its end points are read
@@ -793,10 +794,12 @@ static void free_builder(builder *b)
     free(b->next_start);
 }
 
-int hpfc_build(const hpfc_graph *g, const hpfc_build_params *params, hpfc_tree **out,
-               hpfc_diag *diag)
+int hpfc_build_sized(const hpfc_graph *g, const hpfc_build_params *params_arg,
+                     size_t params_size, hpfc_tree **out, hpfc_diag *diag)
 {
-    if (!g || !params || !out)
+    hpfc_build_params full, *params = &full;
+    hpfc_build_params_default(&full);
+    if (!g || !params_arg || !out || sized_in(&full, sizeof full, params_arg, params_size))
         return HPFC_E_ARG;
     *out = NULL;
     int st = check_params(params, diag);
@@ -850,15 +853,16 @@ int hpfc_build(const hpfc_graph *g, const hpfc_build_params *params, hpfc_tree *
     return HPFC_OK;
 }
 
-void hpfc_build_params_default(hpfc_build_params *p)
+void hpfc_build_params_init(hpfc_build_params *params, size_t size)
 {
-    p->root_cols = p->root_rows = 64;
-    p->cols = p->rows = 2;
-    p->flat = 0;
-    p->max_flat_pixels = HPFC_DEFAULT_MAX_FLAT_PIXELS;
-    p->max_leaf_points = HPFC_DEFAULT_MAX_LEAF_POINTS;
-    p->progress = NULL;
-    p->progress_user = NULL;
+    if (!params)
+        return;
+    const hpfc_build_params defaults = {
+        .root_cols = 64, .root_rows = 64, .cols = 2, .rows = 2, .flat = 0,
+        .max_flat_pixels = HPFC_DEFAULT_MAX_FLAT_PIXELS,
+        .max_leaf_points = HPFC_DEFAULT_MAX_LEAF_POINTS,
+        .progress = NULL, .progress_user = NULL};
+    sized_out(params, size, &defaults, sizeof defaults);
 }
 
 void hpfc_tree_free(hpfc_tree *t)
@@ -878,9 +882,10 @@ void hpfc_tree_free(hpfc_tree *t)
     free(t);
 }
 
-void hpfc_tree_get_info(const hpfc_tree *t, hpfc_tree_info *info)
+void hpfc_tree_get_info_sized(const hpfc_tree *t, hpfc_tree_info *info, size_t size)
 {
-    *info = t->info;
+    if (t && info)
+        sized_out(info, size, &t->info, sizeof t->info);
 }
 
 size_t hpfc_tree_image_count(const hpfc_tree *t, uint32_t level)

@@ -1,5 +1,11 @@
+/*
+ * errors.c: what every caller of the library shares: the status codes'
+ * texts, diagnostics, the version, and hpfc_free for what the library
+ * hands over.
+ */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "internal.h"
@@ -11,6 +17,7 @@ const char *hpfc_strerror(int status)
     case HPFC_E_NOMEM: return "out of memory";
     case HPFC_E_ARG: return "invalid argument";
     case HPFC_E_IO: return "input/output error";
+    case HPFC_E_BUFFER_SMALL: return "the caller's buffer is too small";
     case HPFC_E_PFC_SYNTAX: return "syntax error in .pfc input";
     case HPFC_E_PFC_VERSION: return "missing or unsupported .pfc header";
     case HPFC_E_VERTEX_INDEX: return "vertex index out of range";
@@ -41,6 +48,16 @@ const char *hpfc_strerror(int status)
 const char *hpfc_version_string(void)
 {
     return HPFC_VERSION_STRING;
+}
+
+unsigned hpfc_version_number(void)
+{
+    return HPFC_VERSION_NUMBER;
+}
+
+void hpfc_free(void *buffer)
+{
+    free(buffer);
 }
 
 int diag_set(hpfc_diag *diag, int status, const char *fmt, ...)

@@ -15,6 +15,7 @@
 #include "feat.h"
 #include "file.h"
 #include "format.h"
+#include "sized.h"
 
 /* ---- layout ----------------------------------------------------------------- */
 
@@ -168,7 +169,7 @@ static const char *string_at(const uint8_t *s, uint32_t off)
     return (const char *)(s + section_parts(s).strings + off);
 }
 
-int hpfc_file_features(const hpfc_file *file, hpfc_features_info *out)
+int hpfc_file_get_features_sized(const hpfc_file *file, hpfc_features_info *out, size_t size)
 {
     const uint8_t *s;
     if (!out)
@@ -176,20 +177,20 @@ int hpfc_file_features(const hpfc_file *file, hpfc_features_info *out)
     int st = section_of(file, &s);
     if (st)
         return st;
-    memset(out, 0, sizeof *out);
-    out->features = feat_get_feature_count(s);
-    out->faces = feat_get_face_count(s);
-    out->layers = feat_get_layer_count(s);
-    out->links = feat_get_link_count(s);
+    hpfc_features_info full = {.features = feat_get_feature_count(s),
+                               .faces = feat_get_face_count(s),
+                               .layers = feat_get_layer_count(s),
+                               .links = feat_get_link_count(s)};
     uint32_t len = feat_get_key_field_length(s);
     if (len != FEAT_NONE) {
-        out->key_field = string_at(s, feat_get_key_field_offset(s));
-        out->key_field_len = len;
+        full.key_field = string_at(s, feat_get_key_field_offset(s));
+        full.key_field_len = len;
     }
+    sized_out(out, size, &full, sizeof full);
     return HPFC_OK;
 }
 
-int hpfc_feature_get(const hpfc_file *file, uint32_t index, hpfc_feature *out)
+int hpfc_file_get_feature(const hpfc_file *file, uint32_t index, hpfc_feature *out)
 {
     const uint8_t *s;
     if (!out)

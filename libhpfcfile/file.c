@@ -22,6 +22,7 @@
 #include "feat.h"
 #include "file.h"
 #include "internal.h"
+#include "sized.h"
 
 /* ---- open: header ---------------------------------------------------------- */
 
@@ -536,7 +537,7 @@ void hpfc_close(hpfc_file *f)
     free(f);
 }
 
-int hpfc_verify_checksums(const hpfc_file *f)
+int hpfc_file_verify_checksums(const hpfc_file *f)
 {
     if (!f)
         return HPFC_E_ARG;
@@ -552,31 +553,35 @@ int hpfc_verify_checksums(const hpfc_file *f)
 
 /* ---- metadata queries -------------------------------------------------------------- */
 
-void hpfc_file_get_info(const hpfc_file *f, hpfc_file_info *info)
+void hpfc_file_get_info_sized(const hpfc_file *f, hpfc_file_info *info, size_t size)
 {
     if (f && info)
-        *info = f->info;
+        sized_out(info, size, &f->info, sizeof f->info);
 }
 
-int hpfc_file_get_level(const hpfc_file *f, uint32_t level, hpfc_level_info *out)
+int hpfc_file_get_level_sized(const hpfc_file *f, uint32_t level, hpfc_level_info *out,
+                              size_t size)
 {
     if (!f || !out || level >= f->info.levels)
         return HPFC_E_ARG;
-    *out = f->lv[level].info;
+    sized_out(out, size, &f->lv[level].info, sizeof f->lv[level].info);
     return HPFC_OK;
 }
 
-int hpfc_file_get_section(const hpfc_file *f, uint32_t index, hpfc_section_info *out)
+int hpfc_file_get_section_sized(const hpfc_file *f, uint32_t index, hpfc_section_info *out,
+                                size_t size)
 {
     if (!f || !out || index >= f->info.section_count)
         return HPFC_E_ARG;
     const uint8_t *e = section_entry(f, index);
-    memcpy(out->tag, e + sec_OFF_tag, sec_SIZE_tag);
-    out->tag[4] = '\0';
-    out->flags = sec_get_flags(e);
-    out->offset = sec_get_offset(e);
-    out->length = sec_get_length(e);
-    out->crc32c = sec_get_crc32c(e);
+    hpfc_section_info full;
+    memset(&full, 0, sizeof full); /* padding too: the caller gets known bytes */
+    memcpy(full.tag, e + sec_OFF_tag, sec_SIZE_tag);
+    full.flags = sec_get_flags(e);
+    full.offset = sec_get_offset(e);
+    full.length = sec_get_length(e);
+    full.crc32c = sec_get_crc32c(e);
+    sized_out(out, size, &full, sizeof full);
     return HPFC_OK;
 }
 
@@ -631,11 +636,11 @@ uint64_t file_total_leaves(const hpfc_file *f)
 
 /* ---- the compact pools' own index ------------------------------------------------------- */
 
-int hpfc_check_pool_layout(const hpfc_file *f, uint32_t level, hpfc_diag *diag)
+int hpfc_file_check_pool_layout(const hpfc_file *f, uint32_t level, hpfc_diag *diag)
 {
     diag_clear(diag);
     if (!f || level >= f->info.levels)
-        return diag_set(diag, HPFC_E_ARG, "hpfc_check_pool_layout: no such level");
+        return diag_set(diag, HPFC_E_ARG, "hpfc_file_check_pool_layout: no such level");
     if (!f->compact)
         return HPFC_OK; /* the paper layout has no index of its own: its pixels say it all */
     const file_level *lv = &f->lv[level];

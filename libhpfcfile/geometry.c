@@ -12,6 +12,7 @@
 #include "geometry.h"
 #include "internal.h"
 #include "labels.h"
+#include "sized.h"
 
 /* ---- layout --------------------------------------------------------------------- */
 
@@ -201,17 +202,18 @@ static const geom_view *geometry_of(const hpfc_file *file)
     return v && v->present ? v : NULL;
 }
 
-int hpfc_file_geometry(const hpfc_file *file, hpfc_geometry_info *out)
+int hpfc_file_get_geometry_sized(const hpfc_file *file, hpfc_geometry_info *out, size_t size)
 {
     if (!file || !out)
         return HPFC_E_ARG;
     const geom_view *v = geometry_of(file);
     if (!v)
         return HPFC_E_NO_SECTION;
-    *out = (hpfc_geometry_info){.vertices = v->vertices,
-                                .edges = v->edges,
-                                .points = v->points,
-                                .section_bytes = v->section_length};
+    const hpfc_geometry_info full = {.vertices = v->vertices,
+                                     .edges = v->edges,
+                                     .points = v->points,
+                                     .section_bytes = v->section_length};
+    sized_out(out, size, &full, sizeof full);
     return HPFC_OK;
 }
 

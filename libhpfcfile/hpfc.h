@@ -14,8 +14,30 @@
  *   - Every function that can fail returns an `int` status: HPFC_OK (0) or one
  *     of the pinned HPFC_E_* codes below. Results come back through
  *     out-parameters. hpfc_strerror() names every code.
+ *   - Variable-length answers go to a caller's buffer of `cap` items: a NULL
+ *     buffer asks only the count; a buffer too small gives
+ *     HPFC_E_BUFFER_SMALL with the count needed set, so the caller can grow
+ *     it and call again. HPFC_E_ARG always means a wrong argument.
  *   - Objects are opaque handles with a create/free (or open/close) pair; the
  *     free functions accept NULL.
+ *   - Names. A function is hpfc_<object>_<what>: <object> is what it acts
+ *     on or answers about (graph, tree, file, walker, pixel, vertex, dart,
+ *     key, faces, label, geometry, attr, layer, shapes, ...), and the
+ *     handle it reads through (the file, walker, tree, faces or shapes)
+ *     is its first argument, whatever the object: hpfc_pixel_word(file,
+ *     px, ...) and hpfc_pixel_vertex(walker, px, ...) are both about a
+ *     pixel, one read through the file, the other through a walker's
+ *     cache. When the object is the handle itself, the prefix is the
+ *     handle's (hpfc_file_verify_checksums, hpfc_walker_set_cache_size).
+ *     `get` is in the name of exactly the calls that fill a caller's struct
+ *     describing the handle or one of its parts, as hpfc_<handle>_get_<part>
+ *     (hpfc_file_get_info, hpfc_file_get_level, hpfc_file_get_feature,
+ *     hpfc_tree_get_pixel); a call that answers numbers or strings through
+ *     out-parameters names what it answers, without `get`
+ *     (hpfc_layer_name, hpfc_pixel_type, hpfc_geometry_vertex). Counts end
+ *     in _count. hpfc_open, hpfc_open_memory, hpfc_close and hpfc_locate,
+ *     the file's own life and its one basic query, keep their short names.
+ *     Older names stay callable, deprecated, at the end of this header.
  *   - Functions that take a `hpfc_diag *` fill it (when non-NULL) with a
  *     one-line human-readable explanation of a failure: which line of a
  *     `.pfc` file, which edges and which point.
@@ -23,6 +45,34 @@
  *     (x, y) stands for the user coordinates (x * 10^e, y * 10^e), where e is
  *     the graph's decimal unit exponent (0 unless set). No floating-point
  *     value ever decides anything topological.
+ *
+ * Structs that grow. The structs the library fills (hpfc_tree_info,
+ * hpfc_file_info, hpfc_level_info, hpfc_section_info, hpfc_features_info,
+ * hpfc_labels_info, hpfc_geometry_info) and those it reads
+ * (hpfc_build_params, hpfc_write_options, hpfc_batch.h's hpfc_locate_out)
+ * may gain fields in later releases. Each call that takes one is a
+ * function named `..._sized` that also takes the struct's size as the
+ * caller was compiled, e.g. hpfc_file_get_info_sized(file, &info,
+ * sizeof info), behind a macro of the plain name that passes
+ * sizeof(the struct) itself: ordinary calls read as they always did, and a
+ * program compiled against an older hpfc.h keeps working with a newer
+ * library. The library reads and writes only the bytes that size covers:
+ * what it reads gets defaults for the fields past them, what it writes
+ * ends there. A caller compiled against a newer hpfc.h gets the fields
+ * this library does not know zeroed, and HPFC_E_ARG when it sets one of
+ * them in an input struct (it would be ignored otherwise). This is zstd's
+ * and libspng's aim by another road: a setter per field (spng_set_option,
+ * ZSTD_CCtx_setParameter) would turn each option into a call, and a size
+ * field inside the struct (Windows' cbSize) would have to be set by every
+ * caller that zero-initialises its options, as most do. The plain names
+ * are macros: take the address of the `_sized` function instead. For the
+ * library's maintainers: a field is only ever appended, at an offset no
+ * smaller than the struct's previous sizeof (pad explicitly where
+ * alignment would put it inside the old padding), and a new input field's
+ * default is 0 (hpfc_build_params's come from hpfc_build_params_default).
+ * Other structs (hpfc_diag, the reports, hpfc_pixel, the tables a
+ * hpfc_write_options points to, ...) are fixed: changing one makes a new
+ * type.
  *
  * Thread safety: a graph or tree may be read from several threads at once
  * but must not be modified concurrently. Functions keep no global state.
@@ -53,6 +103,8 @@ enum {
     HPFC_E_NOMEM = 1,           /* an allocation failed */
     HPFC_E_ARG = 2,             /* a caller passed an invalid argument */
     HPFC_E_IO = 3,              /* the operating system refused a read/write */
+    HPFC_E_BUFFER_SMALL = 4,    /* the caller's buffer is too small: the count
+                                   it needs has been written (nothing else) */
 
     /* .pfc input (spec/pfc-format.md) */
     HPFC_E_PFC_SYNTAX = 10,     /* unknown record, bad number, missing/extra field */
@@ -87,8 +139,18 @@ enum {
 /* A short static English description of a status code. Never NULL. */
 HPFC_API const char *hpfc_strerror(int status);
 
-/* The library's version, "MAJOR.MINOR.PATCH". */
+/* The library's version, "MAJOR.MINOR.PATCH", and as one number,
+ * MAJOR * 10000 + MINOR * 100 + PATCH (as ZSTD_versionNumber): what the
+ * running library is, where HPFC_VERSION_STRING and HPFC_VERSION_NUMBER
+ * (hpfc_version.h) say what the caller was compiled against. */
 HPFC_API const char *hpfc_version_string(void);
+HPFC_API unsigned hpfc_version_number(void);
+
+/* Frees a buffer the library allocated and handed over (the serialised
+ * files of hpfc_tree_serialize and hpfc_file_serialize). Always use it
+ * rather than free(): the library and its caller may not share an
+ * allocator (another C runtime, a sanitizer, a binding). NULL is fine. */
+HPFC_API void hpfc_free(void *buffer);
 
 /* Explanation of a failure, filled by functions that take one. */
 typedef struct hpfc_diag {
@@ -179,14 +241,20 @@ typedef struct hpfc_build_params {
 #define HPFC_DEFAULT_MAX_FLAT_PIXELS ((uint64_t)1 << 28)
 #define HPFC_DEFAULT_MAX_LEAF_POINTS 16
 
-HPFC_API void hpfc_build_params_default(hpfc_build_params *params);
+/* Sets every field of the caller's `size` bytes of *params to its default
+ * (the defaults above, progress NULL). */
+HPFC_API void hpfc_build_params_init(hpfc_build_params *params, size_t size);
+#define hpfc_build_params_default(params) \
+    hpfc_build_params_init((params), sizeof(hpfc_build_params))
 
 typedef struct hpfc_tree hpfc_tree;
 
-/* Validates the graph and builds its hPFC. The graph is not kept. */
-HPFC_API int hpfc_build(const hpfc_graph *graph,
-                        const hpfc_build_params *params, hpfc_tree **out,
-                        hpfc_diag *diag);
+/* Validates the graph and builds its hPFC. The graph is not kept. Fields
+ * past params_size get their defaults. */
+HPFC_API int hpfc_build_sized(const hpfc_graph *graph, const hpfc_build_params *params,
+                              size_t params_size, hpfc_tree **out, hpfc_diag *diag);
+#define hpfc_build(graph, params, out, diag) \
+    hpfc_build_sized((graph), (params), sizeof(hpfc_build_params), (out), (diag))
 HPFC_API void hpfc_tree_free(hpfc_tree *tree);
 
 /* Geometry of a tree. The domain is [x0, x0 + width) x [y0, y0 + height) in
@@ -203,7 +271,10 @@ typedef struct hpfc_tree_info {
     uint32_t max_word_symbols;
 } hpfc_tree_info;
 
-HPFC_API void hpfc_tree_get_info(const hpfc_tree *tree, hpfc_tree_info *info);
+HPFC_API void hpfc_tree_get_info_sized(const hpfc_tree *tree, hpfc_tree_info *info,
+                                       size_t size);
+#define hpfc_tree_get_info(tree, info) \
+    hpfc_tree_get_info_sized((tree), (info), sizeof(hpfc_tree_info))
 
 /* Images of a level are numbered 0, 1, ... in pool order: the children of
  * level l's refined pixels, in the order those pixels appear in level l
@@ -323,16 +394,27 @@ typedef struct hpfc_write_options {
     const hpfc_graph *geometry;
 } hpfc_write_options;
 
-/* Serialises the tree into a malloc'ed buffer (*out, *out_size); the caller
- * frees it with free(). */
-HPFC_API int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts,
-                                 uint8_t **out, size_t *out_size, hpfc_diag *diag);
+/* Every write call takes its options (NULL: all defaults) with their size
+ * (hpfc.h's introduction, "Structs that grow"); a zeroed
+ * hpfc_write_options is the defaults, and every field added later keeps
+ * 0 as its default. */
+
+/* Serialises the tree into a new buffer (*out, *out_size); the caller
+ * frees it with hpfc_free(). */
+HPFC_API int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
+                                       size_t opts_size, uint8_t **out, size_t *out_size,
+                                       hpfc_diag *diag);
+#define hpfc_tree_serialize(tree, opts, out, out_size, diag) \
+    hpfc_tree_serialize_sized((tree), (opts), sizeof(hpfc_write_options), (out), (out_size), \
+                              (diag))
 
 /* Writes the tree to `path` atomically: a temporary file in the same
  * directory, fsync, rename. On failure no partial file is left and an
  * existing file at `path` is untouched. */
-HPFC_API int hpfc_tree_write_file(const hpfc_tree *tree, const hpfc_write_options *opts,
-                                  const char *path, hpfc_diag *diag);
+HPFC_API int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
+                                        size_t opts_size, const char *path, hpfc_diag *diag);
+#define hpfc_tree_write_file(tree, opts, path, diag) \
+    hpfc_tree_write_file_sized((tree), (opts), sizeof(hpfc_write_options), (path), (diag))
 
 /* ------------------------------------------------------------------------
  * Reading .hpfc files: a zero-copy reader over a memory-mapped file or a
@@ -359,23 +441,29 @@ HPFC_API int hpfc_open_memory(const void *data, size_t size, unsigned flags,
 HPFC_API void hpfc_close(hpfc_file *file);
 
 /* Verifies every section checksum (reads the whole file). */
-HPFC_API int hpfc_verify_checksums(const hpfc_file *file);
+HPFC_API int hpfc_file_verify_checksums(const hpfc_file *file);
 
 /* Serialises an open file's map again with opts' CRS and FEAT sections in
- * place of its own (opts NULL: neither), into a malloc'ed buffer the caller
- * frees. The pools are copied bit for bit, so pixels, darts, keys and face
- * ids stay the same; no tree is needed. This is how a map gets its features
- * once its faces are numbered: serialise the tree, open the bytes, free the
- * tree, link, then hpfc_file_write_file(). The file's LABL and GEOM
- * sections are kept (they describe the pools, copied unchanged); its ATTR
- * and EDGF sections only through opts; the output has this library's
- * format version. Safe on any file that
- * opened: every pool was bounds-checked at open. */
-HPFC_API int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts,
-                                 uint8_t **out, size_t *out_size, hpfc_diag *diag);
+ * place of its own (opts NULL: neither), into a new buffer the caller
+ * frees with hpfc_free(). The pools are copied bit for bit, so pixels,
+ * darts, keys and face ids stay the same; no tree is needed. This is how a
+ * map gets its features once its faces are numbered: serialise the tree,
+ * open the bytes, free the tree, link, then hpfc_file_write_file(). The
+ * file's LABL and GEOM sections are kept (they describe the pools, copied
+ * unchanged); its ATTR and EDGF sections only through opts; the output has
+ * this library's format version. Safe on any file that opened: every pool
+ * was bounds-checked at open. */
+HPFC_API int hpfc_file_serialize_sized(const hpfc_file *file, const hpfc_write_options *opts,
+                                       size_t opts_size, uint8_t **out, size_t *out_size,
+                                       hpfc_diag *diag);
+#define hpfc_file_serialize(file, opts, out, out_size, diag) \
+    hpfc_file_serialize_sized((file), (opts), sizeof(hpfc_write_options), (out), (out_size), \
+                              (diag))
 /* The same, written to `path` atomically as hpfc_tree_write_file() does. */
-HPFC_API int hpfc_file_write_file(const hpfc_file *file, const hpfc_write_options *opts,
-                                  const char *path, hpfc_diag *diag);
+HPFC_API int hpfc_file_write_file_sized(const hpfc_file *file, const hpfc_write_options *opts,
+                                        size_t opts_size, const char *path, hpfc_diag *diag);
+#define hpfc_file_write_file(file, opts, path, diag) \
+    hpfc_file_write_file_sized((file), (opts), sizeof(hpfc_write_options), (path), (diag))
 
 #define HPFC_MAX_LEVELS 48
 
@@ -408,9 +496,18 @@ typedef struct hpfc_section_info {
     uint32_t crc32c;
 } hpfc_section_info;
 
-HPFC_API void hpfc_file_get_info(const hpfc_file *file, hpfc_file_info *info);
-HPFC_API int hpfc_file_get_level(const hpfc_file *file, uint32_t level, hpfc_level_info *out);
-HPFC_API int hpfc_file_get_section(const hpfc_file *file, uint32_t index, hpfc_section_info *out);
+HPFC_API void hpfc_file_get_info_sized(const hpfc_file *file, hpfc_file_info *info,
+                                       size_t size);
+#define hpfc_file_get_info(file, info) \
+    hpfc_file_get_info_sized((file), (info), sizeof(hpfc_file_info))
+HPFC_API int hpfc_file_get_level_sized(const hpfc_file *file, uint32_t level,
+                                       hpfc_level_info *out, size_t size);
+#define hpfc_file_get_level(file, level, out) \
+    hpfc_file_get_level_sized((file), (level), (out), sizeof(hpfc_level_info))
+HPFC_API int hpfc_file_get_section_sized(const hpfc_file *file, uint32_t index,
+                                         hpfc_section_info *out, size_t size);
+#define hpfc_file_get_section(file, index, out) \
+    hpfc_file_get_section_sized((file), (index), (out), sizeof(hpfc_section_info))
 
 /* A pixel: the paper's stack of (image, i, j) triplets from the root. An
  * image is named by its bit offset in its level's pool (the root is 0). */
@@ -434,7 +531,7 @@ HPFC_API int hpfc_pixel_is_private(const hpfc_file *file, const hpfc_pixel *px, 
  * layout (spec §16) its block counts, type bits, word index and words agree;
  * for the paper layout nothing beyond what pixel access checks. HPFC_OK, or
  * HPFC_E_CORRUPT with the first fault in diag. */
-HPFC_API int hpfc_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag);
+HPFC_API int hpfc_file_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag);
 /* Pixel (i, j) of the image a refined pixel points to (px may equal out). */
 HPFC_API int hpfc_pixel_child(const hpfc_file *file, const hpfc_pixel *px, uint32_t i,
                               uint32_t j, hpfc_pixel *out);
@@ -453,7 +550,8 @@ HPFC_API int hpfc_pixel_bounds(const hpfc_file *file, const hpfc_pixel *px, int6
                                int64_t *y0, int64_t *x1, int64_t *y1);
 /* Decodes a word pixel's word in place into symbols "+=[]()Y". With
  * buf == NULL (or too small), *len receives the length and HPFC_OK (or
- * HPFC_E_ARG when cap is too small) is returned. */
+ * HPFC_E_BUFFER_SMALL when cap is too small) is returned. A refined pixel
+ * is HPFC_E_ARG. */
 HPFC_API int hpfc_pixel_word(const hpfc_file *file, const hpfc_pixel *px, char *buf,
                              size_t cap, size_t *len);
 
@@ -672,8 +770,11 @@ typedef struct hpfc_feature {
     size_t key_len;
 } hpfc_feature;
 
-HPFC_API int hpfc_file_features(const hpfc_file *file, hpfc_features_info *out);
-HPFC_API int hpfc_feature_get(const hpfc_file *file, uint32_t index, hpfc_feature *out);
+HPFC_API int hpfc_file_get_features_sized(const hpfc_file *file, hpfc_features_info *out,
+                                          size_t size);
+#define hpfc_file_get_features(file, out) \
+    hpfc_file_get_features_sized((file), (out), sizeof(hpfc_features_info))
+HPFC_API int hpfc_file_get_feature(const hpfc_file *file, uint32_t index, hpfc_feature *out);
 HPFC_API int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name,
                              size_t *len);
 /* The features of face `face` (an id of hpfc_faces_build): *count of them,
@@ -714,10 +815,13 @@ typedef struct hpfc_labels_info {
     uint64_t rank_bits;             /* the leaf-number samples */
 } hpfc_labels_info;
 
-HPFC_API int hpfc_file_labels(const hpfc_file *file, hpfc_labels_info *out);
+HPFC_API int hpfc_file_get_labels_sized(const hpfc_file *file, hpfc_labels_info *out,
+                                        size_t size);
+#define hpfc_file_get_labels(file, out) \
+    hpfc_file_get_labels_sized((file), (out), sizeof(hpfc_labels_info))
 /* The faces of a leaf's regions, in region order: *count of them (1 for a
  * private leaf); faces NULL asks only the count; cap too small is
- * HPFC_E_ARG with *count set. A point located in a private leaf is in
+ * HPFC_E_BUFFER_SMALL with *count set. A point located in a private leaf is in
  * faces[0]; in a stabbed one, in one of them. */
 HPFC_API int hpfc_label_leaf_faces(const hpfc_file *file, const hpfc_pixel *leaf,
                                    uint64_t *faces, size_t cap, size_t *count);
@@ -765,8 +869,8 @@ HPFC_API int hpfc_attr_column(const hpfc_file *file, uint32_t column, const char
 /* The column named name[0 .. len) (HPFC_E_ARG when there is none). */
 HPFC_API int hpfc_attr_find(const hpfc_file *file, const char *name, size_t len,
                             uint32_t *column);
-HPFC_API int hpfc_attr_get(const hpfc_file *file, uint32_t feature, uint32_t column,
-                           hpfc_attr_value *out);
+HPFC_API int hpfc_file_get_attr(const hpfc_file *file, uint32_t feature, uint32_t column,
+                                hpfc_attr_value *out);
 
 /* ------------------------------------------------------------------------
  * Features of edges (spec/hpfc-format.md §7.3, the EDGF section): which
@@ -795,7 +899,10 @@ typedef struct hpfc_geometry_info {
     uint64_t section_bytes;  /* the whole section */
 } hpfc_geometry_info;
 
-HPFC_API int hpfc_file_geometry(const hpfc_file *file, hpfc_geometry_info *out);
+HPFC_API int hpfc_file_get_geometry_sized(const hpfc_file *file, hpfc_geometry_info *out,
+                                          size_t size);
+#define hpfc_file_get_geometry(file, out) \
+    hpfc_file_get_geometry_sized((file), (out), sizeof(hpfc_geometry_info))
 HPFC_API int hpfc_geometry_vertex(const hpfc_file *file, uint64_t vertex, int64_t *x,
                                   int64_t *y);
 /* Edge `edge` runs from vertex *u to vertex *v through *point_count points,
@@ -848,7 +955,8 @@ typedef struct hpfc_point_location {
  * dangling edge or a bridge). The answer is spec §17.8's; ties between
  * segments and grid lines fall by the perturbation rule of §3.5. A point
  * outside the domain gives HPFC_E_NO_PIXEL and *count = 0. cap too small
- * is HPFC_E_ARG with *count and *out set; faces NULL asks only the count.
+ * is HPFC_E_BUFFER_SMALL with *count and *out set; faces NULL asks only the
+ * count.
  * Without GEOM or LABL: HPFC_E_NO_SECTION; GEOM that contradicts the
  * leaf's word (a segment off its crossing's road, a piece leaving the
  * leaf): HPFC_E_CORRUPT. Keeps no state (threads may share the file); its
@@ -889,7 +997,7 @@ HPFC_API int hpfc_geometry_dart_edge(const hpfc_file *file, const hpfc_dart *d, 
                                      int *reversed);
 /* The exact polyline of dart d, from its origin to its target, both
  * included: xy[2k], xy[2k + 1] for k < *count. xy NULL asks only the count;
- * cap (points) too small is HPFC_E_ARG with *count set. */
+ * cap (points) too small is HPFC_E_BUFFER_SMALL with *count set. */
 HPFC_API int hpfc_geometry_dart_points(const hpfc_file *file, const hpfc_dart *d, int64_t *xy,
                                        size_t cap, size_t *count);
 
@@ -947,6 +1055,54 @@ HPFC_API int hpfc_shapes_feature_lines(hpfc_shapes *shapes, uint32_t feature,
  * face). */
 HPFC_API int hpfc_shapes_feature_face_count(const hpfc_shapes *shapes, uint32_t feature,
                                             uint64_t *count);
+
+/* ------------------------------------------------------------------------
+ * Deprecated names. Calls renamed to follow the naming rule above; the old
+ * names still compile (with a deprecation warning) and will be removed at
+ * 1.0. CHANGELOG.md lists them.
+ * ------------------------------------------------------------------------ */
+#if defined(__GNUC__) || defined(__clang__)
+#define HPFC_DEPRECATED(use) __attribute__((deprecated("use " use)))
+#else
+#define HPFC_DEPRECATED(use)
+#endif
+
+HPFC_DEPRECATED("hpfc_file_verify_checksums")
+static inline int hpfc_verify_checksums(const hpfc_file *file)
+{
+    return hpfc_file_verify_checksums(file);
+}
+HPFC_DEPRECATED("hpfc_file_check_pool_layout")
+static inline int hpfc_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag)
+{
+    return hpfc_file_check_pool_layout(file, level, diag);
+}
+HPFC_DEPRECATED("hpfc_file_get_features")
+static inline int hpfc_file_features(const hpfc_file *file, hpfc_features_info *out)
+{
+    return hpfc_file_get_features(file, out);
+}
+HPFC_DEPRECATED("hpfc_file_get_feature")
+static inline int hpfc_feature_get(const hpfc_file *file, uint32_t index, hpfc_feature *out)
+{
+    return hpfc_file_get_feature(file, index, out);
+}
+HPFC_DEPRECATED("hpfc_file_get_labels")
+static inline int hpfc_file_labels(const hpfc_file *file, hpfc_labels_info *out)
+{
+    return hpfc_file_get_labels(file, out);
+}
+HPFC_DEPRECATED("hpfc_file_get_attr")
+static inline int hpfc_attr_get(const hpfc_file *file, uint32_t feature, uint32_t column,
+                                hpfc_attr_value *out)
+{
+    return hpfc_file_get_attr(file, feature, column, out);
+}
+HPFC_DEPRECATED("hpfc_file_get_geometry")
+static inline int hpfc_file_geometry(const hpfc_file *file, hpfc_geometry_info *out)
+{
+    return hpfc_file_get_geometry(file, out);
+}
 
 #ifdef __cplusplus
 }

@@ -65,9 +65,15 @@ typedef struct hpfc_locate_out {
  * 16 MB at most), so that consecutive points share their leaf, which is
  * then read once; the answers are those of input order, and without the
  * memory for the order the call answers in input order. */
-HPFC_API int hpfc_locate_batch(const hpfc_file *file, const hpfc_faces *faces, size_t n,
-                               const int64_t *x, const int64_t *y, const uint8_t *valid,
-                               const hpfc_locate_out *out, size_t *failed);
+HPFC_API int hpfc_locate_batch_sized(const hpfc_file *file, const hpfc_faces *faces, size_t n,
+                                     const int64_t *x, const int64_t *y, const uint8_t *valid,
+                                     const hpfc_locate_out *out, size_t out_size,
+                                     size_t *failed);
+/* hpfc_locate_out can grow (hpfc.h, "Structs that grow"): outputs past
+ * out_size are not written. */
+#define hpfc_locate_batch(file, faces, n, x, y, valid, out, failed) \
+    hpfc_locate_batch_sized((file), (faces), (n), (x), (y), (valid), (out), \
+                            sizeof(hpfc_locate_out), (failed))
 
 #ifdef __cplusplus
 }

@@ -18,6 +18,7 @@
 
 #include "file.h"
 #include "labels.h"
+#include "sized.h"
 
 #define NONE_REGION UINT32_MAX
 
@@ -531,7 +532,7 @@ static int record_edge(const labels_view *v, const leaf_record *rec, uint32_t pi
 
 /* ---- public -------------------------------------------------------------------------------- */
 
-int hpfc_file_labels(const hpfc_file *f, hpfc_labels_info *out)
+int hpfc_file_get_labels_sized(const hpfc_file *f, hpfc_labels_info *out, size_t size)
 {
     int st;
     const labels_view *v = labels_of(f, &st);
@@ -539,15 +540,16 @@ int hpfc_file_labels(const hpfc_file *f, hpfc_labels_info *out)
         st = HPFC_E_ARG;
     if (st)
         return st;
-    *out = (hpfc_labels_info){.faces = v->faces,
-                              .edges = v->edges,
-                              .leaves = v->leaves,
-                              .face_bits = v->face_bits,
-                              .edge_bits = v->edge_bits,
-                              .section_bytes = v->section_length,
-                              .label_bits = v->label_bits,
-                              .directory_bits = v->dir.bits,
-                              .rank_bits = v->rank.bits};
+    const hpfc_labels_info full = {.faces = v->faces,
+                                   .edges = v->edges,
+                                   .leaves = v->leaves,
+                                   .face_bits = v->face_bits,
+                                   .edge_bits = v->edge_bits,
+                                   .section_bytes = v->section_length,
+                                   .label_bits = v->label_bits,
+                                   .directory_bits = v->dir.bits,
+                                   .rank_bits = v->rank.bits};
+    sized_out(out, size, &full, sizeof full);
     return HPFC_OK;
 }
 
@@ -572,7 +574,7 @@ int hpfc_label_leaf_faces(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *
         return st;
     *count = rec.word.regions;
     if (faces && cap < rec.word.regions)
-        st = HPFC_E_ARG;
+        st = HPFC_E_BUFFER_SMALL;
     /* regions are numbered in the order their smallest stretch comes */
     for (uint32_t t = 0, r = 0; faces && !st && r < rec.word.regions; t++)
         if (rec.word.n == 0 || rec.word.region[t] == r)

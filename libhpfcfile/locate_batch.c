@@ -12,6 +12,7 @@
 #include "file.h"
 #include "hpfc_batch.h"
 #include "locate_point.h"
+#include "sized.h"
 
 /* Growable scratch for one point's candidate faces and features. */
 typedef struct batch_scratch {
@@ -377,14 +378,17 @@ static int answer_sorted(const hpfc_file *file, const hpfc_faces *faces, int fea
     return 0;
 }
 
-int hpfc_locate_batch(const hpfc_file *file, const hpfc_faces *faces, size_t n, const int64_t *x,
-                      const int64_t *y, const uint8_t *valid, const hpfc_locate_out *out,
-                      size_t *failed)
+int hpfc_locate_batch_sized(const hpfc_file *file, const hpfc_faces *faces, size_t n,
+                            const int64_t *x, const int64_t *y, const uint8_t *valid,
+                            const hpfc_locate_out *out_arg, size_t out_size, size_t *failed)
 {
-    if (!file || !out || (n && (!x || !y)))
+    hpfc_locate_out full = {0}; /* outputs an older caller does not have: not wanted */
+    const hpfc_locate_out *out = &full;
+    if (!file || !out_arg || (n && (!x || !y)) ||
+        sized_in(&full, sizeof full, out_arg, out_size))
         return HPFC_E_ARG;
     hpfc_features_info fi;
-    int st = hpfc_file_features(file, &fi);
+    int st = hpfc_file_get_features(file, &fi);
     int features = st == HPFC_OK;
     if (st && st != HPFC_E_NO_SECTION)
         return st;

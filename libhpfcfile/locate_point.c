@@ -480,7 +480,7 @@ static int load_leaf(leaf_ctx *c, int64_t x, int64_t y)
         st = grow((void **)&s->sym, &s->sym_cap, 64, 1);
     if (!st) /* most words fit the buffer: one decode */
         st = hpfc_pixel_word(c->f, leaf, s->sym, s->sym_cap, &len);
-    if (st == HPFC_E_ARG && len > s->sym_cap) {
+    if (st == HPFC_E_BUFFER_SMALL) {
         st = grow((void **)&s->sym, &s->sym_cap, len, 1);
         if (!st)
             st = hpfc_pixel_word(c->f, leaf, s->sym, s->sym_cap, &len);
@@ -562,7 +562,7 @@ int hpfc_locate_point(const hpfc_file *file, int64_t x, int64_t y, hpfc_point_lo
         out->on_boundary = a.on_boundary, out->on_vertex = a.on_vertex;
         out->vertex = a.vertex, out->edge = a.edge;
         if (faces && cap < *count)
-            st = HPFC_E_ARG;
+            st = HPFC_E_BUFFER_SMALL;
         else if (faces)
             memcpy(faces, s.around, *count * sizeof *faces);
     }

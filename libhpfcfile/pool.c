@@ -148,7 +148,7 @@ int pool_decode_word(const format_bits *pool, uint64_t start, uint64_t end, char
     if (d.n < cap)
         buf[d.n] = '+';
     *len = ++d.n;
-    return buf && d.n > cap ? HPFC_E_ARG : HPFC_OK;
+    return buf && d.n > cap ? HPFC_E_BUFFER_SMALL : HPFC_OK;
 }
 
 /* ---- sizes -------------------------------------------------------------------- */

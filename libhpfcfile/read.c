@@ -390,7 +390,7 @@ static int decode_word(const format_bits *pool, uint64_t off, uint32_t word_bits
         n++;
     }
     *len = n;
-    return buf && n > cap ? HPFC_E_ARG : HPFC_OK;
+    return buf && n > cap ? HPFC_E_BUFFER_SMALL : HPFC_OK;
 }
 
 /* A compact word pixel's word: "++++" for a private one, else its code. */
@@ -400,7 +400,7 @@ static int compact_word(const file_level *lv, const pixel_at *at, char *buf, siz
         for (size_t k = 0; buf && k < cap && k < 4; k++)
             buf[k] = '+';
         *len = 4;
-        return buf && cap < 4 ? HPFC_E_ARG : HPFC_OK;
+        return buf && cap < 4 ? HPFC_E_BUFFER_SMALL : HPFC_OK;
     }
     uint64_t start, end, word;
     int st = pool_rank(&lv->pool, &lv->compact, at->slot, POOL_STABBED, &word);

@@ -100,7 +100,7 @@ int hpfc_geometry_dart_points(const hpfc_file *f, const hpfc_dart *d, int64_t *x
     if (!xy)
         return HPFC_OK;
     if (cap < n)
-        return HPFC_E_ARG;
+        return HPFC_E_BUFFER_SMALL;
     for (uint64_t k = 0; k < n && !st; k++)
         st = hpfc_geometry_edge_point(f, e, rev ? n - 1 - k : k, &xy[2 * k], &xy[2 * k + 1]);
     return st;
@@ -344,7 +344,7 @@ static int face_feature_count(const hpfc_file *f, uint64_t face, uint32_t *n)
 static int index_features(hpfc_shapes *s)
 {
     hpfc_features_info fi;
-    int st = hpfc_file_features(s->f, &fi);
+    int st = hpfc_file_get_features(s->f, &fi);
     if (st == HPFC_E_NO_SECTION)
         return HPFC_OK;
     if (st)

@@ -190,7 +190,7 @@ int topo_decode_word(hpfc_walker *w, local_word *lw, const hpfc_pixel *px, size_
     if (lw == &w->p_word)
         w->p_word_valid = false; /* parse_p_word revalidates it */
     int st = hpfc_pixel_word(w->file, px, lw->sym, (size_t)w->cap + 4, len);
-    return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+    return st == HPFC_E_ARG || st == HPFC_E_BUFFER_SMALL ? HPFC_E_CORRUPT : st;
 }
 
 int topo_parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px)
@@ -207,7 +207,7 @@ int topo_road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *co
     w->visited++;
     int st = hpfc_pixel_word(w->file, px, w->scratch, (size_t)w->cap + 4, &len);
     if (st)
-        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+        return st == HPFC_E_ARG || st == HPFC_E_BUFFER_SMALL ? HPFC_E_CORRUPT : st;
     int r = 0;
     *count = 0;
     for (size_t s = 0; s < len && r <= road; s++) {

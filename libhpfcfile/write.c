@@ -23,6 +23,7 @@
 #include "internal.h"
 #include "labels.h"
 #include "pool.h"
+#include "sized.h"
 
 typedef struct layout {
     const hpfc_tree *tree;   /* the map to lay out, or */
@@ -538,12 +539,28 @@ static int make_geometry(layout *L, const hpfc_graph *graph, hpfc_diag *diag)
     return st;
 }
 
-int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, uint8_t **out,
-                        size_t *out_size, hpfc_diag *diag)
+/* The caller's options of `size` bytes over the defaults (all zero), into
+ * *full; NULL is the defaults. */
+static int read_options(const hpfc_write_options *opts, size_t size, hpfc_write_options *full,
+                        const char *who, hpfc_diag *diag)
+{
+    *full = (hpfc_write_options){0};
+    if (opts && sized_in(full, sizeof *full, opts, size))
+        return diag_set(diag, HPFC_E_ARG, "%s: options unknown to this library are set", who);
+    return HPFC_OK;
+}
+
+int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *opts_arg,
+                              size_t opts_size, uint8_t **out, size_t *out_size, hpfc_diag *diag)
 {
     diag_clear(diag);
     if (!tree || !out || !out_size)
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: NULL argument");
+    hpfc_write_options full;
+    const hpfc_write_options *opts = &full;
+    int st = read_options(opts_arg, opts_size, &full, "hpfc_tree_serialize", diag);
+    if (st)
+        return st;
     *out = NULL;
     *out_size = 0;
     int kind = opts ? opts->layout : HPFC_LAYOUT_DEFAULT;
@@ -555,7 +572,7 @@ int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, u
                 .edge_features = opts ? opts->edge_features : NULL,
                 .compact = (kind ? kind : write_default_layout) == HPFC_LAYOUT_COMPACT};
     hpfc_tree_get_info(tree, &L.info);
-    int st = check_tree_info(&L.info, diag);
+    st = check_tree_info(&L.info, diag);
     for (uint32_t l = 0; l < L.info.levels && !st; l++)
         st = count_level(&L, l, diag);
     if (!st)
@@ -572,12 +589,16 @@ int hpfc_tree_serialize(const hpfc_tree *tree, const hpfc_write_options *opts, u
     return st;
 }
 
-int hpfc_file_serialize(const hpfc_file *file, const hpfc_write_options *opts, uint8_t **out,
-                        size_t *out_size, hpfc_diag *diag)
+int hpfc_file_serialize_sized(const hpfc_file *file, const hpfc_write_options *opts_arg,
+                              size_t opts_size, uint8_t **out, size_t *out_size, hpfc_diag *diag)
 {
     diag_clear(diag);
     if (!file || !out || !out_size)
         return diag_set(diag, HPFC_E_ARG, "hpfc_file_serialize: NULL argument");
+    hpfc_write_options full;
+    const hpfc_write_options *opts = &full;
+    if (read_options(opts_arg, opts_size, &full, "hpfc_file_serialize", diag))
+        return HPFC_E_ARG;
     *out = NULL;
     *out_size = 0;
     layout L = {.source = file, .crs = opts ? opts->crs : NULL,
@@ -748,26 +769,26 @@ static int write_serialized(int st, uint8_t *buf, size_t size, const char *path,
     return st;
 }
 
-int hpfc_tree_write_file(const hpfc_tree *tree, const hpfc_write_options *opts, const char *path,
-                         hpfc_diag *diag)
+int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
+                               size_t opts_size, const char *path, hpfc_diag *diag)
 {
     diag_clear(diag);
     if (!path)
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_write_file: NULL path");
     uint8_t *buf = NULL;
     size_t size = 0;
-    int st = hpfc_tree_serialize(tree, opts, &buf, &size, diag);
+    int st = hpfc_tree_serialize_sized(tree, opts, opts_size, &buf, &size, diag);
     return write_serialized(st, buf, size, path, diag);
 }
 
-int hpfc_file_write_file(const hpfc_file *file, const hpfc_write_options *opts, const char *path,
-                         hpfc_diag *diag)
+int hpfc_file_write_file_sized(const hpfc_file *file, const hpfc_write_options *opts,
+                               size_t opts_size, const char *path, hpfc_diag *diag)
 {
     diag_clear(diag);
     if (!path)
         return diag_set(diag, HPFC_E_ARG, "hpfc_file_write_file: NULL path");
     uint8_t *buf = NULL;
     size_t size = 0;
-    int st = hpfc_file_serialize(file, opts, &buf, &size, diag);
+    int st = hpfc_file_serialize_sized(file, opts, opts_size, &buf, &size, diag);
     return write_serialized(st, buf, size, path, diag);
 }

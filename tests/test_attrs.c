@@ -119,7 +119,7 @@ static void check_read_back(const hpfc_file *f, const fixture *x)
         for (uint32_t c = 0; c < COLUMNS; c++) {
             const hpfc_attr_value *want = &x->cells[k * COLUMNS + c];
             hpfc_attr_value v;
-            CHECK_EQ_INT(hpfc_attr_get(f, k, c, &v), HPFC_OK);
+            CHECK_EQ_INT(hpfc_file_get_attr(f, k, c, &v), HPFC_OK);
             CHECK_EQ_INT(v.type, want->type);
             if (want->type == HPFC_ATTR_INTEGER)
                 CHECK(v.i == want->i);
@@ -130,8 +130,8 @@ static void check_read_back(const hpfc_file *f, const fixture *x)
         }
     hpfc_attr_value v;
     uint32_t col;
-    CHECK_EQ_INT(hpfc_attr_get(f, FEATURES, 0, &v), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_attr_get(f, 0, COLUMNS, &v), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_get_attr(f, FEATURES, 0, &v), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_get_attr(f, 0, COLUMNS, &v), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_attr_find(f, "nosuch", 6, &col), HPFC_E_ARG);
     uint32_t edges = 0, links = 0;
     CHECK_EQ_INT(hpfc_edge_features_info(f, &edges, &links), HPFC_OK);
@@ -164,7 +164,7 @@ static void probe(const hpfc_file *f, const uint8_t *m, size_t size)
                 CHECK((const uint8_t *)name >= m && (const uint8_t *)name + len <= m + size);
             for (uint32_t k = 0; k <= features && k < 8; k++) {
                 hpfc_attr_value v;
-                st = hpfc_attr_get(f, k, c, &v);
+                st = hpfc_file_get_attr(f, k, c, &v);
                 CHECK(st == HPFC_OK || st == HPFC_E_ARG || st == HPFC_E_CORRUPT);
                 if (st == HPFC_OK && v.type == HPFC_ATTR_STRING)
                     CHECK((const uint8_t *)v.s >= m && (const uint8_t *)v.s + v.len <= m + size);
@@ -212,7 +212,7 @@ static void damage_section(const uint8_t *buf, size_t size, const char *tag)
             damaged++;
             if (f) {
                 opened++;
-                CHECK_EQ_INT(hpfc_verify_checksums(f), m[at] == buf[at] ? HPFC_OK : HPFC_E_CHECKSUM);
+                CHECK_EQ_INT(hpfc_file_verify_checksums(f), m[at] == buf[at] ? HPFC_OK : HPFC_E_CHECKSUM);
                 probe(f, m, size);
                 hpfc_close(f);
             }
@@ -245,14 +245,14 @@ static void test_sections(void)
         hpfc_file_info fi;
         hpfc_file_get_info(f, &fi);
         CHECK_EQ_INT(fi.format_minor, 2);
-        CHECK_EQ_INT(hpfc_verify_checksums(f), HPFC_OK);
+        CHECK_EQ_INT(hpfc_file_verify_checksums(f), HPFC_OK);
         check_read_back(f, &x);
         /* a copy through hpfc_file_serialize keeps them */
         uint8_t *again = NULL;
         size_t again_size = 0;
         CHECK_EQ_INT(hpfc_file_serialize(f, &opts, &again, &again_size, &d), HPFC_OK);
         CHECK(again_size == size && memcmp(again, buf, size) == 0);
-        free(again);
+        hpfc_free(again);
         hpfc_close(f);
     }
     /* without the sections: NO_SECTION */
@@ -263,10 +263,10 @@ static void test_sections(void)
     uint32_t a, b;
     hpfc_attr_value v;
     CHECK_EQ_INT(hpfc_attr_info(f, &a, &b), HPFC_E_NO_SECTION);
-    CHECK_EQ_INT(hpfc_attr_get(f, 0, 0, &v), HPFC_E_NO_SECTION);
+    CHECK_EQ_INT(hpfc_file_get_attr(f, 0, 0, &v), HPFC_E_NO_SECTION);
     CHECK_EQ_INT(hpfc_edge_feature_count(f, 0, &a), HPFC_E_NO_SECTION);
     hpfc_close(f);
-    free(plain);
+    hpfc_free(plain);
 
     damage_section(buf, size, "ATTR");
     damage_section(buf, size, "EDGF");
@@ -285,7 +285,7 @@ static void test_sections(void)
     x.edge_feature[0] = 0;
     x.edge_start[2] = 0; /* offsets decrease */
     CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &bad, &bad_size, &d), HPFC_E_ARG);
-    free(buf);
+    hpfc_free(buf);
     free(x.face_start);
     free(x.face_feature);
     hpfc_tree_free(t);

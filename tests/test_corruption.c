@@ -6,7 +6,7 @@
  * Every byte is also set to 0x00 and to 0xFF (many bits of a count, an
  * offset or a mask wrong at once). For each damaged copy:
  *   - opening it (hpfc_open_memory with the checksum verified, then
- *     hpfc_verify_checksums) must fail with a file code; a flip is allowed
+ *     hpfc_file_verify_checksums) must fail with a file code; a flip is allowed
  *     through only in bytes no checksum covers (the zero padding between
  *     sections, spec/hpfc-format.md §4), and a truncation never;
  *   - opened with HPFC_OPEN_SKIP_CHECKSUM, it must traverse without a crash
@@ -241,7 +241,7 @@ static void compare_caches(const hpfc_file *f, uint64_t digest)
 static void walk_labels(walk *k, const hpfc_faces *faces)
 {
     hpfc_labels_info li;
-    int st = hpfc_file_labels(k->f, &li);
+    int st = hpfc_file_get_labels(k->f, &li);
     CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
     if (st)
         return;
@@ -290,7 +290,7 @@ static void walk_labels(walk *k, const hpfc_faces *faces)
 static void walk_geometry(walk *k)
 {
     hpfc_geometry_info gi;
-    int st = hpfc_file_geometry(k->f, &gi);
+    int st = hpfc_file_get_geometry(k->f, &gi);
     CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
     if (st)
         return;
@@ -393,7 +393,7 @@ static int open_checked(const uint8_t *data, size_t size)
     hpfc_file *f = NULL;
     int st = hpfc_open_memory(data, size, 0, &f);
     if (!st)
-        st = hpfc_verify_checksums(f);
+        st = hpfc_file_verify_checksums(f);
     hpfc_close(f);
     return st;
 }

@@ -1,5 +1,5 @@
 /*
- * The FEAT section (hpfc_file_features, hpfc_feature_get, hpfc_layer_name,
+ * The FEAT section (hpfc_file_get_features, hpfc_file_get_feature, hpfc_layer_name,
  * hpfc_face_feature*; spec/hpfc-format.md): a feature table written with a
  * map reads back field for field; every byte of the section damaged gives
  * a refusal at open or accesses that stay in bounds; the writer refuses
@@ -24,13 +24,13 @@ static bool same_string(const char *s, size_t len, const char *want)
 static void check_features_read_back(const hpfc_file *f, const feat_fixture *x)
 {
     hpfc_features_info fi;
-    CHECK_EQ_INT(hpfc_file_features(f, &fi), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_features(f, &fi), HPFC_OK);
     CHECK(fi.features == 7 && fi.layers == 2 && fi.faces == x->t.face_count &&
           fi.links == x->start[x->t.face_count]);
     CHECK(same_string(fi.key_field, fi.key_field_len, "NAME"));
     for (uint32_t k = 0; k < 7; k++) {
         hpfc_feature ft;
-        CHECK_EQ_INT(hpfc_feature_get(f, k, &ft), HPFC_OK);
+        CHECK_EQ_INT(hpfc_file_get_feature(f, k, &ft), HPFC_OK);
         CHECK(ft.fid == x->fid[k] && ft.layer == x->layer[k]);
         CHECK(same_string(ft.key, ft.key_len, x->key[k]));
     }
@@ -54,7 +54,7 @@ static void check_features_read_back(const hpfc_file *f, const feat_fixture *x)
     uint32_t count;
     const char *name;
     size_t len;
-    CHECK_EQ_INT(hpfc_feature_get(f, 7, &ft), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_get_feature(f, 7, &ft), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_layer_name(f, 2, &name, &len), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_face_feature_count(f, x->t.face_count, &count), HPFC_E_ARG);
 }
@@ -64,11 +64,11 @@ static void check_features_read_back(const hpfc_file *f, const feat_fixture *x)
 static void probe_features(const hpfc_file *f)
 {
     hpfc_features_info fi;
-    if (hpfc_file_features(f, &fi) != HPFC_OK)
+    if (hpfc_file_get_features(f, &fi) != HPFC_OK)
         return;
     for (uint32_t k = 0; k <= fi.features && k < 64; k++) {
         hpfc_feature ft;
-        int st = hpfc_feature_get(f, k, &ft);
+        int st = hpfc_file_get_feature(f, k, &ft);
         CHECK(st == HPFC_OK || st == HPFC_E_ARG || st == HPFC_E_CORRUPT);
         if (st == HPFC_OK && ft.key)
             (void)memchr(ft.key, 0, ft.key_len);
@@ -106,7 +106,7 @@ static void test_features(void)
     CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
     uint32_t faces = (uint32_t)hpfc_faces_count(fc);
     hpfc_features_info fi;
-    CHECK_EQ_INT(hpfc_file_features(f, &fi), HPFC_E_NO_SECTION);
+    CHECK_EQ_INT(hpfc_file_get_features(f, &fi), HPFC_E_NO_SECTION);
     hpfc_faces_free(fc);
     hpfc_close(f);
     CHECK(faces >= 3);
@@ -122,7 +122,7 @@ static void test_features(void)
     f = NULL;
     CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
     if (f) {
-        CHECK_EQ_INT(hpfc_verify_checksums(f), HPFC_OK);
+        CHECK_EQ_INT(hpfc_file_verify_checksums(f), HPFC_OK);
         CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
         CHECK_EQ_INT(hpfc_faces_count(fc), faces);
         hpfc_faces_free(fc);
@@ -148,7 +148,7 @@ static void test_features(void)
             int st = hpfc_open_memory(m, size, HPFC_OPEN_SKIP_CHECKSUM, &f);
             CHECK(st == HPFC_OK || st == HPFC_E_SECTION);
             if (f) {
-                CHECK_EQ_INT(hpfc_verify_checksums(f), m[at] == buf[at] ? HPFC_OK : HPFC_E_CHECKSUM);
+                CHECK_EQ_INT(hpfc_file_verify_checksums(f), m[at] == buf[at] ? HPFC_OK : HPFC_E_CHECKSUM);
                 probe_features(f);
                 hpfc_close(f);
             }
@@ -156,7 +156,7 @@ static void test_features(void)
         }
 
     /* inconsistent tables are refused by the writer */
-    free(buf);
+    hpfc_free(buf);
     uint32_t saved = x.link[0];
     x.link[0] = 7; /* no such feature */
     CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, &d), HPFC_E_ARG);
@@ -169,7 +169,7 @@ static void test_features(void)
     CHECK(buf == NULL);
     free(x.start);
     free(x.link);
-    free(plain);
+    hpfc_free(plain);
     hpfc_tree_free(t);
 }
 

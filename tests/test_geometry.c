@@ -59,15 +59,15 @@ static void unpack(packed *p)
 {
     hpfc_close(p->f);
     hpfc_close(p->f0);
-    free(p->with);
-    free(p->without);
+    hpfc_free(p->with);
+    hpfc_free(p->without);
 }
 
 /* Coordinates and edges against the graph. */
 static void check_points(const hpfc_file *f, const hpfc_graph *g)
 {
     hpfc_geometry_info gi;
-    CHECK_EQ_INT(hpfc_file_geometry(f, &gi), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_geometry(f, &gi), HPFC_OK);
     size_t nv = hpfc_graph_vertex_count(g), ne = hpfc_graph_edge_count(g), npts = 0;
     CHECK_EQ_INT(gi.vertices, nv);
     CHECK_EQ_INT(gi.edges, ne);
@@ -257,7 +257,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
     if (!st) {
         hpfc_geometry_info gi;
         int64_t x, y;
-        CHECK_EQ_INT(hpfc_file_geometry(p.f0, &gi), HPFC_E_NO_SECTION);
+        CHECK_EQ_INT(hpfc_file_get_geometry(p.f0, &gi), HPFC_E_NO_SECTION);
         CHECK_EQ_INT(hpfc_geometry_vertex(p.f0, 0, &x, &y), HPFC_E_NO_SECTION);
         check_points(p.f, g);
         check_crossings(&p, g);
@@ -276,7 +276,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
         if (f2)
             check_points(f2, g);
         hpfc_close(f2);
-        free(again);
+        hpfc_free(again);
     }
     unpack(&p);
 }

@@ -223,7 +223,7 @@ static void unpack(packed *p)
     hpfc_walker_free(p->w);
     hpfc_faces_free(p->faces);
     hpfc_close(p->f);
-    free(p->bytes);
+    hpfc_free(p->bytes);
     hpfc_tree_free(p->tree);
     free(p->left);
     free(p->right);
@@ -479,7 +479,8 @@ static void check_api(void)
     CHECK_EQ_INT(loc.vertex, 0);
     size_t need = count;
     if (need > 1)
-        CHECK_EQ_INT(hpfc_locate_point(p.f, vx, vy, &loc, &face, 1, &count), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_locate_point(p.f, vx, vy, &loc, &face, 1, &count),
+                     HPFC_E_BUFFER_SMALL);
     CHECK_EQ_INT(count, need);
     CHECK_EQ_INT(hpfc_locate_point(p.f, fi.x0 - 1, fi.y0, &loc, &face, 1, &count),
                  HPFC_E_NO_PIXEL);
@@ -500,7 +501,7 @@ static void check_api(void)
     CHECK_EQ_INT(hpfc_open_memory(bytes, size, 0, &f), HPFC_OK);
     CHECK_EQ_INT(hpfc_locate_point(f, vx, vy, &loc, &face, 1, &count), HPFC_E_NO_SECTION);
     hpfc_close(f);
-    free(bytes);
+    hpfc_free(bytes);
     hpfc_tree_free(t);
     hpfc_graph_free(g);
 }
@@ -553,7 +554,7 @@ static void check_damage(int kind)
                     continue;
                 opened++;
                 hpfc_labels_info li;
-                uint64_t faces_max = hpfc_file_labels(f, &li) == HPFC_OK ? li.faces : 0;
+                uint64_t faces_max = hpfc_file_get_labels(f, &li) == HPFC_OK ? li.faces : 0;
                 for (size_t i = 0; i < nq; i++) {
                     hpfc_point_location loc;
                     uint64_t faces[64];

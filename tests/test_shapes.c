@@ -525,7 +525,7 @@ static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, packed *
 static void unpack(packed *p)
 {
     hpfc_close(p->f);
-    free(p->buf);
+    hpfc_free(p->buf);
     free(p->buf2);
     hpfc_tree_free(p->tree);
 }
@@ -568,6 +568,10 @@ static void check_darts(const hpfc_file *f)
                     xy = realloc(xy, 2 * cap * sizeof *xy);
                     txy = realloc(txy, 2 * cap * sizeof *txy);
                 }
+                size_t short_n = 0; /* one point short: the count needed */
+                if (hpfc_geometry_dart_points(f, &d, xy, n - 1, &short_n) !=
+                        HPFC_E_BUFFER_SMALL || short_n != n)
+                    bad++;
                 hpfc_geometry_dart_points(f, &d, xy, cap, &n);
                 hpfc_geometry_dart_points(f, &t, txy, cap, &tn);
                 int64_t b[4];
@@ -735,7 +739,7 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
     if (f2)
         hpfc_shapes_free(s);
     hpfc_close(f2);
-    free(buf);
+    hpfc_free(buf);
     free(start);
     free(links);
     free(member);

@@ -336,7 +336,7 @@ static void check_graph(const hpfc_graph *g, const char *what)
         uint8_t *buf;
         hpfc_file *f = pack(g, shapes[s][0], shapes[s][1], (int)shapes[s][2], &buf);
         if (!f) {
-            free(buf);
+            hpfc_free(buf);
             CHECK(shapes[s][2] == 1); /* only a flat grid may exceed its limit */
             continue;
         }
@@ -357,7 +357,7 @@ static void check_graph(const hpfc_graph *g, const char *what)
         check_involutions(f);
         check_keys(f, gm.nd);
         hpfc_close(f);
-        free(buf);
+        hpfc_free(buf);
     }
     graph_map_free(&gm);
 }
@@ -422,7 +422,7 @@ static void test_road_with_many_leaves(void)
         graph_map_free(&gm);
     }
     hpfc_close(f);
-    free(buf);
+    hpfc_free(buf);
     hpfc_graph_free(g);
 }
 
@@ -1028,7 +1028,7 @@ static void test_cache(void)
                 check_keys(f, nd);
             }
             hpfc_close(f);
-            free(buf);
+            hpfc_free(buf);
         }
         hpfc_graph_free(g);
     }
@@ -1054,7 +1054,7 @@ static void test_oracle_detects_difference(void)
     CHECK(isomorphism_failures(&fm, &gm) > 0);
     exported_map_free(&fm);
     hpfc_close(f);
-    free(buf);
+    hpfc_free(buf);
     graph_map_free(&gm);
     hpfc_graph_free(g);
 }

@@ -161,7 +161,7 @@ static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, packed *p)
 static void unpack(packed *p)
 {
     hpfc_close(p->f);
-    free(p->buf);
+    hpfc_free(p->buf);
 }
 
 /* Every crossing: across and back is itself; both sides agree on its place;

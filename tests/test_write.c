@@ -96,7 +96,7 @@ static void test_write_file(void)
         hpfc_file_info fi;
         hpfc_file_get_info(f, &fi);
         CHECK(fi.crs_len == 9 && memcmp(fi.crs, "EPSG:4326", 9) == 0);
-        CHECK_EQ_INT(hpfc_verify_checksums(f), HPFC_OK);
+        CHECK_EQ_INT(hpfc_file_verify_checksums(f), HPFC_OK);
         CHECK_EQ_INT(probe_file(f, 1 << 20) & ~(OKB | BIT(HPFC_E_NO_PIXEL)), 0);
     }
     hpfc_close(f);
@@ -150,8 +150,8 @@ static void test_write_file(void)
     remove(path);
     rmdir(sub);
     CHECK_EQ_INT(rmdir(dir), 0); /* empty: nothing stray was left */
-    free(buf_a);
-    free(buf_b);
+    hpfc_free(buf_a);
+    hpfc_free(buf_b);
     hpfc_tree_free(a);
     hpfc_tree_free(b);
 }
@@ -176,7 +176,7 @@ static void check_reserialized(const hpfc_tree *t, const hpfc_write_options *fro
         CHECK(file_equals(path, want, want_size));
     }
     hpfc_close(f);
-    free(src), free(want), free(got);
+    hpfc_free(src), hpfc_free(want), hpfc_free(got);
 }
 
 static void test_file_serialize(void)
@@ -211,13 +211,13 @@ static void test_file_serialize(void)
     hpfc_diag d;
     CHECK_EQ_INT(hpfc_file_serialize(f, NULL, &got, &got_size, &d), HPFC_OK);
     CHECK(got && got_size == size && memcmp(got, plain, size) == 0);
-    free(got);
+    hpfc_free(got);
     CHECK_EQ_INT(hpfc_file_serialize(NULL, NULL, &got, &got_size, &d), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_file_serialize(f, NULL, NULL, &got_size, &d), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_file_write_file(f, NULL, NULL, &d), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_file_write_file(NULL, NULL, path, &d), HPFC_E_ARG);
     hpfc_close(f);
-    free(plain);
+    hpfc_free(plain);
     free(x.start), free(x.link);
     hpfc_tree_free(t);
     remove(path);

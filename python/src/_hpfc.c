@@ -41,6 +41,7 @@ static const char *status_name(int st)
     case HPFC_E_NOMEM: return "HPFC_E_NOMEM";
     case HPFC_E_ARG: return "HPFC_E_ARG";
     case HPFC_E_IO: return "HPFC_E_IO";
+    case HPFC_E_BUFFER_SMALL: return "HPFC_E_BUFFER_SMALL";
     case HPFC_E_PFC_SYNTAX: return "HPFC_E_PFC_SYNTAX";
     case HPFC_E_PFC_VERSION: return "HPFC_E_PFC_VERSION";
     case HPFC_E_VERTEX_INDEX: return "HPFC_E_VERTEX_INDEX";
@@ -296,7 +297,7 @@ static PyObject *File_verify_checksums(FileObject *self, PyObject *unused)
     int st;
     self->busy++;
     Py_BEGIN_ALLOW_THREADS
-    st = hpfc_verify_checksums(self->f);
+    st = hpfc_file_verify_checksums(self->f);
     Py_END_ALLOW_THREADS
     self->busy--;
     if (st)
@@ -466,7 +467,7 @@ static PyObject *File_locate_into(FileObject *self, PyObject *args)
         return NULL;
     /* The stored labels answer without numbering the faces first. */
     hpfc_labels_info labels;
-    int stored = hpfc_file_labels(self->f, &labels) == HPFC_OK;
+    int stored = hpfc_file_get_labels(self->f, &labels) == HPFC_OK;
     if (!stored && file_faces(self))
         return NULL;
     static const char *names[9] = {"x", "y", "valid", "face", "face_count", "feature",
@@ -863,7 +864,7 @@ static PyObject *File_locate_point(FileObject *self, PyObject *args)
     uint64_t small[16], *faces = small;
     size_t count = 0;
     int st = hpfc_locate_point(self->f, x, y, &loc, faces, 16, &count);
-    if (st == HPFC_E_ARG && count > 16) {
+    if (st == HPFC_E_BUFFER_SMALL) {
         if (!(faces = PyMem_Malloc(count * sizeof *faces)))
             return PyErr_NoMemory();
         st = hpfc_locate_point(self->f, x, y, &loc, faces, count, &count);
@@ -912,9 +913,9 @@ static PyObject *File_has_geometry(FileObject *self, PyObject *unused)
         return NULL;
     hpfc_geometry_info gi;
     hpfc_labels_info li;
-    int st = hpfc_file_geometry(self->f, &gi);
+    int st = hpfc_file_get_geometry(self->f, &gi);
     if (!st)
-        st = hpfc_file_labels(self->f, &li);
+        st = hpfc_file_get_labels(self->f, &li);
     if (st && st != HPFC_E_NO_SECTION)
         return raise_status(st, "geometry");
     return PyBool_FromLong(st == HPFC_OK);
@@ -957,7 +958,7 @@ static PyObject *File_features_info(FileObject *self, PyObject *unused)
     if (file_ready(self))
         return NULL;
     hpfc_features_info fi;
-    int st = hpfc_file_features(self->f, &fi);
+    int st = hpfc_file_get_features(self->f, &fi);
     if (st == HPFC_E_NO_SECTION)
         Py_RETURN_NONE;
     if (st)
@@ -1002,7 +1003,7 @@ static PyObject *File_feature(FileObject *self, PyObject *arg)
     if (file_ready(self) || u32_arg(arg, &index, "feature index"))
         return NULL;
     hpfc_feature ft;
-    int st = hpfc_feature_get(self->f, index, &ft);
+    int st = hpfc_file_get_feature(self->f, index, &ft);
     if (st)
         return raise_status(st, "feature");
     PyObject *key = ft.key ? PyUnicode_DecodeUTF8(ft.key, (Py_ssize_t)ft.key_len, "replace")

@@ -431,7 +431,7 @@ static PyObject *mod_geometry_info(PyObject *m, PyObject *file)
     if (!f)
         return NULL;
     hpfc_geometry_info gi;
-    int st = hpfc_file_geometry(f, &gi);
+    int st = hpfc_file_get_geometry(f, &gi);
     if (st == HPFC_E_NO_SECTION)
         Py_RETURN_NONE;
     if (st)
@@ -501,7 +501,7 @@ static PyObject *mod_attribute_rows(PyObject *m, PyObject *file)
         PyList_SET_ITEM(rows, k, row);
         for (uint32_t c = 0; c < columns; c++) {
             hpfc_attr_value v;
-            if ((st = hpfc_attr_get(f, k, c, &v))) {
+            if ((st = hpfc_file_get_attr(f, k, c, &v))) {
                 char context[64];
                 snprintf(context, sizeof context, "feature %u, attribute %u", k, c);
                 pyhpfc_raise(st, context);

@@ -1,12 +1,15 @@
 """Opening, the header, the level table, the sections and the CRS, against
 hpfc-inspect --json on the same files."""
 
-import subprocess
 import json
+import pathlib
+import re
+import subprocess
 
 import pytest
 
 import hpfc
+from hpfc import _hpfc
 from conftest import VALID_HPFC
 
 
@@ -82,3 +85,16 @@ def test_version_and_strerror():
     assert hpfc.library_version.count(".") == 2
     assert hpfc.strerror(0) != hpfc.strerror(48)
     assert isinstance(hpfc.strerror(12345), str)
+
+
+def test_status_names_follow_the_spec_table():
+    """Every code of spec §12.4 has the spec's name in hpfc.Error and a text
+    of its own; HPFC_E_BUFFER_SMALL (4) is one of them."""
+    spec = pathlib.Path(__file__).resolve().parents[2] / "spec" / "hpfc-format.md"
+    table = spec.read_text().split("### 12.4 Status codes")[1].split("\n## ")[0]
+    rows = re.findall(r"^\| (\d+) \| `(HPFC_[A-Z_]+)` \|", table, re.M)
+    assert ("4", "HPFC_E_BUFFER_SMALL") in rows
+    unknown = hpfc.strerror(12345)
+    for number, name in rows:
+        assert _hpfc.status_name(int(number)) == name
+        assert hpfc.strerror(int(number)) != unknown
