@@ -331,14 +331,43 @@ topo_result topo_cached_follow(hpfc_walker *w, uint32_t ref, uint32_t k, uint32_
 /* The operators on one dart. */
 typedef enum topo_op { TOPO_TWIN, TOPO_NEXT, TOPO_PREV, TOPO_ORIGIN, TOPO_TARGET } topo_op;
 
-/* Operator op on dart d: a dart into *dart (twin, next, prev) or a vertex
- * into *vertex (origin, target); the other may be NULL. The dart
- * operators' answers and statuses, cache or not. */
-int topo_dart_op(hpfc_walker *w, const hpfc_dart *d, topo_op op, hpfc_dart *dart,
-                 hpfc_vertex *vertex);
+/* Dart d, or with from_succ the dart out_succ(k) of its origin (prev(d) is
+ * that dart's twin), followed to its target: through the cache when it can
+ * hold what the walk needs, else (or when it was emptied twice under the
+ * walk) without it. *end gets the target's pixel, written only on
+ * success. */
+int topo_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
+                topo_arrival *a);
+/* origin(d): the vertex of d's crossing, in d's own word. */
+int topo_dart_origin(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out);
 /* The parsed word of a caller's pixel (from the cache, or built alone):
  * its decoding status, else its grammar's. */
 int topo_parsed_word(hpfc_walker *w, const hpfc_pixel *px, cached_word **e);
+
+/* Operator op on dart d: a dart into *dart (twin, next, prev) or a vertex
+ * into *vertex (origin, target); the other may be NULL. The dart
+ * operators' answers and statuses, cache or not. Inline: with op a
+ * constant, each public operator is its one call. */
+static inline int topo_dart_op(hpfc_walker *w, const hpfc_dart *d, topo_op op, hpfc_dart *dart,
+                               hpfc_vertex *vertex)
+{
+    if (!w || !d)
+        return HPFC_E_ARG;
+    if (op == TOPO_ORIGIN)
+        return topo_dart_origin(w, d, vertex);
+    topo_arrival a;
+    /* prev(out_k) = twin(out_succ[k]) */
+    int st = topo_arrive(w, d, op == TOPO_PREV, op == TOPO_TARGET ? &vertex->pixel : &dart->pixel,
+                         &a);
+    if (st)
+        return st;
+    switch (op) {
+    case TOPO_NEXT: dart->crossing = a.pred; break; /* next(in_m) = out_pred[m] */
+    case TOPO_TARGET: vertex->local = a.vertex; break;
+    default: dart->crossing = a.m; /* twin(d) = out_m where d arrives */
+    }
+    return HPFC_OK;
+}
 
 static inline int topo_copy_pixel(hpfc_pixel *dst, const hpfc_pixel *src)
 {

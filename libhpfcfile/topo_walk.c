@@ -105,7 +105,8 @@ static int plain_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc
  * empties it starts again once, in the emptied cache; then, or for a word
  * the cache cannot hold, without it. The answers are the same (topo.h,
  * "Three answer sources"). */
-static int arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end, topo_arrival *a)
+int topo_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
+                topo_arrival *a)
 {
     for (int tries = 0; tries < 2; tries++) {
         topo_result r = topo_cached_arrive(w, d, from_succ, end, a);
@@ -123,8 +124,7 @@ int topo_parsed_word(hpfc_walker *w, const hpfc_pixel *px, cached_word **e)
     return st ? st : (*e)->parse_status;
 }
 
-/* origin(d): the vertex of d's crossing, in d's own word. */
-static int origin(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out)
+int topo_dart_origin(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out)
 {
     cached_word *e;
     int st = topo_parsed_word(w, &d->pixel, &e);
@@ -134,24 +134,4 @@ static int origin(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out)
         return HPFC_E_ARG;
     out->local = word_crossings(e)[d->crossing].vertex;
     return topo_copy_pixel(&out->pixel, &d->pixel);
-}
-
-int topo_dart_op(hpfc_walker *w, const hpfc_dart *d, topo_op op, hpfc_dart *dart,
-                 hpfc_vertex *vertex)
-{
-    if (!w || !d)
-        return HPFC_E_ARG;
-    if (op == TOPO_ORIGIN)
-        return origin(w, d, vertex);
-    topo_arrival a;
-    /* prev(out_k) = twin(out_succ[k]) */
-    int st = arrive(w, d, op == TOPO_PREV, op == TOPO_TARGET ? &vertex->pixel : &dart->pixel, &a);
-    if (st)
-        return st;
-    switch (op) {
-    case TOPO_NEXT: dart->crossing = a.pred; break; /* next(in_m) = out_pred[m] */
-    case TOPO_TARGET: vertex->local = a.vertex; break;
-    default: dart->crossing = a.m; /* twin(d) = out_m where d arrives */
-    }
-    return HPFC_OK;
 }

@@ -101,8 +101,9 @@ static uint32_t new_component(word_parts *wp, bool junction)
     return c;
 }
 
-/* A word the grammar rejects: only its road counts are left. */
-static int broken(word_parts *wp, const char *sym, size_t len)
+/* A word the grammar rejects: only its road counts are left. Out of line
+ * (and rare): the parse loop stays as small as the grammar. */
+__attribute__((noinline, cold)) static int broken(word_parts *wp, const char *sym, size_t len)
 {
     word_count_roads(sym, len, wp->road_off);
     wp->n = wp->road_off[4];
@@ -110,48 +111,57 @@ static int broken(word_parts *wp, const char *sym, size_t len)
     return HPFC_E_CORRUPT;
 }
 
-/* One crossing symbol against the stack of open groups; false if the
- * grammar does not allow it there. */
-static bool parse_crossing(word_parts *wp, uint32_t *depth, char c)
+/* Crossings (non-'+' symbols) of a string. */
+static size_t crossing_count(const char *sym, size_t len)
 {
-    uint32_t k = wp->n++, top = *depth ? wp->stack[*depth - 1] : WORD_NONE;
-    switch (c) {
-    case '=': add_crossing(wp, k, new_component(wp, true)); return true;
-    case '(':
-    case '[': {
-        uint32_t comp = new_component(wp, c == '(');
-        wp->stack[(*depth)++] = comp;
-        add_crossing(wp, k, comp);
-        return true;
-    }
-    case 'Y':
-        if (top == WORD_NONE || wp->comp_vertex[top] == WORD_NONE)
-            return false;
-        add_crossing(wp, k, top);
-        return true;
-    case ')':
-    case ']':
-        if (top == WORD_NONE || (wp->comp_vertex[top] == WORD_NONE) != (c == ']'))
-            return false;
-        --*depth;
-        add_crossing(wp, k, top);
-        return true;
-    default: return false;
-    }
+    size_t n = 0;
+    for (size_t s = 0; s < len; s++)
+        n += sym[s] != '+';
+    return n;
 }
 
+/* One pass with a stack of the open groups. The checks that are not the
+ * grammar's own (room in the arrays, nothing after the fourth '+') sit
+ * outside the per-symbol path: a walker parses a word per pixel visited. */
 int word_parse_symbols(word_parts *wp, const char *sym, size_t len)
 {
+    if (len > wp->cap && crossing_count(sym, len) > wp->cap)
+        return broken(wp, sym, len);
     uint32_t depth = 0, plus = 0;
     wp->n = wp->ncomp = wp->nvert = 0;
     wp->road_off[0] = 0;
     for (size_t s = 0; s < len; s++) {
-        if (plus == 4) /* the fourth '+' ends the word */
-            return broken(wp, sym, len);
-        if (sym[s] == '+')
+        char c = sym[s];
+        if (c == '+') {
             wp->road_off[++plus] = wp->n;
-        else if (wp->n == wp->cap || !parse_crossing(wp, &depth, sym[s]))
-            return broken(wp, sym, len);
+            if (plus == 4 && s + 1 < len) /* the fourth '+' ends the word */
+                return broken(wp, sym, len);
+            continue;
+        }
+        uint32_t k = wp->n++, top = depth ? wp->stack[depth - 1] : WORD_NONE;
+        switch (c) {
+        case '=': add_crossing(wp, k, new_component(wp, true)); break;
+        case '(':
+        case '[': {
+            uint32_t comp = new_component(wp, c == '(');
+            wp->stack[depth++] = comp;
+            add_crossing(wp, k, comp);
+            break;
+        }
+        case 'Y':
+            if (top == WORD_NONE || wp->comp_vertex[top] == WORD_NONE)
+                return broken(wp, sym, len);
+            add_crossing(wp, k, top);
+            break;
+        case ')':
+        case ']':
+            if (top == WORD_NONE || (wp->comp_vertex[top] == WORD_NONE) != (c == ']'))
+                return broken(wp, sym, len);
+            depth--;
+            add_crossing(wp, k, top);
+            break;
+        default: return broken(wp, sym, len);
+        }
     }
     if (plus != 4 || depth != 0)
         return broken(wp, sym, len);
