@@ -84,30 +84,13 @@ int roads_box(const hpfc_file *file, const hpfc_pixel *px, lbox *b)
     return hpfc_pixel_bounds(file, px, &b->x0, &b->y0, &b->x1, &b->y1);
 }
 
-void roads_extent(const lbox *b, int road, int64_t *lo, int64_t *hi)
-{
-    int vertical = road == HPFC_WEST || road == HPFC_EAST;
-    *lo = vertical ? b->y0 : b->x0;
-    *hi = vertical ? b->y1 : b->x1;
-}
-
-bool roads_ascends(int road)
-{
-    return road == HPFC_WEST || road == HPFC_NORTH;
-}
-
 int roads_leaf(const hpfc_file *file, const lbox *b, int road, int64_t t, bool across,
               hpfc_pixel *out, lbox *out_box)
 {
     /* Cells are half-open with integer bounds of size >= 1, so the lattice
      * point one unit outside (or just inside) the road names the leaf. */
-    int64_t x = t, y = t;
-    switch (road) {
-    case HPFC_WEST: x = across ? b->x0 - 1 : b->x0; break;
-    case HPFC_EAST: x = across ? b->x1 : b->x1 - 1; break;
-    case HPFC_NORTH: y = across ? b->y1 : b->y1 - 1; break;
-    default: y = across ? b->y0 - 1 : b->y0; break;
-    }
+    int64_t x, y;
+    road_point(b, road, t, !across, &x, &y);
     int st = hpfc_locate(file, x, y, out);
     if (!st && out_box)
         st = roads_box(file, out, out_box);
@@ -125,7 +108,7 @@ static void spread(int64_t lo, int64_t hi, uint32_t c, double *pos)
 static int spread_across(roads *r, const lbox *b, int road, uint32_t c, double *pos)
 {
     int64_t lo, hi;
-    roads_extent(b, road, &lo, &hi);
+    road_extent(b, road, &lo, &hi);
     uint32_t done = 0;
     for (int64_t t = lo; t < hi;) {
         hpfc_pixel q;
@@ -134,10 +117,10 @@ static int spread_across(roads *r, const lbox *b, int road, uint32_t c, double *
         uint32_t cq;
         int st = roads_leaf(r->file, b, road, t, true, &q, &qb);
         if (!st)
-            st = roads_count(r, &q, (road + 2) % 4, &cq);
+            st = roads_count(r, &q, road_opposite(road), &cq);
         if (st)
             return st;
-        roads_extent(&qb, road, &qlo, &qhi);
+        road_extent(&qb, road, &qlo, &qhi);
         if (cq > c - done)
             return HPFC_E_CORRUPT;
         spread(qlo, qhi, cq, pos + done);
@@ -152,7 +135,7 @@ int roads_positions(roads *r, const lbox *b, int road, uint32_t c, double *pos)
     if (c == 0)
         return HPFC_OK;
     int64_t lo, hi, qlo, qhi;
-    roads_extent(b, road, &lo, &hi);
+    road_extent(b, road, &lo, &hi);
     hpfc_pixel q;
     lbox qb;
     int st = roads_leaf(r->file, b, road, lo, true, &q, &qb);
@@ -160,14 +143,14 @@ int roads_positions(roads *r, const lbox *b, int road, uint32_t c, double *pos)
         return st;
     int spans = 1;
     if (!st) {
-        roads_extent(&qb, road, &qlo, &qhi);
+        road_extent(&qb, road, &qlo, &qhi);
         spans = qlo <= lo && qhi >= hi;
     }
     /* A corrupt count across still gets a picture: fall back to an even
      * spread along this leaf's own road. */
     if (spans || spread_across(r, b, road, c, pos) != HPFC_OK)
         spread(lo, hi, c, pos);
-    if (!roads_ascends(road))
+    if (!road_ascends(road))
         for (uint32_t a = 0; a < c / 2; a++) {
             double t = pos[a];
             pos[a] = pos[c - 1 - a];
@@ -191,7 +174,7 @@ static int count_inside(roads *r, const lbox *b, int road, int64_t t, int64_t en
             st = roads_count(r, &p, road, &c);
         if (st)
             return st;
-        roads_extent(&pb, road, &plo, &phi);
+        road_extent(&pb, road, &plo, &phi);
         *sum += c;
         t = phi;
     }
@@ -205,12 +188,12 @@ static int find_across(roads *r, const lbox *b, int road, uint64_t a, hpfc_pixel
                        uint64_t *m_asc)
 {
     int64_t lo, hi, qlo, qhi;
-    roads_extent(b, road, &lo, &hi);
+    road_extent(b, road, &lo, &hi);
     lbox qb;
     int st = roads_leaf(r->file, b, road, lo, true, q, &qb);
     if (st)
         return st == HPFC_E_NO_PIXEL ? HPFC_E_CORRUPT : st; /* a crossing on the domain's rim */
-    roads_extent(&qb, road, &qlo, &qhi);
+    road_extent(&qb, road, &qlo, &qhi);
     if (qlo <= lo && qhi >= hi) {
         /* (a): the facing road also lists the crossings of the leaves on
          * b's side that come before b along it */
@@ -224,14 +207,14 @@ static int find_across(roads *r, const lbox *b, int road, uint64_t a, hpfc_pixel
     for (int64_t t = lo; t < hi;) {
         uint32_t cq;
         if ((st = roads_leaf(r->file, b, road, t, true, q, &qb)) ||
-            (st = roads_count(r, q, (road + 2) % 4, &cq)))
+            (st = roads_count(r, q, road_opposite(road), &cq)))
             return st;
         if (a < cq) {
             *m_asc = a;
             return HPFC_OK;
         }
         a -= cq;
-        roads_extent(&qb, road, &qlo, &qhi);
+        road_extent(&qb, road, &qlo, &qhi);
         t = qhi;
     }
     return HPFC_E_CORRUPT;
@@ -242,7 +225,7 @@ int roads_cross(roads *r, const hpfc_pixel *px, const word_info *wi, uint32_t k,
 {
     if (k >= wi->n)
         return HPFC_E_ARG;
-    int road = word_road_of(wi, k), opp = (road + 2) % 4;
+    int road = word_road_of(wi, k), opp = road_opposite(road);
     uint32_t c = wi->road_off[road + 1] - wi->road_off[road], i = k - wi->road_off[road];
     lbox b;
     uint64_t m_asc;
@@ -250,7 +233,7 @@ int roads_cross(roads *r, const hpfc_pixel *px, const word_info *wi, uint32_t k,
     uint32_t counts[4];
     int st = roads_box(r->file, px, &b);
     if (!st)
-        st = find_across(r, &b, road, roads_ascends(road) ? i : c - 1 - i, q, &m_asc);
+        st = find_across(r, &b, road, road_ascends(road) ? i : c - 1 - i, q, &m_asc);
     if (!st)
         st = roads_word(r, q, &len);
     if (st)
@@ -261,7 +244,7 @@ int roads_cross(roads *r, const hpfc_pixel *px, const word_info *wi, uint32_t k,
     uint32_t off = 0;
     for (int d = 0; d < opp; d++)
         off += counts[d];
-    *m = off + (uint32_t)(roads_ascends(opp) ? m_asc : counts[opp] - 1 - m_asc);
+    *m = off + (uint32_t)(road_ascends(opp) ? m_asc : counts[opp] - 1 - m_asc);
     return HPFC_OK;
 }
 

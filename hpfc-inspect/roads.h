@@ -16,12 +16,12 @@
 #include <stdbool.h>
 
 #include "hpfc.h"
+#include "road.h"
 #include "word.h"
 
-/* A pixel's lattice box [x0, x1) x [y0, y1). */
-typedef struct lbox {
-    int64_t x0, y0, x1, y1;
-} lbox;
+/* A pixel's lattice box [x0, x1) x [y0, y1): the library's (road.h, whose
+ * extents, clockwise runs and lattice points along a road the tool uses). */
+typedef road_box lbox;
 
 /* Scratch for decoding words; one per thread. */
 typedef struct roads {
@@ -43,11 +43,6 @@ int roads_parse(roads *r, const hpfc_pixel *px, word_info *wi);
 int roads_count(roads *r, const hpfc_pixel *px, int road, uint32_t *count);
 
 int roads_box(const hpfc_file *file, const hpfc_pixel *px, lbox *b);
-/* Extent [lo, hi) of the box along the grid line of `road`. */
-void roads_extent(const lbox *b, int road, int64_t *lo, int64_t *hi);
-/* Whether a road's clockwise (word) order runs toward growing coordinates:
- * W runs south to north and N west to east; E and S run back. */
-bool roads_ascends(int road);
 
 /* The leaf touching b's road at position t along the line, on b's side
  * (across = false) or on the other side. HPFC_E_NO_PIXEL beyond the domain. */

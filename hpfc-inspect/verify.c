@@ -43,6 +43,8 @@
 #include "export.h"
 #include "hpfc.h"
 #include "jsonw.h"
+#include "road.h"
+#include "words.h"
 
 #ifdef __GNUC__
 #define PRINTF_LIKE(f, a) __attribute__((format(printf, f, a)))
@@ -481,54 +483,27 @@ static int check_structure(verifier *v)
 
 /* ---- roads: both sides of every road agree ------------------------------------------ */
 
-typedef struct box {
-    int64_t x0, y0, x1, y1;
-} box;
-
 /* Crossings on each road W, N, E, S of a word pixel (§3.6: one list per
  * road, each ended by '+'). */
 static int road_counts(verifier *v, const hpfc_pixel *px, uint64_t count[4])
 {
     size_t len;
+    uint32_t off[5];
     int st = hpfc_pixel_word(v->f, px, v->word, v->word_cap, &len);
     if (st)
         return st == HPFC_E_BUFFER_SMALL ? HPFC_E_CORRUPT : st;
-    int road = 0;
-    memset(count, 0, 4 * sizeof count[0]);
-    for (size_t s = 0; s < len; s++) {
-        if (v->word[s] == '+')
-            road++;
-        else if (road < 4)
-            count[road]++;
-    }
+    word_count_roads(v->word, len, off);
+    for (int road = 0; road < 4; road++)
+        count[road] = off[road + 1] - off[road];
     return HPFC_OK;
-}
-
-/* Extent [lo, hi) of box b along the line of a road. */
-static void road_extent(const box *b, int road, int64_t *lo, int64_t *hi)
-{
-    bool vertical = road == HPFC_WEST || road == HPFC_EAST;
-    *lo = vertical ? b->y0 : b->x0;
-    *hi = vertical ? b->y1 : b->x1;
-}
-
-/* The lattice point at position t along a road of b, just across the road
- * (half-open cells: x1 and y1 belong to the neighbour). */
-static void across(const box *b, int road, int64_t t, int64_t *x, int64_t *y)
-{
-    switch (road) {
-    case HPFC_WEST: *x = b->x0 - 1, *y = t; break;
-    case HPFC_EAST: *x = b->x1, *y = t; break;
-    case HPFC_NORTH: *x = t, *y = b->y1; break;
-    default: *x = t, *y = b->y0 - 1; break;
-    }
 }
 
 /* Road `road` of leaf P (box b, counts c) against the leaves across it.
  * Leaves nest, so either one leaf across spans P's whole side (and, when it
  * is larger, its own check covers this road) or P's side is the union of
  * sides of leaves across: then P's crossings are theirs (§3.5). */
-static int check_road(verifier *v, const hpfc_pixel *p, const box *b, const uint64_t c[4], int road)
+static int check_road(verifier *v, const hpfc_pixel *p, const road_box *b, const uint64_t c[4],
+                      int road)
 {
     char name[128];
     int64_t lo, hi;
@@ -537,8 +512,8 @@ static int check_road(verifier *v, const hpfc_pixel *p, const box *b, const uint
     for (int64_t t = lo; t < hi;) {
         int64_t x, y, qlo, qhi;
         hpfc_pixel q;
-        box qb;
-        across(b, road, t, &x, &y);
+        road_box qb;
+        road_point(b, road, t, false, &x, &y);
         int st = hpfc_locate(v->f, x, y, &q);
         if (st == HPFC_E_NO_PIXEL && t == lo) { /* the domain's border (G1 keeps edges off it) */
             if (c[road])
@@ -564,7 +539,7 @@ static int check_road(verifier *v, const hpfc_pixel *p, const box *b, const uint
                     pixel_name(p, name, sizeof name), road_names[road]);
             return HPFC_E_CORRUPT;
         }
-        sum += qc[(road + 2) % 4];
+        sum += qc[road_opposite(road)];
         t = qhi; /* > t: q holds the point at t */
     }
     if (sum != c[road])
@@ -580,7 +555,7 @@ static void check_roads(verifier *v)
     hpfc_pixel px;
     int st = hpfc_leaf_first(v->f, &px);
     while (!st) {
-        box b;
+        road_box b;
         uint64_t c[4];
         st = hpfc_pixel_bounds(v->f, &px, &b.x0, &b.y0, &b.x1, &b.y1);
         if (!st)

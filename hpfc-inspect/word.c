@@ -3,94 +3,30 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "format.h"
+
 void word_info_free(word_info *wi)
 {
     free(wi->sym);
-    free(wi->comp);
-    free(wi->comp_first);
-    free(wi->comp_last);
-    free(wi->comp_size);
-    free(wi->comp_vertex);
-    free(wi->stack);
+    word_parts_free(&wi->parts);
     memset(wi, 0, sizeof *wi);
 }
 
-static int grow(void **p, size_t count, size_t size)
-{
-    void *q = realloc(*p, count * size);
-    if (!q)
-        return -1;
-    *p = q;
-    return 0;
-}
-
-/* Components never outnumber crossings, so one capacity serves all arrays. */
+/* Arrays for n crossings (the library's parse rejects more than they hold). */
 static int reserve(word_info *wi, size_t n)
 {
-    if (n <= wi->cap)
+    if (wi->sym && n <= wi->parts.cap)
         return 0;
-    size_t cap = wi->cap ? wi->cap : 16;
+    size_t cap = wi->parts.cap ? wi->parts.cap : 16;
     while (cap < n)
         cap *= 2;
-    if (cap > UINT32_MAX)
+    if (cap >= UINT32_MAX)
         return -1;
-    if (grow((void **)&wi->sym, cap, 1) || grow((void **)&wi->comp, cap, sizeof(uint32_t)) ||
-        grow((void **)&wi->comp_first, cap, sizeof(uint32_t)) ||
-        grow((void **)&wi->comp_last, cap, sizeof(uint32_t)) ||
-        grow((void **)&wi->comp_size, cap, sizeof(uint32_t)) ||
-        grow((void **)&wi->comp_vertex, cap, sizeof(uint32_t)) ||
-        grow((void **)&wi->stack, cap, sizeof(uint32_t)))
-        return -1;
-    wi->cap = (uint32_t)cap;
-    return 0;
-}
-
-static uint32_t open_component(word_info *wi, uint32_t k, int junction)
-{
-    uint32_t c = wi->ncomp++;
-    wi->comp_first[c] = k;
-    wi->comp_last[c] = k;
-    wi->comp_size[c] = 0;
-    wi->comp_vertex[c] = junction ? wi->nvert++ : WORD_NONE;
-    return c;
-}
-
-static void add_crossing(word_info *wi, uint32_t k, uint32_t c, char symbol)
-{
-    wi->sym[k] = symbol;
-    wi->comp[k] = c;
-    wi->comp_last[c] = k;
-    wi->comp_size[c]++;
-}
-
-/* One crossing symbol against the stack of open groups (§3.8). */
-static int parse_crossing(word_info *wi, uint32_t k, char s, uint32_t *top)
-{
-    uint32_t c;
-    switch (s) {
-    case '=':
-        c = open_component(wi, k, 1);
-        break;
-    case '[':
-    case '(':
-        c = open_component(wi, k, s == '(');
-        wi->stack[(*top)++] = c;
-        break;
-    case 'Y':
-        if (*top == 0 || wi->comp_vertex[wi->stack[*top - 1]] == WORD_NONE)
-            return -1;
-        c = wi->stack[*top - 1];
-        break;
-    case ')':
-    case ']':
-        if (*top == 0 || (wi->comp_vertex[wi->stack[*top - 1]] == WORD_NONE) != (s == ']'))
-            return -1;
-        c = wi->stack[--*top];
-        break;
-    default:
+    word_info_free(wi);
+    if (!(wi->sym = malloc(cap)) || word_parts_alloc(&wi->parts, (uint32_t)cap)) {
+        word_info_free(wi);
         return -1;
     }
-    add_crossing(wi, k, c, s);
     return 0;
 }
 
@@ -98,57 +34,44 @@ int word_parse(word_info *wi, const char *sym, size_t len)
 {
     if (reserve(wi, len ? len : 1))
         return -2;
-    uint32_t k = 0, top = 0, road = 0;
-    wi->n = wi->ncomp = wi->nvert = 0;
-    wi->road_off[0] = 0;
-    for (size_t p = 0; p < len; p++) {
-        if (sym[p] == '+') {
-            if (road == 4)
-                return -1;
-            wi->road_off[++road] = k;
-            continue;
-        }
-        if (road == 4 || parse_crossing(wi, k, sym[p], &top))
-            return -1;
-        k++;
-    }
-    /* the fourth '+' must be the last symbol and close every group */
-    if (road != 4 || top != 0 || len == 0 || sym[len - 1] != '+')
+    const word_parts *p = &wi->parts;
+    int st = word_parse_symbols(&wi->parts, sym, len);
+    wi->n = st ? 0 : p->n;
+    wi->ncomp = st ? 0 : p->ncomp;
+    wi->nvert = st ? 0 : p->nvert;
+    memcpy(wi->road_off, p->road_off, sizeof wi->road_off);
+    wi->comp = p->comp;
+    wi->comp_first = p->comp_first;
+    wi->comp_last = p->comp_last;
+    wi->comp_size = p->comp_size;
+    wi->comp_vertex = p->comp_vertex;
+    if (st)
         return -1;
-    wi->n = k;
+    uint32_t k = 0;
+    for (size_t s = 0; s < len; s++)
+        if (sym[s] != '+')
+            wi->sym[k++] = sym[s];
     return 0;
 }
 
 int word_road_of(const word_info *wi, uint32_t k)
 {
-    int r = 0;
-    while (r < 3 && k >= wi->road_off[r + 1])
-        r++;
-    return r;
+    return word_road_of_crossing(wi->road_off, k);
 }
 
 void word_road_counts(const char *sym, size_t len, uint32_t counts[4])
 {
-    int road = 0;
-    counts[0] = counts[1] = counts[2] = counts[3] = 0;
-    for (size_t p = 0; p < len && road < 4; p++) {
-        if (sym[p] == '+')
-            road++;
-        else
-            counts[road]++;
-    }
+    uint32_t off[5];
+    word_count_roads(sym, len, off);
+    for (int road = 0; road < 4; road++)
+        counts[road] = off[road + 1] - off[road];
 }
 
 const char *word_symbol_code(char symbol)
 {
-    switch (symbol) {
-    case '+': return "0";
-    case '=': return "1000";
-    case '[': return "1001";
-    case ']': return "1010";
-    case '(': return "1011";
-    case 'Y': return "1100";
-    case ')': return "1101";
-    default: return "????";
-    }
+    static const char *const codes[] = {"1000", "1001", "1010", "1011", "1100", "1101"};
+    int code = format_symbol_code(symbol);
+    if (symbol == '+')
+        return "0";
+    return code >= 0 ? codes[code - 0x8] : "????";
 }

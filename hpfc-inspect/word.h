@@ -2,10 +2,9 @@
  * word.h: a word pixel's word taken apart (spec/hpfc-format.md §3.6-§3.8,
  * §10), for hpfc-inspect's views and renderer.
  *
- * The library parses words too, but only behind its traversal operators;
- * the tool needs the parts themselves (which road a crossing lies on, which
- * component it belongs to), so it parses the symbols that hpfc_pixel_word()
- * returns with the one-pass stack of §3.8.
+ * The parse is the library's (libhpfcfile/words.h, compiled into the tool):
+ * this layer only grows its arrays to any word's length, names each
+ * crossing's symbol, and spells the §10 codes as text.
  */
 #ifndef HPFC_INSPECT_WORD_H
 #define HPFC_INSPECT_WORD_H
@@ -13,22 +12,22 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define WORD_NONE UINT32_MAX
+#include "words.h" /* the library's: WORD_NONE, word_parts */
 
-/* The parts of one word. Arrays grow with word_parse and belong to the
- * struct; word_info_free releases them. */
+/* The parts of one word: the library's parse (fields as in word_parts,
+ * pointing into `parts`) and each crossing's symbol. Arrays grow with
+ * word_parse and belong to the struct; word_info_free releases them. */
 typedef struct word_info {
     uint32_t n;              /* crossings */
     uint32_t road_off[5];    /* first crossing of roads W, N, E, S; then n */
     uint32_t ncomp, nvert;   /* components; junctions (vertices) among them */
     char *sym;               /* per crossing: its symbol */
-    uint32_t *comp;          /* per crossing: its component */
-    uint32_t *comp_first;    /* per component: first crossing in word order */
-    uint32_t *comp_last;     /* per component: last crossing in word order */
-    uint32_t *comp_size;     /* per component: crossings (a junction's degree) */
-    uint32_t *comp_vertex;   /* per component: local vertex id, WORD_NONE for a stabbing */
-    uint32_t *stack;
-    uint32_t cap;            /* capacity of the per-crossing arrays */
+    const uint32_t *comp;        /* per crossing: its component */
+    const uint32_t *comp_first;  /* per component: first crossing in word order */
+    const uint32_t *comp_last;   /* per component: last crossing in word order */
+    const uint32_t *comp_size;   /* per component: crossings (a junction's degree) */
+    const uint32_t *comp_vertex; /* per component: local vertex id, WORD_NONE for a stabbing */
+    word_parts parts;
 } word_info;
 
 void word_info_free(word_info *wi);

@@ -24,9 +24,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "geom.h"
+#include "road.h"
 #include "sized.h"
 #include "tree.h"
+#include "words.h"
 
 /* Segment k of an edge (0 = the one leaving u). Its end points are read
  * from the graph (seg_points), not kept: a continental map has millions of
@@ -259,7 +260,7 @@ static int cmp_clockwise(const void *pa, const void *pb)
     if (a->road != b->road)
         return a->road < b->road ? -1 : 1;
     int c = cmp_line_pos(&a->pos, &b->pos);
-    return a->road == ROAD_W || a->road == ROAD_N ? c : -c;
+    return a->road == HPFC_WEST || a->road == HPFC_NORTH ? c : -c;
 }
 
 /* Sorts a pixel's crossings: most pixels have a handful, where insertion
@@ -394,14 +395,7 @@ static int append_word(builder *b, word_scratch *w, tpixel *px)
         for (; k < w->ncr && w->cr[k].road == road; k++) {
             component *c = &w->comp[w->cr[k].comp];
             c->seen++;
-            char sym;
-            if (c->vertex < 0)
-                sym = c->seen == 1 ? '[' : ']';
-            else if (c->size == 1)
-                sym = '=';
-            else
-                sym = c->seen == 1 ? '(' : c->seen == c->size ? ')' : 'Y';
-            *out++ = sym;
+            *out++ = word_crossing_symbol(c->vertex >= 0, c->seen, c->size);
             t->cross_edge[t->ncross] = w->cr[k].edge;
             if (t->cross_seg)
                 t->cross_seg[t->ncross] = w->cr[k].k;

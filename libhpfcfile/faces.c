@@ -195,7 +195,7 @@ static void unite(node_array *parent, uint64_t a, uint64_t b)
 /* Node of the boundary region of a parsed pixel that holds the stretch of
  * road `road` after its first `t` crossings (in the pixel's clockwise
  * order): the out-dart of the crossing just before, cyclically. */
-static uint64_t gap_node(const local_word *lw, uint64_t base, int road, uint64_t t)
+static uint64_t gap_node(const word_parts *lw, uint64_t base, int road, uint64_t t)
 {
     if (lw->n == 0)
         return base;
@@ -235,7 +235,7 @@ static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
 }
 
 /* The unions that stay inside one pixel. */
-static void unite_inside(node_array *parent, const local_word *lw, uint64_t base)
+static void unite_inside(node_array *parent, const word_parts *lw, uint64_t base)
 {
     for (uint32_t k = 0; k < lw->n; k++) /* rule 2 holds by construction */
         unite(parent, in_node(base, k), out_node(base, lw->n, lw->pred[k]));
@@ -247,7 +247,7 @@ static void unite_inside(node_array *parent, const local_word *lw, uint64_t base
  * and makes both unions; its neighbour, whose road is E or S, skips it. */
 static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
 {
-    const local_word *lw = &w->p_word;
+    const word_parts *lw = &w->p_word;
     for (uint32_t k = 0; k < lw->road_off[HPFC_EAST]; k++) {
         hpfc_pixel q;
         uint32_t mk;
@@ -267,13 +267,13 @@ static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uin
  * neighbour spans P's whole side, join P's region there with Q's. */
 static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
 {
-    topo_box pb, qb;
+    road_box pb, qb;
     int st = topo_leaf_box(fc->file, p, &pb);
     for (int road = 0; road < 4 && !st; road++) {
         if (w->p_word.road_off[road + 1] != w->p_word.road_off[road])
             continue; /* crossings link both sides through the sidewalks */
         int64_t lo, hi, qlo, qhi;
-        topo_road_extent(&pb, road, &lo, &hi);
+        road_extent(&pb, road, &lo, &hi);
         hpfc_pixel q;
         st = topo_locate_on_road(fc->file, p, &pb, road, lo, false, &q, &qb);
         if (st == HPFC_E_CORRUPT) { /* the domain's border: nothing across */
@@ -282,12 +282,13 @@ static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p
         }
         if (st)
             break;
-        topo_road_extent(&qb, road, &qlo, &qhi);
+        road_extent(&qb, road, &qlo, &qhi);
         if (qlo > lo || qhi < hi)
             continue; /* smaller leaves across: each handles its own side */
         uint64_t before, qbase;
         uint64_t pnode = gap_node(&w->p_word, base, road, 0);
-        if ((st = topo_crossings_after(w, p, &pb, road, qlo, qhi, topo_road_count, &before)) ||
+        /* the plain counter's flow is always TOPO_DONE: the status is all */
+        if ((st = topo_crossings_after(w, p, &pb, road, qlo, qhi, topo_road_count, &before).status) ||
             (st = node_base(fc, &q, &qbase)) || (st = topo_parse_pixel(w, &w->q_word, &q)))
             break;
         int opposite = (road + 2) % 4;

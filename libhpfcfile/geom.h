@@ -120,49 +120,4 @@ static inline int cmp_line_pos(const line_pos *a, const line_pos *b)
     return cmp128((i128)b->tilt * a->den, (i128)a->tilt * b->den);
 }
 
-enum { ROAD_W = 0, ROAD_N = 1, ROAD_E = 2, ROAD_S = 3 };
-
-/* Does segment pq cross road `road` of cell [x0,x1) x [y0,y1)? On success
- * *pos is its position and *entering whether pq goes into the cell there. */
-static inline bool cross_road(lpoint p, lpoint q, int road, int64_t x0,
-                              int64_t y0, int64_t x1, int64_t y1,
-                              line_pos *pos, bool *entering)
-{
-    switch (road) {
-    case ROAD_W:
-    case ROAD_E: {
-        int64_t X = road == ROAD_W ? x0 : x1;
-        if (!cross_vertical(p, q, X, pos) || !vpos_north_of(pos, y0) ||
-            vpos_north_of(pos, y1))
-            return false;
-        bool eastward = q.x >= X;
-        *entering = (road == ROAD_W) == eastward;
-        return true;
-    }
-    default: {
-        int64_t Y = road == ROAD_S ? y0 : y1;
-        if (!cross_horizontal(p, q, Y, pos) || !hpos_east_of(pos, x0) ||
-            hpos_east_of(pos, x1))
-            return false;
-        bool northward = q.y >= Y;
-        *entering = (road == ROAD_S) == northward;
-        return true;
-    }
-    }
-}
-
-/* Does segment pq meet the (perturbed, open) cell? */
-static inline bool segment_meets_cell(lpoint p, lpoint q, int64_t x0,
-                                      int64_t y0, int64_t x1, int64_t y1)
-{
-    if (point_in_cell(p, x0, y0, x1, y1) || point_in_cell(q, x0, y0, x1, y1))
-        return true;
-    line_pos pos;
-    bool entering;
-    for (int road = 0; road < 4; road++)
-        if (cross_road(p, q, road, x0, y0, x1, y1, &pos, &entering))
-            return true;
-    return false;
-}
-
 #endif

@@ -23,7 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "geom.h"
+#include "road.h"
 #include "geometry.h"
 #include "internal.h"
 #include "file.h"
@@ -223,7 +223,7 @@ static int check_leaf(const hpfc_file *f, const geom_view *g, const hpfc_pixel *
             return st;
         /* W and N list their crossings going north and east, E and S back */
         int order = cmp_line_pos(&prev, &pos);
-        if (has_prev && (road == ROAD_W || road == ROAD_N ? order >= 0 : order <= 0))
+        if (has_prev && (road == HPFC_WEST || road == HPFC_NORTH ? order >= 0 : order <= 0))
             return problem(r, "crossings %zu and %zu of the leaf at (%lld, %lld) are out of "
                               "order along their road",
                            k - 1, k, (long long)cell[0], (long long)cell[1]);

@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "geom.h"
+#include "road.h"
 #include "geometry.h"
 #include "internal.h"
 

@@ -623,9 +623,16 @@ HPFC_API int hpfc_dart_target(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *o
 
 /* Stable identifiers, usable as hash keys: equal for the same vertex/dart
  * whichever way it was reached, distinct otherwise, the same across opens
- * of the same file. */
+ * of the same file. HPFC_KEY_INVALID when the value's pixel path names no
+ * pixel of the file (a NULL argument too); the key of a pixel that is no
+ * word pixel, or of a local id it does not have, is not checked here: the
+ * key operators answer HPFC_E_ARG for it. */
 HPFC_API uint64_t hpfc_vertex_key(const hpfc_file *file, const hpfc_vertex *v);
 HPFC_API uint64_t hpfc_dart_key(const hpfc_file *file, const hpfc_dart *d);
+/* No dart or vertex: the key of a slot at bit 2^44 - 1, which no file
+ * under 2 TiB has; the key operators answer HPFC_E_ARG for it, as for any
+ * key that names nothing. */
+#define HPFC_KEY_INVALID UINT64_MAX
 
 /* Keys as handles. A dart or vertex key (spec/hpfc-format.md §3.10: the
  * word pixel's slot position << 20 | crossing or local vertex id) names its

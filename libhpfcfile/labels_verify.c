@@ -91,7 +91,7 @@ static int check_leaf(verifier *z, const hpfc_pixel *px)
         return problem(z->r, "two leaves have number %llu", (unsigned long long)g);
     if ((st = topo_parse_pixel(z->w, &z->w->p_word, px)))
         return problem(z->r, "leaf %llu: %s", (unsigned long long)g, hpfc_strerror(st));
-    const local_word *lw = &z->w->p_word;
+    const word_parts *lw = &z->w->p_word;
     uint32_t stabbings = 0;
     for (uint32_t c = 0; c < lw->ncomp; c++)
         stabbings += lw->comp_vertex[c] == TOPO_NONE;

@@ -177,7 +177,7 @@ static int load_crossings(leaf_ctx *c, const char *sym, size_t len)
             road++;
             continue;
         }
-        if (k >= c->n || road > ROAD_S)
+        if (k >= c->n || road > HPFC_SOUTH)
             return HPFC_E_CORRUPT;
         s->cr[k].kind = sym[i];
         s->cr[k++].road = road;
@@ -414,9 +414,9 @@ static uint32_t exit_stretch(const leaf_ctx *c)
 {
     const locx_scratch *s = c->s;
     uint32_t k = 0;
-    while (k < c->n && s->cr[k].road < ROAD_E)
+    while (k < c->n && s->cr[k].road < HPFC_EAST)
         k++;
-    for (; k < c->n && s->cr[k].road == ROAD_E; k++) {
+    for (; k < c->n && s->cr[k].road == HPFC_EAST; k++) {
         const line_pos *pos = &s->cr[k].pos;
         int cmp = cmp128(pos->num, (i128)c->p.y * pos->den);
         bool above = cmp > 0 || (cmp == 0 && pos->tilt < 0);

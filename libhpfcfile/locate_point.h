@@ -9,7 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "geom.h"
+#include "road.h"
 #include "hpfc.h"
 #include "labels.h"
 
@@ -29,7 +29,7 @@ typedef struct locx_crossing {
     uint64_t u, v, count; /* its edge's ends and point count */
     lpoint a, b;          /* that segment's ends, relative */
     line_pos pos;         /* where it lies on its road's line */
-    uint32_t road;        /* ROAD_W .. ROAD_S */
+    uint32_t road;        /* HPFC_WEST .. HPFC_SOUTH */
     char kind;            /* its symbol */
     int8_t leaving;       /* 1 when its segment, run u -> v, leaves the leaf */
 } locx_crossing;

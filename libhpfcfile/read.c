@@ -17,6 +17,7 @@
 
 #include "file.h"
 #include "reader.h"
+#include "words.h"
 
 /* ---- pixels ---------------------------------------------------------------------------- */
 
@@ -352,47 +353,6 @@ int hpfc_pixel_bounds(const hpfc_file *f, const hpfc_pixel *px, int64_t *x0, int
 
 /* ---- words ------------------------------------------------------------------------------ */
 
-/* Decodes the word in the k_w-bit slot at `off`, symbol by symbol up to its
- * fourth '+', in windows of up to 56 bits. Stores the first `cap` symbols
- * when buf is non-NULL; *len gets the full length. */
-static int decode_word(const format_bits *pool, uint64_t off, uint32_t word_bits, char *buf, size_t cap,
-                       size_t *len)
-{
-    uint64_t pos = 0, window = 0;
-    unsigned have = 0, plus = 0; /* `have` bits of the slot are left-aligned in window */
-    size_t n = 0;
-    while (plus < 4) {
-        if (have < 4) {
-            uint64_t left = word_bits - pos;
-            have = left < 56 ? (unsigned)left : 56;
-            window = format_peek(pool, off + pos, have);
-            if (have == 0)
-                return HPFC_E_CORRUPT; /* no fourth '+' in the slot */
-        }
-        char c;
-        if (!(window >> 63)) {
-            c = '+';
-            plus++;
-            window <<= 1;
-            have -= 1;
-            pos += 1;
-        } else {
-            unsigned code = (unsigned)(window >> 60);
-            if (have < 4 || code >= FORMAT_CODE_RESERVED_MIN)
-                return HPFC_E_CORRUPT; /* a code cut by the slot's end, or reserved */
-            c = format_code_symbol(code);
-            window <<= 4;
-            have -= 4;
-            pos += 4;
-        }
-        if (buf && n < cap)
-            buf[n] = c;
-        n++;
-    }
-    *len = n;
-    return buf && n > cap ? HPFC_E_BUFFER_SMALL : HPFC_OK;
-}
-
 /* A compact word pixel's word: "++++" for a private one, else its code. */
 static int compact_word(const file_level *lv, const pixel_at *at, char *buf, size_t cap, size_t *len)
 {
@@ -420,7 +380,7 @@ int hpfc_pixel_word(const hpfc_file *f, const hpfc_pixel *px, char *buf, size_t 
     const file_level *lv = &f->lv[px->depth];
     if (f->compact)
         return compact_word(lv, &at, buf, cap, len);
-    return decode_word(&lv->pool, at.slot, lv->word_bits, buf, cap, len);
+    return word_decode_code(&lv->pool, at.slot, lv->word_bits, buf, cap, len);
 }
 
 int hpfc_pixel_is_private(const hpfc_file *f, const hpfc_pixel *px, int *is_private)

@@ -1,14 +1,43 @@
-/* topo.h: traversal internals shared by topo.c, topo_cache.c, topo_keys.c,
- * topo_links.c, faces.c and labels_verify.c. */
+/*
+ * topo.h: traversal internals, shared by the traversal's files and by
+ * faces.c and labels_verify.c. The files are layers; each calls only the
+ * ones below it:
+ *
+ *   topo.c, topo_keys.c   the public operators on darts and on keys
+ *   topo_walk.c           the walker: a dart followed to its target, the
+ *                         cache in front of the plain walk
+ *   topo_links.c          the walk through the cache: links between entries
+ *   topo_cache.c          the cache of parsed words and their key blocks
+ *   topo_cross.c          words decoded and parsed for a walker; crossing
+ *                         identification across roads
+ *   topo_index.c          keys and pixels: the parent index
+ *   reader, words.h, road.h
+ *
+ * Three answer sources, one answer. A dart operator's answer comes from the
+ * plain walk (topo_walk.c, topo_cross.c), from the cached follow
+ * (topo_links.c) or, for a key operator, from its key block (topo_keys.c);
+ * all three give the same answer and the same status for every dart, on
+ * every file, whatever the cache's size and history. By construction: the
+ * cached follow records only what topo_cross_road answers (topo_links.c);
+ * a key block is only ever a copy of its entry (topo_cache.c); and
+ * topo_walk.c's arrive, the one place dart and key operators walk, puts
+ * the cache in front of the plain walk. tests/test_topo.c
+ * (check_three_sources) runs every operator on every dart of generated
+ * graphs without the cache, with caches of several sizes and through keys,
+ * and compares.
+ */
 #ifndef HPFC_TOPO_H
 #define HPFC_TOPO_H
 
 #include <stdbool.h>
+#include <string.h>
 
 #include "hpfc.h"
+#include "road.h"
+#include "words.h"
 
-/* No index: a stabbing's vertex, a link not found, no dart. */
-#define TOPO_NONE UINT32_MAX
+/* No index: a stabbing's vertex, a link not found, no dart (as words.h). */
+#define TOPO_NONE WORD_NONE
 
 /* A dart or vertex key (spec/hpfc-format.md §3.10): the word pixel's slot
  * position, then TOPO_KEY_SHIFT bits of crossing or local vertex id. */
@@ -19,22 +48,6 @@ static inline uint64_t topo_key(uint64_t slot, uint32_t id)
 {
     return slot << TOPO_KEY_SHIFT | (id & TOPO_KEY_LOW);
 }
-
-/* The parsed structure of one word. */
-typedef struct local_word {
-    uint32_t n;              /* crossings */
-    uint32_t road_off[5];    /* first crossing of roads W, N, E, S; then n */
-    uint32_t ncomp, nvert;
-    uint32_t *comp;          /* per crossing */
-    uint32_t *pred, *succ;   /* per crossing, cyclic within its component */
-    uint32_t *comp_vertex;   /* per component: local vertex, TOPO_NONE for a stabbing */
-    uint32_t *comp_first;    /* per component: first crossing (word order) */
-    uint32_t *comp_last;
-    uint32_t *comp_size;
-    uint32_t *vertex_comp;   /* per local vertex */
-    uint32_t *stack;
-    char *sym;
-} local_word;
 
 /* ---- the walker's cache (topo_cache.c) ------------------------------------
  *
@@ -47,10 +60,36 @@ typedef struct local_word {
  * full, everything is dropped at once: links between entries then never
  * point at a dropped entry. */
 
-/* Statuses of the cached operators that never reach a caller: the cache was
- * emptied under the operator, which must start again; or one word is too
- * big for the cache, so the operator must run without it. */
-enum { TOPO_RETRY = -1, TOPO_UNCACHED = -2 };
+/* A status and an instruction are different things: the cached layers
+ * return both, each in its own field, and the layer above acts on the
+ * instruction and passes on only the status. So a public function, which
+ * returns an int status, can never hand a caller an instruction. */
+typedef enum topo_flow {
+    TOPO_DONE = 0,  /* finished: the status is the answer */
+    TOPO_RETRY,     /* the cache was emptied under the operation: start again */
+    TOPO_UNCACHED,  /* a word too big for the cache: go without it */
+} topo_flow;
+
+typedef struct topo_result {
+    int status;      /* HPFC_OK or an HPFC_E_* code; HPFC_OK unless flow is TOPO_DONE */
+    topo_flow flow;
+} topo_result;
+
+static inline topo_result topo_done(int status)
+{
+    return (topo_result){status, TOPO_DONE};
+}
+
+static inline topo_result topo_redo(topo_flow flow)
+{
+    return (topo_result){HPFC_OK, flow};
+}
+
+/* Whether the operation stops here: a failure, or an instruction. */
+static inline bool topo_stops(topo_result r)
+{
+    return r.status != HPFC_OK || r.flow != TOPO_DONE;
+}
 
 /* One level of a pixel's path, laid out as hpfc_pixel's path entries. */
 typedef struct path_step {
@@ -58,18 +97,24 @@ typedef struct path_step {
     uint32_t i, j;
 } path_step;
 
-/* One crossing of a cached word. */
+/* What a crossing's link holds (its tag). */
+enum { LINK_UNKNOWN = 0, LINK_FOUND, LINK_FAILED };
+
+/* One crossing of a cached word (32 bytes). */
 typedef struct cached_crossing {
-    /* the crossing seen from across its road: entry `link` (a cache
-     * reference) and its crossing `link_m`; link == 0: not identified yet;
-     * link_m == TOPO_NONE: identification failed with status `link` */
-    uint32_t link, link_m;
+    /* the crossing seen from across its road, once identified: link_state
+     * says which member of `link` holds */
+    uint32_t link_state;
+    union {
+        uint32_t ref;   /* LINK_FOUND: the entry across (a cache reference) */
+        int32_t status; /* LINK_FAILED: why identification failed */
+    } link;
+    uint32_t link_m; /* LINK_FOUND: the crossing across */
     /* for a junction's crossing: where its out-dart's edge arrives (entry,
      * crossing), once a walk has followed it; arrival == 0: not yet */
     uint32_t arrival, arrival_m;
     uint32_t pred, succ;     /* cyclic within its component */
     uint32_t vertex;         /* local vertex of its component, TOPO_NONE for a stabbing */
-    uint32_t unused;         /* keeps crossings 8-byte sized (32 bytes) */
 } cached_crossing;
 
 typedef struct cached_vertex {
@@ -85,7 +130,7 @@ typedef struct cached_word {
     uint32_t depth;
     uint32_t n, nvert;
     int32_t parse_status;
-    uint32_t road_off[5];    /* as in local_word */
+    uint32_t road_off[5];    /* as in word_parts */
     /* its key block (a reference as cache_block's), once the path was
      * found to be the slot's own (topo_keys.c); 0: not keyed */
     uint32_t block;
@@ -165,7 +210,7 @@ typedef struct word_cache {
     size_t blocks_low;
 } word_cache;
 
-/* The walker's parent index (topo_keys.c): per level l >= 1, its images in
+/* The walker's parent index (topo_index.c): per level l >= 1, its images in
  * pool order, each with the refined pixel of level l - 1 pointing at it. */
 typedef struct key_image {
     uint64_t start;  /* bit offset in the level's pool */
@@ -195,8 +240,9 @@ struct hpfc_walker {
     uint32_t cap;            /* most crossings of any word in the file */
     uint64_t budget;         /* most stabbings a walk may follow */
     uint64_t leaf_budget;    /* most leaves a walk along one road may meet */
-    local_word p_word, q_word; /* a pixel P's parsed word, and Q's across its road */
-    char *scratch;           /* symbols of other leaves (road counts) */
+    word_parts p_word, q_word; /* a pixel P's parsed word, and Q's across its road */
+    char *symbols;           /* the word last decoded (cap + 4 symbols), parsed or
+                              * counted at once */
     uint64_t visited;        /* words decoded */
     bool p_word_valid;       /* p_word holds the pixel at bit p_word_slot */
     uint64_t p_word_slot;
@@ -224,10 +270,10 @@ void topo_cache_free(hpfc_walker *w);
 /* The entry of word pixel px (full path), decoded into the cache if it is
  * not there: HPFC_OK, a decoding status (as topo_parse_pixel's; the entry
  * of a word with a broken grammar is returned with its parse_status set),
- * TOPO_RETRY or TOPO_UNCACHED. `own`: px comes from the caller, so a bad
+ * or TOPO_RETRY / TOPO_UNCACHED. `own`: px comes from the caller, so a bad
  * path is an argument error (as reader_pixel_slot_bit says), not
  * corruption. */
-int topo_cache_load(hpfc_walker *w, const hpfc_pixel *px, bool own, uint32_t *ref);
+topo_result topo_cache_load(hpfc_walker *w, const hpfc_pixel *px, bool own, uint32_t *ref);
 static inline uint64_t topo_slot_hash(uint64_t slot)
 {
     uint64_t h = slot * 0x9E3779B97F4A7C15ull;
@@ -254,7 +300,7 @@ static inline key_block *topo_cache_find_slot(const word_cache *c, uint64_t slot
 /* Marks entry ref, whose path is its slot's own, as keyed: found by slot,
  * through a new key block (filled with the arrivals the entry holds).
  * HPFC_OK, or TOPO_RETRY / TOPO_UNCACHED as topo_cache_load. */
-int topo_cache_key(hpfc_walker *w, uint32_t ref);
+topo_result topo_cache_key(hpfc_walker *w, uint32_t ref);
 /* Records in entry ref's key block, if it has one, crossing k's arrival
  * (as its cached crossing holds it). */
 void topo_block_arrival(hpfc_walker *w, uint32_t ref, uint32_t k);
@@ -274,42 +320,98 @@ typedef struct topo_arrival {
  * that dart's twin), followed to its target through the cache
  * (topo_links.c): *end gets the target's pixel, written only on success.
  * The same answers as without the cache, or TOPO_RETRY / TOPO_UNCACHED. */
-int topo_cached_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
-                       topo_arrival *a);
+topo_result topo_cached_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ,
+                               hpfc_pixel *end, topo_arrival *a);
 /* The walk of topo_cached_arrive from crossing k (a junction's) of entry
  * ref: the entry and crossing where it arrives. */
-int topo_cached_follow(hpfc_walker *w, uint32_t ref, uint32_t k, uint32_t *end_ref,
-                       uint32_t *end_m);
-/* Frees the parent index (topo_keys.c). */
-void topo_keys_free(hpfc_walker *w);
+topo_result topo_cached_follow(hpfc_walker *w, uint32_t ref, uint32_t k, uint32_t *end_ref,
+                               uint32_t *end_m);
+/* ---- the walker (topo_walk.c) --------------------------------------------- */
 
-/* ---- parsing and crossing identification (topo.c) ------------------------- */
+/* The operators on one dart. */
+typedef enum topo_op { TOPO_TWIN, TOPO_NEXT, TOPO_PREV, TOPO_ORIGIN, TOPO_TARGET } topo_op;
 
-typedef struct topo_box {
-    int64_t x0, y0, x1, y1;
-} topo_box;
+/* Dart d, or with from_succ the dart out_succ(k) of its origin (prev(d) is
+ * that dart's twin), followed to its target: through the cache when it can
+ * hold what the walk needs, else (or when it was emptied twice under the
+ * walk) without it. *end gets the target's pixel, written only on
+ * success. */
+int topo_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
+                topo_arrival *a);
+/* origin(d): the vertex of d's crossing, in d's own word. */
+int topo_dart_origin(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out);
+/* The parsed word of a caller's pixel (from the cache, or built alone):
+ * its decoding status, else its grammar's. */
+int topo_parsed_word(hpfc_walker *w, const hpfc_pixel *px, cached_word **e);
 
-/* Decodes px's word into lw->sym, *len symbols (HPFC_E_CORRUPT if the slot
- * holds no word that fits the walker). */
-int topo_decode_word(hpfc_walker *w, local_word *lw, const hpfc_pixel *px, size_t *len);
-/* Parses decoded symbols into lw (HPFC_E_CORRUPT if the grammar fails). */
-int topo_parse_symbols(local_word *lw, const char *sym, size_t len);
-/* Road offsets and crossing count of decoded symbols, grammar or not. */
-void topo_count_roads(local_word *lw, const char *sym, size_t len);
+/* Operator op on dart d: a dart into *dart (twin, next, prev) or a vertex
+ * into *vertex (origin, target); the other may be NULL. The dart
+ * operators' answers and statuses, cache or not. Inline: with op a
+ * constant, each public operator is its one call. */
+static inline int topo_dart_op(hpfc_walker *w, const hpfc_dart *d, topo_op op, hpfc_dart *dart,
+                               hpfc_vertex *vertex)
+{
+    if (!w || !d)
+        return HPFC_E_ARG;
+    if (op == TOPO_ORIGIN)
+        return topo_dart_origin(w, d, vertex);
+    topo_arrival a;
+    /* prev(out_k) = twin(out_succ[k]) */
+    int st = topo_arrive(w, d, op == TOPO_PREV, op == TOPO_TARGET ? &vertex->pixel : &dart->pixel,
+                         &a);
+    if (st)
+        return st;
+    switch (op) {
+    case TOPO_NEXT: dart->crossing = a.pred; break; /* next(in_m) = out_pred[m] */
+    case TOPO_TARGET: vertex->local = a.vertex; break;
+    default: dart->crossing = a.m; /* twin(d) = out_m where d arrives */
+    }
+    return HPFC_OK;
+}
+
+static inline int topo_copy_pixel(hpfc_pixel *dst, const hpfc_pixel *src)
+{
+    if (src->depth >= HPFC_MAX_LEVELS)
+        return HPFC_E_ARG;
+    dst->depth = src->depth;
+    memcpy(dst->path, src->path, (src->depth + 1) * sizeof src->path[0]);
+    return HPFC_OK;
+}
+
+/* ---- keys and pixels (topo_index.c) ---------------------------------------- */
+
+/* Frees the parent index. */
+void topo_index_free(hpfc_walker *w);
+/* The parent index, built on first use: HPFC_OK, or the file's status
+ * (HPFC_E_NOMEM: not built, the next call tries again). */
+int topo_index_ready(hpfc_walker *w);
+/* The path and dense id of the word pixel of a key's slot (HPFC_E_ARG when
+ * no word slot starts there). */
+int topo_key_pixel(hpfc_walker *w, uint64_t key, hpfc_pixel *px, uint64_t *id);
+/* The dense id of the word pixel at depth `depth` whose path ends in
+ * `last`, with slot `slot`. */
+int topo_pixel_id(hpfc_walker *w, uint32_t depth, const path_step *last, uint64_t slot,
+                  uint64_t *id);
+
+/* ---- parsing and crossing identification (topo_cross.c) ------------------- */
+
+/* Decodes px's word into w->symbols, *len symbols (HPFC_E_CORRUPT if the
+ * slot holds no word that fits the walker). */
+int topo_decode_word(hpfc_walker *w, const hpfc_pixel *px, size_t *len);
+/* Parses the word just decoded into lw (word_parse_symbols' status; on
+ * HPFC_E_CORRUPT lw holds its road counts). */
+int topo_parse_decoded(hpfc_walker *w, word_parts *lw, size_t len);
 /* Decodes and parses px's word into lw (HPFC_E_CORRUPT if malformed). */
-int topo_parse_pixel(hpfc_walker *w, local_word *lw, const hpfc_pixel *px);
-/* Crossings on road `road` of a word pixel. */
-int topo_road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count);
-int topo_leaf_box(const hpfc_file *f, const hpfc_pixel *px, topo_box *b);
-/* Extent [lo, hi) of topo_box b along the line of `road`. */
-void topo_road_extent(const topo_box *b, int road, int64_t *lo, int64_t *hi);
-/* Whether the road's clockwise order runs toward increasing coordinates. */
-bool topo_road_ascends(int road);
+int topo_parse_pixel(hpfc_walker *w, word_parts *lw, const hpfc_pixel *px);
+/* Crossings on road `road` of a word pixel, decoded (a topo_road_counter;
+ * its flow is always TOPO_DONE). */
+topo_result topo_road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count);
+int topo_leaf_box(const hpfc_file *f, const hpfc_pixel *px, road_box *b);
 /* The leaf at position t along b's road, on b's side (inside) or across;
  * located from `near`, a pixel next to it (reader_locate_near; NULL: from
  * the root). out may be near. */
-int topo_locate_on_road(const hpfc_file *f, const hpfc_pixel *near, const topo_box *b, int road,
-                        int64_t t, bool inside, hpfc_pixel *out, topo_box *out_box);
+int topo_locate_on_road(const hpfc_file *f, const hpfc_pixel *near, const road_box *b, int road,
+                        int64_t t, bool inside, hpfc_pixel *out, road_box *out_box);
 /* Crossing k of P (parsed in lw) seen from across its road: pixel Q (parsed
  * into qlw, which must differ from lw) and the crossing's index *m in Q.
  * p_located: P's path is a descent the reader made (leaf iteration, point
@@ -317,16 +419,18 @@ int topo_locate_on_road(const hpfc_file *f, const hpfc_pixel *near, const topo_b
  * (reader_locate_near); otherwise (a caller's pixel, whose path above its
  * own level is not checked) from the root, as for a path that names the
  * pixel by mistake the answers must not depend on how it was found. */
-int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const local_word *lw,
-                    uint32_t k, hpfc_pixel *q, local_word *qlw, uint32_t *m);
+int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const word_parts *lw,
+                    uint32_t k, hpfc_pixel *q, word_parts *qlw, uint32_t *m);
 /* How many crossings a word pixel has on a road: topo_road_count, or the
  * walker cache's answer (topo_links.c). */
-typedef int (*topo_road_counter)(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count);
+typedef topo_result (*topo_road_counter)(hpfc_walker *w, const hpfc_pixel *px, int road,
+                                         uint32_t *count);
 /* Sum of road-`road` crossings of the leaves on b's side that follow b, in
  * b's clockwise order, up to the end of the extent [qlo, qhi), each leaf's
  * count taken from `count`; the first located from `near`, each next from
  * the one before. */
-int topo_crossings_after(hpfc_walker *w, const hpfc_pixel *near, const topo_box *b, int road,
-                         int64_t qlo, int64_t qhi, topo_road_counter count, uint64_t *sum);
+topo_result topo_crossings_after(hpfc_walker *w, const hpfc_pixel *near, const road_box *b,
+                                 int road, int64_t qlo, int64_t qhi, topo_road_counter count,
+                                 uint64_t *sum);
 
 #endif

@@ -229,18 +229,18 @@ static key_answer entry_answer(const word_cache *c, cached_word *e, uint32_t k)
     return a;
 }
 
-int topo_cache_key(hpfc_walker *w, uint32_t ref)
+topo_result topo_cache_key(hpfc_walker *w, uint32_t ref)
 {
     word_cache *c = &w->cache;
     cached_word *e = cache_entry(c, ref);
     if (e->block)
-        return HPFC_OK;
+        return topo_done(HPFC_OK);
     size_t bytes = block_bytes(e->n);
     if (bytes > c->arena_bytes)
-        return TOPO_UNCACHED;
+        return topo_redo(TOPO_UNCACHED);
     if (bytes > c->blocks_low - c->used) {
         cache_flush(c);
-        return TOPO_RETRY;
+        return topo_redo(TOPO_RETRY);
     }
     c->blocks_low -= bytes;
     e->block = (uint32_t)(c->blocks_low / 8 + 1);
@@ -250,7 +250,7 @@ int topo_cache_key(hpfc_walker *w, uint32_t ref)
     for (uint32_t k = 0; k < e->n; k++)
         a[k] = entry_answer(c, e, k);
     index_put(c->slots, c->mask, topo_slot_hash(e->slot), e->block);
-    return HPFC_OK;
+    return topo_done(HPFC_OK);
 }
 
 void topo_block_arrival(hpfc_walker *w, uint32_t ref, uint32_t k)
@@ -262,18 +262,18 @@ void topo_block_arrival(hpfc_walker *w, uint32_t ref, uint32_t k)
 
 /* Room for an entry of `bytes`; when the arena or the index is full, empties
  * the cache and says so (the caller's references are gone). */
-static int cache_reserve(word_cache *c, size_t bytes, uint32_t *ref)
+static topo_result cache_reserve(word_cache *c, size_t bytes, uint32_t *ref)
 {
     if (bytes > c->arena_bytes)
-        return TOPO_UNCACHED;
+        return topo_redo(TOPO_UNCACHED);
     if (bytes > c->blocks_low - c->used || c->entries >= c->max_entries) {
         cache_flush(c);
-        return TOPO_RETRY;
+        return topo_redo(TOPO_RETRY);
     }
     *ref = (uint32_t)(c->used / 8 + 1);
     c->used += bytes;
     c->entries++;
-    return HPFC_OK;
+    return topo_done(HPFC_OK);
 }
 
 /* ---- building entries ----------------------------------------------------- */
@@ -288,18 +288,16 @@ static int decode_and_parse(hpfc_walker *w, const hpfc_pixel *px, bool own, int 
     size_t len;
     int st = own ? reader_pixel_slot_bit(w->file, px, slot) : HPFC_OK;
     if (!st)
-        st = topo_decode_word(w, &w->p_word, px, &len);
+        st = topo_decode_word(w, px, &len);
     if (!st && !own) /* the word decoded: its slot is there */
         st = reader_pixel_slot_bit(w->file, px, slot);
     if (st)
         return st;
-    *parse_status = topo_parse_symbols(&w->p_word, w->p_word.sym, len);
-    if (*parse_status)
-        topo_count_roads(&w->p_word, w->p_word.sym, len);
+    *parse_status = topo_parse_decoded(w, &w->p_word, len);
     return HPFC_OK;
 }
 
-static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *lw, int parse_status,
+static void fill_entry(cached_word *e, const hpfc_pixel *px, const word_parts *lw, int parse_status,
                        uint64_t slot)
 {
     bool ok = parse_status == HPFC_OK;
@@ -314,11 +312,11 @@ static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *l
     memcpy(word_path(e), px->path, ((size_t)px->depth + 1) * sizeof(path_step));
     cached_crossing *x = word_crossings(e);
     for (uint32_t k = 0; k < e->n; k++)
-        x[k] = (cached_crossing){.link = 0,
+        x[k] = (cached_crossing){.link_state = LINK_UNKNOWN,
+                                 .link = {.ref = 0},
                                  .link_m = TOPO_NONE,
                                  .arrival = 0,
                                  .arrival_m = TOPO_NONE,
-                                 .unused = 0,
                                  .pred = ok ? lw->pred[k] : k,
                                  .succ = ok ? lw->succ[k] : k,
                                  .vertex = ok ? lw->comp_vertex[lw->comp[k]] : TOPO_NONE};
@@ -329,26 +327,27 @@ static void fill_entry(cached_word *e, const hpfc_pixel *px, const local_word *l
     }
 }
 
-int topo_cache_load(hpfc_walker *w, const hpfc_pixel *px, bool own, uint32_t *ref)
+topo_result topo_cache_load(hpfc_walker *w, const hpfc_pixel *px, bool own, uint32_t *ref)
 {
     word_cache *c = &w->cache;
     if (px->depth >= w->levels)
-        return own ? HPFC_E_ARG : HPFC_E_CORRUPT;
+        return topo_done(own ? HPFC_E_ARG : HPFC_E_CORRUPT);
     if (!c->arena)
-        return TOPO_UNCACHED;
+        return topo_redo(TOPO_UNCACHED);
     uint64_t h = path_hash(px);
     if ((*ref = cache_find(c, px, h)))
-        return HPFC_OK;
+        return topo_done(HPFC_OK);
     uint64_t slot;
     int parse_status, st = decode_and_parse(w, px, own, &parse_status, &slot);
     if (st)
-        return st;
+        return topo_done(st);
     size_t bytes = entry_bytes(px->depth, w->p_word.n, parse_status ? 0 : w->p_word.nvert);
-    if ((st = cache_reserve(c, bytes, ref)))
-        return st;
+    topo_result r = cache_reserve(c, bytes, ref);
+    if (topo_stops(r))
+        return r;
     fill_entry(cache_entry(c, *ref), px, &w->p_word, parse_status, slot);
     index_put(c->index, c->mask, h, *ref);
-    return HPFC_OK;
+    return topo_done(HPFC_OK);
 }
 
 /* The uncached entry: a one-word cache for when the cache is off or too small. */
@@ -372,12 +371,14 @@ static int uncached_view(hpfc_walker *w, const hpfc_pixel *px, cached_word **out
 int topo_word_view(hpfc_walker *w, const hpfc_pixel *px, cached_word **out)
 {
     uint32_t ref;
-    int st = topo_cache_load(w, px, true, &ref);
-    if (st == TOPO_RETRY) /* emptied: an entry that fits the arena fits now */
-        st = topo_cache_load(w, px, true, &ref);
-    if (st == HPFC_OK)
+    topo_result r = topo_cache_load(w, px, true, &ref);
+    if (r.flow == TOPO_RETRY) /* emptied: an entry that fits the arena fits now */
+        r = topo_cache_load(w, px, true, &ref);
+    if (r.flow != TOPO_DONE)
+        return uncached_view(w, px, out);
+    if (r.status == HPFC_OK)
         *out = cache_entry(&w->cache, ref);
-    return st < 0 ? uncached_view(w, px, out) : st;
+    return r.status;
 }
 
 void topo_entry_pixel(cached_word *e, hpfc_pixel *px)

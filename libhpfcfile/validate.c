@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "geom.h"
+#include "road.h"
 #include "internal.h"
 
 /* Describes edge e for a message: "edge 3 (line 12)" or "edge 3". */

@@ -21,7 +21,7 @@
 
 #include "check.h"
 #include "gen.h"
-#include "geom.h"
+#include "road.h"
 #include "geometry.h"
 #include "hpfc.h"
 
@@ -132,7 +132,7 @@ static int cmp_ref(const void *a, const void *b)
     const ref_cross *x = a, *y = b;
     int c = cmp_line_pos(&x->pos, &y->pos);
     /* W and N run with the line (north, east), E and S against it */
-    return x->road == ROAD_W || x->road == ROAD_N ? c : -c;
+    return x->road == HPFC_WEST || x->road == HPFC_NORTH ? c : -c;
 }
 
 static size_t reference_crossings(const hpfc_graph *g, int64_t ox, int64_t oy, int64_t x0,

@@ -104,7 +104,7 @@ static void check_ranks(const packed *p)
 
 /* Faces: every stretch, dart and region against hpfc_faces_build. */
 static void check_leaf_faces(const packed *p, const hpfc_faces *fc, const hpfc_pixel *px,
-                             const local_word *lw)
+                             const word_parts *lw)
 {
     size_t count = 0;
     uint64_t regions[512];
@@ -151,7 +151,7 @@ static void check_leaf_faces(const packed *p, const hpfc_faces *fc, const hpfc_p
 static void check_leaf_edges(const packed *p, hpfc_walker *w, const hpfc_pixel *px,
                              uint64_t *darts_of_edge, const hpfc_graph *g)
 {
-    const local_word *lw = &w->p_word;
+    const word_parts *lw = &w->p_word;
     for (uint32_t k = 0; k < lw->n; k++) {
         uint64_t e = UINT64_MAX, e2 = UINT64_MAX;
         CHECK_EQ_INT(hpfc_label_crossing_edge(p->f, px, k, &e), HPFC_OK);

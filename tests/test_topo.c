@@ -1008,7 +1008,21 @@ static void check_keys(const hpfc_file *f, size_t nd)
     hpfc_walker_free(plain);
 }
 
-static void test_cache(void)
+/* The three answer sources agree (libhpfcfile/topo.h, "Three answer
+ * sources"): every operator on every dart gives the same answer and status
+ * without the cache, through caches of every size (also emptied under the
+ * walk, also reached by altered paths and interleaved with another walker)
+ * and through keys, cold and warm (warm: from the key blocks). */
+static void check_three_sources(const hpfc_file *f, size_t nd)
+{
+    check_cache_sizes(f, nd);
+    check_interleaved(f, nd, 2048);
+    check_interleaved(f, nd, HPFC_WALKER_DEFAULT_CACHE);
+    check_altered_paths(f, nd);
+    check_keys(f, nd);
+}
+
+static void test_three_sources(void)
 {
     CHECK_EQ_INT(hpfc_walker_set_cache_size(NULL, 1024), HPFC_E_ARG);
     for (uint64_t seed = 1; seed <= 2; seed++) {
@@ -1020,18 +1034,57 @@ static void test_cache(void)
             uint8_t *buf;
             hpfc_file *f = pack(g, shapes[s][0], shapes[s][1], 0, &buf);
             size_t nd = 2 * hpfc_graph_edge_count(g);
-            if (f) {
-                check_cache_sizes(f, nd);
-                check_interleaved(f, nd, 2048);
-                check_interleaved(f, nd, HPFC_WALKER_DEFAULT_CACHE);
-                check_altered_paths(f, nd);
-                check_keys(f, nd);
-            }
+            if (f)
+                check_three_sources(f, nd);
             hpfc_close(f);
             hpfc_free(buf);
         }
         hpfc_graph_free(g);
     }
+}
+
+/* A dart or vertex whose pixel path names no pixel of the file has no key:
+ * HPFC_KEY_INVALID, never the key of slot 0 (or of any slot); the key
+ * operators refuse that key. */
+static void test_invalid_keys(void)
+{
+    hpfc_graph *g = NULL;
+    CHECK_EQ_INT(gen_delaunay(3, 40, 1 << 16, 0.2, &g), HPFC_OK);
+    uint8_t *buf;
+    hpfc_file *f = pack(g, 4, 2, 0, &buf);
+    CHECK(f != NULL);
+    hpfc_walker *w;
+    CHECK_EQ_INT(hpfc_walker_create(f, &w), HPFC_OK);
+    hpfc_dart darts[1];
+    CHECK_EQ_INT(collect_darts(f, w, darts, 1), 1);
+    hpfc_dart d = darts[0];
+    hpfc_vertex v = {d.pixel, 0};
+    CHECK(hpfc_dart_key(f, &d) != HPFC_KEY_INVALID);
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    hpfc_dart off_grid = d, too_deep = d;
+    off_grid.pixel.path[off_grid.pixel.depth].i = d.pixel.depth ? info.cols : info.root_cols;
+    too_deep.pixel.depth = HPFC_MAX_LEVELS; /* a path longer than any file's */
+    hpfc_vertex off_grid_v = {off_grid.pixel, 0};
+    CHECK(hpfc_dart_key(f, &off_grid) == HPFC_KEY_INVALID);
+    CHECK(hpfc_dart_key(f, &too_deep) == HPFC_KEY_INVALID);
+    CHECK(hpfc_vertex_key(f, &off_grid_v) == HPFC_KEY_INVALID);
+    CHECK(hpfc_vertex_key(f, &v) != HPFC_KEY_INVALID);
+    CHECK(hpfc_dart_key(f, NULL) == HPFC_KEY_INVALID);
+    CHECK(hpfc_dart_key(NULL, &d) == HPFC_KEY_INVALID);
+    CHECK(hpfc_vertex_key(NULL, &v) == HPFC_KEY_INVALID);
+    /* the operators on the same values fail as they always did */
+    hpfc_dart out;
+    CHECK_EQ_INT(hpfc_dart_twin(w, &off_grid, &out), HPFC_E_ARG);
+    uint64_t k;
+    hpfc_dart back;
+    CHECK_EQ_INT(hpfc_key_twin(w, HPFC_KEY_INVALID, &k), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_key_origin(w, HPFC_KEY_INVALID, &k), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_dart_from_key(w, HPFC_KEY_INVALID, &back), HPFC_E_ARG);
+    hpfc_walker_free(w);
+    hpfc_close(f);
+    free(buf);
+    hpfc_graph_free(g);
 }
 
 /* The oracle itself must reject a map that differs from the graph. */
@@ -1065,6 +1118,7 @@ int main(void)
     test_oracle_detects_difference();
     test_generated();
     test_road_with_many_leaves();
-    test_cache();
+    test_three_sources();
+    test_invalid_keys();
     return check_report("topo");
 }

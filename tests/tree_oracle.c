@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "geom.h"
+#include "road.h"
 
 void oracle_for_each_pixel(const hpfc_tree *t, pixel_fn fn, void *ctx)
 {
@@ -162,7 +162,7 @@ static size_t naive_road(const check_ctx *c, int road, const int64_t cell[4], na
             list[n++] = nc;
         }
     qsort(list, n, sizeof *list, cmp_naive);
-    if (road == ROAD_E || road == ROAD_S) /* clockwise runs south / west there */
+    if (road == HPFC_EAST || road == HPFC_SOUTH) /* clockwise runs south / west there */
         for (size_t a = 0, b = n ? n - 1 : 0; a < b; a++, b--) {
             naive_crossing t = list[a];
             list[a] = list[b], list[b] = t;
@@ -370,12 +370,12 @@ static void compare_leaf(const hpfc_tree *t, uint32_t level, size_t image, uint3
     for (int road = 0; road < 4; road++) {
         size_t n = 0;
         /* the fine road pieces along this road, in its clockwise direction */
-        int64_t len = road == ROAD_W || road == ROAD_E ? gy1 - gy0 : gx1 - gx0;
+        int64_t len = road == HPFC_WEST || road == HPFC_EAST ? gy1 - gy0 : gx1 - gx0;
         for (int64_t s = 0; s < len; s++) {
             switch (road) {
-            case ROAD_W: n = flat_road(c, gx0, gy0 + s, road, edges, segs, n, cap); break;
-            case ROAD_N: n = flat_road(c, gx0 + s, gy1 - 1, road, edges, segs, n, cap); break;
-            case ROAD_E: n = flat_road(c, gx1 - 1, gy1 - 1 - s, road, edges, segs, n, cap); break;
+            case HPFC_WEST: n = flat_road(c, gx0, gy0 + s, road, edges, segs, n, cap); break;
+            case HPFC_NORTH: n = flat_road(c, gx0 + s, gy1 - 1, road, edges, segs, n, cap); break;
+            case HPFC_EAST: n = flat_road(c, gx1 - 1, gy1 - 1 - s, road, edges, segs, n, cap); break;
             default: n = flat_road(c, gx1 - 1 - s, gy0, road, edges, segs, n, cap); break;
             }
         }

@@ -1,0 +1,200 @@
+/*
+ * A word's symbols decoded, parsed and counted (words.h): the one
+ * implementation of the grammar of spec/hpfc-format.md §3.8 and of the
+ * fixed word code of §10 on the reading side.
+ */
+#include "words.h"
+
+#include <stdlib.h>
+
+#include "hpfc.h"
+
+int word_decode_code(const format_bits *pool, uint64_t off, uint32_t word_bits, char *buf,
+                     size_t cap, size_t *len)
+{
+    uint64_t pos = 0, window = 0;
+    unsigned have = 0, plus = 0; /* `have` bits of the slot are left-aligned in window */
+    size_t n = 0;
+    while (plus < 4) {
+        if (have < 4) { /* in windows of up to 56 bits */
+            uint64_t left = word_bits - pos;
+            have = left < 56 ? (unsigned)left : 56;
+            window = format_peek(pool, off + pos, have);
+            if (have == 0)
+                return HPFC_E_CORRUPT; /* no fourth '+' in the slot */
+        }
+        char c;
+        if (!(window >> 63)) {
+            c = '+';
+            plus++;
+            window <<= 1;
+            have -= 1;
+            pos += 1;
+        } else {
+            unsigned code = (unsigned)(window >> 60);
+            if (have < 4 || code >= FORMAT_CODE_RESERVED_MIN)
+                return HPFC_E_CORRUPT; /* a code cut by the slot's end, or reserved */
+            c = format_code_symbol(code);
+            window <<= 4;
+            have -= 4;
+            pos += 4;
+        }
+        if (buf && n < cap)
+            buf[n] = c;
+        n++;
+    }
+    *len = n;
+    return buf && n > cap ? HPFC_E_BUFFER_SMALL : HPFC_OK;
+}
+
+void word_parts_free(word_parts *wp)
+{
+    free(wp->comp), free(wp->pred), free(wp->succ), free(wp->comp_vertex);
+    free(wp->comp_first), free(wp->comp_last), free(wp->comp_size);
+    free(wp->vertex_comp), free(wp->stack);
+    *wp = (word_parts){0};
+}
+
+int word_parts_alloc(word_parts *wp, uint32_t cap)
+{
+    size_t n = (size_t)cap + 1;
+    *wp = (word_parts){0};
+    wp->comp = malloc(n * sizeof(uint32_t));
+    wp->pred = malloc(n * sizeof(uint32_t));
+    wp->succ = malloc(n * sizeof(uint32_t));
+    wp->comp_vertex = malloc(n * sizeof(uint32_t));
+    wp->comp_first = malloc(n * sizeof(uint32_t));
+    wp->comp_last = malloc(n * sizeof(uint32_t));
+    wp->comp_size = malloc(n * sizeof(uint32_t));
+    wp->vertex_comp = malloc(n * sizeof(uint32_t));
+    wp->stack = malloc(n * sizeof(uint32_t));
+    if (!wp->comp || !wp->pred || !wp->succ || !wp->comp_vertex || !wp->comp_first ||
+        !wp->comp_last || !wp->comp_size || !wp->vertex_comp || !wp->stack)
+        return HPFC_E_NOMEM;
+    wp->cap = cap;
+    return HPFC_OK;
+}
+
+static void add_crossing(word_parts *wp, uint32_t k, uint32_t c)
+{
+    wp->comp[k] = c;
+    if (wp->comp_last[c] == WORD_NONE) {
+        wp->comp_first[c] = k;
+    } else {
+        wp->succ[wp->comp_last[c]] = k;
+        wp->pred[k] = wp->comp_last[c];
+    }
+    wp->comp_last[c] = k;
+    wp->comp_size[c]++;
+}
+
+static uint32_t new_component(word_parts *wp, bool junction)
+{
+    uint32_t c = wp->ncomp++;
+    wp->comp_last[c] = WORD_NONE;
+    wp->comp_size[c] = 0;
+    wp->comp_vertex[c] = WORD_NONE;
+    if (junction) {
+        wp->vertex_comp[wp->nvert] = c;
+        wp->comp_vertex[c] = wp->nvert++;
+    }
+    return c;
+}
+
+/* A word the grammar rejects: only its road counts are left. Out of line
+ * (and rare): the parse loop stays as small as the grammar. */
+__attribute__((noinline, cold)) static int broken(word_parts *wp, const char *sym, size_t len)
+{
+    word_count_roads(sym, len, wp->road_off);
+    wp->n = wp->road_off[4];
+    wp->ncomp = wp->nvert = 0;
+    return HPFC_E_CORRUPT;
+}
+
+/* Crossings (non-'+' symbols) of a string. */
+static size_t crossing_count(const char *sym, size_t len)
+{
+    size_t n = 0;
+    for (size_t s = 0; s < len; s++)
+        n += sym[s] != '+';
+    return n;
+}
+
+/* One pass with a stack of the open groups. The checks that are not the
+ * grammar's own (room in the arrays, nothing after the fourth '+') sit
+ * outside the per-symbol path: a walker parses a word per pixel visited. */
+int word_parse_symbols(word_parts *wp, const char *sym, size_t len)
+{
+    if (len > wp->cap && crossing_count(sym, len) > wp->cap)
+        return broken(wp, sym, len);
+    uint32_t depth = 0, plus = 0;
+    wp->n = wp->ncomp = wp->nvert = 0;
+    wp->road_off[0] = 0;
+    for (size_t s = 0; s < len; s++) {
+        char c = sym[s];
+        if (c == '+') {
+            wp->road_off[++plus] = wp->n;
+            if (plus == 4 && s + 1 < len) /* the fourth '+' ends the word */
+                return broken(wp, sym, len);
+            continue;
+        }
+        uint32_t k = wp->n++, top = depth ? wp->stack[depth - 1] : WORD_NONE;
+        switch (c) {
+        case '=': add_crossing(wp, k, new_component(wp, true)); break;
+        case '(':
+        case '[': {
+            uint32_t comp = new_component(wp, c == '(');
+            wp->stack[depth++] = comp;
+            add_crossing(wp, k, comp);
+            break;
+        }
+        case 'Y':
+            if (top == WORD_NONE || wp->comp_vertex[top] == WORD_NONE)
+                return broken(wp, sym, len);
+            add_crossing(wp, k, top);
+            break;
+        case ')':
+        case ']':
+            if (top == WORD_NONE || (wp->comp_vertex[top] == WORD_NONE) != (c == ']'))
+                return broken(wp, sym, len);
+            depth--;
+            add_crossing(wp, k, top);
+            break;
+        default: return broken(wp, sym, len);
+        }
+    }
+    if (plus != 4 || depth != 0)
+        return broken(wp, sym, len);
+    for (uint32_t comp = 0; comp < wp->ncomp; comp++) {
+        wp->pred[wp->comp_first[comp]] = wp->comp_last[comp];
+        wp->succ[wp->comp_last[comp]] = wp->comp_first[comp];
+    }
+    return HPFC_OK;
+}
+
+void word_count_roads(const char *sym, size_t len, uint32_t road_off[5])
+{
+    uint32_t plus = 0, n = 0;
+    road_off[0] = 0;
+    for (size_t s = 0; s < len && plus < 4; s++) {
+        if (sym[s] == '+')
+            road_off[++plus] = n;
+        else
+            n++;
+    }
+    while (plus < 4)
+        road_off[++plus] = n;
+}
+
+uint32_t word_road_count(const char *sym, size_t len, int road)
+{
+    uint32_t count = 0;
+    int r = 0;
+    for (size_t s = 0; s < len && r <= road; s++) {
+        if (sym[s] == '+')
+            r++;
+        else if (r == road)
+            count++;
+    }
+    return count;
+}
