@@ -65,6 +65,13 @@ int hpfc_key_degree(hpfc_walker *w, uint64_t vertex_key, uint32_t *degree)
     return st ? st : hpfc_vertex_degree(w, &v, degree);
 }
 
+/* A dart leaving vertex v has v's pixel, so its key is v's slot with the
+ * dart's crossing (spec §3.10): no second slot lookup. */
+static uint64_t dart_key_at(uint64_t vertex_key, const hpfc_dart *d)
+{
+    return (vertex_key & ~(uint64_t)TOPO_KEY_LOW) | d->crossing;
+}
+
 int hpfc_key_vertex_dart(hpfc_walker *w, uint64_t vertex_key, uint32_t index, uint64_t *dart_key)
 {
     if (!w || !dart_key)
@@ -75,7 +82,32 @@ int hpfc_key_vertex_dart(hpfc_walker *w, uint64_t vertex_key, uint32_t index, ui
     if (!st)
         st = hpfc_vertex_dart(w, &v, index, &d);
     if (!st)
-        *dart_key = dart_key_of(w, &d);
+        *dart_key = dart_key_at(vertex_key, &d);
+    return st;
+}
+
+int hpfc_key_vertex_darts(hpfc_walker *w, uint64_t vertex_key, uint64_t *darts, size_t cap,
+                          uint32_t *degree)
+{
+    if (!w || !degree)
+        return HPFC_E_ARG;
+    hpfc_vertex v;
+    uint32_t n;
+    int st = hpfc_vertex_from_key(w, vertex_key, &v);
+    if (!st)
+        st = hpfc_vertex_degree(w, &v, &n);
+    if (st)
+        return st;
+    *degree = n;
+    if (!darts)
+        return HPFC_OK;
+    if (cap < n)
+        return HPFC_E_ARG;
+    for (uint32_t k = 0; k < n && !st; k++) {
+        hpfc_dart d;
+        if (!(st = hpfc_vertex_dart(w, &v, k, &d)))
+            darts[k] = dart_key_at(vertex_key, &d);
+    }
     return st;
 }
 

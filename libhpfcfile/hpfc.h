@@ -562,6 +562,11 @@ HPFC_API int hpfc_pixel_dart_key(hpfc_walker *w, const hpfc_pixel *px, uint32_t 
 HPFC_API int hpfc_key_degree(hpfc_walker *w, uint64_t vertex_key, uint32_t *degree);
 HPFC_API int hpfc_key_vertex_dart(hpfc_walker *w, uint64_t vertex_key, uint32_t index,
                                   uint64_t *dart_key);
+/* All of them at once, for one resolve: the degree into *degree and the
+ * darts' keys, clockwise, into darts[0 .. *degree). darts NULL asks only
+ * the degree; cap too small is HPFC_E_ARG with *degree set. */
+HPFC_API int hpfc_key_vertex_darts(hpfc_walker *w, uint64_t vertex_key, uint64_t *darts,
+                                   size_t cap, uint32_t *degree);
 
 /* The opposite dart v -> u (twin), the next and previous dart along the
  * same face, and the dart's origin and target vertices, as keys. */

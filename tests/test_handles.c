@@ -72,15 +72,22 @@ static void compare_dart_calls(hpfc_walker *w, const hpfc_file *f, const hpfc_fa
 static void compare_vertex(hpfc_walker *w, const hpfc_file *f, const hpfc_vertex *v,
                            uint64_t vk, tally *t)
 {
-    uint32_t da = 0, db = 0;
+    uint32_t da = 0, db = 0, dc = 0;
     int want = hpfc_vertex_degree(w, v, &da), got = hpfc_key_degree(w, vk, &db);
     t->differ += want != got || da != db;
+    uint64_t all[64] = {0};
+    got = hpfc_key_vertex_darts(w, vk, all, 64, &dc);
+    t->differ += want != got || da != dc;
+    if (dc > 0) /* one short: HPFC_E_ARG, the degree still given */
+        t->differ += hpfc_key_vertex_darts(w, vk, all, dc - 1, &db) != HPFC_E_ARG || db != dc;
+    t->differ += hpfc_key_vertex_darts(w, vk, NULL, 0, &db) != want || db != da;
     for (uint32_t e = 0; e <= da; e++) {
         hpfc_dart d;
         uint64_t dk = 0;
         want = hpfc_vertex_dart(w, v, e, &d);
         got = hpfc_key_vertex_dart(w, vk, e, &dk);
         t->differ += want != got || (!got && dk != hpfc_dart_key(f, &d));
+        t->differ += !got && e < 64 && all[e] != dk;
         t->differ += e == da && got != HPFC_E_ARG; /* past the degree */
     }
     t->vertices++;
@@ -162,6 +169,7 @@ static void check_bad_arguments(hpfc_walker *w, const hpfc_file *f, const hpfc_f
         int reversed;
         CHECK_EQ_INT(hpfc_key_degree(w, key, &deg), HPFC_E_ARG);
         CHECK_EQ_INT(hpfc_key_vertex_dart(w, key, 0, &u), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_key_vertex_darts(w, key, &u, 1, &deg), HPFC_E_ARG);
         if (fc)
             CHECK_EQ_INT(hpfc_faces_of_key(fc, w, key, &u), HPFC_E_ARG);
         CHECK_EQ_INT(hpfc_key_label_face(w, key, &u), HPFC_E_ARG);
@@ -182,6 +190,8 @@ static void check_bad_arguments(hpfc_walker *w, const hpfc_file *f, const hpfc_f
     CHECK_EQ_INT(hpfc_key_degree(w, slot_key, NULL), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_key_vertex_dart(NULL, slot_key, 0, &u), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_key_vertex_dart(w, slot_key, 0, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_key_vertex_darts(NULL, slot_key, &u, 1, &deg), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_key_vertex_darts(w, slot_key, &u, 1, NULL), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_faces_of_key(NULL, w, slot_key, &u), HPFC_E_ARG);
     if (fc) {
         CHECK_EQ_INT(hpfc_faces_of_key(fc, NULL, slot_key, &u), HPFC_E_ARG);
