@@ -73,6 +73,11 @@ typedef struct export_ctx {
 /* The darts of a vertex, clockwise, into c->darts (grown as needed). */
 static int vertex_darts(hpfc_walker *w, export_ctx *c, uint64_t vertex, uint32_t *degree)
 {
+    if (!c->darts) { /* never NULL below: that would ask for the degree only */
+        if (!(c->darts = malloc(16 * sizeof *c->darts)))
+            return HPFC_E_NOMEM;
+        c->cap = 16;
+    }
     int st = hpfc_key_vertex_darts(w, vertex, c->darts, c->cap, degree);
     if (st != HPFC_E_ARG || *degree <= c->cap)
         return st;
