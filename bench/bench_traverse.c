@@ -231,23 +231,31 @@ static double half_edge_decodes(bfs *b)
     return (double)(hpfc_walker_pixels_visited(b->w) - visited0) / (double)(b->nd / 2);
 }
 
-/* The darts of every vertex, in leaf order. */
-static size_t collect(const hpfc_file *f, hpfc_walker *w, hpfc_dart *all, size_t nd)
+/* The darts of every vertex, in leaf order, as keys, and in the path form
+ * the path-form walks take (converted by hpfc_dart_from_key); by a walker
+ * of its own, so the timed walkers start as they always did. */
+static size_t collect(const hpfc_file *f, uint64_t *keys, hpfc_dart *all, size_t nd)
 {
+    hpfc_walker *w;
+    if (hpfc_walker_create(f, &w))
+        return 0;
     size_t n = 0;
     hpfc_pixel px;
     for (int st = hpfc_leaf_first(f, &px); !st && n < nd; st = hpfc_leaf_next(f, &px)) {
         uint32_t nv = 0;
         hpfc_pixel_vertex_count(w, &px, &nv);
         for (uint32_t v = 0; v < nv; v++) {
-            hpfc_vertex vx;
+            uint64_t vertex = 0;
             uint32_t deg = 0;
-            hpfc_pixel_vertex(w, &px, v, &vx);
-            hpfc_vertex_degree(w, &vx, &deg);
+            hpfc_pixel_vertex_key(w, &px, v, &vertex);
+            hpfc_key_degree(w, vertex, &deg);
             for (uint32_t k = 0; k < deg && n < nd; k++)
-                hpfc_vertex_dart(w, &vx, k, &all[n++]);
+                if (!hpfc_key_vertex_dart(w, vertex, k, &keys[n]) &&
+                    !hpfc_dart_from_key(w, keys[n], &all[n]))
+                    n++;
         }
     }
+    hpfc_walker_free(w);
     return n;
 }
 
@@ -286,8 +294,9 @@ static file_result walk_file(const hpfc_file *f, size_t nd, bool with_keys)
     b.all = malloc(nd * sizeof *b.all);
     b.queue = malloc((nd + 1) * sizeof *b.queue);
     b.seen = (key_set){malloc(cap * sizeof(uint64_t)), cap - 1};
+    b.keys = malloc((nd + 1) * sizeof *b.keys);
     memset(b.queue, 0, (nd + 1) * sizeof *b.queue);
-    b.n = collect(f, b.w, b.all, nd);
+    b.n = collect(f, b.keys, b.all, nd);
     /* a warm-up walk maps the cache's pages; emptying keeps them */
     run_bfs(&b);
     r.cold = median_bfs(&b, HPFC_WALKER_DEFAULT_CACHE, true);
@@ -296,10 +305,7 @@ static file_result walk_file(const hpfc_file *f, size_t nd, bool with_keys)
     r.half = half_edge_decodes(&b);
     hpfc_walker_free(b.w);
     if (with_keys && !hpfc_walker_create(f, &b.w)) {
-        b.keys = malloc((b.n + 1) * sizeof *b.keys);
         b.kqueue = malloc((nd + 1) * sizeof *b.kqueue);
-        for (size_t k = 0; k < b.n; k++)
-            b.keys[k] = hpfc_dart_key(f, &b.all[k]);
         memset(b.kqueue, 0, (nd + 1) * sizeof *b.kqueue);
         uint64_t out;
         double t0 = now();
@@ -314,7 +320,7 @@ static file_result walk_file(const hpfc_file *f, size_t nd, bool with_keys)
     }
     /* the bitmap walk: another walker, its index built apart as above */
     uint64_t vbound;
-    if (with_keys && b.keys && !hpfc_walker_create(f, &b.w) &&
+    if (with_keys && !hpfc_walker_create(f, &b.w) &&
         !hpfc_key_index_bound(b.w, &b.bound, &vbound)) {
         b.kindex = malloc((b.n + 1) * sizeof *b.kindex);
         b.bits = malloc((size_t)(b.bound + 7) / 8 + 1);

@@ -5,7 +5,9 @@
  * The input is an .hpfc file followed by command bytes (input.h), opened
  * with HPFC_OPEN_SKIP_CHECKSUM so mutated pools reach the word parser and
  * the crossing identification. The harness first collects the vertices and
- * darts of the leaves (in hpfc_leaf_first/next order). Without commands it
+ * darts of the leaves (in hpfc_leaf_first/next order) with the key calls
+ * (hpfc_pixel_vertex_key, hpfc_key_degree, hpfc_key_vertex_dart), each
+ * checked against its path form. Without commands it
  * applies twin, next, prev, origin, target and the keys to every collected
  * dart, and the key calls to its key and to keys next to it, then builds
  * the faces; with commands each byte picks the next
@@ -21,7 +23,8 @@
  * every key operator, which equals the dart operator's answer on
  * hpfc_dart_from_key's dart (status included); the dense indices of every
  * key asked agree across the walkers, lie below the bound and come with the
- * _indexed operators' results. (The identities of a consistent
+ * _indexed operators' results; the key forms of the per-dart faces, LABL
+ * and GEOM calls give the path form's answer on that dart. (The identities of a consistent
  * map, twin an involution and so on, are roundtrip_graph's oracle: a file
  * with matching checksums can still be a crafted inconsistent fixture.)
  */
@@ -39,6 +42,7 @@ typedef struct trav {
     long steps;
     bool complete;    /* every leaf and dart was collected */
     hpfc_dart darts[MAX_DARTS];
+    uint64_t keys[MAX_DARTS]; /* the darts' keys, as the key calls gave them */
     size_t nd;
     hpfc_pixel leaves[MAX_LEAVES];
     size_t nleaves, nvertices;
@@ -85,13 +89,20 @@ static void collect(trav *t)
         st = status(hpfc_pixel_vertex_count(t->w, &px, &count));
         for (uint32_t k = 0; k < count && !st; k++) {
             hpfc_vertex v;
-            uint32_t degree = 0;
+            uint64_t vertex = 0, beyond;
+            uint32_t degree = 0, path_degree = 0;
             if (!spend(t)) {
                 t->complete = false;
                 return;
             }
-            if ((st = status(hpfc_pixel_vertex(t->w, &px, k, &v))) ||
-                (st = status(hpfc_vertex_degree(t->w, &v, &degree))))
+            if ((st = status(hpfc_pixel_vertex_key(t->w, &px, k, &vertex))))
+                break;
+            FUZZ_CHECK(hpfc_pixel_vertex(t->plain, &px, k, &v) == HPFC_OK &&
+                       hpfc_vertex_key(t->f, &v) == vertex);
+            st = status(hpfc_key_degree(t->w, vertex, &degree));
+            FUZZ_CHECK(st == hpfc_vertex_degree(t->plain, &v, &path_degree) &&
+                       (st || degree == path_degree));
+            if (st)
                 break;
             t->nvertices++;
             for (uint32_t e = 0; e < degree && !st; e++) {
@@ -99,12 +110,14 @@ static void collect(trav *t)
                     t->complete = false;
                     return;
                 }
-                st = status(hpfc_vertex_dart(t->w, &v, e, &t->darts[t->nd]));
+                st = status(hpfc_key_vertex_dart(t->w, vertex, e, &t->keys[t->nd]));
+                int path_st = hpfc_vertex_dart(t->plain, &v, e, &t->darts[t->nd]);
+                FUZZ_CHECK(st == path_st &&
+                           (st || hpfc_dart_key(t->f, &t->darts[t->nd]) == t->keys[t->nd]));
                 if (!st)
                     t->nd++;
             }
-            hpfc_dart beyond;
-            FUZZ_CHECK(hpfc_vertex_dart(t->w, &v, degree, &beyond) == HPFC_E_ARG);
+            FUZZ_CHECK(hpfc_key_vertex_dart(t->w, vertex, degree, &beyond) == HPFC_E_ARG);
         }
         if (st)
             t->complete = false;
@@ -204,6 +217,40 @@ static void index_calls(trav *t, uint64_t key, int from)
     t->steps -= 4;
 }
 
+/* The key forms of the per-dart calls of the faces, LABL and GEOM modules
+ * on `key`: the path form's status and answer on d, the dart the key names
+ * (from: hpfc_dart_from_key's status; not OK: that status). */
+static int module_status(int st)
+{
+    FUZZ_CHECK(st == HPFC_E_NO_SECTION || fuzz_known_status(st)); /* a file without the section */
+    return st;
+}
+
+static void module_calls(trav *t, uint64_t key, int from, const hpfc_dart *d)
+{
+    uint64_t a = 0, b = 0;
+    int ra = 0, rb = 0, want;
+    size_t na = 0, nb = 0;
+    if (t->faces) {
+        int got = module_status(hpfc_faces_of_key(t->faces, t->w, key, &a));
+        want = from ? from : hpfc_faces_of_dart(t->faces, d, &b);
+        FUZZ_CHECK(got == want && (got || a == b));
+    }
+    int got = module_status(hpfc_key_label_face(t->w, key, &a));
+    want = from ? from : hpfc_label_dart_face(t->f, d, &b);
+    FUZZ_CHECK(got == want && (got || a == b));
+    got = module_status(hpfc_key_label_edge(t->w, key, &a));
+    want = from ? from : hpfc_label_dart_edge(t->f, d, &b);
+    FUZZ_CHECK(got == want && (got || a == b));
+    got = module_status(hpfc_key_geometry_edge(t->w, key, &a, &ra));
+    want = from ? from : hpfc_geometry_dart_edge(t->f, d, &b, &rb);
+    FUZZ_CHECK(got == want && (got || (a == b && ra == rb)));
+    got = module_status(hpfc_key_geometry_points(t->w, key, NULL, 0, &na));
+    want = from ? from : hpfc_geometry_dart_points(t->f, d, NULL, 0, &nb);
+    FUZZ_CHECK(got == want && (got || na == nb));
+    t->steps -= 5;
+}
+
 /* The key calls on any key: both walkers give the same answers, each the
  * dart operator's on hpfc_dart_from_key's dart as a key (or, when the key
  * names no dart, from_key's status), and from_key gives back the key. */
@@ -237,6 +284,7 @@ static void key_calls(trav *t, uint64_t key)
         FUZZ_CHECK(sa == want_st && (sa || a == want));
     }
     index_calls(t, key, from);
+    module_calls(t, key, from, &d);
     t->steps -= 6;
 }
 
@@ -328,6 +376,10 @@ static void run_commands(trav *t, fuzz_bytes *in)
                 raw.crossing = fuzz_u32(in);
             for (int k = 0; k < 4; k++)
                 FUZZ_CHECK(fuzz_known_status(dart_op(t, k, &raw, &out, &v)));
+            uint64_t key = 0;
+            st = status(hpfc_pixel_dart_key(t->w, &raw.pixel, raw.crossing, &key));
+            FUZZ_CHECK(st == hpfc_dart_origin(t->plain, &raw, &v) &&
+                       (st || key == hpfc_dart_key(t->f, &raw)));
             if (t->faces) {
                 uint64_t face;
                 FUZZ_CHECK(fuzz_known_status(hpfc_faces_of_dart(t->faces, &raw, &face)));
@@ -341,6 +393,9 @@ static void run_commands(trav *t, fuzz_bytes *in)
             if (!status(hpfc_pixel_vertex_count(t->w, px, &count))) {
                 st = hpfc_pixel_vertex(t->w, px, index, &v);
                 FUZZ_CHECK((st == HPFC_OK) == (index < count));
+                uint64_t key = 0;
+                FUZZ_CHECK(hpfc_pixel_vertex_key(t->w, px, index, &key) == st &&
+                           (st || key == hpfc_vertex_key(t->f, &v)));
             }
             break;
         }

@@ -38,8 +38,10 @@ static uint32_t table_get(const key_table *t, uint64_t key)
     return t->values[slot_of(t, key)];
 }
 
-/* Calls fn for every vertex of the file, in export order. */
-typedef int (*vertex_fn)(hpfc_walker *w, const hpfc_file *f, const hpfc_vertex *v, void *ctx);
+/* Calls fn for every vertex of the file, in export order, with the leaf
+ * that holds it (its box is the vertex's in the JSON). */
+typedef int (*vertex_fn)(hpfc_walker *w, const hpfc_file *f, const hpfc_pixel *leaf,
+                         uint64_t vertex, void *ctx);
 
 static int for_each_vertex(const hpfc_file *f, hpfc_walker *w, vertex_fn fn, void *ctx)
 {
@@ -50,10 +52,10 @@ static int for_each_vertex(const hpfc_file *f, hpfc_walker *w, vertex_fn fn, voi
         if ((st = hpfc_pixel_vertex_count(w, &px, &count)))
             return st;
         for (uint32_t k = 0; k < count && !st; k++) {
-            hpfc_vertex v;
-            st = hpfc_pixel_vertex(w, &px, k, &v);
+            uint64_t vertex;
+            st = hpfc_pixel_vertex_key(w, &px, k, &vertex);
             if (!st)
-                st = fn(w, f, &v, ctx);
+                st = fn(w, f, &px, vertex, ctx);
         }
         if (!st)
             st = hpfc_leaf_next(f, &px);
@@ -64,38 +66,59 @@ static int for_each_vertex(const hpfc_file *f, hpfc_walker *w, vertex_fn fn, voi
 typedef struct export_ctx {
     exported_map *map;
     key_table table;
+    uint64_t *darts; /* one vertex's darts */
+    size_t cap;
 } export_ctx;
 
-static int count_vertex(hpfc_walker *w, const hpfc_file *f, const hpfc_vertex *v, void *ctx)
+/* The darts of a vertex, clockwise, into c->darts (grown as needed). */
+static int vertex_darts(hpfc_walker *w, export_ctx *c, uint64_t vertex, uint32_t *degree)
 {
-    (void)f;
+    if (!c->darts) { /* never NULL below: that would ask for the degree only */
+        if (!(c->darts = malloc(16 * sizeof *c->darts)))
+            return HPFC_E_NOMEM;
+        c->cap = 16;
+    }
+    int st = hpfc_key_vertex_darts(w, vertex, c->darts, c->cap, degree);
+    if (st != HPFC_E_BUFFER_SMALL)
+        return st;
+    uint64_t *d = realloc(c->darts, *degree * sizeof *d);
+    if (!d)
+        return HPFC_E_NOMEM;
+    c->darts = d;
+    c->cap = *degree;
+    return hpfc_key_vertex_darts(w, vertex, c->darts, c->cap, degree);
+}
+
+static int count_vertex(hpfc_walker *w, const hpfc_file *f, const hpfc_pixel *leaf,
+                        uint64_t vertex, void *ctx)
+{
+    (void)f, (void)leaf;
     export_ctx *c = ctx;
     uint32_t degree;
-    int st = hpfc_vertex_degree(w, v, &degree);
+    int st = hpfc_key_degree(w, vertex, &degree);
     c->map->nv++;
     c->map->nd += degree;
     return st;
 }
 
 /* First pass: number vertices and darts. */
-static int number_vertex(hpfc_walker *w, const hpfc_file *f, const hpfc_vertex *v, void *ctx)
+static int number_vertex(hpfc_walker *w, const hpfc_file *f, const hpfc_pixel *leaf,
+                         uint64_t vertex, void *ctx)
 {
     export_ctx *c = ctx;
     exported_map *m = c->map;
     size_t vi = m->nv++;
     int64_t *b = m->box + 4 * vi;
-    int st = hpfc_pixel_bounds(f, &v->pixel, &b[0], &b[1], &b[2], &b[3]);
+    int st = hpfc_pixel_bounds(f, leaf, &b[0], &b[1], &b[2], &b[3]);
     uint32_t degree = 0;
     if (!st)
-        st = hpfc_vertex_degree(w, v, &degree);
+        st = vertex_darts(w, c, vertex, &degree);
     for (uint32_t k = 0; k < degree && !st; k++) {
-        hpfc_dart d;
-        if ((st = hpfc_vertex_dart(w, v, k, &d)))
-            break;
-        size_t h = slot_of(&c->table, hpfc_dart_key(f, &d));
+        uint64_t dart = c->darts[k];
+        size_t h = slot_of(&c->table, dart);
         if (c->table.values[h] != UINT32_MAX)
             return HPFC_E_CORRUPT; /* two darts with one key */
-        c->table.keys[h] = hpfc_dart_key(f, &d);
+        c->table.keys[h] = dart;
         c->table.values[h] = (uint32_t)m->nd;
         m->origin[m->nd++] = (uint32_t)vi;
     }
@@ -103,19 +126,20 @@ static int number_vertex(hpfc_walker *w, const hpfc_file *f, const hpfc_vertex *
 }
 
 /* Second pass: twin and next of every dart, by key. */
-static int link_vertex(hpfc_walker *w, const hpfc_file *f, const hpfc_vertex *v, void *ctx)
+static int link_vertex(hpfc_walker *w, const hpfc_file *f, const hpfc_pixel *leaf,
+                       uint64_t vertex, void *ctx)
 {
+    (void)f, (void)leaf;
     export_ctx *c = ctx;
     uint32_t degree;
-    int st = hpfc_vertex_degree(w, v, &degree);
+    int st = vertex_darts(w, c, vertex, &degree);
     for (uint32_t k = 0; k < degree && !st; k++) {
-        hpfc_dart d, t, n;
-        if ((st = hpfc_vertex_dart(w, v, k, &d)) || (st = hpfc_dart_twin(w, &d, &t)) ||
-            (st = hpfc_dart_next(w, &d, &n)))
+        uint64_t d = c->darts[k], t, n;
+        if ((st = hpfc_key_twin(w, d, &t)) || (st = hpfc_key_next(w, d, &n)))
             break;
-        uint32_t di = table_get(&c->table, hpfc_dart_key(f, &d));
-        uint32_t ti = table_get(&c->table, hpfc_dart_key(f, &t));
-        uint32_t ni = table_get(&c->table, hpfc_dart_key(f, &n));
+        uint32_t di = table_get(&c->table, d);
+        uint32_t ti = table_get(&c->table, t);
+        uint32_t ni = table_get(&c->table, n);
         if (di == UINT32_MAX || ti == UINT32_MAX || ni == UINT32_MAX)
             return HPFC_E_CORRUPT;
         c->map->twin[di] = ti;
@@ -151,6 +175,7 @@ int export_map(const hpfc_file *f, exported_map *out)
         st = for_each_vertex(f, w, link_vertex, &c);
     free(c.table.keys);
     free(c.table.values);
+    free(c.darts);
     hpfc_walker_free(w);
     if (st)
         exported_map_free(out);

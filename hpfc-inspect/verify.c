@@ -579,23 +579,21 @@ typedef struct topo {
     exported_map m;
     hpfc_faces *faces;
     uint64_t nfaces;
-    uint64_t *face;     /* per dart: hpfc_faces_of_dart */
-    uint32_t *degree;   /* per vertex: hpfc_vertex_degree */
+    uint64_t *face;     /* per dart: hpfc_faces_of_key */
+    uint32_t *degree;   /* per vertex: hpfc_key_degree */
 } topo;
 
-/* The operators on dart d (index di, leaving vertex vx of index vi) agree
- * with each other and with the export's numbering. */
-static void check_dart(verifier *v, topo *tp, const hpfc_vertex *vx, size_t vi, const hpfc_dart *d,
-                       size_t di)
+/* The operators on dart d (index di, leaving vertex `vertex` of index vi)
+ * agree with each other and with the export's numbering. */
+static void check_dart(verifier *v, topo *tp, uint64_t vertex, size_t vi, uint64_t d, size_t di)
 {
     hpfc_walker *w = v->w;
-    hpfc_vertex o, tg, ot;
-    hpfc_dart n, p, t;
+    uint64_t o, tg, ot, n, p, t;
     int st;
-    if ((st = hpfc_dart_origin(w, d, &o)) || (st = hpfc_dart_next(w, d, &n)) ||
-        (st = hpfc_dart_prev(w, &n, &p)) || (st = hpfc_dart_twin(w, d, &t)) ||
-        (st = hpfc_dart_target(w, d, &tg)) || (st = hpfc_dart_origin(w, &t, &ot)) ||
-        (st = hpfc_faces_of_dart(tp->faces, d, &tp->face[di]))) {
+    if ((st = hpfc_key_origin(w, d, &o)) || (st = hpfc_key_next(w, d, &n)) ||
+        (st = hpfc_key_prev(w, n, &p)) || (st = hpfc_key_twin(w, d, &t)) ||
+        (st = hpfc_key_target(w, d, &tg)) || (st = hpfc_key_origin(w, t, &ot)) ||
+        (st = hpfc_faces_of_key(tp->faces, w, d, &tp->face[di]))) {
         problem(v->r, "dart %zu (vertex %zu): %s", di, vi, hpfc_strerror(st));
         tp->face[di] = UINT64_MAX;
         return;
@@ -603,11 +601,11 @@ static void check_dart(verifier *v, topo *tp, const hpfc_vertex *vx, size_t vi, 
     if (tp->m.origin[di] != vi)
         problem(v->r, "dart %zu: the export numbers it from vertex %u, the walk from %zu", di,
                 tp->m.origin[di], vi);
-    if (hpfc_vertex_key(v->f, &o) != hpfc_vertex_key(v->f, vx))
+    if (o != vertex)
         problem(v->r, "dart %zu: origin(d) is not the vertex %zu it leaves", di, vi);
-    if (hpfc_dart_key(v->f, &p) != hpfc_dart_key(v->f, d))
+    if (p != d)
         problem(v->r, "dart %zu: prev(next(d)) != d", di);
-    if (hpfc_vertex_key(v->f, &tg) != hpfc_vertex_key(v->f, &ot))
+    if (tg != ot)
         problem(v->r, "dart %zu: target(d) != origin(twin(d))", di);
     if (tp->face[di] >= tp->nfaces)
         problem(v->r, "dart %zu: face %" PRIu64 " out of range (%" PRIu64 " faces)", di,
@@ -629,8 +627,15 @@ static int walk_leaf(verifier *v, topo *tp, const hpfc_pixel *px, size_t *vi, si
         problem(v->r, "pixel %s: private pixel in face %" PRIu64 " of %" PRIu64,
                 pixel_name(px, name, sizeof name), face, tp->nfaces);
     for (uint32_t k = 0; k < count && !st; k++, (*vi)++) {
-        hpfc_vertex vx;
-        if ((st = hpfc_pixel_vertex(v->w, px, k, &vx)) || (st = hpfc_vertex_degree(v->w, &vx, &degree)))
+        uint64_t vertex, darts[64]; /* most vertices' darts, got at once */
+        degree = 0;
+        if ((st = hpfc_pixel_vertex_key(v->w, px, k, &vertex)))
+            break;
+        st = hpfc_key_vertex_darts(v->w, vertex, darts, 64, &degree);
+        bool all = !st; /* else one by one, when there are more than 64 */
+        if (st == HPFC_E_ARG && degree > 64)
+            st = HPFC_OK;
+        if (st)
             break;
         if (*vi >= tp->m.nv || degree > tp->m.nd - *di) {
             problem(v->r, "the walk finds more vertices or darts than the export");
@@ -638,9 +643,9 @@ static int walk_leaf(verifier *v, topo *tp, const hpfc_pixel *px, size_t *vi, si
         }
         tp->degree[*vi] = degree;
         for (uint32_t e = 0; e < degree && !st; e++, (*di)++) {
-            hpfc_dart d;
-            if (!(st = hpfc_vertex_dart(v->w, &vx, e, &d)))
-                check_dart(v, tp, &vx, *vi, &d, *di);
+            uint64_t d = all ? darts[e] : 0;
+            if (all || !(st = hpfc_key_vertex_dart(v->w, vertex, e, &d)))
+                check_dart(v, tp, vertex, *vi, d, *di);
         }
     }
     if (st)

@@ -660,12 +660,9 @@ static int read_vertices(const hpfc_file *f, pixel_view *v, char *why)
             st = HPFC_E_NOMEM;
     }
     for (uint32_t k = 0; k < v->nvert && !st; k++) {
-        hpfc_vertex vx;
-        st = hpfc_pixel_vertex(w, &v->px, k, &vx);
+        st = hpfc_pixel_vertex_key(w, &v->px, k, &v->vkey[k]);
         if (!st)
-            st = hpfc_vertex_degree(w, &vx, &v->degree[k]);
-        if (!st)
-            v->vkey[k] = hpfc_vertex_key(f, &vx);
+            st = hpfc_key_degree(w, v->vkey[k], &v->degree[k]);
     }
     hpfc_walker_free(w);
     return st ? fail_status(why, "vertices", st) : VIEW_OK;

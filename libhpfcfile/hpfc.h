@@ -559,14 +559,25 @@ HPFC_API int hpfc_pixel_word(const hpfc_file *file, const hpfc_pixel *px, char *
  * Graph traversal on an open file (spec/hpfc-format.md, "Traversal").
  *
  * The application sees the input graph's vertices and darts; crossings stay
- * hidden. A dart is a directed edge u -> v; its handle is its first piece:
- * the out-dart of crossing `crossing` in the word pixel holding u. Darts
- * turn with the face on their right (rpfc-operators convention): next()
- * follows a face's boundary clockwise around a bounded face.
+ * hidden. A dart is a directed edge u -> v, named by its first piece: the
+ * out-dart of crossing `crossing` in the word pixel holding u. Darts turn
+ * with the face on their right (rpfc-operators convention): next() follows
+ * a face's boundary clockwise around a bounded face.
+ *
+ * Handles. A dart or a vertex is handled by its 64-bit key (spec §3.10:
+ * the word pixel's slot position << 20 | crossing or local vertex id). A
+ * key names its dart or vertex on its own: it is a hash key, stable
+ * across walkers, opens and processes, and any key of the file works on
+ * any walker of it. Every traversal call below takes and gives keys;
+ * hpfc_dart_index / hpfc_vertex_index turn them into small integers for
+ * arrays. The path form (hpfc_dart, hpfc_vertex: the key's pixel with its
+ * whole path from the root, HPFC_MAX_LEVELS steps) is a conversion, at the
+ * end of this section, for callers that need the pixel itself.
  *
  * Traversal needs scratch memory sized by the file's longest word and a
  * cache; both live in an hpfc_walker, one per thread. Operators never
- * allocate.
+ * allocate (but the first key a walker resolves builds its parent index,
+ * below).
  *
  * The cache keeps the words the walker has parsed and the crossings it has
  * identified across roads, so that an operator on a dart near darts already
@@ -595,6 +606,145 @@ HPFC_API int hpfc_walker_set_cache_size(hpfc_walker *walker, size_t bytes);
  * reads; with it, a word read again from the cache does not count. */
 HPFC_API uint64_t hpfc_walker_pixels_visited(const hpfc_walker *walker);
 
+/* What every key call below shares, unless its own block says otherwise.
+ *
+ * Statuses: HPFC_OK; HPFC_E_ARG for a NULL argument or a key that names no
+ * dart (vertex) of the file (a position that is not the start of a word
+ * slot: inside a mask, on a refined pixel's address, past the pools; a
+ * crossing index past the word's crossings or on a stabbing; a local
+ * vertex id past the pixel's vertices); HPFC_E_CORRUPT when the pools
+ * contradict the format, including a layout that names a pixel ambiguously
+ * (two addresses aliasing one image, images out of parent order or not
+ * back to back, §9); HPFC_E_LIMIT past 2^32 images in one level;
+ * HPFC_E_NOMEM. Outputs are written only on success. Safe on untrusted
+ * files and keys: no crash, no read outside the file, no endless loop.
+ *
+ * Answers: each call gives exactly what its path-form counterpart gives
+ * on the key's hpfc_dart_from_key (hpfc_vertex_from_key), converted back
+ * with hpfc_dart_key (hpfc_vertex_key), status included, whatever the
+ * walker's cache holds (tests/test_handles.c checks every call so).
+ *
+ * Cost: a key whose pixel the walker's cache holds costs one hash probe
+ * more than the operator's own work, and no pixel path is built; a twin,
+ * next or prev the cache has answered before is then one hash probe and
+ * one load from a compact copy of the answers (bench/README.md, #4).
+ * Otherwise the key is resolved to its pixel path, O(levels * log(images)),
+ * and the operator runs as on its path form. The first such key builds the
+ * walker's parent index, once, by one pass over the pools: O(pixels) time
+ * and 16 bytes per image of the levels below the root, kept until
+ * hpfc_walker_free. A file whose layout fails that pass gives its status to
+ * every key call of the walker after it (the path-form operators still
+ * work). Calls marked "resolves" below always resolve their key today.
+ *
+ * Thread safety: as every walker call, one walker per thread; keys are
+ * plain numbers any thread may hold. */
+
+/* The vertices of a word pixel (a leaf, from hpfc_leaf_first/next or
+ * hpfc_locate): their number, and the key of the index-th of them
+ * (index < count, else HPFC_E_ARG). A path that names no pixel:
+ * HPFC_E_ARG; a refined pixel (no word in its slot) or a word outside the
+ * grammar: HPFC_E_CORRUPT. O(the word) the first time, then a cache probe. */
+HPFC_API int hpfc_pixel_vertex_count(hpfc_walker *w, const hpfc_pixel *px, uint32_t *count);
+HPFC_API int hpfc_pixel_vertex_key(hpfc_walker *w, const hpfc_pixel *px, uint32_t index,
+                                   uint64_t *vertex_key);
+/* The key of the dart that leaves a leaf at its crossing `crossing` (0-based,
+ * word order): HPFC_E_ARG when that crossing belongs to a stabbing (no
+ * vertex of the leaf: no dart starts there) or is past the word's
+ * crossings. Cost as hpfc_pixel_vertex_key. */
+HPFC_API int hpfc_pixel_dart_key(hpfc_walker *w, const hpfc_pixel *px, uint32_t crossing,
+                                 uint64_t *dart_key);
+
+/* A vertex's degree (a loop counts twice) and the key of its index-th
+ * outgoing dart, clockwise (index < degree, else HPFC_E_ARG). Resolves
+ * the vertex key. */
+HPFC_API int hpfc_key_degree(hpfc_walker *w, uint64_t vertex_key, uint32_t *degree);
+HPFC_API int hpfc_key_vertex_dart(hpfc_walker *w, uint64_t vertex_key, uint32_t index,
+                                  uint64_t *dart_key);
+/* All of them at once, for one resolve: the degree into *degree and the
+ * darts' keys, clockwise, into darts[0 .. *degree). darts NULL asks only
+ * the degree; cap too small is HPFC_E_BUFFER_SMALL with *degree set. */
+HPFC_API int hpfc_key_vertex_darts(hpfc_walker *w, uint64_t vertex_key, uint64_t *darts,
+                                   size_t cap, uint32_t *degree);
+
+/* The opposite dart v -> u (twin), the next and previous dart along the
+ * same face, and the dart's origin and target vertices, as keys. */
+HPFC_API int hpfc_key_twin(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key);
+HPFC_API int hpfc_key_next(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key);
+HPFC_API int hpfc_key_prev(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key);
+HPFC_API int hpfc_key_origin(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key);
+HPFC_API int hpfc_key_target(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key);
+
+/* Per-dart questions of the faces, LABL and GEOM modules, on a dart key:
+ * hpfc_faces_of_dart, hpfc_label_dart_face, hpfc_label_dart_edge,
+ * hpfc_geometry_dart_edge and hpfc_geometry_dart_points (their blocks say
+ * what each answers and its statuses: HPFC_E_NO_SECTION without the
+ * section, and so on). Why a walker: those answers need the key's pixel
+ * with its path from the root (a leaf's number and bounds come from its
+ * descent) and only a walker can find the path of a slot position, by its
+ * parent index; the walker also names the file. Resolves the dart key;
+ * `faces` must come from hpfc_faces_build on the walker's file. */
+struct hpfc_faces; /* hpfc_faces, "Faces" below */
+HPFC_API int hpfc_faces_of_key(const struct hpfc_faces *faces, hpfc_walker *w,
+                               uint64_t dart_key, uint64_t *face);
+HPFC_API int hpfc_key_label_face(hpfc_walker *w, uint64_t dart_key, uint64_t *face);
+HPFC_API int hpfc_key_label_edge(hpfc_walker *w, uint64_t dart_key, uint64_t *edge);
+HPFC_API int hpfc_key_geometry_edge(hpfc_walker *w, uint64_t dart_key, uint64_t *edge,
+                                    int *reversed);
+HPFC_API int hpfc_key_geometry_points(hpfc_walker *w, uint64_t dart_key, int64_t *xy,
+                                      size_t cap, size_t *count);
+
+/* Dense indices. Keys are sparse 64-bit numbers; these are small integers
+ * for arrays of per-dart (per-vertex) data and visited bitmaps.
+ *
+ * Definition (a pure function of the key and the file, so the same on any
+ * walker, cache or not, and across opens): number the file's pixels, word
+ * and refined alike, level by level; the root image's in scanline order
+ * first, then each level's images in pool order (the order of their
+ * addresses, §9), each image's pixels in scanline order:
+ *   pixel(l, image, i, j) = P[l] + image * cols * rows + j * w + i
+ * with P[0] = 0, P[1] = root_cols * root_rows, P[l + 1] = P[l] +
+ * images[l] * cols * rows (hpfc_level_info.images), `image` the rank of the
+ * image's address among its level's, w = root_cols at level 0, else cols.
+ * With K the most crossings a word of the file can hold (a constant of the
+ * file: the largest word_bits of its levels in the compact layout, where a
+ * crossing takes at least one bit, the largest (word_bits - 4) / 4 in the
+ * paper's), a dart's index is pixel * K + crossing and a vertex's
+ * pixel * K + local (a word has no more vertices than crossings). Distinct
+ * darts (vertices) have distinct indices.
+ *
+ * hpfc_key_index_bound: both indices are below total pixels * K: a visited
+ * bitmap takes that many bits (data/delaunay-4000 packed by default, in
+ * the compact layout: 9,616 pixels, K = 56: 538,496 bits, 66 KiB, for
+ * 19,154 darts). HPFC_E_LIMIT when the product does not fit 64 bits (the
+ * key operators still work).
+ * hpfc_dart_index / hpfc_vertex_index: the index of a key. The
+ * *_indexed operators: hpfc_key_twin/next/prev that also give the
+ * result's dart index, read from where the cache found the result.
+ *
+ * Statuses as the key calls' (a key naming no dart, vertex: HPFC_E_ARG;
+ * also a NULL index), and HPFC_E_LIMIT as above. All build the parent
+ * index if needed. Cost: a key whose pixel the cache holds costs one hash
+ * probe and a few loads; an _indexed operator costs its operator's work
+ * (the result's pixel id is kept beside its answer); otherwise as a key
+ * call that resolves its key. */
+HPFC_API int hpfc_key_index_bound(hpfc_walker *w, uint64_t *darts, uint64_t *vertices);
+HPFC_API int hpfc_dart_index(hpfc_walker *w, uint64_t dart_key, uint64_t *index);
+HPFC_API int hpfc_vertex_index(hpfc_walker *w, uint64_t vertex_key, uint64_t *index);
+HPFC_API int hpfc_key_twin_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key,
+                                   uint64_t *out_index);
+HPFC_API int hpfc_key_next_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key,
+                                   uint64_t *out_index);
+HPFC_API int hpfc_key_prev_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key,
+                                   uint64_t *out_index);
+
+/* ---- the path form: a key's pixel, as a conversion ----------------------
+ *
+ * An hpfc_dart (hpfc_vertex) is a key spelled out: its word pixel with the
+ * whole path from the root, and its crossing (local vertex id). Get one
+ * from a key with hpfc_dart_from_key (hpfc_vertex_from_key), and its key
+ * back with hpfc_dart_key (hpfc_vertex_key). The operators on it are the
+ * key calls' counterparts (the key calls are defined by them); a caller
+ * who only traverses never needs them. */
 typedef struct hpfc_vertex {
     hpfc_pixel pixel;   /* the word pixel holding the vertex */
     uint32_t local;     /* rank of its component among the pixel's junctions */
@@ -605,19 +755,25 @@ typedef struct hpfc_dart {
     uint32_t crossing;  /* k: the dart leaves the pixel at its crossing k */
 } hpfc_dart;
 
-/* Number of vertices in a word pixel, and the index-th of them. */
-HPFC_API int hpfc_pixel_vertex_count(hpfc_walker *w, const hpfc_pixel *px, uint32_t *count);
+/* The dart (vertex) a key names, with its pixel's path from the root: the
+ * value whose hpfc_dart_key (hpfc_vertex_key) is `key`. Statuses as the
+ * key calls'; resolves the key. */
+HPFC_API int hpfc_dart_from_key(hpfc_walker *w, uint64_t key, hpfc_dart *out);
+HPFC_API int hpfc_vertex_from_key(hpfc_walker *w, uint64_t key, hpfc_vertex *out);
+
+/* The path-form operators: the index-th vertex of a word pixel; a vertex's
+ * degree and index-th outgoing dart, clockwise; twin, next, prev, origin
+ * and target. Statuses as the key calls' (a path that names no word
+ * pixel, a crossing or local id that names no dart or vertex of it:
+ * HPFC_E_ARG). */
 HPFC_API int hpfc_pixel_vertex(hpfc_walker *w, const hpfc_pixel *px, uint32_t index,
                                hpfc_vertex *out);
-/* Degree (a loop counts twice) and the index-th outgoing dart, clockwise. */
 HPFC_API int hpfc_vertex_degree(hpfc_walker *w, const hpfc_vertex *v, uint32_t *degree);
 HPFC_API int hpfc_vertex_dart(hpfc_walker *w, const hpfc_vertex *v, uint32_t index,
                               hpfc_dart *out);
-/* Opposite dart v -> u; next and previous dart along the same face. */
 HPFC_API int hpfc_dart_twin(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out);
 HPFC_API int hpfc_dart_next(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out);
 HPFC_API int hpfc_dart_prev(hpfc_walker *w, const hpfc_dart *d, hpfc_dart *out);
-/* Origin and target vertices. */
 HPFC_API int hpfc_dart_origin(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out);
 HPFC_API int hpfc_dart_target(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *out);
 
@@ -633,94 +789,6 @@ HPFC_API uint64_t hpfc_dart_key(const hpfc_file *file, const hpfc_dart *d);
  * under 2 TiB has; the key operators answer HPFC_E_ARG for it, as for any
  * key that names nothing. */
 #define HPFC_KEY_INVALID UINT64_MAX
-
-/* Keys as handles. A dart or vertex key (spec/hpfc-format.md §3.10: the
- * word pixel's slot position << 20 | crossing or local vertex id) names its
- * dart or vertex on its own, so a traversal can keep 8-byte keys in its
- * queues and sets instead of hpfc_dart values (a whole pixel path each).
- * Any key of the file works on any walker of it: one stored earlier, or got
- * from another walker or process.
- *
- * hpfc_key_twin/next/prev give the key of twin/next/prev of the dart, and
- * hpfc_key_origin/target the key of its origin/target vertex: exactly
- * hpfc_dart_key(file, op(hpfc_dart_from_key(key))) (or hpfc_vertex_key),
- * status included, whatever the walker's cache holds.
- *
- * Statuses: HPFC_E_ARG for a NULL argument or a key that names no dart
- * (vertex) of the file (a position that is not the start of a word slot:
- * inside a mask, on a refined pixel's address, past the pools; a crossing
- * index past the word's crossings or on a stabbing; a local vertex id past
- * the pixel's vertices); HPFC_E_CORRUPT when the pools contradict the
- * format, including a layout that names a pixel ambiguously (two addresses
- * aliasing one image, images out of parent order or not back to back, §9);
- * HPFC_E_LIMIT past 2^32 images in one level; HPFC_E_NOMEM. Safe on
- * untrusted files and keys: no crash, no read outside the file, no endless
- * loop.
- *
- * Cost: a key whose pixel the walker's cache holds costs one hash probe
- * more than the operator's own work, and no pixel path is built; a twin,
- * next or prev the cache has answered before is then one hash probe and
- * one load from a compact copy of the answers (bench/README.md, #4).
- * Otherwise the key is resolved to its pixel path, O(levels * log(images)),
- * and the operator runs as on a dart. The first such key builds the
- * walker's parent index, once, by one pass over the pools: O(pixels) time
- * and 16 bytes per image of the levels below the root, kept until
- * hpfc_walker_free. A file whose layout fails that pass gives its status to
- * every key call of the walker after it (the dart operators still work).
- *
- * Thread safety: as every walker call, one walker per thread. */
-HPFC_API int hpfc_key_twin(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key);
-HPFC_API int hpfc_key_next(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key);
-HPFC_API int hpfc_key_prev(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key);
-HPFC_API int hpfc_key_origin(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key);
-HPFC_API int hpfc_key_target(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key);
-/* The dart (vertex) a key names, with its pixel's path from the root: the
- * value whose hpfc_dart_key (hpfc_vertex_key) is `key`. Statuses as above;
- * *out is written only on success. */
-HPFC_API int hpfc_dart_from_key(hpfc_walker *w, uint64_t key, hpfc_dart *out);
-HPFC_API int hpfc_vertex_from_key(hpfc_walker *w, uint64_t key, hpfc_vertex *out);
-
-/* Dense indices. Keys are sparse 64-bit numbers; these are small integers
- * for arrays of per-dart (per-vertex) data and visited bitmaps.
- *
- * Definition (a pure function of the key and the file, so the same on any
- * walker, cache or not, and across opens): number the file's pixels, word
- * and refined alike, level by level; the root image's in scanline order
- * first, then each level's images in pool order (the order of their
- * addresses, §9), each image's pixels in scanline order:
- *   pixel(l, image, i, j) = P[l] + image * cols * rows + j * w + i
- * with P[0] = 0, P[1] = root_cols * root_rows, P[l + 1] = P[l] +
- * images[l] * cols * rows (hpfc_level_info.images), `image` the rank of the
- * image's address among its level's, w = root_cols at level 0, else cols.
- * With K the most crossings a word of the file can hold (the largest
- * (word_bits - 4) / 4 of its levels: a constant of the file), a dart's
- * index is pixel * K + crossing and a vertex's pixel * K + local (a word
- * has no more vertices than crossings). Distinct darts (vertices) have
- * distinct indices.
- *
- * hpfc_key_index_bound: both indices are below total pixels * K: a visited
- * bitmap takes that many bits (data/delaunay-4000 packed by default: 9,616
- * pixels, K = 20: 192,320 bits, 24 KB, for 19,154 darts). HPFC_E_LIMIT
- * when the product does not fit 64 bits (the key operators still work).
- * hpfc_dart_index / hpfc_vertex_index: the index of a key. The
- * *_indexed operators: hpfc_key_twin/next/prev that also give the
- * result's dart index, read from where the cache found the result.
- *
- * Statuses as the key operators' (a key naming no dart, vertex: HPFC_E_ARG;
- * also a NULL index), and HPFC_E_LIMIT as above; outputs are written only
- * on success. All build the parent index if needed. Cost: a key whose
- * pixel the cache holds costs one hash probe and a few loads; an _indexed
- * operator costs its operator's work (the result's pixel id is kept beside
- * its answer); otherwise as a key operator that resolves its key. */
-HPFC_API int hpfc_key_index_bound(hpfc_walker *w, uint64_t *darts, uint64_t *vertices);
-HPFC_API int hpfc_dart_index(hpfc_walker *w, uint64_t dart_key, uint64_t *index);
-HPFC_API int hpfc_vertex_index(hpfc_walker *w, uint64_t vertex_key, uint64_t *index);
-HPFC_API int hpfc_key_twin_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key,
-                                   uint64_t *out_index);
-HPFC_API int hpfc_key_next_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key,
-                                   uint64_t *out_index);
-HPFC_API int hpfc_key_prev_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key,
-                                   uint64_t *out_index);
 
 /* Iteration over the word pixels of the file in depth-first order (each
  * image in scanline order): start with hpfc_leaf_first, then call

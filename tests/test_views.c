@@ -203,11 +203,12 @@ static void check_crossings(const hpfc_file *f)
             }
             if (wi.comp_vertex[wi.comp[k]] == WORD_NONE)
                 continue;
-            hpfc_dart d = {px, k}, mine, lib;
-            uint64_t stabbings;
+            hpfc_dart d = {px, k}, mine; /* roads_walk takes the path form */
+            uint64_t stabbings, dart = 0, twin = 0;
             CHECK_EQ_INT(roads_walk(&r, &d, &stabbings, &mine), HPFC_OK);
-            CHECK_EQ_INT(hpfc_dart_twin(w, &d, &lib), HPFC_OK);
-            bad_twin += hpfc_dart_key(f, &mine) != hpfc_dart_key(f, &lib);
+            CHECK_EQ_INT(hpfc_pixel_dart_key(w, &px, k, &dart), HPFC_OK);
+            CHECK_EQ_INT(hpfc_key_twin(w, dart, &twin), HPFC_OK);
+            bad_twin += hpfc_dart_key(f, &mine) != twin;
         }
     }
     CHECK(crossings > 0);

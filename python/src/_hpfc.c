@@ -716,12 +716,12 @@ static PyObject *Pixel_vertices(PixelObject *self, PyObject *unused)
         return raise_status(st, "pixel vertices");
     PyObject *list = PyList_New(n);
     for (uint32_t k = 0; list && k < n; k++) {
-        hpfc_vertex v;
-        if ((st = hpfc_pixel_vertex(self->file->walker, &self->px, k, &v))) {
+        uint64_t vertex;
+        if ((st = hpfc_pixel_vertex_key(self->file->walker, &self->px, k, &vertex))) {
             Py_DECREF(list);
             return raise_status(st, "pixel vertex");
         }
-        PyObject *key = PyLong_FromUnsignedLongLong(hpfc_vertex_key(self->file->f, &v));
+        PyObject *key = PyLong_FromUnsignedLongLong(vertex);
         if (!key) {
             Py_DECREF(list);
             return NULL;
@@ -1085,10 +1085,7 @@ static PyObject *File_dart_face(FileObject *self, PyObject *arg)
     uint64_t key, face;
     if (key_arg(arg, &key) || file_faces(self) || file_walker(self))
         return NULL;
-    hpfc_dart d;
-    int st = hpfc_dart_from_key(self->walker, key, &d);
-    if (!st)
-        st = hpfc_faces_of_dart(self->faces, &d, &face);
+    int st = hpfc_faces_of_key(self->faces, self->walker, key, &face);
     if (st)
         return raise_status(st, "dart_face");
     return PyLong_FromUnsignedLongLong(face);
@@ -1100,21 +1097,18 @@ static PyObject *File_vertex_darts(FileObject *self, PyObject *arg)
     uint64_t key;
     if (key_arg(arg, &key) || file_walker(self))
         return NULL;
-    hpfc_vertex v;
     uint32_t degree;
-    int st = hpfc_vertex_from_key(self->walker, key, &v);
-    if (!st)
-        st = hpfc_vertex_degree(self->walker, &v, &degree);
+    int st = hpfc_key_degree(self->walker, key, &degree);
     if (st)
         return raise_status(st, "vertex_darts");
     PyObject *list = PyList_New(degree);
     for (uint32_t k = 0; list && k < degree; k++) {
-        hpfc_dart d;
-        if ((st = hpfc_vertex_dart(self->walker, &v, k, &d))) {
+        uint64_t dart;
+        if ((st = hpfc_key_vertex_dart(self->walker, key, k, &dart))) {
             Py_DECREF(list);
             return raise_status(st, "vertex_darts");
         }
-        PyList_SET_ITEM(list, k, PyLong_FromUnsignedLongLong(hpfc_dart_key(self->f, &d)));
+        PyList_SET_ITEM(list, k, PyLong_FromUnsignedLongLong(dart));
     }
     return list;
 }

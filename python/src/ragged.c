@@ -119,20 +119,17 @@ static int add_edge(ragged *r, const hpfc_file *f, uint64_t e)
     return close_line(r) ? HPFC_E_NOMEM : HPFC_OK;
 }
 
-static int add_dart(ragged *r, const hpfc_file *f, hpfc_walker *w, uint64_t key)
+static int add_dart(ragged *r, hpfc_walker *w, uint64_t key)
 {
-    hpfc_dart d;
     size_t n = 0, got = 0;
     if (!w)
         return HPFC_E_ARG;
-    int st = hpfc_dart_from_key(w, key, &d);
-    if (!st)
-        st = hpfc_geometry_dart_points(f, &d, NULL, 0, &n);
+    int st = hpfc_key_geometry_points(w, key, NULL, 0, &n);
     if (st)
         return st;
     if (n > SIZE_MAX / 2 || reserve(&r->xy, 2 * n))
         return HPFC_E_NOMEM;
-    if ((st = hpfc_geometry_dart_points(f, &d, r->xy.v + r->xy.n, n, &got)))
+    if ((st = hpfc_key_geometry_points(w, key, r->xy.v + r->xy.n, n, &got)))
         return st;
     if (got != n)
         return HPFC_E_CORRUPT;
@@ -164,7 +161,7 @@ int ragged_add(ragged *r, const ragged_source *src, int kind, uint64_t id)
     case RAGGED_EDGE:
         return add_edge(r, src->file, id);
     case RAGGED_DART:
-        return add_dart(r, src->file, src->walker, id);
+        return add_dart(r, src->walker, id);
     default:
         return HPFC_E_ARG;
     }

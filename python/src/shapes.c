@@ -386,11 +386,8 @@ static PyObject *Shapes_dart_edge(ShapesObject *self, PyObject *arg)
     if (u64_arg(arg, &key, "dart") || !shapes_file(self, &busy))
         return NULL;
     int st = self->walker ? HPFC_OK : hpfc_walker_create(self->f, &self->walker);
-    hpfc_dart d;
     if (!st)
-        st = hpfc_dart_from_key(self->walker, key, &d);
-    if (!st)
-        st = hpfc_geometry_dart_edge(self->f, &d, &e, &reversed);
+        st = hpfc_key_geometry_edge(self->walker, key, &e, &reversed);
     if (st)
         return pyhpfc_raise(st, "dart edge");
     return Py_BuildValue("(KO)", (unsigned long long)e, reversed ? Py_True : Py_False);
