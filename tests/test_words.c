@@ -160,7 +160,7 @@ static void test_decode(void)
         CHECK_EQ_INT(word_decode_code(&pool, 3, (uint32_t)(at - 3), NULL, 0, &len), HPFC_OK);
         CHECK_EQ_INT(len, want);
         CHECK_EQ_INT(word_decode_code(&pool, 3, (uint32_t)(at - 3), out, want - 1, &len),
-                     HPFC_E_ARG);
+                     HPFC_E_BUFFER_SMALL);
     }
     uint8_t reserved[8] = {0xE0}, cut[8] = {0x80}, none[8] = {0x0F, 0xFF};
     format_bits r = {reserved, 64, 8}, c = {cut, 64, 8}, n = {none, 64, 8};
