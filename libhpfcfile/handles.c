@@ -113,6 +113,11 @@ int hpfc_key_vertex_darts(hpfc_walker *w, uint64_t vertex_key, uint64_t *darts, 
 
 /* ---- per-dart questions of the other modules -------------------------------------- */
 
+/* The five calls below are the same three lines on purpose: check the
+ * arguments, resolve the key, ask the path form. Their path-form calls
+ * differ in module, arguments and outputs, so a shared function would
+ * only hide the one call each makes. */
+
 int hpfc_faces_of_key(const hpfc_faces *faces, hpfc_walker *w, uint64_t dart_key,
                       uint64_t *face)
 {

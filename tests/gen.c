@@ -1185,3 +1185,37 @@ int gen_write_pfc(const hpfc_graph *g, FILE *f)
     }
     return ferror(f) ? HPFC_E_IO : HPFC_OK;
 }
+
+/* One generated graph through fn (st: its generator's status, checked
+ * after the generator ran, which set g); that status back. */
+static int sweep_one(int st, hpfc_graph *g, const char *what,
+                     void (*fn)(const hpfc_graph *g, const char *what))
+{
+    if (!st)
+        fn(g, what);
+    hpfc_graph_free(g);
+    return st;
+}
+
+int gen_sweep(uint64_t seeds, size_t delaunay_step, size_t polyline_points,
+              void (*fn)(const hpfc_graph *g, const char *what))
+{
+    int first = HPFC_OK;
+    for (int which = 0; which < GEN_SPECIAL_COUNT; which++) {
+        hpfc_graph *g = NULL;
+        int st = gen_special(which, &g);
+        st = sweep_one(st, g, gen_special_name(which), fn);
+        first = first ? first : st;
+    }
+    for (uint64_t seed = 1; seed <= seeds; seed++) {
+        hpfc_graph *g = NULL;
+        int st = gen_delaunay(seed, delaunay_step * seed, 1 << 16, 0.2, &g);
+        st = sweep_one(st, g, "delaunay", fn);
+        first = first ? first : st;
+        g = NULL;
+        st = gen_polyline(seed, polyline_points, 1 << 16, 0.5, &g);
+        st = sweep_one(st, g, "polyline", fn);
+        first = first ? first : st;
+    }
+    return first;
+}

@@ -132,6 +132,13 @@ const char *gen_special_name(int which);
 /* Builds special graph `which` (an enum gen_special_kind). */
 int gen_special(int which, hpfc_graph **out);
 
+/* Calls fn on every special graph, then on a Delaunay graph of
+ * delaunay_step * seed points and a polyline graph of polyline_points
+ * points for each seed in 1 .. seeds: the sweep the traversal tests share.
+ * HPFC_OK, or the first generator's failure (the sweep goes on past it). */
+int gen_sweep(uint64_t seeds, size_t delaunay_step, size_t polyline_points,
+              void (*fn)(const hpfc_graph *g, const char *what));
+
 /* ------------------------------------------------------------------------
  * Output.
  * ------------------------------------------------------------------------ */

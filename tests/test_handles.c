@@ -300,24 +300,6 @@ static void check_graph(const hpfc_graph *g, const char *what)
 int main(void)
 {
     check_use_test_layout();
-    for (int which = 0; which < GEN_SPECIAL_COUNT; which++) {
-        hpfc_graph *g = NULL;
-        CHECK_EQ_INT(gen_special(which, &g), HPFC_OK);
-        if (g)
-            check_graph(g, gen_special_name(which));
-        hpfc_graph_free(g);
-    }
-    for (uint64_t seed = 1; seed <= 2; seed++) {
-        hpfc_graph *g = NULL;
-        CHECK_EQ_INT(gen_delaunay(seed, 60 * seed, 1 << 16, 0.2, &g), HPFC_OK);
-        if (g)
-            check_graph(g, "delaunay");
-        hpfc_graph_free(g);
-        g = NULL;
-        CHECK_EQ_INT(gen_polyline(seed, 100, 1 << 16, 0.5, &g), HPFC_OK);
-        if (g)
-            check_graph(g, "polyline");
-        hpfc_graph_free(g);
-    }
+    CHECK_EQ_INT(gen_sweep(2, 60, 100, check_graph), HPFC_OK);
     return check_report("handles");
 }

@@ -364,25 +364,7 @@ static void check_graph(const hpfc_graph *g, const char *what)
 
 static void test_generated(void)
 {
-    for (int which = 0; which < GEN_SPECIAL_COUNT; which++) {
-        hpfc_graph *g = NULL;
-        CHECK_EQ_INT(gen_special(which, &g), HPFC_OK);
-        if (g)
-            check_graph(g, gen_special_name(which));
-        hpfc_graph_free(g);
-    }
-    for (uint64_t seed = 1; seed <= 3; seed++) {
-        hpfc_graph *g = NULL;
-        CHECK_EQ_INT(gen_delaunay(seed, 80 * seed, 1 << 16, 0.2, &g), HPFC_OK);
-        if (g)
-            check_graph(g, "delaunay");
-        hpfc_graph_free(g);
-        g = NULL;
-        CHECK_EQ_INT(gen_polyline(seed, 150, 1 << 16, 0.5, &g), HPFC_OK);
-        if (g)
-            check_graph(g, "polyline");
-        hpfc_graph_free(g);
-    }
+    CHECK_EQ_INT(gen_sweep(3, 80, 150, check_graph), HPFC_OK);
 }
 
 /* A 3 x 6 root refined 2 x 8: cells thousands of times taller than wide,
