@@ -113,6 +113,37 @@ int hpfc_pixel_vertex(hpfc_walker *w, const hpfc_pixel *px, uint32_t index, hpfc
     return topo_copy_pixel(&out->pixel, px);
 }
 
+/* A pixel's vertex and dart as keys: its entry records its slot, so no
+ * second slot lookup (and the same checks as hpfc_pixel_vertex and
+ * hpfc_dart_origin). */
+int hpfc_pixel_vertex_key(hpfc_walker *w, const hpfc_pixel *px, uint32_t index,
+                          uint64_t *vertex_key)
+{
+    if (!w || !px || !vertex_key)
+        return HPFC_E_ARG;
+    cached_word *e;
+    int st = topo_parsed_word(w, px, &e);
+    if (!st && index >= e->nvert)
+        st = HPFC_E_ARG;
+    if (!st)
+        *vertex_key = topo_key(e->slot, index);
+    return st;
+}
+
+int hpfc_pixel_dart_key(hpfc_walker *w, const hpfc_pixel *px, uint32_t crossing,
+                        uint64_t *dart_key)
+{
+    if (!w || !px || !dart_key)
+        return HPFC_E_ARG;
+    cached_word *e;
+    int st = topo_parsed_word(w, px, &e);
+    if (!st && (crossing >= e->n || word_crossings(e)[crossing].vertex == TOPO_NONE))
+        st = HPFC_E_ARG;
+    if (!st)
+        *dart_key = topo_key(e->slot, crossing);
+    return st;
+}
+
 /* The parsed word of a vertex's pixel, and the vertex in it. */
 static int load_vertex(hpfc_walker *w, const hpfc_vertex *v, cached_word **e, cached_vertex *out)
 {

@@ -67,6 +67,57 @@ static topo_result keyed_word(hpfc_walker *w, uint64_t key, uint32_t *ref, cache
     return topo_done((*e)->parse_status);
 }
 
+/* The key's pixel, its dense id and its parsed word. */
+static int key_word(hpfc_walker *w, uint64_t key, hpfc_pixel *px, uint64_t *id, cached_word **e)
+{
+    int st = topo_key_pixel(w, key, px, id);
+    if (!st)
+        st = topo_word_view(w, px, e);
+    return st ? st : (*e)->parse_status;
+}
+
+/* Whether `local` names a dart (a vertex) of the parsed word e. */
+static bool names_one(cached_word *e, uint32_t local, bool vertex)
+{
+    if (vertex)
+        return local < e->nvert;
+    return local < e->n && word_crossings(e)[local].vertex != TOPO_NONE;
+}
+
+/* The parsed word of the key's pixel, for the calls that only read it (a
+ * vertex's degree and darts, indices, values): the cache entry found by
+ * slot, else resolved and keyed; else, when the cache cannot hold it, the
+ * word of the path the parent index gives (key_word). Its parse status.
+ * Keying can empty the cache under the call, hence key_op's one retry. */
+static int key_parsed_word(hpfc_walker *w, uint64_t key, cached_word **e)
+{
+    uint32_t ref;
+    for (int tries = 0; tries < 2; tries++) {
+        topo_result r = keyed_word(w, key, &ref, e);
+        if (r.flow == TOPO_DONE)
+            return r.status;
+        if (r.flow == TOPO_UNCACHED)
+            break;
+    }
+    hpfc_pixel px;
+    uint64_t id;
+    return key_word(w, key, &px, &id, e);
+}
+
+/* The dense index of the dart (vertex) a key names. */
+static int dense_index(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *index)
+{
+    cached_word *e;
+    uint32_t local = key & TOPO_KEY_LOW;
+    int st = key_parsed_word(w, key, &e);
+    if (!st && !names_one(e, local, vertex))
+        st = HPFC_E_ARG;
+    uint64_t id;
+    if (!st && !(st = entry_pixel_id(w, e, &id)))
+        *index = id * w->cap + local;
+    return st;
+}
+
 /* Dart index `index` of crossing m of entry ref. */
 static int entry_dart_index(hpfc_walker *w, uint32_t ref, uint32_t m, uint64_t *index)
 {
@@ -151,8 +202,6 @@ static int plain_op(hpfc_walker *w, uint64_t key, topo_op op, uint64_t *out)
     return st;
 }
 
-static int plain_index(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *index);
-
 /* What any index call checks first: the parent index and the bound. */
 static int index_ready(hpfc_walker *w)
 {
@@ -177,7 +226,7 @@ static int key_op(hpfc_walker *w, uint64_t key, topo_op op, uint64_t *out, uint6
     }
     uint64_t r, i = 0;
     if (!(st = plain_op(w, key, op, &r)) && index)
-        st = plain_index(w, r, false, &i);
+        st = dense_index(w, r, false, &i);
     if (!st) {
         *out = r;
         if (index)
@@ -244,45 +293,12 @@ int hpfc_key_index_bound(hpfc_walker *w, uint64_t *darts, uint64_t *vertices)
     return st;
 }
 
-/* Whether `local` names a dart (a vertex) of the parsed word e. */
-static bool names_one(cached_word *e, uint32_t local, bool vertex)
-{
-    if (vertex)
-        return local < e->nvert;
-    return local < e->n && word_crossings(e)[local].vertex != TOPO_NONE;
-}
-
-static topo_result cached_index(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *index)
-{
-    uint32_t ref, local = key & TOPO_KEY_LOW;
-    cached_word *e;
-    topo_result r = keyed_word(w, key, &ref, &e);
-    if (topo_stops(r))
-        return r;
-    if (!names_one(e, local, vertex))
-        return topo_done(HPFC_E_ARG);
-    uint64_t id;
-    int st = entry_pixel_id(w, e, &id);
-    if (!st)
-        *index = id * w->cap + local;
-    return topo_done(st);
-}
-
 static int index_call(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *index)
 {
     if (!w || !index)
         return HPFC_E_ARG;
     int st = index_ready(w);
-    if (st)
-        return st;
-    for (int tries = 0; tries < 2; tries++) {
-        topo_result r = cached_index(w, key, vertex, index);
-        if (r.flow == TOPO_DONE)
-            return r.status;
-        if (r.flow == TOPO_UNCACHED)
-            break;
-    }
-    return plain_index(w, key, vertex, index);
+    return st ? st : dense_index(w, key, vertex, index);
 }
 
 int hpfc_dart_index(hpfc_walker *w, uint64_t dart_key, uint64_t *index)
@@ -295,29 +311,89 @@ int hpfc_vertex_index(hpfc_walker *w, uint64_t vertex_key, uint64_t *index)
     return index_call(w, vertex_key, true, index);
 }
 
-/* ---- back to values ----------------------------------------------------------- */
+/* ---- vertex keys -------------------------------------------------------------- */
 
-/* The key's pixel, its dense id and its parsed word. */
-static int key_word(hpfc_walker *w, uint64_t key, hpfc_pixel *px, uint64_t *id, cached_word **e)
+/* The vertex a key names in its parsed word. */
+static int key_vertex(hpfc_walker *w, uint64_t vertex_key, cached_word **e, cached_vertex *v)
 {
-    int st = topo_key_pixel(w, key, px, id);
+    int st = key_parsed_word(w, vertex_key, e);
+    if (!st && !names_one(*e, vertex_key & TOPO_KEY_LOW, true))
+        st = HPFC_E_ARG;
     if (!st)
-        st = topo_word_view(w, px, e);
-    return st ? st : (*e)->parse_status;
+        *v = word_vertices(*e)[vertex_key & TOPO_KEY_LOW];
+    return st;
 }
 
+/* Dart `index` of vertex v of e, clockwise from its first (as
+ * hpfc_vertex_dart): its key is the vertex's slot with the dart's crossing. */
+static uint64_t vertex_dart_key(cached_word *e, cached_vertex v, uint32_t index)
+{
+    uint32_t k = v.first;
+    for (uint32_t s = 0; s < index; s++)
+        k = word_crossings(e)[k].succ;
+    return topo_key(e->slot, k);
+}
+
+int hpfc_key_degree(hpfc_walker *w, uint64_t vertex_key, uint32_t *degree)
+{
+    if (!w || !degree)
+        return HPFC_E_ARG;
+    cached_word *e;
+    cached_vertex v;
+    int st = key_vertex(w, vertex_key, &e, &v);
+    if (!st)
+        *degree = v.degree;
+    return st;
+}
+
+int hpfc_key_vertex_dart(hpfc_walker *w, uint64_t vertex_key, uint32_t index, uint64_t *dart_key)
+{
+    if (!w || !dart_key)
+        return HPFC_E_ARG;
+    cached_word *e;
+    cached_vertex v;
+    int st = key_vertex(w, vertex_key, &e, &v);
+    if (!st && index >= v.degree)
+        st = HPFC_E_ARG;
+    if (!st)
+        *dart_key = vertex_dart_key(e, v, index);
+    return st;
+}
+
+int hpfc_key_vertex_darts(hpfc_walker *w, uint64_t vertex_key, uint64_t *darts, size_t cap,
+                          uint32_t *degree)
+{
+    if (!w || !degree)
+        return HPFC_E_ARG;
+    cached_word *e;
+    cached_vertex v;
+    int st = key_vertex(w, vertex_key, &e, &v);
+    if (st)
+        return st;
+    *degree = v.degree;
+    if (!darts)
+        return HPFC_OK;
+    if (cap < v.degree)
+        return HPFC_E_BUFFER_SMALL;
+    uint32_t k = v.first;
+    for (uint32_t s = 0; s < v.degree; s++, k = word_crossings(e)[k].succ)
+        darts[s] = topo_key(e->slot, k);
+    return HPFC_OK;
+}
+
+/* ---- back to values ----------------------------------------------------------- */
+
 /* The path of the key's word pixel into *out, when the key names a dart
- * (vertex) of it; *out untouched otherwise. */
+ * (vertex) of it; *out untouched otherwise. A keyed entry's path is the
+ * one the parent index gives (key_entry), so the cache changes no answer. */
 static int key_path(hpfc_walker *w, uint64_t key, bool vertex, hpfc_pixel *out)
 {
     cached_word *e;
-    hpfc_pixel px;
-    uint64_t id;
-    int st = w ? key_word(w, key, &px, &id, &e) : HPFC_E_ARG;
+    int st = w ? key_parsed_word(w, key, &e) : HPFC_E_ARG;
     if (!st && !names_one(e, key & TOPO_KEY_LOW, vertex))
         st = HPFC_E_ARG;
     if (!st)
-        topo_entry_pixel(e, out); /* the path just resolved */
+        topo_entry_pixel(e, out);
     return st;
 }
 
@@ -337,17 +413,3 @@ int hpfc_vertex_from_key(hpfc_walker *w, uint64_t key, hpfc_vertex *out)
     return st;
 }
 
-/* Without the cache: the key's pixel and word, as hpfc_dart_from_key. */
-static int plain_index(hpfc_walker *w, uint64_t key, bool vertex, uint64_t *index)
-{
-    cached_word *e;
-    hpfc_pixel px;
-    uint64_t id;
-    uint32_t local = key & TOPO_KEY_LOW;
-    int st = key_word(w, key, &px, &id, &e);
-    if (!st && !names_one(e, local, vertex))
-        st = HPFC_E_ARG;
-    if (!st)
-        *index = id * w->cap + local;
-    return st;
-}
