@@ -178,10 +178,7 @@ int hpfc_vertex_dart(hpfc_walker *w, const hpfc_vertex *v, uint32_t index, hpfc_
         return st;
     if (index >= cv.degree)
         return HPFC_E_ARG;
-    uint32_t k = cv.first;
-    for (uint32_t s = 0; s < index; s++)  /* word order is clockwise around the vertex */
-        k = word_crossings(e)[k].succ;
-    out->crossing = k;
+    out->crossing = vertex_dart_crossing(e, cv, index);
     return topo_copy_pixel(&out->pixel, &v->pixel);
 }
 

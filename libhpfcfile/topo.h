@@ -70,6 +70,13 @@ typedef enum topo_flow {
     TOPO_UNCACHED,  /* a word too big for the cache: go without it */
 } topo_flow;
 
+/* The callers of a cached layer all run it the same way: at most twice
+ * (TOPO_RETRY: once more, in the emptied cache, where an entry that fits
+ * the arena fits), then, after TOPO_UNCACHED or a second RETRY, the plain
+ * path without the cache. That loop is written out where it runs
+ * (topo_arrive, key_op, key_parsed_word) rather than shared: the attempts
+ * differ in arguments and outputs, and a callback would cost the hot
+ * operators an indirect call. */
 typedef struct topo_result {
     int status;      /* HPFC_OK or an HPFC_E_* code; HPFC_OK unless flow is TOPO_DONE */
     topo_flow flow;
@@ -150,6 +157,16 @@ static inline cached_crossing *word_crossings(cached_word *e)
 static inline cached_vertex *word_vertices(cached_word *e)
 {
     return (cached_vertex *)(word_crossings(e) + e->n);
+}
+
+/* The crossing of dart `index` (< v's degree) of vertex v of e: word order
+ * is clockwise around a vertex, from its first crossing. */
+static inline uint32_t vertex_dart_crossing(cached_word *e, cached_vertex v, uint32_t index)
+{
+    uint32_t k = v.first;
+    for (uint32_t s = 0; s < index; s++)
+        k = word_crossings(e)[k].succ;
+    return k;
 }
 
 static inline path_step *word_path(cached_word *e)

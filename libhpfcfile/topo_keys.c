@@ -88,7 +88,8 @@ static bool names_one(cached_word *e, uint32_t local, bool vertex)
  * vertex's degree and darts, indices, values): the cache entry found by
  * slot, else resolved and keyed; else, when the cache cannot hold it, the
  * word of the path the parent index gives (key_word). Its parse status.
- * Keying can empty the cache under the call, hence key_op's one retry. */
+ * Keying can empty the cache under the call, hence key_op's one retry
+ * (topo.h, topo_result). */
 static int key_parsed_word(hpfc_walker *w, uint64_t key, cached_word **e)
 {
     uint32_t ref;
@@ -209,9 +210,9 @@ static int index_ready(hpfc_walker *w)
     return st ? st : w->keys.bound_status;
 }
 
-/* As the dart operators do: a walk that empties the cache starts again
- * once, in the emptied cache; then, or for a word the cache cannot hold,
- * without it. */
+/* As the dart operators do (topo_arrive): a walk that empties the cache
+ * starts again once, in the emptied cache; then, or for a word the cache
+ * cannot hold, without it (topo.h, topo_result). */
 static int key_op(hpfc_walker *w, uint64_t key, topo_op op, uint64_t *out, uint64_t *index)
 {
     int st;
@@ -313,6 +314,9 @@ int hpfc_vertex_index(hpfc_walker *w, uint64_t vertex_key, uint64_t *index)
 
 /* ---- vertex keys -------------------------------------------------------------- */
 
+/* The key forms of hpfc_vertex_degree and hpfc_vertex_dart (topo.c): the
+ * same reads of the same entry, reached by slot instead of by path. */
+
 /* The vertex a key names in its parsed word. */
 static int key_vertex(hpfc_walker *w, uint64_t vertex_key, cached_word **e, cached_vertex *v)
 {
@@ -322,16 +326,6 @@ static int key_vertex(hpfc_walker *w, uint64_t vertex_key, cached_word **e, cach
     if (!st)
         *v = word_vertices(*e)[vertex_key & TOPO_KEY_LOW];
     return st;
-}
-
-/* Dart `index` of vertex v of e, clockwise from its first (as
- * hpfc_vertex_dart): its key is the vertex's slot with the dart's crossing. */
-static uint64_t vertex_dart_key(cached_word *e, cached_vertex v, uint32_t index)
-{
-    uint32_t k = v.first;
-    for (uint32_t s = 0; s < index; s++)
-        k = word_crossings(e)[k].succ;
-    return topo_key(e->slot, k);
 }
 
 int hpfc_key_degree(hpfc_walker *w, uint64_t vertex_key, uint32_t *degree)
@@ -356,7 +350,7 @@ int hpfc_key_vertex_dart(hpfc_walker *w, uint64_t vertex_key, uint32_t index, ui
     if (!st && index >= v.degree)
         st = HPFC_E_ARG;
     if (!st)
-        *dart_key = vertex_dart_key(e, v, index);
+        *dart_key = topo_key(e->slot, vertex_dart_crossing(e, v, index));
     return st;
 }
 

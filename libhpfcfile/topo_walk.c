@@ -103,8 +103,8 @@ static int plain_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc
 
 /* Through the cache when it can hold what the walk needs: a walk that
  * empties it starts again once, in the emptied cache; then, or for a word
- * the cache cannot hold, without it. The answers are the same (topo.h,
- * "Three answer sources"). */
+ * the cache cannot hold, without it (topo.h, topo_result). The answers
+ * are the same (topo.h, "Three answer sources"). */
 int topo_arrive(hpfc_walker *w, const hpfc_dart *d, bool from_succ, hpfc_pixel *end,
                 topo_arrival *a)
 {
