@@ -530,7 +530,8 @@ static void unpack(packed *p)
     hpfc_tree_free(p->tree);
 }
 
-/* Every dart of the file: its polyline is its edge's, run from the end in
+/* Every dart of the file, by key (tests/test_handles.c holds the path form to
+ * the key form): its polyline is its edge's, run from the end in
  * its pixel; its twin's is the reverse. */
 static void check_darts(const hpfc_file *f)
 {
@@ -544,21 +545,20 @@ static void check_darts(const hpfc_file *f)
         uint32_t nv = 0;
         hpfc_pixel_vertex_count(w, &px, &nv);
         for (uint32_t k = 0; k < nv; k++) {
-            hpfc_vertex v;
+            uint64_t v = HPFC_KEY_INVALID;
             uint32_t deg = 0;
-            hpfc_pixel_vertex(w, &px, k, &v);
-            hpfc_vertex_degree(w, &v, &deg);
+            hpfc_pixel_vertex_key(w, &px, k, &v);
+            hpfc_key_degree(w, v, &deg);
             for (uint32_t j = 0; j < deg; j++) {
-                hpfc_dart d, t;
-                uint64_t e, te;
+                uint64_t d = HPFC_KEY_INVALID, t = HPFC_KEY_INVALID, e, te;
                 int rev, trev;
                 size_t n, tn;
-                hpfc_vertex_dart(w, &v, j, &d);
-                hpfc_dart_twin(w, &d, &t);
-                if (hpfc_geometry_dart_edge(f, &d, &e, &rev) ||
-                    hpfc_geometry_dart_edge(f, &t, &te, &trev) || e != te || rev == trev ||
-                    hpfc_geometry_dart_points(f, &d, NULL, 0, &n) ||
-                    hpfc_geometry_dart_points(f, &t, NULL, 0, &tn) || n != tn ||
+                hpfc_key_vertex_dart(w, v, j, &d);
+                hpfc_key_twin(w, d, &t);
+                if (hpfc_key_geometry_edge(w, d, &e, &rev) ||
+                    hpfc_key_geometry_edge(w, t, &te, &trev) || e != te || rev == trev ||
+                    hpfc_key_geometry_points(w, d, NULL, 0, &n) ||
+                    hpfc_key_geometry_points(w, t, NULL, 0, &tn) || n != tn ||
                     n != dart_npoints((uint32_t)(2 * e))) {
                     bad++;
                     continue;
@@ -569,13 +569,13 @@ static void check_darts(const hpfc_file *f)
                     txy = realloc(txy, 2 * cap * sizeof *txy);
                 }
                 size_t short_n = 0; /* one point short: the count needed */
-                if (hpfc_geometry_dart_points(f, &d, xy, n - 1, &short_n) !=
+                if (hpfc_key_geometry_points(w, d, xy, n - 1, &short_n) !=
                         HPFC_E_BUFFER_SMALL || short_n != n)
                     bad++;
-                hpfc_geometry_dart_points(f, &d, xy, cap, &n);
-                hpfc_geometry_dart_points(f, &t, txy, cap, &tn);
-                int64_t b[4];
-                hpfc_pixel_bounds(f, &d.pixel, &b[0], &b[1], &b[2], &b[3]);
+                hpfc_key_geometry_points(w, d, xy, cap, &n);
+                hpfc_key_geometry_points(w, t, txy, cap, &tn);
+                int64_t b[4]; /* a vertex's darts start in its leaf */
+                hpfc_pixel_bounds(f, &px, &b[0], &b[1], &b[2], &b[3]);
                 if (xy[0] < b[0] || xy[0] >= b[2] || xy[1] < b[1] || xy[1] >= b[3])
                     bad++;
                 for (size_t q = 0; q < n; q++) {
