@@ -1,5 +1,5 @@
 /* The ATTR and EDGF sections (spec/hpfc-format.md §7.2, §7.3), shared by
- * the writer (write.c) and the reader (read.c, attrs.c). */
+ * the writer (write.c) and the reader (file.c, attrs.c). */
 #ifndef HPFC_ATTRS_H
 #define HPFC_ATTRS_H
 

@@ -1,5 +1,5 @@
 /* The FEAT section (spec/hpfc-format.md §7.1), shared by the writer
- * (write.c) and the reader (read.c, features.c). */
+ * (write.c) and the reader (file.c, features.c). */
 #ifndef HPFC_FEAT_H
 #define HPFC_FEAT_H
 

@@ -1,3 +1,10 @@
+/*
+ * graph.c: the planar graph a caller builds (hpfc.h, "Graph"): vertices on
+ * the integer lattice, edges with their shape points, the source lines the
+ * .pfc reader records, and the accessors. It grows arrays and checks
+ * coordinates; whether the graph is a planar embedding is
+ * graph_check.c's and validate.c's question.
+ */
 #include <stdlib.h>
 #include <string.h>
 
