@@ -634,7 +634,8 @@ HPFC_API uint64_t hpfc_walker_pixels_visited(const hpfc_walker *walker);
  * and 16 bytes per image of the levels below the root, kept until
  * hpfc_walker_free. A file whose layout fails that pass gives its status to
  * every key call of the walker after it (the path-form operators still
- * work). Calls marked "resolves" below always resolve their key today.
+ * work). Every key call resolves only a key whose pixel the cache does
+ * not hold.
  *
  * Thread safety: as every walker call, one walker per thread; keys are
  * plain numbers any thread may hold. */
@@ -655,12 +656,11 @@ HPFC_API int hpfc_pixel_dart_key(hpfc_walker *w, const hpfc_pixel *px, uint32_t 
                                  uint64_t *dart_key);
 
 /* A vertex's degree (a loop counts twice) and the key of its index-th
- * outgoing dart, clockwise (index < degree, else HPFC_E_ARG). Resolves
- * the vertex key. */
+ * outgoing dart, clockwise (index < degree, else HPFC_E_ARG). */
 HPFC_API int hpfc_key_degree(hpfc_walker *w, uint64_t vertex_key, uint32_t *degree);
 HPFC_API int hpfc_key_vertex_dart(hpfc_walker *w, uint64_t vertex_key, uint32_t index,
                                   uint64_t *dart_key);
-/* All of them at once, for one resolve: the degree into *degree and the
+/* All of them at once, for one call: the degree into *degree and the
  * darts' keys, clockwise, into darts[0 .. *degree). darts NULL asks only
  * the degree; cap too small is HPFC_E_BUFFER_SMALL with *degree set. */
 HPFC_API int hpfc_key_vertex_darts(hpfc_walker *w, uint64_t vertex_key, uint64_t *darts,
@@ -681,7 +681,8 @@ HPFC_API int hpfc_key_target(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex
  * section, and so on). Why a walker: those answers need the key's pixel
  * with its path from the root (a leaf's number and bounds come from its
  * descent) and only a walker can find the path of a slot position, by its
- * parent index; the walker also names the file. Resolves the dart key;
+ * parent index; the walker also names the file. Cost: the key's
+ * hpfc_dart_from_key, then the path-form call;
  * `faces` must come from hpfc_faces_build on the walker's file. */
 struct hpfc_faces; /* hpfc_faces, "Faces" below */
 HPFC_API int hpfc_faces_of_key(const struct hpfc_faces *faces, hpfc_walker *w,
@@ -756,8 +757,9 @@ typedef struct hpfc_dart {
 } hpfc_dart;
 
 /* The dart (vertex) a key names, with its pixel's path from the root: the
- * value whose hpfc_dart_key (hpfc_vertex_key) is `key`. Statuses as the
- * key calls'; resolves the key. */
+ * value whose hpfc_dart_key (hpfc_vertex_key) is `key`. Statuses and cost
+ * as the key calls' (the path is copied from the cache when it holds the
+ * key's pixel). */
 HPFC_API int hpfc_dart_from_key(hpfc_walker *w, uint64_t key, hpfc_dart *out);
 HPFC_API int hpfc_vertex_from_key(hpfc_walker *w, uint64_t key, hpfc_vertex *out);
 
