@@ -29,7 +29,7 @@ tool_times() {
         if [ "$tool" = verify ]; then
             "$inspect" --verify "$FILE" > "$OUT/verify.$2"
         else
-            "$inspect" --export-graph "$OUT/graph.$2.json" "$FILE" > /dev/null
+            "$inspect" --force --export-graph "$OUT/graph.$2.json" "$FILE" > /dev/null
         fi
         echo "$2 $tool $(date +%s.%N) $start" >> "$OUT/tools"
     done
@@ -61,7 +61,7 @@ if command -v valgrind >/dev/null 2>&1; then
         done
         [ -z "$FILE" ] || {
             valgrind --tool=cachegrind --cache-sim=no --cachegrind-out-file=/dev/null \
-                "$build/hpfc-inspect/hpfc-inspect" --export-graph "$OUT/cg.graph.json" "$FILE" \
+                "$build/hpfc-inspect/hpfc-inspect" --force --export-graph "$OUT/cg.graph.json" "$FILE" \
                 2> "$OUT/cg.$side.export-graph" > /dev/null
             valgrind --tool=cachegrind --cache-sim=no --cachegrind-out-file=/dev/null \
                 "$build/hpfc-inspect/hpfc-inspect" --verify "$FILE" 2> "$OUT/cg.$side.verify" > /dev/null
