@@ -304,73 +304,68 @@ void labels_word_free(labels_word *lw)
     lw->heap = NULL;
 }
 
-/* The cyclic predecessor of every crossing in its component, by the
- * stack check of §3.8. */
-static int parse_components(labels_word *lw, const char *sym, size_t len)
+/* Per crossing: 1 for a stabbing's second crossing (its ']'), which runs
+ * the other way along the stabbing's edge. A stabbing's component has no
+ * vertex and two crossings, the ']' after the '['. */
+static uint32_t is_flip(const word_parts *wp, uint32_t k)
 {
-    uint32_t k = 0, depth = 0, pluses = 0;
-    uint32_t *first = lw->stack, *last = lw->stack + lw->n; /* per open group */
-    for (size_t s = 0; s < len; s++) {
-        char c = sym[s];
-        if (c == '+') {
-            if (++pluses == 4 && s + 1 != len)
-                return HPFC_E_CORRUPT;
-            continue;
-        }
-        char top = depth ? sym[lw->piece[first[depth - 1]]] : 0; /* piece[] holds positions */
-        lw->piece[k] = (uint32_t)s;
-        switch (c) {
-        case '=':
-            lw->pred[k] = k;
-            break;
-        case '(':
-        case '[':
-            first[depth] = last[depth] = k;
-            depth++;
-            break;
-        case 'Y':
-            if (top != '(')
-                return HPFC_E_CORRUPT;
-            lw->pred[k] = last[depth - 1];
-            last[depth - 1] = k;
-            break;
-        case ')':
-        case ']':
-            if (top != (c == ')' ? '(' : '['))
-                return HPFC_E_CORRUPT;
-            depth--;
-            lw->pred[k] = last[depth];
-            lw->pred[first[depth]] = k;
-            break;
-        default:
-            return HPFC_E_CORRUPT;
-        }
-        k++;
-    }
-    return depth == 0 && pluses == 4 && k == lw->n ? HPFC_OK : HPFC_E_CORRUPT;
+    uint32_t c = wp->comp[k];
+    return wp->comp_vertex[c] == WORD_NONE && wp->comp_first[c] != k;
 }
 
+/* Regions: stretch t continues inside the pixel as stretch pred(t) + 1
+ * (the sidewalk in_t -> out_pred(t)); the orbits are the regions,
+ * numbered by their smallest stretch. */
+static void number_regions(labels_word *lw)
+{
+    uint32_t n = lw->n;
+    for (uint32_t t = 0; t < n; t++)
+        lw->region[t] = NONE_REGION;
+    lw->regions = 0;
+    for (uint32_t t = 0; t < n; t++) {
+        if (lw->region[t] != NONE_REGION)
+            continue;
+        for (uint32_t u = t; lw->region[u] == NONE_REGION; u = (lw->parts.pred[u] + 1) % n)
+            lw->region[u] = lw->regions;
+        lw->regions++;
+    }
+}
+
+/* Pieces: one per crossing but a stabbing's second, which shares the edge
+ * of its first. */
+static void number_pieces(labels_word *lw)
+{
+    uint32_t pieces = 0;
+    for (uint32_t k = 0; k < lw->n; k++) {
+        lw->flip[k] = is_flip(&lw->parts, k);
+        lw->piece[k] = lw->flip[k] ? lw->piece[lw->parts.pred[k]] : pieces++;
+    }
+    lw->pieces = pieces;
+}
+
+/* The grammar and the components come from words.c's parser, the one
+ * home of word parsing; what is the labels' own is numbering regions and
+ * pieces from them. */
 int labels_word_parse(labels_word *lw, const char *sym, size_t len)
 {
+    lw->heap = NULL;
     uint32_t n = 0;
     for (size_t s = 0; s < len; s++)
         n += sym[s] != '+';
     if (len > UINT32_MAX / 8)
         return HPFC_E_LIMIT;
     lw->n = n;
-    lw->heap = NULL;
     uint32_t *mem = lw->small;
-    if (n > 64) {
-        if (!(lw->heap = malloc((size_t)n * 6 * sizeof *mem)))
+    if (n > LABELS_WORD_SMALL) {
+        if (!(lw->heap = malloc((3 * (size_t)n + WORD_PARTS_MEM(n)) * sizeof *mem)))
             return HPFC_E_NOMEM;
         mem = lw->heap;
     }
     lw->region = mem;
     lw->piece = mem + n;
-    lw->pred = mem + 2 * (size_t)n;
-    lw->flip = mem + 3 * (size_t)n;
-    lw->stack = mem + 4 * (size_t)n; /* 2n: group first and last crossings */
-    int st = parse_components(lw, sym, len);
+    lw->flip = mem + 2 * (size_t)n;
+    word_parts_place(&lw->parts, mem + 3 * (size_t)n, n);
+    int st = word_parse_symbols(&lw->parts, sym, len);
     if (st)
         return st;
     if (n == 0) {
@@ -378,27 +373,8 @@ int labels_word_parse(labels_word *lw, const char *sym, size_t len)
         lw->pieces = 0;
         return HPFC_OK;
     }
-    /* Regions: stretch t continues inside the pixel as stretch pred(t) + 1
-     * (the sidewalk in_t -> out_pred(t)); the orbits are the regions,
-     * numbered by their smallest stretch. */
-    for (uint32_t t = 0; t < n; t++)
-        lw->region[t] = NONE_REGION;
-    lw->regions = 0;
-    for (uint32_t t = 0; t < n; t++) {
-        if (lw->region[t] != NONE_REGION)
-            continue;
-        for (uint32_t u = t; lw->region[u] == NONE_REGION; u = (lw->pred[u] + 1) % n)
-            lw->region[u] = lw->regions;
-        lw->regions++;
-    }
-    /* Pieces: one per crossing but a stabbing's second, which shares the
-     * edge of its first. */
-    uint32_t pieces = 0;
-    for (uint32_t k = 0; k < n; k++) {
-        lw->flip[k] = sym[lw->piece[k]] == ']';
-        lw->piece[k] = lw->flip[k] ? lw->piece[lw->pred[k]] : pieces++;
-    }
-    lw->pieces = pieces;
+    number_regions(lw);
+    number_pieces(lw);
     return HPFC_OK;
 }
 

@@ -12,6 +12,7 @@
 
 #include "format.h"
 #include "hpfc.h"
+#include "words.h"
 
 #define FORMAT_TAG_LABL "LABL"
 
@@ -92,17 +93,20 @@ int labels_leaf_rank(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *ra
 /* The slow walk on its own (the tests' oracle). */
 int labels_rank_by_walk(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
 
-/* A word's regions and edge pieces (§15.2), from its symbols. */
+/* Words of up to this many crossings parse without a malloc. */
+#define LABELS_WORD_SMALL 64
+
+/* A word's regions and edge pieces (§15.2), from its components. */
 typedef struct labels_word {
     uint32_t n;          /* crossings */
     uint32_t regions;    /* 1 when private, else n - components + 1 */
     uint32_t pieces;     /* edge labels: n minus the stabbings */
     uint32_t *region;    /* per stretch t (between crossings t-1 and t): its region */
     uint32_t *piece;     /* per crossing: its piece */
-    uint32_t *pred;      /* cyclic predecessor in the component */
     uint32_t *flip;      /* per crossing: 1 for a stabbing's second crossing (`]`) */
-    uint32_t *stack;     /* scratch */
-    uint32_t small[6 * 64];
+    word_parts parts;    /* the grammar's parse (words.h): parts.pred, the cyclic
+                          * predecessor of each crossing in its component */
+    uint32_t small[3 * LABELS_WORD_SMALL + WORD_PARTS_MEM(LABELS_WORD_SMALL)];
     uint32_t *heap;
 } labels_word;
 
@@ -115,7 +119,8 @@ static inline uint64_t labels_record_bits(const labels_word *w, uint32_t face_bi
 }
 
 /* Parses `len` symbols (a word of the grammar of §3.8, else
- * HPFC_E_CORRUPT); HPFC_E_NOMEM for a long word. labels_word_free after. */
+ * HPFC_E_CORRUPT); HPFC_E_NOMEM for a long word. labels_word_free after,
+ * whatever it returns. */
 int labels_word_parse(labels_word *lw, const char *sym, size_t len);
 void labels_word_free(labels_word *lw);
 

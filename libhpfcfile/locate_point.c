@@ -273,7 +273,7 @@ static int add_piece(leaf_ctx *c, uint32_t k)
     const locx_crossing *x = &s->cr[k];
     uint64_t edge = s->labels.edge[k], seg = x->segment;
     if (x->kind == '[') {
-        uint32_t b = s->labels.rec.word.pred[k];
+        uint32_t b = s->labels.rec.word.parts.pred[k];
         if (b >= c->n || s->cr[b].kind != ']' || s->labels.edge[b] != edge ||
             s->cr[b].leaving == x->leaving)
             return HPFC_E_CORRUPT;
@@ -362,7 +362,7 @@ static int boundary_faces(const leaf_ctx *c, const locx_segment *sg, lpoint p, i
     size_t m = 0;
     int st = HPFC_OK;
     if (*on_vertex) {
-        const uint32_t *pred = s->labels.rec.word.pred;
+        const uint32_t *pred = s->labels.rec.word.parts.pred;
         uint32_t j = sg->crossing;
         do {
             st = stretch_face(c, (j + 1) % c->n, &s->around[m++]);
