@@ -22,7 +22,9 @@ enum {
     LABL_MAX_SHIFT = 16,      /* block_shift and sample_shift */
 };
 
-/* Header (48 bytes), then one 8-byte entry per level. */
+/* Header (48 bytes), then one 8-byte entry per level: a FORMAT_FIELD per
+ * field of §15.2's tables, alike in shape to every section's field list
+ * (format.h, geometry.h) and each with its own fields. */
 FORMAT_FIELD(labl, face_count, 0, 8, uint64_t)
 FORMAT_FIELD(labl, edge_count, 8, 8, uint64_t)
 FORMAT_FIELD(labl, leaf_count, 16, 8, uint64_t)
@@ -77,6 +79,12 @@ bool labels_compute_layout(const labels_levels *lv, const uint32_t *rank_bits, u
                            uint32_t block_shift, uint32_t block_bits, uint32_t offset_bits,
                            uint32_t sample_shift, uint64_t edges, uint32_t face_bits,
                            uint64_t label_bits, labels_layout *out);
+
+/* Global leaf numbers (§15.1), which GEOM shares (§17.1): level l's leaves
+ * come after the word pixels of the levels above, so its first leaf is
+ * first_leaf[l], and first_leaf[levels] counts them all. false when that
+ * count overflows. */
+bool labels_first_leaves(uint32_t levels, const uint64_t *word_pixels, uint64_t *first_leaf);
 
 /* Checks a LABL section's header against the level table and fills v;
  * HPFC_E_SECTION when it fails. O(levels). */
