@@ -158,7 +158,8 @@ typedef enum attrs_section { SECTION_ATTR, SECTION_EDGF } attrs_section;
 
 /* ATTR or EDGF for an accessor: HPFC_E_ARG without a file or without the
  * accessor's outputs (out_ok false), HPFC_E_NO_SECTION when the file has
- * none. */
+ * none. The same checks as features.c's for FEAT: each file reads its own
+ * sections' pointers in hpfc_file. */
 static int section_of(const hpfc_file *file, attrs_section which, bool out_ok, const uint8_t **s)
 {
     if (!file || !out_ok)

@@ -155,7 +155,8 @@ int feat_section_check(const uint8_t *s, uint64_t length)
 
 /* FEAT for an accessor: HPFC_E_ARG without a file or without the
  * accessor's outputs (out_ok false), HPFC_E_NO_SECTION when the file has
- * none. */
+ * none. The same checks as attrs.c's for ATTR and EDGF: each file reads its own
+ * sections' pointers in hpfc_file. */
 static int section_of(const hpfc_file *file, bool out_ok, const uint8_t **s)
 {
     if (!file || !out_ok)

@@ -40,7 +40,8 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
     if (!fc) { /* the stored labels: the faces of the leaf's regions */
         size_t count;
         if ((st = hpfc_label_leaf_faces(f, px, NULL, 0, &count)) ||
-            (st = scratch_grow((void **)&s->faces, &s->face_cap, count ? count : 1, sizeof *s->faces)) ||
+            (st = scratch_grow((void **)&s->faces, &s->face_cap, count ? count : 1,
+                               sizeof *s->faces)) ||
             (st = hpfc_label_leaf_faces(f, px, s->faces, s->face_cap, &count)))
             return st;
         *n = scratch_sort_unique(s->faces, count);
@@ -87,7 +88,8 @@ static int leaf_features(const hpfc_file *f, batch_scratch *s, size_t n, size_t 
         uint32_t count;
         int st = hpfc_face_feature_count(f, s->faces[k], &count);
         if (!st)
-            st = scratch_grow((void **)&s->features, &s->feature_cap, total + count, sizeof *s->features);
+            st = scratch_grow((void **)&s->features, &s->feature_cap, total + count,
+                              sizeof *s->features);
         for (uint32_t i = 0; i < count && !st; i++) {
             uint32_t feature;
             if (!(st = hpfc_face_feature(f, s->faces[k], i, &feature)))
