@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "attrs.h"
+#include "feature_links.h"
 #include "file.h"
 #include "format.h"
 
@@ -152,12 +153,32 @@ int attr_section_check(const uint8_t *s, uint64_t length)
     return attr_parts_of(s).end == length ? HPFC_OK : HPFC_E_SECTION;
 }
 
-static int attr_section_of(const hpfc_file *file, const uint8_t **s)
+/* The two sections this file reads. */
+typedef enum attrs_section { SECTION_ATTR, SECTION_EDGF } attrs_section;
+
+/* ATTR or EDGF for an accessor: HPFC_E_ARG without a file or without the
+ * accessor's outputs (out_ok false), HPFC_E_NO_SECTION when the file has
+ * none. The same checks as features.c's for FEAT: each file reads its own
+ * sections' pointers in hpfc_file. */
+static int section_of(const hpfc_file *file, attrs_section which, bool out_ok, const uint8_t **s)
 {
-    if (!file)
+    if (!file || !out_ok)
         return HPFC_E_ARG;
-    *s = file->attr;
+    *s = which == SECTION_ATTR ? file->attr : file->edgf;
     return *s ? HPFC_OK : HPFC_E_NO_SECTION;
+}
+
+/* The two counts of a section's header an info call answers: ATTR's
+ * features and columns, EDGF's edges and links. */
+static int header_counts(const hpfc_file *file, attrs_section which, uint32_t *a, uint32_t *b)
+{
+    const uint8_t *s;
+    int st = section_of(file, which, a && b, &s);
+    if (st)
+        return st;
+    *a = which == SECTION_ATTR ? attr_get_feature_count(s) : edgf_get_edge_count(s);
+    *b = which == SECTION_ATTR ? attr_get_column_count(s) : edgf_get_link_count(s);
+    return HPFC_OK;
 }
 
 /* Does (off, len) lie in the strings? */
@@ -168,15 +189,7 @@ static bool attr_string_fits(const uint8_t *s, uint64_t off, uint64_t len)
 
 int hpfc_attr_info(const hpfc_file *file, uint32_t *features, uint32_t *columns)
 {
-    const uint8_t *s;
-    if (!features || !columns)
-        return HPFC_E_ARG;
-    int st = attr_section_of(file, &s);
-    if (st)
-        return st;
-    *features = attr_get_feature_count(s);
-    *columns = attr_get_column_count(s);
-    return HPFC_OK;
+    return header_counts(file, SECTION_ATTR, features, columns);
 }
 
 /* Column c's entry, checked: a known type, zero reserved bytes, a name in
@@ -198,9 +211,7 @@ int hpfc_attr_column(const hpfc_file *file, uint32_t column, const char **name,
                      size_t *name_len, int *type)
 {
     const uint8_t *s, *e;
-    if (!name || !name_len || !type)
-        return HPFC_E_ARG;
-    int st = attr_section_of(file, &s);
+    int st = section_of(file, SECTION_ATTR, name && name_len && type, &s);
     if (!st)
         st = column_entry(s, column, &e);
     if (st)
@@ -214,9 +225,7 @@ int hpfc_attr_column(const hpfc_file *file, uint32_t column, const char **name,
 int hpfc_attr_find(const hpfc_file *file, const char *name, size_t len, uint32_t *column)
 {
     const uint8_t *s;
-    if (!name || !column)
-        return HPFC_E_ARG;
-    int st = attr_section_of(file, &s);
+    int st = section_of(file, SECTION_ATTR, name && column, &s);
     if (st)
         return st;
     for (uint32_t c = 0; c < attr_get_column_count(s); c++) {
@@ -237,9 +246,7 @@ int hpfc_file_get_attr(const hpfc_file *file, uint32_t feature, uint32_t column,
                        hpfc_attr_value *out)
 {
     const uint8_t *s, *e;
-    if (!out)
-        return HPFC_E_ARG;
-    int st = attr_section_of(file, &s);
+    int st = section_of(file, SECTION_ATTR, out != NULL, &s);
     if (!st)
         st = column_entry(s, column, &e);
     if (st)
@@ -287,15 +294,14 @@ int edgf_section_length(const hpfc_edge_feature_table *t, uint64_t *length, hpfc
         return diag_set(diag, HPFC_E_ARG, "edge feature table: a NULL array");
     if (t->edge_count == UINT32_MAX || t->edge_start[0] != 0)
         return diag_set(diag, HPFC_E_ARG, "edge feature table: bad edge count or first offset");
-    for (uint32_t e = 0; e < t->edge_count; e++) {
-        if (t->edge_start[e + 1] < t->edge_start[e])
-            return diag_set(diag, HPFC_E_ARG, "edge feature table: offsets decrease at edge %u", e);
-        for (uint32_t i = t->edge_start[e]; i < t->edge_start[e + 1]; i++)
-            if (t->edge_feature[i] >= t->feature_count ||
-                (i > t->edge_start[e] && t->edge_feature[i] <= t->edge_feature[i - 1]))
-                return diag_set(diag, HPFC_E_ARG,
-                                "edge feature table: edge %u's features not ascending indices", e);
-    }
+    bool decreases = false;
+    uint32_t e = feature_links_first_bad(t->edge_start, t->edge_feature, t->edge_count,
+                                         t->feature_count, &decreases);
+    if (e < t->edge_count && decreases)
+        return diag_set(diag, HPFC_E_ARG, "edge feature table: offsets decrease at edge %u", e);
+    if (e < t->edge_count)
+        return diag_set(diag, HPFC_E_ARG,
+                        "edge feature table: edge %u's features not ascending indices", e);
     *length = edgf_layout_end(t->edge_count, t->edge_start[t->edge_count]);
     return HPFC_OK;
 }
@@ -307,11 +313,7 @@ void edgf_section_emit(const hpfc_edge_feature_table *t, uint8_t *out)
     edgf_set_edge_count(out, t->edge_count);
     edgf_set_link_count(out, links);
     edgf_set_feature_count(out, t->feature_count);
-    uint8_t *p = out + EDGF_HEADER_SIZE;
-    for (uint32_t e = 0; e <= t->edge_count; e++, p += 4)
-        le_store(p, 4, t->edge_start[e]);
-    for (uint32_t i = 0; i < links; i++, p += 4)
-        le_store(p, 4, t->edge_feature[i]);
+    feature_links_emit(out + EDGF_HEADER_SIZE, t->edge_start, t->edge_feature, t->edge_count);
 }
 
 int edgf_section_check(const uint8_t *s, uint64_t length)
@@ -324,71 +326,38 @@ int edgf_section_check(const uint8_t *s, uint64_t length)
                : HPFC_E_SECTION;
 }
 
-static int edgf_section_of(const hpfc_file *file, const uint8_t **s)
-{
-    if (!file)
-        return HPFC_E_ARG;
-    *s = file->edgf;
-    return *s ? HPFC_OK : HPFC_E_NO_SECTION;
-}
-
 int hpfc_edge_features_info(const hpfc_file *file, uint32_t *edges, uint32_t *links)
 {
-    const uint8_t *s;
-    if (!edges || !links)
-        return HPFC_E_ARG;
-    int st = edgf_section_of(file, &s);
-    if (st)
-        return st;
-    *edges = edgf_get_edge_count(s);
-    *links = edgf_get_link_count(s);
-    return HPFC_OK;
+    return header_counts(file, SECTION_EDGF, edges, links);
 }
 
-/* Edge `edge`'s links [*first, *end), checked against the link count. */
-static int edge_links(const uint8_t *s, uint64_t edge, uint32_t *first, uint32_t *end)
+/* EDGF's edge index and links, for an accessor: as section_of answers.
+ * feature_links.h reads them for edges here and for faces in features.c;
+ * what stays twice (this, features.c's face_links and their two
+ * accessors) is each section's own part: finding its links in its own
+ * layout. */
+static int edge_links(const hpfc_file *file, bool out_ok, feature_links *links)
 {
-    if (edge >= edgf_get_edge_count(s))
-        return HPFC_E_ARG;
-    const uint8_t *index = s + EDGF_HEADER_SIZE + 4 * (size_t)edge;
-    *first = (uint32_t)le_load(index, 4);
-    *end = (uint32_t)le_load(index + 4, 4);
-    if (*first > *end || *end > edgf_get_link_count(s))
-        return HPFC_E_CORRUPT;
-    return HPFC_OK;
+    const uint8_t *s;
+    int st = section_of(file, SECTION_EDGF, out_ok, &s);
+    if (!st)
+        *links = (feature_links){.index = s + EDGF_HEADER_SIZE,
+                                 .rows = edgf_get_edge_count(s),
+                                 .links = edgf_get_link_count(s),
+                                 .features = edgf_get_feature_count(s)};
+    return st;
 }
 
 int hpfc_edge_feature_count(const hpfc_file *file, uint64_t edge, uint32_t *count)
 {
-    const uint8_t *s;
-    uint32_t first, end;
-    if (!count)
-        return HPFC_E_ARG;
-    int st = edgf_section_of(file, &s);
-    if (!st)
-        st = edge_links(s, edge, &first, &end);
-    if (!st)
-        *count = end - first;
-    return st;
+    feature_links links;
+    int st = edge_links(file, count != NULL, &links);
+    return st ? st : feature_links_count(&links, edge, count);
 }
 
 int hpfc_edge_feature(const hpfc_file *file, uint64_t edge, uint32_t k, uint32_t *feature)
 {
-    const uint8_t *s;
-    uint32_t first, end;
-    if (!feature)
-        return HPFC_E_ARG;
-    int st = edgf_section_of(file, &s);
-    if (!st)
-        st = edge_links(s, edge, &first, &end);
-    if (st)
-        return st;
-    if (k >= end - first)
-        return HPFC_E_ARG;
-    size_t links = EDGF_HEADER_SIZE + 4 * ((size_t)edgf_get_edge_count(s) + 1);
-    uint32_t v = (uint32_t)le_load(s + links + 4 * ((size_t)first + k), 4);
-    if (v >= edgf_get_feature_count(s))
-        return HPFC_E_CORRUPT;
-    *feature = v;
-    return HPFC_OK;
+    feature_links links;
+    int st = edge_links(file, feature != NULL, &links);
+    return st ? st : feature_links_get(&links, edge, k, feature);
 }

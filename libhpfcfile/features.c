@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "feat.h"
+#include "feature_links.h"
 #include "file.h"
 #include "format.h"
 #include "sized.h"
@@ -61,15 +62,14 @@ int feat_section_length(const hpfc_feature_table *t, uint64_t *length, hpfc_diag
                             t->layer[k], t->layer_count);
         strings += key_bytes(t, k);
     }
-    for (uint32_t f = 0; f < t->face_count; f++) {
-        if (t->face_start[f + 1] < t->face_start[f])
-            return diag_set(diag, HPFC_E_ARG, "feature table: face offsets decrease at face %u", f);
-        for (uint32_t i = t->face_start[f]; i < t->face_start[f + 1]; i++)
-            if (t->face_feature[i] >= t->feature_count ||
-                (i > t->face_start[f] && t->face_feature[i] <= t->face_feature[i - 1]))
-                return diag_set(diag, HPFC_E_ARG,
-                                "feature table: face %u's features not ascending feature indices", f);
-    }
+    bool decreases = false;
+    uint32_t f = feature_links_first_bad(t->face_start, t->face_feature, t->face_count,
+                                         t->feature_count, &decreases);
+    if (f < t->face_count && decreases)
+        return diag_set(diag, HPFC_E_ARG, "feature table: face offsets decrease at face %u", f);
+    if (f < t->face_count)
+        return diag_set(diag, HPFC_E_ARG,
+                        "feature table: face %u's features not ascending feature indices", f);
     if (strings >= FEAT_NONE)
         return diag_set(diag, HPFC_E_LIMIT, "feature table: over 4 GiB of names and keys");
     *length = feat_layout(t->layer_count, t->feature_count, t->face_count, t->face_start[t->face_count],
@@ -123,10 +123,7 @@ void feat_section_emit(const hpfc_feature_table *t, uint8_t *out)
         featf_set_key_length(e, len);
         featf_set_reserved(e, 0);
     }
-    for (uint32_t f = 0; f <= t->face_count; f++)
-        le_store(out + p.face_index + 4 * (size_t)f, 4, t->face_start[f]);
-    for (uint32_t i = 0; i < links; i++)
-        le_store(out + p.links + 4 * (size_t)i, 4, t->face_feature[i]);
+    feature_links_emit(out + p.face_index, t->face_start, t->face_feature, t->face_count);
     feat_set_string_bytes(out, used);
 }
 
@@ -156,9 +153,13 @@ int feat_section_check(const uint8_t *s, uint64_t length)
     return HPFC_OK;
 }
 
-static int section_of(const hpfc_file *file, const uint8_t **s)
+/* FEAT for an accessor: HPFC_E_ARG without a file or without the
+ * accessor's outputs (out_ok false), HPFC_E_NO_SECTION when the file has
+ * none. The same checks as attrs.c's for ATTR and EDGF: each file reads its own
+ * sections' pointers in hpfc_file. */
+static int section_of(const hpfc_file *file, bool out_ok, const uint8_t **s)
 {
-    if (!file)
+    if (!file || !out_ok)
         return HPFC_E_ARG;
     *s = file->feat;
     return *s ? HPFC_OK : HPFC_E_NO_SECTION;
@@ -172,9 +173,7 @@ static const char *string_at(const uint8_t *s, uint32_t off)
 int hpfc_file_get_features_sized(const hpfc_file *file, hpfc_features_info *out, size_t size)
 {
     const uint8_t *s;
-    if (!out)
-        return HPFC_E_ARG;
-    int st = section_of(file, &s);
+    int st = section_of(file, out != NULL, &s);
     if (st)
         return st;
     hpfc_features_info full = {.features = feat_get_feature_count(s),
@@ -190,17 +189,28 @@ int hpfc_file_get_features_sized(const hpfc_file *file, hpfc_features_info *out,
     return HPFC_OK;
 }
 
-int hpfc_file_get_feature(const hpfc_file *file, uint32_t index, hpfc_feature *out)
+/* Entry `index` of the layer table (layers true) or of the feature table,
+ * for an accessor: HPFC_E_ARG past the table's end, else as section_of. */
+static int table_entry(const hpfc_file *file, bool out_ok, bool layers, uint32_t index,
+                       const uint8_t **s, const uint8_t **entry)
 {
-    const uint8_t *s;
-    if (!out)
-        return HPFC_E_ARG;
-    int st = section_of(file, &s);
+    int st = section_of(file, out_ok, s);
     if (st)
         return st;
-    if (index >= feat_get_feature_count(s))
+    feat_parts p = section_parts(*s);
+    if (index >= (layers ? feat_get_layer_count(*s) : feat_get_feature_count(*s)))
         return HPFC_E_ARG;
-    const uint8_t *e = s + section_parts(s).features + (size_t)index * FEAT_FEATURE_SIZE;
+    *entry = *s + (layers ? p.layers + (size_t)index * FEAT_LAYER_SIZE
+                          : p.features + (size_t)index * FEAT_FEATURE_SIZE);
+    return HPFC_OK;
+}
+
+int hpfc_file_get_feature(const hpfc_file *file, uint32_t index, hpfc_feature *out)
+{
+    const uint8_t *s, *e;
+    int st = table_entry(file, out != NULL, false, index, &s, &e);
+    if (st)
+        return st;
     uint32_t off = featf_get_key_offset(e), len = featf_get_key_length(e);
     if (featf_get_layer(e) >= feat_get_layer_count(s) || featf_get_reserved(e) != 0 ||
         !string_fits(s, off, len))
@@ -217,15 +227,10 @@ int hpfc_file_get_feature(const hpfc_file *file, uint32_t index, hpfc_feature *o
 
 int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name, size_t *len)
 {
-    const uint8_t *s;
-    if (!name || !len)
-        return HPFC_E_ARG;
-    int st = section_of(file, &s);
+    const uint8_t *s, *e;
+    int st = table_entry(file, name && len, true, layer, &s, &e);
     if (st)
         return st;
-    if (layer >= feat_get_layer_count(s))
-        return HPFC_E_ARG;
-    const uint8_t *e = s + section_parts(s).layers + (size_t)layer * FEAT_LAYER_SIZE;
     uint32_t off = featl_get_name_offset(e), n = featl_get_name_length(e);
     if (n == FEAT_NONE || !string_fits(s, off, n))
         return HPFC_E_CORRUPT;
@@ -234,49 +239,32 @@ int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name, si
     return HPFC_OK;
 }
 
-/* Face `face`'s links [*first, *end), checked against the link count. */
-static int face_links(const uint8_t *s, uint64_t face, uint32_t *first, uint32_t *end)
+/* FEAT's face index and links, for an accessor: as section_of answers.
+ * feature_links.h reads them for faces here and for edges in attrs.c;
+ * what stays twice (this, attrs.c's edge_links and their two accessors)
+ * is each section's own part: finding its links in its own layout. */
+static int face_links(const hpfc_file *file, bool out_ok, feature_links *links)
 {
-    if (face >= feat_get_face_count(s))
-        return HPFC_E_ARG;
-    const uint8_t *index = s + section_parts(s).face_index + 4 * (size_t)face;
-    *first = (uint32_t)le_load(index, 4);
-    *end = (uint32_t)le_load(index + 4, 4);
-    if (*first > *end || *end > feat_get_link_count(s))
-        return HPFC_E_CORRUPT;
-    return HPFC_OK;
+    const uint8_t *s;
+    int st = section_of(file, out_ok, &s);
+    if (!st)
+        *links = (feature_links){.index = s + section_parts(s).face_index,
+                                 .rows = feat_get_face_count(s),
+                                 .links = feat_get_link_count(s),
+                                 .features = feat_get_feature_count(s)};
+    return st;
 }
 
 int hpfc_face_feature_count(const hpfc_file *file, uint64_t face, uint32_t *count)
 {
-    const uint8_t *s;
-    uint32_t first, end;
-    if (!count)
-        return HPFC_E_ARG;
-    int st = section_of(file, &s);
-    if (!st)
-        st = face_links(s, face, &first, &end);
-    if (!st)
-        *count = end - first;
-    return st;
+    feature_links links;
+    int st = face_links(file, count != NULL, &links);
+    return st ? st : feature_links_count(&links, face, count);
 }
 
 int hpfc_face_feature(const hpfc_file *file, uint64_t face, uint32_t k, uint32_t *feature)
 {
-    const uint8_t *s;
-    uint32_t first, end;
-    if (!feature)
-        return HPFC_E_ARG;
-    int st = section_of(file, &s);
-    if (!st)
-        st = face_links(s, face, &first, &end);
-    if (st)
-        return st;
-    if (k >= end - first)
-        return HPFC_E_ARG;
-    uint32_t v = (uint32_t)le_load(s + section_parts(s).links + 4 * ((size_t)first + k), 4);
-    if (v >= feat_get_feature_count(s))
-        return HPFC_E_CORRUPT;
-    *feature = v;
-    return HPFC_OK;
+    feature_links links;
+    int st = face_links(file, feature != NULL, &links);
+    return st ? st : feature_links_get(&links, face, k, feature);
 }

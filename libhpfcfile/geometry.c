@@ -74,19 +74,14 @@ int geometry_open(geom_view *v, const uint8_t *sec, uint64_t length, const geom_
     memset(v, 0, sizeof *v);
     if (length < GEOM_META_SIZE || geom_get_reserved(sec))
         return HPFC_E_SECTION;
-    uint64_t leaves = 0;
-    for (uint32_t l = 0; l < lv->levels; l++) {
-        v->first_leaf[l] = leaves;
-        if (!format_add(leaves, lv->word_pixels[l], &leaves))
-            return HPFC_E_SECTION;
-    }
-    v->first_leaf[lv->levels] = leaves;
     v->vertices = geom_get_vertex_count(sec);
     v->edges = geom_get_edge_count(sec);
     v->points = geom_get_point_count(sec);
     v->leaves = geom_get_leaf_count(sec);
     v->crossings = geom_get_crossing_count(sec);
-    uint64_t counts[GEOM_COLUMNS];
+    if (!labels_first_leaves(lv->levels, lv->word_pixels, v->first_leaf))
+        return HPFC_E_SECTION;
+    uint64_t counts[GEOM_COLUMNS], leaves = v->first_leaf[lv->levels];
     if (v->vertices == 0 || v->edges == 0 || (v->points && v->leaves != leaves) ||
         !geom_column_counts(v->vertices, v->edges, v->points, v->leaves, v->crossings, counts) ||
         (lv->has_labels && lv->label_edges != v->edges))
@@ -196,19 +191,23 @@ int geom_column_get(const geom_column *c, uint64_t i, uint64_t *value)
 
 /* ---- accessors ---------------------------------------------------------------- */
 
-static const geom_view *geometry_of(const hpfc_file *file)
+/* GEOM for an accessor: HPFC_E_ARG without a file or without the
+ * accessor's arguments (args_ok false), then HPFC_E_NO_SECTION without
+ * GEOM. */
+static int geometry_of(const hpfc_file *file, bool args_ok, const geom_view **v)
 {
-    const geom_view *v = file ? &file->geom : NULL;
-    return v && v->present ? v : NULL;
+    if (!file || !args_ok)
+        return HPFC_E_ARG;
+    *v = &file->geom;
+    return (*v)->present ? HPFC_OK : HPFC_E_NO_SECTION;
 }
 
 int hpfc_file_get_geometry_sized(const hpfc_file *file, hpfc_geometry_info *out, size_t size)
 {
-    if (!file || !out)
-        return HPFC_E_ARG;
-    const geom_view *v = geometry_of(file);
-    if (!v)
-        return HPFC_E_NO_SECTION;
+    const geom_view *v;
+    int st = geometry_of(file, out != NULL, &v);
+    if (st)
+        return st;
     const hpfc_geometry_info full = {.vertices = v->vertices,
                                      .edges = v->edges,
                                      .points = v->points,
@@ -236,11 +235,10 @@ static int point_at(const hpfc_file *file, const geom_view *v, int cx, uint64_t 
 
 int hpfc_geometry_vertex(const hpfc_file *file, uint64_t vertex, int64_t *x, int64_t *y)
 {
-    if (!file || !x || !y)
-        return HPFC_E_ARG;
-    const geom_view *v = geometry_of(file);
-    if (!v)
-        return HPFC_E_NO_SECTION;
+    const geom_view *v;
+    int st = geometry_of(file, x && y, &v);
+    if (st)
+        return st;
     if (vertex >= v->vertices)
         return HPFC_E_ARG;
     return point_at(file, v, GEOM_VX, vertex, x, y);
@@ -274,18 +272,25 @@ static int edge_record(const geom_view *v, uint64_t e, edge_rec *r)
     return st;
 }
 
+/* Edge `edge`'s record for an accessor: as geometry_of answers, then
+ * HPFC_E_ARG past the edges, then as edge_record. */
+static int edge_of(const hpfc_file *file, bool args_ok, uint64_t edge, const geom_view **g,
+                   edge_rec *r)
+{
+    int st = geometry_of(file, args_ok, g);
+    if (st)
+        return st;
+    if (edge >= (*g)->edges)
+        return HPFC_E_ARG;
+    return edge_record(*g, edge, r);
+}
+
 int hpfc_geometry_edge(const hpfc_file *file, uint64_t edge, uint64_t *u, uint64_t *v,
                        uint64_t *point_count)
 {
-    if (!file || !u || !v || !point_count)
-        return HPFC_E_ARG;
-    const geom_view *g = geometry_of(file);
-    if (!g)
-        return HPFC_E_NO_SECTION;
-    if (edge >= g->edges)
-        return HPFC_E_ARG;
+    const geom_view *g;
     edge_rec r;
-    int st = edge_record(g, edge, &r);
+    int st = edge_of(file, u && v && point_count, edge, &g, &r);
     if (st)
         return st;
     *u = r.u;
@@ -297,15 +302,9 @@ int hpfc_geometry_edge(const hpfc_file *file, uint64_t edge, uint64_t *u, uint64
 int hpfc_geometry_edge_point(const hpfc_file *file, uint64_t edge, uint64_t k, int64_t *x,
                              int64_t *y)
 {
-    if (!file || !x || !y)
-        return HPFC_E_ARG;
-    const geom_view *g = geometry_of(file);
-    if (!g)
-        return HPFC_E_NO_SECTION;
-    if (edge >= g->edges)
-        return HPFC_E_ARG;
+    const geom_view *g;
     edge_rec r;
-    int st = edge_record(g, edge, &r);
+    int st = edge_of(file, x && y, edge, &g, &r);
     if (st)
         return st;
     if (k > r.n + 1)
@@ -320,11 +319,12 @@ int hpfc_geometry_edge_point(const hpfc_file *file, uint64_t edge, uint64_t k, i
 int hpfc_geometry_edge_faces(const hpfc_file *file, uint64_t edge, uint64_t *left,
                              uint64_t *right)
 {
-    if (!file || !left || !right)
-        return HPFC_E_ARG;
-    const geom_view *g = geometry_of(file);
+    const geom_view *g;
+    int st = geometry_of(file, left && right, &g);
+    if (st)
+        return st;
     const labels_view *lv = &file->labels;
-    if (!g || !lv->present)
+    if (!lv->present)
         return HPFC_E_NO_SECTION;
     if (edge >= g->edges)
         return HPFC_E_ARG;
@@ -355,13 +355,12 @@ static int leaf_crossings(const hpfc_file *file, const hpfc_pixel *leaf, uint64_
 int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf,
                                    uint32_t crossing, uint64_t *segment)
 {
-    if (!file || !leaf || !segment)
-        return HPFC_E_ARG;
-    const geom_view *g = geometry_of(file);
-    if (!g)
-        return HPFC_E_NO_SECTION;
+    const geom_view *g;
+    int st = geometry_of(file, leaf && segment, &g);
+    if (st)
+        return st;
     uint64_t rank, n;
-    int st = labels_leaf_rank(file, leaf, &rank);
+    st = labels_leaf_rank(file, leaf, &rank);
     if (!st)
         st = leaf_crossings(file, leaf, &n);
     if (st)

@@ -18,8 +18,6 @@
  * The first disagreement is reported, never trusted. O(file), plus the
  * planarity check's O(n log n).
  */
-#include <stdarg.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -28,21 +26,10 @@
 #include "internal.h"
 #include "file.h"
 #include "labels.h"
+#include "verify_report.h"
 
-static int problem(hpfc_geometry_report *r, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
-
-static int problem(hpfc_geometry_report *r, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(r->message, sizeof r->message, fmt, ap);
-    va_end(ap);
-    return HPFC_E_CORRUPT;
-}
+/* The first disagreement, into the report: HPFC_E_CORRUPT. */
+#define problem(r, ...) verify_message((r)->message, sizeof (r)->message, __VA_ARGS__)
 
 /* The section as a graph (step 1 on the way), then step 2. */
 static int check_graph(const hpfc_file *f, const geom_view *g, hpfc_geometry_report *r)

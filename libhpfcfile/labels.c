@@ -68,6 +68,18 @@ bool labels_compute_layout(const labels_levels *lv, const uint32_t *rank_bits, u
     return format_add(out->labels_at, format_pool_bytes(label_bits), &out->length);
 }
 
+bool labels_first_leaves(uint32_t levels, const uint64_t *word_pixels, uint64_t *first_leaf)
+{
+    uint64_t leaves = 0;
+    for (uint32_t l = 0; l < levels; l++) {
+        first_leaf[l] = leaves;
+        if (!format_add(leaves, word_pixels[l], &leaves))
+            return false;
+    }
+    first_leaf[levels] = leaves;
+    return true;
+}
+
 static format_bits stream(const uint8_t *sec, uint64_t length, uint64_t at, uint64_t bits)
 {
     return (format_bits){.base = sec + at, .bits = bits, .avail = length - at};
@@ -82,17 +94,15 @@ int labels_open(labels_view *v, const uint8_t *sec, uint64_t length, const label
     if (length - LABL_HEADER_SIZE < (uint64_t)LABL_LEVEL_SIZE * lv->levels)
         return HPFC_E_SECTION;
     uint32_t rank_bits[HPFC_MAX_LEVELS];
-    uint64_t leaves = 0;
     for (uint32_t l = 0; l < lv->levels; l++) {
         const uint8_t *e = sec + LABL_HEADER_SIZE + (size_t)l * LABL_LEVEL_SIZE;
         if (!format_all_zero(e + labll_OFF_reserved, labll_SIZE_reserved))
             return HPFC_E_SECTION;
         rank_bits[l] = labll_get_rank_bits(e);
-        v->first_leaf[l] = leaves;
-        if (!format_add(leaves, lv->word_pixels[l], &leaves))
-            return HPFC_E_SECTION;
     }
-    v->first_leaf[lv->levels] = leaves;
+    if (!labels_first_leaves(lv->levels, lv->word_pixels, v->first_leaf))
+        return HPFC_E_SECTION;
+    uint64_t leaves = v->first_leaf[lv->levels];
     v->faces = labl_get_face_count(sec);
     v->edges = labl_get_edge_count(sec);
     v->leaves = labl_get_leaf_count(sec);
@@ -304,73 +314,68 @@ void labels_word_free(labels_word *lw)
     lw->heap = NULL;
 }
 
-/* The cyclic predecessor of every crossing in its component, by the
- * stack check of §3.8. */
-static int parse_components(labels_word *lw, const char *sym, size_t len)
+/* Per crossing: 1 for a stabbing's second crossing (its ']'), which runs
+ * the other way along the stabbing's edge. A stabbing's component has no
+ * vertex and two crossings, the ']' after the '['. */
+static uint32_t is_flip(const word_parts *wp, uint32_t k)
 {
-    uint32_t k = 0, depth = 0, pluses = 0;
-    uint32_t *first = lw->stack, *last = lw->stack + lw->n; /* per open group */
-    for (size_t s = 0; s < len; s++) {
-        char c = sym[s];
-        if (c == '+') {
-            if (++pluses == 4 && s + 1 != len)
-                return HPFC_E_CORRUPT;
-            continue;
-        }
-        char top = depth ? sym[lw->piece[first[depth - 1]]] : 0; /* piece[] holds positions */
-        lw->piece[k] = (uint32_t)s;
-        switch (c) {
-        case '=':
-            lw->pred[k] = k;
-            break;
-        case '(':
-        case '[':
-            first[depth] = last[depth] = k;
-            depth++;
-            break;
-        case 'Y':
-            if (top != '(')
-                return HPFC_E_CORRUPT;
-            lw->pred[k] = last[depth - 1];
-            last[depth - 1] = k;
-            break;
-        case ')':
-        case ']':
-            if (top != (c == ')' ? '(' : '['))
-                return HPFC_E_CORRUPT;
-            depth--;
-            lw->pred[k] = last[depth];
-            lw->pred[first[depth]] = k;
-            break;
-        default:
-            return HPFC_E_CORRUPT;
-        }
-        k++;
-    }
-    return depth == 0 && pluses == 4 && k == lw->n ? HPFC_OK : HPFC_E_CORRUPT;
+    uint32_t c = wp->comp[k];
+    return wp->comp_vertex[c] == WORD_NONE && wp->comp_first[c] != k;
 }
 
+/* Regions: stretch t continues inside the pixel as stretch pred(t) + 1
+ * (the sidewalk in_t -> out_pred(t)); the orbits are the regions,
+ * numbered by their smallest stretch. */
+static void number_regions(labels_word *lw)
+{
+    uint32_t n = lw->n;
+    for (uint32_t t = 0; t < n; t++)
+        lw->region[t] = NONE_REGION;
+    lw->regions = 0;
+    for (uint32_t t = 0; t < n; t++) {
+        if (lw->region[t] != NONE_REGION)
+            continue;
+        for (uint32_t u = t; lw->region[u] == NONE_REGION; u = (lw->parts.pred[u] + 1) % n)
+            lw->region[u] = lw->regions;
+        lw->regions++;
+    }
+}
+
+/* Pieces: one per crossing but a stabbing's second, which shares the edge
+ * of its first. */
+static void number_pieces(labels_word *lw)
+{
+    uint32_t pieces = 0;
+    for (uint32_t k = 0; k < lw->n; k++) {
+        lw->flip[k] = is_flip(&lw->parts, k);
+        lw->piece[k] = lw->flip[k] ? lw->piece[lw->parts.pred[k]] : pieces++;
+    }
+    lw->pieces = pieces;
+}
+
+/* The grammar and the components come from words.c's parser, the one
+ * home of word parsing; what is the labels' own is numbering regions and
+ * pieces from them. */
 int labels_word_parse(labels_word *lw, const char *sym, size_t len)
 {
+    lw->heap = NULL;
     uint32_t n = 0;
     for (size_t s = 0; s < len; s++)
         n += sym[s] != '+';
     if (len > UINT32_MAX / 8)
         return HPFC_E_LIMIT;
     lw->n = n;
-    lw->heap = NULL;
     uint32_t *mem = lw->small;
-    if (n > 64) {
-        if (!(lw->heap = malloc((size_t)n * 6 * sizeof *mem)))
+    if (n > LABELS_WORD_SMALL) {
+        if (!(lw->heap = malloc((3 * (size_t)n + WORD_PARTS_MEM(n)) * sizeof *mem)))
             return HPFC_E_NOMEM;
         mem = lw->heap;
     }
     lw->region = mem;
     lw->piece = mem + n;
-    lw->pred = mem + 2 * (size_t)n;
-    lw->flip = mem + 3 * (size_t)n;
-    lw->stack = mem + 4 * (size_t)n; /* 2n: group first and last crossings */
-    int st = parse_components(lw, sym, len);
+    lw->flip = mem + 2 * (size_t)n;
+    word_parts_place(&lw->parts, mem + 3 * (size_t)n, n);
+    int st = word_parse_symbols(&lw->parts, sym, len);
     if (st)
         return st;
     if (n == 0) {
@@ -378,27 +383,8 @@ int labels_word_parse(labels_word *lw, const char *sym, size_t len)
         lw->pieces = 0;
         return HPFC_OK;
     }
-    /* Regions: stretch t continues inside the pixel as stretch pred(t) + 1
-     * (the sidewalk in_t -> out_pred(t)); the orbits are the regions,
-     * numbered by their smallest stretch. */
-    for (uint32_t t = 0; t < n; t++)
-        lw->region[t] = NONE_REGION;
-    lw->regions = 0;
-    for (uint32_t t = 0; t < n; t++) {
-        if (lw->region[t] != NONE_REGION)
-            continue;
-        for (uint32_t u = t; lw->region[u] == NONE_REGION; u = (lw->pred[u] + 1) % n)
-            lw->region[u] = lw->regions;
-        lw->regions++;
-    }
-    /* Pieces: one per crossing but a stabbing's second, which shares the
-     * edge of its first. */
-    uint32_t pieces = 0;
-    for (uint32_t k = 0; k < n; k++) {
-        lw->flip[k] = sym[lw->piece[k]] == ']';
-        lw->piece[k] = lw->flip[k] ? lw->piece[lw->pred[k]] : pieces++;
-    }
-    lw->pieces = pieces;
+    number_regions(lw);
+    number_pieces(lw);
     return HPFC_OK;
 }
 
@@ -408,10 +394,13 @@ int labels_word_parse(labels_word *lw, const char *sym, size_t len)
  * offset of its labels. */
 typedef labels_record leaf_record;
 
-static const labels_view *labels_of(const hpfc_file *f, int *st)
+/* The file's labels for an accessor; *st: HPFC_E_ARG without a file,
+ * HPFC_E_NO_SECTION without LABL, then HPFC_E_ARG without the accessor's
+ * arguments (args_ok false). */
+static const labels_view *labels_of(const hpfc_file *f, bool args_ok, int *st)
 {
     const labels_view *v = f ? &f->labels : NULL;
-    *st = !f ? HPFC_E_ARG : !v->present ? HPFC_E_NO_SECTION : HPFC_OK;
+    *st = !f ? HPFC_E_ARG : !v->present ? HPFC_E_NO_SECTION : !args_ok ? HPFC_E_ARG : HPFC_OK;
     return v;
 }
 
@@ -523,11 +512,42 @@ static int stretch_face(const labels_view *v, const leaf_record *rec, uint32_t t
     return HPFC_OK;
 }
 
-static int record_edge(const labels_view *v, const leaf_record *rec, uint32_t piece,
-                       uint64_t *edge)
+/* The edge id of crossing k: its piece's. */
+static int crossing_edge(const labels_view *v, const leaf_record *rec, uint32_t k, uint64_t *edge)
 {
     uint32_t side;
-    return record_piece(v, rec, piece, edge, &side);
+    return record_piece(v, rec, rec->word.piece[k], edge, &side);
+}
+
+/* Stretches of a word: one after each crossing, or the one boundary of a
+ * private leaf. */
+static uint32_t stretch_count(const labels_word *w)
+{
+    return w->n ? w->n : 1;
+}
+
+/* One answer about crossing or stretch k of a loaded record. */
+typedef int (*record_query)(const labels_view *v, const leaf_record *rec, uint32_t k,
+                            uint64_t *out);
+
+/* The one-leaf accessors: the labels as labels_of answers (args_ok: the
+ * accessor has its arguments), then the leaf's record loaded and `query`
+ * answered about k, which must be one of its stretches (per_stretch) or
+ * of its crossings, else HPFC_E_ARG. */
+static int ask_record(const hpfc_file *f, bool args_ok, const hpfc_pixel *leaf, uint32_t k,
+                      bool per_stretch, record_query query, uint64_t *out)
+{
+    int st;
+    const labels_view *v = labels_of(f, args_ok, &st);
+    leaf_record rec;
+    if (st || (st = load_record(f, v, leaf, &rec)))
+        return st;
+    if (k >= (per_stretch ? stretch_count(&rec.word) : rec.word.n))
+        st = HPFC_E_ARG;
+    else
+        st = query(v, &rec, k, out);
+    labels_word_free(&rec.word);
+    return st;
 }
 
 /* ---- public -------------------------------------------------------------------------------- */
@@ -535,9 +555,7 @@ static int record_edge(const labels_view *v, const leaf_record *rec, uint32_t pi
 int hpfc_file_get_labels_sized(const hpfc_file *f, hpfc_labels_info *out, size_t size)
 {
     int st;
-    const labels_view *v = labels_of(f, &st);
-    if (!st && !out)
-        st = HPFC_E_ARG;
+    const labels_view *v = labels_of(f, out != NULL, &st);
     if (st)
         return st;
     const hpfc_labels_info full = {.faces = v->faces,
@@ -564,9 +582,7 @@ int hpfc_label_leaf_faces(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *
                           size_t cap, size_t *count)
 {
     int st;
-    const labels_view *v = labels_of(f, &st);
-    if (!st && (!leaf || !count))
-        st = HPFC_E_ARG;
+    const labels_view *v = labels_of(f, leaf && count, &st);
     if (st)
         return st;
     leaf_record rec;
@@ -586,61 +602,21 @@ int hpfc_label_leaf_faces(const hpfc_file *f, const hpfc_pixel *leaf, uint64_t *
 int hpfc_label_stretch_face(const hpfc_file *f, const hpfc_pixel *leaf, uint32_t stretch,
                             uint64_t *face)
 {
-    int st;
-    const labels_view *v = labels_of(f, &st);
-    if (!st && (!leaf || !face))
-        st = HPFC_E_ARG;
-    if (st)
-        return st;
-    leaf_record rec;
-    if ((st = load_record(f, v, leaf, &rec)))
-        return st;
-    if (stretch >= (rec.word.n ? rec.word.n : 1))
-        st = HPFC_E_ARG;
-    else
-        st = stretch_face(v, &rec, stretch, face);
-    labels_word_free(&rec.word);
-    return st;
+    return ask_record(f, leaf && face, leaf, stretch, true, stretch_face, face);
 }
 
 int hpfc_label_dart_face(const hpfc_file *f, const hpfc_dart *d, uint64_t *face)
 {
-    if (!f || !d || !face)
+    if (!f || !d || !face) /* before the section: HPFC_E_ARG without LABL too */
         return HPFC_E_ARG;
-    int st;
-    const labels_view *v = labels_of(f, &st);
-    if (st)
-        return st;
-    leaf_record rec;
-    if ((st = load_record(f, v, &d->pixel, &rec)))
-        return st;
-    uint32_t n = rec.word.n;
-    if (d->crossing >= n) /* the stretch after out_k is on its right */
-        st = HPFC_E_ARG;
-    else
-        st = out_face(v, &rec, d->crossing, face);
-    labels_word_free(&rec.word);
-    return st;
+    /* the stretch after out_k is on its right: out_face */
+    return ask_record(f, true, &d->pixel, d->crossing, false, out_face, face);
 }
 
 int hpfc_label_crossing_edge(const hpfc_file *f, const hpfc_pixel *leaf, uint32_t crossing,
                              uint64_t *edge)
 {
-    int st;
-    const labels_view *v = labels_of(f, &st);
-    if (!st && (!leaf || !edge))
-        st = HPFC_E_ARG;
-    if (st)
-        return st;
-    leaf_record rec;
-    if ((st = load_record(f, v, leaf, &rec)))
-        return st;
-    if (crossing >= rec.word.n)
-        st = HPFC_E_ARG;
-    else
-        st = record_edge(v, &rec, rec.word.piece[crossing], edge);
-    labels_word_free(&rec.word);
-    return st;
+    return ask_record(f, leaf && edge, leaf, crossing, false, crossing_edge, edge);
 }
 
 int hpfc_label_dart_edge(const hpfc_file *f, const hpfc_dart *d, uint64_t *edge)
@@ -663,7 +639,7 @@ int labels_leaf_load(const hpfc_file *f, const hpfc_pixel *leaf, const char *sym
                      labels_leaf *out)
 {
     int st;
-    const labels_view *v = labels_of(f, &st);
+    const labels_view *v = labels_of(f, true, &st);
     if (st)
         return st;
     labels_word_free(&out->rec.word);
@@ -679,17 +655,17 @@ int labels_leaf_load(const hpfc_file *f, const hpfc_pixel *leaf, const char *sym
         out->cap = entries;
     }
     for (uint32_t k = 0; k < n && !st; k++)
-        st = record_edge(v, rec, rec->word.piece[k], &out->edge[k]);
+        st = crossing_edge(v, rec, k, &out->edge[k]);
     return st;
 }
 
 int labels_leaf_face(const hpfc_file *f, const labels_leaf *l, uint32_t stretch, uint64_t *face)
 {
     int st;
-    const labels_view *v = labels_of(f, &st);
+    const labels_view *v = labels_of(f, true, &st);
     if (st)
         return st;
-    if (stretch >= (l->rec.word.n ? l->rec.word.n : 1))
+    if (stretch >= stretch_count(&l->rec.word))
         return HPFC_E_ARG;
     return stretch_face(v, &l->rec, stretch, face);
 }

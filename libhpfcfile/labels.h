@@ -12,6 +12,7 @@
 
 #include "format.h"
 #include "hpfc.h"
+#include "words.h"
 
 #define FORMAT_TAG_LABL "LABL"
 
@@ -21,7 +22,9 @@ enum {
     LABL_MAX_SHIFT = 16,      /* block_shift and sample_shift */
 };
 
-/* Header (48 bytes), then one 8-byte entry per level. */
+/* Header (48 bytes), then one 8-byte entry per level: a FORMAT_FIELD per
+ * field of §15.2's tables, alike in shape to every section's field list
+ * (format.h, geometry.h) and each with its own fields. */
 FORMAT_FIELD(labl, face_count, 0, 8, uint64_t)
 FORMAT_FIELD(labl, edge_count, 8, 8, uint64_t)
 FORMAT_FIELD(labl, leaf_count, 16, 8, uint64_t)
@@ -77,6 +80,12 @@ bool labels_compute_layout(const labels_levels *lv, const uint32_t *rank_bits, u
                            uint32_t sample_shift, uint64_t edges, uint32_t face_bits,
                            uint64_t label_bits, labels_layout *out);
 
+/* Global leaf numbers (§15.1), which GEOM shares (§17.1): level l's leaves
+ * come after the word pixels of the levels above, so its first leaf is
+ * first_leaf[l], and first_leaf[levels] counts them all. false when that
+ * count overflows. */
+bool labels_first_leaves(uint32_t levels, const uint64_t *word_pixels, uint64_t *first_leaf);
+
 /* Checks a LABL section's header against the level table and fills v;
  * HPFC_E_SECTION when it fails. O(levels). */
 int labels_open(labels_view *v, const uint8_t *sec, uint64_t length, const labels_levels *lv);
@@ -92,17 +101,20 @@ int labels_leaf_rank(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *ra
 /* The slow walk on its own (the tests' oracle). */
 int labels_rank_by_walk(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
 
-/* A word's regions and edge pieces (§15.2), from its symbols. */
+/* Words of up to this many crossings parse without a malloc. */
+#define LABELS_WORD_SMALL 64
+
+/* A word's regions and edge pieces (§15.2), from its components. */
 typedef struct labels_word {
     uint32_t n;          /* crossings */
     uint32_t regions;    /* 1 when private, else n - components + 1 */
     uint32_t pieces;     /* edge labels: n minus the stabbings */
     uint32_t *region;    /* per stretch t (between crossings t-1 and t): its region */
     uint32_t *piece;     /* per crossing: its piece */
-    uint32_t *pred;      /* cyclic predecessor in the component */
     uint32_t *flip;      /* per crossing: 1 for a stabbing's second crossing (`]`) */
-    uint32_t *stack;     /* scratch */
-    uint32_t small[6 * 64];
+    word_parts parts;    /* the grammar's parse (words.h): parts.pred, the cyclic
+                          * predecessor of each crossing in its component */
+    uint32_t small[3 * LABELS_WORD_SMALL + WORD_PARTS_MEM(LABELS_WORD_SMALL)];
     uint32_t *heap;
 } labels_word;
 
@@ -115,7 +127,8 @@ static inline uint64_t labels_record_bits(const labels_word *w, uint32_t face_bi
 }
 
 /* Parses `len` symbols (a word of the grammar of §3.8, else
- * HPFC_E_CORRUPT); HPFC_E_NOMEM for a long word. labels_word_free after. */
+ * HPFC_E_CORRUPT); HPFC_E_NOMEM for a long word. labels_word_free after,
+ * whatever it returns. */
 int labels_word_parse(labels_word *lw, const char *sym, size_t len);
 void labels_word_free(labels_word *lw);
 

@@ -5,8 +5,6 @@
  * give each record right after the previous one; a crossing seen from both
  * sides of its road must carry one edge id. O(file).
  */
-#include <stdarg.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,15 +12,10 @@
 #include "labels.h"
 #include "reader.h"
 #include "topo.h"
+#include "verify_report.h"
 
-static int problem(hpfc_labels_report *r, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(r->message, sizeof r->message, fmt, ap);
-    va_end(ap);
-    return HPFC_E_CORRUPT;
-}
+/* The first disagreement, into the report: HPFC_E_CORRUPT. */
+#define problem(r, ...) verify_message((r)->message, sizeof (r)->message, __VA_ARGS__)
 
 /* Every rank sample against a count over the pools (images back to back). */
 static int check_samples(const hpfc_file *f, const labels_view *v, hpfc_labels_report *r)

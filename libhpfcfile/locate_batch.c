@@ -12,13 +12,14 @@
 #include "file.h"
 #include "hpfc_batch.h"
 #include "locate_point.h"
+#include "scratch_array.h"
 #include "sized.h"
 
 /* Growable scratch for one point's candidate faces and features. */
 typedef struct batch_scratch {
     uint64_t *faces;
     size_t face_cap;
-    uint32_t *features;
+    uint64_t *features;     /* uint32_t ids, kept wide to share the sort of faces */
     size_t feature_cap;
     int exact;              /* the file has GEOM and LABL: locx answers */
     locx_scratch locx;
@@ -28,55 +29,6 @@ typedef struct batch_scratch {
     uint64_t feature_face;
     size_t feature_m;
 } batch_scratch;
-
-static int grow(void **p, size_t *cap, size_t n, size_t size)
-{
-    if (n <= *cap)
-        return HPFC_OK;
-    size_t want = *cap ? *cap : 16;
-    while (want < n)
-        want *= 2;
-    void *q = realloc(*p, want * size);
-    if (!q)
-        return HPFC_E_NOMEM;
-    *p = q;
-    *cap = want;
-    return HPFC_OK;
-}
-
-/* Sorts a short list in place and drops repeats; returns the new length.
- * Candidate lists are a leaf's crossings: a handful, so insertion sort. */
-static size_t unique_u64(uint64_t *v, size_t n)
-{
-    for (size_t i = 1; i < n; i++) {
-        uint64_t t = v[i];
-        size_t j = i;
-        for (; j > 0 && v[j - 1] > t; j--)
-            v[j] = v[j - 1];
-        v[j] = t;
-    }
-    size_t u = 0;
-    for (size_t i = 0; i < n; i++)
-        if (u == 0 || v[u - 1] != v[i])
-            v[u++] = v[i];
-    return u;
-}
-
-static size_t unique_u32(uint32_t *v, size_t n)
-{
-    for (size_t i = 1; i < n; i++) {
-        uint32_t t = v[i];
-        size_t j = i;
-        for (; j > 0 && v[j - 1] > t; j--)
-            v[j] = v[j - 1];
-        v[j] = t;
-    }
-    size_t u = 0;
-    for (size_t i = 0; i < n; i++)
-        if (u == 0 || v[u - 1] != v[i])
-            v[u++] = v[i];
-    return u;
-}
 
 /* The faces meeting leaf px, each once, into s->faces; their number in *n. */
 static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel *px,
@@ -88,14 +40,15 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
     if (!fc) { /* the stored labels: the faces of the leaf's regions */
         size_t count;
         if ((st = hpfc_label_leaf_faces(f, px, NULL, 0, &count)) ||
-            (st = grow((void **)&s->faces, &s->face_cap, count ? count : 1, sizeof *s->faces)) ||
+            (st = scratch_grow((void **)&s->faces, &s->face_cap, count ? count : 1,
+                               sizeof *s->faces)) ||
             (st = hpfc_label_leaf_faces(f, px, s->faces, s->face_cap, &count)))
             return st;
-        *n = unique_u64(s->faces, count);
+        *n = scratch_sort_unique(s->faces, count);
         return HPFC_OK;
     }
     if (*is_private) {
-        if ((st = grow((void **)&s->faces, &s->face_cap, 1, sizeof *s->faces)))
+        if ((st = scratch_grow((void **)&s->faces, &s->face_cap, 1, sizeof *s->faces)))
             return st;
         *n = 1;
         return hpfc_faces_of_private_pixel(fc, px, &s->faces[0]);
@@ -106,7 +59,7 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
     if (len < 4)
         return HPFC_E_CORRUPT;
     size_t crossings = len - 4; /* a word of c crossings has c + 4 symbols */
-    if ((st = grow((void **)&s->faces, &s->face_cap, crossings ? crossings : 1,
+    if ((st = scratch_grow((void **)&s->faces, &s->face_cap, crossings ? crossings : 1,
                    sizeof *s->faces)))
         return st;
     for (size_t k = 0; k < crossings; k++) {
@@ -114,7 +67,7 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
         if ((st = hpfc_faces_of_dart(fc, &d, &s->faces[k])))
             return st;
     }
-    *n = unique_u64(s->faces, crossings);
+    *n = scratch_sort_unique(s->faces, crossings);
     return HPFC_OK;
 }
 
@@ -135,15 +88,19 @@ static int leaf_features(const hpfc_file *f, batch_scratch *s, size_t n, size_t 
         uint32_t count;
         int st = hpfc_face_feature_count(f, s->faces[k], &count);
         if (!st)
-            st = grow((void **)&s->features, &s->feature_cap, total + count, sizeof *s->features);
-        for (uint32_t i = 0; i < count && !st; i++)
-            st = hpfc_face_feature(f, s->faces[k], i, &s->features[total++]);
+            st = scratch_grow((void **)&s->features, &s->feature_cap, total + count,
+                              sizeof *s->features);
+        for (uint32_t i = 0; i < count && !st; i++) {
+            uint32_t feature;
+            if (!(st = hpfc_face_feature(f, s->faces[k], i, &feature)))
+                s->features[total++] = feature;
+        }
         if (st)
             return st;
         if (count != 1 || s->features[total - 1] != s->features[0])
             *sure = 0;
     }
-    *m = unique_u32(s->features, total);
+    *m = scratch_sort_unique(s->features, total);
     if (n == 1) {
         s->have_face_features = 1;
         s->feature_face = s->faces[0];
@@ -153,20 +110,32 @@ static int leaf_features(const hpfc_file *f, batch_scratch *s, size_t n, size_t 
     return HPFC_OK;
 }
 
-static void answer_outside(const hpfc_locate_out *o, size_t k)
+/* One point's answer: a row of hpfc_locate_out. */
+typedef struct point_answer {
+    int64_t face, feature;
+    uint32_t face_count, feature_count;
+    uint8_t flags, depth;
+} point_answer;
+
+/* A point outside the domain, or skipped by `valid` (hpfc_batch.h). */
+static const point_answer answer_outside = {.face = -1, .feature = -1};
+
+/* Row k of the outputs the caller wants: one line per optional output of
+ * hpfc_locate_out, all of one shape (they differ in their column only). */
+static void put_answer(const hpfc_locate_out *o, size_t k, const point_answer *a)
 {
     if (o->face)
-        o->face[k] = -1;
+        o->face[k] = a->face;
     if (o->face_count)
-        o->face_count[k] = 0;
+        o->face_count[k] = a->face_count;
     if (o->feature)
-        o->feature[k] = -1;
+        o->feature[k] = a->feature;
     if (o->feature_count)
-        o->feature_count[k] = 0;
+        o->feature_count[k] = a->feature_count;
     if (o->flags)
-        o->flags[k] = 0;
+        o->flags[k] = a->flags;
     if (o->depth)
-        o->depth[k] = 0;
+        o->depth[k] = a->depth;
 }
 
 /* The exact answer: the point's face, or the faces around it on the
@@ -177,7 +146,7 @@ static int exact_faces(const hpfc_file *f, int64_t x, int64_t y, uint32_t *depth
     locx_answer a;
     int st = locx_locate(f, x, y, &s->locx, &a, n);
     if (!st)
-        st = grow((void **)&s->faces, &s->face_cap, *n ? *n : 1, sizeof *s->faces);
+        st = scratch_grow((void **)&s->faces, &s->face_cap, *n ? *n : 1, sizeof *s->faces);
     if (st)
         return st;
     memcpy(s->faces, s->locx.around, *n * sizeof *s->faces); /* where locx keeps them */
@@ -197,7 +166,7 @@ static int answer_point(const hpfc_file *f, const hpfc_faces *fc, int features, 
     int st = s->exact ? exact_faces(f, x, y, &depth, &is_private, &on_boundary, s, &n)
                       : hpfc_locate(f, x, y, &px);
     if (st == HPFC_E_NO_PIXEL) {
-        answer_outside(o, k);
+        put_answer(o, k, &answer_outside);
         return HPFC_OK;
     }
     if (!st && !s->exact) {
@@ -208,21 +177,16 @@ static int answer_point(const hpfc_file *f, const hpfc_faces *fc, int features, 
         st = leaf_features(f, s, n, &m, &sure);
     if (st)
         return st;
-    if (o->face)
-        o->face[k] = n == 1 ? (int64_t)s->faces[0] : -1;
-    if (o->face_count)
-        o->face_count[k] = (uint32_t)n;
-    if (o->feature)
-        o->feature[k] = sure ? (int64_t)s->features[0] : -1;
-    if (o->feature_count)
-        o->feature_count[k] = (uint32_t)m;
-    if (o->flags)
-        o->flags[k] = (uint8_t)(HPFC_LOC_INSIDE | (is_private ? HPFC_LOC_PRIVATE : 0) |
-                                (n == 1 ? HPFC_LOC_SINGLE : 0) |
-                                (s->exact ? HPFC_LOC_EXACT : 0) |
-                                (on_boundary ? HPFC_LOC_BOUNDARY : 0));
-    if (o->depth)
-        o->depth[k] = (uint8_t)depth;
+    point_answer a = {
+        .face = n == 1 ? (int64_t)s->faces[0] : -1,
+        .face_count = (uint32_t)n,
+        .feature = sure ? (int64_t)s->features[0] : -1,
+        .feature_count = (uint32_t)m,
+        .flags = (uint8_t)(HPFC_LOC_INSIDE | (is_private ? HPFC_LOC_PRIVATE : 0) |
+                           (n == 1 ? HPFC_LOC_SINGLE : 0) | (s->exact ? HPFC_LOC_EXACT : 0) |
+                           (on_boundary ? HPFC_LOC_BOUNDARY : 0)),
+        .depth = (uint8_t)depth};
+    put_answer(o, k, &a);
     return HPFC_OK;
 }
 
@@ -294,7 +258,7 @@ static int answer_in_order(const hpfc_file *file, const hpfc_faces *faces, int f
     int st = HPFC_OK;
     for (size_t k = first; k < first + n && !st; k++) {
         if (valid && !valid[k])
-            answer_outside(out, k);
+            put_answer(out, k, &answer_outside);
         else if ((st = answer_point(file, faces, features, x[k], y[k], out, k, s)) && failed)
             *failed = k;
     }
@@ -356,24 +320,18 @@ static int answer_sorted(const hpfc_file *file, const hpfc_faces *faces, int fea
                                     b->flags, b->depth};
     for (size_t i = 0; i < n; i++) {
         if (!b->valid[i])
-            answer_outside(&sorted, i);
+            put_answer(&sorted, i, &answer_outside);
         else if (answer_point(file, faces, features, b->x[i], b->y[i], &sorted, i, s))
             return 1;
     }
     for (size_t i = 0; i < n; i++) {
-        size_t k = first + b->items[i].index;
-        if (out->face)
-            out->face[k] = b->face[i];
-        if (out->face_count)
-            out->face_count[k] = b->face_count[i];
-        if (out->feature)
-            out->feature[k] = b->feature[i];
-        if (out->feature_count)
-            out->feature_count[k] = b->feature_count[i];
-        if (out->flags)
-            out->flags[k] = b->flags[i];
-        if (out->depth)
-            out->depth[k] = b->depth[i];
+        point_answer a = {.face = b->face[i],
+                          .face_count = b->face_count[i],
+                          .feature = b->feature[i],
+                          .feature_count = b->feature_count[i],
+                          .flags = b->flags[i],
+                          .depth = b->depth[i]};
+        put_answer(out, first + b->items[i].index, &a);
     }
     return 0;
 }

@@ -22,6 +22,7 @@
 #include "file.h"
 #include "geometry.h"
 #include "reader.h"
+#include "scratch_array.h"
 
 void locx_scratch_free(locx_scratch *s)
 {
@@ -33,38 +34,17 @@ void locx_scratch_free(locx_scratch *s)
     memset(s, 0, sizeof *s);
 }
 
-static int grow(void **p, size_t *cap, size_t n, size_t size)
-{
-    if (n <= *cap)
-        return HPFC_OK;
-    size_t want = *cap ? *cap : 16;
-    while (want < n)
-        want *= 2;
-    void *q = realloc(*p, want * size);
-    if (!q)
-        return HPFC_E_NOMEM;
-    *p = q;
-    *cap = want;
-    return HPFC_OK;
-}
-
-/* Room for n crossings in every per-crossing array. */
+/* Room for n crossings in every per-crossing array: both grow from the
+ * one capacity they share, so to the same one. */
 static int reserve_crossings(locx_scratch *s, size_t n)
 {
-    if (n <= s->crossing_cap)
-        return HPFC_OK;
-    size_t want = s->crossing_cap ? s->crossing_cap : 16;
-    while (want < n)
-        want *= 2;
-    locx_crossing *cr = realloc(s->cr, want * sizeof *cr);
-    if (cr)
-        s->cr = cr;
-    uint64_t *around = cr ? realloc(s->around, want * sizeof *around) : NULL;
-    if (!around)
-        return HPFC_E_NOMEM;
-    s->around = around;
-    s->crossing_cap = want;
-    return HPFC_OK;
+    size_t cr_cap = s->crossing_cap, around_cap = s->crossing_cap;
+    int st = scratch_grow((void **)&s->cr, &cr_cap, n, sizeof *s->cr);
+    if (!st)
+        st = scratch_grow((void **)&s->around, &around_cap, n, sizeof *s->around);
+    if (!st)
+        s->crossing_cap = cr_cap;
+    return st;
 }
 
 /* ---- the leaf ---------------------------------------------------------------------- */
@@ -80,18 +60,27 @@ typedef struct leaf_ctx {
     locx_scratch *s;
 } leaf_ctx;
 
-/* Point k of an edge, relative to the domain; a point outside
- * [0, 2^41]^2 is corrupt (the predicates' products must fit 128 bits). */
+/* A point GEOM gave as (*x, *y) with status st, relative to the domain.
+ * An id the leaf names but GEOM does not have (HPFC_E_ARG) is corrupt, and
+ * so is a point outside [0, 2^41]^2 (the predicates' products must fit
+ * 128 bits). */
+static int relative_point(const leaf_ctx *c, int st, const int64_t *x, const int64_t *y,
+                          lpoint *out)
+{
+    if (st)
+        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
+    if (*x < c->dx0 || *y < c->dy0 || *x - c->dx0 > HPFC_LATTICE_MAX ||
+        *y - c->dy0 > HPFC_LATTICE_MAX)
+        return HPFC_E_CORRUPT;
+    *out = (lpoint){*x - c->dx0, *y - c->dy0};
+    return HPFC_OK;
+}
+
+/* Point k of an edge, relative to the domain. */
 static int edge_point(const leaf_ctx *c, uint64_t edge, uint64_t k, lpoint *out)
 {
     int64_t x, y;
-    int st = hpfc_geometry_edge_point(c->f, edge, k, &x, &y);
-    if (st)
-        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
-    if (x < c->dx0 || y < c->dy0 || x - c->dx0 > HPFC_LATTICE_MAX || y - c->dy0 > HPFC_LATTICE_MAX)
-        return HPFC_E_CORRUPT;
-    *out = (lpoint){x - c->dx0, y - c->dy0};
-    return HPFC_OK;
+    return relative_point(c, hpfc_geometry_edge_point(c->f, edge, k, &x, &y), &x, &y, out);
 }
 
 /* Vertex `vertex`, relative; the crossings before k (the last 32) that
@@ -111,13 +100,7 @@ static int vertex_point(const leaf_ctx *c, uint64_t vertex, uint32_t k, lpoint *
         }
     }
     int64_t x, y;
-    int st = hpfc_geometry_vertex(c->f, vertex, &x, &y);
-    if (st)
-        return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
-    if (x < c->dx0 || y < c->dy0 || x - c->dx0 > HPFC_LATTICE_MAX || y - c->dy0 > HPFC_LATTICE_MAX)
-        return HPFC_E_CORRUPT;
-    *out = (lpoint){x - c->dx0, y - c->dy0};
-    return HPFC_OK;
+    return relative_point(c, hpfc_geometry_vertex(c->f, vertex, &x, &y), &x, &y, out);
 }
 
 /* Point i of crossing k's edge: a vertex through vertex_point, a shape
@@ -250,7 +233,7 @@ static int add_run(leaf_ctx *c, uint64_t edge, uint64_t first, uint64_t last, ui
          * crossings x points steps. */
         if (s->seg_count > s->points + c->n)
             return HPFC_E_CORRUPT;
-        if ((st = grow((void **)&s->segs, &s->seg_cap, s->seg_count + 1, sizeof *s->segs)))
+        if ((st = scratch_grow((void **)&s->segs, &s->seg_cap, s->seg_count + 1, sizeof *s->segs)))
             break;
         s->segs[s->seg_count++] = (locx_segment){
             .a = a,
@@ -273,7 +256,7 @@ static int add_piece(leaf_ctx *c, uint32_t k)
     const locx_crossing *x = &s->cr[k];
     uint64_t edge = s->labels.edge[k], seg = x->segment;
     if (x->kind == '[') {
-        uint32_t b = s->labels.rec.word.pred[k];
+        uint32_t b = s->labels.rec.word.parts.pred[k];
         if (b >= c->n || s->cr[b].kind != ']' || s->labels.edge[b] != edge ||
             s->cr[b].leaving == x->leaving)
             return HPFC_E_CORRUPT;
@@ -334,22 +317,6 @@ static bool on_segment(lpoint a, lpoint b, lpoint p)
     return lx <= p.x && p.x <= hx && ly <= p.y && p.y <= hy;
 }
 
-static size_t sort_unique(uint64_t *v, size_t n)
-{
-    for (size_t i = 1; i < n; i++) {
-        uint64_t t = v[i];
-        size_t j = i;
-        for (; j > 0 && v[j - 1] > t; j--)
-            v[j] = v[j - 1];
-        v[j] = t;
-    }
-    size_t u = 0;
-    for (size_t i = 0; i < n; i++)
-        if (u == 0 || v[u - 1] != v[i])
-            v[u++] = v[i];
-    return u;
-}
-
 /* The faces around a boundary point on segment sg: around its vertex,
  * those after each crossing of the vertex's component (the sectors
  * between its edges); on an edge, its two sides. */
@@ -362,7 +329,7 @@ static int boundary_faces(const leaf_ctx *c, const locx_segment *sg, lpoint p, i
     size_t m = 0;
     int st = HPFC_OK;
     if (*on_vertex) {
-        const uint32_t *pred = s->labels.rec.word.pred;
+        const uint32_t *pred = s->labels.rec.word.parts.pred;
         uint32_t j = sg->crossing;
         do {
             st = stretch_face(c, (j + 1) % c->n, &s->around[m++]);
@@ -372,7 +339,7 @@ static int boundary_faces(const leaf_ctx *c, const locx_segment *sg, lpoint p, i
         st = piece_sides(c, sg->crossing, &s->around[0], &s->around[1]);
         m = 2;
     }
-    *count = sort_unique(s->around, m);
+    *count = scratch_sort_unique(s->around, m);
     return st;
 }
 
@@ -477,11 +444,11 @@ static int load_leaf(leaf_ctx *c, int64_t x, int64_t y)
     if (!st)
         st = hpfc_pixel_bounds(c->f, leaf, &bx0, &by0, &bx1, &by1);
     if (!st && !s->sym)
-        st = grow((void **)&s->sym, &s->sym_cap, 64, 1);
+        st = scratch_grow((void **)&s->sym, &s->sym_cap, 64, 1);
     if (!st) /* most words fit the buffer: one decode */
         st = hpfc_pixel_word(c->f, leaf, s->sym, s->sym_cap, &len);
     if (st == HPFC_E_BUFFER_SMALL) {
-        st = grow((void **)&s->sym, &s->sym_cap, len, 1);
+        st = scratch_grow((void **)&s->sym, &s->sym_cap, len, 1);
         if (!st)
             st = hpfc_pixel_word(c->f, leaf, s->sym, s->sym_cap, &len);
     }

@@ -75,6 +75,19 @@ int word_parts_alloc(word_parts *wp, uint32_t cap)
     return HPFC_OK;
 }
 
+void word_parts_place(word_parts *wp, uint32_t *mem, uint32_t cap)
+{
+    uint32_t **arrays[] = {&wp->comp, &wp->pred, &wp->succ, &wp->comp_vertex, &wp->comp_first,
+                           &wp->comp_last, &wp->comp_size, &wp->vertex_comp, &wp->stack};
+    _Static_assert(sizeof arrays / sizeof *arrays == WORD_PARTS_MEM(0),
+                   "WORD_PARTS_MEM counts every array");
+    size_t n = (size_t)cap + 1; /* as word_parts_alloc */
+    *wp = (word_parts){0};
+    for (size_t i = 0; i < sizeof arrays / sizeof *arrays; i++)
+        *arrays[i] = mem + i * n;
+    wp->cap = cap;
+}
+
 static void add_crossing(word_parts *wp, uint32_t k, uint32_t c)
 {
     wp->comp[k] = c;

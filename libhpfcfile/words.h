@@ -69,6 +69,12 @@ typedef struct word_parts {
 int word_parts_alloc(word_parts *wp, uint32_t cap);
 void word_parts_free(word_parts *wp);
 
+/* The same arrays in the caller's memory, WORD_PARTS_MEM(cap) uint32_t at
+ * mem (no word_parts_free then): for a caller that parses one short word
+ * per call (the labels, labels.h) and keeps it on its stack, no malloc. */
+#define WORD_PARTS_MEM(cap) (9 * ((size_t)(cap) + 1))
+void word_parts_place(word_parts *wp, uint32_t *mem, uint32_t cap);
+
 /* Parses `len` symbols with the one-pass stack of §3.8: HPFC_OK, or
  * HPFC_E_CORRUPT for anything but four roads, each ended by '+', of
  * symbols of "=[]()Y" whose groups nest and close ('Y' and ')' only in a
