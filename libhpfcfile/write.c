@@ -24,6 +24,7 @@
 #include "labels.h"
 #include "pool.h"
 #include "sized.h"
+#include "words.h"
 
 typedef struct layout {
     const hpfc_tree *tree;   /* the map to lay out, or */
@@ -77,27 +78,6 @@ static void layout_free(layout *L)
 int write_default_layout = HPFC_LAYOUT_COMPACT;
 
 /* ---- pass 1: counts ------------------------------------------------------ */
-
-/* Bits of a word's code; 0 when the word is not a sequence of symbols
- * ending at its fourth '+' (the builder never makes one). */
-static uint64_t word_code_bits(const char *word, uint32_t len)
-{
-    uint64_t bits = 0;
-    unsigned plus = 0;
-    for (uint32_t k = 0; k < len; k++) {
-        if (plus == 4)
-            return 0;
-        if (word[k] == '+') {
-            plus++;
-            bits += 1;
-        } else if (format_symbol_code(word[k]) >= 0) {
-            bits += 4;
-        } else {
-            return 0;
-        }
-    }
-    return plus == 4 ? bits : 0;
-}
 
 static int count_pixel(layout *L, uint32_t level, size_t image, const hpfc_tree_pixel *px,
                        hpfc_diag *diag)
@@ -275,19 +255,6 @@ static int place_sections(layout *L, hpfc_diag *diag)
 
 /* ---- pass 3: emit ---------------------------------------------------------- */
 
-static void put_word(uint8_t *pool, uint64_t off, const hpfc_tree_pixel *px)
-{
-    for (uint32_t k = 0; k < px->word_len; k++) {
-        int code = format_symbol_code(px->word[k]);
-        if (code < 0) { /* '+' is the bit 0 of the zeroed pool */
-            off += 1;
-        } else {
-            format_put(pool, off, 4, (uint64_t)code);
-            off += 4;
-        }
-    }
-}
-
 static uint64_t child_address(const layout *L, uint32_t level, const hpfc_tree_pixel *px)
 {
     return L->image_off[level + 1][px->child];
@@ -307,7 +274,7 @@ static void emit_root(const layout *L, uint8_t *pool)
                 format_put(pool, off, 1, 1);
                 format_put(pool, off + 1, lv->address_bits, child_address(L, 0, &px));
             } else {
-                put_word(pool, off + 1, &px);
+                word_encode_code(pool, off + 1, px.word, px.word_len);
             }
         }
 }
@@ -328,7 +295,7 @@ static void emit_level(const layout *L, uint32_t level, uint8_t *pool)
                     format_put(pool, slot, lv->address_bits, child_address(L, level, &px));
                     slot += lv->address_bits;
                 } else {
-                    put_word(pool, slot, &px);
+                    word_encode_code(pool, slot, px.word, px.word_len);
                     slot += lv->word_bits;
                 }
             }
