@@ -184,26 +184,36 @@ static int size_levels(layout *L, hpfc_diag *diag)
     return HPFC_OK;
 }
 
+/* The lengths of the FEAT, ATTR and EDGF sections to write. */
+static int measure_tables(layout *L, hpfc_diag *diag)
+{
+    int st = HPFC_OK;
+    if (L->features)
+        st = feat_section_length(L->features, &L->feat_length, diag);
+    if (!st && L->attributes)
+        st = attr_section_length(L->attributes, &L->attr_length, diag);
+    if (!st && L->edge_features)
+        st = edgf_section_length(L->edge_features, &L->edgf_length, diag);
+    return st;
+}
+
+/* A section of `length` bytes placed after the file so far, at the next
+ * 8-byte boundary: returns its offset; *file_size becomes its end. */
+static uint64_t append_section(uint64_t *file_size, uint64_t length)
+{
+    uint64_t offset = format_align8(*file_size);
+    *file_size = offset + length;
+    return offset;
+}
+
 /* Header, level table and directory, then the POOL section (pools on 8-byte
  * boundaries, the section ending with the last pool's last byte), then CRS,
- * then FEAT. */
+ * FEAT, ATTR, EDGF, LABL and GEOM, each present one on an 8-byte boundary. */
 static int place_sections(layout *L, hpfc_diag *diag)
 {
-    if (L->features) {
-        int st = feat_section_length(L->features, &L->feat_length, diag);
-        if (st)
-            return st;
-    }
-    if (L->attributes) {
-        int st = attr_section_length(L->attributes, &L->attr_length, diag);
-        if (st)
-            return st;
-    }
-    if (L->edge_features) {
-        int st = edgf_section_length(L->edge_features, &L->edgf_length, diag);
-        if (st)
-            return st;
-    }
+    int st = measure_tables(L, diag);
+    if (st)
+        return st;
     L->section_count = 1 + (L->crs != NULL) + (L->features != NULL) + (L->attributes != NULL) +
                        (L->edge_features != NULL) + (L->labl != NULL) + (L->geom != NULL);
     L->meta_size = FORMAT_HEADER_SIZE + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * L->info.levels +
@@ -220,30 +230,19 @@ static int place_sections(layout *L, hpfc_diag *diag)
     L->pool_length = end - L->pool_section;
     L->file_size = end;
     if (L->crs) {
-        L->crs_offset = format_align8(end);
         L->crs_length = strlen(L->crs);
-        L->file_size = L->crs_offset + L->crs_length;
+        L->crs_offset = append_section(&L->file_size, L->crs_length);
     }
-    if (L->features) {
-        L->feat_offset = format_align8(L->file_size);
-        L->file_size = L->feat_offset + L->feat_length;
-    }
-    if (L->attributes) {
-        L->attr_offset = format_align8(L->file_size);
-        L->file_size = L->attr_offset + L->attr_length;
-    }
-    if (L->edge_features) {
-        L->edgf_offset = format_align8(L->file_size);
-        L->file_size = L->edgf_offset + L->edgf_length;
-    }
-    if (L->labl) {
-        L->labl_offset = format_align8(L->file_size);
-        L->file_size = L->labl_offset + L->labl_length;
-    }
-    if (L->geom) {
-        L->geom_offset = format_align8(L->file_size);
-        L->file_size = L->geom_offset + L->geom_length;
-    }
+    if (L->features)
+        L->feat_offset = append_section(&L->file_size, L->feat_length);
+    if (L->attributes)
+        L->attr_offset = append_section(&L->file_size, L->attr_length);
+    if (L->edge_features)
+        L->edgf_offset = append_section(&L->file_size, L->edgf_length);
+    if (L->labl)
+        L->labl_offset = append_section(&L->file_size, L->labl_length);
+    if (L->geom)
+        L->geom_offset = append_section(&L->file_size, L->geom_length);
     if (L->file_size > FORMAT_MAX_FILE_SIZE)
         return diag_set(diag, HPFC_E_LIMIT, "the file would exceed the format's 2^41 bytes");
 #if SIZE_MAX < UINT64_MAX
