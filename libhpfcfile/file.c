@@ -288,7 +288,9 @@ typedef struct span {
 
 /* By offset, the longer first at one offset: then checking neighbours finds
  * every overlap, including a non-empty section sharing an empty one's
- * offset (two sections at one offset must both be empty). */
+ * offset (two sections at one offset must both be empty).
+ * (Every qsort comparator of the library has this field-by-field shape;
+ * each orders its own record, so they share no code.) */
 static int cmp_offset(const void *a, const void *b)
 {
     const span *x = a, *y = b;

@@ -201,6 +201,9 @@ static int grow(void **p, size_t *cap, size_t n, size_t size)
     return 0;
 }
 
+/* Frees the hpfc_shapes object's arrays, then the object.
+ * (hpfc_graph_free, hpfc_tree_free and hpfc_shapes_free look alike, a free()
+ * a member, but each lists the arrays of its own struct.) */
 void hpfc_shapes_free(hpfc_shapes *s)
 {
     if (!s)
@@ -830,6 +833,9 @@ typedef struct line_end {
     uint32_t end;  /* 0: the edge's u, 1: its v */
 } line_end;
 
+/* Line ends by vertex, then by edge and end.
+ * (Every qsort comparator of the library has this field-by-field shape;
+ * each orders its own record, so they share no code.) */
 static int cmp_line_end(const void *pa, const void *pb)
 {
     const line_end *a = pa, *b = pb;

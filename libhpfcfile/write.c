@@ -516,37 +516,57 @@ static int read_options(const hpfc_write_options *opts, size_t size, hpfc_write_
     return HPFC_OK;
 }
 
-int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *opts_arg,
-                              size_t opts_size, uint8_t **out, size_t *out_size, hpfc_diag *diag)
+/* What both serialize calls (`who`) do first: the diagnostic cleared, the
+ * arguments checked (`source` is the tree or the file), the caller's
+ * options read over the defaults into *opts, the outputs emptied, and L
+ * started with the sections opts gives. */
+static int begin_serialize(const char *who, const void *source, const hpfc_write_options *opts_arg,
+                           size_t opts_size, uint8_t **out, size_t *out_size,
+                           hpfc_write_options *opts, layout *L, hpfc_diag *diag)
 {
     diag_clear(diag);
-    if (!tree || !out || !out_size)
-        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: NULL argument");
-    hpfc_write_options full;
-    const hpfc_write_options *opts = &full;
-    int st = read_options(opts_arg, opts_size, &full, "hpfc_tree_serialize", diag);
+    if (!source || !out || !out_size)
+        return diag_set(diag, HPFC_E_ARG, "%s: NULL argument", who);
+    int st = read_options(opts_arg, opts_size, opts, who, diag);
     if (st)
         return st;
     *out = NULL;
     *out_size = 0;
-    int kind = opts ? opts->layout : HPFC_LAYOUT_DEFAULT;
+    *L = (layout){.crs = opts->crs,
+                  .features = opts->features,
+                  .attributes = opts->attributes,
+                  .edge_features = opts->edge_features};
+    return HPFC_OK;
+}
+
+/* hpfc_tree_serialize and hpfc_file_serialize below share their signature
+ * (hpfc.h) and their start (begin_serialize); what stays twice is only that
+ * call. They part where the pools come from: laid out from the tree here,
+ * copied from the file there. */
+int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *opts_arg,
+                              size_t opts_size, uint8_t **out, size_t *out_size, hpfc_diag *diag)
+{
+    hpfc_write_options opts;
+    layout L;
+    int st = begin_serialize("hpfc_tree_serialize", tree, opts_arg, opts_size, out, out_size,
+                             &opts, &L, diag);
+    if (st)
+        return st;
+    int kind = opts.layout;
     if (kind < HPFC_LAYOUT_DEFAULT || kind > HPFC_LAYOUT_COMPACT)
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: unknown layout %d", kind);
-    layout L = {.tree = tree, .crs = opts ? opts->crs : NULL,
-                .features = opts ? opts->features : NULL,
-                .attributes = opts ? opts->attributes : NULL,
-                .edge_features = opts ? opts->edge_features : NULL,
-                .compact = (kind ? kind : write_default_layout) == HPFC_LAYOUT_COMPACT};
+    L.tree = tree;
+    L.compact = (kind ? kind : write_default_layout) == HPFC_LAYOUT_COMPACT;
     hpfc_tree_get_info(tree, &L.info);
     st = check_tree_info(&L.info, diag);
     for (uint32_t l = 0; l < L.info.levels && !st; l++)
         st = count_level(&L, l, diag);
     if (!st)
         st = size_levels(&L, diag);
-    if (!st && opts && opts->face_labels)
+    if (!st && opts.face_labels)
         st = make_labels(&L, diag);
-    if (!st && opts && opts->geometry)
-        st = make_geometry(&L, opts->geometry, diag);
+    if (!st && opts.geometry)
+        st = make_geometry(&L, opts.geometry, diag);
     if (!st)
         st = serialize_layout(&L, out, out_size, diag);
     free((void *)L.labl);
@@ -555,22 +575,17 @@ int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *o
     return st;
 }
 
+/* Starts as hpfc_tree_serialize does (see there); the pools are copied. */
 int hpfc_file_serialize_sized(const hpfc_file *file, const hpfc_write_options *opts_arg,
                               size_t opts_size, uint8_t **out, size_t *out_size, hpfc_diag *diag)
 {
-    diag_clear(diag);
-    if (!file || !out || !out_size)
-        return diag_set(diag, HPFC_E_ARG, "hpfc_file_serialize: NULL argument");
-    hpfc_write_options full;
-    const hpfc_write_options *opts = &full;
-    if (read_options(opts_arg, opts_size, &full, "hpfc_file_serialize", diag))
-        return HPFC_E_ARG;
-    *out = NULL;
-    *out_size = 0;
-    layout L = {.source = file, .crs = opts ? opts->crs : NULL,
-                .features = opts ? opts->features : NULL,
-                .attributes = opts ? opts->attributes : NULL,
-                .edge_features = opts ? opts->edge_features : NULL};
+    hpfc_write_options opts;
+    layout L;
+    int st = begin_serialize("hpfc_file_serialize", file, opts_arg, opts_size, out, out_size,
+                             &opts, &L, diag);
+    if (st)
+        return st;
+    L.source = file;
     const labels_view *labels = &file->labels;
     if (labels->present) { /* the pools are copied bit for bit: the labels stay true */
         L.labl = labels->section;
