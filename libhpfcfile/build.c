@@ -241,6 +241,9 @@ typedef struct word_scratch {
     size_t ncomp, cap_comp;
 } word_scratch;
 
+/* Crossings by edge, then by segment along it.
+ * (Every qsort comparator of the library has this field-by-field shape;
+ * each orders its own record, so they share no code.) */
 static int cmp_along_edge(const void *pa, const void *pb)
 {
     const crossing *a = pa, *b = pb;
@@ -462,6 +465,9 @@ typedef struct incidence {
     uint32_t seg;
 } incidence;
 
+/* Incidences by pixel, then by segment.
+ * (Every qsort comparator of the library has this field-by-field shape;
+ * each orders its own record, so they share no code.) */
 static int cmp_incidence(const void *pa, const void *pb)
 {
     const incidence *a = pa, *b = pb;
@@ -859,6 +865,9 @@ void hpfc_build_params_init(hpfc_build_params *params, size_t size)
     sized_out(params, size, &defaults, sizeof defaults);
 }
 
+/* Frees every level's arrays, the tree's own, then the tree.
+ * (hpfc_graph_free, hpfc_tree_free and hpfc_shapes_free look alike, a free()
+ * a member, but each lists the arrays of its own struct.) */
 void hpfc_tree_free(hpfc_tree *t)
 {
     if (!t)

@@ -7,7 +7,12 @@
 #include "format.h"
 
 /* CRC32C_TABLE[0] is the byte-wise table; CRC32C_TABLE[k][b] advances
- * CRC32C_TABLE[k-1][b] by one more zero byte. Generated once by a script. */
+ * CRC32C_TABLE[k-1][b] by one more zero byte. Generated once by a script.
+ * Its rows are data, not code written twice: they look alike (six
+ * constants a line) and a duplicate finder pairs them, but C has no
+ * compile-time loop to derive them from the polynomial, and building them
+ * at run time would give the reader mutable global state. tests/test_bits.c
+ * checks them: the check value, and slicing against the byte-wise loop. */
 static const uint32_t CRC32C_TABLE[8][256] = {
     {
         0x00000000, 0xf26b8303, 0xe13b70f7, 0x1350f3f4, 0xc79a971f, 0x35f1141c,

@@ -288,7 +288,9 @@ typedef struct span {
 
 /* By offset, the longer first at one offset: then checking neighbours finds
  * every overlap, including a non-empty section sharing an empty one's
- * offset (two sections at one offset must both be empty). */
+ * offset (two sections at one offset must both be empty).
+ * (Every qsort comparator of the library has this field-by-field shape;
+ * each orders its own record, so they share no code.) */
 static int cmp_offset(const void *a, const void *b)
 {
     const span *x = a, *y = b;
@@ -411,52 +413,54 @@ static int read_checked(hpfc_file *f, const uint8_t *entry, int (*check)(const u
     return st;
 }
 
+/* The sections this library reads, by tag: where read_directory finds
+ * their entries (at most one each, check_section_set refuses a repeat). */
+enum { SEC_POOL, SEC_CRS, SEC_FEAT, SEC_LABL, SEC_ATTR, SEC_EDGF, SEC_GEOM, KNOWN_SECTIONS };
+static const char *const known_tags[KNOWN_SECTIONS] = {
+    FORMAT_TAG_POOL, FORMAT_TAG_CRS, FORMAT_TAG_FEAT, FORMAT_TAG_LABL,
+    FORMAT_TAG_ATTR, FORMAT_TAG_EDGF, FORMAT_TAG_GEOM,
+};
+
+/* Records entry e in `known` if its tag is one this library reads. */
+static void note_known_section(const uint8_t *e, const uint8_t *known[KNOWN_SECTIONS])
+{
+    for (int k = 0; k < KNOWN_SECTIONS; k++)
+        if (tag_is(e, known_tags[k]))
+            known[k] = e;
+}
+
 static int read_directory(hpfc_file *f)
 {
     uint32_t count = f->info.section_count;
     span *spans = malloc((count ? count : 1) * sizeof *spans);
     if (!spans)
         return HPFC_E_NOMEM;
-    const uint8_t *pool = NULL, *crs = NULL, *feat = NULL, *labl = NULL, *attr = NULL, *edgf = NULL,
-                  *geom = NULL;
+    const uint8_t *known[KNOWN_SECTIONS] = {NULL};
     int st = HPFC_OK;
     for (uint32_t k = 0; k < count && !st; k++) {
         const uint8_t *e = section_entry(f, k);
         st = check_section_entry(f, e, &spans[k]);
-        if (tag_is(e, FORMAT_TAG_POOL))
-            pool = e;
-        else if (tag_is(e, FORMAT_TAG_CRS))
-            crs = e;
-        else if (tag_is(e, FORMAT_TAG_FEAT))
-            feat = e;
-        else if (tag_is(e, FORMAT_TAG_LABL))
-            labl = e;
-        else if (tag_is(e, FORMAT_TAG_ATTR))
-            attr = e;
-        else if (tag_is(e, FORMAT_TAG_EDGF))
-            edgf = e;
-        else if (tag_is(e, FORMAT_TAG_GEOM))
-            geom = e;
+        note_known_section(e, known);
     }
     if (!st)
         st = check_section_set(spans, count);
     free(spans);
-    if (!st && !pool)
+    if (!st && !known[SEC_POOL])
         st = HPFC_E_SECTION;
-    if (!st && crs)
-        st = read_crs(f, crs);
-    if (!st && feat)
-        st = read_checked(f, feat, feat_section_check, &f->feat);
-    if (!st && labl)
-        st = read_labl(f, labl);
-    if (!st && attr)
-        st = read_checked(f, attr, attr_section_check, &f->attr);
-    if (!st && edgf)
-        st = read_checked(f, edgf, edgf_section_check, &f->edgf);
-    if (!st && geom)
-        st = read_geom(f, geom);
+    if (!st && known[SEC_CRS])
+        st = read_crs(f, known[SEC_CRS]);
+    if (!st && known[SEC_FEAT])
+        st = read_checked(f, known[SEC_FEAT], feat_section_check, &f->feat);
+    if (!st && known[SEC_LABL])
+        st = read_labl(f, known[SEC_LABL]);
+    if (!st && known[SEC_ATTR])
+        st = read_checked(f, known[SEC_ATTR], attr_section_check, &f->attr);
+    if (!st && known[SEC_EDGF])
+        st = read_checked(f, known[SEC_EDGF], edgf_section_check, &f->edgf);
+    if (!st && known[SEC_GEOM])
+        st = read_geom(f, known[SEC_GEOM]);
     if (!st)
-        st = check_pools_in_section(f, pool);
+        st = check_pools_in_section(f, known[SEC_POOL]);
     return st;
 }
 

@@ -73,7 +73,12 @@ static inline void le_store(uint8_t *p, unsigned bytes, uint64_t v)
 
 /* FORMAT_FIELD(hdr, levels, 40, 4, uint32_t) defines hdr_get_levels(p) and
  * hdr_set_levels(p, v) for the 4-byte field at offset 40 of a structure
- * starting at p. Signed fields go through their two's complement. */
+ * starting at p. Signed fields go through their two's complement.
+ *
+ * A structure's field table is a run of FORMAT_FIELD lines, one a row of
+ * the spec's table for it: here, in geometry.h (GEOM), labels.h (LABL) and
+ * pool.h. The runs look alike and a duplicate finder pairs them, but each
+ * line names a different field; the logic they share is this macro. */
 #define FORMAT_FIELD(scope, name, offset, bytes, type)                              \
     enum { scope##_OFF_##name = (offset), scope##_SIZE_##name = (bytes) };           \
     static inline type scope##_get_##name(const uint8_t *p)                          \
@@ -85,8 +90,9 @@ static inline void le_store(uint8_t *p, unsigned bytes, uint64_t v)
         le_store(p + (offset), (bytes), (uint64_t)v);                                \
     }
 
-/* Header (128 bytes). The magic and the reserved areas are byte strings:
- * their offsets and sizes come from the enum only. */
+/* Header (128 bytes), a field table (see FORMAT_FIELD). The magic and the
+ * reserved areas are byte strings: their offsets and sizes come from the
+ * enum only. */
 enum {
     hdr_OFF_magic = 0, hdr_SIZE_magic = 8,
     hdr_OFF_reserved0 = 84, hdr_SIZE_reserved0 = 4,
@@ -132,7 +138,8 @@ FORMAT_FIELD(sec, crc32c, 24, 4, uint32_t)
 
 /* ATTR section (spec/hpfc-format.md §7.2): a 32-byte header, then the
  * column table (16 bytes a column), the cells (8 bytes each, row-major),
- * the null bits (one per cell, padded to 8 bytes) and the strings. */
+ * the null bits (one per cell, padded to 8 bytes) and the strings. Its
+ * field tables, as the ones below, are FORMAT_FIELD runs (see there). */
 enum { ATTR_HEADER_SIZE = 32, ATTR_COLUMN_SIZE = 16, ATTR_CELL_SIZE = 8 };
 FORMAT_FIELD(attr, feature_count, 0, 4, uint32_t)
 FORMAT_FIELD(attr, column_count, 4, 4, uint32_t)

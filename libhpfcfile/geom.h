@@ -59,8 +59,16 @@ static inline bool point_in_cell(lpoint p, int64_t x0, int64_t y0,
     return p.x >= x0 && p.x < x1 && p.y >= y0 && p.y < y1;
 }
 
+/* The same point with x and y exchanged: a horizontal line seen as a
+ * vertical one. */
+static inline lpoint swap_xy(lpoint p)
+{
+    return (lpoint){p.y, p.x};
+}
+
 /* Does segment pq cross the perturbed vertical line x = X - eps? If so,
- * *pos receives the crossing's y as num/den and tilt = dy. */
+ * *pos receives the crossing's y as num/den and tilt = dy. A point on the
+ * line is east of it, so the test is x >= X. */
 static inline bool cross_vertical(lpoint p, lpoint q, int64_t X, line_pos *pos)
 {
     if ((p.x >= X) == (q.x >= X))
@@ -77,21 +85,13 @@ static inline bool cross_vertical(lpoint p, lpoint q, int64_t X, line_pos *pos)
     return true;
 }
 
-/* Same for the perturbed horizontal line y = Y - eps^2; num/den is x. */
+/* Same for the perturbed horizontal line y = Y - eps^2; num/den is x and
+ * tilt dx. A point on the line is north of it (y >= Y), so with x and y
+ * exchanged this is cross_vertical: the two perturbations differ only in
+ * how crossings of one line are ordered (vpos_north_of, hpos_east_of). */
 static inline bool cross_horizontal(lpoint p, lpoint q, int64_t Y, line_pos *pos)
 {
-    if ((p.y >= Y) == (q.y >= Y))
-        return false;
-    if (p.y > q.y) {
-        lpoint t = p;
-        p = q;
-        q = t;
-    }
-    int64_t den = q.y - p.y, dx = q.x - p.x;
-    pos->num = (i128)p.x * den + (i128)dx * (Y - p.y);
-    pos->den = den;
-    pos->tilt = dx;
-    return true;
+    return cross_vertical(swap_xy(p), swap_xy(q), Y, pos);
 }
 
 /* A crossing of a vertical line sits at y* - eps * dy/dx. It is north of the

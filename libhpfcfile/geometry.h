@@ -45,6 +45,9 @@ enum {
     GEOM_WIDTH_BITS = 7, /* a block's width field: 0 .. 64 */
 };
 
+/* Header (48 bytes): a field table, one FORMAT_FIELD line a row of spec
+ * §17's table; its likeness to the other sections' tables is the macro's
+ * (format.h, FORMAT_FIELD). */
 FORMAT_FIELD(geom, vertex_count, 0, 8, uint64_t)
 FORMAT_FIELD(geom, edge_count, 8, 8, uint64_t)
 FORMAT_FIELD(geom, point_count, 16, 8, uint64_t)

@@ -26,6 +26,9 @@ int hpfc_graph_create(hpfc_graph **out)
     return HPFC_OK;
 }
 
+/* Frees the graph's arrays, then the graph.
+ * (hpfc_graph_free, hpfc_tree_free and hpfc_shapes_free look alike, a free()
+ * a member, but each lists the arrays of its own struct.) */
 void hpfc_graph_free(hpfc_graph *g)
 {
     if (!g)

@@ -400,7 +400,9 @@ typedef struct hpfc_write_options {
  * 0 as its default. */
 
 /* Serialises the tree into a new buffer (*out, *out_size); the caller
- * frees it with hpfc_free(). */
+ * frees it with hpfc_free(). This pair (to a buffer, to a path) has a twin
+ * for an open file, hpfc_file_serialize and hpfc_file_write_file below:
+ * the same options and outputs, declared alike on purpose. */
 HPFC_API int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
                                        size_t opts_size, uint8_t **out, size_t *out_size,
                                        hpfc_diag *diag);
@@ -452,7 +454,9 @@ HPFC_API int hpfc_file_verify_checksums(const hpfc_file *file);
  * file's LABL and GEOM sections are kept (they describe the pools, copied
  * unchanged); its ATTR and EDGF sections only through opts; the output has
  * this library's format version. Safe on any file that opened: every pool
- * was bounds-checked at open. */
+ * was bounds-checked at open. The pair mirrors hpfc_tree_serialize and
+ * hpfc_tree_write_file above, declared alike on purpose: only the source
+ * differs. */
 HPFC_API int hpfc_file_serialize_sized(const hpfc_file *file, const hpfc_write_options *opts,
                                        size_t opts_size, uint8_t **out, size_t *out_size,
                                        hpfc_diag *diag);

@@ -26,6 +26,8 @@ typedef struct code_entry {
     uint8_t next;  /* the context after it */
 } code_entry;
 #define CODE_ONES_CAP 7
+/* A row a context: the rows share their layout, not their logic (each is
+ * that context's own list of symbols by frequency). */
 static const code_entry codes[4][CODE_ONES_CAP + 1] = {
     [CTX_NONE] = {{'[', 1, CTX_STABBING}, {'(', 2, CTX_JUNCTION}, {'+', 3, CTX_NONE},
                   {'=', 3, CTX_CLOSED}, {'=', 3, CTX_CLOSED}, {'=', 3, CTX_CLOSED},

@@ -71,7 +71,10 @@ static inline void road_point(const road_box *b, int road, int64_t t, bool insid
 }
 
 /* Does segment pq cross road `road` of cell [x0,x1) x [y0,y1)? On success
- * *pos is its position and *entering whether pq goes into the cell there. */
+ * *pos is its position and *entering whether pq goes into the cell there.
+ * The W/E and S/N cases stay two mirror images: the perturbation rule
+ * (geom.h) ends a vertical road's span with vpos_north_of, which breaks
+ * ties by tilt, and a horizontal one's with hpos_east_of, which needs none. */
 static inline bool cross_road(lpoint p, lpoint q, int road, int64_t x0,
                               int64_t y0, int64_t x1, int64_t y1,
                               line_pos *pos, bool *entering)

@@ -201,6 +201,9 @@ static int grow(void **p, size_t *cap, size_t n, size_t size)
     return 0;
 }
 
+/* Frees the hpfc_shapes object's arrays, then the object.
+ * (hpfc_graph_free, hpfc_tree_free and hpfc_shapes_free look alike, a free()
+ * a member, but each lists the arrays of its own struct.) */
 void hpfc_shapes_free(hpfc_shapes *s)
 {
     if (!s)
@@ -417,14 +420,27 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
     return HPFC_OK;
 }
 
+/* The section a per-feature call reads: FEAT (the feature's faces) or EDGF
+ * (its edges). */
+enum feature_section { FEATURE_FACES, FEATURE_EDGES };
+
+/* What every per-feature call checks first: s and its output given, the
+ * section it reads present, `feature` one of the map's. */
+static int check_feature_call(const hpfc_shapes *s, const void *out, enum feature_section need,
+                              uint32_t feature)
+{
+    if (!s || !out)
+        return HPFC_E_ARG;
+    if (!(need == FEATURE_EDGES ? s->have_edge_features : s->have_features))
+        return HPFC_E_NO_SECTION;
+    return feature < s->features ? HPFC_OK : HPFC_E_ARG;
+}
+
 int hpfc_shapes_feature_face_count(const hpfc_shapes *s, uint32_t feature, uint64_t *count)
 {
-    if (!s || !count)
-        return HPFC_E_ARG;
-    if (!s->have_features)
-        return HPFC_E_NO_SECTION;
-    if (feature >= s->features)
-        return HPFC_E_ARG;
+    int st = check_feature_call(s, count, FEATURE_FACES, feature);
+    if (st)
+        return st;
     *count = s->feat_start[feature + 1] - s->feat_start[feature];
     return HPFC_OK;
 }
@@ -787,18 +803,14 @@ static uint32_t next_mark(hpfc_shapes *s)
 
 int hpfc_shapes_feature(hpfc_shapes *s, uint32_t feature, hpfc_polygons *out)
 {
-    if (!s || !out)
-        return HPFC_E_ARG;
-    if (!s->have_features)
-        return HPFC_E_NO_SECTION;
-    if (feature >= s->features)
-        return HPFC_E_ARG;
+    int st = check_feature_call(s, out, FEATURE_FACES, feature);
+    if (st)
+        return st;
     reset(s);
     uint32_t m = next_mark(s);
     uint64_t a = s->feat_start[feature], b = s->feat_start[feature + 1];
     for (uint64_t k = a; k < b; k++)
         s->face_mark[s->feat_face[k]] = m;
-    int st = HPFC_OK;
     for (uint64_t k = a; k < b && !st; k++) {
         uint32_t face = s->feat_face[k];
         for (uint64_t j = s->face_start[face]; j < s->face_start[face + 1] && !st; j++) {
@@ -821,6 +833,9 @@ typedef struct line_end {
     uint32_t end;  /* 0: the edge's u, 1: its v */
 } line_end;
 
+/* Line ends by vertex, then by edge and end.
+ * (Every qsort comparator of the library has this field-by-field shape;
+ * each orders its own record, so they share no code.) */
 static int cmp_line_end(const void *pa, const void *pb)
 {
     const line_end *a = pa, *b = pb;
@@ -902,18 +917,15 @@ static line_end line_start(const line_walk *w, uint32_t k)
 
 int hpfc_shapes_feature_lines(hpfc_shapes *s, uint32_t feature, hpfc_polygons *out)
 {
-    if (!s || !out)
-        return HPFC_E_ARG;
-    if (!s->have_edge_features)
-        return HPFC_E_NO_SECTION;
-    if (feature >= s->features)
-        return HPFC_E_ARG;
+    int st = check_feature_call(s, out, FEATURE_EDGES, feature);
+    if (st)
+        return st;
     reset(s);
     line_walk w = {.s = s, .edges = s->fe_edge + s->fe_start[feature]};
     w.n = (size_t)(s->fe_start[feature + 1] - s->fe_start[feature]);
     w.used = calloc(w.n + 1, 1);
     w.ends = malloc((2 * w.n + 1) * sizeof *w.ends);
-    int st = w.used && w.ends ? HPFC_OK : HPFC_E_NOMEM;
+    st = w.used && w.ends ? HPFC_OK : HPFC_E_NOMEM;
     for (size_t k = 0; k < w.n && !st; k++) {
         uint32_t e = w.edges[k];
         w.ends[2 * k] = (line_end){s->eu[e], (uint32_t)k, 0};

@@ -1,9 +1,15 @@
 /*
  * words.h: a word, the string of symbols "+=[]()Y" of a word pixel
  * (spec/hpfc-format.md §3.6-§3.8, §10), in one place: the symbol a
- * crossing gets (the builder), the fixed-code slot decoded into symbols
- * (the reader), the grammar parsed into components (the traversal, faces,
- * hpfc-inspect) and the crossings counted per road.
+ * crossing gets (the builder), the fixed code of §10 measured and written
+ * (the writer) and decoded into symbols (the reader), the grammar parsed
+ * into components (the traversal, faces, hpfc-inspect) and the crossings
+ * counted per road.
+ *
+ * The compact pool's word code (spec §16.5) lives in pool.c instead: it is
+ * a different code (a symbol's bits depend on the symbol before it, and
+ * the fourth '+' is not stored), and each pool layout keeps its own code
+ * next to the layout that stores it, as this file keeps the paper layout's.
  *
  * Internal to the library; hpfc-inspect compiles words.c into itself
  * (hpfc-inspect/meson.build), as the shared library does not export it.
@@ -34,6 +40,16 @@ static inline char word_crossing_symbol(bool junction, uint32_t seen, uint32_t s
         return '=';
     return seen == 1 ? '(' : seen == size ? ')' : 'Y';
 }
+
+/* Bits of a word's fixed code (§10: '+' one bit, any other symbol four);
+ * 0 when the word is not symbols ending at their fourth '+' (the builder
+ * never makes one). */
+uint64_t word_code_bits(const char *word, uint32_t len);
+
+/* Writes a word's fixed code at bit `off` of a zeroed pool (a '+' is a 0
+ * bit, so only the other symbols are written). For a word word_code_bits
+ * accepted: it writes that many bits. */
+void word_encode_code(uint8_t *pool, uint64_t off, const char *word, uint32_t len);
 
 /* ---- decoding ---- */
 

@@ -24,6 +24,7 @@
 #include "labels.h"
 #include "pool.h"
 #include "sized.h"
+#include "words.h"
 
 typedef struct layout {
     const hpfc_tree *tree;   /* the map to lay out, or */
@@ -77,27 +78,6 @@ static void layout_free(layout *L)
 int write_default_layout = HPFC_LAYOUT_COMPACT;
 
 /* ---- pass 1: counts ------------------------------------------------------ */
-
-/* Bits of a word's code; 0 when the word is not a sequence of symbols
- * ending at its fourth '+' (the builder never makes one). */
-static uint64_t word_code_bits(const char *word, uint32_t len)
-{
-    uint64_t bits = 0;
-    unsigned plus = 0;
-    for (uint32_t k = 0; k < len; k++) {
-        if (plus == 4)
-            return 0;
-        if (word[k] == '+') {
-            plus++;
-            bits += 1;
-        } else if (format_symbol_code(word[k]) >= 0) {
-            bits += 4;
-        } else {
-            return 0;
-        }
-    }
-    return plus == 4 ? bits : 0;
-}
 
 static int count_pixel(layout *L, uint32_t level, size_t image, const hpfc_tree_pixel *px,
                        hpfc_diag *diag)
@@ -204,26 +184,36 @@ static int size_levels(layout *L, hpfc_diag *diag)
     return HPFC_OK;
 }
 
+/* The lengths of the FEAT, ATTR and EDGF sections to write. */
+static int measure_tables(layout *L, hpfc_diag *diag)
+{
+    int st = HPFC_OK;
+    if (L->features)
+        st = feat_section_length(L->features, &L->feat_length, diag);
+    if (!st && L->attributes)
+        st = attr_section_length(L->attributes, &L->attr_length, diag);
+    if (!st && L->edge_features)
+        st = edgf_section_length(L->edge_features, &L->edgf_length, diag);
+    return st;
+}
+
+/* A section of `length` bytes placed after the file so far, at the next
+ * 8-byte boundary: returns its offset; *file_size becomes its end. */
+static uint64_t append_section(uint64_t *file_size, uint64_t length)
+{
+    uint64_t offset = format_align8(*file_size);
+    *file_size = offset + length;
+    return offset;
+}
+
 /* Header, level table and directory, then the POOL section (pools on 8-byte
  * boundaries, the section ending with the last pool's last byte), then CRS,
- * then FEAT. */
+ * FEAT, ATTR, EDGF, LABL and GEOM, each present one on an 8-byte boundary. */
 static int place_sections(layout *L, hpfc_diag *diag)
 {
-    if (L->features) {
-        int st = feat_section_length(L->features, &L->feat_length, diag);
-        if (st)
-            return st;
-    }
-    if (L->attributes) {
-        int st = attr_section_length(L->attributes, &L->attr_length, diag);
-        if (st)
-            return st;
-    }
-    if (L->edge_features) {
-        int st = edgf_section_length(L->edge_features, &L->edgf_length, diag);
-        if (st)
-            return st;
-    }
+    int st = measure_tables(L, diag);
+    if (st)
+        return st;
     L->section_count = 1 + (L->crs != NULL) + (L->features != NULL) + (L->attributes != NULL) +
                        (L->edge_features != NULL) + (L->labl != NULL) + (L->geom != NULL);
     L->meta_size = FORMAT_HEADER_SIZE + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * L->info.levels +
@@ -240,30 +230,19 @@ static int place_sections(layout *L, hpfc_diag *diag)
     L->pool_length = end - L->pool_section;
     L->file_size = end;
     if (L->crs) {
-        L->crs_offset = format_align8(end);
         L->crs_length = strlen(L->crs);
-        L->file_size = L->crs_offset + L->crs_length;
+        L->crs_offset = append_section(&L->file_size, L->crs_length);
     }
-    if (L->features) {
-        L->feat_offset = format_align8(L->file_size);
-        L->file_size = L->feat_offset + L->feat_length;
-    }
-    if (L->attributes) {
-        L->attr_offset = format_align8(L->file_size);
-        L->file_size = L->attr_offset + L->attr_length;
-    }
-    if (L->edge_features) {
-        L->edgf_offset = format_align8(L->file_size);
-        L->file_size = L->edgf_offset + L->edgf_length;
-    }
-    if (L->labl) {
-        L->labl_offset = format_align8(L->file_size);
-        L->file_size = L->labl_offset + L->labl_length;
-    }
-    if (L->geom) {
-        L->geom_offset = format_align8(L->file_size);
-        L->file_size = L->geom_offset + L->geom_length;
-    }
+    if (L->features)
+        L->feat_offset = append_section(&L->file_size, L->feat_length);
+    if (L->attributes)
+        L->attr_offset = append_section(&L->file_size, L->attr_length);
+    if (L->edge_features)
+        L->edgf_offset = append_section(&L->file_size, L->edgf_length);
+    if (L->labl)
+        L->labl_offset = append_section(&L->file_size, L->labl_length);
+    if (L->geom)
+        L->geom_offset = append_section(&L->file_size, L->geom_length);
     if (L->file_size > FORMAT_MAX_FILE_SIZE)
         return diag_set(diag, HPFC_E_LIMIT, "the file would exceed the format's 2^41 bytes");
 #if SIZE_MAX < UINT64_MAX
@@ -274,19 +253,6 @@ static int place_sections(layout *L, hpfc_diag *diag)
 }
 
 /* ---- pass 3: emit ---------------------------------------------------------- */
-
-static void put_word(uint8_t *pool, uint64_t off, const hpfc_tree_pixel *px)
-{
-    for (uint32_t k = 0; k < px->word_len; k++) {
-        int code = format_symbol_code(px->word[k]);
-        if (code < 0) { /* '+' is the bit 0 of the zeroed pool */
-            off += 1;
-        } else {
-            format_put(pool, off, 4, (uint64_t)code);
-            off += 4;
-        }
-    }
-}
 
 static uint64_t child_address(const layout *L, uint32_t level, const hpfc_tree_pixel *px)
 {
@@ -307,7 +273,7 @@ static void emit_root(const layout *L, uint8_t *pool)
                 format_put(pool, off, 1, 1);
                 format_put(pool, off + 1, lv->address_bits, child_address(L, 0, &px));
             } else {
-                put_word(pool, off + 1, &px);
+                word_encode_code(pool, off + 1, px.word, px.word_len);
             }
         }
 }
@@ -328,7 +294,7 @@ static void emit_level(const layout *L, uint32_t level, uint8_t *pool)
                     format_put(pool, slot, lv->address_bits, child_address(L, level, &px));
                     slot += lv->address_bits;
                 } else {
-                    put_word(pool, slot, &px);
+                    word_encode_code(pool, slot, px.word, px.word_len);
                     slot += lv->word_bits;
                 }
             }
@@ -550,37 +516,57 @@ static int read_options(const hpfc_write_options *opts, size_t size, hpfc_write_
     return HPFC_OK;
 }
 
-int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *opts_arg,
-                              size_t opts_size, uint8_t **out, size_t *out_size, hpfc_diag *diag)
+/* What both serialize calls (`who`) do first: the diagnostic cleared, the
+ * arguments checked (`source` is the tree or the file), the caller's
+ * options read over the defaults into *opts, the outputs emptied, and L
+ * started with the sections opts gives. */
+static int begin_serialize(const char *who, const void *source, const hpfc_write_options *opts_arg,
+                           size_t opts_size, uint8_t **out, size_t *out_size,
+                           hpfc_write_options *opts, layout *L, hpfc_diag *diag)
 {
     diag_clear(diag);
-    if (!tree || !out || !out_size)
-        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: NULL argument");
-    hpfc_write_options full;
-    const hpfc_write_options *opts = &full;
-    int st = read_options(opts_arg, opts_size, &full, "hpfc_tree_serialize", diag);
+    if (!source || !out || !out_size)
+        return diag_set(diag, HPFC_E_ARG, "%s: NULL argument", who);
+    int st = read_options(opts_arg, opts_size, opts, who, diag);
     if (st)
         return st;
     *out = NULL;
     *out_size = 0;
-    int kind = opts ? opts->layout : HPFC_LAYOUT_DEFAULT;
+    *L = (layout){.crs = opts->crs,
+                  .features = opts->features,
+                  .attributes = opts->attributes,
+                  .edge_features = opts->edge_features};
+    return HPFC_OK;
+}
+
+/* hpfc_tree_serialize and hpfc_file_serialize below share their signature
+ * (hpfc.h) and their start (begin_serialize); what stays twice is only that
+ * call. They part where the pools come from: laid out from the tree here,
+ * copied from the file there. */
+int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *opts_arg,
+                              size_t opts_size, uint8_t **out, size_t *out_size, hpfc_diag *diag)
+{
+    hpfc_write_options opts;
+    layout L;
+    int st = begin_serialize("hpfc_tree_serialize", tree, opts_arg, opts_size, out, out_size,
+                             &opts, &L, diag);
+    if (st)
+        return st;
+    int kind = opts.layout;
     if (kind < HPFC_LAYOUT_DEFAULT || kind > HPFC_LAYOUT_COMPACT)
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: unknown layout %d", kind);
-    layout L = {.tree = tree, .crs = opts ? opts->crs : NULL,
-                .features = opts ? opts->features : NULL,
-                .attributes = opts ? opts->attributes : NULL,
-                .edge_features = opts ? opts->edge_features : NULL,
-                .compact = (kind ? kind : write_default_layout) == HPFC_LAYOUT_COMPACT};
+    L.tree = tree;
+    L.compact = (kind ? kind : write_default_layout) == HPFC_LAYOUT_COMPACT;
     hpfc_tree_get_info(tree, &L.info);
     st = check_tree_info(&L.info, diag);
     for (uint32_t l = 0; l < L.info.levels && !st; l++)
         st = count_level(&L, l, diag);
     if (!st)
         st = size_levels(&L, diag);
-    if (!st && opts && opts->face_labels)
+    if (!st && opts.face_labels)
         st = make_labels(&L, diag);
-    if (!st && opts && opts->geometry)
-        st = make_geometry(&L, opts->geometry, diag);
+    if (!st && opts.geometry)
+        st = make_geometry(&L, opts.geometry, diag);
     if (!st)
         st = serialize_layout(&L, out, out_size, diag);
     free((void *)L.labl);
@@ -589,22 +575,17 @@ int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *o
     return st;
 }
 
+/* Starts as hpfc_tree_serialize does (see there); the pools are copied. */
 int hpfc_file_serialize_sized(const hpfc_file *file, const hpfc_write_options *opts_arg,
                               size_t opts_size, uint8_t **out, size_t *out_size, hpfc_diag *diag)
 {
-    diag_clear(diag);
-    if (!file || !out || !out_size)
-        return diag_set(diag, HPFC_E_ARG, "hpfc_file_serialize: NULL argument");
-    hpfc_write_options full;
-    const hpfc_write_options *opts = &full;
-    if (read_options(opts_arg, opts_size, &full, "hpfc_file_serialize", diag))
-        return HPFC_E_ARG;
-    *out = NULL;
-    *out_size = 0;
-    layout L = {.source = file, .crs = opts ? opts->crs : NULL,
-                .features = opts ? opts->features : NULL,
-                .attributes = opts ? opts->attributes : NULL,
-                .edge_features = opts ? opts->edge_features : NULL};
+    hpfc_write_options opts;
+    layout L;
+    int st = begin_serialize("hpfc_file_serialize", file, opts_arg, opts_size, out, out_size,
+                             &opts, &L, diag);
+    if (st)
+        return st;
+    L.source = file;
     const labels_view *labels = &file->labels;
     if (labels->present) { /* the pools are copied bit for bit: the labels stay true */
         L.labl = labels->section;
