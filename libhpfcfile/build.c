@@ -24,6 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "arrays.h"
 #include "road.h"
 #include "sized.h"
 #include "tree.h"
@@ -55,22 +56,10 @@ typedef struct builder {
 
 /* ---- small growable arrays ---------------------------------------------- */
 
+/* The builder's arrays start at 64 elements (arrays.h). */
 static int reserve(void **p, size_t *cap, size_t need, size_t elem)
 {
-    if (need <= *cap)
-        return HPFC_OK;
-    size_t ncap = *cap ? *cap : 64;
-    while (ncap < need) {
-        if (ncap > SIZE_MAX / 4 / elem)
-            return HPFC_E_NOMEM;
-        ncap *= 2;
-    }
-    void *np = realloc(*p, ncap * elem);
-    if (!np)
-        return HPFC_E_NOMEM;
-    *p = np;
-    *cap = ncap;
-    return HPFC_OK;
+    return array_reserve(p, cap, need, elem, 64);
 }
 
 /* ---- domain and per-edge refinement depth -------------------------------- */

@@ -57,7 +57,9 @@ int32_t hpfc_graph_unit_exp10(const hpfc_graph *g)
 }
 
 /* Capacity after growing `cap` to hold at least `need` elements, or 0 on
- * overflow of `elem`-byte arrays. */
+ * overflow of `elem`-byte arrays. Not arrays.h's array_reserve: a vertex's
+ * coordinates and its source line (an edge's too) are parallel arrays that
+ * share one capacity, computed once and applied to each. */
 static size_t grown_capacity(size_t cap, size_t need, size_t elem)
 {
     size_t ncap = cap ? cap : 16;

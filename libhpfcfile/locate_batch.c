@@ -12,7 +12,7 @@
 #include "file.h"
 #include "hpfc_batch.h"
 #include "locate_point.h"
-#include "scratch_array.h"
+#include "arrays.h"
 #include "sized.h"
 
 /* Growable scratch for one point's candidate faces and features. */

@@ -22,7 +22,7 @@
 #include "file.h"
 #include "geometry.h"
 #include "reader.h"
-#include "scratch_array.h"
+#include "arrays.h"
 
 void locx_scratch_free(locx_scratch *s)
 {

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "arrays.h"
 #include "file.h"
 #include "internal.h"
 
@@ -182,23 +183,11 @@ struct hpfc_shapes {
     size_t *polygon_ring, cap_polygon_ring;
 };
 
-/* Grows *p (elements of size `size`) to hold at least n; 0 or -1. */
+/* Grows *p (elements of size `size`) to hold at least n, from 16
+ * (arrays.h): HPFC_OK or HPFC_E_NOMEM. */
 static int grow(void **p, size_t *cap, size_t n, size_t size)
 {
-    if (n <= *cap)
-        return 0;
-    size_t c = *cap ? *cap : 16;
-    while (c < n) {
-        if (c > SIZE_MAX / 2 / size)
-            return -1;
-        c *= 2;
-    }
-    void *q = realloc(*p, c * size);
-    if (!q)
-        return -1;
-    *p = q;
-    *cap = c;
-    return 0;
+    return array_reserve(p, cap, n, size, 16);
 }
 
 /* Frees the hpfc_shapes object's arrays, then the object.

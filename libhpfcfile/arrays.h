@@ -1,10 +1,10 @@
 /*
- * scratch_array.h: the scratch arrays of the point locators (locate_point.c
- * and the batch, locate_batch.c), in one place: an array grown by doubling
- * and kept across points, and a short list of ids sorted into a set.
+ * arrays.h: the library's growable arrays, in one place (an array grown by
+ * doubling, with its capacity beside it), and the point locators' short
+ * sorted id sets (locate_point.c, locate_batch.c).
  */
-#ifndef HPFC_SCRATCH_ARRAY_H
-#define HPFC_SCRATCH_ARRAY_H
+#ifndef HPFC_ARRAYS_H
+#define HPFC_ARRAYS_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -12,16 +12,15 @@
 
 #include "hpfc.h"
 
-/* Room for n elements of `size` bytes in *p, which holds *cap: doubled from
- * *cap (16 at first) so that a run of points reallocates rarely.
- * HPFC_E_NOMEM leaves *p and *cap as they were. (build.c's reserve and
- * shapes.c's grow are the same but for their first size; not this
- * helper's files to change.) */
-static inline int scratch_grow(void **p, size_t *cap, size_t n, size_t size)
+/* Room for n elements of `size` bytes in *p, which holds *cap: doubled
+ * from *cap (from `first` when empty) so that a run of appends reallocates
+ * rarely. HPFC_E_NOMEM (also for a size that would overflow) leaves *p and
+ * *cap as they were. */
+static inline int array_reserve(void **p, size_t *cap, size_t n, size_t size, size_t first)
 {
     if (n <= *cap)
         return HPFC_OK;
-    size_t want = *cap ? *cap : 16;
+    size_t want = *cap ? *cap : first;
     while (want < n) {
         if (want > SIZE_MAX / 2 / size)
             return HPFC_E_NOMEM;
@@ -33,6 +32,12 @@ static inline int scratch_grow(void **p, size_t *cap, size_t n, size_t size)
     *p = q;
     *cap = want;
     return HPFC_OK;
+}
+
+/* The locators' scratch arrays, kept across points: from 16. */
+static inline int scratch_grow(void **p, size_t *cap, size_t n, size_t size)
+{
+    return array_reserve(p, cap, n, size, 16);
 }
 
 /* Sorts v[0 .. n) ascending and drops repeats; returns the new length.
