@@ -155,6 +155,8 @@ static int load_vertex(hpfc_walker *w, const hpfc_vertex *v, cached_word **e, ca
     return st;
 }
 
+/* A vertex's degree and darts; topo_keys.c's hpfc_key_degree and
+ * hpfc_key_vertex_dart(s) are the same reads reached by the key's slot. */
 int hpfc_vertex_degree(hpfc_walker *w, const hpfc_vertex *v, uint32_t *degree)
 {
     if (!w || !v || !degree)
