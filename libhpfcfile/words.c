@@ -82,31 +82,22 @@ int word_decode_code(const format_bits *pool, uint64_t off, uint32_t word_bits, 
     return buf && n > cap ? HPFC_E_BUFFER_SMALL : HPFC_OK;
 }
 
+/* The arrays live in one block, comp's (word_parts_place lays them out). */
 void word_parts_free(word_parts *wp)
 {
-    free(wp->comp), free(wp->pred), free(wp->succ), free(wp->comp_vertex);
-    free(wp->comp_first), free(wp->comp_last), free(wp->comp_size);
-    free(wp->vertex_comp), free(wp->stack);
+    free(wp->comp);
     *wp = (word_parts){0};
 }
 
 int word_parts_alloc(word_parts *wp, uint32_t cap)
 {
-    size_t n = (size_t)cap + 1;
     *wp = (word_parts){0};
-    wp->comp = malloc(n * sizeof(uint32_t));
-    wp->pred = malloc(n * sizeof(uint32_t));
-    wp->succ = malloc(n * sizeof(uint32_t));
-    wp->comp_vertex = malloc(n * sizeof(uint32_t));
-    wp->comp_first = malloc(n * sizeof(uint32_t));
-    wp->comp_last = malloc(n * sizeof(uint32_t));
-    wp->comp_size = malloc(n * sizeof(uint32_t));
-    wp->vertex_comp = malloc(n * sizeof(uint32_t));
-    wp->stack = malloc(n * sizeof(uint32_t));
-    if (!wp->comp || !wp->pred || !wp->succ || !wp->comp_vertex || !wp->comp_first ||
-        !wp->comp_last || !wp->comp_size || !wp->vertex_comp || !wp->stack)
+    if (WORD_PARTS_MEM(cap) > SIZE_MAX / sizeof(uint32_t))
         return HPFC_E_NOMEM;
-    wp->cap = cap;
+    uint32_t *mem = malloc(WORD_PARTS_MEM(cap) * sizeof(uint32_t));
+    if (!mem)
+        return HPFC_E_NOMEM;
+    word_parts_place(wp, mem, cap);
     return HPFC_OK;
 }
 
@@ -116,7 +107,7 @@ void word_parts_place(word_parts *wp, uint32_t *mem, uint32_t cap)
                            &wp->comp_last, &wp->comp_size, &wp->vertex_comp, &wp->stack};
     _Static_assert(sizeof arrays / sizeof *arrays == WORD_PARTS_MEM(0),
                    "WORD_PARTS_MEM counts every array");
-    size_t n = (size_t)cap + 1; /* as word_parts_alloc */
+    size_t n = (size_t)cap + 1; /* elements per array, as WORD_PARTS_MEM counts */
     *wp = (word_parts){0};
     for (size_t i = 0; i < sizeof arrays / sizeof *arrays; i++)
         *arrays[i] = mem + i * n;
