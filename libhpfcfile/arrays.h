@@ -34,8 +34,9 @@ static inline int array_reserve(void **p, size_t *cap, size_t n, size_t size, si
     return HPFC_OK;
 }
 
-/* The locators' scratch arrays, kept across points: from 16. */
-static inline int scratch_grow(void **p, size_t *cap, size_t n, size_t size)
+/* array_reserve from 16 elements: the point locators' scratch arrays,
+ * kept across points, and the shapes' arrays. */
+static inline int array_grow(void **p, size_t *cap, size_t n, size_t size)
 {
     return array_reserve(p, cap, n, size, 16);
 }

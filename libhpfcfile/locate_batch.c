@@ -40,7 +40,7 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
     if (!fc) { /* the stored labels: the faces of the leaf's regions */
         size_t count;
         if ((st = hpfc_label_leaf_faces(f, px, NULL, 0, &count)) ||
-            (st = scratch_grow((void **)&s->faces, &s->face_cap, count ? count : 1,
+            (st = array_grow((void **)&s->faces, &s->face_cap, count ? count : 1,
                                sizeof *s->faces)) ||
             (st = hpfc_label_leaf_faces(f, px, s->faces, s->face_cap, &count)))
             return st;
@@ -48,7 +48,7 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
         return HPFC_OK;
     }
     if (*is_private) {
-        if ((st = scratch_grow((void **)&s->faces, &s->face_cap, 1, sizeof *s->faces)))
+        if ((st = array_grow((void **)&s->faces, &s->face_cap, 1, sizeof *s->faces)))
             return st;
         *n = 1;
         return hpfc_faces_of_private_pixel(fc, px, &s->faces[0]);
@@ -59,7 +59,7 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
     if (len < 4)
         return HPFC_E_CORRUPT;
     size_t crossings = len - 4; /* a word of c crossings has c + 4 symbols */
-    if ((st = scratch_grow((void **)&s->faces, &s->face_cap, crossings ? crossings : 1,
+    if ((st = array_grow((void **)&s->faces, &s->face_cap, crossings ? crossings : 1,
                    sizeof *s->faces)))
         return st;
     for (size_t k = 0; k < crossings; k++) {
@@ -88,7 +88,7 @@ static int leaf_features(const hpfc_file *f, batch_scratch *s, size_t n, size_t 
         uint32_t count;
         int st = hpfc_face_feature_count(f, s->faces[k], &count);
         if (!st)
-            st = scratch_grow((void **)&s->features, &s->feature_cap, total + count,
+            st = array_grow((void **)&s->features, &s->feature_cap, total + count,
                               sizeof *s->features);
         for (uint32_t i = 0; i < count && !st; i++) {
             uint32_t feature;
@@ -146,7 +146,7 @@ static int exact_faces(const hpfc_file *f, int64_t x, int64_t y, uint32_t *depth
     locx_answer a;
     int st = locx_locate(f, x, y, &s->locx, &a, n);
     if (!st)
-        st = scratch_grow((void **)&s->faces, &s->face_cap, *n ? *n : 1, sizeof *s->faces);
+        st = array_grow((void **)&s->faces, &s->face_cap, *n ? *n : 1, sizeof *s->faces);
     if (st)
         return st;
     memcpy(s->faces, s->locx.around, *n * sizeof *s->faces); /* where locx keeps them */

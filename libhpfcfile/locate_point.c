@@ -39,9 +39,9 @@ void locx_scratch_free(locx_scratch *s)
 static int reserve_crossings(locx_scratch *s, size_t n)
 {
     size_t cr_cap = s->crossing_cap, around_cap = s->crossing_cap;
-    int st = scratch_grow((void **)&s->cr, &cr_cap, n, sizeof *s->cr);
+    int st = array_grow((void **)&s->cr, &cr_cap, n, sizeof *s->cr);
     if (!st)
-        st = scratch_grow((void **)&s->around, &around_cap, n, sizeof *s->around);
+        st = array_grow((void **)&s->around, &around_cap, n, sizeof *s->around);
     if (!st)
         s->crossing_cap = cr_cap;
     return st;
@@ -233,7 +233,7 @@ static int add_run(leaf_ctx *c, uint64_t edge, uint64_t first, uint64_t last, ui
          * crossings x points steps. */
         if (s->seg_count > s->points + c->n)
             return HPFC_E_CORRUPT;
-        if ((st = scratch_grow((void **)&s->segs, &s->seg_cap, s->seg_count + 1, sizeof *s->segs)))
+        if ((st = array_grow((void **)&s->segs, &s->seg_cap, s->seg_count + 1, sizeof *s->segs)))
             break;
         s->segs[s->seg_count++] = (locx_segment){
             .a = a,
@@ -444,11 +444,11 @@ static int load_leaf(leaf_ctx *c, int64_t x, int64_t y)
     if (!st)
         st = hpfc_pixel_bounds(c->f, leaf, &bx0, &by0, &bx1, &by1);
     if (!st && !s->sym)
-        st = scratch_grow((void **)&s->sym, &s->sym_cap, 64, 1);
+        st = array_grow((void **)&s->sym, &s->sym_cap, 64, 1);
     if (!st) /* most words fit the buffer: one decode */
         st = hpfc_pixel_word(c->f, leaf, s->sym, s->sym_cap, &len);
     if (st == HPFC_E_BUFFER_SMALL) {
-        st = scratch_grow((void **)&s->sym, &s->sym_cap, len, 1);
+        st = array_grow((void **)&s->sym, &s->sym_cap, len, 1);
         if (!st)
             st = hpfc_pixel_word(c->f, leaf, s->sym, s->sym_cap, &len);
     }

@@ -183,13 +183,6 @@ struct hpfc_shapes {
     size_t *polygon_ring, cap_polygon_ring;
 };
 
-/* Grows *p (elements of size `size`) to hold at least n, from 16
- * (arrays.h): HPFC_OK or HPFC_E_NOMEM. */
-static int grow(void **p, size_t *cap, size_t n, size_t size)
-{
-    return array_reserve(p, cap, n, size, 16);
-}
-
 /* Frees the hpfc_shapes object's arrays, then the object.
  * (hpfc_graph_free, hpfc_tree_free and hpfc_shapes_free look alike, a free()
  * a member, but each lists the arrays of its own struct.) */
@@ -483,7 +476,7 @@ static int point_in_ring(const int64_t p[2], const int64_t *xy, size_t n)
 
 static int add_dart(hpfc_shapes *s, uint64_t e, int reversed)
 {
-    if (grow((void **)&s->darts, &s->cap_darts, s->ndarts + 1, sizeof *s->darts))
+    if (array_grow((void **)&s->darts, &s->cap_darts, s->ndarts + 1, sizeof *s->darts))
         return HPFC_E_NOMEM;
     bdart *d = &s->darts[s->ndarts++];
     memset(d, 0, sizeof *d);
@@ -566,7 +559,7 @@ static int add_point(hpfc_shapes *s, int64_t x, int64_t y)
 {
     if (!coord_ok(x, y))
         return HPFC_E_CORRUPT;
-    if (grow((void **)&s->txy, &s->cap_txy, 2 * (s->ntxy + 1), sizeof *s->txy))
+    if (array_grow((void **)&s->txy, &s->cap_txy, 2 * (s->ntxy + 1), sizeof *s->txy))
         return HPFC_E_NOMEM;
     s->txy[2 * s->ntxy] = x;
     s->txy[2 * s->ntxy + 1] = y;
@@ -578,7 +571,7 @@ static int add_point(hpfc_shapes *s, int64_t x, int64_t y)
  * first point again; its area and box. */
 static int emit_ring(hpfc_shapes *s, size_t a, size_t b)
 {
-    if (grow((void **)&s->rings, &s->cap_rings, s->nrings + 1, sizeof *s->rings))
+    if (array_grow((void **)&s->rings, &s->cap_rings, s->nrings + 1, sizeof *s->rings))
         return HPFC_E_NOMEM;
     tring *r = &s->rings[s->nrings];
     r->start = s->ntxy;
@@ -626,7 +619,7 @@ static int emit_ring(hpfc_shapes *s, size_t a, size_t b)
 static int trace_rings(hpfc_shapes *s)
 {
     size_t n = s->ndarts;
-    if (grow((void **)&s->cycle, &s->cap_cycle, n + 1, sizeof *s->cycle))
+    if (array_grow((void **)&s->cycle, &s->cap_cycle, n + 1, sizeof *s->cycle))
         return HPFC_E_NOMEM;
     for (size_t start = 0; start < n; start++) {
         if (s->darts[start].used)
@@ -711,9 +704,9 @@ static int arrange(hpfc_shapes *s, hpfc_polygons *out)
                 H->owner = o;
         }
     }
-    if (grow((void **)&s->xy, &s->cap_xy, 2 * s->ntxy + 2, sizeof *s->xy) ||
-        grow((void **)&s->ring_point, &s->cap_ring_point, nr + 1, sizeof *s->ring_point) ||
-        grow((void **)&s->polygon_ring, &s->cap_polygon_ring, outers + 1,
+    if (array_grow((void **)&s->xy, &s->cap_xy, 2 * s->ntxy + 2, sizeof *s->xy) ||
+        array_grow((void **)&s->ring_point, &s->cap_ring_point, nr + 1, sizeof *s->ring_point) ||
+        array_grow((void **)&s->polygon_ring, &s->cap_polygon_ring, outers + 1,
              sizeof *s->polygon_ring))
         return HPFC_E_NOMEM;
     size_t rings = 0, points = 0, polygons = 0;
@@ -926,7 +919,7 @@ int hpfc_shapes_feature_lines(hpfc_shapes *s, uint32_t feature, hpfc_polygons *o
     for (size_t k = 0; k < w.n && !st; k++) {
         if (w.used[k])
             continue;
-        if (grow((void **)&s->ring_point, &s->cap_ring_point, lines + 2,
+        if (array_grow((void **)&s->ring_point, &s->cap_ring_point, lines + 2,
                  sizeof *s->ring_point)) {
             st = HPFC_E_NOMEM;
             break;
@@ -936,10 +929,10 @@ int hpfc_shapes_feature_lines(hpfc_shapes *s, uint32_t feature, hpfc_polygons *o
     }
     free(w.used);
     free(w.ends);
-    if (!st && (grow((void **)&s->xy, &s->cap_xy, 2 * s->ntxy + 2, sizeof *s->xy) ||
-                grow((void **)&s->polygon_ring, &s->cap_polygon_ring, 1,
+    if (!st && (array_grow((void **)&s->xy, &s->cap_xy, 2 * s->ntxy + 2, sizeof *s->xy) ||
+                array_grow((void **)&s->polygon_ring, &s->cap_polygon_ring, 1,
                      sizeof *s->polygon_ring) ||
-                grow((void **)&s->ring_point, &s->cap_ring_point, lines + 1,
+                array_grow((void **)&s->ring_point, &s->cap_ring_point, lines + 1,
                      sizeof *s->ring_point)))
         st = HPFC_E_NOMEM;
     if (st)
