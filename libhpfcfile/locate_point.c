@@ -60,27 +60,26 @@ typedef struct leaf_ctx {
     locx_scratch *s;
 } leaf_ctx;
 
-/* A point GEOM gave as (*x, *y) with status st, relative to the domain.
+/* A point GEOM gave as (x, y) with status st, relative to the domain.
  * An id the leaf names but GEOM does not have (HPFC_E_ARG) is corrupt, and
  * so is a point outside [0, 2^41]^2 (the predicates' products must fit
  * 128 bits). */
-static int relative_point(const leaf_ctx *c, int st, const int64_t *x, const int64_t *y,
-                          lpoint *out)
+static int relative_point(const leaf_ctx *c, int st, int64_t x, int64_t y, lpoint *out)
 {
     if (st)
         return st == HPFC_E_ARG ? HPFC_E_CORRUPT : st;
-    if (*x < c->dx0 || *y < c->dy0 || *x - c->dx0 > HPFC_LATTICE_MAX ||
-        *y - c->dy0 > HPFC_LATTICE_MAX)
+    if (x < c->dx0 || y < c->dy0 || x - c->dx0 > HPFC_LATTICE_MAX || y - c->dy0 > HPFC_LATTICE_MAX)
         return HPFC_E_CORRUPT;
-    *out = (lpoint){*x - c->dx0, *y - c->dy0};
+    *out = (lpoint){x - c->dx0, y - c->dy0};
     return HPFC_OK;
 }
 
 /* Point k of an edge, relative to the domain. */
 static int edge_point(const leaf_ctx *c, uint64_t edge, uint64_t k, lpoint *out)
 {
-    int64_t x, y;
-    return relative_point(c, hpfc_geometry_edge_point(c->f, edge, k, &x, &y), &x, &y, out);
+    int64_t x = 0, y = 0;
+    int st = hpfc_geometry_edge_point(c->f, edge, k, &x, &y);
+    return relative_point(c, st, x, y, out);
 }
 
 /* Vertex `vertex`, relative; the crossings before k (the last 32) that
@@ -99,8 +98,9 @@ static int vertex_point(const leaf_ctx *c, uint64_t vertex, uint32_t k, lpoint *
             return HPFC_OK;
         }
     }
-    int64_t x, y;
-    return relative_point(c, hpfc_geometry_vertex(c->f, vertex, &x, &y), &x, &y, out);
+    int64_t x = 0, y = 0;
+    int st = hpfc_geometry_vertex(c->f, vertex, &x, &y);
+    return relative_point(c, st, x, y, out);
 }
 
 /* Point i of crossing k's edge: a vertex through vertex_point, a shape
