@@ -38,7 +38,7 @@ r = json.load(open(rf))
 l = r["linking"]
 print(f"{n:<8} {method:<9} {r['points_read']:>9} {cpu:>8.2f} {float(wall):>8.2f} {int(rss) / 1024:>8.0f} "
       f"{r['read_seconds']:>8.2f} {r['build_seconds']:>8.2f} {l['faces_seconds']:>8.2f} "
-      f"{l['witness_seconds']:>8.2f} {l['topology_seconds']:>8.2f} {l['anchor_seconds']:>8.2f}")
+      f"{l['witness_seconds']:>8.2f} {l['topology_seconds']:>8.2f} {l['check_seconds']:>8.2f}")
 PY
     done
 done

@@ -14,7 +14,7 @@
 
 /* ---- the map's segments ------------------------------------------------------ */
 
-enum { SEG_KNOWN = 1, SEG_REP = 2 };
+enum { SEG_REP = 1 }; /* the edge's representative: its first segment in sorted order */
 
 /* A segment of an edge of the map, ends in lexicographic (x, y) order. */
 typedef struct map_seg {
@@ -95,19 +95,16 @@ static map_seg *map_segments(const hpfc_graph *g, size_t *n)
     return s;
 }
 
-/* Marks the segments the source parts hold unchanged, and one of them per
- * edge as the edge's representative (known[e] = 1). */
-static void mark_known(const gis_features *fs, map_seg *s, size_t n, uint8_t *known)
+/* Marks one segment of each edge as its representative, where the rings'
+ * toggles are counted (the parity is the same on every segment of an
+ * edge). */
+static void mark_representatives(map_seg *s, size_t n, uint8_t *seen)
 {
-    for (size_t i = 0; i < n; i++) {
-        if (gis_features_segment_noded(fs, s[i].ax, s[i].ay, s[i].bx, s[i].by))
-            continue;
-        s[i].flags = SEG_KNOWN;
-        if (!known[s[i].edge]) {
-            known[s[i].edge] = 1;
-            s[i].flags |= SEG_REP;
+    for (size_t i = 0; i < n; i++)
+        if (!seen[s[i].edge]) {
+            seen[s[i].edge] = 1;
+            s[i].flags = SEG_REP;
         }
-    }
 }
 
 static const map_seg *find_seg(const map_seg *s, size_t n, int64_t ax, int64_t ay, int64_t bx,
@@ -129,115 +126,6 @@ static const map_seg *find_seg(const map_seg *s, size_t n, int64_t ax, int64_t a
 
 /* ---- parts against segments ----------------------------------------------------- */
 
-/* The map's segments, sorted by their first end (s itself), and their
- * second ends sorted (b_end, built at the first part segment that noding
- * cut), so that every segment at a point is found in O(log n). */
-typedef struct b_end {
-    int64_t x, y;
-    uint32_t seg;
-} b_end;
-
-typedef struct seg_index {
-    const map_seg *s;
-    size_t n;
-    b_end *by_b;
-} seg_index;
-
-static int cmp_b_end(const void *a, const void *b)
-{
-    const b_end *p = a, *q = b;
-    if (p->x != q->x)
-        return p->x < q->x ? -1 : 1;
-    return (p->y > q->y) - (p->y < q->y);
-}
-
-static int seg_index_second_ends(seg_index *ix)
-{
-    if (ix->by_b)
-        return HPFC_OK;
-    if (ix->n > UINT32_MAX || !(ix->by_b = malloc((ix->n ? ix->n : 1) * sizeof *ix->by_b)))
-        return HPFC_E_NOMEM;
-    for (size_t i = 0; i < ix->n; i++)
-        ix->by_b[i] = (b_end){ix->s[i].bx, ix->s[i].by, (uint32_t)i};
-    sort_in_place(ix->by_b, ix->n, sizeof *ix->by_b, cmp_b_end);
-    return HPFC_OK;
-}
-
-/* First position in s whose first end is >= (x, y), or in by_b whose
- * second end is. */
-static size_t lower_a(const seg_index *ix, int64_t x, int64_t y)
-{
-    size_t lo = 0, hi = ix->n;
-    while (lo < hi) {
-        size_t mid = lo + (hi - lo) / 2;
-        const map_seg *m = &ix->s[mid];
-        if (m->ax < x || (m->ax == x && m->ay < y))
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo;
-}
-
-static size_t lower_b(const seg_index *ix, int64_t x, int64_t y)
-{
-    size_t lo = 0, hi = ix->n;
-    while (lo < hi) {
-        size_t mid = lo + (hi - lo) / 2;
-        const b_end *m = &ix->by_b[mid];
-        if (m->x < x || (m->x == x && m->y < y))
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo;
-}
-
-__extension__ typedef __int128 i128;
-
-/* Is q within one lattice unit of the line through a and b? Exactly:
- * |(b - a) x (q - a)| <= max(|dx|, |dy|) accepts every point at distance
- * <= sqrt(2)/2 (where noding rounds an intersection to), none past 1. */
-static bool near_line(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t qx, int64_t qy)
-{
-    i128 dx = (i128)bx - ax, dy = (i128)by - ay;
-    i128 cross = dx * ((i128)qy - ay) - dy * ((i128)qx - ax);
-    i128 most = dx < 0 ? -dx : dx, ady = dy < 0 ? -dy : dy;
-    most = ady > most ? ady : most;
-    return (cross < 0 ? -cross : cross) <= most;
-}
-
-/* Where q lies along a -> b: (q - a) . (b - a). */
-static i128 along(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t qx, int64_t qy)
-{
-    return ((i128)qx - ax) * ((i128)bx - ax) + ((i128)qy - ay) * ((i128)by - ay);
-}
-
-/* The map segment at (cx, cy) whose other end lies along a -> b nearest
- * after (cx, cy); NULL if none. */
-static const map_seg *next_along(const seg_index *ix, int64_t cx, int64_t cy, int64_t ax,
-                                 int64_t ay, int64_t bx, int64_t by, int64_t *qx, int64_t *qy)
-{
-    const map_seg *best = NULL;
-    i128 here = along(ax, ay, bx, by, cx, cy), best_at = 0;
-    for (int side = 0; side < 2; side++) {
-        size_t k = side ? lower_b(ix, cx, cy) : lower_a(ix, cx, cy);
-        for (; k < ix->n; k++) {
-            const map_seg *m = side ? &ix->s[ix->by_b[k].seg] : &ix->s[k];
-            int64_t px = side ? m->bx : m->ax, py = side ? m->by : m->ay;
-            if (px != cx || py != cy)
-                break;
-            int64_t ox = side ? m->ax : m->bx, oy = side ? m->ay : m->by;
-            i128 at = along(ax, ay, bx, by, ox, oy);
-            if (at > here && near_line(ax, ay, bx, by, ox, oy) && (!best || at < best_at)) {
-                best = m, best_at = at;
-                *qx = ox, *qy = oy;
-            }
-        }
-    }
-    return best;
-}
-
 typedef struct u64_list {
     uint64_t *v;
     size_t n, cap;
@@ -251,43 +139,18 @@ static int push_u64(u64_list *l, uint64_t x)
     return HPFC_OK;
 }
 
-/* One segment of a part: the edge's feature (once per run along one edge)
- * and, on the edge's representative segment, a toggle of a ring. */
-/* A part's segment that noding cut (or moved): the map segments that run
- * along it from a to b, each on the edge the feature lies along (EDGF).
- * Noding keeps the part's own points and rounds each intersection to the
- * lattice, so the chain goes from point to point of the map, each within a
- * unit of the line and further along it; it stops where none is (a piece
- * that noding merged with another feature's differently). The faces' links
- * do not use these: the walk over faces reaches them (face_link.h). */
-static int follow_noded(seg_index *ix, int64_t ax, int64_t ay, int64_t bx, int64_t by,
-                        uint32_t feature, u64_list *uses)
+/* One segment of a part, which is a segment of the map (the parts were
+ * recorded as they lie in the map, gis_features.h): the edge's feature (once
+ * per run along one edge) and, on the edge's representative segment, a
+ * toggle of a ring. */
+static int match_segment(const map_seg *s, size_t n, int64_t ax, int64_t ay, int64_t bx,
+                         int64_t by, uint32_t feature, int ring, u64_list *uses, u64_list *toggles)
 {
-    if (seg_index_second_ends(ix))
-        return HPFC_E_NOMEM;
-    int64_t cx = ax, cy = ay;
-    for (size_t step = 0; step < ix->n && (cx != bx || cy != by); step++) {
-        int64_t qx, qy;
-        const map_seg *m = next_along(ix, cx, cy, ax, ay, bx, by, &qx, &qy);
-        if (!m)
-            break;
-        uint64_t key = (uint64_t)m->edge << 32 | feature;
-        if ((uses->n == 0 || uses->v[uses->n - 1] != key) && push_u64(uses, key))
-            return HPFC_E_NOMEM;
-        cx = qx, cy = qy;
-    }
-    return HPFC_OK;
-}
-
-static int match_segment(seg_index *ix, int64_t ax, int64_t ay, int64_t bx, int64_t by,
-                         uint32_t feature, int ring, u64_list *uses, u64_list *toggles)
-{
-    int64_t fx = ax, fy = ay, tx = bx, ty = by; /* the part's direction */
     if (!order_ends(&ax, &ay, &bx, &by))
         return HPFC_OK;
-    const map_seg *m = find_seg(ix->s, ix->n, ax, ay, bx, by);
+    const map_seg *m = find_seg(s, n, ax, ay, bx, by);
     if (!m)
-        return follow_noded(ix, fx, fy, tx, ty, feature, uses);
+        return HPFC_E_CORRUPT; /* a part leaves the map */
     uint64_t key = (uint64_t)m->edge << 32 | feature;
     if ((uses->n == 0 || uses->v[uses->n - 1] != key) && push_u64(uses, key))
         return HPFC_E_NOMEM;
@@ -296,7 +159,7 @@ static int match_segment(seg_index *ix, int64_t ax, int64_t ay, int64_t bx, int6
     return HPFC_OK;
 }
 
-static int match_parts(const gis_features *fs, seg_index *ix, u64_list *uses,
+static int match_parts(const gis_features *fs, const map_seg *s, size_t n, u64_list *uses,
                        u64_list *toggles)
 {
     size_t parts = gis_features_part_count(fs);
@@ -309,14 +172,16 @@ static int match_parts(const gis_features *fs, seg_index *ix, u64_list *uses,
             continue;
         gis_part_next(&c, &x0, &y0);
         px = x0, py = y0;
-        while (c.left) {
+        int st = HPFC_OK;
+        while (c.left && !st) {
             gis_part_next(&c, &qx, &qy);
-            if (match_segment(ix, px, py, qx, qy, feature, ring, uses, toggles))
-                return HPFC_E_NOMEM;
+            st = match_segment(s, n, px, py, qx, qy, feature, ring, uses, toggles);
             px = qx, py = qy;
         }
-        if (ring && match_segment(ix, px, py, x0, y0, feature, ring, uses, toggles))
-            return HPFC_E_NOMEM; /* the closing segment */
+        if (!st && ring) /* the closing segment */
+            st = match_segment(s, n, px, py, x0, y0, feature, ring, uses, toggles);
+        if (st)
+            return st;
     }
     return HPFC_OK;
 }
@@ -405,14 +270,14 @@ static int find_sides(face_link *fl, const leaf_crossings *lc, const hpfc_file *
     return st;
 }
 
-/* Adjacency over the known edges that separate two faces. */
+/* Adjacency over the edges that separate two faces. */
 static int build_adjacency(face_link *fl)
 {
     fl->adj_start = calloc(fl->faces + 1, sizeof *fl->adj_start);
     if (!fl->adj_start)
         return HPFC_E_NOMEM;
     for (uint32_t e = 0; e < fl->edges; e++)
-        if (fl->known[e] && fl->side_a[e] != NO_FACE && fl->side_a[e] != fl->side_b[e]) {
+        if (fl->side_a[e] != NO_FACE && fl->side_a[e] != fl->side_b[e]) {
             fl->adj_start[fl->side_a[e] + 1]++;
             fl->adj_start[fl->side_b[e] + 1]++;
         }
@@ -427,7 +292,7 @@ static int build_adjacency(face_link *fl)
     }
     memcpy(fill, fl->adj_start, (fl->faces + 1) * sizeof *fill);
     for (uint32_t e = 0; e < fl->edges; e++)
-        if (fl->known[e] && fl->side_a[e] != NO_FACE && fl->side_a[e] != fl->side_b[e]) {
+        if (fl->side_a[e] != NO_FACE && fl->side_a[e] != fl->side_b[e]) {
             fl->adj[fill[fl->side_a[e]]++] = e;
             fl->adj[fill[fl->side_b[e]]++] = e;
         }
@@ -468,7 +333,7 @@ static int derive_set(face_link *fl, uint32_t u, uint32_t v, uint32_t e)
     return HPFC_OK;
 }
 
-/* Breadth-first from the reached face `start` over known edges. */
+/* Breadth-first from the reached face `start` over the edges. */
 static int walk_from(face_link *fl, uint32_t start)
 {
     size_t head = 0, tail = 0;
@@ -492,40 +357,6 @@ static int walk_from(face_link *fl, uint32_t start)
     return HPFC_OK;
 }
 
-int face_link_anchor(face_link *fl, uint64_t face, const uint32_t *set, size_t n)
-{
-    if (!array_grow((void **)&fl->pool, &fl->pool_cap, fl->pool_n + n, sizeof *fl->pool))
-        return HPFC_E_NOMEM;
-    if (n)
-        memcpy(fl->pool + fl->pool_n, set, n * sizeof *set);
-    fl->set_off[face] = fl->pool_n;
-    fl->set_len[face] = (uint32_t)n;
-    fl->pool_n += n;
-    fl->reached[face] = 1;
-    return walk_from(fl, (uint32_t)face);
-}
-
-uint64_t face_link_conflicts(const face_link *fl)
-{
-    uint64_t conflicts = 0;
-    uint32_t *tmp = NULL;
-    size_t cap = 0;
-    for (uint32_t e = 0; e < fl->edges; e++) {
-        uint32_t a = fl->side_a[e], b = fl->side_b[e];
-        if (!fl->known[e] || a == NO_FACE || !fl->reached[a] || !fl->reached[b])
-            continue;
-        size_t nt = fl->toggle_start[e + 1] - fl->toggle_start[e];
-        if (!array_grow((void **)&tmp, &cap, fl->set_len[a] + nt + 1, sizeof *tmp))
-            return UINT64_MAX;
-        size_t m = sym_diff(fl->pool + fl->set_off[a], fl->set_len[a],
-                            fl->toggle + fl->toggle_start[e], nt, tmp);
-        conflicts += m != fl->set_len[b] ||
-                     (m && memcmp(tmp, fl->pool + fl->set_off[b], m * sizeof *tmp) != 0);
-    }
-    free(tmp);
-    return conflicts;
-}
-
 /* ---- entry points ----------------------------------------------------------------- */
 
 static int allocate(face_link *fl, uint64_t faces, uint32_t edges)
@@ -537,12 +368,11 @@ static int allocate(face_link *fl, uint64_t faces, uint32_t edges)
     fl->set_len = calloc(nf, sizeof *fl->set_len);
     fl->reached = calloc(nf, 1);
     fl->queue = malloc(nf * sizeof *fl->queue);
-    fl->known = calloc(ne, 1);
     fl->side_a = malloc(ne * sizeof *fl->side_a);
     fl->side_b = malloc(ne * sizeof *fl->side_b);
     fl->pool_cap = 64;
     fl->pool = malloc(fl->pool_cap * sizeof *fl->pool);
-    if (!fl->pool || !fl->set_off || !fl->set_len || !fl->reached || !fl->queue || !fl->known ||
+    if (!fl->pool || !fl->set_off || !fl->set_len || !fl->reached || !fl->queue ||
         !fl->side_a || !fl->side_b)
         return HPFC_E_NOMEM;
     for (uint32_t e = 0; e < edges; e++)
@@ -564,12 +394,14 @@ int face_link_run(face_link *fl, const gis_features *fs, const hpfc_graph *graph
     u64_list uses = {0}, toggles = {0};
     if (!st && !segs)
         st = HPFC_E_NOMEM;
-    seg_index ix = {segs, n_seg, NULL};
+    uint8_t *seen = st ? NULL : calloc(ne ? ne : 1, 1);
+    if (!st && !seen)
+        st = HPFC_E_NOMEM;
     if (!st) {
-        mark_known(fs, segs, n_seg, fl->known);
-        st = match_parts(fs, &ix, &uses, &toggles);
+        mark_representatives(segs, n_seg, seen);
+        st = match_parts(fs, segs, n_seg, &uses, &toggles);
     }
-    free(ix.by_b);
+    free(seen);
     free(segs);
     if (!st)
         st = edge_csr(&uses, fl->edges, 0, &fl->edge_start, &fl->edge_feature);
@@ -581,8 +413,12 @@ int face_link_run(face_link *fl, const gis_features *fs, const hpfc_graph *graph
         st = find_sides(fl, lc, file, faces);
     if (!st)
         st = build_adjacency(fl);
-    if (!st) /* the unbounded face lies inside no ring */
-        st = face_link_anchor(fl, 0, NULL, 0);
+    if (!st) { /* the unbounded face lies inside no ring */
+        fl->set_off[0] = 0;
+        fl->set_len[0] = 0;
+        fl->reached[0] = 1;
+        st = walk_from(fl, 0);
+    }
     return st;
 }
 
@@ -594,7 +430,6 @@ void face_link_free(face_link *fl)
     free(fl->pool);
     free(fl->toggle_start);
     free(fl->toggle);
-    free(fl->known);
     free(fl->side_a);
     free(fl->side_b);
     free(fl->adj_start);
@@ -604,3 +439,4 @@ void face_link_free(face_link *fl)
     free(fl->queue);
     memset(fl, 0, sizeof *fl);
 }
+

@@ -3,25 +3,24 @@
  * built map belong to, derived from the map's topology in time near-linear
  * in the size of the map, whatever the nesting of the rings.
  *
- * A polygon's rings went into the map as its edges: every segment of a
- * ring is a segment of some edge. Crossing an edge from one face to the
- * other changes a point's parity with respect to feature f exactly when f's
- * rings run along the edge an odd number of times (even-odd rule); along an
- * edge that parity is the same on every segment, since a ring entering a
- * degree-2 point leaves it by the other segment. So, starting from the
+ * The features' parts are recorded as they lie in the map (gis_features.h:
+ * where noding moved a segment, its path through the noded segments), so
+ * every segment of a ring is a segment of some edge. Crossing an edge from
+ * one face to the other changes a point's parity with respect to feature f
+ * exactly when f's rings run along the edge an odd number of times
+ * (even-odd rule); along an edge that parity is the same on every segment,
+ * since a closed walk through a point of degree 2 leaves it by the other
+ * segment or turns back along the same one. So, starting from the
  * unbounded face (inside no feature), each face's features follow from a
  * neighbour's by a symmetric difference with the features toggled by the
  * edge between them: a breadth-first walk over face adjacency.
  *
- * Segments GEOS re-noded (snap rounding moves them) are not known to belong
- * to any ring: an edge counts only through a segment the source parts hold
- * unchanged. Faces no walk reaches from the unbounded face (a sliver closed
- * by re-noded edges only) are anchored by the caller (a witness point
- * tested against the rings) and the walk goes on from there.
+ * The walk's answer is checked face by face against each face's witness
+ * point (face_witness.h, face_check.h), which is the exact answer on its
+ * own; gis_features.c compares the two.
  *
- * Every segment of a part found among the map's segments also links the
- * part's feature to the segment's edge (line layers, and the rings'
- * borders).
+ * Every segment of a part also links the part's feature to the segment's
+ * edge (line layers, and the rings' borders).
  */
 #ifndef HPFC_PACK_FACE_LINK_H
 #define HPFC_PACK_FACE_LINK_H
@@ -43,34 +42,25 @@ typedef struct face_link {
     uint32_t *pool;
     size_t pool_n, pool_cap;
     /* per edge: the features it toggles, toggle[toggle_start[e] .. toggle_start[e + 1]),
-       ascending; known[e]: the edge holds a segment of the source parts unchanged */
+       ascending */
     uint32_t *toggle_start, *toggle;
-    uint8_t *known;
     /* per edge: its two faces (UINT32_MAX when no crossing names it) */
     uint32_t *side_a, *side_b;
-    /* face adjacency over known edges: adj[adj_start[f] .. adj_start[f + 1]) edge ids */
+    /* face adjacency: adj[adj_start[f] .. adj_start[f + 1]) edge ids */
     uint64_t *adj_start;
     uint32_t *adj;
     /* per edge: every feature with a part along it, ascending */
     uint32_t *edge_start, *edge_feature;
     uint32_t *queue;
-    uint64_t propagated; /* faces reached by walks */
+    uint64_t propagated; /* faces reached by the walk, the unbounded one included */
 } face_link;
 
 /* Matches the parts of fs to the edges of `graph` (the map of `file`,
  * whose crossings lc holds, whose faces are `faces`), finds each edge's
  * two faces and walks from the unbounded face. HPFC_OK, HPFC_E_NOMEM or
- * HPFC_E_CORRUPT (the inputs disagree). */
+ * HPFC_E_CORRUPT (the inputs disagree: a part leaves the map). */
 int face_link_run(face_link *fl, const gis_features *fs, const hpfc_graph *graph,
                   const leaf_crossings *lc, const hpfc_file *file, const hpfc_faces *faces);
-
-/* Gives face `face` (not reached yet) the features set[0 .. n) (ascending)
- * and walks on from it. HPFC_OK or HPFC_E_NOMEM. */
-int face_link_anchor(face_link *fl, uint64_t face, const uint32_t *set, size_t n);
-
-/* Edges whose two reached faces differ by other features than the edge
- * toggles (0 when the rings and the map agree). */
-uint64_t face_link_conflicts(const face_link *fl);
 
 void face_link_free(face_link *fl);
 

@@ -3,28 +3,17 @@
  *
  * The tree says, for every crossing of every word leaf, which segment of
  * which input edge makes it (kept in a leaf_crossings once the tree is
- * gone); the file says which face lies on the right of the crossing's
- * out-dart. Between them, every stretch of a leaf's boundary between two
- * consecutive crossings gets both a face and a place.
+ * gone); the file says which faces lie before and after the crossing along
+ * the leaf's boundary. Between them, the faces on both sides of the
+ * crossing's segment get a place each.
  */
 #include "face_witness.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-#include "grow.h"
 
-/* Nudge across a road, in lattice units: far below any distance between a
- * lattice point and a segment that misses it (at least 2^-42 for coordinates
- * below 2^41, when it is not zero), far above long double's resolution there
- * (2^-22). Witnesses only feed point-in-ring tests, so what matters is that
- * the side is right. */
-#define NUDGE 0x1p-16L
-
-typedef struct leaf_geometry {
-    int64_t x0, y0, x1, y1;
-    long double w, h, perimeter;
-} leaf_geometry;
+__extension__ typedef __int128 i128;
 
 /* Points of segment s of edge e. */
 static void segment_points(const hpfc_graph *g, uint32_t e, uint32_t s, int64_t p[2], int64_t q[2])
@@ -43,55 +32,6 @@ static void segment_points(const hpfc_graph *g, uint32_t e, uint32_t s, int64_t 
         q[0] = xy[2 * s], q[1] = xy[2 * s + 1];
 }
 
-/* Where segment pq meets the vertical line x = X (or, with `horizontal`,
- * the line y = X), as the other coordinate. The caller knows it crosses. */
-static long double cross_at(const int64_t p[2], const int64_t q[2], int64_t X, int horizontal)
-{
-    int a = horizontal ? 1 : 0, b = 1 - a;
-    long double d = (long double)(q[a] - p[a]);
-    return (long double)p[b] + (long double)(q[b] - p[b]) * ((long double)(X - p[a]) / d);
-}
-
-/* Position of a crossing along the leaf's boundary, clockwise from the SW
- * corner: road W northward, N eastward, E southward, S westward. */
-static long double boundary_position(const leaf_geometry *L, int road, const int64_t p[2],
-                                     const int64_t q[2])
-{
-    switch (road) {
-    case HPFC_WEST:
-        return cross_at(p, q, L->x0, 0) - (long double)L->y0;
-    case HPFC_NORTH:
-        return L->h + cross_at(p, q, L->y1, 1) - (long double)L->x0;
-    case HPFC_EAST:
-        return L->h + L->w + (long double)L->y1 - cross_at(p, q, L->x1, 0);
-    default:
-        return 2 * L->h + L->w + (long double)L->x1 - cross_at(p, q, L->y0, 1);
-    }
-}
-
-/* The boundary point at clockwise position t, nudged the way §3.5 moves
- * its road: west of vertical lines, south of horizontal ones. */
-static void boundary_point(const leaf_geometry *L, long double t, long double *x, long double *y)
-{
-    while (t >= L->perimeter)
-        t -= L->perimeter;
-    if (t < L->h) {
-        *x = (long double)L->x0 - NUDGE, *y = (long double)L->y0 + t;
-    } else if (t < L->h + L->w) {
-        *x = (long double)L->x0 + (t - L->h), *y = (long double)L->y1 - NUDGE;
-    } else if (t < 2 * L->h + L->w) {
-        *x = (long double)L->x1 - NUDGE, *y = (long double)L->y1 - (t - L->h - L->w);
-    } else {
-        *x = (long double)L->x1 - (t - 2 * L->h - L->w), *y = (long double)L->y0 - NUDGE;
-    }
-}
-
-static void offer(face_witness *w, uint64_t face, long double x, long double y, long double reach)
-{
-    if (reach > w[face].reach)
-        w[face] = (face_witness){x, y, reach};
-}
-
 /* A word leaf of the file: its bounds, its word, and where its crossings
  * start in a leaf_crossings. */
 typedef struct leaf_view {
@@ -102,50 +42,102 @@ typedef struct leaf_view {
     uint64_t first;
 } leaf_view;
 
-/* The witnesses a word leaf offers; *used: its crossings. */
-static int leaf_witnesses(const hpfc_graph *g, const leaf_crossings *lc, const leaf_view *v,
-                          const hpfc_faces *faces, face_witness *w, long double *pos,
-                          uint32_t *used)
+/* The direction in which a leaf's boundary runs clockwise along each road
+ * (W northward, N eastward, E southward, S westward), roads in word order. */
+static const int road_dir[4][2] = {{0, 1}, {1, 0}, {0, -1}, {-1, 0}};
+
+/* Witness for the face on one side of segment p -> q: its midpoint, moved
+ * towards the side where the turn p -> q -> (moved point) has sign `side`. */
+static face_witness segment_witness(const int64_t p[2], const int64_t q[2], int side)
 {
-    leaf_geometry L = {v->x0, v->y0, v->x1, v->y1, 0, 0, 0};
-    L.w = (long double)(L.x1 - L.x0), L.h = (long double)(L.y1 - L.y0);
-    L.perimeter = 2 * (L.w + L.h);
+    int64_t dx = q[0] - p[0], dy = q[1] - p[1];
+    /* (-dy, dx) points to the left of p -> q */
+    return (face_witness){p[0] + q[0], p[1] + q[1], side > 0 ? -dy : dy, side > 0 ? dx : -dx,
+                          FACE_WITNESS_SEGMENT};
+}
+
+static int offer(face_witness *w, uint64_t face, uint64_t faces, face_witness c)
+{
+    if (face >= faces)
+        return HPFC_E_CORRUPT;
+    if (w[face].kind < c.kind)
+        w[face] = c;
+    return HPFC_OK;
+}
+
+/* The witnesses a word leaf offers; *used: its crossings. After crossing
+ * k, clockwise, the leaf's boundary runs in the face of dart k; it leaves
+ * the crossing on the side of the segment that the road's direction points
+ * to, and the face before the crossing lies on the other side. */
+static int leaf_witnesses(const hpfc_graph *g, const leaf_crossings *lc, const leaf_view *v,
+                          const hpfc_faces *faces, face_witness *w, uint32_t *used)
+{
+    uint64_t nf = hpfc_faces_count(faces), face;
     uint32_t n = 0;
+    for (size_t s = 0; s < v->word_len; s++)
+        n += v->word[s] != '+';
+    *used = n;
+    if (n == 0) {
+        int st = hpfc_faces_of_private_pixel(faces, &v->px, &face);
+        return st ? st
+                  : offer(w, face, nf,
+                          (face_witness){v->x0 + v->x1, v->y0 + v->y1, 0, 0, FACE_WITNESS_LEAF});
+    }
+    if (v->first + n > lc->count)
+        return HPFC_E_CORRUPT;
     int road = 0;
-    for (size_t s = 0; s < v->word_len; s++) {
+    for (size_t s = 0, k = 0; s < v->word_len; s++) {
         if (v->word[s] == '+') {
             road++;
             continue;
         }
-        int64_t p[2], q[2];
-        uint64_t c = v->first + n;
-        if (c >= lc->count)
+        if (road > 3)
             return HPFC_E_CORRUPT;
+        uint64_t c = v->first + k;
+        int64_t p[2], q[2];
         segment_points(g, lc->pairs[2 * c], lc->pairs[2 * c + 1], p, q);
-        pos[n++] = boundary_position(&L, road, p, q);
-    }
-    *used = n;
-    uint64_t face;
-    if (n == 0) {
-        int st = hpfc_faces_of_private_pixel(faces, &v->px, &face);
+        i128 turn = (i128)(q[0] - p[0]) * road_dir[road][1] - (i128)(q[1] - p[1]) * road_dir[road][0];
+        if (turn == 0)
+            return HPFC_E_CORRUPT; /* a segment along the road does not cross it */
+        int side = turn > 0 ? 1 : -1;
+        uint64_t before, after;
+        hpfc_dart d_after = {v->px, (uint32_t)k}, d_before = {v->px, (uint32_t)((k + n - 1) % n)};
+        int st = hpfc_faces_of_dart(faces, &d_after, &after);
         if (!st)
-            offer(w, face, (long double)L.x0 + L.w / 2, (long double)L.y0 + L.h / 2,
-                  (L.w < L.h ? L.w : L.h) / 2);
-        return st;
-    }
-    for (uint32_t k = 0; k < n; k++) {
-        long double gap = (k + 1 < n ? pos[k + 1] : pos[0] + L.perimeter) - pos[k];
-        if (!(gap > 0))
-            continue; /* crossings at one point: a vertex on the road */
-        hpfc_dart d = {v->px, k};
-        int st = hpfc_faces_of_dart(faces, &d, &face);
+            st = hpfc_faces_of_dart(faces, &d_before, &before);
+        if (!st)
+            st = offer(w, after, nf, segment_witness(p, q, side));
+        if (!st)
+            st = offer(w, before, nf, segment_witness(p, q, -side));
         if (st)
             return st;
-        long double x, y;
-        boundary_point(&L, pos[k] + gap / 2, &x, &y);
-        offer(w, face, x, y, gap / 4);
+        k++;
     }
     return HPFC_OK;
+}
+
+int face_witness_ray_crosses(const face_witness *w, int64_t ux, int64_t uy, int64_t vx,
+                             int64_t vy)
+{
+    /* the witness is (x2 + e nx, y2 + e ny) / 2 for an infinitesimal e > 0;
+     * a point is above it when its y is greater */
+    i128 x2 = w->x2, y2 = w->y2, Ux = 2 * (i128)ux, Uy = 2 * (i128)uy, Vx = 2 * (i128)vx,
+         Vy = 2 * (i128)vy;
+    int u_above = Uy > y2 || (Uy == y2 && w->ny < 0);
+    int v_above = Vy > y2 || (Vy == y2 && w->ny < 0);
+    if (u_above == v_above)
+        return 0;
+    if (u_above) { /* U below, V above */
+        i128 t = Ux;
+        Ux = Vx, Vx = t;
+        t = Uy;
+        Uy = Vy, Vy = t;
+    }
+    /* the ray crosses when the witness lies left of the upward U -> V */
+    i128 o0 = (Vx - Ux) * (y2 - Uy) - (Vy - Uy) * (x2 - Ux);
+    i128 o1 = (Vx - Ux) * w->ny - (Vy - Uy) * w->nx;
+    i128 o = o0 ? o0 : o1;
+    return o == 0 ? -1 : o > 0;
 }
 
 /* Decodes the word of the file's leaf v->px into v (growing its buffer)
@@ -266,25 +258,18 @@ int face_witnesses(const hpfc_graph *graph, const leaf_crossings *lc, const hpfc
                    const hpfc_faces *faces, face_witness *w)
 {
     for (uint64_t f = 0; f < hpfc_faces_count(faces); f++)
-        w[f] = (face_witness){0, 0, 0};
+        w[f] = (face_witness){0, 0, 0, 0, FACE_WITNESS_NONE};
     leaf_view v = {0};
-    long double *pos = NULL;
-    size_t pos_cap = 0;
     int st = hpfc_leaf_first(file, &v.px);
     for (; !st; st = hpfc_leaf_next(file, &v.px)) {
         if ((st = view_leaf(file, &v)))
             break;
-        if (!array_grow((void **)&pos, &pos_cap, v.word_len + 1, sizeof *pos)) {
-            st = HPFC_E_NOMEM;
-            break;
-        }
         uint32_t used = 0;
-        if ((st = leaf_witnesses(graph, lc, &v, faces, w, pos, &used)))
+        if ((st = leaf_witnesses(graph, lc, &v, faces, w, &used)))
             break;
         v.first += used;
     }
     free(v.word);
-    free(pos);
     if (st == HPFC_E_NO_PIXEL)
         st = v.first == lc->count ? HPFC_OK : HPFC_E_CORRUPT;
     return st;

@@ -1,19 +1,19 @@
 /*
  * face_witness.h: for every face of a freshly built map, a point the file
  * proves to lie inside it (spec/hpfc-format.md §7.1, "What a feature
- * covers"), so that hpfc-pack can ask which source features cover the face.
+ * covers"), exactly, so that hpfc-pack can ask which source features cover
+ * the face and check what the walk over the faces found (face_link.h).
  *
  * Two kinds of places are inside a face by the file's own rules:
- *   - a private leaf lies wholly in one face: its centre is a witness, as
- *     far from every edge as half the leaf's smaller side;
- *   - in a word leaf, the stretch of the leaf's boundary between two
- *     consecutive crossings lies in the face on the right of the first
- *     one's out-dart (§3.11 rule 2): its middle is a witness, nudged by a
- *     tiny amount across the road the way the perturbation rule of §3.5
- *     moves the road, so that it never sits on an edge lying along the road.
- * Each face keeps its best witness: the centre of its largest private leaf,
- * else the middle of its longest stretch. Coordinates are long doubles in
- * lattice units, exact to far below one lattice unit.
+ *   - a private leaf lies wholly in one face and no edge enters it: its
+ *     centre, a point of half-integer lattice coordinates;
+ *   - in a word leaf, the stretch of the leaf's boundary after a crossing
+ *     lies in the face the file names for that crossing's dart (§3.11
+ *     rule 2), and that face lies on one side of the crossing's segment all
+ *     along it: the segment's midpoint, moved an infinitesimal step to that
+ *     side (symbolically, so that every test on it stays exact).
+ * A face gets the centre of a private leaf where it has one, else a
+ * crossing's midpoint.
  */
 #ifndef HPFC_PACK_FACE_WITNESS_H
 #define HPFC_PACK_FACE_WITNESS_H
@@ -23,10 +23,12 @@
 #include "hpfc.h"
 
 typedef struct face_witness {
-    long double x, y;   /* lattice units */
-    long double reach;  /* how far the witness is known (or guessed) to be
-                           from the face's edges; 0 when the face has none */
+    int64_t x2, y2; /* the point, in doubled lattice coordinates (2x, 2y) */
+    int64_t nx, ny; /* and the direction of its infinitesimal step ((0, 0): none) */
+    int kind;       /* FACE_WITNESS_NONE, _SEGMENT or _LEAF */
 } face_witness;
+
+enum { FACE_WITNESS_NONE, FACE_WITNESS_SEGMENT, FACE_WITNESS_LEAF };
 
 /* What the witnesses need of the tree, so that it can be freed before the
  * faces are numbered (their flood fill sets a pack's peak memory): the
@@ -49,5 +51,12 @@ void leaf_crossings_free(leaf_crossings *lc);
  * call (HPFC_E_CORRUPT if the three disagree). */
 int face_witnesses(const hpfc_graph *graph, const leaf_crossings *lc, const hpfc_file *file,
                    const hpfc_faces *faces, face_witness *w);
+
+/* Does the eastward ray from witness w cross lattice segment (ux, uy) -
+ * (vx, vy)? 1 or 0, by exact integer tests, with the half-open rule on y
+ * (a ring's vertex on the ray counts once); -1 when w lies on the segment,
+ * which a witness never does on a segment of the map. */
+int face_witness_ray_crosses(const face_witness *w, int64_t ux, int64_t uy, int64_t vx,
+                             int64_t vy);
 
 #endif

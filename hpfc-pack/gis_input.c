@@ -39,6 +39,7 @@
 #include "dateline.h"
 #include "grow.h"
 #include "lattice.h"
+#include "noded_paths.h"
 #include "progress.h"
 #include "projection.h"
 #include "segnode.h"
@@ -947,16 +948,6 @@ static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs
     return 0;
 }
 
-/* The snapped parts of the features, for the faces' and edges' features. */
-static int keep_rings(reader *r, const int64_t *lat)
-{
-    for (size_t k = 0; k < r->n_parts; k++)
-        if (gis_features_add_part(r->info->polygons, r->refs[k].feature, r->refs[k].ring,
-                                  lat + 2 * r->start[k], r->start[k + 1] - r->start[k]) != 0)
-            return fail(r, "out of memory");
-    return 0;
-}
-
 /* ---- step 4: noding ---------------------------------------------------------------- */
 
 typedef segnode_seg seg;
@@ -973,11 +964,20 @@ static int cmp_pt(const void *a, const void *b)
     return (p->y > q->y) - (p->y < q->y);
 }
 
+static int cmp_i64(int64_t a, int64_t b)
+{
+    return (a > b) - (a < b);
+}
+
+/* By first end, then second end (fields compared one by one: a segment's
+ * ends are not pt objects, and reading them as such breaks aliasing). */
 static int cmp_seg(const void *a, const void *b)
 {
     const seg *p = a, *q = b;
-    int c = cmp_pt(&p->ax, &q->ax);
-    return c ? c : cmp_pt(&p->bx, &q->bx);
+    int c = cmp_i64(p->ax, q->ax);
+    c = c ? c : cmp_i64(p->ay, q->ay);
+    c = c ? c : cmp_i64(p->bx, q->bx);
+    return c ? c : cmp_i64(p->by, q->by);
 }
 
 /* Appends segment p-q (p != q) with its ends in order. */
@@ -1139,10 +1139,11 @@ static int geos_node(reader *r, GEOSGeometry **lines, size_t n_lines, seg **segs
 }
 
 /* GEOS nodes the segments marked dirty; the clean ones are kept as they
- * are. Fills *out when the result is a planar graph (checked exactly), else
- * leaves it NULL. */
+ * are. Fills *out when the result is a planar graph (checked exactly), and
+ * *geos_out with GEOS's own segments (sorted), else leaves them NULL. */
 static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char *dirty,
-                       size_t n_dirty, seg **out, size_t *n_out)
+                       size_t n_dirty, seg **out, size_t *n_out, seg **geos_out,
+                       size_t *n_geos_out)
 {
     GEOSGeometry **lines = malloc(n_dirty * sizeof *lines);
     seg *merged = NULL;
@@ -1155,7 +1156,7 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
     } else
         st = geos_node(r, lines, n_lines, &merged, &m, &cap);
     free(lines);
-    seg *from_geos = NULL; /* GEOS's segments: the source parts are not known along them */
+    seg *from_geos = NULL; /* GEOS's segments: the paths of the dirty ones run along them */
     size_t n_geos = m;
     if (!st && !(from_geos = malloc((m ? m : 1) * sizeof *from_geos)))
         st = fail(r, "out of memory");
@@ -1180,8 +1181,9 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
             *out = merged;
             *n_out = m;
             merged = NULL;
-            if (gis_features_set_noded(r->info->polygons, (const int64_t *)from_geos, n_geos, 0))
-                st = fail(r, "out of memory");
+            *geos_out = from_geos;
+            *n_geos_out = n_geos;
+            from_geos = NULL;
         }
     }
     free(from_geos);
@@ -1191,11 +1193,14 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
 }
 
 /* Nodes the snapped parts; fills *segs with the distinct segments, each
- * with a < b. Most segments of a topologically built layer need no noding
- * (segnode.h): when none does, GEOS is not called; when a few do, GEOS nodes
- * those; when that leaves the graph non-planar, or when many do, GEOS nodes
- * all the linework, as it always did. */
-static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out)
+ * with a < b, and *geos with those GEOS made (NULL when it was not called;
+ * *segs itself when it noded everything). Most segments of a topologically
+ * built layer need no noding (segnode.h): when none does, GEOS is not
+ * called; when a few do, GEOS nodes those; when that leaves the graph
+ * non-planar, or when many do, GEOS nodes all the linework, as it always
+ * did. */
+static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out, seg **geos,
+                size_t *n_geos)
 {
     seg *segs = NULL;
     size_t n = 0;
@@ -1206,14 +1211,15 @@ static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out)
     long long n_dirty = st ? 0 : segnode_find_dirty(segs, n, dirty);
     if (n_dirty < 0)
         st = fail(r, "out of memory");
-    *segs_out = NULL;
+    *segs_out = *geos = NULL;
+    *n_geos = 0;
     if (!st && n_dirty == 0) {
         snprintf(r->info->noding, sizeof r->info->noding, "none");
         *segs_out = segs;
         *n_out = n;
         segs = NULL;
     } else if (!st && (size_t)n_dirty <= n / 4) {
-        st = node_partly(r, segs, n, dirty, (size_t)n_dirty, segs_out, n_out);
+        st = node_partly(r, segs, n, dirty, (size_t)n_dirty, segs_out, n_out, geos, n_geos);
         snprintf(r->info->noding, sizeof r->info->noding, "partial");
         r->info->noded_segments = (uint64_t)n_dirty;
     }
@@ -1241,12 +1247,72 @@ static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out)
     }
     segs = sort_unique(segs, &n);
     snprintf(r->info->noding, sizeof r->info->noding, "all");
-    if (gis_features_set_noded(r->info->polygons, NULL, 0, 1))
-        return fail(r, "out of memory");
     r->info->noded_segments = n;
-    *segs_out = segs;
-    *n_out = n;
+    *segs_out = *geos = segs;
+    *n_out = *n_geos = n;
     return 0;
+}
+
+/* ---- step 4b: the parts as they lie in the map ---------------------------------- */
+
+static int has_segment(const seg *segs, size_t n, pt a, pt b)
+{
+    int c = cmp_pt(&a, &b);
+    seg key = {c < 0 ? a.x : b.x, c < 0 ? a.y : b.y, c < 0 ? b.x : a.x, c < 0 ? b.y : a.y};
+    return bsearch(&key, segs, n, sizeof *segs, cmp_seg) != NULL;
+}
+
+/* Appends part k's path through the map to *out: each segment as it is
+ * where noding left it alone, else the path GEOS's noding gave it
+ * (noded_paths.h; paths: an index over GEOS's segments, NULL when GEOS was
+ * not called). */
+static int part_in_map(reader *r, const int64_t *lat, size_t k, const seg *segs, size_t n_segs,
+                       const noded_index *paths, point_list *out)
+{
+    size_t i0 = r->start[k];
+    out->n = 0;
+    if (point_list_push(out, lat[2 * i0], lat[2 * i0 + 1]))
+        return fail(r, "out of memory");
+    for (size_t i = i0 + 1; i < r->start[k + 1]; i++) {
+        pt a = {lat[2 * i - 2], lat[2 * i - 1]}, b = {lat[2 * i], lat[2 * i + 1]};
+        if (cmp_pt(&a, &b) == 0)
+            continue;
+        int st = 1;
+        if (has_segment(segs, n_segs, a, b))
+            st = point_list_push(out, b.x, b.y);
+        else if (paths)
+            st = noded_path(paths, a.x, a.y, b.x, b.y, out);
+        if (st < 0)
+            return fail(r, "out of memory");
+        if (st > 0)
+            return fail(r, "internal error: noding left no path in the map for the segment "
+                           "(%lld, %lld)-(%lld, %lld) of layer %u feature %lld",
+                        (long long)a.x, (long long)a.y, (long long)b.x, (long long)b.y,
+                        r->refs[k].layer, (long long)r->refs[k].fid);
+    }
+    return 0;
+}
+
+/* Records the features' parts as they lie in the map, for the faces' and
+ * edges' features: a ring's area is what its path through the map encloses
+ * (face_link.h), so every part segment must be a segment of the map. */
+static int keep_parts(reader *r, const int64_t *lat, const seg *segs, size_t n_segs,
+                      const seg *geos, size_t n_geos)
+{
+    noded_index *paths = NULL;
+    if (geos && noded_index_create(geos, n_geos, &paths))
+        return fail(r, "out of memory");
+    point_list part = {0};
+    int st = 0;
+    for (size_t k = 0; k < r->n_parts && !st; k++) {
+        st = part_in_map(r, lat, k, segs, n_segs, paths, &part);
+        if (!st && gis_features_add_part(r->info->polygons, r->refs[k].feature, r->refs[k].ring,
+                                         part.xy, part.n) != 0)
+            st = fail(r, "out of memory");
+    }
+    free(part.xy);
+    noded_index_free(paths);
+    return st;
 }
 
 /* ---- step 5: the graph ------------------------------------------------------------- */
@@ -1466,10 +1532,14 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     free(r.xy);
     r.xy = NULL;
     info->project_s = lap(&t);
+    seg *geos = NULL;
+    size_t n_geos = 0;
     if (!st)
-        st = keep_rings(&r, lat);
+        st = node(&r, lat, &segs, &n_segs, &geos, &n_geos);
     if (!st)
-        st = node(&r, lat, &segs, &n_segs);
+        st = keep_parts(&r, lat, segs, n_segs, geos, n_geos);
+    if (geos != segs)
+        free(geos);
     free(lat);
     info->node_s = lap(&t);
     if (!st)

@@ -75,7 +75,7 @@ typedef struct pack_report {
     uint32_t features;
     uint64_t faces_with_features, faces_without_witness;
     uint32_t all_features, edges_with_features;
-    uint64_t faces_walked, faces_anchored, link_conflicts;
+    uint64_t faces_walked, faces_anchored, faces_checked, link_conflicts;
     int link_witness;
     double link_s[4];
     double features_s;
@@ -677,11 +677,12 @@ static void print_json(FILE *out, const pack_args *a, const pack_report *r)
         jsonw_string(&w, "method", r->link_witness ? "witness" : "topology");
         jsonw_u64(&w, "faces_walked", r->faces_walked);
         jsonw_u64(&w, "faces_anchored", r->faces_anchored);
+        jsonw_u64(&w, "faces_checked", r->faces_checked);
         jsonw_u64(&w, "conflicts", r->link_conflicts);
         jsonw_double(&w, "faces_seconds", r->link_s[0], 6);
         jsonw_double(&w, "witness_seconds", r->link_s[1], 6);
         jsonw_double(&w, "topology_seconds", r->link_s[2], 6);
-        jsonw_double(&w, "anchor_seconds", r->link_s[3], 6);
+        jsonw_double(&w, "check_seconds", r->link_s[3], 6);
         jsonw_object_end(&w);
         jsonw_u64(&w, "antimeridian_cut", gi->dateline_cut);
         jsonw_u64(&w, "points_read", gi->points_read);
@@ -770,6 +771,12 @@ static void print_text(FILE *out, const pack_args *a, const pack_report *r)
         fprintf(out, "features   %u polygon features%s%s%s; %llu faces lie in one or more\n",
                r->features, a->key_field ? " (key " : "", a->key_field ? a->key_field : "",
                a->key_field ? ")" : "", (unsigned long long)r->faces_with_features);
+    if (r->gis && r->features)
+        fprintf(out, "linking    %llu faces walked over the edges, %llu checked at a witness "
+                     "point: %llu conflict%s%s\n",
+               (unsigned long long)r->faces_walked, (unsigned long long)r->faces_checked,
+               (unsigned long long)r->link_conflicts, r->link_conflicts == 1 ? "" : "s",
+               r->link_conflicts ? " (each face given its witness's answer)" : "");
     if (r->draco)
         fprintf(out, "input      Draco mesh, unit 1e%d%s, %zu points (%zu merged), %zu triangles "
                "dropped\n",
@@ -896,9 +903,10 @@ static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
         r->faces_walked = ft->faces_propagated;
         r->faces_anchored = ft->anchors;
         r->link_conflicts = ft->conflicts;
+        r->faces_checked = ft->table.face_count - ft->faces_without_witness;
         r->link_witness = ft->method_witness;
         r->link_s[0] = ft->faces_s, r->link_s[1] = ft->witness_s;
-        r->link_s[2] = ft->topology_s, r->link_s[3] = ft->anchor_s;
+        r->link_s[2] = ft->topology_s, r->link_s[3] = ft->check_s;
         for (uint32_t e = 0; e < ft->edge_count; e++)
             r->edges_with_features += ft->edge_start[e + 1] > ft->edge_start[e];
         for (uint32_t k = 0; k < ft->table.face_count; k++)
