@@ -14,6 +14,7 @@
 #include "gen.h"
 #include "hpfc.h"
 #include "key_ops.h"
+#include "faces.h"
 #include "reader.h"
 
 __extension__ typedef __int128 i128;

@@ -64,15 +64,15 @@ typedef struct pool_level {
     uint64_t pool_bits;     /* s^l */
 } pool_level;
 
+/* ---- the layout (common/pool_layout.c; the code: common/pool_code.h) ---- */
+
 /* Fills pl from the counts; false when a size overflows 64 bits. */
 bool pool_level_sizes(pool_level *pl, uint64_t pixels, uint64_t refined, uint64_t stabbed,
                       uint64_t stream_bits);
 
-/* Bits of a word's compact code (0 for "++++", which is no stabbed word);
- * UINT64_MAX when the word is not symbols ending at their fourth '+'. */
-uint64_t pool_word_bits(const char *word, uint32_t len);
 
-/* ---- reading (every function checks what it reads against the pool) ---- */
+/* ---- reading (read/pool_read.c; every function checks what it reads
+ * against the pool) ---- */
 
 /* What the type bits say of pixel g (< P) of a level. */
 typedef struct pool_pixel {
@@ -109,7 +109,11 @@ int pool_decode_word(const format_bits *pool, uint64_t start, uint64_t end, char
 int pool_check_level(const format_bits *pool, const pool_level *pl, uint32_t longest,
                      const char **what);
 
-/* ---- writing ---------------------------------------------------------- */
+/* ---- writing (write/pool_write.c) -------------------------------------- */
+
+/* Bits of a word's compact code (0 for "++++", which is no stabbed word);
+ * UINT64_MAX when the word is not symbols ending at their fourth '+'. */
+uint64_t pool_word_bits(const char *word, uint32_t len);
 
 /* Emits one level's pixels in pool order into a zeroed pool. */
 typedef struct pool_writer {

@@ -10,7 +10,7 @@
 
 #include "file.h"
 #include "geometry.h"
-#include "internal.h"
+#include "diag.h"
 #include "labels.h"
 #include "sized.h"
 

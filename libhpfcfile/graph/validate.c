@@ -8,13 +8,12 @@
  * uses, so a contact point always lies in a cell both segments meet) and
  * testing the pairs inside each cell with exact orientation predicates.
  */
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "road.h"
-#include "internal.h"
+#include "graph.h"
 
 /* Describes edge e for a message: "edge 3 (line 12)" or "edge 3". */
 static void describe_edge(const hpfc_graph *g, size_t e, char *buf, size_t size)
@@ -167,6 +166,20 @@ static void place_incidence(bucket_grid *bg, size_t cell, uint32_t s)
     bg->items[bg->start[cell]++] = s;
 }
 
+/* floor(sqrt(n)), in integers (the reader, which validates a GEOM section's
+ * graph, links no libm): Newton's iteration from above. */
+static size_t integer_sqrt(size_t n)
+{
+    if (n < 2)
+        return n;
+    size_t x = n, y = (x + 1) / 2;
+    while (y < x) {
+        x = y;
+        y = (x + n / x) / 2;
+    }
+    return x;
+}
+
 static int build_buckets(const hpfc_graph *g, seg_table *t, bucket_grid *bg)
 {
     int64_t xmin = INT64_MAX, ymin = INT64_MAX, xmax = INT64_MIN, ymax = INT64_MIN;
@@ -186,7 +199,7 @@ static int build_buckets(const hpfc_graph *g, seg_table *t, bucket_grid *bg)
             graph_edge_point(g, t->edge[s], t->k[s] + (size_t)end, &x, &y);
             t->end[2 * s + (size_t)end] = (lpoint){x - xmin, y - ymin};
         }
-    size_t side = (size_t)sqrt((double)t->count) + 1;
+    size_t side = integer_sqrt(t->count) + 1;
     bg->ox = xmin, bg->oy = ymin;
     bg->cols = bg->rows = side;
     bg->cw = (xmax - xmin) / (int64_t)side + 1;

@@ -26,7 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "internal.h"
+#include "graph.h"
 
 /* hpfc_graph_set_unit_exp10() accepts exponents down to -30. */
 #define PFC_MAX_FRAC_DIGITS 30

@@ -20,7 +20,7 @@
 #include "file.h"
 #include "format.h"
 #include "geometry.h"
-#include "internal.h"
+#include "graph.h"
 #include "labels.h"
 #include "pool.h"
 #include "sized.h"

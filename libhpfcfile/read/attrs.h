@@ -3,7 +3,7 @@
 #ifndef HPFC_ATTRS_H
 #define HPFC_ATTRS_H
 
-#include "internal.h"
+#include "diag.h"
 
 /* Checks an attribute table for the writer and computes the section's
  * length (HPFC_E_ARG on an inconsistent table, HPFC_E_LIMIT beyond the

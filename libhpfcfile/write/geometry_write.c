@@ -18,7 +18,7 @@
 
 #include "road.h"
 #include "geometry.h"
-#include "internal.h"
+#include "graph.h"
 
 static uint32_t bits_for(uint64_t max_value)
 {

@@ -21,7 +21,7 @@
 #include "attrs.h"
 #include "feat.h"
 #include "file.h"
-#include "internal.h"
+#include "diag.h"
 #include "sized.h"
 
 /* ---- open: header ---------------------------------------------------------- */

@@ -1,13 +1,13 @@
-/* internal.h: the graph as the library holds it (struct hpfc_graph, its
- * accessors, the source lines the .pfc reader records and the checks every
- * graph input shares) and the diagnostics helpers. Internal to the library
- * (and its tests and fuzzers). */
-#ifndef HPFC_INTERNAL_H
-#define HPFC_INTERNAL_H
+/* graph.h: the graph as the library holds it (struct hpfc_graph, its
+ * accessors, the source lines the .pfc reader records) and the checks every
+ * graph input shares. Internal to the library (and its tests and
+ * fuzzers). */
+#ifndef HPFC_GRAPH_H
+#define HPFC_GRAPH_H
 
-#include <stdarg.h>
 #include <stdbool.h>
 
+#include "diag.h"
 #include "hpfc.h"
 
 struct hpfc_graph {
@@ -56,28 +56,6 @@ static inline void graph_edge_point(const hpfc_graph *g, size_t e, size_t k,
     *x = p[0];
     *y = p[1];
 }
-
-/* The layout HPFC_LAYOUT_DEFAULT stands for (write.c). */
-extern int write_default_layout;
-
-/* Resets diag (if non-NULL) to 'no culprit'. */
-void diag_clear(hpfc_diag *diag);
-
-/* Fills diag's status and message (if non-NULL) and returns status. */
-int diag_set(hpfc_diag *diag, int status, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-
-/* Fills diag's point (if diag is non-NULL) for a message about lattice
- * point (x, y): user coordinates, x * 10^exp10. */
-void diag_point(hpfc_diag *diag, double x, double y, int32_t exp10);
-
-/* Writes lattice value v at scale 10^-frac_digits as an exact decimal
- * ("-1.25", "4", "3000"), for messages; frac_digits beyond 30 (a .pfc
- * file about to fail with HPFC_E_LIMIT) as "<digits>e-<d>". Returns buf. */
-const char *lattice_to_text(int64_t v, int64_t frac_digits, char buf[64]);
 
 /* Records the 1-based source line of the last vertex / edge added (the
  * .pfc reader's), so that diagnostics can name it. */

@@ -9,11 +9,6 @@
 
 #include "hpfc.h"
 
-/* hpfc_faces_build's union-find takes 32-bit words below this many nodes
- * (2^31: the top bit tags numbered roots), else 64-bit ones. A variable
- * only so that the tests can run the 64-bit path on small maps. */
-extern uint64_t faces_narrow_nodes;
-
 /* Absolute bit position in the file of a word pixel's record or slot: a
  * unique, stable number per pixel. */
 int reader_pixel_slot_bit(const hpfc_file *file, const hpfc_pixel *px, uint64_t *bit);

@@ -1,86 +1,13 @@
 /*
- * A word's symbols decoded, parsed and counted (words.h): the one
- * implementation of the grammar of spec/hpfc-format.md §3.8 and of the
- * fixed word code of §10, written and read.
+ * A word's symbols parsed and counted (words.h): the one implementation of
+ * the grammar of spec/hpfc-format.md §3.8. The fixed word code of §10 is
+ * read in read/words_read.c and written in write/words_write.c.
  */
 #include "words.h"
 
 #include <stdlib.h>
 
 #include "hpfc.h"
-
-/* The fixed code of a word, written at `off` of a zeroed pool when pool is
- * non-NULL; its bits, 0 for a malformed word. One loop for the size and the
- * bits, so the two cannot disagree. */
-static uint64_t fixed_code(const char *word, uint32_t len, uint8_t *pool, uint64_t off)
-{
-    uint64_t bits = 0;
-    unsigned plus = 0;
-    for (uint32_t k = 0; k < len; k++) {
-        if (plus == 4)
-            return 0;
-        int code = format_symbol_code(word[k]);
-        if (word[k] == '+') {
-            plus++;
-            bits += 1;
-        } else if (code >= 0) {
-            if (pool)
-                format_put(pool, off + bits, 4, (uint64_t)code);
-            bits += 4;
-        } else {
-            return 0;
-        }
-    }
-    return plus == 4 ? bits : 0;
-}
-
-uint64_t word_code_bits(const char *word, uint32_t len)
-{
-    return fixed_code(word, len, NULL, 0);
-}
-
-void word_encode_code(uint8_t *pool, uint64_t off, const char *word, uint32_t len)
-{
-    fixed_code(word, len, pool, off);
-}
-
-int word_decode_code(const format_bits *pool, uint64_t off, uint32_t word_bits, char *buf,
-                     size_t cap, size_t *len)
-{
-    uint64_t pos = 0, window = 0;
-    unsigned have = 0, plus = 0; /* `have` bits of the slot are left-aligned in window */
-    size_t n = 0;
-    while (plus < 4) {
-        if (have < 4) { /* in windows of up to 56 bits */
-            uint64_t left = word_bits - pos;
-            have = left < 56 ? (unsigned)left : 56;
-            window = format_peek(pool, off + pos, have);
-            if (have == 0)
-                return HPFC_E_CORRUPT; /* no fourth '+' in the slot */
-        }
-        char c;
-        if (!(window >> 63)) {
-            c = '+';
-            plus++;
-            window <<= 1;
-            have -= 1;
-            pos += 1;
-        } else {
-            unsigned code = (unsigned)(window >> 60);
-            if (have < 4 || code >= FORMAT_CODE_RESERVED_MIN)
-                return HPFC_E_CORRUPT; /* a code cut by the slot's end, or reserved */
-            c = format_code_symbol(code);
-            window <<= 4;
-            have -= 4;
-            pos += 4;
-        }
-        if (buf && n < cap)
-            buf[n] = c;
-        n++;
-    }
-    *len = n;
-    return buf && n > cap ? HPFC_E_BUFFER_SMALL : HPFC_OK;
-}
 
 /* The arrays live in one block, comp's (word_parts_place lays them out). */
 void word_parts_free(word_parts *wp)

@@ -1,89 +1,8 @@
 /*
- * The compact pool layout (pool.h, spec/hpfc-format.md §16): sizes, the
- * word code, O(1) pixel and word access, and the level writer.
+ * The compact pool layout read (pool.h, spec/hpfc-format.md §16): the word
+ * code decoded, O(1) pixel and word access, and the whole level checked.
  */
-#include "pool.h"
-
-#include <string.h>
-
-/* ---- the word code ----------------------------------------------------------- */
-
-/* The code of a symbol depends on its context, the last crossing symbol
- * before it in the word (the '+' do not change it): none yet, '[', '(' or
- * 'Y', or one that closes a group (']', ')', '='). In each context the
- * symbols the grammar (§3.8) allows there are listed by frequency on the
- * Delaunay and GIS maps measured for the issue; the k-th costs k + 1 bits,
- * k ones then a zero, the last one only its ones (spec §16.5).
- *
- * The table is indexed by context and by the number of leading ones of
- * the next bits (capped at 7: no code has more than 6), so the decoder
- * makes one lookup a symbol; the encoder searches the same table, which
- * is the code's only definition. */
-enum { CTX_NONE, CTX_STABBING, CTX_JUNCTION, CTX_CLOSED };
-typedef struct code_entry {
-    char symbol;
-    uint8_t bits;  /* length of its code */
-    uint8_t next;  /* the context after it */
-} code_entry;
-#define CODE_ONES_CAP 7
-/* A row a context: the rows share their layout, not their logic (each is
- * that context's own list of symbols by frequency). */
-static const code_entry codes[4][CODE_ONES_CAP + 1] = {
-    [CTX_NONE] = {{'[', 1, CTX_STABBING}, {'(', 2, CTX_JUNCTION}, {'+', 3, CTX_NONE},
-                  {'=', 3, CTX_CLOSED}, {'=', 3, CTX_CLOSED}, {'=', 3, CTX_CLOSED},
-                  {'=', 3, CTX_CLOSED}, {'=', 3, CTX_CLOSED}},
-    [CTX_STABBING] = {{'+', 1, CTX_STABBING}, {']', 2, CTX_CLOSED}, {'[', 3, CTX_STABBING},
-                      {'(', 4, CTX_JUNCTION}, {'=', 4, CTX_CLOSED}, {'=', 4, CTX_CLOSED},
-                      {'=', 4, CTX_CLOSED}, {'=', 4, CTX_CLOSED}},
-    [CTX_JUNCTION] = {{'+', 1, CTX_JUNCTION}, {'Y', 2, CTX_JUNCTION}, {')', 3, CTX_CLOSED},
-                      {'[', 4, CTX_STABBING}, {'(', 5, CTX_JUNCTION}, {'=', 5, CTX_CLOSED},
-                      {'=', 5, CTX_CLOSED}, {'=', 5, CTX_CLOSED}},
-    [CTX_CLOSED] = {{'+', 1, CTX_CLOSED}, {']', 2, CTX_CLOSED}, {'[', 3, CTX_STABBING},
-                    {'Y', 4, CTX_JUNCTION}, {')', 5, CTX_CLOSED}, {'(', 6, CTX_JUNCTION},
-                    {'=', 6, CTX_CLOSED}, {'=', 6, CTX_CLOSED}},
-};
-
-/* The code of c in ctx (its first entry: k ones, then a zero unless it is
- * the all-ones code); its length, 0 when the context does not allow c. */
-static unsigned symbol_code(int ctx, char c, uint64_t *value, int *next)
-{
-    for (unsigned k = 0; k <= CODE_ONES_CAP; k++)
-        if (codes[ctx][k].symbol == c) {
-            unsigned bits = codes[ctx][k].bits;
-            *value = (((uint64_t)1 << k) - 1) << (bits - k);
-            *next = codes[ctx][k].next;
-            return bits;
-        }
-    return 0;
-}
-
-/* Calls emit(pool, off, bits, value) for each code of the word but its
- * fourth '+' and returns the total bits; UINT64_MAX for a malformed word. */
-static uint64_t code_word(const char *word, uint32_t len, uint8_t *pool, uint64_t off)
-{
-    if (len < 4 || word[len - 1] != '+')
-        return UINT64_MAX;
-    uint64_t bits = 0;
-    unsigned plus = 0;
-    int ctx = CTX_NONE;
-    for (uint32_t k = 0; k + 1 < len; k++) {
-        uint64_t value;
-        unsigned n = symbol_code(ctx, word[k], &value, &ctx);
-        if (n == 0 || (word[k] == '+' && ++plus > 3))
-            return UINT64_MAX;
-        if (pool)
-            format_put(pool, off + bits, n, value);
-        bits += n;
-    }
-    return plus == 3 ? bits : UINT64_MAX;
-}
-
-uint64_t pool_word_bits(const char *word, uint32_t len)
-{
-    if (len == 4 && memcmp(word, "++++", 4) == 0)
-        return 0; /* private: its type bits say it all */
-    return code_word(word, len, NULL, 0);
-}
+#include "pool_code.h"
 
 /* The decoder's state from one window of bits to the next. */
 typedef struct decode_state {
@@ -153,67 +72,7 @@ int pool_decode_word(const format_bits *pool, uint64_t start, uint64_t end, char
     return buf && d.n > cap ? HPFC_E_BUFFER_SMALL : HPFC_OK;
 }
 
-/* ---- sizes -------------------------------------------------------------------- */
-
-/* Bits of an unsigned integer: the width that holds 0 .. v. */
-static uint32_t bit_width(uint64_t v)
-{
-    return v ? (uint32_t)(64 - __builtin_clzll(v)) : 0;
-}
-
-bool pool_level_sizes(pool_level *pl, uint64_t pixels, uint64_t refined, uint64_t stabbed,
-                      uint64_t stream_bits)
-{
-    *pl = (pool_level){.pixels = pixels, .refined = refined, .stabbed = stabbed,
-                       .stream_bits = stream_bits};
-    pl->refined_width = bit_width(refined);
-    pl->stabbed_width = bit_width(stabbed);
-    pl->blocks = pixels / POOL_BLOCK_PIXELS + (pixels % POOL_BLOCK_PIXELS != 0);
-    uint64_t s, t;
-    if (!format_mul(pl->blocks, (uint64_t)pl->refined_width + pl->stabbed_width, &s) ||
-        !format_mul(pixels, 2, &t) || !format_add(s, t, &pl->type_bits))
-        return false;
-    pl->select_off = pl->low_off = pl->high_off = pl->stream_off = pl->pool_bits = pl->type_bits;
-    if (stabbed == 0)
-        return true;
-    if (stabbed == UINT64_MAX)
-        return false;
-    pl->bounds = stabbed + 1;
-    uint64_t q = stream_bits / pl->bounds;
-    pl->low_width = q ? (uint32_t)(63 - __builtin_clzll(q)) : 0;
-    if (!format_add(pl->bounds, stream_bits >> pl->low_width, &pl->high_bits))
-        return false;
-    pl->select_width = bit_width(pl->high_bits - 1);
-    pl->select_count = pl->bounds / POOL_SELECT_STRIDE + (pl->bounds % POOL_SELECT_STRIDE != 0);
-    pl->select_off = pl->type_bits;
-    return format_mul(pl->select_count, pl->select_width, &s) &&
-           format_add(pl->select_off, s, &pl->low_off) &&
-           format_mul(pl->bounds, pl->low_width, &s) && format_add(pl->low_off, s, &pl->high_off) &&
-           format_add(pl->high_off, pl->high_bits, &pl->stream_off) &&
-           format_add(pl->stream_off, stream_bits, &pl->pool_bits);
-}
-
 /* ---- pixels ------------------------------------------------------------------------ */
-
-uint64_t pool_type_bit(const pool_level *pl, uint64_t g)
-{
-    (void)pl;
-    return 2 * g;
-}
-
-/* Where block b's counts start: after all the type pairs. */
-static uint64_t counts_bit(const pool_level *pl, uint64_t block)
-{
-    return 2 * pl->pixels + block * ((uint64_t)pl->refined_width + pl->stabbed_width);
-}
-
-bool pool_pixel_at_bit(const pool_level *pl, uint64_t bit, uint64_t *g)
-{
-    if (bit % 2 || bit / 2 >= pl->pixels)
-        return false;
-    *g = bit / 2;
-    return true;
-}
 
 /* In a left-aligned window of type pairs, the refined bits are the odd
  * positions from the top (63, 61, ...), the stabbed bits the even ones. */
@@ -223,7 +82,7 @@ bool pool_pixel_at_bit(const pool_level *pl, uint64_t bit, uint64_t *g)
 int pool_read_pixel(const format_bits *pool, const pool_level *pl, uint64_t g, pool_pixel *out)
 {
     uint64_t block = g / POOL_BLOCK_PIXELS;
-    uint64_t at = counts_bit(pl, block); /* < type_bits <= s^l: open checked the sizes */
+    uint64_t at = pool_counts_bit(pl, block); /* < type_bits <= s^l: open checked the sizes */
     /* the block's counts (one load when they fit 57 bits), then its pairs */
     unsigned kr = pl->refined_width, ks = pl->stabbed_width;
     uint64_t refined, stabbed;
@@ -269,7 +128,7 @@ int pool_read_type(const format_bits *pool, const pool_level *pl, uint64_t g, in
 
 int pool_rank(const format_bits *pool, const pool_level *pl, uint64_t g, int kind, uint64_t *rank)
 {
-    uint64_t block = g / POOL_BLOCK_PIXELS, at = counts_bit(pl, block), count;
+    uint64_t block = g / POOL_BLOCK_PIXELS, at = pool_counts_bit(pl, block), count;
     uint64_t bits = kind == POOL_REFINED ? REFINED_BITS : STABBED_BITS;
     if (kind == POOL_REFINED)
         count = format_get(pool, at, pl->refined_width);
@@ -403,44 +262,6 @@ int pool_word_span(const format_bits *pool, const pool_level *pl, uint32_t longe
     return HPFC_OK;
 }
 
-/* ---- writing ----------------------------------------------------------------------------- */
-
-static void put_boundary(pool_writer *pw, uint64_t w, uint64_t value)
-{
-    const pool_level *pl = pw->pl;
-    uint64_t pos = (value >> pl->low_width) + w;
-    format_put(pw->pool, pl->low_off + w * pl->low_width, pl->low_width, value);
-    format_put(pw->pool, pl->high_off + pos, 1, 1);
-    if (w % POOL_SELECT_STRIDE == 0)
-        format_put(pw->pool, pl->select_off + w / POOL_SELECT_STRIDE * pl->select_width,
-                   pl->select_width, pos);
-}
-
-void pool_writer_pixel(pool_writer *pw, int kind, const char *word, uint32_t len)
-{
-    const pool_level *pl = pw->pl;
-    if (pw->g % POOL_BLOCK_PIXELS == 0) {
-        uint64_t at = counts_bit(pl, pw->g / POOL_BLOCK_PIXELS);
-        format_put(pw->pool, at, pl->refined_width, pw->refined);
-        format_put(pw->pool, at + pl->refined_width, pl->stabbed_width, pw->stabbed);
-    }
-    uint64_t type = pool_type_bit(pl, pw->g++);
-    if (kind == POOL_REFINED) {
-        format_put(pw->pool, type, 2, 2);
-        pw->refined++;
-    } else if (kind == POOL_STABBED) {
-        format_put(pw->pool, type, 2, 1);
-        put_boundary(pw, pw->stabbed++, pw->at);
-        pw->at += code_word(word, len, pw->pool, pl->stream_off + pw->at);
-    }
-}
-
-void pool_writer_finish(pool_writer *pw)
-{
-    if (pw->stabbed)
-        put_boundary(pw, pw->stabbed, pw->at);
-}
-
 /* ---- the whole level, for verification -------------------------------------------------------- */
 
 static int check_types(const format_bits *pool, const pool_level *pl, const char **what)
@@ -448,7 +269,7 @@ static int check_types(const format_bits *pool, const pool_level *pl, const char
     uint64_t refined = 0, stabbed = 0;
     for (uint64_t g = 0; g < pl->pixels; g++) {
         if (g % POOL_BLOCK_PIXELS == 0) {
-            uint64_t at = counts_bit(pl, g / POOL_BLOCK_PIXELS);
+            uint64_t at = pool_counts_bit(pl, g / POOL_BLOCK_PIXELS);
             if (format_get(pool, at, pl->refined_width) != refined ||
                 format_get(pool, at + pl->refined_width, pl->stabbed_width) != stabbed) {
                 *what = "a type block's counts disagree with the pixels before it";

@@ -3,12 +3,11 @@
  * texts, diagnostics, the version, and hpfc_free for what the library
  * hands over.
  */
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "internal.h"
+#include "diag.h"
 
 const char *hpfc_strerror(int status)
 {
@@ -72,12 +71,36 @@ int diag_set(hpfc_diag *diag, int status, const char *fmt, ...)
     return status;
 }
 
+/* 10^e as the double nearest it (a decimal literal), for |e| <= 30, the
+ * units a graph may have; further out by repeated steps. Not pow(): the
+ * reader links no libm. */
+static double power_of_ten(int32_t e)
+{
+    static const double tens[31] = {
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+        1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22, 1e23, 1e24, 1e25, 1e26, 1e27, 1e28, 1e29,
+        1e30};
+    static const double tenths[31] = {
+        1e-0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13,
+        1e-14, 1e-15, 1e-16, 1e-17, 1e-18, 1e-19, 1e-20, 1e-21, 1e-22, 1e-23, 1e-24, 1e-25,
+        1e-26, 1e-27, 1e-28, 1e-29, 1e-30};
+    if (e >= 0 && e <= 30)
+        return tens[e];
+    if (e < 0 && e >= -30)
+        return tenths[-e];
+    double v = e > 0 ? tens[30] : tenths[30];
+    for (int32_t k = 30; k < (e > 0 ? e : -e); k++)
+        v = e > 0 ? v * 10 : v / 10;
+    return v;
+}
+
 void diag_point(hpfc_diag *diag, double x, double y, int32_t exp10)
 {
     if (diag) {
         diag->has_point = 1;
-        diag->x = x * pow(10.0, (double)exp10);
-        diag->y = y * pow(10.0, (double)exp10);
+        double scale = power_of_ten(exp10);
+        diag->x = x * scale;
+        diag->y = y * scale;
     }
 }
 

@@ -155,13 +155,6 @@ void labels_leaf_free(labels_leaf *l);
 int labels_leaf_face(const hpfc_file *file, const labels_leaf *l, uint32_t stretch,
                      uint64_t *face);
 
-/* hpfc_faces internals for the writer (faces.c): the nodes of the leaf
- * whose record (level 0) or slot starts at bit `bit` of level `level`'s
- * pool: node base + t is stretch t (one node for a private leaf). */
-int faces_leaf_nodes(const hpfc_faces *fc, uint32_t level, uint64_t bit, uint64_t *base,
-                     uint64_t *crossings);
-uint64_t faces_node_face(const hpfc_faces *fc, uint64_t node);
-
 /* Builds the section's bytes for a tree and its serialised file (whose
  * faces are fc): *out (malloc'ed), *length. */
 int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc, uint8_t **out,

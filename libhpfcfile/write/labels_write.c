@@ -14,7 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "internal.h"
+#include "diag.h"
+#include "faces.h"
 #include "file.h"
 #include "labels.h"
 

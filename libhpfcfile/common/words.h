@@ -6,10 +6,13 @@
  * into components (the traversal, faces, hpfc-inspect) and the crossings
  * counted per road.
  *
- * The compact pool's word code (spec §16.5) lives in pool.c instead: it is
- * a different code (a symbol's bits depend on the symbol before it, and
- * the fourth '+' is not stored), and each pool layout keeps its own code
- * next to the layout that stores it, as this file keeps the paper layout's.
+ * The compact pool's word code (spec §16.5) lives with its layout instead
+ * (common/pool_code.h, read/pool_read.c, write/pool_write.c): it is a
+ * different code (a symbol's bits depend on the symbol before it, and the
+ * fourth '+' is not stored), and each pool layout keeps its own code next
+ * to the layout that stores it, as this file keeps the paper layout's.
+ * Here: the grammar (common/words.c), the code read (read/words_read.c)
+ * and written (write/words_write.c).
  *
  * Internal to the library; hpfc-inspect compiles words.c into itself
  * (hpfc-inspect/meson.build), as the shared library does not export it.

@@ -10,7 +10,6 @@
 #include <string.h>
 
 #include "file.h"
-#include "internal.h"
 #include "reader.h"
 
 #include "topo.h"

@@ -3,7 +3,7 @@
 #ifndef HPFC_FEAT_H
 #define HPFC_FEAT_H
 
-#include "internal.h"
+#include "diag.h"
 
 /* Checks a feature table for the writer and computes the section's length
  * (HPFC_E_ARG on an inconsistent table, HPFC_E_LIMIT beyond 32-bit counts). */

@@ -23,7 +23,7 @@
 
 #include "road.h"
 #include "geometry.h"
-#include "internal.h"
+#include "graph.h"
 #include "file.h"
 #include "labels.h"
 #include "verify_report.h"

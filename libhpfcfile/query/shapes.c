@@ -12,7 +12,6 @@
 
 #include "arrays.h"
 #include "file.h"
-#include "internal.h"
 
 __extension__ typedef __int128 s128;
 

@@ -3,7 +3,7 @@
 #ifndef HPFC_TREE_H
 #define HPFC_TREE_H
 
-#include "internal.h"
+#include "graph.h"
 
 /* One pixel, in 16 bytes since a continental map has millions. A word
  * pixel with n crossings has its word at tree->syms[off] (n + 4 symbols)

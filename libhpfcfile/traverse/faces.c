@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "faces.h"
 #include "file.h"
 #include "labels.h"
 #include "reader.h"

@@ -14,7 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "internal.h"
+#include "graph.h"
 
 /* A point of the graph: a vertex (edge < 0) or interior point `index` of
  * `edge`. */

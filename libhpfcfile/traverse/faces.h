@@ -1,0 +1,24 @@
+/* faces.h: the faces' internals (faces.c) beyond the public hpfc_faces_*
+ * calls: the union-find's width, and the nodes the LABL writer
+ * (write/labels_write.c) reads the faces of. Internal to the library (and
+ * its tests). */
+#ifndef HPFC_FACES_H
+#define HPFC_FACES_H
+
+#include <stdint.h>
+
+#include "hpfc.h"
+
+/* hpfc_faces_build's union-find takes 32-bit words below this many nodes
+ * (2^31: the top bit tags numbered roots), else 64-bit ones. A variable
+ * only so that the tests can run the 64-bit path on small maps. */
+extern uint64_t faces_narrow_nodes;
+
+/* The nodes of the leaf whose record (level 0) or slot starts at bit `bit`
+ * of level `level`'s pool: node base + t is stretch t (one node for a
+ * private leaf). */
+int faces_leaf_nodes(const hpfc_faces *fc, uint32_t level, uint64_t bit, uint64_t *base,
+                     uint64_t *crossings);
+uint64_t faces_node_face(const hpfc_faces *fc, uint64_t node);
+
+#endif
