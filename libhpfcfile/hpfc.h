@@ -13,7 +13,8 @@
  * Conventions used throughout:
  *   - Every function that can fail returns an `int` status: HPFC_OK (0) or one
  *     of the pinned HPFC_E_* codes below. Results come back through
- *     out-parameters. hpfc_strerror() names every code.
+ *     out-parameters. hpfc_strerror() describes every code and
+ *     hpfc_status_name() spells its name.
  *   - Variable-length answers go to a caller's buffer of `cap` items: a NULL
  *     buffer asks only the count; a buffer too small gives
  *     HPFC_E_BUFFER_SMALL with the count needed set, so the caller can grow
@@ -138,6 +139,11 @@ enum {
 
 /* A short static English description of a status code. Never NULL. */
 HPFC_API const char *hpfc_strerror(int status);
+/* The code's name as this header spells it: hpfc_status_name(HPFC_E_CORRUPT)
+ * is "HPFC_E_CORRUPT", for logs and bindings that show or match names. A
+ * number no code has gives "HPFC_E_UNKNOWN" (no code is named so). Never
+ * NULL; the strings are static. */
+HPFC_API const char *hpfc_status_name(int status);
 
 /* The library's version, "MAJOR.MINOR.PATCH", and as one number,
  * MAJOR * 10000 + MINOR * 100 + PATCH (as ZSTD_versionNumber): what the
@@ -145,6 +151,14 @@ HPFC_API const char *hpfc_strerror(int status);
  * (hpfc_version.h) say what the caller was compiled against. */
 HPFC_API const char *hpfc_version_string(void);
 HPFC_API unsigned hpfc_version_number(void);
+
+/* The version of the .hpfc format (spec/hpfc-format.md) this library
+ * writes, a property of the format and not of the library's own version:
+ * it reads every file of major HPFC_FORMAT_MAJOR (HPFC_E_VERSION for
+ * another major), whatever its minor, and hpfc_file_info says which
+ * version a file has. */
+#define HPFC_FORMAT_MAJOR 1
+#define HPFC_FORMAT_MINOR 2
 
 /* Frees a buffer the library allocated and handed over (the serialised
  * files of hpfc_tree_serialize and hpfc_file_serialize). Always use it

@@ -1,9 +1,10 @@
 /*
  * test_api.c: the conventions of the public header itself, checked against
  * independent sources: every status code against the spec's table (§12.4)
- * and every `HPFC_E_NAME (number)` the specs cite; the structs that grow
- * (a caller compiled against an older or a newer hpfc.h, simulated by the
- * size it passes).
+ * and every `HPFC_E_NAME (number)` the specs cite, and its name as
+ * hpfc_status_name gives it; the structs that grow (a caller compiled
+ * against an older or a newer hpfc.h, simulated by the size it passes);
+ * the format version a written file carries.
  */
 #include <stddef.h>
 #include <stdint.h>
@@ -124,6 +125,21 @@ static void check_strerror(void)
     }
     CHECK(strcmp(hpfc_strerror(-1), unknown) == 0);
     CHECK(strcmp(hpfc_strerror(5), unknown) == 0);
+}
+
+/* hpfc_status_name spells every code as the header does, and no other. */
+static void check_status_names(void)
+{
+    for (size_t k = 0; k < CODE_COUNT; k++) {
+        const char *name = hpfc_status_name(all_codes[k].code);
+        if (strcmp(name, all_codes[k].name) != 0)
+            fprintf(stderr, "hpfc_status_name(%d) is %s\n", all_codes[k].code, name);
+        CHECK(strcmp(name, all_codes[k].name) == 0);
+    }
+    for (int code = -1; code < 100; code++)
+        if (code_of_name(hpfc_status_name(code), strlen(hpfc_status_name(code))) != code)
+            CHECK(strcmp(hpfc_status_name(code), "HPFC_E_UNKNOWN") == 0);
+    CHECK_EQ_INT(code_of_name("HPFC_E_UNKNOWN", 14), -1);
 }
 
 /* ---- structs that grow ------------------------------------------------------ */
@@ -331,6 +347,8 @@ static void check_infos(const hpfc_tree *t, const hpfc_graph *g)
     }
     hpfc_file_info fi;
     hpfc_file_get_info(f, &fi);
+    CHECK_EQ_INT(fi.format_major, HPFC_FORMAT_MAJOR); /* what the library writes */
+    CHECK_EQ_INT(fi.format_minor, HPFC_FORMAT_MINOR);
     size = offsetof(hpfc_file_info, section_count);
     fill_canary(&older), fill_canary(&newer);
     hpfc_file_get_info_sized(f, &older.file, size);
@@ -433,6 +451,7 @@ int main(void)
     check_citations(spec, "hpfc-format.md");
     check_citations(pfc, "pfc-format.md");
     check_strerror();
+    check_status_names();
     check_sized_structs();
     check_version();
     free(spec);

@@ -1,8 +1,9 @@
 /*
  * format.h: the .hpfc binary format (spec/hpfc-format.md) as the writer
  * and the reader see it: the format version it writes is FORMAT_MAJOR.
- * FORMAT_MINOR below (1.2), not the library's own (hpfc_version.h, from
- * meson's project version). Internal to the library (and its tests).
+ * FORMAT_MINOR below, hpfc.h's HPFC_FORMAT_MAJOR and HPFC_FORMAT_MINOR
+ * (1.2), not the library's own (hpfc_version.h, from meson's project
+ * version). Internal to the library (and its tests).
  *
  * - Every field of the header, the level table and the section directory is
  *   touched only through the get/set helpers below, named after the spec's
@@ -27,8 +28,8 @@
 /* ---- sizes and constants ------------------------------------------------- */
 
 enum {
-    FORMAT_MAJOR = 1,
-    FORMAT_MINOR = 2,               /* 1.1: FEAT; 1.2: LABL, ATTR, EDGF, GEOM, the compact pool */
+    FORMAT_MAJOR = HPFC_FORMAT_MAJOR,
+    FORMAT_MINOR = HPFC_FORMAT_MINOR, /* 1.1: FEAT; 1.2: LABL, ATTR, EDGF, GEOM, the compact pool */
     FORMAT_HEADER_SIZE = 128,       /* header_size written by this library */
     FORMAT_LEVEL_ENTRY_SIZE = 64,
     FORMAT_SECTION_ENTRY_SIZE = 32,

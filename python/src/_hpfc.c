@@ -34,47 +34,12 @@ static PyObject *ErrorType; /* hpfc._errors.Error */
 
 /* ---- errors ----------------------------------------------------------------- */
 
-static const char *status_name(int st)
-{
-    switch (st) {
-    case HPFC_OK: return "HPFC_OK";
-    case HPFC_E_NOMEM: return "HPFC_E_NOMEM";
-    case HPFC_E_ARG: return "HPFC_E_ARG";
-    case HPFC_E_IO: return "HPFC_E_IO";
-    case HPFC_E_BUFFER_SMALL: return "HPFC_E_BUFFER_SMALL";
-    case HPFC_E_PFC_SYNTAX: return "HPFC_E_PFC_SYNTAX";
-    case HPFC_E_PFC_VERSION: return "HPFC_E_PFC_VERSION";
-    case HPFC_E_VERTEX_INDEX: return "HPFC_E_VERTEX_INDEX";
-    case HPFC_E_DUPLICATE_POINT: return "HPFC_E_DUPLICATE_POINT";
-    case HPFC_E_ZERO_LENGTH: return "HPFC_E_ZERO_LENGTH";
-    case HPFC_E_LOOP_INTERIOR: return "HPFC_E_LOOP_INTERIOR";
-    case HPFC_E_ISOLATED_VERTEX: return "HPFC_E_ISOLATED_VERTEX";
-    case HPFC_E_NONPLANAR: return "HPFC_E_NONPLANAR";
-    case HPFC_E_EXTENT: return "HPFC_E_EXTENT";
-    case HPFC_E_EMPTY: return "HPFC_E_EMPTY";
-    case HPFC_E_TOO_MANY_PIXELS: return "HPFC_E_TOO_MANY_PIXELS";
-    case HPFC_E_LIMIT: return "HPFC_E_LIMIT";
-    case HPFC_E_MAGIC: return "HPFC_E_MAGIC";
-    case HPFC_E_VERSION: return "HPFC_E_VERSION";
-    case HPFC_E_INCOMPATIBLE: return "HPFC_E_INCOMPATIBLE";
-    case HPFC_E_TRUNCATED: return "HPFC_E_TRUNCATED";
-    case HPFC_E_CHECKSUM: return "HPFC_E_CHECKSUM";
-    case HPFC_E_HEADER: return "HPFC_E_HEADER";
-    case HPFC_E_LEVEL_TABLE: return "HPFC_E_LEVEL_TABLE";
-    case HPFC_E_SECTION: return "HPFC_E_SECTION";
-    case HPFC_E_CORRUPT: return "HPFC_E_CORRUPT";
-    case HPFC_E_NO_PIXEL: return "HPFC_E_NO_PIXEL";
-    case HPFC_E_NO_SECTION: return "HPFC_E_NO_SECTION";
-    default: return "HPFC_E_UNKNOWN";
-    }
-}
-
 /* Raises hpfc.Error for status st; returns NULL for the caller to return. */
 static PyObject *raise_status(int st, const char *context)
 {
     if (st == HPFC_E_NOMEM && !PyErr_Occurred())
         return PyErr_NoMemory();
-    PyObject *err = PyObject_CallFunction(ErrorType, "isss", st, status_name(st),
+    PyObject *err = PyObject_CallFunction(ErrorType, "isss", st, hpfc_status_name(st),
                                           hpfc_strerror(st), context ? context : "");
     if (err) {
         PyErr_SetObject(ErrorType, err);
@@ -1219,7 +1184,7 @@ static PyObject *mod_status_name(PyObject *m, PyObject *arg)
     long code = PyLong_AsLong(arg);
     if (code == -1 && PyErr_Occurred())
         return NULL;
-    return PyUnicode_FromString(status_name((int)code));
+    return PyUnicode_FromString(hpfc_status_name((int)code));
 }
 
 /* lattice_floor(v, unit_exp10): the lattice coordinate of a user one, or
