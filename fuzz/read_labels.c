@@ -140,7 +140,7 @@ static void verify(lab *z)
             int is_private = 0;
             FUZZ_CHECK(hpfc_pixel_is_private(z->f, &px, &is_private) == HPFC_OK);
             if (is_private) {
-                FUZZ_CHECK(hpfc_faces_of_private_pixel(fc, &px, &want) == HPFC_OK);
+                FUZZ_CHECK(hpfc_faces_pixel_face(fc, &px, &want) == HPFC_OK);
                 FUZZ_CHECK(hpfc_label_stretch_face(z->f, &px, 0, &got) == HPFC_OK);
                 FUZZ_CHECK(got == want);
             }

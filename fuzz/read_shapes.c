@@ -142,7 +142,7 @@ static void ragged_probe(shp *z, int kind, uint64_t id, int expect, const int64_
 static void probe_face(shp *z, uint64_t face)
 {
     hpfc_polygons p;
-    int st = hpfc_shapes_face(z->s, face, &p);
+    int st = hpfc_shapes_face_polygons(z->s, face, &p);
     check_status(st);
     if (face >= z->faces)
         FUZZ_CHECK(st == HPFC_E_ARG);
@@ -160,22 +160,31 @@ static void probe_face(shp *z, uint64_t face)
     free(xy);
 }
 
-static void probe_feature(shp *z, uint32_t k)
+static void probe_feature(shp *z, hpfc_id k)
 {
     hpfc_polygons p;
-    uint64_t n = 0;
-    int st = hpfc_shapes_feature_face_count(z->s, k, &n);
+    size_t n = 0;
+    int st = hpfc_shapes_feature_faces(z->s, k, NULL, 0, &n);
     check_status(st);
     if (!z->have_features)
         FUZZ_CHECK(st == HPFC_E_NO_SECTION);
     else if (k >= z->features)
         FUZZ_CHECK(st == HPFC_E_ARG);
-    st = hpfc_shapes_feature(z->s, k, &p);
+    if (!st && n > 0 && n <= FUZZ_ITEMS) { /* the listing: its count, face ids in order */
+        hpfc_id faces[FUZZ_ITEMS];
+        size_t m = 0;
+        FUZZ_CHECK(hpfc_shapes_feature_faces(z->s, k, faces, n - 1, &m) == HPFC_E_BUFFER_SMALL &&
+                   m == n);
+        FUZZ_CHECK(hpfc_shapes_feature_faces(z->s, k, faces, n, &m) == HPFC_OK && m == n);
+        for (size_t j = 0; j < n; j++)
+            FUZZ_CHECK(faces[j] < z->faces && (j == 0 || faces[j - 1] <= faces[j]));
+    }
+    st = hpfc_shapes_feature_polygons(z->s, k, &p);
     check_status(st);
     if (!st)
         check_answer(&p, 0);
     ragged_probe(z, RAGGED_FEATURE, k, st, NULL, 0);
-    st = hpfc_shapes_feature_lines(z->s, k, &p);
+    st = hpfc_shapes_feature_polylines(z->s, k, &p);
     check_status(st);
     if (!st)
         check_answer(&p, 1);
@@ -281,7 +290,7 @@ static void run_commands(shp *z, fuzz_bytes *in)
             probe_face(z, fuzz_u8(in) & 1 ? fuzz_u64(in) : fuzz_u16(in) % (z->faces + 1));
             break;
         case 1:
-            probe_feature(z, fuzz_u8(in) & 1 ? fuzz_u32(in) : fuzz_u16(in) % (z->features + 1));
+            probe_feature(z, fuzz_u8(in) & 1 ? fuzz_u64(in) : fuzz_u16(in) % (z->features + 1));
             break;
         case 2:
             if (have_leaf)

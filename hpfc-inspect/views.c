@@ -310,7 +310,7 @@ typedef struct file_map {
     section_row *sections;
     uint32_t header_size, meta_crc, meta_computed;
     uint64_t meta_size;
-    int api_status;   /* hpfc_file_verify_checksums */
+    int api_status;   /* hpfc_file_check_checksums */
     uint32_t bad;     /* checksums that do not match */
 } file_map;
 
@@ -361,7 +361,7 @@ static int read_map(const hpfc_file *f, const char *path, file_map *m, char *why
     if (bad_io)
         return view_fail(why, "cannot reread the file (changed since it was opened?)");
     m->bad += m->meta_computed != m->meta_crc;
-    m->api_status = hpfc_file_verify_checksums(f);
+    m->api_status = hpfc_file_check_checksums(f, NULL);
     return VIEW_OK;
 }
 
@@ -570,7 +570,7 @@ int view_pixel_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel 
         if (cap < 1)
             return HPFC_E_ARG;
         *count = 1;
-        return hpfc_faces_of_private_pixel(fc, px, &faces[0]);
+        return hpfc_faces_pixel_face(fc, px, &faces[0]);
     }
     size_t len;
     if ((st = hpfc_pixel_word(f, px, NULL, 0, &len)))
@@ -580,7 +580,7 @@ int view_pixel_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel 
         return HPFC_E_ARG;
     for (uint32_t k = 0; k < n; k++) {
         hpfc_dart d = {.pixel = *px, .crossing = k};
-        if ((st = hpfc_faces_of_dart(fc, &d, &faces[k])))
+        if ((st = hpfc_faces_dart_face(fc, &d, &faces[k])))
             return st;
     }
     qsort(faces, n, sizeof *faces, cmp_u64);
@@ -1022,7 +1022,7 @@ static int collect_stats(const hpfc_file *f, stats *s)
     hpfc_faces *fc;
     s->faces_status = hpfc_faces_build(f, &fc);
     if (!s->faces_status)
-        s->faces = hpfc_faces_count(fc);
+        s->faces = hpfc_faces_face_count(fc);
     hpfc_faces_free(fc);
     return HPFC_OK;
 }

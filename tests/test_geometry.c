@@ -232,7 +232,7 @@ static void check_crossings(const packed *p, const hpfc_graph *g)
                 break;
             }
             hpfc_dart d = {.pixel = px, .crossing = (uint32_t)k};
-            CHECK_EQ_INT(hpfc_faces_of_dart(fc, &d, &face), HPFC_OK);
+            CHECK_EQ_INT(hpfc_faces_dart_face(fc, &d, &face), HPFC_OK);
             /* the out-dart at k runs u -> v iff u -> v leaves the cell there */
             uint64_t want = leaves_cell(g, &ref[k], fi.x0, fi.y0, x0, y0, x1, y1) ? right[edge]
                                                                                   : left[edge];

@@ -82,7 +82,7 @@ static inline int feature_links_count(const feature_links *t, uint64_t row, uint
 /* The k-th feature of row `row`: HPFC_E_ARG for k past the row's links,
  * HPFC_E_CORRUPT for a feature index not below the feature count. */
 static inline int feature_links_get(const feature_links *t, uint64_t row, uint32_t k,
-                                    uint32_t *feature)
+                                    hpfc_id *feature)
 {
     uint32_t first, end;
     int st = feature_links_row(t, row, &first, &end);

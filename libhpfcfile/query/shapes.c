@@ -269,8 +269,8 @@ static int index_edges(hpfc_shapes *s)
 
 /* A CSR from links given as (owner, item) by `get`, inverted: for each
  * feature, its items in increasing order. */
-typedef int (*link_fn)(const hpfc_file *f, uint64_t owner, uint32_t k, uint32_t *feature);
-typedef int (*link_count_fn)(const hpfc_file *f, uint64_t owner, uint32_t *count);
+typedef int (*link_fn)(const hpfc_file *f, hpfc_id owner, uint32_t k, hpfc_id *feature);
+typedef int (*link_count_fn)(const hpfc_file *f, hpfc_id owner, uint32_t *count);
 
 static int invert_links(const hpfc_file *f, uint64_t owners, uint32_t features,
                         link_count_fn count_of, link_fn get, uint64_t **start_out,
@@ -295,7 +295,8 @@ static int invert_links(const hpfc_file *f, uint64_t owners, uint32_t features,
             memcpy(fill, start, (size_t)features * sizeof *fill);
         }
         for (uint64_t o = 0; o < owners && !st; o++) {
-            uint32_t n, ft;
+            uint32_t n;
+            hpfc_id ft;
             if ((st = count_of(f, o, &n)))
                 break;
             for (uint32_t k = 0; k < n && !st; k++) {
@@ -314,16 +315,6 @@ static int invert_links(const hpfc_file *f, uint64_t owners, uint32_t features,
     return st;
 }
 
-static int edge_feature_count(const hpfc_file *f, uint64_t e, uint32_t *n)
-{
-    return hpfc_edge_feature_count(f, e, n);
-}
-
-static int face_feature_count(const hpfc_file *f, uint64_t face, uint32_t *n)
-{
-    return hpfc_face_feature_count(f, face, n);
-}
-
 /* FEAT's faces of each feature and EDGF's edges, where the file has them. */
 static int index_features(hpfc_shapes *s)
 {
@@ -337,20 +328,20 @@ static int index_features(hpfc_shapes *s)
     s->features = fi.features;
     /* a FEAT table numbered against other faces is not to be used (§7.1) */
     uint64_t faces = fi.faces == s->faces ? s->faces : 0;
-    if ((st = invert_links(s->f, faces, fi.features, face_feature_count, hpfc_face_feature,
-                           &s->feat_start, &s->feat_face)))
+    if ((st = invert_links(s->f, faces, fi.features, hpfc_face_feature_count,
+                           hpfc_face_feature_id, &s->feat_start, &s->feat_face)))
         return st;
-    uint32_t edges, links;
-    st = hpfc_edge_features_info(s->f, &edges, &links);
+    hpfc_edge_links_info ei;
+    st = hpfc_file_get_edge_links(s->f, &ei);
     if (st == HPFC_E_NO_SECTION)
         return HPFC_OK;
     if (st)
         return st;
-    if (edges != s->edges)
+    if (ei.edges != s->edges)
         return HPFC_E_CORRUPT;
     s->have_edge_features = 1;
-    return invert_links(s->f, edges, fi.features, edge_feature_count, hpfc_edge_feature,
-                        &s->fe_start, &s->fe_edge);
+    return invert_links(s->f, ei.edges, fi.features, hpfc_edge_feature_count,
+                        hpfc_edge_feature_id, &s->fe_start, &s->fe_edge);
 }
 
 int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
@@ -408,7 +399,7 @@ enum feature_section { FEATURE_FACES, FEATURE_EDGES };
 /* What every per-feature call checks first: s and its output given, the
  * section it reads present, `feature` one of the map's. */
 static int check_feature_call(const hpfc_shapes *s, const void *out, enum feature_section need,
-                              uint32_t feature)
+                              hpfc_id feature)
 {
     if (!s || !out)
         return HPFC_E_ARG;
@@ -417,12 +408,20 @@ static int check_feature_call(const hpfc_shapes *s, const void *out, enum featur
     return feature < s->features ? HPFC_OK : HPFC_E_ARG;
 }
 
-int hpfc_shapes_feature_face_count(const hpfc_shapes *s, uint32_t feature, uint64_t *count)
+int hpfc_shapes_feature_faces(const hpfc_shapes *s, hpfc_id feature, hpfc_id *faces, size_t cap,
+                              size_t *count)
 {
     int st = check_feature_call(s, count, FEATURE_FACES, feature);
     if (st)
         return st;
-    *count = s->feat_start[feature + 1] - s->feat_start[feature];
+    uint64_t a = s->feat_start[feature], n = s->feat_start[feature + 1] - a;
+    *count = (size_t)n;
+    if (!faces)
+        return HPFC_OK;
+    if (cap < n)
+        return HPFC_E_BUFFER_SMALL;
+    for (uint64_t k = 0; k < n; k++)
+        faces[k] = s->feat_face[a + k];
     return HPFC_OK;
 }
 
@@ -758,7 +757,7 @@ static int assemble(hpfc_shapes *s, hpfc_polygons *out)
     return st;
 }
 
-int hpfc_shapes_face(hpfc_shapes *s, uint64_t face, hpfc_polygons *out)
+int hpfc_shapes_face_polygons(hpfc_shapes *s, hpfc_id face, hpfc_polygons *out)
 {
     if (!s || !out || face >= s->faces)
         return HPFC_E_ARG;
@@ -782,7 +781,7 @@ static uint32_t next_mark(hpfc_shapes *s)
     return s->mark;
 }
 
-int hpfc_shapes_feature(hpfc_shapes *s, uint32_t feature, hpfc_polygons *out)
+int hpfc_shapes_feature_polygons(hpfc_shapes *s, hpfc_id feature, hpfc_polygons *out)
 {
     int st = check_feature_call(s, out, FEATURE_FACES, feature);
     if (st)
@@ -896,7 +895,7 @@ static line_end line_start(const line_walk *w, uint32_t k)
     return at; /* the walk goes forward from here, along at.k */
 }
 
-int hpfc_shapes_feature_lines(hpfc_shapes *s, uint32_t feature, hpfc_polygons *out)
+int hpfc_shapes_feature_polylines(hpfc_shapes *s, hpfc_id feature, hpfc_polygons *out)
 {
     int st = check_feature_call(s, out, FEATURE_EDGES, feature);
     if (st)

@@ -210,7 +210,7 @@ static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file
     hpfc_tree_info ti;
     hpfc_file_get_info(file, &fi);
     hpfc_tree_get_info(tree, &ti);
-    p->faces = hpfc_faces_count(fc);
+    p->faces = hpfc_faces_face_count(fc);
     p->edges = ti.edges;
     if (!p->faces || !p->edges)
         return diag_set(diag, HPFC_E_ARG, "labels: a map with no face or no edge");

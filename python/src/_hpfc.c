@@ -262,7 +262,7 @@ static PyObject *File_verify_checksums(FileObject *self, PyObject *unused)
     int st;
     self->busy++;
     Py_BEGIN_ALLOW_THREADS
-    st = hpfc_file_verify_checksums(self->f);
+    st = hpfc_file_check_checksums(self->f, NULL);
     Py_END_ALLOW_THREADS
     self->busy--;
     if (st)
@@ -300,7 +300,7 @@ static PyObject *File_face_count(FileObject *self, void *unused)
     (void)unused;
     if (file_faces(self))
         return NULL;
-    return PyLong_FromUnsignedLongLong(hpfc_faces_count(self->faces));
+    return PyLong_FromUnsignedLongLong(hpfc_faces_face_count(self->faces));
 }
 
 static int file_walker(FileObject *self)
@@ -710,7 +710,7 @@ static PyObject *Pixel_faces(PixelObject *self, PyObject *unused)
         return raise_status(st, "pixel faces");
     if (priv) {
         uint64_t face;
-        if ((st = hpfc_faces_of_private_pixel(self->file->faces, &self->px, &face)))
+        if ((st = hpfc_faces_pixel_face(self->file->faces, &self->px, &face)))
             return raise_status(st, "pixel faces");
         return Py_BuildValue("[K]", (unsigned long long)face);
     }
@@ -722,7 +722,7 @@ static PyObject *Pixel_faces(PixelObject *self, PyObject *unused)
         hpfc_dart d = {.pixel = self->px, .crossing = (uint32_t)k};
         uint64_t face;
         PyObject *o = NULL;
-        if ((st = hpfc_faces_of_dart(self->file->faces, &d, &face)) ||
+        if ((st = hpfc_faces_dart_face(self->file->faces, &d, &face)) ||
             !(o = PyLong_FromUnsignedLongLong(face)) || PySet_Add(set, o) < 0) {
             Py_XDECREF(o);
             Py_DECREF(set);
@@ -1002,12 +1002,12 @@ static PyObject *File_face_features(FileObject *self, PyObject *arg)
         return raise_status(st, "face features");
     PyObject *list = PyList_New(n);
     for (uint32_t k = 0; list && k < n; k++) {
-        uint32_t feature;
-        if ((st = hpfc_face_feature(self->f, face, k, &feature))) {
+        hpfc_id feature;
+        if ((st = hpfc_face_feature_id(self->f, face, k, &feature))) {
             Py_DECREF(list);
             return raise_status(st, "face features");
         }
-        PyList_SET_ITEM(list, k, PyLong_FromUnsignedLong(feature));
+        PyList_SET_ITEM(list, k, PyLong_FromUnsignedLongLong(feature));
     }
     return list;
 }
@@ -1050,7 +1050,7 @@ static PyObject *File_dart_face(FileObject *self, PyObject *arg)
     uint64_t key, face;
     if (key_arg(arg, &key) || file_faces(self) || file_walker(self))
         return NULL;
-    int st = hpfc_faces_of_key(self->faces, self->walker, key, &face);
+    int st = hpfc_faces_key_face(self->faces, self->walker, key, &face);
     if (st)
         return raise_status(st, "dart_face");
     return PyLong_FromUnsignedLongLong(face);
