@@ -549,6 +549,24 @@ static void test_generated(void)
 
 /* ---- corrupt pools ------------------------------------------------------------------ */
 
+/* "section K (TAG) at offset", how hpfc_file_check_checksums names the
+ * section that holds byte `at` (the directory's sections do not overlap). */
+static const char *section_holding(const hpfc_file *f, uint64_t at)
+{
+    static char name[64];
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    snprintf(name, sizeof name, "no section holds byte %llu", (unsigned long long)at);
+    for (uint32_t k = 0; k < info.section_count; k++) {
+        hpfc_section_info s;
+        if (hpfc_file_get_section(f, k, &s) == HPFC_OK && at >= s.offset &&
+            at < s.offset + s.length)
+            snprintf(name, sizeof name, "section %u (%s) at offset %llu", k, s.tag,
+                     (unsigned long long)s.offset);
+    }
+    return name;
+}
+
 /* Every pool bit of a small file flipped in turn: navigation stays inside
  * the buffer and answers with a status (run under ASan/UBSan in CI). */
 static void test_pool_corruption(void)
@@ -583,7 +601,10 @@ static void test_pool_corruption(void)
         uint64_t codes = probe_file(f, 4000);
         CHECK((codes & ~allowed) == 0);
         corrupt += (codes & BIT(HPFC_E_CORRUPT)) != 0;
-        CHECK_EQ_INT(hpfc_file_check_checksums(f, NULL), HPFC_E_CHECKSUM);
+        hpfc_diag diag;
+        CHECK_EQ_INT(hpfc_file_check_checksums(f, &diag), HPFC_E_CHECKSUM);
+        CHECK(diag.status == HPFC_E_CHECKSUM &&
+              strstr(diag.message, section_holding(f, bit >> 3)) == diag.message);
         hpfc_close(f);
         flips++;
     }
