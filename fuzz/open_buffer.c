@@ -5,15 +5,17 @@
  * header, level table and section directory checks. An opened file is then
  * queried through every metadata accessor, its FEAT section (when it has
  * one) through every feature accessor, its ATTR and EDGF sections through
- * every attribute and edge-feature accessor, and its checksums verified.
+ * every attribute and edge-feature accessor, each level's pool layout
+ * checked (hpfc_file_check_pool_layout) and its checksums verified.
  *
  * Oracle: open fails only with a file code (MAGIC .. SECTION, or NOMEM) and
  * never with CORRUPT (open decodes no pool); opening with the checksum
  * verified succeeds only if opening without it does, with the same info;
  * the info a handle reports is inside the ranges open promises to check;
  * feature accessors give OK, ARG (out of range, exactly) or CORRUPT, and
- * every link they give names a feature; a failed checksum names the
- * header or a section; hpfc_file_serialize of an opened
+ * every link they give names a feature; a failed layout or checksum check
+ * explains itself (a checksum names the header or a section); status names
+ * are the header's; hpfc_file_serialize of an opened
  * file, with no section or a CRS, opens with its checksums verified and
  * holds the same levels and the same pool bytes.
  */
@@ -145,6 +147,12 @@ static void query(const hpfc_file *f)
     }
     hpfc_level_info lv;
     FUZZ_CHECK(hpfc_file_get_level(f, info.levels, &lv) == HPFC_E_ARG);
+    for (uint32_t l = 0; l <= info.levels; l++) { /* the compact layout's own structure */
+        hpfc_diag d;
+        int s = hpfc_file_check_pool_layout(f, l, &d);
+        FUZZ_CHECK(l == info.levels ? s == HPFC_E_ARG : s == HPFC_OK || s == HPFC_E_CORRUPT);
+        FUZZ_CHECK(s == HPFC_OK || (d.status == s && d.message[0] != '\0'));
+    }
     for (uint32_t k = 0; k < info.section_count; k++) {
         hpfc_section_info s;
         FUZZ_CHECK(hpfc_file_get_section(f, k, &s) == HPFC_OK);
@@ -205,7 +213,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     int st_skipped = hpfc_open_memory(data, size, HPFC_OPEN_SKIP_CHECKSUM, &skipped);
     FUZZ_CHECK(open_status_ok(st_checked) && open_status_ok(st_skipped));
     FUZZ_CHECK(hpfc_strerror(st_checked) != NULL && hpfc_strerror(st_skipped) != NULL);
-    FUZZ_CHECK(strcmp(hpfc_version_string(), HPFC_VERSION_STRING) == 0);
+    FUZZ_CHECK(strncmp(hpfc_status_name(st_checked), "HPFC_", 5) == 0 &&
+               strcmp(hpfc_status_name(st_checked), "HPFC_E_UNKNOWN") != 0);
+    FUZZ_CHECK(strcmp(hpfc_version_string(), HPFC_VERSION_STRING) == 0 &&
+               hpfc_version_number() == HPFC_VERSION_NUMBER);
     FUZZ_CHECK((st_checked == HPFC_OK) == (checked != NULL));
     FUZZ_CHECK((st_skipped == HPFC_OK) == (skipped != NULL));
     /* the checksum is the only check the flag skips */

@@ -7,7 +7,7 @@
  * the crossing identification. The harness first collects the vertices and
  * darts of the leaves (in hpfc_leaf_first/next order) with the key calls
  * (hpfc_pixel_vertex_key, hpfc_key_degree, hpfc_key_vertex_dart), each
- * checked against its path form. Without commands it
+ * checked against its path form, and hpfc_key_vertex_darts against them. Without commands it
  * applies twin, next, prev, origin, target and the keys to every collected
  * dart, and the key calls to its key and to keys next to it, then builds
  * the faces; with commands each byte picks the next
@@ -124,6 +124,16 @@ static void collect(trav *t)
                     t->nd++;
             }
             FUZZ_CHECK(hpfc_key_vertex_dart(t->w, vertex, degree, &beyond) == HPFC_E_ARG);
+            if (!st && degree <= 64) { /* all at once: the same keys in the same order */
+                uint64_t all[64];
+                uint32_t n = 0;
+                FUZZ_CHECK(hpfc_key_vertex_darts(t->w, vertex, all, degree, &n) == HPFC_OK &&
+                           n == degree &&
+                           memcmp(all, t->keys + t->nd - degree, degree * sizeof *all) == 0);
+                FUZZ_CHECK(degree == 0 || (hpfc_key_vertex_darts(t->w, vertex, all, degree - 1,
+                                                                 &n) == HPFC_E_BUFFER_SMALL &&
+                                           n == degree));
+            }
         }
         if (st)
             t->complete = false;
