@@ -974,10 +974,11 @@ static int open_checked(verifier *v, const mapped_file *mf, hpfc_file **f)
 static int run_checks(verifier *v, unsigned flags)
 {
     verify_report *r = v->r;
-    int st = hpfc_file_check_checksums(v->f, NULL);
+    hpfc_diag diag;
+    int st = hpfc_file_check_checksums(v->f, &diag);
     r->checksums = st ? CHECK_FAILED : CHECK_OK;
     if (st)
-        problem(r, "section checksums: %s", hpfc_strerror(st));
+        problem(r, "section checksums: %s: %s", hpfc_strerror(st), diag.message);
     if ((st = check_structure(v)))
         return st;
     if (v->undecodable || (flags & VERIFY_STRUCTURE_ONLY))
