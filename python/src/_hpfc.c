@@ -260,13 +260,14 @@ static PyObject *File_verify_checksums(FileObject *self, PyObject *unused)
     if (file_ready(self))
         return NULL;
     int st;
+    hpfc_diag diag;
     self->busy++;
     Py_BEGIN_ALLOW_THREADS
-    st = hpfc_file_check_checksums(self->f, NULL);
+    st = hpfc_file_check_checksums(self->f, &diag);
     Py_END_ALLOW_THREADS
     self->busy--;
-    if (st)
-        return raise_status(st, "verify_checksums");
+    if (st) /* the context names the header or the section that fails */
+        return raise_status(st, diag.message[0] ? diag.message : "verify_checksums");
     Py_RETURN_NONE;
 }
 
@@ -1120,7 +1121,8 @@ static PyMethodDef File_methods[] = {
     {"_level", (PyCFunction)File_level, METH_O, NULL},
     {"_section", (PyCFunction)File_section, METH_O, NULL},
     {"verify_checksums", (PyCFunction)File_verify_checksums, METH_NOARGS,
-     "verify_checksums(): reads the whole file; raises hpfc.Error on a mismatch"},
+     "verify_checksums(): reads the whole file; raises hpfc.Error on a mismatch, its\n"
+     "context naming the header or the section that fails"},
     {"_lattice_points", (PyCFunction)File_lattice_points, METH_VARARGS, NULL},
     {"_locate_into", (PyCFunction)File_locate_into, METH_VARARGS, NULL},
     {"_leaf_at", (PyCFunction)File_leaf_at, METH_VARARGS, NULL},
