@@ -100,17 +100,17 @@ static bool same(const char *s, size_t len, const char *want)
     return len == strlen(want) && memcmp(s, want, len) == 0;
 }
 
-/* The length the section directory gives the section `tag` (0: none). */
-static uint64_t section_length(const hpfc_file *f, const char *tag)
+/* The directory's entry of the section `tag` (all zero: none). */
+static hpfc_section_info section_named(const hpfc_file *f, const char *tag)
 {
     hpfc_file_info info;
+    hpfc_section_info s;
     hpfc_file_get_info(f, &info);
-    for (uint32_t k = 0; k < info.section_count; k++) {
-        hpfc_section_info s;
+    for (uint32_t k = 0; k < info.section_count; k++)
         if (hpfc_file_get_section(f, k, &s) == HPFC_OK && strcmp(s.tag, tag) == 0)
-            return s.length;
-    }
-    return 0;
+            return s;
+    memset(&s, 0, sizeof s);
+    return s;
 }
 
 static void check_read_back(const hpfc_file *f, const fixture *x)
@@ -124,7 +124,7 @@ static void check_read_back(const hpfc_file *f, const fixture *x)
     for (uint32_t k = 0; k < FEATURES * COLUMNS; k++)
         strings += x->cells[k].type == HPFC_ATTR_STRING ? x->cells[k].len : 0;
     CHECK_EQ_INT(ai.string_bytes, strings);
-    CHECK_EQ_INT(ai.section_bytes, section_length(f, "ATTR"));
+    CHECK_EQ_INT(ai.section_bytes, section_named(f, "ATTR").length);
     for (uint32_t c = 0; c < COLUMNS; c++) {
         const char *name;
         size_t len;
@@ -157,7 +157,7 @@ static void check_read_back(const hpfc_file *f, const fixture *x)
     CHECK_EQ_INT(hpfc_file_get_edge_links(f, &ei), HPFC_OK);
     const uint32_t edges = x->et.edge_count;
     CHECK(ei.edges == edges && ei.links == x->edge_start[edges] && ei.features == FEATURES);
-    CHECK_EQ_INT(ei.section_bytes, section_length(f, "EDGF"));
+    CHECK_EQ_INT(ei.section_bytes, section_named(f, "EDGF").length);
     for (uint32_t e = 0; e < edges; e++) {
         uint32_t n = 99;
         hpfc_id feature = 99;
@@ -218,15 +218,10 @@ static long damaged, opened;
 static void damage_section(const uint8_t *buf, size_t size, const char *tag)
 {
     hpfc_file *f = NULL;
-    hpfc_section_info si = {0};
     CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
-    hpfc_file_info fi;
-    hpfc_file_get_info(f, &fi);
-    for (uint32_t k = 0; k < fi.section_count; k++)
-        if (hpfc_file_get_section(f, k, &si) == HPFC_OK && memcmp(si.tag, tag, 4) == 0)
-            break;
+    const hpfc_section_info si = section_named(f, tag);
     hpfc_close(f);
-    CHECK(memcmp(si.tag, tag, 4) == 0 && si.length > 0);
+    CHECK(si.length > 0);
     for (uint64_t at = si.offset; at < si.offset + si.length; at++)
         for (int how = 0; how < 10; how++) {
             uint8_t *m = malloc(size);
