@@ -1117,8 +1117,11 @@ HPFC_API int hpfc_shapes_create(const hpfc_file *file, hpfc_shapes **out);
 HPFC_API void hpfc_shapes_free(hpfc_shapes *shapes);
 HPFC_API uint64_t hpfc_shapes_face_count(const hpfc_shapes *shapes);
 
-/* The rings of face `face` (HPFC_E_ARG past the face count). O(the face's
- * boundary + holes x outer rings' points they are tested against);
+/* The rings of face `face` (HPFC_E_ARG past the face count), each polygon
+ * an outer ring then its holes, a hole going to the smallest outer ring
+ * around it. O(n log n) in the boundary's points: a hole finds the outer
+ * rings whose box holds its own through a tree over the boxes, and is
+ * tested against a long one through an index of its segments by y.
  * HPFC_E_CORRUPT when the boundary does not close into rings. */
 HPFC_API int hpfc_shapes_face(hpfc_shapes *shapes, uint64_t face, hpfc_polygons *out);
 /* The geometry of feature `feature` (an index into FEAT's features) as the
