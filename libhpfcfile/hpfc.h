@@ -1141,6 +1141,38 @@ HPFC_API int hpfc_shapes_feature_face_count(const hpfc_shapes *shapes, uint32_t 
                                             uint64_t *count);
 
 /* ------------------------------------------------------------------------
+ * Windows: what of the map meets a rectangle (needs GEOM and LABL; FEAT or
+ * EDGF for features), through the hpfc_shapes index. The window is the
+ * closed lattice rectangle [x0, x1] x [y0, y1]; faces, edges and features
+ * are closed sets (a face holds its border), and one meets the window when
+ * they share a point. Each one found is flagged inside (it lies wholly in
+ * the window) or crossing (it reaches outside). Exact: decided by integer
+ * predicates on the GEOM coordinates of the leaves the window's border
+ * cuts; the leaves wholly inside give their faces and edges from LABL
+ * alone. The cost grows with the leaves the window meets and what it
+ * returns (and, to flag a face, with the edges around it), not with the
+ * file. The unbounded face (0) is never inside.
+ * ------------------------------------------------------------------------ */
+enum { HPFC_WINDOW_FACES = 1, HPFC_WINDOW_EDGES = 2, HPFC_WINDOW_FEATURES = 4 };
+
+/* What a window met: ids in increasing order, each with 1 (inside) or 0
+ * (crossing) in the matching *_inside array. Lists not asked for are
+ * empty. Valid until the shapes object's next call. */
+typedef struct hpfc_window_hits {
+    size_t face_count, edge_count, feature_count;
+    const uint64_t *face, *edge;
+    const uint32_t *feature;
+    const uint8_t *face_inside, *edge_inside, *feature_inside;
+} hpfc_window_hits;
+
+/* `what`: HPFC_WINDOW_FACES | _EDGES | _FEATURES. HPFC_E_ARG for x0 > x1,
+ * y0 > y1 or an unknown flag; HPFC_E_NO_SECTION for features without FEAT
+ * and EDGF; HPFC_E_CORRUPT when the sections contradict each other. A
+ * window beyond the domain meets the unbounded face. */
+HPFC_API int hpfc_shapes_window(hpfc_shapes *shapes, int64_t x0, int64_t y0, int64_t x1,
+                                int64_t y1, unsigned what, hpfc_window_hits *out);
+
+/* ------------------------------------------------------------------------
  * Deprecated names. Calls renamed to follow the naming rule above; the old
  * names still compile (with a deprecation warning) and will be removed at
  * 1.0. CHANGELOG.md lists them.

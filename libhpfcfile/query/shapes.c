@@ -13,8 +13,8 @@
 #include "arrays.h"
 #include "file.h"
 #include "ring_index.h"
+#include "shapes.h"
 
-__extension__ typedef __int128 s128;
 
 /* Coordinates past this come from a corrupt file (a graph's lie within
  * HPFC_LATTICE_MAX): refusing them keeps every difference, cross product
@@ -133,56 +133,6 @@ void hpfc_user_point(const hpfc_file *f, int64_t x, int64_t y, double *ux, doubl
 
 /* ---- the index ------------------------------------------------------------------- */
 
-/* A dart of a region's boundary: edge << 1 | reversed, with what the
- * assembly needs of it. */
-typedef struct bdart {
-    uint64_t code;
-    uint32_t origin, target;
-    int64_t out[2];   /* direction leaving the origin */
-    int64_t back[2];  /* direction from the target back along the last segment */
-    uint32_t next;    /* the dart continuing it */
-    uint8_t has_prev, used;
-} bdart;
-
-/* A ring being assembled: points [start, end) of the scratch points. */
-typedef struct tring {
-    size_t start, end;
-    s128 area2;       /* twice the signed area */
-    int64_t box[4];   /* xmin, ymin, xmax, ymax */
-    size_t owner;     /* holes: the outer ring's index, SIZE_MAX: none */
-} tring;
-
-struct hpfc_shapes {
-    const hpfc_file *f;
-    uint64_t vertices, edges, faces, points;
-    uint32_t *eu, *ev;
-    uint64_t *left, *right, *npoints;
-    uint64_t *face_start;       /* faces + 1 */
-    uint32_t *face_edge;
-    int have_features, have_edge_features;
-    uint32_t features;
-    uint64_t *feat_start;       /* features + 1 */
-    uint32_t *feat_face;
-    uint64_t *fe_start;         /* features + 1 (EDGF) */
-    uint32_t *fe_edge;
-    uint32_t *face_mark, mark;  /* face_mark[f] == mark: f is in the region */
-    uint32_t *vmark, *vpos, vgen;
-    /* scratch, reused by every call */
-    bdart *darts;
-    size_t ndarts, cap_darts;
-    uint32_t *cycle;
-    size_t cap_cycle;
-    int64_t *txy;
-    size_t ntxy, cap_txy;       /* points (pairs) */
-    tring *rings;
-    size_t nrings, cap_rings;
-    /* the answer */
-    int64_t *xy;
-    size_t cap_xy;
-    size_t *ring_point, cap_ring_point;
-    size_t *polygon_ring, cap_polygon_ring;
-};
-
 /* Frees the hpfc_shapes object's arrays, then the object.
  * (hpfc_graph_free, hpfc_tree_free and hpfc_shapes_free look alike, a free()
  * a member, but each lists the arrays of its own struct.) */
@@ -211,6 +161,8 @@ void hpfc_shapes_free(hpfc_shapes *s)
     free(s->xy);
     free(s->ring_point);
     free(s->polygon_ring);
+    free(s->edge_box);
+    shapes_window_free(s->window);
     free(s);
 }
 
