@@ -22,7 +22,7 @@ def crc32c(data, crc=0):
 
 
 class Bits:
-    """An MSB-first bit stream (spec §2, "bit order in pools")."""
+    """An MSB-first bit stream (spec §2.2, "Bit order")."""
 
     def __init__(self, nbits):
         self.nbits = nbits

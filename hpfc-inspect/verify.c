@@ -138,7 +138,7 @@ static void unmap_file(mapped_file *m)
 }
 
 /* Whether bits [b0, b1) of a pool are all zero; bit b is bit 7 - b % 8 of
- * byte b / 8 (spec §2). The caller keeps b1 within the pool's bytes. */
+ * byte b / 8 (spec §2.2). The caller keeps b1 within the pool's bytes. */
 static bool bits_zero(const uint8_t *pool, uint64_t b0, uint64_t b1)
 {
     for (; b0 < b1 && (b0 & 7); b0++)
