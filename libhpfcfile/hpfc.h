@@ -308,7 +308,7 @@ HPFC_API int hpfc_tree_get_pixel(const hpfc_tree *tree, uint32_t level,
  * ------------------------------------------------------------------------ */
 
 /* The source features of a file's faces, for the FEAT section
- * (spec/hpfc-format.md §7.1): a GIS layer's polygons, each face of the map
+ * (spec/hpfc-format.md §6.2): a GIS layer's polygons, each face of the map
  * linked to the features that cover it. Face ids are those of
  * hpfc_faces_build() on the written file, which depend on the pools only:
  * serialise once without features, number the faces, then serialise again
@@ -329,7 +329,7 @@ typedef struct hpfc_feature_table {
                                        .. face_start[f + 1]), ascending */
 } hpfc_feature_table;
 
-/* Attribute value types (ATTR section, spec/hpfc-format.md §7.2). Dates
+/* Attribute value types (ATTR section, spec/hpfc-format.md §6.3). Dates
  * and times are strings (ISO 8601). */
 enum { HPFC_ATTR_NULL = 0, HPFC_ATTR_INTEGER = 1, HPFC_ATTR_REAL = 2, HPFC_ATTR_STRING = 3 };
 
@@ -356,7 +356,7 @@ typedef struct hpfc_attr_table {
 } hpfc_attr_table;
 
 /* The features of each edge of the map, for the EDGF section
- * (spec/hpfc-format.md §7.3): edge e (its id: the input graph's edge
+ * (spec/hpfc-format.md §6.4): edge e (its id: the input graph's edge
  * index) lies along the lines or rings of features
  * edge_feature[edge_start[e] .. edge_start[e + 1]), ascending indices into
  * the FEAT section's features. */
@@ -367,7 +367,7 @@ typedef struct hpfc_edge_feature_table {
 } hpfc_edge_feature_table;
 
 /* Optional metadata recorded with a tree. */
-/* Pool layouts (spec/hpfc-format.md §9 and §16). */
+/* Pool layouts (spec/hpfc-format.md §5.2 and §5.3). */
 enum {
     HPFC_LAYOUT_DEFAULT = 0, /* the library's default: HPFC_LAYOUT_COMPACT */
     HPFC_LAYOUT_PAPER = 1,   /* the paper's fixed slots and addresses (Sect. 4.1) */
@@ -378,7 +378,7 @@ typedef struct hpfc_write_options {
     const char *crs;          /* coordinate reference (e.g. "EPSG:32631" or a
                                  projection description), NULL for none */
     const hpfc_feature_table *features; /* FEAT section, NULL for none */
-    /* Write the LABL section (spec §15: every leaf's faces and crossings'
+    /* Write the LABL section (spec §6.5: every leaf's faces and crossings'
      * edge ids) from the tree: hpfc_tree_serialize numbers the faces of
      * the pools it writes. hpfc_file_serialize keeps the source file's
      * LABL section, whose labels stay valid since its pools are copied. */
@@ -386,7 +386,7 @@ typedef struct hpfc_write_options {
     const hpfc_attr_table *attributes;  /* ATTR section, NULL for none */
     const hpfc_edge_feature_table *edge_features; /* EDGF section, NULL for none */
     int layout;               /* HPFC_LAYOUT_*; hpfc_file_serialize keeps the file's */
-    /* Write the GEOM section (spec §17: exact coordinates, shape points,
+    /* Write the GEOM section (spec §6.6: exact coordinates, shape points,
      * crossings' segments) from this graph, the one the tree was built
      * from (hpfc_tree_serialize; HPFC_E_ARG for another graph); NULL for
      * none. hpfc_file_serialize ignores it and keeps the source file's
@@ -532,7 +532,7 @@ HPFC_API int hpfc_pixel_type(const hpfc_file *file, const hpfc_pixel *px, int *t
 /* Is the pixel a private word pixel (word "++++")? */
 HPFC_API int hpfc_pixel_is_private(const hpfc_file *file, const hpfc_pixel *px, int *is_private);
 /* The pool layout's own structure at `level`, O(pool): for the compact
- * layout (spec §16) its block counts, type bits, word index and words agree;
+ * layout (spec §5.3) its block counts, type bits, word index and words agree;
  * for the paper layout nothing beyond what pixel access checks. HPFC_OK, or
  * HPFC_E_CORRUPT with the first fault in diag. */
 HPFC_API int hpfc_file_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag);
@@ -619,7 +619,7 @@ HPFC_API uint64_t hpfc_walker_pixels_visited(const hpfc_walker *walker);
  * vertex id past the pixel's vertices); HPFC_E_CORRUPT when the pools
  * contradict the format, including a layout that names a pixel ambiguously
  * (two addresses aliasing one image, images out of parent order or not
- * back to back, §9); HPFC_E_LIMIT past 2^32 images in one level;
+ * back to back, §5.2.2); HPFC_E_LIMIT past 2^32 images in one level;
  * HPFC_E_NOMEM. Outputs are written only on success. Safe on untrusted
  * files and keys: no crash, no read outside the file, no endless loop.
  *
@@ -705,7 +705,7 @@ HPFC_API int hpfc_key_geometry_points(hpfc_walker *w, uint64_t dart_key, int64_t
  * walker, cache or not, and across opens): number the file's pixels, word
  * and refined alike, level by level; the root image's in scanline order
  * first, then each level's images in pool order (the order of their
- * addresses, §9), each image's pixels in scanline order:
+ * addresses, §5.2.2), each image's pixels in scanline order:
  *   pixel(l, image, i, j) = P[l] + image * cols * rows + j * w + i
  * with P[0] = 0, P[1] = root_cols * root_rows, P[l + 1] = P[l] +
  * images[l] * cols * rows (hpfc_level_info.images), `image` the rank of the
@@ -831,7 +831,7 @@ HPFC_API int hpfc_faces_of_private_pixel(const hpfc_faces *faces, const hpfc_pix
                                          uint64_t *face);
 
 /* ------------------------------------------------------------------------
- * Source features (spec/hpfc-format.md §7.1, the FEAT section): which
+ * Source features (spec/hpfc-format.md §6.2, the FEAT section): which
  * feature of the packed GIS layers each face belongs to. Read in place from
  * the file; every access is bounds-checked (HPFC_E_CORRUPT on a corrupt
  * table). Without a FEAT section these return HPFC_E_NO_SECTION. Strings
@@ -866,7 +866,7 @@ HPFC_API int hpfc_face_feature(const hpfc_file *file, uint64_t face, uint32_t k,
                                uint32_t *feature);
 
 /* ------------------------------------------------------------------------
- * Stored face labels (spec/hpfc-format.md §15, the LABL section, 1.2):
+ * Stored face labels (spec/hpfc-format.md §6.5, the LABL section, 1.2):
  * the face of every region of every leaf and the edge id of every
  * crossing, written by the writer so that a query needs no
  * hpfc_faces_build. Each call reads the pixels of one descent (the leaf's
@@ -937,7 +937,7 @@ HPFC_API int hpfc_labels_verify(const hpfc_file *file, const hpfc_faces *faces,
                                 hpfc_labels_report *report);
 
 /* ------------------------------------------------------------------------
- * Attributes (spec/hpfc-format.md §7.2, the ATTR section): typed columns,
+ * Attributes (spec/hpfc-format.md §6.3, the ATTR section): typed columns,
  * one row per feature of the FEAT section, each value read in O(1) from
  * the mapped file. Every access is bounds-checked (HPFC_E_CORRUPT on a
  * corrupt section); without an ATTR section these return
@@ -954,7 +954,7 @@ HPFC_API int hpfc_file_get_attr(const hpfc_file *file, uint32_t feature, uint32_
                                 hpfc_attr_value *out);
 
 /* ------------------------------------------------------------------------
- * Features of edges (spec/hpfc-format.md §7.3, the EDGF section): which
+ * Features of edges (spec/hpfc-format.md §6.4, the EDGF section): which
  * features' lines or rings each edge of the map lies along; edge ids are
  * the input graph's edge indices. Same error rules as the face accessors.
  * ------------------------------------------------------------------------ */
@@ -964,7 +964,7 @@ HPFC_API int hpfc_edge_feature(const hpfc_file *file, uint64_t edge, uint32_t k,
                                uint32_t *feature);
 
 /* ------------------------------------------------------------------------
- * Exact geometry (spec/hpfc-format.md §17, the GEOM section): the input
+ * Exact geometry (spec/hpfc-format.md §6.6, the GEOM section): the input
  * graph's lattice coordinates, read in O(1) per point from the mapped file.
  * Vertex ids are the input graph's vertex indices (hpfc_graph_add_vertex
  * order, `.pfc` `v` records), edge ids its edge indices (as LABL's).
@@ -1002,7 +1002,7 @@ HPFC_API int hpfc_geometry_edge_faces(const hpfc_file *file, uint64_t edge, uint
 HPFC_API int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf,
                                             uint32_t crossing, uint64_t *segment);
 /* The section against itself and the map (hpfc-inspect --verify, spec
- * §17.5): zero padding; every vertex, edge and point reads; the coordinates form a valid
+ * §6.6.6): zero padding; every vertex, edge and point reads; the coordinates form a valid
  * planar map (hpfc_graph_validate); every leaf holds as many vertices as
  * its word has junctions; with LABL, every crossing's segment crosses its
  * road, in the word's order along it, with the faces hpfc_geometry_edge_faces
@@ -1033,7 +1033,7 @@ typedef struct hpfc_point_location {
 /* faces[0 .. *count): the face containing (x, y) (one), or the distinct
  * faces around a boundary point in increasing order (around a vertex: the
  * faces beside its edges; on an edge: its two sides, one face for a
- * dangling edge or a bridge). The answer is spec §17.8's; ties between
+ * dangling edge or a bridge). The answer is spec §6.7's; ties between
  * segments and grid lines fall by the perturbation rule of §3.5. A point
  * outside the domain gives HPFC_E_NO_PIXEL and *count = 0. cap too small
  * is HPFC_E_BUFFER_SMALL with *count and *out set; faces NULL asks only the

@@ -288,7 +288,7 @@ static int index_features(hpfc_shapes *s)
         return st;
     s->have_features = 1;
     s->features = fi.features;
-    /* a FEAT table numbered against other faces is not to be used (§7.1) */
+    /* a FEAT table numbered against other faces is not to be used (§6.2.2) */
     uint64_t faces = fi.faces == s->faces ? s->faces : 0;
     if ((st = invert_links(s->f, faces, fi.features, face_feature_count, hpfc_face_feature,
                            &s->feat_start, &s->feat_face)))
