@@ -1,5 +1,5 @@
 /*
- * read_labels: the LABL section (spec/hpfc-format.md §15) on an opened
+ * read_labels: the LABL section (spec/hpfc-format.md §6.5) on an opened
  * file, driven by the input.
  *
  * The input is an .hpfc file followed by command bytes (input.h), opened
@@ -126,7 +126,7 @@ static void verify(lab *z)
     if (st == HPFC_OK) {
         hpfc_file_info fi;
         hpfc_file_get_info(z->f, &fi);
-        int compact = (fi.incompat_flags & 1) != 0; /* spec §16.1 */
+        int compact = (fi.incompat_flags & 1) != 0; /* spec §4.3 */
         hpfc_pixel px;
         long leaves = 0;
         for (int s = hpfc_leaf_first(z->f, &px); !s && leaves < FUZZ_LEAVES;

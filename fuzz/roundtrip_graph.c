@@ -358,7 +358,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(ti.unit_exp10 == unit);
 
     const char *crs = flags & 8 ? "EPSG:32631" : NULL;
-    /* flags bit 4: the compact pool layout (spec §16), whose reader the
+    /* flags bit 4: the compact pool layout (spec §5.3), whose reader the
      * same oracle then checks against the tree */
     hpfc_write_options opts = {.crs = crs,
                                .layout = flags & 16 ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER};

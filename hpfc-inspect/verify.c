@@ -4,14 +4,14 @@
  * Five groups of checks run in order, each reporting every problem it finds
  * (the first VERIFY_MAX_PROBLEMS verbatim):
  *
- *   format     hpfc_open: everything the reader checks at open (§12.3);
+ *   format     hpfc_open: everything the reader checks at open (§7.3);
  *   checksums  hpfc_file_check_checksums (R18);
  *   structure  every pixel of every level, reached from the root with
  *              hpfc_pixel_child in pool order: each decodes, each word matches
  *              the grammar (parsed by the traversal API), images lie back to
  *              back in parent order and fill the pool, the per-level counts
  *              and k_w match the level table, and every padding bit or byte
- *              is zero (§13.3);
+ *              is zero (§8.7);
  *   roads      both sides of every road carry the same number of crossings
  *              (the only trace of §3.5 a reader can see without the graph),
  *              and the domain's outer roads carry none;
@@ -138,7 +138,7 @@ static void unmap_file(mapped_file *m)
 }
 
 /* Whether bits [b0, b1) of a pool are all zero; bit b is bit 7 - b % 8 of
- * byte b / 8 (spec §2). The caller keeps b1 within the pool's bytes. */
+ * byte b / 8 (spec §2.2). The caller keeps b1 within the pool's bytes. */
 static bool bits_zero(const uint8_t *pool, uint64_t b0, uint64_t b1)
 {
     for (; b0 < b1 && (b0 & 7); b0++)
@@ -186,7 +186,7 @@ typedef struct verifier {
     size_t word_cap;
     ref_list images[HPFC_MAX_LEVELS];
     bool undecodable;    /* some pixel could not be read: skip traversals */
-    bool compact;        /* the compact pool layout (incompat flag bit 0, spec §16) */
+    bool compact;        /* the compact pool layout (incompat flag bit 0, spec §5.3) */
     verify_report *r;
 } verifier;
 
@@ -214,7 +214,7 @@ static int alloc_word(verifier *v)
     uint64_t most = 4;
     for (uint32_t l = 0; l < v->info.levels; l++) {
         uint64_t k = v->lv[l].word_bits;
-        /* compact layout (§16): a crossing costs at least 1 bit */
+        /* compact layout (§5.3): a crossing costs at least 1 bit */
         uint64_t n = 4 + (v->compact ? k : k > 4 ? (k - 4) / 4 : 0);
         most = n > most ? n : most;
     }
@@ -253,7 +253,7 @@ static void check_padding(verifier *v, uint32_t l, const hpfc_pixel *px, uint64_
                           const char *what)
 {
     char name[128];
-    if (b1 > v->lv[l].pool_bits) /* cannot happen after the library's P4 check */
+    if (b1 > v->lv[l].pool_bits) /* cannot happen after the library's S19 check */
         problem(v->r, "pixel %s: %s extends past the pool", pixel_name(px, name, sizeof name),
                 what);
     else if (b0 < b1 && !bits_zero(pool_of(v, l), b0, b1))
@@ -306,8 +306,8 @@ static int check_pixel(verifier *v, uint32_t l, uint64_t image, const hpfc_pixel
         problem(v->r, "pixel %s: %s", pixel_name(px, name, sizeof name), hpfc_strerror(st));
         return st;
     }
-    /* A root record is a type bit and a payload of R - 1 bits (§8); a slot
-     * of a refined image is exactly k_w or k_@ bits (§9). */
+    /* A root record is a type bit and a payload of R - 1 bits (§5.2.1); a slot
+     * of a refined image is exactly k_w or k_@ bits (§5.2.2). */
     uint64_t payload = l ? (*type == HPFC_PIXEL_WORD ? lv->word_bits : lv->address_bits)
                          : lv->pool_bits / ((uint64_t)v->info.root_cols * v->info.root_rows) - 1;
     if (*type == HPFC_PIXEL_REFINED) {
@@ -349,7 +349,7 @@ static int scan_image(verifier *v, uint32_t l, uint64_t k, level_tally *t)
             }
             if (i == 0 && j == 0 && l > 0) {
                 image = px.path[l].image;
-                /* Images lie back to back in parent order (§9, W7). The
+                /* Images lie back to back in parent order (§5.2.2, W7). The
                  * scan stops at the first that does not: images that
                  * overlap or alias one another would make every walk over
                  * the tree (this scan, leaf iteration, the traversal)
@@ -378,7 +378,7 @@ static int scan_image(verifier *v, uint32_t l, uint64_t k, level_tally *t)
     return HPFC_OK;
 }
 
-/* What the level table says and what the scan found agree (§6, §13.3). */
+/* What the level table says and what the scan found agree (§4.3, §8.7). */
 static void check_level_tally(verifier *v, uint32_t l, uint64_t images, const level_tally *t)
 {
     const hpfc_level_info *lv = &v->lv[l];
@@ -442,7 +442,7 @@ static bool bytes_zero(const uint8_t *p, uint64_t lo, uint64_t hi)
 }
 
 /* Every byte after the metadata that no pool and no other section covers is
- * zero padding (§4, §7): between sections, between pools, inside POOL. */
+ * zero padding (§4.1, §4.4): between sections, between pools, inside POOL. */
 static void check_file_padding(verifier *v)
 {
     byte_span spans[HPFC_MAX_LEVELS + 1024];

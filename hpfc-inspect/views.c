@@ -314,7 +314,7 @@ typedef struct file_map {
     uint32_t bad;     /* checksums that do not match */
 } file_map;
 
-/* The metadata CRC takes bytes 124..127 (the CRC itself) as zero (§11). */
+/* The metadata CRC takes bytes 124..127 (the CRC itself) as zero (§4.5). */
 static int meta_checksum(FILE *in, file_map *m)
 {
     static const unsigned char zero[4];
@@ -617,7 +617,7 @@ typedef struct pixel_view {
     uint64_t leaf_number;
     uint64_t *stretch_face;     /* per stretch (one for a private leaf) */
     uint64_t *edge;             /* per crossing */
-    int compact;                /* compact pool layout (spec §16): images are indices,
+    int compact;                /* compact pool layout (spec §5.3): images are indices,
                                    words have no slot */
 } pixel_view;
 
@@ -668,7 +668,7 @@ static int read_vertices(const hpfc_file *f, pixel_view *v, char *why)
     return st ? fail_status(why, "vertices", st) : VIEW_OK;
 }
 
-/* The leaf's stored labels (LABL, spec §15), when the file has them. */
+/* The leaf's stored labels (LABL, spec §6.5), when the file has them. */
 static int read_labels(const hpfc_file *f, pixel_view *v, char *why)
 {
     hpfc_labels_info li;
@@ -852,7 +852,7 @@ static void json_word(jsonw *w, const pixel_view *v)
 {
     jsonw_string(w, "word", v->word);
     jsonw_u64(w, "symbols", v->len);
-    if (v->compact) { /* no slot, no fixed code: spec §16 */
+    if (v->compact) { /* no slot, no fixed code: spec §5.3 */
         jsonw_string(w, "layout", "compact");
     } else {
         jsonw_u64(w, "code_bits", 4 + 4ull * v->wi.n);

@@ -1,6 +1,6 @@
 /*
  * face_witness.h: for every face of a freshly built map, a point the file
- * proves to lie inside it (spec/hpfc-format.md §7.1, "What a feature
+ * proves to lie inside it (spec/hpfc-format.md §6.2.3, "What a feature
  * covers"), exactly, so that hpfc-pack can ask which source features cover
  * the face and check what the walk over the faces found (face_link.h).
  *

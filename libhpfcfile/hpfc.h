@@ -61,7 +61,7 @@
  *     "none" wherever an id may be missing (hpfc_point_location). Vertex
  *     and edge ids are the input graph's indices (hpfc_graph_add_vertex and
  *     hpfc_graph_add_edge order), face ids hpfc_faces_build's numbering
- *     (spec §3.11), feature ids positions in the FEAT section (spec §7.1).
+ *     (spec §3.11), feature ids positions in the FEAT section (spec §6.2).
  *     Three places keep another width, each for its reason: the graph and
  *     tree being built (hpfc_graph_*, hpfc_tree_*) index with uint32_t, as
  *     the builder keeps vertices, edges and crossings in 32-bit tables and
@@ -346,7 +346,7 @@ HPFC_API void hpfc_tree_get_info_sized(const hpfc_tree *tree, hpfc_tree_info *in
  * ------------------------------------------------------------------------ */
 
 /* The source features of a file's faces, for the FEAT section
- * (spec/hpfc-format.md §7.1): a GIS layer's polygons, each face of the map
+ * (spec/hpfc-format.md §6.2): a GIS layer's polygons, each face of the map
  * linked to the features that cover it. Face ids are those of
  * hpfc_faces_build() on the written file, which depend on the pools only:
  * serialise once without features, number the faces, then serialise again
@@ -367,7 +367,7 @@ typedef struct hpfc_feature_table {
                                        .. face_start[f + 1]), ascending */
 } hpfc_feature_table;
 
-/* Attribute value types (ATTR section, spec/hpfc-format.md §7.2). Dates
+/* Attribute value types (ATTR section, spec/hpfc-format.md §6.3). Dates
  * and times are strings (ISO 8601). */
 enum { HPFC_ATTR_NULL = 0, HPFC_ATTR_INTEGER = 1, HPFC_ATTR_REAL = 2, HPFC_ATTR_STRING = 3 };
 
@@ -394,7 +394,7 @@ typedef struct hpfc_attr_table {
 } hpfc_attr_table;
 
 /* The features of each edge of the map, for the EDGF section
- * (spec/hpfc-format.md §7.3): edge e (its id: the input graph's edge
+ * (spec/hpfc-format.md §6.4): edge e (its id: the input graph's edge
  * index) lies along the lines or rings of features
  * edge_feature[edge_start[e] .. edge_start[e + 1]), ascending indices into
  * the FEAT section's features. */
@@ -405,7 +405,7 @@ typedef struct hpfc_edge_feature_table {
 } hpfc_edge_feature_table;
 
 /* Optional metadata recorded with a tree. */
-/* Pool layouts (spec/hpfc-format.md §9 and §16). */
+/* Pool layouts (spec/hpfc-format.md §5.2 and §5.3). */
 enum {
     HPFC_LAYOUT_DEFAULT = 0, /* the library's default: HPFC_LAYOUT_COMPACT */
     HPFC_LAYOUT_PAPER = 1,   /* the paper's fixed slots and addresses (Sect. 4.1) */
@@ -416,7 +416,7 @@ typedef struct hpfc_write_options {
     const char *crs;          /* coordinate reference (e.g. "EPSG:32631" or a
                                  projection description), NULL for none */
     const hpfc_feature_table *features; /* FEAT section, NULL for none */
-    /* Write the LABL section (spec §15: every leaf's faces and crossings'
+    /* Write the LABL section (spec §6.5: every leaf's faces and crossings'
      * edge ids) from the tree: hpfc_tree_serialize numbers the faces of
      * the pools it writes. hpfc_file_serialize keeps the source file's
      * LABL section, whose labels stay valid since its pools are copied. */
@@ -424,7 +424,7 @@ typedef struct hpfc_write_options {
     const hpfc_attr_table *attributes;  /* ATTR section, NULL for none */
     const hpfc_edge_feature_table *edge_features; /* EDGF section, NULL for none */
     int layout;               /* HPFC_LAYOUT_*; hpfc_file_serialize keeps the file's */
-    /* Write the GEOM section (spec §17: exact coordinates, shape points,
+    /* Write the GEOM section (spec §6.6: exact coordinates, shape points,
      * crossings' segments) from this graph, the one the tree was built
      * from (hpfc_tree_serialize; HPFC_E_ARG for another graph); NULL for
      * none. hpfc_file_serialize ignores it and keeps the source file's
@@ -480,7 +480,7 @@ HPFC_API int hpfc_open_memory(const void *data, size_t size, unsigned flags,
                               hpfc_file **out);
 HPFC_API void hpfc_close(hpfc_file *file);
 
-/* Verifies the header's checksum and every section's (spec §11; reads
+/* Verifies the header's checksum and every section's (spec §4.5; reads
  * the whole file): HPFC_OK, or HPFC_E_CHECKSUM with diag naming the first
  * that fails, as "section 2 (LABL) at offset 4096, 812 bytes: CRC-32C
  * 0x1c2d3e4f stored, 0x5a6b7c8d computed" or "the header's (its first 352
@@ -577,7 +577,7 @@ HPFC_API int hpfc_pixel_type(const hpfc_file *file, const hpfc_pixel *px, int *t
 /* Is the pixel a private word pixel (word "++++")? */
 HPFC_API int hpfc_pixel_is_private(const hpfc_file *file, const hpfc_pixel *px, int *is_private);
 /* The pool layout's own structure at `level`, O(pool): for the compact
- * layout (spec §16) its block counts, type bits, word index and words agree;
+ * layout (spec §5.3) its block counts, type bits, word index and words agree;
  * for the paper layout nothing beyond what pixel access checks. HPFC_OK, or
  * HPFC_E_CORRUPT with the first fault in diag. */
 HPFC_API int hpfc_file_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag);
@@ -663,7 +663,7 @@ HPFC_API int hpfc_walker_set_cache_size(hpfc_walker *walker, size_t bytes);
  * vertex id past the pixel's vertices), HPFC_KEY_INVALID included;
  * HPFC_E_CORRUPT when the pools contradict the format, including a layout
  * that names a pixel ambiguously (two addresses aliasing one image, images
- * out of parent order or not back to back, §9); HPFC_E_LIMIT past 2^32
+ * out of parent order or not back to back, §5.2.2); HPFC_E_LIMIT past 2^32
  * images in one level; HPFC_E_NOMEM. Outputs are written only on success.
  * Safe on untrusted files and keys: no crash, no read outside the file, no
  * endless loop.
@@ -734,7 +734,7 @@ HPFC_API int hpfc_key_target(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex
  * walker, cache or not, and across opens): number the file's pixels, word
  * and refined alike, level by level; the root image's in scanline order
  * first, then each level's images in pool order (the order of their
- * addresses, §9), each image's pixels in scanline order:
+ * addresses, §5.2.2), each image's pixels in scanline order:
  *   pixel(l, image, i, j) = P[l] + image * cols * rows + j * w + i
  * with P[0] = 0, P[1] = root_cols * root_rows, P[l + 1] = P[l] +
  * images[l] * cols * rows (hpfc_level_info.images), `image` the rank of the
@@ -811,7 +811,7 @@ HPFC_API int hpfc_faces_pixel_face(const hpfc_faces *faces, const hpfc_pixel *px
                                    hpfc_id *face);
 
 /* ------------------------------------------------------------------------
- * Source features (spec/hpfc-format.md §7.1, the FEAT section): which
+ * Source features (spec/hpfc-format.md §6.2, the FEAT section): which
  * feature of the packed GIS layers each face belongs to. Read in place from
  * the file; every access is bounds-checked (HPFC_E_CORRUPT on a corrupt
  * table). Without a FEAT section these return HPFC_E_NO_SECTION; a feature,
@@ -850,7 +850,7 @@ HPFC_API int hpfc_face_feature_id(const hpfc_file *file, hpfc_id face, uint32_t 
                                   hpfc_id *feature);
 
 /* ------------------------------------------------------------------------
- * Stored face labels (spec/hpfc-format.md §15, the LABL section, 1.2):
+ * Stored face labels (spec/hpfc-format.md §6.5, the LABL section, 1.2):
  * the face of every region of every leaf and the edge id of every
  * crossing, written by the writer so that a query needs no
  * hpfc_faces_build. Each call reads the pixels of one descent (the leaf's
@@ -924,7 +924,7 @@ HPFC_API int hpfc_labels_verify(const hpfc_file *file, const hpfc_faces *faces,
                                 hpfc_labels_report *report);
 
 /* ------------------------------------------------------------------------
- * Attributes (spec/hpfc-format.md §7.2, the ATTR section): typed columns,
+ * Attributes (spec/hpfc-format.md §6.3, the ATTR section): typed columns,
  * one row per feature of the FEAT section, each value read in O(1) from
  * the mapped file. Every access is bounds-checked (HPFC_E_CORRUPT on a
  * corrupt section); without an ATTR section these return
@@ -952,7 +952,7 @@ HPFC_API int hpfc_file_get_attr_value(const hpfc_file *file, hpfc_id feature, ui
                                       hpfc_attr_value *out);
 
 /* ------------------------------------------------------------------------
- * Features of edges (spec/hpfc-format.md §7.3, the EDGF section): which
+ * Features of edges (spec/hpfc-format.md §6.4, the EDGF section): which
  * features' lines or rings each edge of the map lies along, as links from
  * edges to features; edge ids are the input graph's edge indices. Same
  * error rules as the face accessors.
@@ -975,7 +975,7 @@ HPFC_API int hpfc_edge_feature_id(const hpfc_file *file, hpfc_id edge, uint32_t 
                                   hpfc_id *feature);
 
 /* ------------------------------------------------------------------------
- * Exact geometry (spec/hpfc-format.md §17, the GEOM section): the input
+ * Exact geometry (spec/hpfc-format.md §6.6, the GEOM section): the input
  * graph's lattice coordinates, read in O(1) per point from the mapped file.
  * Vertex ids are the input graph's vertex indices (hpfc_graph_add_vertex
  * order, `.pfc` `v` records), edge ids its edge indices (as LABL's).
@@ -1013,7 +1013,7 @@ HPFC_API int hpfc_geometry_edge_faces(const hpfc_file *file, hpfc_id edge, hpfc_
 HPFC_API int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf,
                                             uint32_t crossing, uint64_t *segment);
 /* The section against itself and the map (hpfc-inspect --verify, spec
- * §17.5): zero padding; every vertex, edge and point reads; the coordinates
+ * §6.6.6): zero padding; every vertex, edge and point reads; the coordinates
  * form a valid planar map (hpfc_graph_validate); every leaf holds as many
  * vertices as its word has junctions; with LABL, every crossing's segment
  * crosses its road, in the word's order along it, with the faces
@@ -1043,7 +1043,7 @@ typedef struct hpfc_point_location {
 /* faces[0 .. *count): the face containing (x, y) (one), or the distinct
  * faces around a boundary point in increasing order (around a vertex: the
  * faces beside its edges; on an edge: its two sides, one face for a
- * dangling edge or a bridge). The answer is spec §17.8's; ties between
+ * dangling edge or a bridge). The answer is spec §6.7's; ties between
  * segments and grid lines fall by the perturbation rule of §3.5. A point
  * outside the domain gives HPFC_E_NO_PIXEL and *count = 0. cap too small
  * is HPFC_E_BUFFER_SMALL with *count and *out set; faces NULL asks only the
@@ -1129,8 +1129,11 @@ HPFC_API int hpfc_shapes_create(const hpfc_file *file, hpfc_shapes **out);
 HPFC_API void hpfc_shapes_free(hpfc_shapes *shapes);
 HPFC_API uint64_t hpfc_shapes_face_count(const hpfc_shapes *shapes);
 
-/* The rings of face `face` (HPFC_E_ARG past the face count). O(the face's
- * boundary + holes x outer rings' points they are tested against);
+/* The rings of face `face` (HPFC_E_ARG past the face count), each polygon
+ * an outer ring then its holes, a hole going to the smallest outer ring
+ * around it. O(n log n) in the boundary's points: a hole finds the outer
+ * rings whose box holds its own through a tree over the boxes, and is
+ * tested against a long one through an index of its segments by y.
  * HPFC_E_CORRUPT when the boundary does not close into rings. */
 HPFC_API int hpfc_shapes_face_polygons(hpfc_shapes *shapes, hpfc_id face, hpfc_polygons *out);
 /* The geometry of feature `feature` as the union of its faces: the
@@ -1152,6 +1155,37 @@ HPFC_API int hpfc_shapes_feature_polylines(hpfc_shapes *shapes, hpfc_id feature,
  * without FEAT; HPFC_E_ARG past the feature count. */
 HPFC_API int hpfc_shapes_feature_faces(const hpfc_shapes *shapes, hpfc_id feature,
                                        hpfc_id *faces, size_t cap, size_t *count);
+
+/* ------------------------------------------------------------------------
+ * Windows: what of the map meets a rectangle (needs GEOM and LABL; FEAT or
+ * EDGF for features), through the hpfc_shapes index. The window is the
+ * closed lattice rectangle [x0, x1] x [y0, y1]; faces, edges and features
+ * are closed sets (a face holds its border), and one meets the window when
+ * they share a point. Each one found is flagged inside (it lies wholly in
+ * the window) or crossing (it reaches outside). Exact: decided by integer
+ * predicates on the GEOM coordinates of the leaves the window's border
+ * cuts; the leaves wholly inside give their faces and edges from LABL
+ * alone. The cost grows with the leaves the window meets and what it
+ * returns (and, to flag a face, with the edges around it), not with the
+ * file. The unbounded face (0) is never inside.
+ * ------------------------------------------------------------------------ */
+enum { HPFC_WINDOW_FACES = 1, HPFC_WINDOW_EDGES = 2, HPFC_WINDOW_FEATURES = 4 };
+
+/* What a window met: ids in increasing order, each with 1 (inside) or 0
+ * (crossing) in the matching *_inside array. Lists not asked for are
+ * empty. Valid until the shapes object's next call. */
+typedef struct hpfc_window_hits {
+    size_t face_count, edge_count, feature_count;
+    const hpfc_id *face, *edge, *feature;
+    const uint8_t *face_inside, *edge_inside, *feature_inside;
+} hpfc_window_hits;
+
+/* `what`: HPFC_WINDOW_FACES | _EDGES | _FEATURES. HPFC_E_ARG for x0 > x1,
+ * y0 > y1 or an unknown flag; HPFC_E_NO_SECTION for features without FEAT
+ * and EDGF; HPFC_E_CORRUPT when the sections contradict each other. A
+ * window beyond the domain meets the unbounded face. */
+HPFC_API int hpfc_shapes_window(hpfc_shapes *shapes, int64_t x0, int64_t y0, int64_t x1,
+                                int64_t y1, unsigned what, hpfc_window_hits *out);
 
 /* ------------------------------------------------------------------------
  * Experimental (the introduction, "Experimental calls"): seen only with

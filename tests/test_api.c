@@ -1,6 +1,6 @@
 /*
  * test_api.c: the conventions of the public header itself, checked against
- * independent sources: every status code against the spec's table (§12.4)
+ * independent sources: every status code against the spec's table (§7.4)
  * and every `HPFC_E_NAME (number)` the specs cite, and its name as
  * hpfc_status_name gives it; the structs that grow (a caller compiled
  * against an older or a newer hpfc.h, simulated by the size it passes);
@@ -62,11 +62,11 @@ static int code_of_name(const char *name, size_t len)
     return -1;
 }
 
-/* The spec's §12.4 rows "| number | `NAME` | meaning |": each names a code
+/* The spec's §7.4 rows "| number | `NAME` | meaning |": each names a code
  * of the header with its number, and each code has its row. */
 static void check_spec_table(const char *spec)
 {
-    const char *at = strstr(spec, "### 12.4 Status codes");
+    const char *at = strstr(spec, "### 7.4 Status codes");
     CHECK(at != NULL);
     if (!at)
         return;

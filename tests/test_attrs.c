@@ -1,5 +1,5 @@
 /*
- * The ATTR and EDGF sections (spec/hpfc-format.md §7.2, §7.3): written
+ * The ATTR and EDGF sections (spec/hpfc-format.md §6.3, §6.4): written
  * with a small map, read back value by value against the tables that were
  * written (the oracle), refused by the writer when inconsistent, and
  * damaged byte by byte: every byte of both sections set to 0x00, 0xFF and

@@ -8,7 +8,7 @@
  *   - opening it (hpfc_open_memory with the checksum verified, then
  *     hpfc_file_check_checksums) must fail with a file code; a flip is allowed
  *     through only in bytes no checksum covers (the zero padding between
- *     sections, spec/hpfc-format.md §4), and a truncation never;
+ *     sections, spec/hpfc-format.md §4.1), and a truncation never;
  *   - opened with HPFC_OPEN_SKIP_CHECKSUM, it must traverse without a crash
  *     within a step budget: every leaf walked, every word decoded, the four
  *     moves from every leaf, twin / next / prev / origin / target and the
@@ -703,7 +703,7 @@ static void set_bits(uint8_t *buf, uint64_t off, unsigned k, uint64_t v)
     }
 }
 
-/* Every key call on a file whose addresses break the layout of §9 (two
+/* Every key call on a file whose addresses break the layout of §5.2.2 (two
  * root records aliasing one image, two images swapped, an address past
  * the pool) gives HPFC_E_CORRUPT: a key's pixel would have no single path.
  * The dart operators still walk what the addresses say. */

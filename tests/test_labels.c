@@ -1,5 +1,5 @@
 /*
- * The LABL section (spec/hpfc-format.md §15) against independent oracles:
+ * The LABL section (spec/hpfc-format.md §6.5) against independent oracles:
  *   - leaf numbers: within a level, ranking the leaves by their slot's
  *     position in the pool (reader_leaf_slot_bit) gives 0, 1, 2, ...; the
  *     walk without the section gives the same numbers;
@@ -246,7 +246,7 @@ static void check_graph(const hpfc_graph *g)
     check_map(g, 64, 2, 0);
 }
 
-/* spec/hpfc-format.md §15.7: the triangle with a dead end of §14, root
+/* spec/hpfc-format.md §6.5.7: the triangle with a dead end of §9, root
  * 2 x 2, refined 2 x 2: the LABL section's 84 bytes as printed there. */
 static void check_worked_example(void)
 {

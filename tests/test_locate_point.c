@@ -1,5 +1,5 @@
 /*
- * hpfc_locate_point (spec §17.8) against a naive exact locator that shares
+ * hpfc_locate_point (spec §6.7) against a naive exact locator that shares
  * no code with it: every segment of every input edge, a ray from the point
  * eastwards to infinity, the face on the side of the nearest edge hit (face
  * 0, the unbounded face, when none is hit), and on_boundary for a point on

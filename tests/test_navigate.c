@@ -486,7 +486,7 @@ static void test_fig7_file(void)
     static const uint64_t paper_bits[3] = {252, 270, 408}, compact_bits[3] = {56, 64, 69};
     static const uint32_t paper_kw[3] = {20, 20, 16}, paper_ka[3] = {9, 9, 0};
     static const uint32_t compact_kw[3] = {16, 16, 10}, compact_ka[3] = {0, 0, 0};
-    /* spec §6 (paper) and §16.7 (compact): the sizes worked by hand */
+    /* spec §4.3 (paper) and §5.4 (compact): the sizes worked by hand */
     const uint64_t *bits = test_layout_compact ? compact_bits : paper_bits;
     const uint32_t *kw = test_layout_compact ? compact_kw : paper_kw;
     const uint32_t *ka = test_layout_compact ? compact_ka : paper_ka;

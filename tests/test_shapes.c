@@ -357,6 +357,20 @@ static int naive_inside(const hpfc_polygons *p, size_t r, int64_t px, int64_t py
     return in;
 }
 
+/* Whether ring h lies inside ring o, decided by the first of h's points,
+ * then of its segments' middles, that is not on o (rings never cross): 1,
+ * 0, or -1 when all of h lies on o. */
+static int hole_inside(const hpfc_polygons *p, size_t h, size_t o)
+{
+    int verdict = -1;
+    for (size_t k = p->ring_point[h]; verdict < 0 && k + 1 < p->ring_point[h + 1]; k++)
+        verdict = naive_inside(p, o, 2 * p->xy[2 * k], 2 * p->xy[2 * k + 1]);
+    for (size_t k = p->ring_point[h]; verdict < 0 && k + 1 < p->ring_point[h + 1]; k++)
+        verdict = naive_inside(p, o, p->xy[2 * k] + p->xy[2 * k + 2],
+                               p->xy[2 * k + 1] + p->xy[2 * k + 3]);
+    return verdict;
+}
+
 /* Rings simple and closed, outer rings positive, holes negative and inside
  * their outer ring; the directed segments and the area sum as expected. */
 static void check_answer(const char *what, const hpfc_polygons *p, segs *want, s128 want_area2,
@@ -389,17 +403,22 @@ static void check_answer(const char *what, const hpfc_polygons *p, segs *want, s
         if (is_outer ? ar <= 0 : ar >= 0)
             ok_orient = 0;
     }
-    /* each hole: some point of it strictly inside its outer ring */
-    for (size_t q = 0; q < p->polygon_count; q++) {
-        size_t outer = p->polygon_ring[q];
-        for (size_t h = outer + 1; h < p->polygon_ring[q + 1]; h++) {
-            int verdict = -1;
-            for (size_t k = p->ring_point[h]; verdict < 0 && k + 1 < p->ring_point[h + 1]; k++)
-                verdict = naive_inside(p, outer, 2 * p->xy[2 * k], 2 * p->xy[2 * k + 1]);
-            for (size_t k = p->ring_point[h]; verdict < 0 && k + 1 < p->ring_point[h + 1]; k++)
-                verdict = naive_inside(p, outer, p->xy[2 * k] + p->xy[2 * k + 2],
-                                       p->xy[2 * k + 1] + p->xy[2 * k + 3]);
-            if (verdict != 1)
+    /* each hole: inside its outer ring (some point of it strictly inside),
+     * and that ring the smallest outer ring around it, the first of equal
+     * ones; the holes after the last polygon inside none */
+    for (size_t q = 0; q <= p->polygon_count; q++) {
+        size_t outer = q < p->polygon_count ? p->polygon_ring[q] : SIZE_MAX;
+        size_t h0 = q < p->polygon_count ? outer + 1 : p->polygon_ring[q];
+        size_t h1 = q < p->polygon_count ? p->polygon_ring[q + 1] : p->ring_count;
+        for (size_t h = h0; h < h1; h++) {
+            size_t smallest = SIZE_MAX;
+            for (size_t o = 0; o < p->polygon_count; o++) {
+                size_t r = p->polygon_ring[o];
+                if (-ring_area2(p, h) < ring_area2(p, r) && hole_inside(p, h, r) == 1 &&
+                    (smallest == SIZE_MAX || ring_area2(p, r) < ring_area2(p, smallest)))
+                    smallest = r;
+            }
+            if (smallest != outer)
                 ok_inside = 0;
         }
     }
@@ -799,7 +818,25 @@ static void run_pinches(void)
     static const uint32_t ring_e[] = {0, 1, 1, 2, 2, 3, 3, 0,
                                       4, 8, 8, 5, 5, 4, 5, 9, 9, 6, 6, 5,
                                       6, 10, 10, 7, 7, 6, 7, 11, 11, 4, 4, 7};
-    hpfc_graph *g = graph_of(ring_v, 12, ring_e, 16);
+    /* five nested squares: a feature of every other annulus is islands in
+     * lakes in islands, each hole inside several outer rings, owned by the
+     * smallest */
+    int64_t nest_v[40];
+    uint32_t nest_e[40];
+    for (int k = 0; k < 5; k++) {
+        int64_t lo = 40 * k, hi = 400 - 40 * k;
+        int64_t sq[8] = {lo, lo, hi, lo, hi, hi, lo, hi};
+        memcpy(nest_v + 8 * k, sq, sizeof sq);
+        for (int j = 0; j < 4; j++) {
+            nest_e[8 * k + 2 * j] = (uint32_t)(4 * k + j);
+            nest_e[8 * k + 2 * j + 1] = (uint32_t)(4 * k + (j + 1) % 4);
+        }
+    }
+    hpfc_graph *g = graph_of(nest_v, 20, nest_e, 20);
+    for (uint64_t seed = 0; seed < 40; seed++)
+        run_graph("nested squares", g, 4, 2, 0, seed);
+    hpfc_graph_free(g);
+    g = graph_of(ring_v, 12, ring_e, 16);
     for (uint64_t seed = 0; seed < 40; seed++)
         run_graph("corner ring", g, 4, 2, 0, seed);
     hpfc_graph_free(g);

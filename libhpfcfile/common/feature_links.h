@@ -1,6 +1,6 @@
 /*
  * feature_links.h: links to features as FEAT keeps them per face and EDGF
- * per edge (spec/hpfc-format.md §7.1, §7.3), in one place for both: an
+ * per edge (spec/hpfc-format.md §6.2, §6.4), in one place for both: an
  * index of row_count + 1 u32 offsets, non-decreasing from 0 to link_count,
  * then link_count u32 feature indices, each row's ascending. The writer's
  * check and bytes and the reader's checked access are the same for a face

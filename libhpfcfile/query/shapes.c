@@ -12,8 +12,9 @@
 
 #include "arrays.h"
 #include "file.h"
+#include "ring_index.h"
+#include "shapes.h"
 
-__extension__ typedef __int128 s128;
 
 /* Coordinates past this come from a corrupt file (a graph's lie within
  * HPFC_LATTICE_MAX): refusing them keeps every difference, cross product
@@ -132,56 +133,6 @@ void hpfc_user_point(const hpfc_file *f, int64_t x, int64_t y, double *ux, doubl
 
 /* ---- the index ------------------------------------------------------------------- */
 
-/* A dart of a region's boundary: edge << 1 | reversed, with what the
- * assembly needs of it. */
-typedef struct bdart {
-    uint64_t code;
-    uint32_t origin, target;
-    int64_t out[2];   /* direction leaving the origin */
-    int64_t back[2];  /* direction from the target back along the last segment */
-    uint32_t next;    /* the dart continuing it */
-    uint8_t has_prev, used;
-} bdart;
-
-/* A ring being assembled: points [start, end) of the scratch points. */
-typedef struct tring {
-    size_t start, end;
-    s128 area2;       /* twice the signed area */
-    int64_t box[4];   /* xmin, ymin, xmax, ymax */
-    size_t owner;     /* holes: the outer ring's index, SIZE_MAX: none */
-} tring;
-
-struct hpfc_shapes {
-    const hpfc_file *f;
-    uint64_t vertices, edges, faces, points;
-    uint32_t *eu, *ev;
-    uint64_t *left, *right, *npoints;
-    uint64_t *face_start;       /* faces + 1 */
-    uint32_t *face_edge;
-    int have_features, have_edge_features;
-    uint32_t features;
-    uint64_t *feat_start;       /* features + 1 */
-    uint32_t *feat_face;
-    uint64_t *fe_start;         /* features + 1 (EDGF) */
-    uint32_t *fe_edge;
-    uint32_t *face_mark, mark;  /* face_mark[f] == mark: f is in the region */
-    uint32_t *vmark, *vpos, vgen;
-    /* scratch, reused by every call */
-    bdart *darts;
-    size_t ndarts, cap_darts;
-    uint32_t *cycle;
-    size_t cap_cycle;
-    int64_t *txy;
-    size_t ntxy, cap_txy;       /* points (pairs) */
-    tring *rings;
-    size_t nrings, cap_rings;
-    /* the answer */
-    int64_t *xy;
-    size_t cap_xy;
-    size_t *ring_point, cap_ring_point;
-    size_t *polygon_ring, cap_polygon_ring;
-};
-
 /* Frees the hpfc_shapes object's arrays, then the object.
  * (hpfc_graph_free, hpfc_tree_free and hpfc_shapes_free look alike, a free()
  * a member, but each lists the arrays of its own struct.) */
@@ -210,6 +161,8 @@ void hpfc_shapes_free(hpfc_shapes *s)
     free(s->xy);
     free(s->ring_point);
     free(s->polygon_ring);
+    free(s->edge_box);
+    shapes_window_free(s->window);
     free(s);
 }
 
@@ -326,7 +279,7 @@ static int index_features(hpfc_shapes *s)
         return st;
     s->have_features = 1;
     s->features = fi.features;
-    /* a FEAT table numbered against other faces is not to be used (§7.1) */
+    /* a FEAT table numbered against other faces is not to be used (§6.2.2) */
     uint64_t faces = fi.faces == s->faces ? s->faces : 0;
     if ((st = invert_links(s->f, faces, fi.features, hpfc_face_feature_count,
                            hpfc_face_feature_id, &s->feat_start, &s->feat_face)))
@@ -449,25 +402,6 @@ static int cmp_dart(const void *pa, const void *pb)
     if (a->origin != b->origin)
         return a->origin < b->origin ? -1 : 1;
     return cmp_angle(a->out, b->out);
-}
-
-/* Where lattice point p (doubled) lies against a ring of doubled points:
- * 1 inside, 0 outside, -1 on it. Exact (crossing count to +x, half-open in
- * y). */
-static int point_in_ring(const int64_t p[2], const int64_t *xy, size_t n)
-{
-    int inside = 0;
-    for (size_t k = 0; k + 1 < n; k++) {
-        int64_t ax = 2 * xy[2 * k], ay = 2 * xy[2 * k + 1];
-        int64_t bx = 2 * xy[2 * k + 2], by = 2 * xy[2 * k + 3];
-        s128 c = (s128)(bx - ax) * (p[1] - ay) - (s128)(by - ay) * (p[0] - ax);
-        if (c == 0 && p[0] >= (ax < bx ? ax : bx) && p[0] <= (ax < bx ? bx : ax) &&
-            p[1] >= (ay < by ? ay : by) && p[1] <= (ay < by ? by : ay))
-            return -1;
-        if ((ay > p[1]) != (by > p[1]) && (c > 0) == (by > ay))
-            inside = !inside;
-    }
-    return inside;
 }
 
 /* ---- assembling rings -------------------------------------------------------------- */
@@ -659,77 +593,207 @@ static int trace_rings(hpfc_shapes *s)
     return HPFC_OK;
 }
 
-/* Whether ring h lies inside ring o: the first point of h (or middle of
- * its segments) that is not on o decides; rings never cross. */
-static int ring_inside(const hpfc_shapes *s, const tring *h, const tring *o)
+/* Where point p (doubled) lies against ring o: through its index when it
+ * has one. */
+static int locate_in(const hpfc_shapes *s, const tring *o, const ring_index *oi, const int64_t p[2])
+{
+    return oi && oi->levels ? ring_index_locate(oi, p)
+                            : ring_locate(s->txy + 2 * o->start, o->end - o->start, p);
+}
+
+/* Whether ring h lies inside ring o (oi: o's index, or NULL): the first
+ * point of h (or middle of its segments) that is not on o decides; rings
+ * never cross. */
+static int ring_inside(const hpfc_shapes *s, const tring *h, const tring *o, const ring_index *oi)
 {
     if (h->box[0] < o->box[0] || h->box[1] < o->box[1] || h->box[2] > o->box[2] ||
         h->box[3] > o->box[3])
         return 0;
-    const int64_t *hp = s->txy + 2 * h->start, *op = s->txy + 2 * o->start;
-    size_t hn = h->end - h->start, on = o->end - o->start;
+    const int64_t *hp = s->txy + 2 * h->start;
+    size_t hn = h->end - h->start;
     for (size_t k = 0; k + 1 < hn; k++) {
         int64_t p[2] = {2 * hp[2 * k], 2 * hp[2 * k + 1]};
-        int w = point_in_ring(p, op, on);
+        int w = locate_in(s, o, oi, p);
         if (w >= 0)
             return w;
     }
     for (size_t k = 0; k + 1 < hn; k++) {
         int64_t p[2] = {hp[2 * k] + hp[2 * k + 2], hp[2 * k + 1] + hp[2 * k + 3]};
-        int w = point_in_ring(p, op, on);
+        int w = locate_in(s, o, oi, p);
         if (w >= 0)
             return w;
     }
     return 0;
 }
 
-/* Each hole to the smallest outer ring containing it; then the answer:
- * polygons (outer, holes), the holes of none last. */
-static int arrange(hpfc_shapes *s, hpfc_polygons *out)
+/* An outer ring with at least this many points is indexed (ring_index.h)
+ * when a hole is tested against it: below, a pass over it is as cheap. */
+enum { INDEX_MIN_POINTS = 64 };
+
+/* What finding the holes' owners keeps: the outer rings (their ring
+ * numbers, boxes, a tree over the boxes, each one's index once built), the
+ * candidates of one hole. */
+typedef struct owners {
+    size_t *outer;       /* ring number of outer k */
+    int64_t (*box)[4];
+    box_tree tree;
+    ring_index *index;   /* per outer, levels 0 until built */
+    uint32_t *cand;
+    size_t ncand, cap_cand;
+} owners;
+
+static void owners_free(owners *w, size_t outers)
 {
-    size_t nr = s->nrings, outers = 0;
-    for (size_t h = 0; h < nr; h++) {
-        tring *H = &s->rings[h];
-        if (H->area2 > 0) {
-            outers++;
-            continue;
+    for (size_t k = 0; w->index && k < outers; k++)
+        ring_index_free(&w->index[k]);
+    free(w->index);
+    free(w->outer);
+    free(w->box);
+    free(w->cand);
+    box_tree_free(&w->tree);
+}
+
+/* A candidate owner of a hole, in the order owners are chosen in:
+ * smallest area first, then the earlier ring (the first of equal smallest
+ * wins). */
+typedef struct candidate {
+    s128 area2;
+    size_t ring;
+    uint32_t outer;
+} candidate;
+
+static int cmp_candidate(const void *pa, const void *pb)
+{
+    const candidate *a = pa, *b = pb;
+    if (a->area2 != b->area2)
+        return a->area2 < b->area2 ? -1 : 1;
+    return (a->ring > b->ring) - (a->ring < b->ring);
+}
+
+/* The outer rings, a tree over their boxes, room for their indexes. */
+static int owners_init(hpfc_shapes *s, owners *w, size_t outers)
+{
+    memset(w, 0, sizeof *w);
+    w->outer = malloc((outers + 1) * sizeof *w->outer);
+    w->box = malloc((outers + 1) * sizeof *w->box);
+    w->index = calloc(outers + 1, sizeof *w->index);
+    if (!w->outer || !w->box || !w->index)
+        return HPFC_E_NOMEM;
+    size_t k = 0;
+    for (size_t r = 0; r < s->nrings; r++)
+        if (s->rings[r].area2 > 0) {
+            w->outer[k] = r;
+            memcpy(w->box[k], s->rings[r].box, sizeof w->box[k]);
+            k++;
         }
-        for (size_t o = 0; o < nr; o++) {
-            const tring *O = &s->rings[o];
-            if (O->area2 <= 0 || (H->owner != SIZE_MAX && O->area2 >= s->rings[H->owner].area2))
-                continue;
-            if (O->area2 > -H->area2 && ring_inside(s, H, O))
-                H->owner = o;
+    return box_tree_build(&w->tree, (const int64_t(*)[4])w->box, outers);
+}
+
+/* Hole h's owner: the smallest outer ring containing it, of those with a
+ * larger area (owner stays SIZE_MAX when none). The tree gives the outers
+ * whose box holds h's; they are tried smallest first, each long one
+ * through its index. */
+static int find_owner(hpfc_shapes *s, owners *w, size_t h, candidate **cand, size_t *cap)
+{
+    tring *H = &s->rings[h];
+    w->ncand = 0;
+    int st = box_tree_containing(&w->tree, H->box, &w->cand, &w->ncand, &w->cap_cand);
+    if (st)
+        return st;
+    if (array_grow((void **)cand, cap, w->ncand + 1, sizeof **cand))
+        return HPFC_E_NOMEM;
+    size_t n = 0;
+    for (size_t k = 0; k < w->ncand; k++) {
+        size_t r = w->outer[w->cand[k]];
+        if (s->rings[r].area2 > -H->area2)
+            (*cand)[n++] = (candidate){s->rings[r].area2, r, w->cand[k]};
+    }
+    qsort(*cand, n, sizeof **cand, cmp_candidate);
+    for (size_t k = 0; k < n; k++) {
+        const tring *O = &s->rings[(*cand)[k].ring];
+        ring_index *oi = &w->index[(*cand)[k].outer];
+        if (!oi->levels && O->end - O->start >= INDEX_MIN_POINTS &&
+            (st = ring_index_build(oi, s->txy + 2 * O->start, O->end - O->start)))
+            return st;
+        if (ring_inside(s, H, O, oi)) {
+            H->owner = (*cand)[k].ring;
+            break;
         }
     }
+    return HPFC_OK;
+}
+
+/* Copies ring r to the answer. */
+static void put_ring(hpfc_shapes *s, size_t r, size_t *rings, size_t *points)
+{
+    const tring *R = &s->rings[r];
+    size_t n = R->end - R->start;
+    memcpy(s->xy + 2 * *points, s->txy + 2 * R->start, 2 * n * sizeof *s->xy);
+    s->ring_point[(*rings)++] = *points;
+    *points += n;
+}
+
+/* Each hole to the smallest outer ring containing it; then the answer:
+ * polygons (outer, its holes), in ring order, the holes of none last.
+ * O((rings + candidates) log + the points tested), where the old pairwise
+ * search cost holes x outer rings x their points. */
+static int arrange(hpfc_shapes *s, hpfc_polygons *out)
+{
+    size_t nr = s->nrings, outers = 0, holes = 0;
+    for (size_t r = 0; r < nr; r++)
+        s->rings[r].area2 > 0 ? outers++ : holes++;
+    int st = HPFC_OK;
+    if (holes && outers) {
+        owners w;
+        candidate *cand = NULL;
+        size_t cap = 0;
+        st = owners_init(s, &w, outers);
+        for (size_t h = 0; h < nr && !st; h++)
+            if (s->rings[h].area2 < 0)
+                st = find_owner(s, &w, h, &cand, &cap);
+        free(cand);
+        owners_free(&w, outers);
+        if (st)
+            return st;
+    }
+    /* the holes of each ring (the holes of none under nr), in ring order:
+     * counts, starts, then each hole placed */
+    size_t *first = calloc(nr + 2, sizeof *first), *fill = malloc((nr + 2) * sizeof *fill);
+    size_t *hole = malloc((holes + 1) * sizeof *hole);
+    if (!first || !fill || !hole) {
+        free(first), free(fill), free(hole);
+        return HPFC_E_NOMEM;
+    }
+    for (size_t h = 0; h < nr; h++)
+        if (s->rings[h].area2 < 0)
+            first[(s->rings[h].owner == SIZE_MAX ? nr : s->rings[h].owner) + 1]++;
+    for (size_t r = 0; r <= nr; r++)
+        first[r + 1] += first[r];
+    memcpy(fill, first, (nr + 2) * sizeof *fill);
+    for (size_t h = 0; h < nr; h++)
+        if (s->rings[h].area2 < 0)
+            hole[fill[s->rings[h].owner == SIZE_MAX ? nr : s->rings[h].owner]++] = h;
+    free(fill);
     if (array_grow((void **)&s->xy, &s->cap_xy, 2 * s->ntxy + 2, sizeof *s->xy) ||
         array_grow((void **)&s->ring_point, &s->cap_ring_point, nr + 1, sizeof *s->ring_point) ||
         array_grow((void **)&s->polygon_ring, &s->cap_polygon_ring, outers + 1,
-             sizeof *s->polygon_ring))
+                   sizeof *s->polygon_ring)) {
+        free(first), free(hole);
         return HPFC_E_NOMEM;
+    }
     size_t rings = 0, points = 0, polygons = 0;
-#define PUT_RING(r)                                                                          \
-    do {                                                                                     \
-        const tring *R_ = &s->rings[r];                                                      \
-        size_t n_ = R_->end - R_->start;                                                     \
-        memcpy(s->xy + 2 * points, s->txy + 2 * R_->start, 2 * n_ * sizeof *s->xy);          \
-        s->ring_point[rings++] = points;                                                     \
-        points += n_;                                                                        \
-    } while (0)
     for (size_t o = 0; o < nr; o++) {
         if (s->rings[o].area2 <= 0)
             continue;
         s->polygon_ring[polygons++] = rings;
-        PUT_RING(o);
-        for (size_t h = 0; h < nr; h++)
-            if (s->rings[h].area2 < 0 && s->rings[h].owner == o)
-                PUT_RING(h);
+        put_ring(s, o, &rings, &points);
+        for (size_t k = first[o]; k < first[o + 1]; k++)
+            put_ring(s, hole[k], &rings, &points);
     }
     s->polygon_ring[polygons] = rings;
-    for (size_t h = 0; h < nr; h++)
-        if (s->rings[h].area2 < 0 && s->rings[h].owner == SIZE_MAX)
-            PUT_RING(h);
-#undef PUT_RING
+    for (size_t k = first[nr]; k < first[nr + 1]; k++)
+        put_ring(s, hole[k], &rings, &points);
+    free(first), free(hole);
     s->ring_point[rings] = points;
     *out = (hpfc_polygons){.polygon_count = polygons,
                            .ring_count = rings,

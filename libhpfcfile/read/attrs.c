@@ -1,6 +1,6 @@
 /*
  * Attributes and the features of edges: the ATTR and EDGF sections
- * (spec/hpfc-format.md §7.2, §7.3).
+ * (spec/hpfc-format.md §6.3, §6.4).
  *
  * ATTR, after a 32-byte header: the column table (16 bytes a column), the
  * cells (8 bytes each, feature-major: feature k's value of column c is cell

@@ -1,5 +1,5 @@
 /*
- * Source features: the FEAT section (spec/hpfc-format.md §7.1).
+ * Source features: the FEAT section (spec/hpfc-format.md §6.2).
  *
  * Layout, after a 32-byte header: the layer table (8 bytes a layer), the
  * feature table (24 bytes a feature), the face index (face_count + 1

@@ -147,7 +147,7 @@ static const uint8_t *level_entry(const hpfc_file *f, uint32_t l)
     return f->data + hdr_get_header_size(f->data) + (size_t)l * FORMAT_LEVEL_ENTRY_SIZE;
 }
 
-/* The compact layout's own fields (§16.1): no address, the stabbed
+/* The compact layout's own fields (§4.3): no address, the stabbed
  * pixels among the word pixels, a stream of at least one and at most k_w
  * bits a stabbed word, k_w = 0 exactly when no word is stabbed. */
 static int check_compact_counts(const hpfc_file *f, uint32_t l, const hpfc_level_info *in)

@@ -1,6 +1,6 @@
 /*
  * hpfc_labels_verify: the stored LABL section against the map
- * (spec/hpfc-format.md §15.6). hpfc_faces_build stays the reference for
+ * (spec/hpfc-format.md §6.5.6). hpfc_faces_build stays the reference for
  * faces; the rank samples are recounted from the pools; the directory must
  * give each record right after the previous one; a crossing seen from both
  * sides of its road must carry one edge id. O(file).
