@@ -99,6 +99,8 @@ typedef struct reader {
     part_ref *refs;
     size_t n_parts, cap_parts, cap_start;
     double xmin, ymin, xmax, ymax;
+    segnode_pt *line_ends; /* where each line part starts and ends in the map */
+    size_t n_line_ends, cap_line_ends;
 } reader;
 
 static int fail(reader *r, const char *fmt, ...)
@@ -1264,6 +1266,21 @@ static int part_in_map(reader *r, const int64_t *lat, size_t k, const seg *segs,
 /* Records the features' parts as they lie in the map, for the faces' and
  * edges' features: a ring's area is what its path through the map encloses
  * (face_link.h), so every part segment must be a segment of the map. */
+/* A line's ends must be vertices of the map: where one line stops and the
+ * next goes on through a point of degree 2, an edge running through it
+ * would belong to both lines, and each line's geometry would take in the
+ * other's. A ring's first point is arbitrary and stays a shape point. */
+static int add_line_ends(reader *r, const point_list *part)
+{
+    if (!array_grow((void **)&r->line_ends, &r->cap_line_ends, r->n_line_ends + 2,
+                    sizeof *r->line_ends))
+        return fail(r, "out of memory");
+    r->line_ends[r->n_line_ends++] = (segnode_pt){part->xy[0], part->xy[1]};
+    r->line_ends[r->n_line_ends++] =
+        (segnode_pt){part->xy[2 * part->n - 2], part->xy[2 * part->n - 1]};
+    return 0;
+}
+
 static int keep_parts(reader *r, const int64_t *lat, const seg *segs, size_t n_segs,
                       const seg *geos, size_t n_geos)
 {
@@ -1274,6 +1291,8 @@ static int keep_parts(reader *r, const int64_t *lat, const seg *segs, size_t n_s
     int st = 0;
     for (size_t k = 0; k < r->n_parts && !st; k++) {
         st = part_in_map(r, lat, k, segs, n_segs, paths, &part);
+        if (!st && !r->refs[k].ring && part.n > 0)
+            st = add_line_ends(r, &part);
         if (!st && gis_features_add_part(r->info->polygons, r->refs[k].feature, r->refs[k].ring,
                                          part.xy, part.n) != 0)
             st = fail(r, "out of memory");
@@ -1289,8 +1308,9 @@ static int make_graph(reader *r, const seg *segs, size_t n_segs, hpfc_graph **ou
 {
     progress_show(&r->bar, "graph", 0, 0, 1);
     char why[256];
-    int st = segment_graph_make(segs, n_segs, r->opt->vertex_model == GIS_VERTICES_ALL,
-                                r->info->unit_exp10, out, why, sizeof why);
+    int st = segment_graph_make(segs, n_segs, r->line_ends, r->n_line_ends,
+                                r->opt->vertex_model == GIS_VERTICES_ALL, r->info->unit_exp10,
+                                out, why, sizeof why);
     return st ? fail(r, "%s", why) : 0;
 }
 
@@ -1366,6 +1386,7 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     free(segs);
     free(r.start);
     free(r.refs);
+    free(r.line_ends);
     free(r.key_index);
     free(r.fields);
     free(srs_p4);

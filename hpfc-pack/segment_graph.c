@@ -41,6 +41,7 @@ typedef struct graph_builder {
     uint32_t *seg_a, *seg_b;    /* point index of each segment's ends */
     size_t *adj_start, *adj;    /* incident segments of each point (CSR) */
     uint32_t *vertex;           /* point -> graph vertex, UINT32_MAX if none */
+    unsigned char *line_end;    /* point: a line of the input ends there */
     unsigned char *used;
     int64_t *interior;
     size_t cap_interior;
@@ -65,6 +66,13 @@ static size_t degree(const graph_builder *b, size_t p)
     return b->adj_start[p + 1] - b->adj_start[p];
 }
 
+/* A chain stops at a junction: a point of degree other than 2, or where a
+ * line ends. */
+static int is_junction(const graph_builder *b, size_t p)
+{
+    return degree(b, p) != 2 || b->line_end[p];
+}
+
 /* Follows the chain from point p along segment s through degree-2 points,
  * up to a junction (or back to p), and adds it as one edge. */
 static int gb_chain(graph_builder *b, size_t p, size_t s)
@@ -73,7 +81,7 @@ static int gb_chain(graph_builder *b, size_t p, size_t s)
     for (;;) {
         b->used[s] = 1;
         size_t q = b->seg_a[s] == cur ? b->seg_b[s] : b->seg_a[s];
-        if (q == p || degree(b, q) != 2) {
+        if (q == p || is_junction(b, q)) {
             uint32_t u = 0, v = 0; /* set when st == 0; -O3 cannot tell */
             int st = gb_vertex(b, p, &u);
             if (!st)
@@ -93,8 +101,9 @@ static int gb_chain(graph_builder *b, size_t p, size_t s)
     }
 }
 
-int segment_graph_make(const segnode_seg *segs, size_t n_segs, int all_vertices, int32_t unit_exp10,
-                       hpfc_graph **out, char *err, size_t err_len)
+int segment_graph_make(const segnode_seg *segs, size_t n_segs, const segnode_pt *ends,
+                       size_t n_ends, int all_vertices, int32_t unit_exp10, hpfc_graph **out,
+                       char *err, size_t err_len)
 {
     graph_builder b = {.err = err, .err_len = err_len, .segs = segs, .n_segs = n_segs};
     int st = 0;
@@ -121,7 +130,8 @@ int segment_graph_make(const segnode_seg *segs, size_t n_segs, int all_vertices,
     b.adj_start = calloc(b.n_pts + 1, sizeof *b.adj_start);
     b.adj = malloc(2 * n_segs * sizeof *b.adj);
     b.vertex = malloc(b.n_pts * sizeof *b.vertex);
-    if (!b.adj_start || !b.adj || !b.vertex) {
+    b.line_end = calloc(b.n_pts ? b.n_pts : 1, 1);
+    if (!b.adj_start || !b.adj || !b.vertex || !b.line_end) {
         st = fail_nomem(&b);
         goto done;
     }
@@ -134,6 +144,11 @@ int segment_graph_make(const segnode_seg *segs, size_t n_segs, int all_vertices,
     for (size_t p = 0; p < b.n_pts; p++) {
         b.adj_start[p + 1] += b.adj_start[p];
         b.vertex[p] = UINT32_MAX;
+    }
+    for (size_t k = 0; k < n_ends; k++) {
+        const segnode_pt *at = bsearch(&ends[k], b.pts, b.n_pts, sizeof *b.pts, segnode_pt_cmp);
+        if (at)
+            b.line_end[at - b.pts] = 1;
     }
     {
         size_t *fill = malloc((b.n_pts + 1) * sizeof *fill);
@@ -164,12 +179,12 @@ int segment_graph_make(const segnode_seg *segs, size_t n_segs, int all_vertices,
     } else {
         /* chains between junctions, then the closed chains with none */
         for (size_t p = 0; p < b.n_pts && !st; p++)
-            if (degree(&b, p) != 2)
+            if (is_junction(&b, p))
                 for (size_t k = b.adj_start[p]; k < b.adj_start[p + 1] && !st; k++)
                     if (!b.used[b.adj[k]])
                         st = gb_chain(&b, p, b.adj[k]);
         for (size_t p = 0; p < b.n_pts && !st; p++)
-            if (degree(&b, p) == 2 && !b.used[b.adj[b.adj_start[p]]])
+            if (!is_junction(&b, p) && !b.used[b.adj[b.adj_start[p]]])
                 st = gb_chain(&b, p, b.adj[b.adj_start[p]]);
     }
 done:
@@ -184,6 +199,7 @@ done:
     free(b.adj_start);
     free(b.adj);
     free(b.vertex);
+    free(b.line_end);
     free(b.interior);
     return st;
 }

@@ -18,11 +18,14 @@
  * shared ends. With `all_vertices`
  * every segment end is a vertex and every segment an edge; otherwise a
  * chain of segments through points of degree 2 is one edge between the
- * junctions at its ends (degree 1 or 3 and more), and a closed chain with
+ * junctions at its ends (degree 1 or 3 and more, or one of the n_ends
+ * points `ends`, in any order: where the input's lines end; an end that is
+ * no segment's end is ignored), and a closed chain with
  * no junction gets one vertex, at its least point (lowest x, then y).
  * Vertices are added in point order, so equal inputs give equal graphs.
  * HPFC_OK, or a status with a one-line reason in err. */
-int segment_graph_make(const segnode_seg *segs, size_t n, int all_vertices, int32_t unit_exp10,
-                       hpfc_graph **out, char *err, size_t err_len);
+int segment_graph_make(const segnode_seg *segs, size_t n, const segnode_pt *ends, size_t n_ends,
+                       int all_vertices, int32_t unit_exp10, hpfc_graph **out, char *err,
+                       size_t err_len);
 
 #endif

@@ -4,10 +4,11 @@
  * shared ends (edges of a jittered grid, some removed, plus loose squares
  * and lone segments), made into graphs, checked against the segments
  * themselves: every edge expands back into input segments, each used once;
- * vertices sit exactly where the input's degree is not 2, plus one on each
- * closed chain without a junction, at its least point; interior points
- * have degree 2. With all_vertices, one vertex a point and one edge a
- * segment.
+ * vertices sit exactly where the input's degree is not 2 or a line ends,
+ * plus one on each closed chain without a junction, at its least point;
+ * interior points
+ * have degree 2 and no line ends there. With all_vertices, one vertex a
+ * point and one edge a segment.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -120,7 +121,17 @@ static int degree_at(const point_degree *pd, size_t n, int64_t x, int64_t y)
     return f ? f->degree : 0;
 }
 
-static void check_graph(const segnode_seg *s, size_t n, const hpfc_graph *g, int all_vertices)
+/* A line ends there: a junction whatever its degree. */
+static int is_end(const segnode_pt *ends, size_t n_ends, int64_t x, int64_t y)
+{
+    for (size_t k = 0; k < n_ends; k++)
+        if (ends[k].x == x && ends[k].y == y)
+            return 1;
+    return 0;
+}
+
+static void check_graph(const segnode_seg *s, size_t n, const segnode_pt *ends, size_t n_ends,
+                        const hpfc_graph *g, int all_vertices)
 {
     point_degree *pd = malloc(2 * n * sizeof *pd + 1);
     size_t npts = degrees(s, n, pd);
@@ -138,6 +149,7 @@ static void check_graph(const segnode_seg *s, size_t n, const hpfc_graph *g, int
             if (k < m) {
                 qx = in[2 * k], qy = in[2 * k + 1];
                 CHECK_EQ_INT(degree_at(pd, npts, qx, qy), 2); /* interior: degree 2 */
+                CHECK(all_vertices || !is_end(ends, n_ends, qx, qy)); /* no line ends inside */
             } else {
                 hpfc_graph_vertex(g, v, &qx, &qy);
             }
@@ -160,14 +172,14 @@ static void check_graph(const segnode_seg *s, size_t n, const hpfc_graph *g, int
     } else {
         size_t junctions = 0;
         for (size_t k = 0; k < npts; k++)
-            junctions += pd[k].degree != 2;
+            junctions += pd[k].degree != 2 || is_end(ends, n_ends, pd[k].p.x, pd[k].p.y);
         size_t loops = 0;
         for (size_t k = 0; k < nv; k++) {
             int64_t x, y;
             hpfc_graph_vertex(g, k, &x, &y);
-            loops += degree_at(pd, npts, x, y) == 2;
+            loops += degree_at(pd, npts, x, y) == 2 && !is_end(ends, n_ends, x, y);
         }
-        CHECK(loops >= 3); /* the loose squares */
+        CHECK(n_ends > 1 || loops >= 3); /* the loose squares, when no line ends on them */
         CHECK_EQ_INT(nv, junctions + loops);
         /* a degree-2 vertex closes a chain: its one edge is a loop */
         for (size_t e = 0; e < ne; e++) {
@@ -177,7 +189,7 @@ static void check_graph(const segnode_seg *s, size_t n, const hpfc_graph *g, int
             hpfc_graph_edge(g, e, &u, &v, &in, &m);
             int64_t x, y;
             hpfc_graph_vertex(g, u, &x, &y);
-            if (degree_at(pd, npts, x, y) == 2) {
+            if (degree_at(pd, npts, x, y) == 2 && !is_end(ends, n_ends, x, y)) {
                 CHECK_EQ_INT(u, v);
                 for (size_t k = 0; k < m; k++) /* at the chain's least point */
                     CHECK(in[2 * k] > x || (in[2 * k] == x && in[2 * k + 1] > y));
@@ -195,14 +207,24 @@ static void test_random(void)
         int w = 2 + (int)rnd(12), h = 2 + (int)rnd(12);
         segnode_seg *s = malloc(sizeof *s * (size_t)(2 * w * h + 20));
         size_t n = make_segments(s, w, h, 40 + (int)rnd(60));
+        /* line ends: segment ends picked at random (degree 2 ones among
+         * them), and points no segment ends at, which change nothing */
+        segnode_pt ends[24];
+        size_t n_ends = round % 3 == 0 ? 0 : 1 + rnd(20);
+        for (size_t k = 0; k < n_ends; k++) {
+            const segnode_seg *t = &s[rnd((uint32_t)n)];
+            ends[k] = rnd(2) ? (segnode_pt){t->ax, t->ay} : (segnode_pt){t->bx, t->by};
+        }
+        ends[n_ends++] = (segnode_pt){-7777, 12345};
         for (int all = 0; all < 2; all++) {
             hpfc_graph *g = NULL;
             char why[256] = "";
-            CHECK_EQ_INT(segment_graph_make(s, n, all, -3, &g, why, sizeof why), HPFC_OK);
+            CHECK_EQ_INT(segment_graph_make(s, n, ends, n_ends, all, -3, &g, why, sizeof why),
+                         HPFC_OK);
             if (g) {
                 CHECK_EQ_INT(hpfc_graph_unit_exp10(g), -3);
                 CHECK_EQ_INT(hpfc_graph_validate(g, NULL), HPFC_OK);
-                check_graph(s, n, g, all);
+                check_graph(s, n, ends, n_ends, g, all);
             }
             hpfc_graph_free(g);
         }
@@ -214,7 +236,7 @@ static void test_empty(void)
 {
     hpfc_graph *g = NULL;
     char why[64];
-    CHECK_EQ_INT(segment_graph_make(NULL, 0, 0, 0, &g, why, sizeof why), HPFC_OK);
+    CHECK_EQ_INT(segment_graph_make(NULL, 0, NULL, 0, 0, 0, &g, why, sizeof why), HPFC_OK);
     CHECK(g != NULL);
     CHECK_EQ_INT(hpfc_graph_vertex_count(g), 0);
     CHECK_EQ_INT(hpfc_graph_edge_count(g), 0);

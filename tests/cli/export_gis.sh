@@ -158,4 +158,28 @@ for s in shp shx dbf prj; do
 done
 [ "$(ls -A "$tmp/empty" | grep -c '^\.')" -eq 0 ] || fail "--export .shp left a temporary directory"
 
+# Lines that meet end to end at points of degree 2 (a road cut into
+# segments, a closed line from another's end): each comes back as itself,
+# with the default --vertices, its ends vertices of the map.
+run "$PACK" "$GIS/ok/lines_end_to_end.geojson" -o "$tmp/lines.hpfc"
+expect_ok "lines end to end: pack"
+run "$INSPECT" --export "$tmp/lines.geojson" "$tmp/lines.hpfc"
+expect_ok "lines end to end: --export"
+"$py" - "$GIS/ok/lines_end_to_end.geojson" "$tmp/lines.geojson" <<'PY' || fail "lines end to end: a line took in another's geometry"
+import json, math, sys
+src = {f["properties"]["i"]: f["geometry"]["coordinates"] for f in json.load(open(sys.argv[1]))["features"]}
+out = {f["properties"]["key"] if "key" in f["properties"] else f["properties"]["fid"]: f["geometry"]
+       for f in json.load(open(sys.argv[2]))["features"]}
+assert len(out) == len(src), (len(out), len(src))
+for i, coords in src.items():
+    g = out[i]
+    lines = [g["coordinates"]] if g["type"] == "LineString" else g["coordinates"]
+    points = [p for line in lines for p in line]
+    # the same points in order (exported ones within a lattice unit)
+    assert len(points) == len(coords), (i, g)
+    for p, q in zip(points, coords):
+        assert math.hypot(p[0] - q[0], p[1] - q[1]) < 1e-6, (i, p, q)
+print("lines end to end: every line as itself")
+PY
+
 finish
