@@ -11,7 +11,6 @@
  */
 #include "export_gis.h"
 
-#include <dirent.h>
 #include <errno.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -29,6 +28,7 @@
 #include <ogr_api.h>
 #include <ogr_srs_api.h>
 
+#include "atomic_output.h"
 #include "hpfc.h"
 #include "jsonw.h"
 #include "projection.h"
@@ -716,73 +716,6 @@ static int write_faces(exporter *x)
 
 /* ---- atomic output ------------------------------------------------------------------- */
 
-/* OUT's directory ("." when none) and last name. */
-static char *dir_of(const char *path, const char **base)
-{
-    const char *slash = strrchr(path, '/');
-    size_t dlen = slash ? (size_t)(slash - path) : 1;
-    if (slash && dlen == 0)
-        dlen = 1;
-    char *dir = malloc(dlen + 1);
-    if (dir) {
-        memcpy(dir, slash ? path : ".", dlen);
-        dir[dlen] = '\0';
-    }
-    *base = slash ? slash + 1 : path;
-    return dir;
-}
-
-static char *join(const char *a, const char *b)
-{
-    size_t n = strlen(a) + strlen(b) + 2;
-    char *p = malloc(n);
-    if (p)
-        snprintf(p, n, "%s/%s", a, b);
-    return p;
-}
-
-/* Removes the temporary directory and what is left in it. */
-static void remove_temp(const char *tmp)
-{
-    DIR *d = opendir(tmp);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d)))
-            if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-                char *p = join(tmp, e->d_name);
-                if (p)
-                    unlink(p);
-                free(p);
-            }
-        closedir(d);
-    }
-    rmdir(tmp);
-}
-
-/* Moves every file the driver wrote into OUT's directory (each rename is
- * atomic; a multi-file format such as a Shapefile is moved file by file). */
-static int move_into_place(exporter *x, const char *tmp, const char *dir)
-{
-    DIR *d = opendir(tmp);
-    if (!d)
-        return fail(x, "%s: %s", tmp, strerror(errno));
-    struct dirent *e;
-    int r = 0;
-    while (!r && (e = readdir(d))) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
-            continue;
-        char *from = join(tmp, e->d_name), *to = join(dir, e->d_name);
-        if (!from || !to)
-            r = fail(x, "out of memory");
-        else if (rename(from, to) != 0)
-            r = fail(x, "%s: cannot replace: %s", to, strerror(errno));
-        free(from);
-        free(to);
-    }
-    closedir(d);
-    return r;
-}
-
 static int write_dataset(exporter *x, const char *path)
 {
     CPLErrorReset();
@@ -799,42 +732,21 @@ static int write_dataset(exporter *x, const char *path)
     return r;
 }
 
-/* The dataset in a fresh directory beside OUT, then moved into place. */
+/* The dataset in a temporary directory beside OUT, then moved into place
+ * (common/atomic_output.h: a driver may make several files). */
 static int write_atomically(exporter *x)
 {
-    const char *base;
-    char *dir = dir_of(x->o->output, &base);
-    if (!dir)
-        return fail(x, "out of memory");
-    if (!*base) {
-        free(dir);
-        return fail(x, "%s: not a file name", x->o->output);
+    char why[ATOMIC_WHY];
+    atomic_output o;
+    if (atomic_output_open_dir(&o, x->o->output, why))
+        return fail(x, "%s", why);
+    if (write_dataset(x, o.inner)) {
+        atomic_output_discard(&o);
+        return 1;
     }
-    size_t n = strlen(dir) + strlen(base) + 16;
-    char *tmp = malloc(n);
-    int r = 0;
-    if (!tmp) {
-        r = fail(x, "out of memory");
-    } else {
-        snprintf(tmp, n, "%s/.%s.XXXXXX", dir, base);
-        if (!mkdtemp(tmp)) {
-            r = fail(x, "%s: cannot create a temporary directory: %s", x->o->output,
-                     strerror(errno));
-            free(tmp);
-            tmp = NULL;
-        }
-    }
-    if (tmp) {
-        char *path = join(tmp, base);
-        r = path ? write_dataset(x, path) : fail(x, "out of memory");
-        free(path);
-        if (!r)
-            r = move_into_place(x, tmp, dir);
-        remove_temp(tmp);
-        free(tmp);
-    }
-    free(dir);
-    return r;
+    if (atomic_output_commit(&o, why))
+        return fail(x, "%s", why);
+    return 0;
 }
 
 /* ---- the run ------------------------------------------------------------------------- */
