@@ -16,8 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#define SUFFIX_FILE ".tmp"
-#define SUFFIX_DIR ".tmpdir"
+#define SUFFIX ".tmp"
 
 /* Fills why[]; leaves errno = err for atomic_output_check. */
 static int say(char *why, const char *path, const char *what, int err)
@@ -51,32 +50,7 @@ static void temp_name(const atomic_output *o, const char *suffix, char *buf, siz
              (unsigned long long)(r & 0xffffffffffffu), suffix);
 }
 
-/* Removes a file or a directory with what is in it (a GDAL driver may make
- * one level of subdirectories); depth bounds the recursion. */
-static void remove_tree(const char *path, int depth)
-{
-    if (unlink(path) == 0 || errno == ENOENT || depth <= 0)
-        return;
-    DIR *d = opendir(path);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d))) {
-            if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
-                continue;
-            size_t n = strlen(path) + strlen(e->d_name) + 2;
-            char *p = malloc(n);
-            if (p) {
-                snprintf(p, n, "%s/%s", path, e->d_name);
-                remove_tree(p, depth - 1);
-            }
-            free(p);
-        }
-        closedir(d);
-    }
-    rmdir(path);
-}
-
-/* Whether `name` is ".<base>.<pid>.<hex>.tmp[dir]" of a process that no
+/* Whether `name` is ".<base>.<pid>.<hex>.tmp" of a process that no
  * longer exists. A pid reused since is only a leftover kept. */
 static int stale(const char *name, const char *base)
 {
@@ -92,7 +66,7 @@ static int stale(const char *name, const char *base)
     const char *h = ++q;
     while ((*q >= '0' && *q <= '9') || (*q >= 'a' && *q <= 'f'))
         q++;
-    if (q - h != 12 || (strcmp(q, SUFFIX_FILE) != 0 && strcmp(q, SUFFIX_DIR) != 0))
+    if (q - h != 12 || strcmp(q, SUFFIX) != 0)
         return 0;
     if (pid <= 0 || pid == (long)getpid())
         return 0;
@@ -113,7 +87,7 @@ static void sweep(const atomic_output *o)
         char *p = malloc(n);
         if (p) {
             snprintf(p, n, "%s/%s", o->dir, e->d_name);
-            remove_tree(p, 2);
+            unlink(p);
         }
         free(p);
     }
@@ -172,7 +146,7 @@ int atomic_output_open(atomic_output *o, const char *path, char *why)
     /* mode 0666 so that the umask gives OUT its usual permissions, which
      * mkstemp's 0600 would not */
     for (int attempt = 0; attempt < 64 && o->fd < 0; attempt++) {
-        temp_name(o, SUFFIX_FILE, o->tmp, cap, attempt);
+        temp_name(o, SUFFIX, o->tmp, cap, attempt);
         o->fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (o->fd < 0 && errno != EEXIST)
             break;
@@ -196,38 +170,6 @@ FILE *atomic_output_stream(atomic_output *o)
     return o->fp;
 }
 
-int atomic_output_open_dir(atomic_output *o, const char *path, char *why)
-{
-    if (start(o, path, why))
-        return 1;
-    o->is_dir = 1;
-    size_t cap = strlen(o->dir) + strlen(o->base) + 48;
-    if (!(o->tmp = malloc(cap)) || !(o->inner = malloc(cap + strlen(o->base) + 1))) {
-        free(o->tmp);
-        o->tmp = NULL;
-        atomic_output_discard(o);
-        return say(why, path, "cannot write", ENOMEM);
-    }
-    int made = 0;
-    for (int attempt = 0; attempt < 64 && !made; attempt++) {
-        temp_name(o, SUFFIX_DIR, o->tmp, cap, attempt);
-        made = mkdir(o->tmp, 0700) == 0;
-        if (!made && errno != EEXIST)
-            break;
-    }
-    if (!made) {
-        int err = errno;
-        char where[180];
-        snprintf(where, sizeof where, "cannot create a temporary directory in %.120s", o->dir);
-        free(o->tmp);
-        o->tmp = NULL;
-        atomic_output_discard(o);
-        return say(why, path, where, err);
-    }
-    snprintf(o->inner, cap + strlen(o->base) + 1, "%s/%s", o->tmp, o->base);
-    return 0;
-}
-
 void atomic_output_discard(atomic_output *o)
 {
     if (o->fp)
@@ -235,9 +177,8 @@ void atomic_output_discard(atomic_output *o)
     else if (o->fd >= 0)
         close(o->fd);
     if (o->tmp)
-        remove_tree(o->tmp, o->is_dir ? 2 : 0);
+        unlink(o->tmp);
     free(o->tmp);
-    free(o->inner);
     free(o->dir);
     free(o->path);
     memset(o, 0, sizeof *o);
@@ -267,7 +208,7 @@ static int name_temp(atomic_output *o)
     char proc[64];
     snprintf(proc, sizeof proc, "/proc/self/fd/%d", o->fd);
     for (int attempt = 0; attempt < 64; attempt++) {
-        temp_name(o, SUFFIX_FILE, o->tmp, cap, attempt);
+        temp_name(o, SUFFIX, o->tmp, cap, attempt);
         if (linkat(AT_FDCWD, proc, AT_FDCWD, o->tmp, AT_SYMLINK_FOLLOW) == 0)
             return 0;
         if (errno != EEXIST)
@@ -307,61 +248,9 @@ static int commit_file(atomic_output *o, char *why)
     return 0;
 }
 
-/* Every regular file the writer made in the temporary directory: synced,
- * then renamed beside OUT. */
-static int commit_dir(atomic_output *o, char *why)
-{
-    DIR *d = opendir(o->tmp);
-    if (!d)
-        return say(why, o->path, "cannot read the temporary directory", errno);
-    struct dirent *e;
-    int err = 0, moved = 0;
-    for (int pass = 0; pass < 2 && !err; pass++) {
-        rewinddir(d);
-        while (!err && (e = readdir(d))) {
-            if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
-                continue;
-            size_t n = strlen(o->tmp) + strlen(o->dir) + strlen(e->d_name) + 2;
-            char *from = malloc(n), *to = malloc(n);
-            if (!from || !to) {
-                err = ENOMEM;
-            } else {
-                snprintf(from, n, "%s/%s", o->tmp, e->d_name);
-                snprintf(to, n, "%s/%s", o->dir, e->d_name);
-                if (pass == 0) { /* every file durable before any is renamed */
-                    int fd = open(from, O_RDONLY | O_CLOEXEC);
-                    if (fd < 0 || fsync(fd) != 0)
-                        err = errno;
-                    if (fd >= 0)
-                        close(fd);
-                    if (err == EINVAL) /* a directory some file systems will not sync */
-                        err = 0;
-                } else if (rename(from, to) != 0) {
-                    err = errno;
-                } else {
-                    moved++;
-                }
-            }
-            free(from);
-            free(to);
-        }
-    }
-    closedir(d);
-    if (!err && !moved)
-        return say(why, o->path, "the writer made no file", 0);
-    if (err)
-        return say(why, o->path, moved ? "cannot replace" : "cannot write", err);
-    remove_tree(o->tmp, 2);
-    free(o->tmp);
-    o->tmp = NULL;
-    if ((err = sync_dir(o->dir)))
-        return say(why, o->path, "cannot sync its directory", err);
-    return 0;
-}
-
 int atomic_output_commit(atomic_output *o, char *why)
 {
-    int r = o->is_dir ? commit_dir(o, why) : commit_file(o, why);
+    int r = commit_file(o, why);
     atomic_output_discard(o);
     return r;
 }

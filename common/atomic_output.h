@@ -1,7 +1,9 @@
 /*
  * atomic_output.h: how every tool writes an output file (hpfc-pack's
  * .hpfc, hpfc-inspect's --export-graph, --export, --export-faces and
- * --render pictures and world files): one routine, one policy.
+ * --render pictures and world files): one routine, one policy. (GDAL
+ * drivers write into memory first, for the reason export_gis.c gives, and
+ * each file they make comes out through here.)
  *
  * The bytes go to a temporary file in OUT's directory (so that the rename
  * stays on one file system), which is flushed and fsync'd, renamed over
@@ -14,7 +16,7 @@
  * the system allows it (Linux O_TMPFILE) the temporary file has no name
  * until it is complete, so a kill leaves nothing; elsewhere, and in the
  * instant between naming a complete file and renaming it, it leaves a
- * hidden ".OUT.<pid>.<hex>.tmp" (or ".tmpdir"), which the next write of
+ * hidden ".OUT.<pid>.<hex>.tmp", which the next write of
  * the same OUT removes once process <pid> is gone. OUT itself is never
  * partial.
  *
@@ -39,11 +41,9 @@ typedef struct atomic_output {
     char *path;       /* OUT, as given */
     char *dir;        /* OUT's directory: ".", "/" or the part before the last '/' */
     const char *base; /* OUT's last name, inside path */
-    char *tmp;        /* the temporary file's (or directory's) name; NULL while unnamed */
-    char *inner;      /* a directory output: the path its writer writes OUT to */
-    int fd;           /* the temporary file, -1 for a directory output */
+    char *tmp;        /* the temporary file's name; NULL while unnamed */
+    int fd;           /* the temporary file */
     FILE *fp;         /* atomic_output_stream's stream over fd, once asked for */
-    int is_dir;
 } atomic_output;
 
 /* Creates OUT's temporary file. 0, or 1 with why[] filled. */
@@ -61,14 +61,6 @@ int atomic_output_commit(atomic_output *o, char *why);
 /* Removes the temporary file and releases o (any state after a
  * successful open, or a zeroed o: nothing to do). */
 void atomic_output_discard(atomic_output *o);
-
-/* For writers that want a path and may make several files (GDAL drivers:
- * a Shapefile is .shp, .shx, .dbf, .prj): creates a temporary directory
- * beside OUT; o->inner is "<that directory>/<OUT's name>", the path to
- * give the writer. atomic_output_commit then fsyncs every file the writer
- * made there and renames each over its namesake beside OUT (each rename
- * atomic; a multi-file set is replaced file by file). */
-int atomic_output_open_dir(atomic_output *o, const char *path, char *why);
 
 /* The whole of `size` bytes as OUT, by open, write and commit. */
 int atomic_output_write(const char *path, const void *data, size_t size, char *why);

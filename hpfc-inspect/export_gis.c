@@ -24,6 +24,7 @@
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_string.h>
+#include <cpl_vsi.h>
 #include <gdal.h>
 #include <ogr_api.h>
 #include <ogr_srs_api.h>
@@ -732,21 +733,65 @@ static int write_dataset(exporter *x, const char *path)
     return r;
 }
 
-/* The dataset in a temporary directory beside OUT, then moved into place
- * (common/atomic_output.h: a driver may make several files). */
+/* Copies every file the driver made in `mem` beside OUT, each through
+ * common/atomic_output.h (a Shapefile's .shp, .shx, .dbf and .prj are
+ * replaced one by one, each whole). */
+static int copy_out(exporter *x, const char *mem)
+{
+    const char *out = x->o->output, *slash = strrchr(out, '/');
+    size_t dlen = slash ? (size_t)(slash - out) + 1 : 0;
+    char **names = VSIReadDir(mem);
+    int r = 0, copied = 0;
+    for (int i = 0; names && names[i] && !r; i++) {
+        if (!strcmp(names[i], ".") || !strcmp(names[i], ".."))
+            continue;
+        char *from = CPLStrdup(CPLFormFilename(mem, names[i], NULL));
+        size_t n = dlen + strlen(names[i]) + 1;
+        char *to = malloc(n), why[ATOMIC_WHY];
+        vsi_l_offset len = 0;
+        GByte *bytes;
+        if (!to) {
+            r = fail(x, "out of memory");
+        } else if (snprintf(to, n, "%.*s%s", (int)dlen, out, names[i]) < 0 ||
+                   !(bytes = VSIGetMemFileBuffer(from, &len, FALSE))) { /* not a file */
+            r = fail(x, "%s: the driver made a directory, %s (name OUT with the driver's "
+                        "extension)", out, names[i]);
+        } else if (atomic_output_write(to, bytes, (size_t)len, why)) {
+            r = fail(x, "%s", why);
+        } else {
+            copied++;
+        }
+        free(to);
+        CPLFree(from);
+    }
+    CSLDestroy(names);
+    if (!r && !copied)
+        r = fail(x, "%s: the driver wrote no file", out);
+    return r;
+}
+
+/* The driver writes into memory (/vsimem), and the files it made are then
+ * written out by common/atomic_output.h. Writing through the driver to
+ * disk would trust it with write errors, and some drivers ignore them:
+ * GeoJSON and FlatGeobuf, at a full disk, close a truncated file and
+ * report success. The cost is the output's size in memory. */
 static int write_atomically(exporter *x)
 {
-    char why[ATOMIC_WHY];
-    atomic_output o;
-    if (atomic_output_open_dir(&o, x->o->output, why))
+    char why[ATOMIC_WHY], mem[96];
+    /* a read-only directory fails before the work */
+    if (atomic_output_check(x->o->output, why))
         return fail(x, "%s", why);
-    if (write_dataset(x, o.inner)) {
-        atomic_output_discard(&o);
-        return 1;
-    }
-    if (atomic_output_commit(&o, why))
-        return fail(x, "%s", why);
-    return 0;
+    const char *base = strrchr(x->o->output, '/');
+    base = base ? base + 1 : x->o->output;
+    snprintf(mem, sizeof mem, "/vsimem/hpfc-export-%ld-%p", (long)getpid(), (void *)x);
+    VSIMkdir(mem, 0700);
+    char *path = CPLStrdup(CPLFormFilename(mem, base, NULL));
+    int r = write_dataset(x, path);
+    if (!r)
+        r = copy_out(x, mem);
+    CPLFree(path);
+    VSIRmdirRecursive(mem);
+    return r;
 }
 
 /* ---- the run ------------------------------------------------------------------------- */

@@ -968,16 +968,28 @@ const char *__lsan_default_options(void)
 }
 #endif
 
+/* cairo's PNG stream: the file and the errno of a failed write, which
+ * cairo reduces to CAIRO_STATUS_WRITE_ERROR. */
+typedef struct png_sink {
+    FILE *f;
+    int err;
+} png_sink;
+
 static cairo_status_t png_bytes(void *closure, const unsigned char *data, unsigned int length)
 {
-    return fwrite(data, 1, length, closure) == length ? CAIRO_STATUS_SUCCESS
-                                                      : CAIRO_STATUS_WRITE_ERROR;
+    png_sink *sink = closure;
+    if (fwrite(data, 1, length, sink->f) == length)
+        return CAIRO_STATUS_SUCCESS;
+    if (!sink->err)
+        sink->err = errno ? errno : EIO;
+    return CAIRO_STATUS_WRITE_ERROR;
 }
 
 /* 0, or 1 with the reason when cairo fails (not for a failed write: the
- * caller checks the stream). */
-static int write_png(scene *s, FILE *out, const char *path, char *why)
+ * caller checks the stream, and *werr has the write's errno). */
+static int write_png(scene *s, FILE *out, const char *path, char *why, int *werr)
 {
+    png_sink sink = {out, 0};
     cairo_surface_t *surface =
         cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)s->width, (int)s->height);
     cairo_t *cr = cairo_create(surface);
@@ -985,7 +997,8 @@ static int write_png(scene *s, FILE *out, const char *path, char *why)
     cairo_status_t cs = cairo_status(cr);
     cairo_destroy(cr);
     if (cs == CAIRO_STATUS_SUCCESS)
-        cs = cairo_surface_write_to_png_stream(surface, png_bytes, out);
+        cs = cairo_surface_write_to_png_stream(surface, png_bytes, &sink);
+    *werr = sink.err;
     cairo_surface_destroy(surface);
     cairo_debug_reset_static_data(); /* cairo's caches, for leak checkers */
     if (cs != CAIRO_STATUS_SUCCESS && cs != CAIRO_STATUS_WRITE_ERROR) {
@@ -1032,7 +1045,7 @@ static int write_output(scene *s, const render_params *p, char *why)
         write_svg(s, out);
     }
 #ifdef HPFC_HAVE_CAIRO
-    else if (out && write_png(s, out, p->output, why)) {
+    else if (out && write_png(s, out, p->output, why, &err)) {
         atomic_output_discard(&o); /* why[] says what cairo refused */
         return 1;
     }
@@ -1040,7 +1053,7 @@ static int write_output(scene *s, const render_params *p, char *why)
     if (!bad) {
         errno = 0;
         if (fflush(out) != 0 || ferror(out))
-            bad = 1, err = errno ? errno : EIO;
+            bad = 1, err = err ? err : errno ? errno : EIO;
     }
     if (bad) {
         atomic_output_discard(&o);
