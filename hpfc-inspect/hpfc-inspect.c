@@ -798,6 +798,19 @@ static int run_batch(const inspect_args *a, const hpfc_file *f, char *why)
     return status;
 }
 
+/* FILE for hpfc_open: "-" is standard input, and a file that cannot be
+ * mapped (standard input, a pipe, a FIFO) is read into memory instead
+ * (HPFC_OPEN_READ), once: the summary and the queries read it through the
+ * handle only. */
+static int open_input(const char *path, hpfc_file **f)
+{
+    struct stat sb;
+    int from_stdin = strcmp(path, "-") == 0;
+    const char *p = from_stdin ? "/dev/stdin" : path;
+    int unmappable = stat(p, &sb) == 0 && !S_ISREG(sb.st_mode) && !S_ISDIR(sb.st_mode);
+    return hpfc_open(p, from_stdin || unmappable ? HPFC_OPEN_READ : 0, f);
+}
+
 /* One query on the open file; a failure is one line naming FILE. */
 static int run_query(const inspect_args *a)
 {
@@ -808,7 +821,7 @@ static int run_query(const inspect_args *a)
         return EXIT_FAIL;
     hpfc_file *f = NULL;
     errno = 0;
-    int st = hpfc_open(a->file, 0, &f);
+    int st = open_input(a->file, &f);
     if (st)
         return open_error(a->file, st, errno);
     char why[VIEW_WHY] = "";
@@ -838,7 +851,7 @@ static int run_summary(const inspect_args *a)
 {
     hpfc_file *f = NULL;
     errno = 0;
-    int st = hpfc_open(a->file, 0, &f);
+    int st = open_input(a->file, &f);
     if (st)
         return open_error(a->file, st, errno);
     summary s = {0};

@@ -464,8 +464,36 @@ HPFC_API int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_
  * never a crash, an out-of-bounds read or an endless loop. Safe on
  * untrusted input.
  *
- * Thread safety: an open hpfc_file is read-only; any number of threads may
- * use one handle at once. hpfc_pixel values belong to their caller.
+ * Thread safety, handle by handle (tests/test_threads.c runs them from 8
+ * threads under ThreadSanitizer):
+ *   - hpfc_file: read-only once open; any number of threads may call
+ *     any function on one handle at once (hpfc_locate, hpfc_locate_point,
+ *     hpfc_locate_batch, the file's info, features, attributes, labels and
+ *     geometry calls). Close it after every other thread is done.
+ *   - hpfc_faces (hpfc_faces_build): read-only once built; shared as the
+ *     file is, by every call that takes it (hpfc_locate_batch,
+ *     hpfc_faces_pixel_face, hpfc_faces_key_face, whose walker is the
+ *     calling thread's own).
+ *   - hpfc_walker: one thread at a time. It holds the cache and scratch
+ *     of the traversal calls; a thread that walks creates its own.
+ *   - hpfc_shapes: one thread at a time. Its answers live in the object
+ *     until its next call; a thread that asks for shapes creates its own
+ *     (from the shared hpfc_file).
+ *   - hpfc_pixel, hpfc_polygons and every caller buffer belong to their
+ *     caller. The library keeps no global state.
+ *
+ * A mapped file must not change under its mapping. hpfc_open maps the file
+ * (MAP_PRIVATE, read-only): a file replaced by rename, as every writer of
+ * this library and its tools replaces one, leaves open handles reading
+ * the old bytes, which stay as long as the mapping. A file truncated in
+ * place while mapped makes the next read past its new end fault (SIGBUS),
+ * and one rewritten in place makes the handle read bytes that open did not
+ * check: as with LMDB and SQLite's mmap mode, do not truncate or rewrite in
+ * place a file that a program has open. For a file on storage that others
+ * may change (a shared or network file system, a file of another user), or
+ * one that cannot be mapped (a pipe, a FIFO, standard input), open it with
+ * HPFC_OPEN_READ: the library reads it into memory of its own, and later
+ * changes to the file do not reach the handle.
  * ------------------------------------------------------------------------ */
 typedef struct hpfc_file hpfc_file;
 
@@ -473,7 +501,15 @@ typedef struct hpfc_file hpfc_file;
 #define HPFC_OPEN_SKIP_CHECKSUM 0x1u  /* do not verify the header checksum
                                          (for fuzzing past it; all bounds are
                                          still checked) */
+#define HPFC_OPEN_READ 0x2u           /* read the file into memory the handle
+                                         owns instead of mapping it (above):
+                                         pipes and character devices too,
+                                         read to their end */
 
+/* Opens `path` (mapped, or read under HPFC_OPEN_READ) and validates it
+ * as hpfc_open_memory does. HPFC_E_IO when the file cannot be opened or
+ * read, is a directory, or is not a regular file without HPFC_OPEN_READ
+ * (errno says why); HPFC_E_NOMEM when it does not fit in memory. */
 HPFC_API int hpfc_open(const char *path, unsigned flags, hpfc_file **out);
 /* The buffer must stay valid and unchanged until hpfc_close(). */
 HPFC_API int hpfc_open_memory(const void *data, size_t size, unsigned flags,
