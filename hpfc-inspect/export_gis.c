@@ -854,6 +854,11 @@ static int run(exporter *x)
                         x->o->file);
         return fail(x, "%s: geometry: %s", x->o->file, hpfc_strerror(st));
     }
+    /* The export asks for every feature whole, however large: the caps
+     * that protect an interactive query would refuse a legitimate one.
+     * Each answer stays bounded by the checksummed file. */
+    hpfc_limits unlimited = {HPFC_LIMIT_NONE, HPFC_LIMIT_NONE};
+    hpfc_shapes_set_limits(x->shapes, &unlimited);
     hpfc_features_info fi;
     if (!x->o->faces && (st = hpfc_file_get_features(x->f, &fi)) == HPFC_E_NO_SECTION)
         return fail(x, "%s: the file has no features (FEAT section); --export-faces writes its "

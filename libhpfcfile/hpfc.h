@@ -94,7 +94,8 @@
  * hpfc_file_info, hpfc_level_info, hpfc_section_info, hpfc_features_info,
  * hpfc_feature, hpfc_labels_info, hpfc_attrs_info, hpfc_edge_links_info,
  * hpfc_geometry_info) and those it reads
- * (hpfc_build_params, hpfc_write_options, hpfc_batch.h's hpfc_locate_out)
+ * (hpfc_build_params, hpfc_write_options, hpfc_limits, hpfc_batch.h's
+ * hpfc_locate_out)
  * may gain fields in later releases. Each call that takes one is a
  * function named `..._sized` that also takes the struct's size as the
  * caller was compiled, e.g. hpfc_file_get_info_sized(file, &info,
@@ -178,7 +179,8 @@ enum {
     HPFC_E_SECTION = 47,        /* the section directory is inconsistent */
     HPFC_E_CORRUPT = 48,        /* pool contents contradict the format */
     HPFC_E_NO_PIXEL = 49,       /* a move leaves the domain, or no such pixel */
-    HPFC_E_NO_SECTION = 50      /* the file has no section of the kind asked for */
+    HPFC_E_NO_SECTION = 50,     /* the file has no section of the kind asked for */
+    HPFC_E_OVER_LIMIT = 51      /* a call would pass a resource limit (hpfc_limits) */
 };
 
 /* A short static English description of a status code. Never NULL. */
@@ -1164,6 +1166,39 @@ typedef struct hpfc_shapes hpfc_shapes;
 HPFC_API int hpfc_shapes_create(const hpfc_file *file, hpfc_shapes **out);
 HPFC_API void hpfc_shapes_free(hpfc_shapes *shapes);
 HPFC_API uint64_t hpfc_shapes_face_count(const hpfc_shapes *shapes);
+
+/* Caps on what one call of an hpfc_shapes may spend (as libspng's
+ * spng_set_image_limits). A file's sections bound every answer, but a
+ * valid or hostile file may still hold a feature of 10^8 points or put
+ * every face in one window: the call would then allocate gigabytes. With
+ * a cap set, a call that would pass it stops first, before it gathers the
+ * points or lists the ids, and returns HPFC_E_OVER_LIMIT; the object stays
+ * usable. The defaults (a field 0, or never calling
+ * hpfc_shapes_set_limits) keep one call under about 300 MB:
+ *   max_points  shape points one hpfc_shapes_face_polygons,
+ *               _feature_polygons or _feature_polylines answer gathers
+ *               (about 32 bytes each: read once, kept in the answer);
+ *               HPFC_LIMIT_POINTS_DEFAULT, 2^23
+ *   max_items   faces + edges + features one hpfc_shapes_window answer
+ *               lists (9 bytes each); HPFC_LIMIT_ITEMS_DEFAULT, 2^24
+ * HPFC_LIMIT_NONE lifts a cap. hpfc_locate_batch needs none: it keeps at
+ * most 16 MB of its own whatever the number of points, and spends per
+ * point the cost of one location; hpfc_locate_point and the walker calls
+ * allocate in proportion to one leaf. */
+typedef struct hpfc_limits {
+    uint64_t max_points;
+    uint64_t max_items;
+} hpfc_limits;
+#define HPFC_LIMIT_POINTS_DEFAULT ((uint64_t)1 << 23)
+#define HPFC_LIMIT_ITEMS_DEFAULT ((uint64_t)1 << 24)
+#define HPFC_LIMIT_NONE UINT64_MAX
+/* Sets the caps of every later call on `shapes` (limits NULL: the
+ * defaults). HPFC_E_ARG for a NULL shapes. hpfc_limits can grow (the
+ * introduction, "Structs that grow"). */
+HPFC_API int hpfc_shapes_set_limits_sized(hpfc_shapes *shapes, const hpfc_limits *limits,
+                                          size_t limits_size);
+#define hpfc_shapes_set_limits(shapes, limits) \
+    hpfc_shapes_set_limits_sized((shapes), (limits), sizeof(hpfc_limits))
 
 /* The rings of face `face` (HPFC_E_ARG past the face count), each polygon
  * an outer ring then its holes, a hole going to the smallest outer ring
