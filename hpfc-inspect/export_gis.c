@@ -11,7 +11,6 @@
  */
 #include "export_gis.h"
 
-#include <dirent.h>
 #include <errno.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -25,10 +24,12 @@
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_string.h>
+#include <cpl_vsi.h>
 #include <gdal.h>
 #include <ogr_api.h>
 #include <ogr_srs_api.h>
 
+#include "atomic_output.h"
 #include "clock.h"
 #include "hpfc.h"
 #include "jsonw.h"
@@ -717,73 +718,6 @@ static int write_faces(exporter *x)
 
 /* ---- atomic output ------------------------------------------------------------------- */
 
-/* OUT's directory ("." when none) and last name. */
-static char *dir_of(const char *path, const char **base)
-{
-    const char *slash = strrchr(path, '/');
-    size_t dlen = slash ? (size_t)(slash - path) : 1;
-    if (slash && dlen == 0)
-        dlen = 1;
-    char *dir = malloc(dlen + 1);
-    if (dir) {
-        memcpy(dir, slash ? path : ".", dlen);
-        dir[dlen] = '\0';
-    }
-    *base = slash ? slash + 1 : path;
-    return dir;
-}
-
-static char *join(const char *a, const char *b)
-{
-    size_t n = strlen(a) + strlen(b) + 2;
-    char *p = malloc(n);
-    if (p)
-        snprintf(p, n, "%s/%s", a, b);
-    return p;
-}
-
-/* Removes the temporary directory and what is left in it. */
-static void remove_temp(const char *tmp)
-{
-    DIR *d = opendir(tmp);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d)))
-            if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-                char *p = join(tmp, e->d_name);
-                if (p)
-                    unlink(p);
-                free(p);
-            }
-        closedir(d);
-    }
-    rmdir(tmp);
-}
-
-/* Moves every file the driver wrote into OUT's directory (each rename is
- * atomic; a multi-file format such as a Shapefile is moved file by file). */
-static int move_into_place(exporter *x, const char *tmp, const char *dir)
-{
-    DIR *d = opendir(tmp);
-    if (!d)
-        return fail(x, "%s: %s", tmp, strerror(errno));
-    struct dirent *e;
-    int r = 0;
-    while (!r && (e = readdir(d))) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
-            continue;
-        char *from = join(tmp, e->d_name), *to = join(dir, e->d_name);
-        if (!from || !to)
-            r = fail(x, "out of memory");
-        else if (rename(from, to) != 0)
-            r = fail(x, "%s: cannot replace: %s", to, strerror(errno));
-        free(from);
-        free(to);
-    }
-    closedir(d);
-    return r;
-}
-
 static int write_dataset(exporter *x, const char *path)
 {
     CPLErrorReset();
@@ -800,41 +734,64 @@ static int write_dataset(exporter *x, const char *path)
     return r;
 }
 
-/* The dataset in a fresh directory beside OUT, then moved into place. */
+/* Copies every file the driver made in `mem` beside OUT, each through
+ * common/atomic_output.h (a Shapefile's .shp, .shx, .dbf and .prj are
+ * replaced one by one, each whole). */
+static int copy_out(exporter *x, const char *mem)
+{
+    const char *out = x->o->output, *slash = strrchr(out, '/');
+    size_t dlen = slash ? (size_t)(slash - out) + 1 : 0;
+    char **names = VSIReadDir(mem);
+    int r = 0, copied = 0;
+    for (int i = 0; names && names[i] && !r; i++) {
+        if (!strcmp(names[i], ".") || !strcmp(names[i], ".."))
+            continue;
+        char *from = CPLStrdup(CPLFormFilename(mem, names[i], NULL));
+        size_t n = dlen + strlen(names[i]) + 1;
+        char *to = malloc(n), why[ATOMIC_WHY];
+        vsi_l_offset len = 0;
+        GByte *bytes;
+        if (!to) {
+            r = fail(x, "out of memory");
+        } else if (snprintf(to, n, "%.*s%s", (int)dlen, out, names[i]) < 0 ||
+                   !(bytes = VSIGetMemFileBuffer(from, &len, FALSE))) { /* not a file */
+            r = fail(x, "%s: the driver made a directory, %s (name OUT with the driver's "
+                        "extension)", out, names[i]);
+        } else if (atomic_output_write(to, bytes, (size_t)len, why)) {
+            r = fail(x, "%s", why);
+        } else {
+            copied++;
+        }
+        free(to);
+        CPLFree(from);
+    }
+    CSLDestroy(names);
+    if (!r && !copied)
+        r = fail(x, "%s: the driver wrote no file", out);
+    return r;
+}
+
+/* The driver writes into memory (/vsimem), and the files it made are then
+ * written out by common/atomic_output.h. Writing through the driver to
+ * disk would trust it with write errors, and some drivers ignore them:
+ * GeoJSON and FlatGeobuf, at a full disk, close a truncated file and
+ * report success. The cost is the output's size in memory. */
 static int write_atomically(exporter *x)
 {
-    const char *base;
-    char *dir = dir_of(x->o->output, &base);
-    if (!dir)
-        return fail(x, "out of memory");
-    if (!*base) {
-        free(dir);
-        return fail(x, "%s: not a file name", x->o->output);
-    }
-    size_t n = strlen(dir) + strlen(base) + 16;
-    char *tmp = malloc(n);
-    int r = 0;
-    if (!tmp) {
-        r = fail(x, "out of memory");
-    } else {
-        snprintf(tmp, n, "%s/.%s.XXXXXX", dir, base);
-        if (!mkdtemp(tmp)) {
-            r = fail(x, "%s: cannot create a temporary directory: %s", x->o->output,
-                     strerror(errno));
-            free(tmp);
-            tmp = NULL;
-        }
-    }
-    if (tmp) {
-        char *path = join(tmp, base);
-        r = path ? write_dataset(x, path) : fail(x, "out of memory");
-        free(path);
-        if (!r)
-            r = move_into_place(x, tmp, dir);
-        remove_temp(tmp);
-        free(tmp);
-    }
-    free(dir);
+    char why[ATOMIC_WHY], mem[96];
+    /* a read-only directory fails before the work */
+    if (atomic_output_check(x->o->output, why))
+        return fail(x, "%s", why);
+    const char *base = strrchr(x->o->output, '/');
+    base = base ? base + 1 : x->o->output;
+    snprintf(mem, sizeof mem, "/vsimem/hpfc-export-%ld-%p", (long)getpid(), (void *)x);
+    VSIMkdir(mem, 0700);
+    char *path = CPLStrdup(CPLFormFilename(mem, base, NULL));
+    int r = write_dataset(x, path);
+    if (!r)
+        r = copy_out(x, mem);
+    CPLFree(path);
+    VSIRmdirRecursive(mem);
     return r;
 }
 
@@ -891,6 +848,11 @@ static int run(exporter *x)
                         x->o->file);
         return fail(x, "%s: geometry: %s", x->o->file, hpfc_strerror(st));
     }
+    /* The export asks for every feature whole, however large: the caps
+     * that protect an interactive query would refuse a legitimate one.
+     * Each answer stays bounded by the checksummed file. */
+    hpfc_limits unlimited = {HPFC_LIMIT_NONE, HPFC_LIMIT_NONE};
+    hpfc_shapes_set_limits(x->shapes, &unlimited);
     hpfc_features_info fi;
     if (!x->o->faces && (st = hpfc_file_get_features(x->f, &fi)) == HPFC_E_NO_SECTION)
         return fail(x, "%s: the file has no features (FEAT section); --export-faces writes its "

@@ -33,6 +33,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "atomic_output.h"
 #include "export.h"
 #include "export_gis.h"
 #include "hpfc.h"
@@ -651,115 +652,30 @@ static int run_verify(const inspect_args *a)
 
 /* ---- --export-graph ------------------------------------------------------------ */
 
-/* Splits path into its directory (".", "/" or "dir") and its last name. */
-static char *dir_of(const char *path, const char **base)
-{
-    const char *slash = strrchr(path, '/');
-    size_t dlen = slash ? (size_t)(slash - path) : 1;
-    if (slash && dlen == 0)
-        dlen = 1; /* "/name": the root directory */
-    char *dir = malloc(dlen + 1);
-    if (dir) {
-        memcpy(dir, slash ? path : ".", dlen);
-        dir[dlen] = '\0';
-    }
-    *base = slash ? slash + 1 : path;
-    return dir;
-}
-
-/* Opens a fresh "<dir>/.<base>.XXXXXXXXXXXX.tmp" for writing (O_EXCL, mode
- * 0666 so that the umask gives OUT its usual permissions, which mkstemp's
- * 0600 would not). NULL with errno set on failure. */
-static FILE *create_temp(const char *dir, const char *base, char **tmp)
-{
-    size_t cap = strlen(dir) + strlen(base) + 32;
-    if (!(*tmp = malloc(cap)))
-        return NULL;
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    uint64_t seed = (uint64_t)ts.tv_nsec ^ (uint64_t)ts.tv_sec << 30 ^ (uint64_t)getpid() << 16;
-    for (int attempt = 0; attempt < 64; attempt++) {
-        seed = seed * 6364136223846793005u + 1442695040888963407u;
-        snprintf(*tmp, cap, "%s/.%s.%012llx.tmp", dir, base,
-                 (unsigned long long)(seed >> 16 & 0xffffffffffffu));
-        int fd = open(*tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0) {
-            FILE *fp = fdopen(fd, "w");
-            if (!fp) {
-                int err = errno;
-                close(fd);
-                unlink(*tmp);
-                errno = err;
-            }
-            return fp;
-        }
-        if (errno != EEXIST)
-            return NULL;
-    }
-    return NULL; /* errno == EEXIST */
-}
-
-/* Writes the map's JSON to the temporary file and makes it durable; 0 or
- * an errno value. fp is closed in any case. */
-static int fill_temp(FILE *fp, const hpfc_file *f, const exported_map *m)
-{
-    int err = 0;
-    errno = 0;
-    if (export_map_json(f, m, fp) != HPFC_OK || fflush(fp) != 0)
-        err = errno ? errno : EIO;
-    if (!err && fsync(fileno(fp)) != 0)
-        err = errno;
-    if (fclose(fp) != 0 && !err)
-        err = errno ? errno : EIO;
-    return err;
-}
-
-/* Makes the rename durable. Some file systems refuse fsync on a directory
- * (EINVAL); the rename has happened by then, so only real errors count. */
-static int sync_dir(const char *dir)
-{
-    int fd = open(dir, O_RDONLY | O_CLOEXEC);
-    if (fd < 0)
-        return errno;
-    int err = fsync(fd) ? errno : 0;
-    close(fd);
-    return err == EINVAL || err == ENOTSUP ? 0 : err;
-}
-
-/* Writes OUT atomically: a temporary file in OUT's directory, renamed over
- * OUT only once complete, so a failure leaves no partial OUT and an existing
- * OUT untouched. Returns 0 or EXIT_FAIL after printing the reason. */
+/* Writes OUT through common/atomic_output.h (no partial OUT, an existing
+ * OUT untouched on failure). Returns 0 or EXIT_FAIL after printing the
+ * reason. */
 static int write_graph(const char *out, const hpfc_file *f, const exported_map *m)
 {
-    const char *base, *what;
-    char *tmp = NULL, *dir = dir_of(out, &base);
-    int err = 0;
-    FILE *fp;
-    errno = 0;
-    if (!dir) {
-        what = "cannot write", err = ENOMEM;
-    } else if (*base == '\0') {
-        what = "not a file name";
-    } else if (!(fp = create_temp(dir, base, &tmp))) {
-        what = "cannot create a temporary file", err = errno ? errno : ENOMEM;
-    } else {
-        if ((err = fill_temp(fp, f, m)))
-            what = "cannot write";
-        else if (rename(tmp, out) != 0)
-            what = "cannot replace", err = errno;
-        if (err)
-            unlink(tmp); /* ours: created with O_EXCL and not renamed */
-        else if ((err = sync_dir(dir)))
-            what = "cannot sync its directory";
+    char why[ATOMIC_WHY];
+    atomic_output o;
+    if (atomic_output_open(&o, out, why)) {
+        fprintf(stderr, "hpfc-inspect: %s\n", why);
+        return EXIT_FAIL;
     }
-    int failed = !dir || *base == '\0' || err;
-    if (failed && err)
-        fprintf(stderr, "hpfc-inspect: %s: %s: %s\n", out, what, strerror(err));
-    else if (failed)
-        fprintf(stderr, "hpfc-inspect: %s: %s\n", out, what);
-    free(tmp);
-    free(dir);
-    return failed ? EXIT_FAIL : 0;
+    FILE *fp = atomic_output_stream(&o);
+    errno = 0;
+    if (!fp || export_map_json(f, m, fp) != HPFC_OK) {
+        int err = errno ? errno : EIO;
+        atomic_output_discard(&o);
+        fprintf(stderr, "hpfc-inspect: %s: cannot write: %s\n", out, strerror(err));
+        return EXIT_FAIL;
+    }
+    if (atomic_output_commit(&o, why)) {
+        fprintf(stderr, "hpfc-inspect: %s\n", why);
+        return EXIT_FAIL;
+    }
+    return 0;
 }
 
 static void print_export_summary(const inspect_args *a, const exported_map *m)
@@ -875,6 +791,19 @@ static int run_batch(const inspect_args *a, const hpfc_file *f, char *why)
     return status;
 }
 
+/* FILE for hpfc_open: "-" is standard input, and a file that cannot be
+ * mapped (standard input, a pipe, a FIFO) is read into memory instead
+ * (HPFC_OPEN_READ), once: the summary and the queries read it through the
+ * handle only. */
+static int open_input(const char *path, hpfc_file **f)
+{
+    struct stat sb;
+    int from_stdin = strcmp(path, "-") == 0;
+    const char *p = from_stdin ? "/dev/stdin" : path;
+    int unmappable = stat(p, &sb) == 0 && !S_ISREG(sb.st_mode) && !S_ISDIR(sb.st_mode);
+    return hpfc_open(p, from_stdin || unmappable ? HPFC_OPEN_READ : 0, f);
+}
+
 /* One query on the open file; a failure is one line naming FILE. */
 static int run_query(const inspect_args *a)
 {
@@ -885,7 +814,7 @@ static int run_query(const inspect_args *a)
         return EXIT_FAIL;
     hpfc_file *f = NULL;
     errno = 0;
-    int st = hpfc_open(a->file, 0, &f);
+    int st = open_input(a->file, &f);
     if (st)
         return open_error(a->file, st, errno);
     char why[VIEW_WHY] = "";
@@ -915,7 +844,7 @@ static int run_summary(const inspect_args *a)
 {
     hpfc_file *f = NULL;
     errno = 0;
-    int st = hpfc_open(a->file, 0, &f);
+    int st = open_input(a->file, &f);
     if (st)
         return open_error(a->file, st, errno);
     summary s = {0};

@@ -14,6 +14,7 @@
 #include <cairo.h>
 #endif
 
+#include "atomic_output.h"
 #include "clock.h"
 #include "escape.h"
 #include "grow.h"
@@ -940,16 +941,28 @@ const char *__lsan_default_options(void)
 }
 #endif
 
+/* cairo's PNG stream: the file and the errno of a failed write, which
+ * cairo reduces to CAIRO_STATUS_WRITE_ERROR. */
+typedef struct png_sink {
+    FILE *f;
+    int err;
+} png_sink;
+
 static cairo_status_t png_bytes(void *closure, const unsigned char *data, unsigned int length)
 {
-    return fwrite(data, 1, length, closure) == length ? CAIRO_STATUS_SUCCESS
-                                                      : CAIRO_STATUS_WRITE_ERROR;
+    png_sink *sink = closure;
+    if (fwrite(data, 1, length, sink->f) == length)
+        return CAIRO_STATUS_SUCCESS;
+    if (!sink->err)
+        sink->err = errno ? errno : EIO;
+    return CAIRO_STATUS_WRITE_ERROR;
 }
 
 /* 0, or 1 with the reason when cairo fails (not for a failed write: the
- * caller checks the stream). */
-static int write_png(scene *s, FILE *out, const char *path, char *why)
+ * caller checks the stream, and *werr has the write's errno). */
+static int write_png(scene *s, FILE *out, const char *path, char *why, int *werr)
 {
+    png_sink sink = {out, 0};
     cairo_surface_t *surface =
         cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)s->width, (int)s->height);
     cairo_t *cr = cairo_create(surface);
@@ -957,7 +970,8 @@ static int write_png(scene *s, FILE *out, const char *path, char *why)
     cairo_status_t cs = cairo_status(cr);
     cairo_destroy(cr);
     if (cs == CAIRO_STATUS_SUCCESS)
-        cs = cairo_surface_write_to_png_stream(surface, png_bytes, out);
+        cs = cairo_surface_write_to_png_stream(surface, png_bytes, &sink);
+    *werr = sink.err;
     cairo_surface_destroy(surface);
     cairo_debug_reset_static_data(); /* cairo's caches, for leak checkers */
     if (cs != CAIRO_STATUS_SUCCESS && cs != CAIRO_STATUS_WRITE_ERROR) {
@@ -987,47 +1001,49 @@ int render_format_of(const char *path)
     return 0;
 }
 
-/* Writes the picture to "OUT.<pid>.tmp" next to OUT, then renames it over
- * OUT: a failed run leaves no partial OUT and an existing OUT untouched, as
- * for every output file of the tools. */
+/* Writes the picture through common/atomic_output.h: a failed run leaves
+ * no partial OUT and an existing OUT untouched, as for every output file
+ * of the tools. */
 static int write_output(scene *s, const render_params *p, char *why)
 {
-    size_t cap = strlen(p->output) + 32;
-    char *tmp = malloc(cap);
-    if (!tmp) {
-        snprintf(why, VIEW_WHY, "%s: %s", p->output, strerror(ENOMEM));
+    char awhy[ATOMIC_WHY];
+    atomic_output o;
+    if (atomic_output_open(&o, p->output, awhy)) {
+        snprintf(why, VIEW_WHY, "%.255s", awhy);
         return 1;
     }
-    snprintf(tmp, cap, "%s.%ld.tmp", p->output, (long)getpid());
-    FILE *out = fopen(tmp, "wbx");
-    int bad = !out, drawn = 0, err = out ? 0 : errno;
-    if (out && p->format == RENDER_SVG)
+    FILE *out = atomic_output_stream(&o);
+    int bad = !out, err = out ? 0 : errno;
+    if (out && p->format == RENDER_SVG) {
         write_svg(s, out);
-#ifdef HPFC_HAVE_CAIRO
-    else if (out && (bad = write_png(s, out, p->output, why)))
-        drawn = 1; /* why[] says what cairo refused */
-#endif
-    if (out) {
-        errno = 0;
-        bad |= ferror(out) != 0;
-        bad |= fclose(out) != 0;
-        err = errno;
-        if (!bad && rename(tmp, p->output) != 0)
-            bad = 1, err = errno;
     }
-    if (bad && !drawn)
-        snprintf(why, VIEW_WHY, "%s: cannot write: %s", p->output,
-                 err ? strerror(err) : "I/O error");
-    if (bad && out)
-        unlink(tmp);
-    free(tmp);
-    return bad;
+#ifdef HPFC_HAVE_CAIRO
+    else if (out && write_png(s, out, p->output, why, &err)) {
+        atomic_output_discard(&o); /* why[] says what cairo refused */
+        return 1;
+    }
+#endif
+    if (!bad) {
+        errno = 0;
+        if (fflush(out) != 0 || ferror(out))
+            bad = 1, err = err ? err : errno ? errno : EIO;
+    }
+    if (bad) {
+        atomic_output_discard(&o);
+        snprintf(why, VIEW_WHY, "%s: cannot write: %s", p->output, strerror(err));
+        return 1;
+    }
+    if (atomic_output_commit(&o, awhy)) {
+        snprintf(why, VIEW_WHY, "%.255s", awhy);
+        return 1;
+    }
+    return 0;
 }
 
 /* OUT's world file (OUT.png -> OUT.pgw): the affine map from image pixels
  * to the file's user coordinates (A, D, B, E, C, F; C, F the centre of the
  * top-left pixel), so that GIS software places the picture. Written like
- * the picture, through a temporary file. */
+ * the picture. */
 static int write_world_file(const scene *s, const render_params *p, render_report *rep,
                             char *why)
 {
@@ -1037,25 +1053,15 @@ static int write_world_file(const scene *s, const render_params *p, render_repor
         snprintf(why, VIEW_WHY, "%s: name too long for its world file", p->output);
         return 1;
     }
-    char tmp[sizeof rep->world_file + 32];
-    snprintf(tmp, sizeof tmp, "%s.%ld.tmp", rep->world_file, (long)getpid());
     double unit = pow10i(s->info.unit_exp10), px = unit / s->scale;
-    FILE *out = fopen(tmp, "wx");
-    int err = out ? 0 : errno;
-    if (out) {
-        fprintf(out, "%.17g\n0\n0\n%.17g\n%.17g\n%.17g\n", px, -px,
-                s->wx0 * unit + px / 2, s->wy1 * unit - px / 2);
-        err = ferror(out) ? EIO : 0;
-        if (fclose(out) != 0 && !err)
-            err = errno;
-        if (!err && rename(tmp, rep->world_file) != 0)
-            err = errno;
-        if (err)
-            unlink(tmp);
+    char text[6 * 32], awhy[ATOMIC_WHY];
+    int len = snprintf(text, sizeof text, "%.17g\n0\n0\n%.17g\n%.17g\n%.17g\n", px, -px,
+                       s->wx0 * unit + px / 2, s->wy1 * unit - px / 2);
+    if (atomic_output_write(rep->world_file, text, (size_t)len, awhy)) {
+        snprintf(why, VIEW_WHY, "%.255s", awhy);
+        return 1;
     }
-    if (err)
-        snprintf(why, VIEW_WHY, "%.180s: cannot write: %s", rep->world_file, strerror(err));
-    return err != 0;
+    return 0;
 }
 
 int render_file(const hpfc_file *f, const render_params *p, render_report *rep, char *why)

@@ -24,6 +24,7 @@
 #include <malloc.h>
 #endif
 
+#include "atomic_output.h"
 #include "clock.h"
 #include "draco_input.h"
 #include "gis_features.h"
@@ -850,25 +851,9 @@ static int check_output(const pack_args *a)
         complain("%s: exists; --force (or -overwrite) replaces it", a->output);
         return EXIT_FAIL;
     }
-    const char *slash = strrchr(a->output, '/');
-    size_t dlen = slash ? (size_t)(slash - a->output) : 0;
-    char *probe = malloc(dlen + 64);
-    if (!probe) {
-        complain("%s: %s", a->output, strerror(ENOMEM));
-        return EXIT_FAIL;
-    }
-    /* "dir/.hpfc-pack-probe.PID", "/.hpfc-..." or ".hpfc-..." */
-    snprintf(probe, dlen + 64, "%.*s%s.hpfc-pack-probe.%ld", (int)dlen, a->output,
-             slash ? "/" : "", (long)getpid());
-    int fd = open(probe, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-    int err = fd < 0 ? errno : 0;
-    if (fd >= 0) {
-        close(fd);
-        unlink(probe);
-    }
-    free(probe);
-    if (err && err != EEXIST) {
-        complain("%s: cannot create: %s", a->output, strerror(err));
+    char why[ATOMIC_WHY];
+    if (atomic_output_check(a->output, why)) {
+        complain("%s", why);
         return EXIT_FAIL;
     }
     return 0;
@@ -935,16 +920,24 @@ static void show_build_progress(void *user, uint32_t level, uint64_t done, uint6
     progress_show(user, stage, (double)done, (double)total, done == total);
 }
 
-/* -o -: the final bytes (with the FEAT section) on standard output. */
-static int write_stdout(const hpfc_file *f, const hpfc_write_options *wopts, pack_report *r,
-                        hpfc_diag *diag)
+/* The final bytes (with the FEAT section) on standard output (-o -) or
+ * to OUTPUT through common/atomic_output.h. */
+static int write_output(const pack_args *a, const hpfc_file *f, const hpfc_write_options *wopts,
+                        pack_report *r, hpfc_diag *diag)
 {
     uint8_t *bytes = NULL;
     size_t size = 0;
+    char why[ATOMIC_WHY];
     int st = hpfc_file_serialize(f, wopts, &bytes, &size, diag);
-    if (!st && (fwrite(bytes, 1, size, stdout) != size || fflush(stdout) != 0)) {
+    if (!st && a->to_stdout && (fwrite(bytes, 1, size, stdout) != size || fflush(stdout) != 0)) {
         snprintf(diag->message, sizeof diag->message, "cannot write to standard output: %s",
                  strerror(errno));
+        st = HPFC_E_IO;
+    } else if (!st && !a->to_stdout && atomic_output_write(a->output, bytes, size, why)) {
+        /* why[] starts "OUTPUT: ", which the caller prints itself */
+        size_t n = strlen(a->output);
+        const char *reason = strncmp(why, a->output, n) == 0 && why[n] == ':' ? why + n + 2 : why;
+        snprintf(diag->message, sizeof diag->message, "%.300s", reason);
         st = HPFC_E_IO;
     }
     if (!st)
@@ -1009,13 +1002,8 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
             wopts.edge_features = &edge_features;
     }
     hpfc_tree_free(t);
-    if (!st && a->to_stdout)
-        st = write_stdout(f, &wopts, r, &diag);
-    else if (!st) /* the pools as serialised, with the FEAT section when there is one */
-        st = hpfc_file_write_file(f, &wopts, a->output, &diag);
-    struct stat written;
-    if (!st && !a->to_stdout && wopts.features && stat(a->output, &written) == 0)
-        r->file_bytes = (uint64_t)written.st_size; /* with the FEAT section */
+    if (!st) /* the pools as serialised, with the FEAT section when there is one */
+        st = write_output(a, f, &wopts, r, &diag);
     r->write_s = clock_seconds() - t0;
     hpfc_close(f);
     hpfc_free(bytes);

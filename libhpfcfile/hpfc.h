@@ -94,7 +94,8 @@
  * hpfc_file_info, hpfc_level_info, hpfc_section_info, hpfc_features_info,
  * hpfc_feature, hpfc_labels_info, hpfc_attrs_info, hpfc_edge_links_info,
  * hpfc_geometry_info) and those it reads
- * (hpfc_build_params, hpfc_write_options, hpfc_batch.h's hpfc_locate_out)
+ * (hpfc_build_params, hpfc_write_options, hpfc_limits, hpfc_batch.h's
+ * hpfc_locate_out)
  * may gain fields in later releases. Each call that takes one is a
  * function named `..._sized` that also takes the struct's size as the
  * caller was compiled, e.g. hpfc_file_get_info_sized(file, &info,
@@ -178,7 +179,8 @@ enum {
     HPFC_E_SECTION = 47,        /* the section directory is inconsistent */
     HPFC_E_CORRUPT = 48,        /* pool contents contradict the format */
     HPFC_E_NO_PIXEL = 49,       /* a move leaves the domain, or no such pixel */
-    HPFC_E_NO_SECTION = 50      /* the file has no section of the kind asked for */
+    HPFC_E_NO_SECTION = 50,     /* the file has no section of the kind asked for */
+    HPFC_E_OVER_LIMIT = 51      /* a call would pass a resource limit (hpfc_limits) */
 };
 
 /* A short static English description of a status code. Never NULL. */
@@ -464,8 +466,36 @@ HPFC_API int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_
  * never a crash, an out-of-bounds read or an endless loop. Safe on
  * untrusted input.
  *
- * Thread safety: an open hpfc_file is read-only; any number of threads may
- * use one handle at once. hpfc_pixel values belong to their caller.
+ * Thread safety, handle by handle (tests/test_threads.c runs them from 8
+ * threads under ThreadSanitizer):
+ *   - hpfc_file: read-only once open; any number of threads may call
+ *     any function on one handle at once (hpfc_locate, hpfc_locate_point,
+ *     hpfc_locate_batch, the file's info, features, attributes, labels and
+ *     geometry calls). Close it after every other thread is done.
+ *   - hpfc_faces (hpfc_faces_build): read-only once built; shared as the
+ *     file is, by every call that takes it (hpfc_locate_batch,
+ *     hpfc_faces_pixel_face, hpfc_faces_key_face, whose walker is the
+ *     calling thread's own).
+ *   - hpfc_walker: one thread at a time. It holds the cache and scratch
+ *     of the traversal calls; a thread that walks creates its own.
+ *   - hpfc_shapes: one thread at a time. Its answers live in the object
+ *     until its next call; a thread that asks for shapes creates its own
+ *     (from the shared hpfc_file).
+ *   - hpfc_pixel, hpfc_polygons and every caller buffer belong to their
+ *     caller. The library keeps no global state.
+ *
+ * A mapped file must not change under its mapping. hpfc_open maps the file
+ * (MAP_PRIVATE, read-only): a file replaced by rename, as every writer of
+ * this library and its tools replaces one, leaves open handles reading
+ * the old bytes, which stay as long as the mapping. A file truncated in
+ * place while mapped makes the next read past its new end fault (SIGBUS),
+ * and one rewritten in place makes the handle read bytes that open did not
+ * check: as with LMDB and SQLite's mmap mode, do not truncate or rewrite in
+ * place a file that a program has open. For a file on storage that others
+ * may change (a shared or network file system, a file of another user), or
+ * one that cannot be mapped (a pipe, a FIFO, standard input), open it with
+ * HPFC_OPEN_READ: the library reads it into memory of its own, and later
+ * changes to the file do not reach the handle.
  * ------------------------------------------------------------------------ */
 typedef struct hpfc_file hpfc_file;
 
@@ -473,7 +503,15 @@ typedef struct hpfc_file hpfc_file;
 #define HPFC_OPEN_SKIP_CHECKSUM 0x1u  /* do not verify the header checksum
                                          (for fuzzing past it; all bounds are
                                          still checked) */
+#define HPFC_OPEN_READ 0x2u           /* read the file into memory the handle
+                                         owns instead of mapping it (above):
+                                         pipes and character devices too,
+                                         read to their end */
 
+/* Opens `path` (mapped, or read under HPFC_OPEN_READ) and validates it
+ * as hpfc_open_memory does. HPFC_E_IO when the file cannot be opened or
+ * read, is a directory, or is not a regular file without HPFC_OPEN_READ
+ * (errno says why); HPFC_E_NOMEM when it does not fit in memory. */
 HPFC_API int hpfc_open(const char *path, unsigned flags, hpfc_file **out);
 /* The buffer must stay valid and unchanged until hpfc_close(). */
 HPFC_API int hpfc_open_memory(const void *data, size_t size, unsigned flags,
@@ -1143,6 +1181,39 @@ typedef struct hpfc_shapes hpfc_shapes;
 HPFC_API int hpfc_shapes_create(const hpfc_file *file, hpfc_shapes **out);
 HPFC_API void hpfc_shapes_free(hpfc_shapes *shapes);
 HPFC_API uint64_t hpfc_shapes_face_count(const hpfc_shapes *shapes);
+
+/* Caps on what one call of an hpfc_shapes may spend (as libspng's
+ * spng_set_image_limits). A file's sections bound every answer, but a
+ * valid or hostile file may still hold a feature of 10^8 points or put
+ * every face in one window: the call would then allocate gigabytes. With
+ * a cap set, a call that would pass it stops first, before it gathers the
+ * points or lists the ids, and returns HPFC_E_OVER_LIMIT; the object stays
+ * usable. The defaults (a field 0, or never calling
+ * hpfc_shapes_set_limits) keep one call under about 300 MB:
+ *   max_points  shape points one hpfc_shapes_face_polygons,
+ *               _feature_polygons or _feature_polylines answer gathers
+ *               (about 32 bytes each: read once, kept in the answer);
+ *               HPFC_LIMIT_POINTS_DEFAULT, 2^23
+ *   max_items   faces + edges + features one hpfc_shapes_window answer
+ *               lists (9 bytes each); HPFC_LIMIT_ITEMS_DEFAULT, 2^24
+ * HPFC_LIMIT_NONE lifts a cap. hpfc_locate_batch needs none: it keeps at
+ * most 16 MB of its own whatever the number of points, and spends per
+ * point the cost of one location; hpfc_locate_point and the walker calls
+ * allocate in proportion to one leaf. */
+typedef struct hpfc_limits {
+    uint64_t max_points;
+    uint64_t max_items;
+} hpfc_limits;
+#define HPFC_LIMIT_POINTS_DEFAULT ((uint64_t)1 << 23)
+#define HPFC_LIMIT_ITEMS_DEFAULT ((uint64_t)1 << 24)
+#define HPFC_LIMIT_NONE UINT64_MAX
+/* Sets the caps of every later call on `shapes` (limits NULL: the
+ * defaults). HPFC_E_ARG for a NULL shapes. hpfc_limits can grow (the
+ * introduction, "Structs that grow"). */
+HPFC_API int hpfc_shapes_set_limits_sized(hpfc_shapes *shapes, const hpfc_limits *limits,
+                                          size_t limits_size);
+#define hpfc_shapes_set_limits(shapes, limits) \
+    hpfc_shapes_set_limits_sized((shapes), (limits), sizeof(hpfc_limits))
 
 /* The rings of face `face` (HPFC_E_ARG past the face count), each polygon
  * an outer ring then its holes, a hole going to the smallest outer ring

@@ -1,8 +1,9 @@
 #!/bin/sh
-# Installs what building and testing hpfc needs on Debian 12, skipping
+# Installs what building and testing hpfc needs on Debian 12 (clang: the
+# ThreadSanitizer build of tools/run-tests.sh and the fuzzers), skipping
 # packages that are already there. Runs apt-get as root, or through sudo.
 set -eu
-PACKAGES="gcc meson ninja-build pkg-config python3 libcairo2-dev g++ libgdal-dev gdal-bin libgeos-dev libgeographiclib-dev libdraco-dev draco python3-gdal"
+PACKAGES="gcc clang meson ninja-build pkg-config python3 libcairo2-dev g++ libgdal-dev gdal-bin libgeos-dev libgeographiclib-dev libdraco-dev draco python3-gdal"
 # The Python package (python/): Debian's interpreter, numpy, pytest, meson-python
 # (pip install .), venv (tools/test-python.sh); shapely, pandas, geopandas
 # for geometry, frames and the bench against geopandas.sjoin; pyproj (a

@@ -20,6 +20,25 @@ if [ "$fuzz_seconds" -gt 0 ] && sh fuzz/run.sh --check; then
 else
     echo "fuzz: skipped (no clang with libFuzzer, or HPFC_FUZZ_SECONDS=0)"
 fi
+# Many readers at once under ThreadSanitizer: tests/test_threads.c (8
+# threads on one file, each query against one thread's answer) built with
+# clang -fsanitize=thread, that program alone (what it links: the library
+# and the test generator), so the step costs about a minute. Any report
+# fails it. Skipped without clang.
+if command -v clang >/dev/null 2>&1; then
+    rm -rf build-tsan
+    if CC=clang CXX=clang++ meson setup build-tsan -Db_sanitize=thread -Db_lundef=false \
+            -Dgis=disabled -Dcairo=disabled -Dpython=disabled -Dwerror=true >/dev/null &&
+        ninja -C build-tsan tests/test_threads >/dev/null &&
+        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_threads; then
+        echo "tsan: OK"
+    else
+        echo "tsan: FAILED"
+        status=1
+    fi
+else
+    echo "tsan: skipped (no clang)"
+fi
 # The Python package's pytest suite (tools/test-python.sh), its own build.
 sh tools/test-python.sh build-test/hpfc-pack/hpfc-pack build-test/hpfc-inspect/hpfc-inspect ||
     { echo "python: FAILED"; status=1; }

@@ -40,6 +40,7 @@ const char *hpfc_strerror(int status)
     case HPFC_E_CORRUPT: return "corrupt pixel data";
     case HPFC_E_NO_PIXEL: return "no such pixel";
     case HPFC_E_NO_SECTION: return "the file has no such section";
+    case HPFC_E_OVER_LIMIT: return "the answer would pass a resource limit";
     default: return "unknown status code";
     }
 }
@@ -77,6 +78,7 @@ const char *hpfc_status_name(int status)
     NAME(HPFC_E_CORRUPT);
     NAME(HPFC_E_NO_PIXEL);
     NAME(HPFC_E_NO_SECTION);
+    NAME(HPFC_E_OVER_LIMIT);
     default: return "HPFC_E_UNKNOWN";
     }
 #undef NAME

@@ -13,6 +13,7 @@
 #include "arrays.h"
 #include "file.h"
 #include "ring_index.h"
+#include "sized.h"
 #include "shapes.h"
 
 
@@ -326,6 +327,8 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
     if (!s)
         return HPFC_E_NOMEM;
     s->f = f;
+    s->max_points = HPFC_LIMIT_POINTS_DEFAULT;
+    s->max_items = HPFC_LIMIT_ITEMS_DEFAULT;
     s->vertices = gi->vertices, s->edges = gi->edges, s->faces = li->faces, s->points = gi->points;
     st = index_edges(s);
     if (!st)
@@ -408,6 +411,10 @@ static int cmp_dart(const void *pa, const void *pb)
 
 static int add_dart(hpfc_shapes *s, uint64_t e, int reversed)
 {
+    /* the points this edge will bring to the answer, counted before the
+     * tracing reads them */
+    if (shapes_take_points(s, s->npoints[e]))
+        return HPFC_E_OVER_LIMIT;
     if (array_grow((void **)&s->darts, &s->cap_darts, s->ndarts + 1, sizeof *s->darts))
         return HPFC_E_NOMEM;
     bdart *d = &s->darts[s->ndarts++];
@@ -807,6 +814,7 @@ static int arrange(hpfc_shapes *s, hpfc_polygons *out)
 static void reset(hpfc_shapes *s)
 {
     s->ndarts = s->ntxy = s->nrings = 0;
+    s->call_points = 0;
 }
 
 /* The region's boundary darts are collected; then linked, traced and
@@ -927,6 +935,8 @@ static int walk_line(line_walk *w, line_end from)
         uint32_t e = w->edges[from.k];
         uint64_t n = s->npoints[e];
         w->used[from.k] = 1;
+        if ((st = shapes_take_points(s, n)))
+            break;
         for (uint64_t j = first ? 0 : 1; j < n && !st; j++) {
             int64_t x, y;
             st = hpfc_geometry_edge_point(s->f, e, from.end ? n - 1 - j : j, &x, &y);
@@ -1009,5 +1019,17 @@ int hpfc_shapes_feature_polylines(hpfc_shapes *s, hpfc_id feature, hpfc_polygons
                            .polygon_ring = s->polygon_ring,
                            .ring_point = s->ring_point,
                            .xy = s->xy};
+    return HPFC_OK;
+}
+
+int hpfc_shapes_set_limits_sized(hpfc_shapes *s, const hpfc_limits *limits, size_t limits_size)
+{
+    if (!s)
+        return HPFC_E_ARG;
+    hpfc_limits l = {0};
+    if (limits && sized_in(&l, sizeof l, limits, limits_size))
+        return HPFC_E_ARG;
+    s->max_points = l.max_points ? l.max_points : HPFC_LIMIT_POINTS_DEFAULT;
+    s->max_items = l.max_items ? l.max_items : HPFC_LIMIT_ITEMS_DEFAULT;
     return HPFC_OK;
 }

@@ -63,6 +63,9 @@ struct hpfc_shapes {
     size_t cap_xy;
     size_t *ring_point, cap_ring_point;
     size_t *polygon_ring, cap_polygon_ring;
+    /* hpfc_limits, 0 fields resolved to the defaults; the points the
+     * current call has gathered so far */
+    uint64_t max_points, max_items, call_points;
     /* the spatial queries' state, made on first use */
     int64_t (*edge_box)[4];     /* per edge; x0 > x1 until computed */
     struct shapes_window *window;
@@ -74,5 +77,15 @@ void shapes_window_free(shapes_window *w);
 /* Each edge's box (x0, y0, x1, y1) over all its points, computed on first
  * use; HPFC_E_CORRUPT on a point that does not read. */
 int shapes_edge_box(hpfc_shapes *s, uint64_t edge, const int64_t **box);
+
+/* Counts n more points against the call's max_points: HPFC_OK, or
+ * HPFC_E_OVER_LIMIT before the points are read. */
+static inline int shapes_take_points(hpfc_shapes *s, uint64_t n)
+{
+    if (n > s->max_points - s->call_points)
+        return HPFC_E_OVER_LIMIT;
+    s->call_points += n;
+    return HPFC_OK;
+}
 
 #endif

@@ -90,6 +90,8 @@ static int add_face(hpfc_shapes *s, uint64_t face)
     if (w->face_mark[face] == w->gen)
         return HPFC_OK;
     w->face_mark[face] = w->gen;
+    if (w->nface + w->nedge + w->nfeature >= s->max_items)
+        return HPFC_E_OVER_LIMIT;
     if (array_grow((void **)&w->face, &w->cap_face, w->nface + 1, sizeof *w->face))
         return HPFC_E_NOMEM;
     w->face[w->nface++] = face;
@@ -104,6 +106,8 @@ static int add_edge(hpfc_shapes *s, uint64_t edge)
     if (w->edge_mark[edge] == w->gen)
         return HPFC_OK;
     w->edge_mark[edge] = w->gen;
+    if (w->nface + w->nedge + w->nfeature >= s->max_items)
+        return HPFC_E_OVER_LIMIT;
     if (array_grow((void **)&w->edge, &w->cap_edge, w->nedge + 1, sizeof *w->edge))
         return HPFC_E_NOMEM;
     w->edge[w->nedge++] = edge;
@@ -404,6 +408,8 @@ static int add_feature(hpfc_shapes *s, hpfc_id feature)
     if (w->feature_mark[feature] == w->gen)
         return HPFC_OK;
     w->feature_mark[feature] = w->gen;
+    if (w->nface + w->nedge + w->nfeature >= s->max_items)
+        return HPFC_E_OVER_LIMIT;
     if (array_grow((void **)&w->feature, &w->cap_feature, w->nfeature + 1, sizeof *w->feature))
         return HPFC_E_NOMEM;
     w->feature[w->nfeature++] = feature;

@@ -501,6 +501,45 @@ int hpfc_open_memory(const void *data, size_t size, unsigned flags, hpfc_file **
     return HPFC_OK;
 }
 
+/* HPFC_OPEN_READ: the whole of fd into a buffer of its own, to EOF (a
+ * pipe's size is not known before; a regular file's st_size is only the
+ * first guess, as it may change under us). */
+static int read_whole(int fd, size_t guess, unsigned flags, hpfc_file **out)
+{
+    size_t cap = guess > 0 ? guess + 1 : 65536, size = 0;
+    uint8_t *buf = malloc(cap);
+    if (!buf)
+        return HPFC_E_NOMEM;
+    for (;;) {
+        if (size == cap) {
+            size_t grown = cap > SIZE_MAX / 2 ? SIZE_MAX : cap * 2;
+            uint8_t *b = grown > cap ? realloc(buf, grown) : NULL;
+            if (!b) {
+                free(buf);
+                return HPFC_E_NOMEM;
+            }
+            buf = b, cap = grown;
+        }
+        ssize_t n = read(fd, buf + size, cap - size);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            free(buf);
+            return HPFC_E_IO;
+        }
+        if (n == 0)
+            break;
+        size += (size_t)n;
+    }
+    int st = hpfc_open_memory(buf, size, flags, out);
+    if (st) {
+        free(buf);
+        return st;
+    }
+    (*out)->owned = buf;
+    return HPFC_OK;
+}
+
 int hpfc_open(const char *path, unsigned flags, hpfc_file **out)
 {
     if (!path || !out)
@@ -510,9 +549,15 @@ int hpfc_open(const char *path, unsigned flags, hpfc_file **out)
     if (fd < 0)
         return errno == ENOMEM ? HPFC_E_NOMEM : HPFC_E_IO;
     struct stat sb;
-    if (fstat(fd, &sb) || !S_ISREG(sb.st_mode) || (uint64_t)sb.st_size > SIZE_MAX) {
+    if (fstat(fd, &sb) || S_ISDIR(sb.st_mode) || (uint64_t)sb.st_size > SIZE_MAX ||
+        (!S_ISREG(sb.st_mode) && !(flags & HPFC_OPEN_READ))) {
         close(fd);
         return HPFC_E_IO;
+    }
+    if (flags & HPFC_OPEN_READ) {
+        int st = read_whole(fd, S_ISREG(sb.st_mode) ? (size_t)sb.st_size : 0, flags, out);
+        close(fd);
+        return st;
     }
     size_t size = (size_t)sb.st_size;
     if (size == 0) { /* mmap refuses empty mappings; the verdict is the same */
@@ -541,6 +586,7 @@ void hpfc_close(hpfc_file *f)
         return;
     if (f->map)
         munmap(f->map, f->map_size);
+    free(f->owned);
     free(f);
 }
 

@@ -46,6 +46,7 @@ struct hpfc_file {
     size_t size;
     void *map; /* hpfc_open's mapping; NULL for a caller's buffer */
     size_t map_size;
+    void *owned; /* hpfc_open's copy under HPFC_OPEN_READ; NULL otherwise */
     const uint8_t *directory;
     uint64_t meta_size;
     hpfc_file_info info;

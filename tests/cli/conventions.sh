@@ -117,4 +117,19 @@ for opt in --window-lonlat --size --lon-col --lat-col --id-col --format --locate
     grep -q -- "$opt" "$tmp/out" || fail "hpfc-inspect --help lacks $opt"
 done
 
+# FILE as '-' (standard input) or a pipe: read into memory (HPFC_OPEN_READ),
+# the same answers as the file on disk
+fixture=$TESTS/data/valid/borders_features.hpfc
+for q in "" "--locate 3,2" "--json --locate 1,1" "--stats"; do
+    # shellcheck disable=SC2086 # q is split into the query's words
+    "$INSPECT_BIN" $q "$fixture" 2>&1 | sed "s|$fixture|FILE|g" >"$tmp/disk"
+    # shellcheck disable=SC2086
+    "$INSPECT_BIN" $q - <"$fixture" 2>&1 | sed 's|"-"|"FILE"|g; s|^file       - |file       FILE |' >"$tmp/stdin"
+    # shellcheck disable=SC2086
+    cat "$fixture" | "$INSPECT_BIN" $q /dev/stdin 2>&1 |
+        sed 's|/dev/stdin|FILE|g' >"$tmp/pipe"
+    cmp -s "$tmp/disk" "$tmp/stdin" || fail "'$q -' differs from '$q FILE': $(diff "$tmp/disk" "$tmp/stdin" | head -5)"
+    cmp -s "$tmp/disk" "$tmp/pipe" || fail "'$q' through a pipe differs from '$q FILE': $(diff "$tmp/disk" "$tmp/pipe" | head -5)"
+done
+
 finish

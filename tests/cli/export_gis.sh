@@ -146,7 +146,7 @@ expect_error "a file without GEOM" "hpfc-inspect: $TESTS/data/valid/borders_feat
 run "$INSPECT" --export "$tmp/empty/x.gpkg" "$tmp/two_components_hole.hpfc"
 expect_error "a file without features" "hpfc-inspect: $tmp/two_components_hole.hpfc: the file has no features" 1
 run "$INSPECT" --export "$tmp/nosuchdir/x.gpkg" "$tmp/world.hpfc"
-expect_error "OUT in a missing directory" "hpfc-inspect: $tmp/nosuchdir/x.gpkg: cannot create a temporary directory" 1
+expect_error "OUT in a missing directory" "hpfc-inspect: $tmp/nosuchdir/x.gpkg: cannot create: No such file or directory" 1
 [ -z "$(ls -A "$tmp/empty")" ] || fail "failed exports left files: $(ls -A "$tmp/empty")"
 run "$INSPECT" -f GPKG "$tmp/world.hpfc"
 expect_error "-f without --export" "hpfc-inspect: -f: only with --export or --export-faces" 2

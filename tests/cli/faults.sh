@@ -1,0 +1,8 @@
+#!/bin/sh
+# Writers that fail cleanly (faults.py): a file size limit, SIGKILL at
+# random instants, a read-only directory, for every program that writes a
+# file. The tools themselves, not lib.sh's --force wrappers: faults.py
+# passes --force where it means to.
+# shellcheck source=tests/cli/lib.sh
+. "$(dirname "$0")/lib.sh"
+exec python3 "$HERE/faults.py" "$PACK_BIN" "$INSPECT_BIN" "$TESTS"
