@@ -19,8 +19,11 @@
  * ids ascending, never the feature itself, touch 1 or 2, a vertex touch
  * with no edge and length 0, edges in range; adjacency pairs a < b,
  * strictly increasing; a nearest edge in range, its segment below its
- * point count, its distance finite and not below 0, and no edge within a
- * smaller distance; within d: ascending edges each at most d (rounded);
+ * point count, its distance finite and not below 0; within d: ascending
+ * edges each at most d (rounded). (That the nearest edge is among those
+ * within a larger d holds for valid files only, and test_queries checks
+ * it there: a damaged LABL can list an edge in a leaf its closest point
+ * is not in, and the two searches then read different leaves.)
  * unions as rings (closed, outer counter-clockwise), mesh lines open.
  */
 #include <math.h>
@@ -134,9 +137,6 @@ static void probe_point(qz *z, int64_t x, int64_t y, hpfc_id feature, int64_t d)
         FUZZ_CHECK(h.edge[k] < z->edges && (k == 0 || h.edge[k - 1] < h.edge[k]));
         FUZZ_CHECK(h.distance[k] >= 0 && h.distance[k] <= (double)d * (1 + 1e-9) + 1e-9);
     }
-    /* the nearest edge of the map is within its own distance */
-    if (!st && feature == HPFC_ID_NONE && d >= 0 && (double)d > r.distance * (1 + 1e-9) + 1)
-        FUZZ_CHECK(h.count > 0);
 }
 
 static void probe_union(qz *z, const hpfc_id *set, size_t n)

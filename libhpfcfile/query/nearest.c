@@ -245,7 +245,10 @@ static int leaf_crossing(hpfc_shapes *s, const hpfc_pixel *leaf, uint32_t k, con
     for (uint64_t j = seg; j + 1 < s->npoints[e] && !st; j++) {
         if ((st = read_segment(s, e, j, a, b)))
             return st;
-        if (j != seg && !shapes_segment_meets(a, b, box))
+        /* the crossing's own segment too: in a damaged file it may lie
+         * elsewhere, and what one leaf answers must lie in its box for the
+         * bound to hold */
+        if (!shapes_segment_meets(a, b, box))
             break;
         st = consider(s, e, j, a, b);
     }
