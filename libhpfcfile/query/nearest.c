@@ -81,11 +81,29 @@ static qdist q_int(u128 v)
     return (qdist){{(uint64_t)v, (uint64_t)(v >> 64), 0}, 1};
 }
 
-static double q_value(const qdist *q)
+/* n / d to within a few units in the last place. */
+static double q_square(const qdist *q)
 {
     const double two64 = 18446744073709551616.0;
     double n = ((double)q->n[2] * two64 + (double)q->n[1]) * two64 + (double)q->n[0];
-    return shapes_sqrt(n / u128_double(q->d));
+    return n / u128_double(q->d);
+}
+
+static double q_value(const qdist *q)
+{
+    return shapes_sqrt(q_square(q));
+}
+
+/* a <=> b, exactly: their doubles decide when they differ by more than
+ * their rounding (a relative 1e-9 is thousands of times that), else the
+ * rationals are cross-multiplied. */
+static int qcmp_fast(const qdist *a, double a2, const qdist *b, double b2)
+{
+    if (a2 > b2 * (1 + 1e-9))
+        return 1;
+    if (a2 < b2 * (1 - 1e-9))
+        return -1;
+    return qcmp(a, b);
 }
 
 /* |v|, as u128 (v within 2^120). */
@@ -138,6 +156,7 @@ struct shapes_near {
     const int64_t *p;
     int within;             /* edges_within: every edge within bound */
     qdist bound;            /* the best so far (nearest), or d^2 */
+    double bound2;          /* its value, rounded: a filter before qcmp */
     int found;
     hpfc_nearest best;
     qdist best_d;
@@ -177,7 +196,7 @@ static int worth(const shapes_near *n, u128 d)
     if (!n->within && !n->found)
         return 1;
     qdist q = q_int(d);
-    return qcmp(&q, &n->bound) <= 0;
+    return qcmp_fast(&q, u128_double(d), &n->bound, n->bound2) <= 0;
 }
 
 static int cmp_cand(const void *pa, const void *pb)
@@ -194,8 +213,9 @@ static int consider(hpfc_shapes *s, uint64_t e, uint64_t k, const int64_t a[2],
     shapes_near *n = s->near;
     double cx, cy;
     qdist q = seg_dist(n->p, a, b, &cx, &cy);
+    double q2 = q_square(&q);
     if (n->within) {
-        if (qcmp(&q, &n->bound) > 0)
+        if (qcmp_fast(&q, q2, &n->bound, n->bound2) > 0)
             return HPFC_OK;
         if (n->mark[e] != n->gen) {
             if (array_grow((void **)&n->edge, &n->cap_edge, n->nedge + 1, sizeof *n->edge))
@@ -208,29 +228,29 @@ static int consider(hpfc_shapes *s, uint64_t e, uint64_t k, const int64_t a[2],
         }
         return HPFC_OK;
     }
-    int c = n->found ? qcmp(&q, &n->best_d) : -1;
+    int c = n->found ? qcmp_fast(&q, q2, &n->best_d, n->bound2) : -1;
     if (c < 0 || (c == 0 && (e < n->best.edge || (e == n->best.edge && k < n->best.segment)))) {
         n->found = 1;
         n->best_d = n->bound = q;
+        n->bound2 = q2;
         n->best = (hpfc_nearest){.edge = e, .segment = k, .x = cx, .y = cy};
     }
     return HPFC_OK;
 }
 
-static int read_segment(hpfc_shapes *s, uint64_t e, uint64_t k, int64_t a[2], int64_t b[2])
+/* Point k of edge e, refused past twice the lattice's range (a damaged
+ * file): that keeps every product above within its limbs. */
+static int read_point(hpfc_shapes *s, uint64_t e, uint64_t k, int64_t p[2])
 {
-    int st = hpfc_geometry_edge_point(s->f, e, k, &a[0], &a[1]);
-    if (!st)
-        st = hpfc_geometry_edge_point(s->f, e, k + 1, &b[0], &b[1]);
-    if (!st && (a[0] < -2 * HPFC_LATTICE_MAX || a[0] > 2 * HPFC_LATTICE_MAX ||
-                a[1] < -2 * HPFC_LATTICE_MAX || a[1] > 2 * HPFC_LATTICE_MAX ||
-                b[0] < -2 * HPFC_LATTICE_MAX || b[0] > 2 * HPFC_LATTICE_MAX ||
-                b[1] < -2 * HPFC_LATTICE_MAX || b[1] > 2 * HPFC_LATTICE_MAX))
-        st = HPFC_E_CORRUPT; /* keeps every product above within its limbs */
+    int st = hpfc_geometry_edge_point(s->f, e, k, &p[0], &p[1]);
+    if (!st && (p[0] < -2 * HPFC_LATTICE_MAX || p[0] > 2 * HPFC_LATTICE_MAX ||
+                p[1] < -2 * HPFC_LATTICE_MAX || p[1] > 2 * HPFC_LATTICE_MAX))
+        st = HPFC_E_CORRUPT;
     return st;
 }
 
-/* The segments of crossing k's edge inside the leaf's closed box. */
+/* The segments of crossing k's edge inside the leaf's closed box, walked
+ * both ways from the crossing's segment, each point read once. */
 static int leaf_crossing(hpfc_shapes *s, const hpfc_pixel *leaf, uint32_t k, const int64_t box[4])
 {
     uint64_t e, seg;
@@ -241,9 +261,12 @@ static int leaf_crossing(hpfc_shapes *s, const hpfc_pixel *leaf, uint32_t k, con
         return st;
     if (e >= s->edges || seg + 1 >= s->npoints[e])
         return HPFC_E_CORRUPT;
-    int64_t a[2], b[2];
+    int64_t a[2], b[2], first[2];
+    if ((st = read_point(s, e, seg, a)))
+        return st;
+    first[0] = a[0], first[1] = a[1];
     for (uint64_t j = seg; j + 1 < s->npoints[e] && !st; j++) {
-        if ((st = read_segment(s, e, j, a, b)))
+        if ((st = read_point(s, e, j + 1, b)))
             return st;
         /* the crossing's own segment too: in a damaged file it may lie
          * elsewhere, and what one leaf answers must lie in its box for the
@@ -251,13 +274,16 @@ static int leaf_crossing(hpfc_shapes *s, const hpfc_pixel *leaf, uint32_t k, con
         if (!shapes_segment_meets(a, b, box))
             break;
         st = consider(s, e, j, a, b);
+        a[0] = b[0], a[1] = b[1];
     }
+    b[0] = first[0], b[1] = first[1];
     for (uint64_t j = seg; j-- > 0 && !st;) {
-        if ((st = read_segment(s, e, j, a, b)))
+        if ((st = read_point(s, e, j, a)))
             return st;
         if (!shapes_segment_meets(a, b, box))
             break;
         st = consider(s, e, j, a, b);
+        b[0] = a[0], b[1] = a[1];
     }
     return st;
 }
@@ -266,11 +292,15 @@ static int visit_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const int64_t box[
 {
     shapes_near *n = s->near;
     size_t len;
-    int st = hpfc_pixel_word(s->f, leaf, NULL, 0, &len);
-    if (!st && array_grow((void **)&n->word, &n->cap_word, len + 1, 1))
-        st = HPFC_E_NOMEM;
-    if (!st)
+    if (!n->word && array_grow((void **)&n->word, &n->cap_word, 64, 1))
+        return HPFC_E_NOMEM;
+    /* one decode when the buffer holds the word (a short one: the usual) */
+    int st = hpfc_pixel_word(s->f, leaf, n->word, n->cap_word, &len);
+    if (st == HPFC_E_BUFFER_SMALL) {
+        if (array_grow((void **)&n->word, &n->cap_word, len + 1, 1))
+            return HPFC_E_NOMEM;
         st = hpfc_pixel_word(s->f, leaf, n->word, n->cap_word, &len);
+    }
     uint32_t crossings = 0;
     for (size_t k = 0; k < len && !st; k++)
         crossings += n->word[k] != '+';
@@ -298,18 +328,17 @@ static int descend(hpfc_shapes *s, const hpfc_pixel *px, const int64_t box[4])
     size_t per = (size_t)n->cols * n->rows;
     cand *c = n->stack + per * (px->depth + 1);
     size_t m = 0;
-    for (uint32_t j = 0; j < n->rows && !st; j++)
-        for (uint32_t i = 0; i < n->cols && !st; i++) {
-            hpfc_pixel child;
-            int64_t b[4];
-            st = hpfc_pixel_child(s->f, px, i, j, &child);
-            if (!st)
-                st = pixel_box(s, &child, b);
-            if (!st)
-                c[m++] = (cand){.d = box_dist(n->p, b), .i = i, .j = j};
+    /* the children's boxes from the parent's: the grid is uniform, so
+     * only the children worth a visit are decoded */
+    int64_t cw = (box[2] - box[0]) / n->cols, ch = (box[3] - box[1]) / n->rows;
+    if (cw <= 0 || ch <= 0)
+        return HPFC_E_CORRUPT;
+    for (uint32_t j = 0; j < n->rows; j++)
+        for (uint32_t i = 0; i < n->cols; i++) {
+            int64_t b[4] = {box[0] + (int64_t)i * cw, box[3] - (int64_t)(j + 1) * ch,
+                            box[0] + (int64_t)(i + 1) * cw, box[3] - (int64_t)j * ch};
+            c[m++] = (cand){.d = box_dist(n->p, b), .i = i, .j = j};
         }
-    if (st)
-        return st;
     qsort(c, m, sizeof *c, cmp_cand);
     for (size_t k = 0; k < m && !st; k++) {
         if (!worth(n, c[k].d))
@@ -429,9 +458,12 @@ static int feature_nearest(hpfc_shapes *s, hpfc_id feature)
     int64_t a[2], b[2];
     for (size_t k = 0; k < n->nborder && !st; k++) {
         uint32_t e = n->border[k];
-        for (uint64_t j = 0; j + 1 < s->npoints[e] && !st; j++)
-            if (!(st = read_segment(s, e, j, a, b)))
+        st = read_point(s, e, 0, a);
+        for (uint64_t j = 0; j + 1 < s->npoints[e] && !st; j++) {
+            if (!(st = read_point(s, e, j + 1, b)))
                 st = consider(s, e, j, a, b);
+            a[0] = b[0], a[1] = b[1];
+        }
     }
     return st;
 }
@@ -483,6 +515,7 @@ int hpfc_shapes_edges_within(hpfc_shapes *s, int64_t x, int64_t y, int64_t d,
     }
     n->within = 1;
     n->bound = q_int((u128)d * (u128)d);
+    n->bound2 = q_square(&n->bound);
     st = search(s);
     if (!st && array_grow((void **)&n->dist, &n->cap_dist, n->nedge + 1, sizeof *n->dist))
         st = HPFC_E_NOMEM;
