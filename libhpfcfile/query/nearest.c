@@ -145,6 +145,10 @@ static u128 box_dist(const int64_t p[2], const int64_t b[4])
     return (u128)(dx * dx + dy * dy);
 }
 
+/* Refinement images of at most this many pixels have their children
+ * sorted nearest first (a list per level: 48 levels of 256 at most). */
+enum { SORTED_CHILDREN = 256 };
+
 /* One child of a refined pixel, or one half of a block of root pixels. */
 typedef struct cand {
     u128 d;
@@ -326,13 +330,32 @@ static int descend(hpfc_shapes *s, const hpfc_pixel *px, const int64_t box[4])
     if (px->depth + 1 >= HPFC_MAX_LEVELS)
         return HPFC_E_CORRUPT;
     size_t per = (size_t)n->cols * n->rows;
-    cand *c = n->stack + per * (px->depth + 1);
-    size_t m = 0;
     /* the children's boxes from the parent's: the grid is uniform, so
      * only the children worth a visit are decoded */
     int64_t cw = (box[2] - box[0]) / n->cols, ch = (box[3] - box[1]) / n->rows;
     if (cw <= 0 || ch <= 0)
         return HPFC_E_CORRUPT;
+    if (per > SORTED_CHILDREN) {
+        /* images this large (the format allows 2^20 pixels) are visited in
+         * place, unsorted: the bound still prunes, and no level keeps a
+         * list of them */
+        for (uint32_t j = 0; j < n->rows && !st; j++)
+            for (uint32_t i = 0; i < n->cols && !st; i++) {
+                int64_t b[4] = {box[0] + (int64_t)i * cw, box[3] - (int64_t)(j + 1) * ch,
+                                box[0] + (int64_t)(i + 1) * cw, box[3] - (int64_t)j * ch};
+                hpfc_pixel child;
+                if (!worth(n, box_dist(n->p, b)))
+                    continue;
+                st = hpfc_pixel_child(s->f, px, i, j, &child);
+                if (!st)
+                    st = pixel_box(s, &child, b);
+                if (!st)
+                    st = descend(s, &child, b);
+            }
+        return st;
+    }
+    cand *c = n->stack + per * (px->depth + 1);
+    size_t m = 0;
     for (uint32_t j = 0; j < n->rows; j++)
         for (uint32_t i = 0; i < n->cols; i++) {
             int64_t b[4] = {box[0] + (int64_t)i * cw, box[3] - (int64_t)(j + 1) * ch,
@@ -431,7 +454,8 @@ static int near_begin(hpfc_shapes *s, const int64_t p[2])
     n->x_end = fi.x0 + fi.width, n->y_end = fi.y0;
     n->cell_w = lv.cell_w, n->cell_h = lv.cell_h;
     size_t per = (size_t)fi.cols * fi.rows;
-    if (array_grow((void **)&n->stack, &n->cap_stack, per * HPFC_MAX_LEVELS, sizeof *n->stack))
+    if (per <= SORTED_CHILDREN &&
+        array_grow((void **)&n->stack, &n->cap_stack, per * HPFC_MAX_LEVELS, sizeof *n->stack))
         return HPFC_E_NOMEM;
     return HPFC_OK;
 }
