@@ -1,10 +1,14 @@
 #!/usr/bin/python3
 """The topology questions against their peers, same layer, same run.
 
-    /usr/bin/python3 bench/topology_bench.py FILE.hpfc LAYER.gpkg FIELD [POINTS] [RUNS]
+    /usr/bin/python3 bench/topology_bench.py FILE.hpfc LAYER|- FIELD [POINTS] [RUNS]
 
 FILE.hpfc is LAYER packed by hpfc-pack (--fields all); FIELD an attribute
-to dissolve by. Timed, best of RUNS (default 3), wall and CPU of this
+to dissolve by. LAYER "-": the peers get the file's own features
+(File.features_geodataframe, what hpfc-inspect --export writes), so that
+the answers must agree exactly; a source layer whose invalid polygons
+hpfc-pack noded differs from them where GEOS's make_valid repairs
+otherwise. Timed, best of RUNS (default 3), wall and CPU of this
 thread, the file opened and its index built before (as a peer's frame is
 read before):
   - queen adjacency: File.adjacency() (scipy CSR) against
@@ -55,11 +59,20 @@ def main():
 
     f = hpfc.open(path)
     f._shapes()  # the index, built once
-    frame = geopandas.read_file(layer)
-    crs = f.crs_for("user")
-    if frame.crs is not None and crs:
-        frame = frame.to_crs(crs)
-    frame = frame.reset_index(drop=True)  # row = position in the layer = fid
+    if layer == "-":
+        # the issue's oracle: the features as hpfc-inspect --export writes
+        # them (the same noded geometry as the file), in the file's plane;
+        # fid = row of the layer once the index is the fid
+        frame = f.features_geodataframe(coords="user")
+        frame = frame.set_index("fid", drop=False)
+        frame.index.name = None
+        layer = os.path.splitext(path)[0] + ".features.gpkg"
+    else:
+        frame = geopandas.read_file(layer)
+        crs = f.crs_for("user")
+        if frame.crs is not None and crs:
+            frame = frame.to_crs(crs)
+        frame = frame.reset_index(drop=True)  # row = position in the layer = fid
     # a layer read from TopoJSON may hold a GeometryCollection of polygons,
     # which libpysal refuses: its polygons as one MultiPolygon
     from shapely.geometry import MultiPolygon
@@ -138,7 +151,7 @@ def main():
     else:
         from shapely.geometry import Point
 
-        m = min(npts, 20_000)
+        m = min(npts, 5_000)
         pts = [Point(x, y) for x, y in zip(xs[:m], ys[:m])]
         near, t_s = best_of(lambda: [tree.nearest(p) for p in pts], 1)
         dist = np.array([g.distance(p) for g, p in zip(near, pts)])

@@ -1203,7 +1203,10 @@ HPFC_API int hpfc_shapes_window(hpfc_shapes *shapes, int64_t x0, int64_t y0, int
  * layer), the edges EDGF links to it. Decided from the side labels alone
  * (FEAT on each side's face, EDGF): no geometry is tested. An edge with
  * one face on both sides (a dead end, a bridge) is on no polygon
- * feature's border.
+ * feature's border. Borders are whole edges: where one line ends and
+ * another begins at a point of degree 2, which the map need not make a
+ * vertex (hpfc-pack --vertices junctions), EDGF links the edge through it
+ * to both lines, and they share that edge here.
  * ------------------------------------------------------------------------ */
 enum { HPFC_TOUCH_EDGE = 1, HPFC_TOUCH_VERTEX = 2 };
 
@@ -1245,8 +1248,8 @@ typedef struct hpfc_adjacency {
 /* `touch`: HPFC_TOUCH_EDGE for the pairs that share an edge (rook), with
  * HPFC_TOUCH_VERTEX also those that share only a vertex (queen). One pass
  * over the edges and one over the vertices: O(edges + the pairs each edge
- * and vertex gives, sorted). HPFC_E_ARG for no or an unknown flag; other
- * statuses as hpfc_shapes_feature_neighbours. */
+ * and vertex gives, sorted). HPFC_E_ARG without HPFC_TOUCH_EDGE or with an
+ * unknown flag; other statuses as hpfc_shapes_feature_neighbours. */
 HPFC_API int hpfc_shapes_adjacency(hpfc_shapes *shapes, unsigned touch, hpfc_adjacency *out);
 
 /* The edge of the map nearest to a lattice point: the closest point on
@@ -1318,8 +1321,8 @@ HPFC_API int hpfc_shapes_features_polygons(hpfc_shapes *shapes, const hpfc_id *f
  * vertex where exactly two of them meet, as
  * hpfc_shapes_feature_polylines joins a feature's (polylines: ring_count
  * lines, no polygon). One pass over the edges. HPFC_E_NO_SECTION without
- * FEAT; HPFC_E_ARG for no or an unknown flag, or n not the feature
- * count. */
+ * FEAT; HPFC_E_ARG for no or an unknown flag, or a group array whose n is
+ * not the feature count. */
 #define HPFC_GROUP_NONE UINT32_MAX
 enum { HPFC_MESH_INTERIOR = 1, HPFC_MESH_EXTERIOR = 2 };
 HPFC_API int hpfc_shapes_mesh(hpfc_shapes *shapes, const uint32_t *group, size_t n,
