@@ -347,7 +347,7 @@ static int to_lattice(ctx *c, const decimal *d, int64_t *v, const char *opt)
 {
     if (decimal_floor_lattice(d, c->info.unit_exp10, v) || *v < -HPFC_LATTICE_MAX ||
         *v > HPFC_LATTICE_MAX)
-        return fail(c, "%s: %s is beyond the lattice's range", opt, d->digits[0] ? "a value" : "0");
+        return fail(c, "%s: %.17g is beyond the lattice's range", opt, d->value);
     return VIEW_OK;
 }
 

@@ -297,14 +297,14 @@ static int vertex_contacts(hpfc_shapes *s, uint64_t v, uint32_t self)
     return st;
 }
 
-static int new_vertex_gen(hpfc_shapes *s)
+/* A new vertex stamp (the stamps cleared when they wrap). */
+static void new_vertex_gen(hpfc_shapes *s)
 {
     shapes_topo *t = s->topo;
     if (++t->vgen == 0) {
         memset(t->vmark, 0, (s->vertices + 1) * sizeof *t->vmark);
         t->vgen = 1;
     }
-    return HPFC_OK;
 }
 
 /* The sorted contacts, merged: one answer per pair, by edge when any
