@@ -716,6 +716,46 @@ static int write_faces(exporter *x)
     return 0;
 }
 
+/* ---- computed layers ---------------------------------------------------------------- */
+
+/* A gis_custom_layer: one feature an item, its value in the one field. */
+static int write_custom(exporter *x)
+{
+    const gis_custom_layer *c = x->o->custom;
+    OGRLayerH layer = create_layer(x, c->name, c->lines ? wkbMultiLineString : wkbMultiPolygon);
+    int field = -1;
+    if (!layer || (c->field && add_field(x, layer, c->field, OFTString, &field)))
+        return 1;
+    int tx = OGR_L_StartTransaction(layer) == OGRERR_NONE;
+    for (size_t k = 0; k < c->count; k++) {
+        hpfc_polygons p;
+        const char *value = NULL;
+        size_t len = 0;
+        int st = c->item(c->ctx, x->shapes, k, &p, &value, &len);
+        if (st)
+            return fail(x, "%s %zu: %s", c->name, k, hpfc_strerror(st));
+        OGRGeometryH g = c->lines ? multiline(x, &p) : multipolygon(x, &p);
+        OGRFeatureH ft = g ? OGR_F_Create(OGR_L_GetLayerDefn(layer)) : NULL;
+        if (!ft) {
+            OGR_G_DestroyGeometry(g);
+            return g ? fail(x, "out of memory") : 1;
+        }
+        OGR_F_SetGeometryDirectly(ft, g);
+        int r = 0;
+        if (field >= 0 && value)
+            r = set_string(x, ft, field, value, len);
+        if (!r && OGR_L_CreateFeature(layer, ft) != OGRERR_NONE)
+            r = fail(x, "%s %zu: %s", c->name, k, gdal_reason("the driver refused it"));
+        OGR_F_Destroy(ft);
+        if (r)
+            return 1;
+        x->written++;
+    }
+    if (tx && OGR_L_CommitTransaction(layer) != OGRERR_NONE)
+        return fail(x, "cannot commit %s: %s", c->name, gdal_reason("refused"));
+    return 0;
+}
+
 /* ---- atomic output ------------------------------------------------------------------- */
 
 static int write_dataset(exporter *x, const char *path)
@@ -725,7 +765,7 @@ static int write_dataset(exporter *x, const char *path)
     if (!x->ds)
         return fail(x, "%s: cannot create: %s", x->o->output, gdal_reason("refused"));
     x->fid_column = strcmp(GDALGetDriverShortName(x->driver), "GPKG") == 0;
-    int r = x->o->faces ? write_faces(x) : write_features(x);
+    int r = x->o->custom ? write_custom(x) : x->o->faces ? write_faces(x) : write_features(x);
     CPLErrorReset();
     GDALClose(x->ds);
     x->ds = NULL;
@@ -807,7 +847,7 @@ static void print_report(const exporter *x, FILE *out, double seconds)
         jsonw_string(&w, "file", x->o->file);
         jsonw_string(&w, "output", x->o->output);
         jsonw_string(&w, "driver", drv);
-        jsonw_string(&w, "what", x->o->faces ? "faces" : "features");
+        jsonw_string(&w, "what", x->o->custom ? x->o->custom->name : x->o->faces ? "faces" : "features");
         jsonw_string(&w, "srs", x->srs_name);
         jsonw_bool(&w, "projected_back", x->plan != NULL);
         jsonw_u64(&w, "written", x->written);
@@ -822,7 +862,8 @@ static void print_report(const exporter *x, FILE *out, double seconds)
     } else {
         fprintf(out,
                 "%s: %llu %s (%llu polygons, %llu rings, %llu lines, %llu points), %s, SRS %s%s\n",
-                x->o->output, (unsigned long long)x->written, x->o->faces ? "faces" : "features",
+                x->o->output, (unsigned long long)x->written,
+                x->o->custom ? x->o->custom->name : x->o->faces ? "faces" : "features",
                 (unsigned long long)x->polygons, (unsigned long long)x->rings,
                 (unsigned long long)x->lines, (unsigned long long)x->points, drv, x->srs_name,
                 x->plan ? " (projected back)" : "");

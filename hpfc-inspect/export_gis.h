@@ -8,12 +8,29 @@
 
 #include <stdio.h>
 
+#include "hpfc.h"
+
+/* A layer of geometries computed from the file (--dissolve, --mesh)
+ * instead of its features or faces: `count` items, item k's geometry
+ * (valid until the next call, in lattice points as the library answers)
+ * and the value of the one string field. `item` returns an hpfc status. */
+typedef struct gis_custom_layer {
+    const char *name;     /* the layer's */
+    int lines;            /* multi line strings, else multipolygons */
+    const char *field;    /* the string field's name, NULL: none */
+    size_t count;
+    int (*item)(void *ctx, hpfc_shapes *shapes, size_t k, hpfc_polygons *geometry,
+                const char **value, size_t *value_len);
+    void *ctx;
+} gis_custom_layer;
+
 typedef struct gis_export_options {
     const char *file;     /* the .hpfc file */
     const char *output;   /* OUT */
     const char *driver;   /* -f: a GDAL driver name, NULL: from OUT's extension */
     int faces;            /* --export-faces: the faces, not the features */
     int json;             /* the summary as one JSON object */
+    const gis_custom_layer *custom; /* non-NULL: this layer, not features or faces */
 } gis_export_options;
 
 /* Writes OUT atomically (every file the driver makes goes first into a

@@ -40,6 +40,7 @@
 #include "jsonw.h"
 #include "locate.h"
 #include "paths.h"
+#include "queries.h"
 #include "render.h"
 #include "verify.h"
 #include "views.h"
@@ -70,6 +71,7 @@ typedef struct inspect_args {
     decimal point[2];       /* --locate or --locate-lonlat, parsed */
     render_params render;   /* --render, --window, --size, parsed */
     batch_options batch;    /* --locate-batch's --lonlat, --*-col, --format */
+    topo_args topo;         /* the topology queries (queries.c) */
 } inspect_args;
 
 /* Everything shown, read once so that the printers cannot fail. */
@@ -93,6 +95,11 @@ static void print_help(void)
            "                    [--id-col C] [--format jsonl|csv|geojson] FILE\n"
            "       hpfc-inspect --render OUT.svg|OUT.png [--window X0,Y0,X1,Y1 |\n"
            "                    --window-lonlat LON0,LAT0,LON1,LAT1] [--size W[xH]] [--json] FILE\n"
+           "       hpfc-inspect --window X0,Y0,X1,Y1 | --window-lonlat W,S,E,N [--json] FILE\n"
+           "       hpfc-inspect --neighbours KEY|FID [--json] FILE\n"
+           "       hpfc-inspect --nearest X,Y | --nearest-lonlat LON,LAT [--within D] [--json] FILE\n"
+           "       hpfc-inspect --dissolve FIELD | --mesh [interior|exterior|all|FIELD]\n"
+           "                    [--export OUT [-f DRIVER]] [--json] FILE\n"
            "\n"
            "Shows the header, the section directory and the per-level table of an\n"
            ".hpfc file; or checks it; or exports the planar map it encodes; or\n"
@@ -175,6 +182,19 @@ static void print_help(void)
            "                         with the file's CRS\n"
            "  --size W[xH]           with --render: image size in pixels (default 1024 on\n"
            "                         the longer side; W alone keeps the window's aspect)\n"
+           "  --window X0,Y0,X1,Y1   without --render: the features, faces and edges that\n"
+           "                         meet the closed rectangle, each inside or crossing\n"
+           "  --neighbours KEY|FID   the features whose border shares an edge (with the\n"
+           "                         shared length, metres when the CRS says) or only a\n"
+           "                         vertex with the feature's\n"
+           "  --nearest X,Y          the nearest edge: closest point, distance, the\n"
+           "                         features on its sides; --within D lists every edge\n"
+           "                         within D user units. --nearest-lonlat LON,LAT\n"
+           "  --dissolve FIELD       the features merged by FIELD's value: exact polygons\n"
+           "                         (with --export OUT: a layer 'dissolved' through GDAL)\n"
+           "  --mesh [K]             the borders as lines: interior (default: between\n"
+           "                         features), exterior (the outline), all, or FIELD\n"
+           "                         (between different values); --export OUT: layer 'mesh'\n"
            "  -h, --help             show this help\n"
            "  --version              show the version\n"
            "\n"
@@ -260,11 +280,40 @@ static int query_option(int argc, char **argv, int *i, inspect_args *a)
     return -1;
 }
 
+/* The topology queries (queries.c): --window without --render is one;
+ * --export and -f go with --dissolve and --mesh. -2 when there is none. */
+static int parse_topology(inspect_args *a)
+{
+    const char **v = a->values;
+    topo_args *t = &a->topo;
+    if (!v[V_RENDER] && (v[V_WINDOW] || v[V_WINDOW_LONLAT])) {
+        t->window = v[V_WINDOW], t->window_lonlat = v[V_WINDOW_LONLAT];
+        v[V_WINDOW] = v[V_WINDOW_LONLAT] = NULL;
+    }
+    if (!topo_count(t)) {
+        if (t->within)
+            return usage_error("only with --nearest or --nearest-lonlat", "--within");
+        return -2;
+    }
+    for (int k = 0; k < V_COUNT; k++)
+        if (v[k] && k != V_EXPORT && k != V_DRIVER)
+            return usage_error("not with a topology query", value_names[k]);
+    if (a->verify || a->graph_out || a->sections || a->stats || a->lonlat)
+        return usage_error("use one query at a time", NULL);
+    t->export_out = v[V_EXPORT], t->driver = v[V_DRIVER], t->json = a->json;
+    if (t->driver && !t->export_out)
+        return usage_error("only with --export", "-f");
+    return topo_check(t);
+}
+
 /* Checks and converts the queries' values; -1 to go on, or EXIT_USAGE. */
 static int parse_queries(inspect_args *a)
 {
     char why[VIEW_WHY];
     const char **v = a->values;
+    int status = parse_topology(a);
+    if (status != -2)
+        return status;
     int queries = a->verify + !!a->graph_out + a->sections + a->stats + !!v[V_PIXEL] +
                   !!v[V_LOCATE] + !!v[V_LOCATE_LONLAT] + !!v[V_LOCATE_BATCH] + !!v[V_RENDER] +
                   !!v[V_EXPORT] + !!v[V_EXPORT_FACES];
@@ -364,6 +413,9 @@ static int parse_args(int argc, char **argv, inspect_args *a)
             a->stats = 1;
         } else if (strcmp(arg, "--lonlat") == 0) {
             a->lonlat = 1;
+        } else if ((status = topo_option(argc, argv, &i, &a->topo)) >= 0) {
+            if (status)
+                return status;
         } else if ((status = query_option(argc, argv, &i, a)) >= 0) {
             if (status)
                 return status;
@@ -765,6 +817,17 @@ static int run_export_gis(const inspect_args *a)
     return export_gis(&o, stdout) ? EXIT_FAIL : 0;
 }
 
+/* The topology queries, and --dissolve / --mesh written with --export. */
+static int run_topology(const inspect_args *a)
+{
+    const char *out = a->topo.export_out;
+    if (out && same_file(a->file, out))
+        return usage_error("OUT is FILE; refusing to overwrite the input", out);
+    if (out && check_new_output(a, out))
+        return EXIT_FAIL;
+    return topo_run(a->file, &a->topo, stdout) ? EXIT_FAIL : 0;
+}
+
 /* ---- queries (views.c, render.c) ---------------------------------------------- */
 
 static int run_render(const inspect_args *a, const hpfc_file *f, char *why)
@@ -867,7 +930,9 @@ int main(int argc, char **argv)
     int status = parse_args(argc, argv, &a);
     if (status >= 0)
         return status;
-    if (a.verify)
+    if (topo_count(&a.topo))
+        status = run_topology(&a);
+    else if (a.verify)
         status = run_verify(&a);
     else if (a.graph_out)
         status = run_export(&a);

@@ -1274,6 +1274,147 @@ HPFC_API int hpfc_shapes_window(hpfc_shapes *shapes, int64_t x0, int64_t y0, int
                                 int64_t y1, unsigned what, hpfc_window_hits *out);
 
 /* ------------------------------------------------------------------------
+ * Topology questions over the hpfc_shapes index (needs GEOM and LABL; FEAT
+ * for polygon features, EDGF for line features): which features touch
+ * which, the nearest edge to a point, the union of a set of features and
+ * the borders between groups of them. Each is a walk over the stored map
+ * that touches what it returns (and, for the nearest edge, the pixels
+ * nearer than it); answers live in the shapes object until its next call
+ * (one object per thread). Safe on untrusted files: a damaged section
+ * gives HPFC_E_CORRUPT, never a read outside the file.
+ *
+ * A feature's border is the set of edges it covers exactly one side of
+ * (one of the edge's two faces is the feature's, the other not), for a
+ * feature with faces; for a feature without faces (a line of a line
+ * layer), the edges EDGF links to it. Decided from the side labels alone
+ * (FEAT on each side's face, EDGF): no geometry is tested. An edge with
+ * one face on both sides (a dead end, a bridge) is on no polygon
+ * feature's border. Borders are whole edges: where one line ends and
+ * another begins at a point of degree 2, which the map need not make a
+ * vertex (hpfc-pack --vertices junctions), EDGF links the edge through it
+ * to both lines, and they share that edge here.
+ * ------------------------------------------------------------------------ */
+enum { HPFC_TOUCH_EDGE = 1, HPFC_TOUCH_VERTEX = 2 };
+
+/* The features that touch one feature, in increasing feature id: those
+ * whose border shares an edge with its border (HPFC_TOUCH_EDGE, "rook")
+ * and those whose border shares only vertices with it (HPFC_TOUCH_VERTEX;
+ * "queen" is both kinds), each with the length of the shared edges
+ * (Euclidean, lattice units, summed segment by segment in double; 0 for a
+ * vertex) and the shared edges themselves (ascending), from which a
+ * caller measures the border in its own metric (geodesic metres, say). */
+typedef struct hpfc_neighbours {
+    size_t count;
+    const hpfc_id *feature;
+    const uint8_t *touch;       /* HPFC_TOUCH_EDGE or HPFC_TOUCH_VERTEX */
+    const double *length;
+    const size_t *edge_start;   /* count + 1: neighbour k's shared edges are */
+    const hpfc_id *edge;        /* edge[edge_start[k] .. edge_start[k + 1]) */
+} hpfc_neighbours;
+
+/* Feature `feature`'s neighbours. Cost: its border's edges, the edges at
+ * their end vertices and those edges' faces' features (FEAT, O(1) each);
+ * the first call builds a table of the edges at each vertex (O(edges),
+ * 4 bytes an edge end and 8 a vertex, kept with the object).
+ * HPFC_E_NO_SECTION without FEAT and EDGF; HPFC_E_ARG past the feature
+ * count; HPFC_E_NOMEM. */
+HPFC_API int hpfc_shapes_feature_neighbours(hpfc_shapes *shapes, hpfc_id feature,
+                                            hpfc_neighbours *out);
+
+/* Every pair of touching features at once: pair k is features a[k] < b[k],
+ * in increasing (a, b), touching by touch[k] with the shared length as
+ * above. */
+typedef struct hpfc_adjacency {
+    size_t count;
+    const hpfc_id *a, *b;
+    const uint8_t *touch;       /* HPFC_TOUCH_EDGE or HPFC_TOUCH_VERTEX */
+    const double *length;
+} hpfc_adjacency;
+
+/* `touch`: HPFC_TOUCH_EDGE for the pairs that share an edge (rook), with
+ * HPFC_TOUCH_VERTEX also those that share only a vertex (queen). One pass
+ * over the edges and one over the vertices: O(edges + the pairs each edge
+ * and vertex gives, sorted). HPFC_E_ARG without HPFC_TOUCH_EDGE or with an
+ * unknown flag; other statuses as hpfc_shapes_feature_neighbours. */
+HPFC_API int hpfc_shapes_adjacency(hpfc_shapes *shapes, unsigned touch, hpfc_adjacency *out);
+
+/* The edge of the map nearest to a lattice point: the closest point on
+ * it (lattice coordinates, rounded to double: the point is exact, the
+ * rounding within a few units in the last place), on segment
+ * `segment` (from point segment to point segment + 1), and the distance
+ * (lattice units, rounded; the decision is exact). Ties between edges at
+ * the same exact distance go to the lowest edge id, on one edge to the
+ * lowest segment. */
+typedef struct hpfc_nearest {
+    hpfc_id edge;
+    uint64_t segment;
+    double x, y;
+    double distance;
+} hpfc_nearest;
+
+/* Edges nearest to (x, y), |x| and |y| at most HPFC_LATTICE_MAX (else
+ * HPFC_E_ARG). feature HPFC_ID_NONE: any edge of the map, searched best
+ * first over the tree: pixels in the order of their box's distance to the
+ * point (branch and bound, children nearest first; the root image halved
+ * as a virtual tree over its pixels), each leaf's crossings giving the
+ * edges' segments in it, until the next pixel lies farther than the
+ * nearest edge found: the cost grows with the
+ * leaves nearer than the answer, not with the map. Otherwise the nearest
+ * edge of that feature's border (above), compared one by one: O(its
+ * border's points). Squared distances are rationals compared exactly
+ * (products of up to 264 bits, in 64-bit limbs). HPFC_E_NO_SECTION for a
+ * feature without FEAT and EDGF; HPFC_E_ARG for a feature past the count
+ * or one with no border (out->edge HPFC_ID_NONE is never returned with
+ * HPFC_OK). */
+HPFC_API int hpfc_shapes_nearest_edge(hpfc_shapes *shapes, int64_t x, int64_t y,
+                                      hpfc_id feature, hpfc_nearest *out);
+
+/* The edges within distance d of a point: ids ascending, each with its
+ * distance (lattice units, rounded; d is compared exactly with the
+ * rational distance). */
+typedef struct hpfc_edge_hits {
+    size_t count;
+    const hpfc_id *edge;
+    const double *distance;
+} hpfc_edge_hits;
+
+/* 0 <= d <= 2 * HPFC_LATTICE_MAX and the point as for
+ * hpfc_shapes_nearest_edge (else HPFC_E_ARG). Best first over the tree as
+ * hpfc_shapes_nearest_edge, every pixel whose box lies within d. */
+HPFC_API int hpfc_shapes_edges_within(hpfc_shapes *shapes, int64_t x, int64_t y, int64_t d,
+                                      hpfc_edge_hits *out);
+
+/* The union of a set of features (features[0 .. n), repeats allowed) as
+ * exact polygons: the boundary of the faces linked to any of them, so the
+ * edges whose two sides both belong to the set are dropped; rings as in
+ * "Rings" above, the same for the same faces as
+ * hpfc_shapes_feature_polygons. Dissolving a layer by an attribute is a
+ * call per value. O(the set's faces and their edges, n log n in the
+ * rings). HPFC_E_NO_SECTION without FEAT; HPFC_E_ARG for an id past the
+ * feature count. */
+HPFC_API int hpfc_shapes_features_polygons(hpfc_shapes *shapes, const hpfc_id *features,
+                                           size_t n, hpfc_polygons *out);
+
+/* The borders between groups of features, as line strings. Each feature
+ * is in group group[k] (n must be the feature count), or in none when
+ * group[k] is HPFC_GROUP_NONE; group NULL puts each feature in a group of
+ * its own. A side of an edge is the set of groups of the features of the
+ * face on that side. Edges are kept by `sides`:
+ * HPFC_MESH_INTERIOR, both sides in some group and the two sets differ
+ * (with groups from a field's values: the borders between different
+ * values); HPFC_MESH_EXTERIOR, exactly one side in no group (the
+ * coverage's outline). The edges kept are joined end to end through every
+ * vertex where exactly two of them meet, as
+ * hpfc_shapes_feature_polylines joins a feature's (polylines: ring_count
+ * lines, no polygon). One pass over the edges. HPFC_E_NO_SECTION without
+ * FEAT; HPFC_E_ARG for no or an unknown flag, or a group array whose n is
+ * not the feature count. */
+#define HPFC_GROUP_NONE UINT32_MAX
+enum { HPFC_MESH_INTERIOR = 1, HPFC_MESH_EXTERIOR = 2 };
+HPFC_API int hpfc_shapes_mesh(hpfc_shapes *shapes, const uint32_t *group, size_t n,
+                              unsigned sides, hpfc_polygons *out);
+
+/* ------------------------------------------------------------------------
  * Experimental (the introduction, "Experimental calls"): seen only with
  * HPFC_EXPERIMENTAL defined before this header is included; may change
  * between minor versions.

@@ -164,6 +164,8 @@ void hpfc_shapes_free(hpfc_shapes *s)
     free(s->polygon_ring);
     free(s->edge_box);
     shapes_window_free(s->window);
+    shapes_topo_free(s->topo);
+    shapes_near_free(s->near);
     free(s);
 }
 
@@ -282,6 +284,7 @@ static int index_features(hpfc_shapes *s)
     s->features = fi.features;
     /* a FEAT table numbered against other faces is not to be used (§6.2.2) */
     uint64_t faces = fi.faces == s->faces ? s->faces : 0;
+    s->face_features = faces != 0;
     if ((st = invert_links(s->f, faces, fi.features, hpfc_face_feature_count,
                            hpfc_face_feature_id, &s->feat_start, &s->feat_face)))
         return st;
@@ -843,15 +846,6 @@ int hpfc_shapes_face_polygons(hpfc_shapes *s, hpfc_id face, hpfc_polygons *out)
     return st ? st : assemble(s, out);
 }
 
-/* A new mark for the region's faces (the stamps cleared when they wrap). */
-static uint32_t next_mark(hpfc_shapes *s)
-{
-    if (++s->mark == 0) {
-        memset(s->face_mark, 0, (s->faces + 1) * sizeof *s->face_mark);
-        s->mark = 1;
-    }
-    return s->mark;
-}
 
 int hpfc_shapes_feature_polygons(hpfc_shapes *s, hpfc_id feature, hpfc_polygons *out)
 {
@@ -859,7 +853,7 @@ int hpfc_shapes_feature_polygons(hpfc_shapes *s, hpfc_id feature, hpfc_polygons 
     if (st)
         return st;
     reset(s);
-    uint32_t m = next_mark(s);
+    uint32_t m = shapes_next_mark(s);
     uint64_t a = s->feat_start[feature], b = s->feat_start[feature + 1];
     for (uint64_t k = a; k < b; k++)
         s->face_mark[s->feat_face[k]] = m;
@@ -969,14 +963,12 @@ static line_end line_start(const line_walk *w, uint32_t k)
     return at; /* the walk goes forward from here, along at.k */
 }
 
-int hpfc_shapes_feature_polylines(hpfc_shapes *s, hpfc_id feature, hpfc_polygons *out)
+/* Edges[0 .. n) joined into polylines, the answer. */
+static int join_lines(hpfc_shapes *s, const uint32_t *edges, size_t n, hpfc_polygons *out)
 {
-    int st = check_feature_call(s, out, FEATURE_EDGES, feature);
-    if (st)
-        return st;
+    int st;
     reset(s);
-    line_walk w = {.s = s, .edges = s->fe_edge + s->fe_start[feature]};
-    w.n = (size_t)(s->fe_start[feature + 1] - s->fe_start[feature]);
+    line_walk w = {.s = s, .edges = edges, .n = n};
     w.used = calloc(w.n + 1, 1);
     w.ends = malloc((2 * w.n + 1) * sizeof *w.ends);
     st = w.used && w.ends ? HPFC_OK : HPFC_E_NOMEM;
@@ -1032,4 +1024,136 @@ int hpfc_shapes_set_limits_sized(hpfc_shapes *s, const hpfc_limits *limits, size
     s->max_points = l.max_points ? l.max_points : HPFC_LIMIT_POINTS_DEFAULT;
     s->max_items = l.max_items ? l.max_items : HPFC_LIMIT_ITEMS_DEFAULT;
     return HPFC_OK;
+}
+
+int hpfc_shapes_feature_polylines(hpfc_shapes *s, hpfc_id feature, hpfc_polygons *out)
+{
+    int st = check_feature_call(s, out, FEATURE_EDGES, feature);
+    if (st)
+        return st;
+    return join_lines(s, s->fe_edge + s->fe_start[feature],
+                      (size_t)(s->fe_start[feature + 1] - s->fe_start[feature]), out);
+}
+
+/* ---- sets of features ------------------------------------------------------------- */
+
+static int cmp_u32(const void *pa, const void *pb)
+{
+    uint32_t a = *(const uint32_t *)pa, b = *(const uint32_t *)pb;
+    return (a > b) - (a < b);
+}
+
+int hpfc_shapes_features_polygons(hpfc_shapes *s, const hpfc_id *features, size_t n,
+                                  hpfc_polygons *out)
+{
+    if (!s || !out || (n && !features))
+        return HPFC_E_ARG;
+    if (!s->have_features)
+        return HPFC_E_NO_SECTION;
+    size_t nf = 0;
+    for (size_t k = 0; k < n; k++) {
+        if (features[k] >= s->features)
+            return HPFC_E_ARG;
+        nf += (size_t)(s->feat_start[features[k] + 1] - s->feat_start[features[k]]);
+    }
+    /* the set's faces, each once (features may share faces, ids repeat) */
+    uint32_t *faces = malloc((nf + 1) * sizeof *faces);
+    if (!faces)
+        return HPFC_E_NOMEM;
+    nf = 0;
+    for (size_t k = 0; k < n; k++)
+        for (uint64_t j = s->feat_start[features[k]]; j < s->feat_start[features[k] + 1]; j++)
+            faces[nf++] = s->feat_face[j];
+    if (nf)
+        qsort(faces, nf, sizeof *faces, cmp_u32);
+    size_t u = 0;
+    for (size_t k = 0; k < nf; k++)
+        if (!u || faces[k] != faces[u - 1])
+            faces[u++] = faces[k];
+    reset(s);
+    uint32_t m = shapes_next_mark(s);
+    for (size_t k = 0; k < u; k++)
+        s->face_mark[faces[k]] = m;
+    int st = HPFC_OK;
+    for (size_t k = 0; k < u && !st; k++) {
+        uint32_t face = faces[k];
+        for (uint64_t j = s->face_start[face]; j < s->face_start[face + 1] && !st; j++) {
+            uint32_t e = s->face_edge[j];
+            int in_left = s->face_mark[s->left[e]] == m, in_right = s->face_mark[s->right[e]] == m;
+            if (in_left != in_right && (in_left ? s->left[e] : s->right[e]) == face)
+                st = add_dart(s, e, in_right);
+        }
+    }
+    free(faces);
+    return st ? st : assemble(s, out);
+}
+
+/* The groups of the features of a face, sorted and each once, into g
+ * (*n of *cap, grown); HPFC_GROUP_NONE left out. */
+static int face_groups(hpfc_shapes *s, uint64_t face, const uint32_t *group, uint32_t **g,
+                       size_t *n, size_t *cap)
+{
+    uint32_t count;
+    hpfc_id ft;
+    *n = 0;
+    int st = hpfc_face_feature_count(s->f, face, &count);
+    for (uint32_t k = 0; k < count && !st; k++) {
+        if ((st = hpfc_face_feature_id(s->f, face, k, &ft)))
+            break;
+        if (ft >= s->features)
+            return HPFC_E_CORRUPT;
+        uint32_t v = group ? group[ft] : (uint32_t)ft;
+        if (v == HPFC_GROUP_NONE)
+            continue;
+        if (array_grow((void **)g, cap, *n + 1, sizeof **g))
+            return HPFC_E_NOMEM;
+        (*g)[(*n)++] = v;
+    }
+    if (st || *n < 2)
+        return st;
+    qsort(*g, *n, sizeof **g, cmp_u32);
+    size_t u = 1;
+    for (size_t k = 1; k < *n; k++)
+        if ((*g)[k] != (*g)[u - 1])
+            (*g)[u++] = (*g)[k];
+    *n = u;
+    return HPFC_OK;
+}
+
+int hpfc_shapes_mesh(hpfc_shapes *s, const uint32_t *group, size_t n, unsigned sides,
+                     hpfc_polygons *out)
+{
+    if (!s || !out || !sides || (sides & ~(unsigned)(HPFC_MESH_INTERIOR | HPFC_MESH_EXTERIOR)))
+        return HPFC_E_ARG;
+    if (!s->have_features)
+        return HPFC_E_NO_SECTION;
+    if (group && n != s->features)
+        return HPFC_E_ARG;
+    uint32_t *gl = NULL, *gr = NULL, *kept = NULL;
+    size_t nl = 0, nr = 0, cap_l = 0, cap_r = 0, nk = 0, cap_k = 0;
+    int st = HPFC_OK;
+    for (uint64_t e = 0; e < s->edges && s->face_features && !st; e++) {
+        if (s->left[e] == s->right[e])
+            continue;
+        st = face_groups(s, s->left[e], group, &gl, &nl, &cap_l);
+        if (!st)
+            st = face_groups(s, s->right[e], group, &gr, &nr, &cap_r);
+        if (st)
+            break;
+        int keep = (sides & HPFC_MESH_EXTERIOR) && ((nl == 0) != (nr == 0));
+        if ((sides & HPFC_MESH_INTERIOR) && nl && nr)
+            keep |= nl != nr || memcmp(gl, gr, nl * sizeof *gl) != 0;
+        if (!keep)
+            continue;
+        if (array_grow((void **)&kept, &cap_k, nk + 1, sizeof *kept))
+            st = HPFC_E_NOMEM;
+        else
+            kept[nk++] = (uint32_t)e;
+    }
+    free(gl);
+    free(gr);
+    if (!st)
+        st = join_lines(s, kept, nk, out);
+    free(kept);
+    return st;
 }

@@ -2,14 +2,18 @@
  * shapes.h: the index behind geometry back from a file and the spatial
  * queries over it (struct hpfc_shapes: each edge's ends and faces, each
  * face's edges, each feature's faces and edges, and the scratch its calls
- * share): shapes.c builds it and assembles rings; window.c answers windows
- * through it. Internal to the library.
+ * share): shapes.c builds it and assembles rings (of faces, features,
+ * sets of features) and lines (a feature's, a mesh's borders); window.c
+ * answers windows through it; neighbours.c the features that touch and
+ * each feature's border; nearest.c the edges near a point. Internal to
+ * the library.
  */
 #ifndef HPFC_SHAPES_H
 #define HPFC_SHAPES_H
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "hpfc.h"
 
@@ -42,6 +46,7 @@ struct hpfc_shapes {
     uint64_t *face_start;       /* faces + 1 */
     uint32_t *face_edge;
     int have_features, have_edge_features;
+    int face_features;          /* FEAT numbers this map's faces: face -> features reads */
     uint32_t features;
     uint64_t *feat_start;       /* features + 1 */
     uint32_t *feat_face;
@@ -69,10 +74,61 @@ struct hpfc_shapes {
     /* the spatial queries' state, made on first use */
     int64_t (*edge_box)[4];     /* per edge; x0 > x1 until computed */
     struct shapes_window *window;
+    struct shapes_topo *topo;       /* neighbours.c */
+    struct shapes_near *near;       /* nearest.c */
 };
 
 typedef struct shapes_window shapes_window;
 void shapes_window_free(shapes_window *w);
+typedef struct shapes_topo shapes_topo;
+void shapes_topo_free(shapes_topo *t);
+typedef struct shapes_near shapes_near;
+void shapes_near_free(shapes_near *n);
+
+/* The square root of v >= 0 (0 for anything else) to within an ulp: the
+ * reader links no libm. Newton's iteration from the exponent halved. */
+static inline double shapes_sqrt(double v)
+{
+    if (!(v > 0) || v > 1e300)
+        return v > 1e300 ? v : 0;
+    uint64_t b;
+    memcpy(&b, &v, sizeof b);
+    b = (b >> 1) + (UINT64_C(0x3ff0000000000000) >> 1);
+    double r;
+    memcpy(&r, &b, sizeof r);
+    for (int k = 0; k < 6; k++)
+        r = 0.5 * (r + v / r);
+    return r;
+}
+
+/* A new stamp for face_mark (the stamps cleared when they wrap). Inline:
+ * neighbours.c needs it and shapes.c frees neighbours.c's state, and the
+ * files of a group may not call each other both ways. */
+static inline uint32_t shapes_next_mark(hpfc_shapes *s)
+{
+    if (++s->mark == 0) {
+        memset(s->face_mark, 0, (s->faces + 1) * sizeof *s->face_mark);
+        s->mark = 1;
+    }
+    return s->mark;
+}
+
+/* Whether a feature covers exactly one side of edge e (it is on the
+ * feature's border): mark[] stamps the feature's faces with m. */
+static inline int shapes_on_border(const hpfc_shapes *s, const uint32_t *mark, uint32_t m,
+                                   uint64_t e)
+{
+    return (mark[s->left[e]] == m) != (mark[s->right[e]] == m);
+}
+
+/* Feature `feature`'s border edges, ascending (hpfc.h, "Topology
+ * questions"), into *edges (*n of *cap, grown). neighbours.c. */
+int shapes_feature_border(hpfc_shapes *s, hpfc_id feature, uint32_t **edges, size_t *n,
+                          size_t *cap);
+
+/* Whether segment a-b meets the closed box (x0, y0, x1, y1), exactly.
+ * window.c. */
+int shapes_segment_meets(const int64_t a[2], const int64_t b[2], const int64_t box[4]);
 
 /* Each edge's box (x0, y0, x1, y1) over all its points, computed on first
  * use; HPFC_E_CORRUPT on a point that does not read. */

@@ -147,6 +147,12 @@ static int segment_meets(const int64_t a[2], const int64_t b[2], const rect *r)
     return !(pos == 4 || neg == 4);
 }
 
+int shapes_segment_meets(const int64_t a[2], const int64_t b[2], const int64_t box[4])
+{
+    rect r = {box[0], box[1], box[2], box[3]};
+    return segment_meets(a, b, &r);
+}
+
 int shapes_edge_box(hpfc_shapes *s, uint64_t edge, const int64_t **box)
 {
     if (!s->edge_box) {

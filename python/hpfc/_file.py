@@ -13,6 +13,7 @@ candidate faces of the point's leaf (exact False).
 from . import _hpfc
 from ._errors import Error
 from ._geometry import GeometryMixin
+from ._topology import TopologyMixin
 
 WEST, NORTH, EAST, SOUTH = 0, 1, 2, 3
 
@@ -163,7 +164,7 @@ class Locations:
         return pd.DataFrame(cols)
 
 
-class File(GeometryMixin, _hpfc._File):
+class File(TopologyMixin, GeometryMixin, _hpfc._File):
     """An open .hpfc file, memory-mapped (hpfc.open(path)).
 
     Opening checks the header, level table and section directory only

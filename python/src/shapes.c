@@ -393,6 +393,22 @@ static PyObject *Shapes_dart_edge(ShapesObject *self, PyObject *arg)
     return Py_BuildValue("(KO)", (unsigned long long)e, reversed ? Py_True : Py_False);
 }
 
+hpfc_shapes *pyhpfc_shapes_begin(PyObject *o, const hpfc_file **f, int **busy)
+{
+    ShapesObject *self = (ShapesObject *)o;
+    if (!(*f = shapes_file(self, busy)))
+        return NULL;
+    self->busy = 1;
+    (**busy)++;
+    return self->shapes;
+}
+
+void pyhpfc_shapes_end(PyObject *o, int *busy)
+{
+    (*busy)--;
+    ((ShapesObject *)o)->busy = 0;
+}
+
 static PyMethodDef Shapes_methods[] = {
     {"_collect", (PyCFunction)Shapes_collect, METH_VARARGS, NULL},
     {"_to_user", (PyCFunction)Shapes_to_user, METH_VARARGS, NULL},
@@ -529,6 +545,14 @@ static PyMethodDef shapes_module_methods[] = {
 
 int pyhpfc_shapes_add(PyObject *module)
 {
+    /* the topology methods (topology.c) join the table: a type has one */
+    static PyMethodDef all[64];
+    size_t n = 0;
+    for (PyMethodDef *d = Shapes_methods; d->ml_name; d++)
+        all[n++] = *d;
+    for (PyMethodDef *d = pyhpfc_topology_methods; d->ml_name && n + 1 < 64; d++)
+        all[n++] = *d;
+    ShapesType.tp_methods = all;
     if (PyType_Ready(&ShapesType) < 0)
         return -1;
     if (PyModule_AddObject(module, "_Shapes", Py_NewRef((PyObject *)&ShapesType)) < 0)

@@ -17,6 +17,16 @@ const hpfc_file *pyhpfc_file_of(PyObject *file, int **busy);
 /* _hpfc.c: raises hpfc.Error for library status st; returns NULL. */
 PyObject *pyhpfc_raise(int st, const char *context);
 
+/* shapes.c: the index of a _Shapes and its file, marked busy for a call
+ * that runs without the GIL (pyhpfc_shapes_end after it, with the same
+ * busy); NULL with an exception set (closed, in use by another thread). */
+hpfc_shapes *pyhpfc_shapes_begin(PyObject *self, const hpfc_file **f, int **busy);
+void pyhpfc_shapes_end(PyObject *self, int *busy);
+
+/* topology.c: the topology questions, methods of _Shapes (_window,
+ * _neighbours, _adjacency, _nearest, _within, _union, _mesh). */
+extern PyMethodDef pyhpfc_topology_methods[];
+
 /* shapes.c: adds _Shapes, geometry_info, attribute_columns and
  * attribute_rows to the module; -1 with an exception set. */
 int pyhpfc_shapes_add(PyObject *module);

@@ -20,6 +20,7 @@ while read -r status golden args; do
             HOLE) word=$DATA/valid/two_components_hole_crs.hpfc ;;
             SQUARE) word=$DATA/valid/square_diagonal.hpfc ;;
             LOOP) word=$DATA/valid/loop_quadtree.hpfc ;;
+            BORDERS) word=$DATA/valid/borders_1_2.hpfc ;;
             BADPOOL) word=$DATA/invalid/bad_pool_checksum.hpfc ;;
             GARBAGE) word=$tmp/garbage ;;
             OUTDIR/*) word=$tmp/outdir/${word#OUTDIR/} ;;
