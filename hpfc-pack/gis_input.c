@@ -26,7 +26,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <time.h>
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -44,23 +43,6 @@
 #include "projection.h"
 #include "segnode.h"
 #include "sort.h"
-
-/* ---- stage times ------------------------------------------------------------ */
-
-static double mono_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-/* Seconds since *t, which moves on to now: one stage's wall time. */
-static double lap(double *t)
-{
-    double now = mono_now(), d = now - *t;
-    *t = now;
-    return d;
-}
 
 /* ---- state ---------------------------------------------------------------------- */
 
@@ -1521,17 +1503,17 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     int64_t *lat = NULL;
     seg *segs = NULL;
     size_t n_segs = 0;
-    double t = mono_now();
+    stage_time t = stage_now();
     int st = read_dataset(&r, path, &srs_p4, &srs);
     info->points_read = r.n_points;
-    info->read_s = lap(&t);
+    info->read_t = stage_lap(&t);
     if (!st) {
         lat = malloc((r.n_points ? r.n_points : 1) * 2 * sizeof *lat);
         st = lat ? project_and_snap(&r, srs, srs_p4, lat) : fail(&r, "out of memory");
     }
     free(r.xy);
     r.xy = NULL;
-    info->project_s = lap(&t);
+    info->project_t = stage_lap(&t);
     seg *geos = NULL;
     size_t n_geos = 0;
     if (!st)
@@ -1541,10 +1523,10 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     if (geos != segs)
         free(geos);
     free(lat);
-    info->node_s = lap(&t);
+    info->node_t = stage_lap(&t);
     if (!st)
         st = make_graph(&r, segs, n_segs, out);
-    info->graph_s = lap(&t);
+    info->graph_t = stage_lap(&t);
     progress_end(&r.bar);
     free(segs);
     free(r.start);
