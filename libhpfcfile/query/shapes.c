@@ -11,6 +11,8 @@
 #include <string.h>
 
 #include "arrays.h"
+#include "attrs.h"
+#include "feat.h"
 #include "file.h"
 #include "ring_index.h"
 
@@ -319,14 +321,10 @@ static int index_edges(hpfc_shapes *s)
     return HPFC_OK;
 }
 
-/* A CSR from links given as (owner, item) by `get`, inverted: for each
- * feature, its items in increasing order. */
-typedef int (*link_fn)(const hpfc_file *f, uint64_t owner, uint32_t k, uint32_t *feature);
-typedef int (*link_count_fn)(const hpfc_file *f, uint64_t owner, uint32_t *count);
-
-static int invert_links(const hpfc_file *f, uint64_t owners, uint32_t features,
-                        link_count_fn count_of, link_fn get, uint64_t **start_out,
-                        uint32_t **items_out)
+/* The links of rows [0, rows) (faces or edges) inverted: for each feature,
+ * the rows that link it, in increasing order. */
+static int invert_links(const feature_links *t, uint64_t rows, uint32_t features,
+                        uint64_t **start_out, uint32_t **items_out)
 {
     uint64_t *start = calloc((size_t)features + 2, sizeof *start);
     if (!start)
@@ -346,12 +344,12 @@ static int invert_links(const hpfc_file *f, uint64_t owners, uint32_t features,
             }
             memcpy(fill, start, (size_t)features * sizeof *fill);
         }
-        for (uint64_t o = 0; o < owners && !st; o++) {
-            uint32_t n, ft;
-            if ((st = count_of(f, o, &n)))
+        for (uint64_t o = 0; o < rows && !st; o++) {
+            uint32_t first, end, ft;
+            if ((st = feature_links_row(t, o, &first, &end)))
                 break;
-            for (uint32_t k = 0; k < n && !st; k++) {
-                if ((st = get(f, o, k, &ft)))
+            for (uint32_t k = 0; k < end - first && !st; k++) {
+                if ((st = feature_links_get(t, o, k, &ft)))
                     break;
                 if (ft >= features)
                     st = HPFC_E_CORRUPT;
@@ -366,43 +364,33 @@ static int invert_links(const hpfc_file *f, uint64_t owners, uint32_t features,
     return st;
 }
 
-static int edge_feature_count(const hpfc_file *f, uint64_t e, uint32_t *n)
-{
-    return hpfc_edge_feature_count(f, e, n);
-}
-
-static int face_feature_count(const hpfc_file *f, uint64_t face, uint32_t *n)
-{
-    return hpfc_face_feature_count(f, face, n);
-}
-
 /* FEAT's faces of each feature and EDGF's edges, where the file has them. */
 static int index_features(hpfc_shapes *s)
 {
     hpfc_features_info fi;
+    feature_links links;
     int st = hpfc_file_get_features(s->f, &fi);
     if (st == HPFC_E_NO_SECTION)
         return HPFC_OK;
+    if (!st)
+        st = features_face_links(s->f, true, &links);
     if (st)
         return st;
     s->have_features = 1;
     s->features = fi.features;
     /* a FEAT table numbered against other faces is not to be used (§7.1) */
     uint64_t faces = fi.faces == s->faces ? s->faces : 0;
-    if ((st = invert_links(s->f, faces, fi.features, face_feature_count, hpfc_face_feature,
-                           &s->feat_start, &s->feat_face)))
+    if ((st = invert_links(&links, faces, fi.features, &s->feat_start, &s->feat_face)))
         return st;
-    uint32_t edges, links;
-    st = hpfc_edge_features_info(s->f, &edges, &links);
+    st = attrs_edge_links(s->f, true, &links);
     if (st == HPFC_E_NO_SECTION)
         return HPFC_OK;
     if (st)
         return st;
-    if (edges != s->edges)
+    if (links.rows != s->edges)
         return HPFC_E_CORRUPT;
     s->have_edge_features = 1;
-    return invert_links(s->f, edges, fi.features, edge_feature_count, hpfc_edge_feature,
-                        &s->fe_start, &s->fe_edge);
+    return invert_links(&links, links.rows, fi.features, &s->fe_start, &s->fe_edge);
 }
 
 int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)

@@ -333,10 +333,10 @@ int hpfc_edge_features_info(const hpfc_file *file, uint32_t *edges, uint32_t *li
 
 /* EDGF's edge index and links, for an accessor: as section_of answers.
  * feature_links.h reads them for edges here and for faces in features.c;
- * what stays twice (this, features.c's face_links and their two
+ * what stays twice (this, features.c's features_face_links and their two
  * accessors) is each section's own part: finding its links in its own
  * layout. */
-static int edge_links(const hpfc_file *file, bool out_ok, feature_links *links)
+int attrs_edge_links(const hpfc_file *file, bool out_ok, feature_links *links)
 {
     const uint8_t *s;
     int st = section_of(file, SECTION_EDGF, out_ok, &s);
@@ -351,13 +351,13 @@ static int edge_links(const hpfc_file *file, bool out_ok, feature_links *links)
 int hpfc_edge_feature_count(const hpfc_file *file, uint64_t edge, uint32_t *count)
 {
     feature_links links;
-    int st = edge_links(file, count != NULL, &links);
+    int st = attrs_edge_links(file, count != NULL, &links);
     return st ? st : feature_links_count(&links, edge, count);
 }
 
 int hpfc_edge_feature(const hpfc_file *file, uint64_t edge, uint32_t k, uint32_t *feature)
 {
     feature_links links;
-    int st = edge_links(file, feature != NULL, &links);
+    int st = attrs_edge_links(file, feature != NULL, &links);
     return st ? st : feature_links_get(&links, edge, k, feature);
 }
