@@ -573,6 +573,15 @@ static int add_dart(hpfc_shapes *s, uint64_t e, int reversed, uint64_t face)
     return HPFC_OK;
 }
 
+/* A new stamp for vmark (the stamps cleared when they wrap). */
+static void next_vgen(hpfc_shapes *s)
+{
+    if (++s->vgen == 0) {
+        memset(s->vmark, 0, (s->vertices + 1) * sizeof *s->vmark);
+        s->vgen = 1;
+    }
+}
+
 /* Sorts the darts by origin, then by angle (cmp_dart): by origin with
  * key_sort, then each vertex's few darts by angle. */
 static int sort_darts(hpfc_shapes *s)
@@ -590,11 +599,16 @@ static int sort_darts(hpfc_shapes *s)
     s->darts = s->dsorted, s->dsorted = t;
     size_t c = s->cap_darts;
     s->cap_darts = s->cap_dsorted, s->cap_dsorted = c;
+    /* each vertex's darts: from vpos[v] on, where vmark[v] holds the stamp */
+    next_vgen(s);
     for (size_t a = 0, b; a < n; a = b) {
-        for (b = a + 1; b < n && s->darts[b].origin == s->darts[a].origin; b++)
+        uint32_t v = s->darts[a].origin;
+        for (b = a + 1; b < n && s->darts[b].origin == v; b++)
             ;
         if (b - a > 1)
             qsort(s->darts + a, b - a, sizeof *s->darts, cmp_dart);
+        s->vmark[v] = s->vgen;
+        s->vpos[v] = (uint32_t)a;
     }
     return HPFC_OK;
 }
@@ -613,26 +627,19 @@ static int link_darts(hpfc_shapes *s)
     bdart *D = s->darts;
     for (size_t k = 0; k < n; k++) {
         uint32_t t = D[k].target;
-        size_t lo = 0, hi = n; /* the darts leaving t: [lo, hi) */
+        if (s->vmark[t] != s->vgen)
+            return HPFC_E_CORRUPT; /* the boundary ends at t */
+        /* the darts leaving t: [first, end); end found by bisection, since
+         * a scan would cost a vertex of degree d its d darts d times */
+        size_t first = s->vpos[t], lo = first + 1, hi = n;
         while (lo < hi) {
             size_t mid = lo + (hi - lo) / 2;
-            if (D[mid].origin < t)
-                lo = mid + 1;
-            else
-                hi = mid;
-        }
-        size_t first = lo;
-        hi = n;
-        while (lo < hi) {
-            size_t mid = lo + (hi - lo) / 2;
-            if (D[mid].origin <= t)
+            if (D[mid].origin == t)
                 lo = mid + 1;
             else
                 hi = mid;
         }
         size_t end = lo;
-        if (first == end)
-            return HPFC_E_CORRUPT; /* the boundary ends at t */
         /* the first of them at an angle not below the way back */
         lo = first, hi = end;
         while (lo < hi) {
@@ -732,10 +739,7 @@ static int trace_rings(hpfc_shapes *s)
     for (size_t start = 0; start < n; start++) {
         if (s->darts[start].used)
             continue;
-        if (++s->vgen == 0) { /* the stamps wrapped: forget them all */
-            memset(s->vmark, 0, (s->vertices + 1) * sizeof *s->vmark);
-            s->vgen = 1;
-        }
+        next_vgen(s);
         size_t top = 0; /* the walk so far, cut loops removed: cycle[0 .. top) */
         size_t d = start;
         for (size_t steps = 0; !s->darts[d].used; steps++) {
