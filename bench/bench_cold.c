@@ -56,14 +56,14 @@ static int point_faces(const hpfc_file *f, const hpfc_pixel *px, uint64_t *faces
         st = hpfc_pixel_is_private(f, px, &is_private);
     if (!st && is_private) {
         *n = 1;
-        st = hpfc_faces_of_private_pixel(fc, px, &faces[0]);
+        st = hpfc_faces_pixel_face(fc, px, &faces[0]);
     } else if (!st) {
         size_t len = 0;
         st = hpfc_pixel_word(f, px, NULL, 0, &len);
         *n = 0;
         for (uint32_t k = 0; !st && k + 4 < len && k < cap; k++) {
             hpfc_dart d = {.pixel = *px, .crossing = k};
-            st = hpfc_faces_of_dart(fc, &d, &faces[(*n)++]);
+            st = hpfc_faces_dart_face(fc, &d, &faces[(*n)++]);
         }
     }
     hpfc_faces_free(fc);
@@ -86,11 +86,12 @@ static int answer(const char *path, int64_t x, int64_t y, size_t *features)
     hpfc_features_info fi;
     if (!st && hpfc_file_get_features(f, &fi) == HPFC_OK) {
         for (size_t k = 0; k < n && !st; k++) {
-            uint32_t count = 0, feature;
+            uint32_t count = 0;
+            hpfc_id feature;
             st = hpfc_face_feature_count(f, faces[k], &count);
             for (uint32_t i = 0; i < count && !st; i++) {
                 hpfc_feature ft;
-                if (!(st = hpfc_face_feature(f, faces[k], i, &feature)))
+                if (!(st = hpfc_face_feature_id(f, faces[k], i, &feature)))
                     st = hpfc_file_get_feature(f, feature, &ft);
                 *features += !st;
             }

@@ -148,12 +148,14 @@ typedef struct answer {
 
 static void add_face(const hpfc_file *f, uint64_t face, answer *a)
 {
-    uint32_t count, feature;
+    uint32_t count;
+    hpfc_id feature;
     hpfc_feature ft;
     if (hpfc_face_feature_count(f, face, &count))
         return;
     for (uint32_t k = 0; k < count; k++)
-        if (!hpfc_face_feature(f, face, k, &feature) && !hpfc_file_get_feature(f, feature, &ft)) {
+        if (!hpfc_face_feature_id(f, face, k, &feature) &&
+            !hpfc_file_get_feature(f, feature, &ft)) {
             int seen = 0;
             for (int i = 0; i < a->n; i++)
                 seen |= a->fid[i] == ft.fid;
@@ -172,7 +174,7 @@ static void hpfc_answer(const hpfc_file *f, const hpfc_faces *faces, int64_t x, 
         return;
     uint64_t face;
     if (a->is_private) {
-        if (!hpfc_faces_of_private_pixel(faces, &px, &face))
+        if (!hpfc_faces_pixel_face(faces, &px, &face))
             add_face(f, face, a);
         return;
     }
@@ -181,7 +183,7 @@ static void hpfc_answer(const hpfc_file *f, const hpfc_faces *faces, int64_t x, 
         return;
     for (uint32_t k = 0; k + 4 < len; k++) {
         hpfc_dart d = {px, k};
-        if (!hpfc_faces_of_dart(faces, &d, &face))
+        if (!hpfc_faces_dart_face(faces, &d, &face))
             add_face(f, face, a);
     }
 }

@@ -94,7 +94,7 @@ def topojson_one_object(src, name, out):
 
 
 def sections(path):
-    """{tag: (offset, length)} from the file's section directory (spec §7)."""
+    """{tag: (offset, length)} from the file's section directory (spec §4.4)."""
     with open(path, "rb") as f:
         data = f.read()
     header_size = struct.unpack_from("<I", data, 12)[0]

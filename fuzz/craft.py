@@ -22,7 +22,7 @@ def crc32c(data, crc=0):
 
 
 class Bits:
-    """An MSB-first bit stream (spec §2, "bit order in pools")."""
+    """An MSB-first bit stream (spec §2.2, "Bit order")."""
 
     def __init__(self, nbits):
         self.nbits = nbits
@@ -128,7 +128,7 @@ CODES = {"+": "0", "=": "1000", "[": "1001", "]": "1010", "(": "1011", "Y": "110
 
 
 def word_code(word):
-    """The bit string of a word (spec §10); "R" writes the reserved 1111."""
+    """The bit string of a word (spec §5.2.3); "R" writes the reserved 1111."""
     return "".join(CODES.get(c, "1111") for c in word)
 
 

@@ -71,7 +71,7 @@ static inline uint64_t fuzz_u64(fuzz_bytes *in)
     return v | (uint64_t)fuzz_u32(in) << 32;
 }
 
-/* The header's file_size field (spec/hpfc-format.md §5: u64 LE at 88). */
+/* The header's file_size field (spec/hpfc-format.md §4.2: u64 LE at 88). */
 enum { FUZZ_FILE_SIZE_OFFSET = 88, FUZZ_HEADER_SIZE = 128 };
 
 /* Splits data into an exact-size malloc'ed copy of the file part (*file,

@@ -14,7 +14,7 @@
  * NO_PIXEL) or skipped means face -1, feature -1, counts 0, flags 0;
  * inside: INSIDE set, PRIVATE as hpfc_pixel_is_private, depth the leaf's,
  * SINGLE exactly when one face meets the leaf, the face then below the face
- * count (a private leaf: hpfc_faces_of_private_pixel's) and -1 otherwise;
+ * count (a private leaf: hpfc_faces_pixel_face's) and -1 otherwise;
  * a feature only with a FEAT section, below its feature count and counted
  * in feature_count; a FEAT section that does not read fails the whole
  * batch with its status. The call keeps no state: each half of the points
@@ -158,13 +158,13 @@ static void check_answer(const hpfc_file *f, const hpfc_faces *fc, int features,
     int single = (a->flags[k] & HPFC_LOC_SINGLE) != 0;
     FUZZ_CHECK(single == (a->face_count[k] == 1));
     if (single) {
-        FUZZ_CHECK(a->face[k] >= 0 && (uint64_t)a->face[k] < hpfc_faces_count(fc));
+        FUZZ_CHECK(a->face[k] >= 0 && (uint64_t)a->face[k] < hpfc_faces_face_count(fc));
     } else {
         FUZZ_CHECK(a->face[k] == -1);
     }
     if (is_private) {
         uint64_t face;
-        FUZZ_CHECK(hpfc_faces_of_private_pixel(fc, &px, &face) == HPFC_OK);
+        FUZZ_CHECK(hpfc_faces_pixel_face(fc, &px, &face) == HPFC_OK);
         FUZZ_CHECK(single && (uint64_t)a->face[k] == face);
     }
     if (!features) {

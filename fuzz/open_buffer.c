@@ -5,14 +5,17 @@
  * header, level table and section directory checks. An opened file is then
  * queried through every metadata accessor, its FEAT section (when it has
  * one) through every feature accessor, its ATTR and EDGF sections through
- * every attribute and edge-feature accessor, and its section checksums verified.
+ * every attribute and edge-feature accessor, each level's pool layout
+ * checked (hpfc_file_check_pool_layout) and its checksums verified.
  *
  * Oracle: open fails only with a file code (MAGIC .. SECTION, or NOMEM) and
  * never with CORRUPT (open decodes no pool); opening with the checksum
  * verified succeeds only if opening without it does, with the same info;
  * the info a handle reports is inside the ranges open promises to check;
  * feature accessors give OK, ARG (out of range, exactly) or CORRUPT, and
- * every link they give names a feature; hpfc_file_serialize of an opened
+ * every link they give names a feature; a failed layout or checksum check
+ * explains itself (a checksum names the header or a section); status names
+ * are the header's; hpfc_file_serialize of an opened
  * file, with no section or a CRS, opens with its checksums verified and
  * holds the same levels and the same pool bytes.
  */
@@ -36,7 +39,8 @@ static void probe_features(const hpfc_file *f)
     hpfc_feature ft;
     const char *name;
     size_t len;
-    uint32_t count, feature;
+    uint32_t count;
+    hpfc_id feature;
     for (uint32_t k = 0; k < fi.features && k < 256; k++) {
         FUZZ_CHECK(feature_status_ok(hpfc_file_get_feature(f, k, &ft)));
     }
@@ -48,12 +52,12 @@ static void probe_features(const hpfc_file *f)
         st = hpfc_face_feature_count(f, face, &count);
         FUZZ_CHECK(feature_status_ok(st));
         for (uint32_t k = 0; st == HPFC_OK && k < count && k < 64; k++) {
-            int s2 = hpfc_face_feature(f, face, k, &feature);
+            int s2 = hpfc_face_feature_id(f, face, k, &feature);
             FUZZ_CHECK(feature_status_ok(s2));
             FUZZ_CHECK(s2 != HPFC_OK || feature < fi.features);
         }
         if (st == HPFC_OK)
-            FUZZ_CHECK(hpfc_face_feature(f, face, count, &feature) == HPFC_E_ARG);
+            FUZZ_CHECK(hpfc_face_feature_id(f, face, count, &feature) == HPFC_E_ARG);
     }
     FUZZ_CHECK(hpfc_face_feature_count(f, fi.faces, &count) == HPFC_E_ARG);
 }
@@ -63,9 +67,12 @@ static void probe_features(const hpfc_file *f)
  * in the buffer [base, base + size). */
 static void probe_attributes(const hpfc_file *f, const uint8_t *base, size_t size)
 {
-    uint32_t features, columns, col;
-    int st = hpfc_attr_info(f, &features, &columns);
+    hpfc_attrs_info ai = {0};
+    uint32_t col;
+    int st = hpfc_file_get_attrs(f, &ai);
     FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
+    FUZZ_CHECK(st || (ai.section_bytes <= size && ai.string_bytes < ai.section_bytes));
+    uint64_t features = ai.features, columns = ai.columns;
     for (uint32_t c = 0; st == HPFC_OK && c <= columns && c < 64; c++) {
         const char *name;
         size_t len;
@@ -80,7 +87,7 @@ static void probe_attributes(const hpfc_file *f, const uint8_t *base, size_t siz
         }
         for (uint32_t k = 0; k <= features && k < 64; k++) {
             hpfc_attr_value v;
-            int s2 = hpfc_file_get_attr(f, k, c, &v);
+            int s2 = hpfc_file_get_attr_value(f, k, c, &v);
             if (k == features || c == columns) /* a damaged column may be found first */
                 FUZZ_CHECK(s2 == HPFC_E_ARG || (c < columns && s2 == HPFC_E_CORRUPT));
             else
@@ -89,19 +96,25 @@ static void probe_attributes(const hpfc_file *f, const uint8_t *base, size_t siz
                 FUZZ_CHECK((const uint8_t *)v.s >= base && (const uint8_t *)v.s + v.len <= base + size);
         }
     }
-    uint32_t edges, links, count, feature;
-    st = hpfc_edge_features_info(f, &edges, &links);
+    hpfc_edge_links_info ei = {0};
+    uint32_t count;
+    hpfc_id feature;
+    st = hpfc_file_get_edge_links(f, &ei);
     FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION);
-    for (uint32_t e = 0; st == HPFC_OK && e < edges && e < 256; e++) {
+    FUZZ_CHECK(st || ei.section_bytes <= size);
+    for (uint32_t e = 0; st == HPFC_OK && e < ei.edges && e < 256; e++) {
         int s1 = hpfc_edge_feature_count(f, e, &count);
         FUZZ_CHECK(feature_status_ok(s1));
-        for (uint32_t k = 0; s1 == HPFC_OK && k < count && k < 64; k++)
-            FUZZ_CHECK(feature_status_ok(hpfc_edge_feature(f, e, k, &feature)));
+        for (uint32_t k = 0; s1 == HPFC_OK && k < count && k < 64; k++) {
+            int s2 = hpfc_edge_feature_id(f, e, k, &feature);
+            FUZZ_CHECK(feature_status_ok(s2));
+            FUZZ_CHECK(s2 != HPFC_OK || feature < ei.features);
+        }
         if (s1 == HPFC_OK)
-            FUZZ_CHECK(hpfc_edge_feature(f, e, count, &feature) == HPFC_E_ARG);
+            FUZZ_CHECK(hpfc_edge_feature_id(f, e, count, &feature) == HPFC_E_ARG);
     }
     if (st == HPFC_OK)
-        FUZZ_CHECK(hpfc_edge_feature_count(f, edges, &count) == HPFC_E_ARG);
+        FUZZ_CHECK(hpfc_edge_feature_count(f, ei.edges, &count) == HPFC_E_ARG);
 }
 
 static int open_status_ok(int st)
@@ -134,6 +147,12 @@ static void query(const hpfc_file *f)
     }
     hpfc_level_info lv;
     FUZZ_CHECK(hpfc_file_get_level(f, info.levels, &lv) == HPFC_E_ARG);
+    for (uint32_t l = 0; l <= info.levels; l++) { /* the compact layout's own structure */
+        hpfc_diag d;
+        int s = hpfc_file_check_pool_layout(f, l, &d);
+        FUZZ_CHECK(l == info.levels ? s == HPFC_E_ARG : s == HPFC_OK || s == HPFC_E_CORRUPT);
+        FUZZ_CHECK(s == HPFC_OK || (d.status == s && d.message[0] != '\0'));
+    }
     for (uint32_t k = 0; k < info.section_count; k++) {
         hpfc_section_info s;
         FUZZ_CHECK(hpfc_file_get_section(f, k, &s) == HPFC_OK);
@@ -142,8 +161,14 @@ static void query(const hpfc_file *f)
     hpfc_section_info s;
     FUZZ_CHECK(hpfc_file_get_section(f, info.section_count, &s) == HPFC_E_ARG);
     probe_features(f);
-    int st = hpfc_file_verify_checksums(f);
+    hpfc_diag diag;
+    int st = hpfc_file_check_checksums(f, &diag);
     FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_CHECKSUM);
+    FUZZ_CHECK(diag.status == st && memchr(diag.message, '\0', sizeof diag.message));
+    /* a failure names the header or a section of the directory */
+    FUZZ_CHECK(st == HPFC_OK ? diag.message[0] == '\0'
+                             : strncmp(diag.message, "the header's ", 13) == 0 ||
+                                   strncmp(diag.message, "section ", 8) == 0);
 }
 
 /* The map serialised again (pools copied) reads back as the same map. */
@@ -158,7 +183,7 @@ static void reserialize(const hpfc_file *f, const uint8_t *data, const char *crs
     hpfc_file *g = NULL;
     if (!st) {
         FUZZ_CHECK(hpfc_open_memory(out, size, 0, &g) == HPFC_OK);
-        FUZZ_CHECK(hpfc_file_verify_checksums(g) == HPFC_OK);
+        FUZZ_CHECK(hpfc_file_check_checksums(g, NULL) == HPFC_OK);
     }
     hpfc_file_info a, b;
     hpfc_file_get_info(f, &a);
@@ -188,7 +213,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     int st_skipped = hpfc_open_memory(data, size, HPFC_OPEN_SKIP_CHECKSUM, &skipped);
     FUZZ_CHECK(open_status_ok(st_checked) && open_status_ok(st_skipped));
     FUZZ_CHECK(hpfc_strerror(st_checked) != NULL && hpfc_strerror(st_skipped) != NULL);
-    FUZZ_CHECK(strcmp(hpfc_version_string(), HPFC_VERSION_STRING) == 0);
+    FUZZ_CHECK(strncmp(hpfc_status_name(st_checked), "HPFC_", 5) == 0 &&
+               strcmp(hpfc_status_name(st_checked), "HPFC_E_UNKNOWN") != 0);
+    FUZZ_CHECK(strcmp(hpfc_version_string(), HPFC_VERSION_STRING) == 0 &&
+               hpfc_version_number() == HPFC_VERSION_NUMBER);
     FUZZ_CHECK((st_checked == HPFC_OK) == (checked != NULL));
     FUZZ_CHECK((st_skipped == HPFC_OK) == (skipped != NULL));
     /* the checksum is the only check the flag skips */

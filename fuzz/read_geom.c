@@ -1,5 +1,5 @@
 /*
- * read_geom: the GEOM section (spec/hpfc-format.md §17) on an opened file,
+ * read_geom: the GEOM section (spec/hpfc-format.md §6.6) on an opened file,
  * driven by the input.
  *
  * The input is an .hpfc file followed by command bytes (input.h), opened

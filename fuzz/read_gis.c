@@ -78,28 +78,30 @@ static int read_graph(const char *path, const gis_options *o, hpfc_graph **g, gi
 static void check_recorded_attributes(const hpfc_file *f, const hpfc_attr_table *at,
                                       const gis_feature_table *ft)
 {
-    uint32_t features, columns;
-    FUZZ_CHECK(hpfc_attr_info(f, &features, &columns) == HPFC_OK);
-    FUZZ_CHECK(features == at->feature_count && columns == at->column_count);
-    for (uint32_t k = 0; k < features; k++)
-        for (uint32_t c = 0; c < columns; c++) {
+    hpfc_attrs_info ai;
+    FUZZ_CHECK(hpfc_file_get_attrs(f, &ai) == HPFC_OK);
+    FUZZ_CHECK(ai.features == at->feature_count && ai.columns == at->column_count);
+    for (uint32_t k = 0; k < at->feature_count; k++)
+        for (uint32_t c = 0; c < at->column_count; c++) {
             hpfc_attr_value v;
-            const hpfc_attr_value *w = &at->cells[(size_t)k * columns + c];
-            FUZZ_CHECK(hpfc_file_get_attr(f, k, c, &v) == HPFC_OK && v.type == w->type);
+            const hpfc_attr_value *w = &at->cells[(size_t)k * at->column_count + c];
+            FUZZ_CHECK(hpfc_file_get_attr_value(f, k, c, &v) == HPFC_OK && v.type == w->type);
             FUZZ_CHECK(v.type != HPFC_ATTR_INTEGER || v.i == w->i);
             FUZZ_CHECK(v.type != HPFC_ATTR_REAL || memcmp(&v.r, &w->r, sizeof v.r) == 0);
             FUZZ_CHECK(v.type != HPFC_ATTR_STRING ||
                        (v.len == w->len && memcmp(v.s, w->s, v.len) == 0));
         }
-    uint32_t edges, links;
-    FUZZ_CHECK(hpfc_edge_features_info(f, &edges, &links) == HPFC_OK);
-    FUZZ_CHECK(edges == ft->edge_count && links == ft->edge_start[edges]);
-    for (uint32_t e = 0; e < edges; e++) {
-        uint32_t n, feature;
+    hpfc_edge_links_info ei;
+    FUZZ_CHECK(hpfc_file_get_edge_links(f, &ei) == HPFC_OK);
+    FUZZ_CHECK(ei.edges == ft->edge_count && ei.links == ft->edge_start[ft->edge_count] &&
+               ei.features == ft->table.feature_count);
+    for (uint32_t e = 0; e < ft->edge_count; e++) {
+        uint32_t n;
+        hpfc_id feature;
         FUZZ_CHECK(hpfc_edge_feature_count(f, e, &n) == HPFC_OK);
         FUZZ_CHECK(n == ft->edge_start[e + 1] - ft->edge_start[e]);
         for (uint32_t k = 0; k < n; k++) {
-            FUZZ_CHECK(hpfc_edge_feature(f, e, k, &feature) == HPFC_OK);
+            FUZZ_CHECK(hpfc_edge_feature_id(f, e, k, &feature) == HPFC_OK);
             FUZZ_CHECK(feature == ft->edge_feature[ft->edge_start[e] + k]);
         }
     }
@@ -116,8 +118,8 @@ static void check_recorded_features(const hpfc_file *f, const gis_feature_table 
         FUZZ_CHECK(hpfc_face_feature_count(f, face, &n) == HPFC_OK);
         FUZZ_CHECK(n == ft->face_start[face + 1] - ft->face_start[face]);
         for (uint32_t k = 0; k < n; k++) {
-            uint32_t feature;
-            FUZZ_CHECK(hpfc_face_feature(f, face, k, &feature) == HPFC_OK);
+            hpfc_id feature;
+            FUZZ_CHECK(hpfc_face_feature_id(f, face, k, &feature) == HPFC_OK);
             FUZZ_CHECK(feature == ft->face_feature[ft->face_start[face] + k]);
         }
     }

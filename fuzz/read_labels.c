@@ -1,5 +1,5 @@
 /*
- * read_labels: the LABL section (spec/hpfc-format.md §15) on an opened
+ * read_labels: the LABL section (spec/hpfc-format.md §6.5) on an opened
  * file, driven by the input.
  *
  * The input is an .hpfc file followed by command bytes (input.h), opened
@@ -126,7 +126,7 @@ static void verify(lab *z)
     if (st == HPFC_OK) {
         hpfc_file_info fi;
         hpfc_file_get_info(z->f, &fi);
-        int compact = (fi.incompat_flags & 1) != 0; /* spec §16.1 */
+        int compact = (fi.incompat_flags & 1) != 0; /* spec §4.3 */
         hpfc_pixel px;
         long leaves = 0;
         for (int s = hpfc_leaf_first(z->f, &px); !s && leaves < FUZZ_LEAVES;
@@ -140,7 +140,7 @@ static void verify(lab *z)
             int is_private = 0;
             FUZZ_CHECK(hpfc_pixel_is_private(z->f, &px, &is_private) == HPFC_OK);
             if (is_private) {
-                FUZZ_CHECK(hpfc_faces_of_private_pixel(fc, &px, &want) == HPFC_OK);
+                FUZZ_CHECK(hpfc_faces_pixel_face(fc, &px, &want) == HPFC_OK);
                 FUZZ_CHECK(hpfc_label_stretch_face(z->f, &px, 0, &got) == HPFC_OK);
                 FUZZ_CHECK(got == want);
             }

@@ -5,16 +5,21 @@
  * The input is an .hpfc file followed by command bytes (input.h), opened
  * with HPFC_OPEN_SKIP_CHECKSUM so mutated GEOM, LABL, FEAT and EDGF
  * sections reach the ring assembly. Without commands: the index, every
- * face and every feature (at most 256 each, polygons and lines) and the
- * darts of the first 64 leaves. With commands: faces and features by
- * input-chosen ids (any value), darts naming any crossing.
+ * face and every feature (at most 256 each, polygons and lines), the darts
+ * of the first 64 leaves and windows (hpfc_shapes_window: the domain, its
+ * centre quarter and centre point, one beside it, an empty one). With
+ * commands: faces and features by input-chosen ids (any value), darts
+ * naming any crossing, windows with input-chosen corners within two domain
+ * sizes of the domain.
  *
  * Oracle: known statuses only; an index that builds answers in range ids
  * and refuses ids past the end with HPFC_E_ARG; every answer is well
  * formed: offsets non-decreasing and in range, every ring closed and at
  * least four points, outer rings counter-clockwise and holes clockwise
  * (exact signed area), lines at least two points; a dart's polyline has
- * the count the count query gives.
+ * the count the count query gives; a window's lists are ascending ids in
+ * range, flagged 0 or 1, the unbounded face never inside, and an empty
+ * rectangle is HPFC_E_ARG.
  *
  * The Python package's ragged arrays (python/src/ragged.c) are built from
  * the same answers, one array per run: every face, feature, feature's
@@ -75,7 +80,7 @@ typedef struct shp {
     const hpfc_file *f;
     hpfc_shapes *s;
     hpfc_walker *w;
-    uint64_t faces;
+    uint64_t faces, edges;
     uint32_t features;
     int have_features;
     ragged polys, lines; /* the package's arrays: faces and features; lines */
@@ -142,7 +147,7 @@ static void ragged_probe(shp *z, int kind, uint64_t id, int expect, const int64_
 static void probe_face(shp *z, uint64_t face)
 {
     hpfc_polygons p;
-    int st = hpfc_shapes_face(z->s, face, &p);
+    int st = hpfc_shapes_face_polygons(z->s, face, &p);
     check_status(st);
     if (face >= z->faces)
         FUZZ_CHECK(st == HPFC_E_ARG);
@@ -160,22 +165,31 @@ static void probe_face(shp *z, uint64_t face)
     free(xy);
 }
 
-static void probe_feature(shp *z, uint32_t k)
+static void probe_feature(shp *z, hpfc_id k)
 {
     hpfc_polygons p;
-    uint64_t n = 0;
-    int st = hpfc_shapes_feature_face_count(z->s, k, &n);
+    size_t n = 0;
+    int st = hpfc_shapes_feature_faces(z->s, k, NULL, 0, &n);
     check_status(st);
     if (!z->have_features)
         FUZZ_CHECK(st == HPFC_E_NO_SECTION);
     else if (k >= z->features)
         FUZZ_CHECK(st == HPFC_E_ARG);
-    st = hpfc_shapes_feature(z->s, k, &p);
+    if (!st && n > 0 && n <= FUZZ_ITEMS) { /* the listing: its count, face ids in order */
+        hpfc_id faces[FUZZ_ITEMS];
+        size_t m = 0;
+        FUZZ_CHECK(hpfc_shapes_feature_faces(z->s, k, faces, n - 1, &m) == HPFC_E_BUFFER_SMALL &&
+                   m == n);
+        FUZZ_CHECK(hpfc_shapes_feature_faces(z->s, k, faces, n, &m) == HPFC_OK && m == n);
+        for (size_t j = 0; j < n; j++)
+            FUZZ_CHECK(faces[j] < z->faces && (j == 0 || faces[j - 1] <= faces[j]));
+    }
+    st = hpfc_shapes_feature_polygons(z->s, k, &p);
     check_status(st);
     if (!st)
         check_answer(&p, 0);
     ragged_probe(z, RAGGED_FEATURE, k, st, NULL, 0);
-    st = hpfc_shapes_feature_lines(z->s, k, &p);
+    st = hpfc_shapes_feature_polylines(z->s, k, &p);
     check_status(st);
     if (!st)
         check_answer(&p, 1);
@@ -246,6 +260,50 @@ static void probe_dart(shp *z, const hpfc_pixel *px, uint32_t crossing)
     }
 }
 
+/* ids[0 .. n): ascending, below `end`, each flag 0 or 1. */
+static void check_hits(const hpfc_id *ids, const uint8_t *inside, size_t n, uint64_t end)
+{
+    for (size_t k = 0; k < n; k++)
+        FUZZ_CHECK(ids[k] < end && (k == 0 || ids[k - 1] < ids[k]) && inside[k] <= 1);
+}
+
+static void probe_window(shp *z, int64_t x0, int64_t y0, int64_t x1, int64_t y1)
+{
+    hpfc_window_hits h;
+    unsigned what = HPFC_WINDOW_FACES | HPFC_WINDOW_EDGES |
+                    (z->have_features ? HPFC_WINDOW_FEATURES : 0u);
+    int st = hpfc_shapes_window(z->s, x0, y0, x1, y1, what, &h);
+    check_status(st);
+    if (x0 > x1 || y0 > y1)
+        FUZZ_CHECK(st == HPFC_E_ARG);
+    if (st)
+        return;
+    check_hits(h.face, h.face_inside, h.face_count, z->faces);
+    check_hits(h.edge, h.edge_inside, h.edge_count, z->edges);
+    check_hits(h.feature, h.feature_inside, h.feature_count, z->features);
+    FUZZ_CHECK(h.face_count == 0 || h.face[0] != 0 || h.face_inside[0] == 0);
+}
+
+/* A corner coordinate from the input: within two domain sizes of the
+ * domain, either side. */
+static int64_t window_coord(fuzz_bytes *in, int64_t origin, int64_t size)
+{
+    return origin - 2 * size + (int64_t)(fuzz_u32(in) % (uint64_t)(5 * size + 1));
+}
+
+static void explore_windows(shp *z)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(z->f, &fi);
+    int64_t x0 = fi.x0, y0 = fi.y0, x1 = fi.x0 + fi.width - 1, y1 = fi.y0 + fi.height - 1;
+    int64_t cx = fi.x0 + fi.width / 2, cy = fi.y0 + fi.height / 2;
+    probe_window(z, x0, y0, x1, y1);
+    probe_window(z, cx - fi.width / 4, cy - fi.height / 4, cx + fi.width / 4, cy + fi.height / 4);
+    probe_window(z, cx, cy, cx, cy);
+    probe_window(z, x1 + 1, y0, x1 + 1 + fi.width / 2, y1);
+    probe_window(z, cx, cy, cx - 1, cy);
+}
+
 static void explore(shp *z)
 {
     for (uint64_t face = 0; face < z->faces && face < FUZZ_ITEMS; face++)
@@ -260,6 +318,7 @@ static void explore(shp *z)
             probe_edge(z, e);
         probe_edge(z, gi.edges);
     }
+    explore_windows(z);
     hpfc_pixel px;
     int st = hpfc_leaf_first(z->f, &px);
     for (int leaves = 0; !st && leaves < FUZZ_LEAVES; leaves++) {
@@ -276,12 +335,12 @@ static void run_commands(shp *z, fuzz_bytes *in)
     hpfc_pixel px;
     int have_leaf = hpfc_leaf_first(z->f, &px) == HPFC_OK;
     for (int steps = 0; steps < 64 && !fuzz_empty(in); steps++) {
-        switch (fuzz_u8(in) % 5) {
+        switch (fuzz_u8(in) % 6) {
         case 0:
             probe_face(z, fuzz_u8(in) & 1 ? fuzz_u64(in) : fuzz_u16(in) % (z->faces + 1));
             break;
         case 1:
-            probe_feature(z, fuzz_u8(in) & 1 ? fuzz_u32(in) : fuzz_u16(in) % (z->features + 1));
+            probe_feature(z, fuzz_u8(in) & 1 ? fuzz_u64(in) : fuzz_u16(in) % (z->features + 1));
             break;
         case 2:
             if (have_leaf)
@@ -291,9 +350,17 @@ static void run_commands(shp *z, fuzz_bytes *in)
             if (have_leaf)
                 probe_dart(z, &px, fuzz_u8(in));
             break;
-        default:
+        case 4:
             probe_edge(z, fuzz_u8(in) & 1 ? fuzz_u64(in) : fuzz_u16(in));
             break;
+        default: {
+            hpfc_file_info fi;
+            hpfc_file_get_info(z->f, &fi);
+            int64_t x0 = window_coord(in, fi.x0, fi.width), y0 = window_coord(in, fi.y0, fi.height);
+            int64_t x1 = window_coord(in, fi.x0, fi.width), y1 = window_coord(in, fi.y0, fi.height);
+            probe_window(z, x0, y0, x1, y1);
+            break;
+        }
         }
     }
 }
@@ -315,6 +382,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (hpfc_walker_create(f, &z.w) != HPFC_OK)
                 z.w = NULL;
             z.faces = hpfc_shapes_face_count(z.s);
+            hpfc_geometry_info gi;
+            z.edges = hpfc_file_get_geometry(f, &gi) == HPFC_OK ? gi.edges : 0;
             hpfc_features_info fi;
             z.have_features = hpfc_file_get_features(f, &fi) == HPFC_OK;
             z.features = z.have_features ? fi.features : 0;

@@ -260,7 +260,7 @@ static void check_map(const hpfc_file *f, const hpfc_graph *g, const graph_facts
     hpfc_faces *faces;
     FUZZ_CHECK(hpfc_walker_create(f, &w) == HPFC_OK);
     FUZZ_CHECK(hpfc_faces_build(f, &faces) == HPFC_OK);
-    FUZZ_CHECK(hpfc_faces_count(faces) == faces_expected);
+    FUZZ_CHECK(hpfc_faces_face_count(faces) == faces_expected);
     placed *in_file = malloc((m.nv + 1) * sizeof *in_file);
     placed *in_graph = malloc((m.nv + 1) * sizeof *in_graph);
     uint64_t *face = malloc((m.nd + 1) * sizeof *face);
@@ -288,7 +288,7 @@ static void check_map(const hpfc_file *f, const hpfc_graph *g, const graph_facts
                 FUZZ_CHECK(hpfc_dart_next(w, &d, &n) == HPFC_OK);
                 FUZZ_CHECK(hpfc_dart_prev(w, &n, &back) == HPFC_OK &&
                            hpfc_dart_key(f, &back) == hpfc_dart_key(f, &d));
-                FUZZ_CHECK(hpfc_faces_of_dart(faces, &d, &face[nd]) == HPFC_OK);
+                FUZZ_CHECK(hpfc_faces_dart_face(faces, &d, &face[nd]) == HPFC_OK);
                 FUZZ_CHECK(face[nd] < faces_expected);
             }
         }
@@ -297,7 +297,7 @@ static void check_map(const hpfc_file *f, const hpfc_graph *g, const graph_facts
         if (is_private) {
             uint64_t pf;
             FUZZ_CHECK(count == 0);
-            FUZZ_CHECK(hpfc_faces_of_private_pixel(faces, &px, &pf) == HPFC_OK && pf < faces_expected);
+            FUZZ_CHECK(hpfc_faces_pixel_face(faces, &px, &pf) == HPFC_OK && pf < faces_expected);
         }
     }
     FUZZ_CHECK(st == HPFC_E_NO_PIXEL && nv == m.nv && nd == m.nd);
@@ -358,7 +358,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(ti.unit_exp10 == unit);
 
     const char *crs = flags & 8 ? "EPSG:32631" : NULL;
-    /* flags bit 4: the compact pool layout (spec §16), whose reader the
+    /* flags bit 4: the compact pool layout (spec §5.3), whose reader the
      * same oracle then checks against the tree */
     hpfc_write_options opts = {.crs = crs,
                                .layout = flags & 16 ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER};
@@ -367,7 +367,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(hpfc_tree_serialize(t, &opts, &buf, &len, NULL) == HPFC_OK);
     hpfc_file *f = NULL;
     FUZZ_CHECK(hpfc_open_memory(buf, len, 0, &f) == HPFC_OK);
-    FUZZ_CHECK(hpfc_file_verify_checksums(f) == HPFC_OK);
+    FUZZ_CHECK(hpfc_file_check_checksums(f, NULL) == HPFC_OK);
     hpfc_file_info fi;
     hpfc_file_get_info(f, &fi);
     FUZZ_CHECK(fi.unit_exp10 == unit && fi.levels == ti.levels && fi.file_size == len);

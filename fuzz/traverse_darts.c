@@ -7,7 +7,7 @@
  * the crossing identification. The harness first collects the vertices and
  * darts of the leaves (in hpfc_leaf_first/next order) with the key calls
  * (hpfc_pixel_vertex_key, hpfc_key_degree, hpfc_key_vertex_dart), each
- * checked against its path form. Without commands it
+ * checked against its path form, and hpfc_key_vertex_darts against them. Without commands it
  * applies twin, next, prev, origin, target and the keys to every collected
  * dart, and the key calls to its key and to keys next to it, then builds
  * the faces; with commands each byte picks the next
@@ -69,8 +69,8 @@ static void check_result(trav *t, const hpfc_dart *d)
     FUZZ_CHECK(hpfc_dart_origin(t->w, d, &v) == HPFC_OK);
     if (t->faces) {
         uint64_t face;
-        FUZZ_CHECK(hpfc_faces_of_dart(t->faces, d, &face) == HPFC_OK);
-        FUZZ_CHECK(face < hpfc_faces_count(t->faces));
+        FUZZ_CHECK(hpfc_faces_dart_face(t->faces, d, &face) == HPFC_OK);
+        FUZZ_CHECK(face < hpfc_faces_face_count(t->faces));
     }
 }
 
@@ -124,6 +124,16 @@ static void collect(trav *t)
                     t->nd++;
             }
             FUZZ_CHECK(hpfc_key_vertex_dart(t->w, vertex, degree, &beyond) == HPFC_E_ARG);
+            if (!st && degree <= 64) { /* all at once: the same keys in the same order */
+                uint64_t all[64];
+                uint32_t n = 0;
+                FUZZ_CHECK(hpfc_key_vertex_darts(t->w, vertex, all, degree, &n) == HPFC_OK &&
+                           n == degree &&
+                           memcmp(all, t->keys + t->nd - degree, degree * sizeof *all) == 0);
+                FUZZ_CHECK(degree == 0 || (hpfc_key_vertex_darts(t->w, vertex, all, degree - 1,
+                                                                 &n) == HPFC_E_BUFFER_SMALL &&
+                                           n == degree));
+            }
         }
         if (st)
             t->complete = false;
@@ -143,13 +153,13 @@ static void build_faces(trav *t)
     FUZZ_CHECK((t->faces_status == HPFC_OK) == (t->faces != NULL));
     if (!t->faces)
         return;
-    uint64_t count = hpfc_faces_count(t->faces);
+    uint64_t count = hpfc_faces_face_count(t->faces);
     FUZZ_CHECK(count >= 1);
     for (size_t k = 0; k < t->nleaves; k++) {
         int is_private = 0;
         uint64_t face;
         if (hpfc_pixel_is_private(t->f, &t->leaves[k], &is_private) == HPFC_OK && is_private) {
-            FUZZ_CHECK(hpfc_faces_of_private_pixel(t->faces, &t->leaves[k], &face) == HPFC_OK);
+            FUZZ_CHECK(hpfc_faces_pixel_face(t->faces, &t->leaves[k], &face) == HPFC_OK);
             FUZZ_CHECK(face < count);
         }
     }
@@ -238,20 +248,20 @@ static void module_calls(trav *t, uint64_t key, int from, const hpfc_dart *d)
     int ra = 0, rb = 0, want;
     size_t na = 0, nb = 0;
     if (t->faces) {
-        int got = module_status(hpfc_faces_of_key(t->faces, t->w, key, &a));
-        want = from ? from : hpfc_faces_of_dart(t->faces, d, &b);
+        int got = module_status(hpfc_faces_key_face(t->faces, t->w, key, &a));
+        want = from ? from : hpfc_faces_dart_face(t->faces, d, &b);
         FUZZ_CHECK(got == want && (got || a == b));
     }
-    int got = module_status(hpfc_key_label_face(t->w, key, &a));
+    int got = module_status(hpfc_label_key_face(t->w, key, &a));
     want = from ? from : hpfc_label_dart_face(t->f, d, &b);
     FUZZ_CHECK(got == want && (got || a == b));
-    got = module_status(hpfc_key_label_edge(t->w, key, &a));
+    got = module_status(hpfc_label_key_edge(t->w, key, &a));
     want = from ? from : hpfc_label_dart_edge(t->f, d, &b);
     FUZZ_CHECK(got == want && (got || a == b));
-    got = module_status(hpfc_key_geometry_edge(t->w, key, &a, &ra));
+    got = module_status(hpfc_geometry_key_edge(t->w, key, &a, &ra));
     want = from ? from : hpfc_geometry_dart_edge(t->f, d, &b, &rb);
     FUZZ_CHECK(got == want && (got || (a == b && ra == rb)));
-    got = module_status(hpfc_key_geometry_points(t->w, key, NULL, 0, &na));
+    got = module_status(hpfc_geometry_key_points(t->w, key, NULL, 0, &na));
     want = from ? from : hpfc_geometry_dart_points(t->f, d, NULL, 0, &nb);
     FUZZ_CHECK(got == want && (got || na == nb));
     t->steps -= 5;
@@ -388,7 +398,7 @@ static void run_commands(trav *t, fuzz_bytes *in)
                        (st || key == hpfc_dart_key(t->f, &raw)));
             if (t->faces) {
                 uint64_t face;
-                FUZZ_CHECK(fuzz_known_status(hpfc_faces_of_dart(t->faces, &raw, &face)));
+                FUZZ_CHECK(fuzz_known_status(hpfc_faces_dart_face(t->faces, &raw, &face)));
             }
             t->steps -= 3;
             break;
@@ -409,8 +419,8 @@ static void run_commands(trav *t, fuzz_bytes *in)
             build_faces(t);
             if (t->faces) {
                 uint64_t face;
-                st = hpfc_faces_of_dart(t->faces, &cur, &face);
-                FUZZ_CHECK(st == HPFC_OK && face < hpfc_faces_count(t->faces));
+                st = hpfc_faces_dart_face(t->faces, &cur, &face);
+                FUZZ_CHECK(st == HPFC_OK && face < hpfc_faces_face_count(t->faces));
             }
             break;
         }

@@ -6,20 +6,20 @@
 #include <stdlib.h>
 #include <string.h>
 
-void json_feature_attributes(jsonw *w, const hpfc_file *f, uint32_t feature)
+void json_feature_attributes(jsonw *w, const hpfc_file *f, hpfc_id feature)
 {
-    uint32_t features, columns;
-    if (hpfc_attr_info(f, &features, &columns) != HPFC_OK || feature >= features)
+    hpfc_attrs_info ai;
+    if (hpfc_file_get_attrs(f, &ai) != HPFC_OK || feature >= ai.features)
         return;
     jsonw_object_begin(w, "attributes");
     char *key = NULL;
-    for (uint32_t c = 0; c < columns; c++) {
+    for (uint32_t c = 0; c < ai.columns; c++) {
         const char *name;
         size_t len;
         int type;
         hpfc_attr_value v;
         if (hpfc_attr_column(f, c, &name, &len, &type) != HPFC_OK ||
-            hpfc_file_get_attr(f, feature, c, &v) != HPFC_OK) {
+            hpfc_file_get_attr_value(f, feature, c, &v) != HPFC_OK) {
             jsonw_string(w, "error", "corrupt");
             break;
         }
@@ -42,15 +42,15 @@ void json_feature_attributes(jsonw *w, const hpfc_file *f, uint32_t feature)
     jsonw_object_end(w);
 }
 
-void json_edge_features(jsonw *w, const hpfc_file *f, uint64_t edge)
+void json_edge_features(jsonw *w, const hpfc_file *f, hpfc_id edge)
 {
     uint32_t n;
     if (hpfc_edge_feature_count(f, edge, &n) != HPFC_OK)
         return;
     jsonw_array_begin(w, "edge_features");
     for (uint32_t k = 0; k < n; k++) {
-        uint32_t feature;
-        if (hpfc_edge_feature(f, edge, k, &feature) == HPFC_OK)
+        hpfc_id feature;
+        if (hpfc_edge_feature_id(f, edge, k, &feature) == HPFC_OK)
             jsonw_u64(w, NULL, feature);
     }
     jsonw_array_end(w);

@@ -14,11 +14,11 @@
  * file has an ATTR section (nothing otherwise); integers as integers,
  * reals in their shortest exact form, strings as strings, null as null. A
  * damaged section ends the object early with "error": "corrupt". */
-void json_feature_attributes(jsonw *w, const hpfc_file *f, uint32_t feature);
+void json_feature_attributes(jsonw *w, const hpfc_file *f, hpfc_id feature);
 
 /* Writes "edge_features": [feature indices] for edge `edge` when the file
  * has an EDGF section (for the crossings of a located leaf, once the file
  * gives their edge ids). */
-void json_edge_features(jsonw *w, const hpfc_file *f, uint64_t edge);
+void json_edge_features(jsonw *w, const hpfc_file *f, hpfc_id edge);
 
 #endif

@@ -375,17 +375,17 @@ static OGRGeometryH multiline(exporter *x, const hpfc_polygons *p)
 static int feature_geometry(exporter *x, uint32_t k, OGRGeometryH *g)
 {
     *g = NULL;
-    uint64_t faces;
+    size_t faces;
     hpfc_polygons p;
-    int st = hpfc_shapes_feature_face_count(x->shapes, k, &faces);
+    int st = hpfc_shapes_feature_faces(x->shapes, k, NULL, 0, &faces);
     if (!st && faces) {
-        if ((st = hpfc_shapes_feature(x->shapes, k, &p)))
+        if ((st = hpfc_shapes_feature_polygons(x->shapes, k, &p)))
             return fail(x, "feature %u: %s", k, hpfc_strerror(st));
         return !(*g = multipolygon(x, &p));
     }
     if (st)
         return fail(x, "feature %u: %s", k, hpfc_strerror(st));
-    st = hpfc_shapes_feature_lines(x->shapes, k, &p);
+    st = hpfc_shapes_feature_polylines(x->shapes, k, &p);
     if (st == HPFC_E_NO_SECTION || (!st && p.ring_count == 0))
         return 0;
     if (st)
@@ -439,11 +439,10 @@ static int make_fields(exporter *x, OGRLayerH layer, columns *c)
 {
     memset(c, 0, sizeof *c);
     c->key_field = c->fid_field = -1;
-    uint32_t features = 0;
-    int st = hpfc_attr_info(x->f, &features, &c->count);
-    if (st == HPFC_E_NO_SECTION)
-        c->count = 0;
-    else if (st)
+    hpfc_attrs_info ai;
+    int st = hpfc_file_get_attrs(x->f, &ai);
+    c->count = st ? 0 : (uint32_t)ai.columns; /* ATTR counts its columns in 32 bits */
+    if (st && st != HPFC_E_NO_SECTION)
         return fail(x, "attributes: %s", hpfc_strerror(st));
     if (!x->fid_column && !attr_has(x->f, "fid") &&
         add_field(x, layer, "fid", OFTInteger64, &c->fid_field))
@@ -502,7 +501,7 @@ static int fill_fields(exporter *x, OGRFeatureH ft, const columns *c, uint32_t k
     }
     for (uint32_t col = 0; col < c->count; col++) {
         hpfc_attr_value v;
-        int st = hpfc_file_get_attr(x->f, k, col, &v), field = c->attr_field[col];
+        int st = hpfc_file_get_attr_value(x->f, k, col, &v), field = c->attr_field[col];
         if (st)
             return fail(x, "feature %u, attribute %u: %s", k, col, hpfc_strerror(st));
         if (v.type == HPFC_ATTR_INTEGER)
@@ -524,10 +523,10 @@ static OGRwkbGeometryType layer_type(exporter *x, uint32_t layer, uint32_t featu
     int polys = 0, others = 0;
     for (uint32_t k = 0; k < features; k++) {
         hpfc_feature ft;
-        uint64_t faces = 0;
+        size_t faces = 0;
         if (hpfc_file_get_feature(x->f, k, &ft) || ft.layer != layer)
             continue;
-        hpfc_shapes_feature_face_count(x->shapes, k, &faces);
+        hpfc_shapes_feature_faces(x->shapes, k, NULL, 0, &faces);
         if (faces)
             polys = 1;
         else
@@ -647,10 +646,10 @@ static int face_fields(exporter *x, OGRFeatureH ft, uint64_t face, int fids_fiel
     text fids = {0}, keys = {0};
     int r = 0;
     for (uint32_t k = 0; k < n && !r; k++) {
-        uint32_t index;
+        hpfc_id index;
         hpfc_feature feat;
         char buf[32];
-        int st = hpfc_face_feature(x->f, face, k, &index);
+        int st = hpfc_face_feature_id(x->f, face, k, &index);
         if (!st)
             st = hpfc_file_get_feature(x->f, index, &feat);
         if (st) {
@@ -692,7 +691,7 @@ static int write_faces(exporter *x)
     uint64_t faces = hpfc_shapes_face_count(x->shapes);
     for (uint64_t face = 1; face < faces; face++) {
         hpfc_polygons p;
-        int st = hpfc_shapes_face(x->shapes, face, &p);
+        int st = hpfc_shapes_face_polygons(x->shapes, face, &p);
         if (st)
             return fail(x, "face %llu: %s", (unsigned long long)face, hpfc_strerror(st));
         if (p.polygon_count != 1)
@@ -901,7 +900,7 @@ static int run(exporter *x)
                     st == HPFC_E_IO && errno ? strerror(errno) : hpfc_strerror(st));
     hpfc_file_get_info(x->f, &x->fi);
     /* a damaged file must not give a plausible but wrong map */
-    if ((st = hpfc_file_verify_checksums(x->f)))
+    if ((st = hpfc_file_check_checksums(x->f, NULL)))
         return fail(x, "%s: %s", x->o->file, hpfc_strerror(st));
     if (choose_driver(x))
         return 1;

@@ -43,10 +43,10 @@ typedef struct locator {
     hpfc_features_info fi;
     uint64_t *cand;          /* candidate faces of one leaf */
     size_t cap;
-    uint32_t *feat;          /* features of the candidates */
+    hpfc_id *feat;           /* features of the candidates */
     size_t feat_cap;
     int edge_features;       /* LABL and EDGF: the leaf's edges name their features */
-    uint32_t *along;         /* features of the located leaf's edges */
+    hpfc_id *along;          /* features of the located leaf's edges */
     size_t along_cap;
     mapproj_plan *plan;      /* --lonlat: the file's projection */
 } locator;
@@ -104,7 +104,7 @@ static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
     } else if ((st = hpfc_faces_build(f, &L->faces))) {
         return view_fail(why, "faces: %s", hpfc_strerror(st));
     } else {
-        faces = hpfc_faces_count(L->faces);
+        faces = hpfc_faces_face_count(L->faces);
     }
     st = hpfc_file_get_features(f, &L->fi);
     if (st == HPFC_OK) {
@@ -120,8 +120,8 @@ static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
         L->exact = 1;
     else if (st != HPFC_E_NO_SECTION)
         return view_fail(why, "geometry: %s", hpfc_strerror(st));
-    uint32_t edges, links;
-    L->edge_features = L->features && L->labels && hpfc_edge_features_info(f, &edges, &links) == HPFC_OK;
+    hpfc_edge_links_info ei;
+    L->edge_features = L->features && L->labels && hpfc_file_get_edge_links(f, &ei) == HPFC_OK;
     return VIEW_OK;
 }
 
@@ -138,18 +138,17 @@ static int reserve(void **p, size_t *cap, size_t n, size_t size)
     return 0;
 }
 
-static int cmp_u32(const void *a, const void *b)
+static int cmp_id(const void *a, const void *b)
 {
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    hpfc_id x = *(const hpfc_id *)a, y = *(const hpfc_id *)b;
     return (x > y) - (x < y);
 }
 
-/* The features of the candidate faces, each once, ascending. */
 /* Sorts v[0 .. n) and drops repeats; returns the new length. */
-static size_t sort_unique_u32(uint32_t *v, size_t n)
+static size_t sort_unique_ids(hpfc_id *v, size_t n)
 {
     if (n > 1)
-        qsort(v, n, sizeof *v, cmp_u32);
+        qsort(v, n, sizeof *v, cmp_id);
     size_t u = 0;
     for (size_t k = 0; k < n; k++)
         if (u == 0 || v[u - 1] != v[k])
@@ -157,23 +156,23 @@ static size_t sort_unique_u32(uint32_t *v, size_t n)
     return u;
 }
 
+/* The features of the candidate faces, each once, ascending. */
 static int gather_features(locator *L, answer *a)
 {
     a->nfeat = 0;
     if (!L->features)
         return HPFC_OK;
     for (size_t k = 0; k < a->nfaces; k++) {
-        uint32_t count, feature;
+        uint32_t count;
         int st = hpfc_face_feature_count(L->f, L->cand[k], &count);
         if (!st && reserve((void **)&L->feat, &L->feat_cap, a->nfeat + count, sizeof *L->feat))
             st = HPFC_E_NOMEM;
         for (uint32_t i = 0; i < count && !st; i++)
-            if (!(st = hpfc_face_feature(L->f, L->cand[k], i, &feature)))
-                L->feat[a->nfeat++] = feature;
+            st = hpfc_face_feature_id(L->f, L->cand[k], i, &L->feat[a->nfeat++]);
         if (st)
             return st;
     }
-    a->nfeat = sort_unique_u32(L->feat, a->nfeat);
+    a->nfeat = sort_unique_ids(L->feat, a->nfeat);
     return HPFC_OK;
 }
 
@@ -187,20 +186,19 @@ static int gather_along(locator *L, answer *a)
         return HPFC_OK;
     size_t crossings = strlen(a->word) - 4; /* a word of c crossings has c + 4 symbols */
     for (size_t k = 0; k < crossings; k++) {
-        uint64_t edge;
-        uint32_t count = 0, feature; /* read by the loop below even after a failed call */
+        hpfc_id edge;
+        uint32_t count = 0; /* read by the loop below even after a failed call */
         int st = hpfc_label_crossing_edge(L->f, &a->px, (uint32_t)k, &edge);
         if (!st)
             st = hpfc_edge_feature_count(L->f, edge, &count);
         if (!st && reserve((void **)&L->along, &L->along_cap, a->nalong + count, sizeof *L->along))
             st = HPFC_E_NOMEM;
         for (uint32_t i = 0; i < count && !st; i++)
-            if (!(st = hpfc_edge_feature(L->f, edge, i, &feature)))
-                L->along[a->nalong++] = feature;
+            st = hpfc_edge_feature_id(L->f, edge, i, &L->along[a->nalong++]);
         if (st)
             return st;
     }
-    a->nalong = sort_unique_u32(L->along, a->nalong);
+    a->nalong = sort_unique_ids(L->along, a->nalong);
     return HPFC_OK;
 }
 
@@ -317,7 +315,7 @@ static void json_decimal(jsonw *w, const char *key, const decimal *d)
     jsonw_double(w, key, d->value, decimal_fraction_digits(d));
 }
 
-static void json_feature(jsonw *w, const locator *L, uint32_t index)
+static void json_feature(jsonw *w, const locator *L, hpfc_id index)
 {
     hpfc_feature ft;
     const char *layer;
@@ -402,7 +400,7 @@ static void print_json(FILE *out, const locator *L, const decimal *ll, const dec
     jsonw_finish(&w);
 }
 
-static void print_feature_text(FILE *out, const locator *L, uint32_t index)
+static void print_feature_text(FILE *out, const locator *L, hpfc_id index)
 {
     hpfc_feature ft;
     const char *layer = "";

@@ -146,11 +146,12 @@ static uint32_t id_rgb(uint64_t id)
  * unbounded face 0). */
 static uint32_t face_rgb(const scene *s, uint64_t face)
 {
-    uint32_t count = 0, feature = 0;
+    uint32_t count = 0;
+    hpfc_id feature = 0;
     if (!s->features)
         return face == 0 ? RGB_WHITE : id_rgb(face);
     if (hpfc_face_feature_count(s->f, face, &count) != HPFC_OK || count == 0 ||
-        hpfc_face_feature(s->f, face, 0, &feature) != HPFC_OK)
+        hpfc_face_feature_id(s->f, face, 0, &feature) != HPFC_OK)
         return RGB_WHITE;
     return id_rgb(feature);
 }
@@ -166,7 +167,7 @@ static int leaf_rgb(scene *s, const hpfc_pixel *leaf, uint32_t *rgb)
     size_t len, n = 0;
     int st = hpfc_pixel_is_private(s->f, leaf, &is_private);
     if (!st && is_private) {
-        st = hpfc_faces_of_private_pixel(s->faces, leaf, &face);
+        st = hpfc_faces_pixel_face(s->faces, leaf, &face);
         *rgb = st ? RGB_WHITE : face_rgb(s, face);
         return st;
     }
@@ -361,7 +362,7 @@ static int majority_rgb(scene *s, const hpfc_pixel *px, const frect *r, uint32_t
     for (uint32_t k = 0; k < n; k++) {
         hpfc_dart d = {.pixel = *px, .crossing = k};
         uint64_t face;
-        int st = hpfc_faces_of_dart(s->faces, &d, &face);
+        int st = hpfc_faces_dart_face(s->faces, &d, &face);
         if (st)
             return st;
         double len = s->pos[(k + 1) % n] - s->pos[k];
@@ -668,9 +669,9 @@ static int open_scene(scene *s, const hpfc_file *f, char *why)
         return 1;
     }
     st = hpfc_file_get_features(f, &fi);
-    if (st == HPFC_OK && fi.faces != hpfc_faces_count(s->faces)) {
+    if (st == HPFC_OK && fi.faces != hpfc_faces_face_count(s->faces)) {
         snprintf(why, VIEW_WHY, "features: the FEAT section lists %u faces, the map has %llu",
-                 fi.faces, (unsigned long long)hpfc_faces_count(s->faces));
+                 fi.faces, (unsigned long long)hpfc_faces_face_count(s->faces));
         return 1;
     }
     if (st != HPFC_OK && st != HPFC_E_NO_SECTION) {

@@ -4,14 +4,14 @@
  * Five groups of checks run in order, each reporting every problem it finds
  * (the first VERIFY_MAX_PROBLEMS verbatim):
  *
- *   format     hpfc_open: everything the reader checks at open (§12.3);
- *   checksums  hpfc_file_verify_checksums (R18);
+ *   format     hpfc_open: everything the reader checks at open (§7.3);
+ *   checksums  hpfc_file_check_checksums (R18);
  *   structure  every pixel of every level, reached from the root with
  *              hpfc_pixel_child in pool order: each decodes, each word matches
  *              the grammar (parsed by the traversal API), images lie back to
  *              back in parent order and fill the pool, the per-level counts
  *              and k_w match the level table, and every padding bit or byte
- *              is zero (§13.3);
+ *              is zero (§8.7);
  *   roads      both sides of every road carry the same number of crossings
  *              (the only trace of §3.5 a reader can see without the graph),
  *              and the domain's outer roads carry none;
@@ -138,7 +138,7 @@ static void unmap_file(mapped_file *m)
 }
 
 /* Whether bits [b0, b1) of a pool are all zero; bit b is bit 7 - b % 8 of
- * byte b / 8 (spec §2). The caller keeps b1 within the pool's bytes. */
+ * byte b / 8 (spec §2.2). The caller keeps b1 within the pool's bytes. */
 static bool bits_zero(const uint8_t *pool, uint64_t b0, uint64_t b1)
 {
     for (; b0 < b1 && (b0 & 7); b0++)
@@ -186,7 +186,7 @@ typedef struct verifier {
     size_t word_cap;
     ref_list images[HPFC_MAX_LEVELS];
     bool undecodable;    /* some pixel could not be read: skip traversals */
-    bool compact;        /* the compact pool layout (incompat flag bit 0, spec §16) */
+    bool compact;        /* the compact pool layout (incompat flag bit 0, spec §5.3) */
     verify_report *r;
 } verifier;
 
@@ -214,7 +214,7 @@ static int alloc_word(verifier *v)
     uint64_t most = 4;
     for (uint32_t l = 0; l < v->info.levels; l++) {
         uint64_t k = v->lv[l].word_bits;
-        /* compact layout (§16): a crossing costs at least 1 bit */
+        /* compact layout (§5.3): a crossing costs at least 1 bit */
         uint64_t n = 4 + (v->compact ? k : k > 4 ? (k - 4) / 4 : 0);
         most = n > most ? n : most;
     }
@@ -253,7 +253,7 @@ static void check_padding(verifier *v, uint32_t l, const hpfc_pixel *px, uint64_
                           const char *what)
 {
     char name[128];
-    if (b1 > v->lv[l].pool_bits) /* cannot happen after the library's P4 check */
+    if (b1 > v->lv[l].pool_bits) /* cannot happen after the library's S19 check */
         problem(v->r, "pixel %s: %s extends past the pool", pixel_name(px, name, sizeof name),
                 what);
     else if (b0 < b1 && !bits_zero(pool_of(v, l), b0, b1))
@@ -306,8 +306,8 @@ static int check_pixel(verifier *v, uint32_t l, uint64_t image, const hpfc_pixel
         problem(v->r, "pixel %s: %s", pixel_name(px, name, sizeof name), hpfc_strerror(st));
         return st;
     }
-    /* A root record is a type bit and a payload of R - 1 bits (§8); a slot
-     * of a refined image is exactly k_w or k_@ bits (§9). */
+    /* A root record is a type bit and a payload of R - 1 bits (§5.2.1); a slot
+     * of a refined image is exactly k_w or k_@ bits (§5.2.2). */
     uint64_t payload = l ? (*type == HPFC_PIXEL_WORD ? lv->word_bits : lv->address_bits)
                          : lv->pool_bits / ((uint64_t)v->info.root_cols * v->info.root_rows) - 1;
     if (*type == HPFC_PIXEL_REFINED) {
@@ -349,7 +349,7 @@ static int scan_image(verifier *v, uint32_t l, uint64_t k, level_tally *t)
             }
             if (i == 0 && j == 0 && l > 0) {
                 image = px.path[l].image;
-                /* Images lie back to back in parent order (§9, W7). The
+                /* Images lie back to back in parent order (§5.2.2, W7). The
                  * scan stops at the first that does not: images that
                  * overlap or alias one another would make every walk over
                  * the tree (this scan, leaf iteration, the traversal)
@@ -378,7 +378,7 @@ static int scan_image(verifier *v, uint32_t l, uint64_t k, level_tally *t)
     return HPFC_OK;
 }
 
-/* What the level table says and what the scan found agree (§6, §13.3). */
+/* What the level table says and what the scan found agree (§4.3, §8.7). */
 static void check_level_tally(verifier *v, uint32_t l, uint64_t images, const level_tally *t)
 {
     const hpfc_level_info *lv = &v->lv[l];
@@ -442,7 +442,7 @@ static bool bytes_zero(const uint8_t *p, uint64_t lo, uint64_t hi)
 }
 
 /* Every byte after the metadata that no pool and no other section covers is
- * zero padding (§4, §7): between sections, between pools, inside POOL. */
+ * zero padding (§4.1, §4.4): between sections, between pools, inside POOL. */
 static void check_file_padding(verifier *v)
 {
     byte_span spans[HPFC_MAX_LEVELS + 1024];
@@ -579,7 +579,7 @@ typedef struct topo {
     exported_map m;
     hpfc_faces *faces;
     uint64_t nfaces;
-    uint64_t *face;     /* per dart: hpfc_faces_of_key */
+    uint64_t *face;     /* per dart: hpfc_faces_key_face */
     uint32_t *degree;   /* per vertex: hpfc_key_degree */
 } topo;
 
@@ -593,7 +593,7 @@ static void check_dart(verifier *v, topo *tp, uint64_t vertex, size_t vi, uint64
     if ((st = hpfc_key_origin(w, d, &o)) || (st = hpfc_key_next(w, d, &n)) ||
         (st = hpfc_key_prev(w, n, &p)) || (st = hpfc_key_twin(w, d, &t)) ||
         (st = hpfc_key_target(w, d, &tg)) || (st = hpfc_key_origin(w, t, &ot)) ||
-        (st = hpfc_faces_of_key(tp->faces, w, d, &tp->face[di]))) {
+        (st = hpfc_faces_key_face(tp->faces, w, d, &tp->face[di]))) {
         problem(v->r, "dart %zu (vertex %zu): %s", di, vi, hpfc_strerror(st));
         tp->face[di] = UINT64_MAX;
         return;
@@ -622,7 +622,7 @@ static int walk_leaf(verifier *v, topo *tp, const hpfc_pixel *px, size_t *vi, si
     if (!st && count == 0)
         st = hpfc_pixel_is_private(v->f, px, &priv);
     uint64_t face;
-    if (!st && priv && !(st = hpfc_faces_of_private_pixel(tp->faces, px, &face)) &&
+    if (!st && priv && !(st = hpfc_faces_pixel_face(tp->faces, px, &face)) &&
         face >= tp->nfaces)
         problem(v->r, "pixel %s: private pixel in face %" PRIu64 " of %" PRIu64,
                 pixel_name(px, name, sizeof name), face, tp->nfaces);
@@ -804,10 +804,11 @@ static void check_features(verifier *v, uint64_t faces)
             problem(r, "features: layer %u: %s", l, hpfc_strerror(st));
     }
     for (uint64_t f = 0; !st && f < fi.faces && r->problem_count == before; f++) {
-        uint32_t count, feature;
+        uint32_t count;
+        hpfc_id feature;
         st = hpfc_face_feature_count(v->f, f, &count);
         for (uint32_t k = 0; !st && k < count; k++)
-            st = hpfc_face_feature(v->f, f, k, &feature);
+            st = hpfc_face_feature_id(v->f, f, k, &feature);
         if (st)
             problem(r, "features: face %" PRIu64 ": %s", f, hpfc_strerror(st));
     }
@@ -859,31 +860,36 @@ static void check_geometry(verifier *v, uint64_t vertices, uint64_t edges)
 static void check_attr_edgf(verifier *v, uint32_t features, uint64_t edges)
 {
     verify_report *r = v->r;
-    uint32_t rows, columns, n, links, feature;
-    int st = hpfc_attr_info(v->f, &rows, &columns);
+    hpfc_attrs_info ai;
+    int st = hpfc_file_get_attrs(v->f, &ai);
     if (st && st != HPFC_E_NO_SECTION)
         problem(r, "attributes: %s", hpfc_strerror(st));
-    else if (!st && rows != features)
-        problem(r, "attributes: the ATTR section has %u rows, FEAT %u features", rows, features);
-    for (uint32_t k = 0; !st && k < rows; k++)
-        for (uint32_t c = 0; !st && c < columns; c++) {
+    else if (!st && ai.features != features)
+        problem(r, "attributes: the ATTR section has %" PRIu64 " rows, FEAT %u features",
+                ai.features, features);
+    for (hpfc_id k = 0; !st && k < ai.features; k++)
+        for (uint32_t c = 0; !st && c < ai.columns; c++) {
             hpfc_attr_value val;
-            if ((st = hpfc_file_get_attr(v->f, k, c, &val)))
-                problem(r, "attributes: feature %u column %u: %s", k, c, hpfc_strerror(st));
+            if ((st = hpfc_file_get_attr_value(v->f, k, c, &val)))
+                problem(r, "attributes: feature %" PRIu64 " column %u: %s", k, c,
+                        hpfc_strerror(st));
         }
-    st = hpfc_edge_features_info(v->f, &n, &links);
+    hpfc_edge_links_info ei;
+    st = hpfc_file_get_edge_links(v->f, &ei);
     if (st && st != HPFC_E_NO_SECTION)
         problem(r, "edge features: %s", hpfc_strerror(st));
-    else if (!st && n != edges)
-        problem(r, "edge features: the EDGF section lists %u edges, the map has %" PRIu64, n, edges);
-    for (uint32_t e = 0; !st && e < n; e++) {
+    else if (!st && ei.edges != edges)
+        problem(r, "edge features: the EDGF section lists %" PRIu64 " edges, the map has %" PRIu64,
+                ei.edges, edges);
+    for (hpfc_id e = 0; !st && e < ei.edges; e++) {
         uint32_t count;
+        hpfc_id feature;
         st = hpfc_edge_feature_count(v->f, e, &count);
         for (uint32_t k = 0; !st && k < count; k++)
-            if (!(st = hpfc_edge_feature(v->f, e, k, &feature)) && feature >= features)
+            if (!(st = hpfc_edge_feature_id(v->f, e, k, &feature)) && feature >= features)
                 st = HPFC_E_CORRUPT; /* EDGF's feature count is not FEAT's */
         if (st)
-            problem(r, "edge features: edge %u: %s", e, hpfc_strerror(st));
+            problem(r, "edge features: edge %" PRIu64 ": %s", e, hpfc_strerror(st));
     }
 }
 
@@ -899,7 +905,7 @@ static int check_topology(verifier *v)
         problem(r, "traversal: %s", hpfc_strerror(st));
     } else {
         size_t nv = tp.m.nv + 1, nd = tp.m.nd + 1;
-        tp.nfaces = hpfc_faces_count(tp.faces);
+        tp.nfaces = hpfc_faces_face_count(tp.faces);
         check_features(v, tp.nfaces);
         check_labels(v, tp.faces);
         check_geometry(v, tp.m.nv, tp.m.nd / 2);
@@ -968,10 +974,11 @@ static int open_checked(verifier *v, const mapped_file *mf, hpfc_file **f)
 static int run_checks(verifier *v, unsigned flags)
 {
     verify_report *r = v->r;
-    int st = hpfc_file_verify_checksums(v->f);
+    hpfc_diag diag;
+    int st = hpfc_file_check_checksums(v->f, &diag);
     r->checksums = st ? CHECK_FAILED : CHECK_OK;
     if (st)
-        problem(r, "section checksums: %s", hpfc_strerror(st));
+        problem(r, "section checksums: %s: %s", hpfc_strerror(st), diag.message);
     if ((st = check_structure(v)))
         return st;
     if (v->undecodable || (flags & VERIFY_STRUCTURE_ONLY))

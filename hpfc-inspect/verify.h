@@ -1,10 +1,10 @@
 /*
  * verify.h: the full structural and topological check of an .hpfc file
- * behind `hpfc-inspect --verify` (contracts §3, spec §13.3).
+ * behind `hpfc-inspect --verify` (contracts §3, spec §8.7).
  *
  * The check reads the file with the library's public reader and traversal
  * API only, plus the raw bytes for what no API exposes (padding). It never
- * trusts the file: every walk is bounded by the library (spec §13.2) or by
+ * trusts the file: every walk is bounded by the library (spec §8.2, S16) or by
  * counts this code found itself, so a corrupt file yields problems, never a
  * hang or a crash.
  */
@@ -26,17 +26,17 @@ typedef struct verify_report {
     /* Groups, in the order they run. A group is skipped when an earlier
      * failure makes its inputs meaningless (e.g. no traversal of a file whose
      * words do not decode). */
-    int format;     /* hpfc_open: header, level table, directory (§12.3) */
+    int format;     /* hpfc_open: header, level table, directory (§7.3) */
     int checksums;  /* every section CRC-32C (R18) */
     int structure;  /* every pixel from the root: decoding, grammar, image
-                       placement, counts, k_w, zero padding (§13.3) */
+                       placement, counts, k_w, zero padding (§8.7) */
     int roads;      /* both sides of every road hold the same crossings */
     int topology;   /* operators, twin / next / prev, faces */
     int euler;      /* V - E + F = 1 + C */
     int loops_ok;   /* boundary loops = F + C - 1 */
     int features;   /* the FEAT section: its face count, every entry readable */
     int labels;     /* the LABL section: every stored label equals the recomputed one */
-    int geometry;   /* the GEOM section: planar, in its leaves, on its roads (§17.5) */
+    int geometry;   /* the GEOM section: planar, in its leaves, on its roads (§6.6.6) */
 
     uint16_t format_major, format_minor;
     uint32_t levels;

@@ -310,11 +310,11 @@ typedef struct file_map {
     section_row *sections;
     uint32_t header_size, meta_crc, meta_computed;
     uint64_t meta_size;
-    int api_status;   /* hpfc_file_verify_checksums */
+    int api_status;   /* hpfc_file_check_checksums */
     uint32_t bad;     /* checksums that do not match */
 } file_map;
 
-/* The metadata CRC takes bytes 124..127 (the CRC itself) as zero (§11). */
+/* The metadata CRC takes bytes 124..127 (the CRC itself) as zero (§4.5). */
 static int meta_checksum(FILE *in, file_map *m)
 {
     static const unsigned char zero[4];
@@ -361,7 +361,7 @@ static int read_map(const hpfc_file *f, const char *path, file_map *m, char *why
     if (bad_io)
         return view_fail(why, "cannot reread the file (changed since it was opened?)");
     m->bad += m->meta_computed != m->meta_crc;
-    m->api_status = hpfc_file_verify_checksums(f);
+    m->api_status = hpfc_file_check_checksums(f, NULL);
     return VIEW_OK;
 }
 
@@ -570,7 +570,7 @@ int view_pixel_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel 
         if (cap < 1)
             return HPFC_E_ARG;
         *count = 1;
-        return hpfc_faces_of_private_pixel(fc, px, &faces[0]);
+        return hpfc_faces_pixel_face(fc, px, &faces[0]);
     }
     size_t len;
     if ((st = hpfc_pixel_word(f, px, NULL, 0, &len)))
@@ -580,7 +580,7 @@ int view_pixel_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel 
         return HPFC_E_ARG;
     for (uint32_t k = 0; k < n; k++) {
         hpfc_dart d = {.pixel = *px, .crossing = k};
-        if ((st = hpfc_faces_of_dart(fc, &d, &faces[k])))
+        if ((st = hpfc_faces_dart_face(fc, &d, &faces[k])))
             return st;
     }
     qsort(faces, n, sizeof *faces, cmp_u64);
@@ -617,7 +617,7 @@ typedef struct pixel_view {
     uint64_t leaf_number;
     uint64_t *stretch_face;     /* per stretch (one for a private leaf) */
     uint64_t *edge;             /* per crossing */
-    int compact;                /* compact pool layout (spec §16): images are indices,
+    int compact;                /* compact pool layout (spec §5.3): images are indices,
                                    words have no slot */
 } pixel_view;
 
@@ -668,7 +668,7 @@ static int read_vertices(const hpfc_file *f, pixel_view *v, char *why)
     return st ? fail_status(why, "vertices", st) : VIEW_OK;
 }
 
-/* The leaf's stored labels (LABL, spec §15), when the file has them. */
+/* The leaf's stored labels (LABL, spec §6.5), when the file has them. */
 static int read_labels(const hpfc_file *f, pixel_view *v, char *why)
 {
     hpfc_labels_info li;
@@ -852,7 +852,7 @@ static void json_word(jsonw *w, const pixel_view *v)
 {
     jsonw_string(w, "word", v->word);
     jsonw_u64(w, "symbols", v->len);
-    if (v->compact) { /* no slot, no fixed code: spec §16 */
+    if (v->compact) { /* no slot, no fixed code: spec §5.3 */
         jsonw_string(w, "layout", "compact");
     } else {
         jsonw_u64(w, "code_bits", 4 + 4ull * v->wi.n);
@@ -1022,7 +1022,7 @@ static int collect_stats(const hpfc_file *f, stats *s)
     hpfc_faces *fc;
     s->faces_status = hpfc_faces_build(f, &fc);
     if (!s->faces_status)
-        s->faces = hpfc_faces_count(fc);
+        s->faces = hpfc_faces_face_count(fc);
     hpfc_faces_free(fc);
     return HPFC_OK;
 }

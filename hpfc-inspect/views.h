@@ -75,7 +75,7 @@ int view_stats(const hpfc_file *f, FILE *out, int json, char *why);
 
 /* ---- helpers shared with render.c and the tests --------------------------- */
 
-/* CRC-32C (Castagnoli, reflected, spec §11) of len bytes, continuing crc
+/* CRC-32C (Castagnoli, reflected, spec §4.5) of len bytes, continuing crc
  * (start with 0). */
 uint32_t view_crc32c(uint32_t crc, const void *data, size_t len);
 

@@ -1,10 +1,10 @@
 /*
  * word.h: a word pixel's word taken apart (spec/hpfc-format.md §3.6-§3.8,
- * §10), for hpfc-inspect's views and renderer.
+ * §5.2.3), for hpfc-inspect's views and renderer.
  *
  * The parse is the library's (libhpfcfile/words.h, compiled into the tool):
  * this layer only grows its arrays to any word's length, names each
- * crossing's symbol, and spells the §10 codes as text.
+ * crossing's symbol, and spells the §5.2.3 codes as text.
  */
 #ifndef HPFC_INSPECT_WORD_H
 #define HPFC_INSPECT_WORD_H
@@ -42,7 +42,7 @@ int word_road_of(const word_info *wi, uint32_t k);
 /* Crossings per road, straight from the symbols (no parse). */
 void word_road_counts(const char *sym, size_t len, uint32_t counts[4]);
 
-/* The §10 code of one symbol as text ("0", "1000", ...); "????" if unknown. */
+/* The §5.2.3 code of one symbol as text ("0", "1000", ...); "????" if unknown. */
 const char *word_symbol_code(char symbol);
 
 #endif

@@ -2,7 +2,7 @@
  * face_check.h: the features around a witness point (face_witness.h),
  * exactly: the features whose rings, as they lie in the map
  * (gis_features.h), hold the point an odd number of times (even-odd rule,
- * spec/hpfc-format.md §7.1). This is the independent answer that every
+ * spec/hpfc-format.md §6.2). This is the independent answer that every
  * face's walked answer is checked against (face_link.h).
  *
  * Rings are found by a packed R-tree over their boxes (sort-tile-recursive)

@@ -228,9 +228,9 @@ static int leaf_sides(face_link *fl, const leaf_crossings *lc, const hpfc_faces 
             continue;
         hpfc_dart before = {*px, (k + n - 1) % n}, after = {*px, k};
         uint64_t fa, fb;
-        int st = hpfc_faces_of_dart(faces, &before, &fa);
+        int st = hpfc_faces_dart_face(faces, &before, &fa);
         if (!st)
-            st = hpfc_faces_of_dart(faces, &after, &fb);
+            st = hpfc_faces_dart_face(faces, &after, &fb);
         if (st)
             return st;
         if (fa >= fl->faces || fb >= fl->faces)
@@ -384,7 +384,7 @@ int face_link_run(face_link *fl, const gis_features *fs, const hpfc_graph *graph
                   const leaf_crossings *lc, const hpfc_file *file, const hpfc_faces *faces)
 {
     memset(fl, 0, sizeof *fl);
-    uint64_t nf = hpfc_faces_count(faces);
+    uint64_t nf = hpfc_faces_face_count(faces);
     size_t ne = hpfc_graph_edge_count(graph);
     if (nf == 0 || nf >= UINT32_MAX || ne >= UINT32_MAX)
         return HPFC_E_CORRUPT;

@@ -72,13 +72,13 @@ static int offer(face_witness *w, uint64_t face, uint64_t faces, face_witness c)
 static int leaf_witnesses(const hpfc_graph *g, const leaf_crossings *lc, const leaf_view *v,
                           const hpfc_faces *faces, face_witness *w, uint32_t *used)
 {
-    uint64_t nf = hpfc_faces_count(faces), face;
+    uint64_t nf = hpfc_faces_face_count(faces), face;
     uint32_t n = 0;
     for (size_t s = 0; s < v->word_len; s++)
         n += v->word[s] != '+';
     *used = n;
     if (n == 0) {
-        int st = hpfc_faces_of_private_pixel(faces, &v->px, &face);
+        int st = hpfc_faces_pixel_face(faces, &v->px, &face);
         return st ? st
                   : offer(w, face, nf,
                           (face_witness){v->x0 + v->x1, v->y0 + v->y1, 0, 0, FACE_WITNESS_LEAF});
@@ -102,9 +102,9 @@ static int leaf_witnesses(const hpfc_graph *g, const leaf_crossings *lc, const l
         int side = turn > 0 ? 1 : -1;
         uint64_t before, after;
         hpfc_dart d_after = {v->px, (uint32_t)k}, d_before = {v->px, (uint32_t)((k + n - 1) % n)};
-        int st = hpfc_faces_of_dart(faces, &d_after, &after);
+        int st = hpfc_faces_dart_face(faces, &d_after, &after);
         if (!st)
-            st = hpfc_faces_of_dart(faces, &d_before, &before);
+            st = hpfc_faces_dart_face(faces, &d_before, &before);
         if (!st)
             st = offer(w, after, nf, segment_witness(p, q, side));
         if (!st)
@@ -257,7 +257,7 @@ void leaf_crossings_free(leaf_crossings *lc)
 int face_witnesses(const hpfc_graph *graph, const leaf_crossings *lc, const hpfc_file *file,
                    const hpfc_faces *faces, face_witness *w)
 {
-    for (uint64_t f = 0; f < hpfc_faces_count(faces); f++)
+    for (uint64_t f = 0; f < hpfc_faces_face_count(faces); f++)
         w[f] = (face_witness){0, 0, 0, 0, FACE_WITNESS_NONE};
     leaf_view v = {0};
     int st = hpfc_leaf_first(file, &v.px);

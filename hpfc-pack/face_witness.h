@@ -1,6 +1,6 @@
 /*
  * face_witness.h: for every face of a freshly built map, a point the file
- * proves to lie inside it (spec/hpfc-format.md §7.1, "What a feature
+ * proves to lie inside it (spec/hpfc-format.md §6.2.3, "What a feature
  * covers"), exactly, so that hpfc-pack can ask which source features cover
  * the face and check what the walk over the faces found (face_link.h).
  *
@@ -46,7 +46,7 @@ typedef struct leaf_crossings {
 int leaf_crossings_collect(const hpfc_tree *tree, const hpfc_file *file, leaf_crossings *out);
 void leaf_crossings_free(leaf_crossings *lc);
 
-/* Fills w[0 .. hpfc_faces_count(faces)) for the map `file`, built from
+/* Fills w[0 .. hpfc_faces_face_count(faces)) for the map `file`, built from
  * `graph`, whose crossings `lc` holds. HPFC_OK, or the status of a failing
  * call (HPFC_E_CORRUPT if the three disagree). */
 int face_witnesses(const hpfc_graph *graph, const leaf_crossings *lc, const hpfc_file *file,

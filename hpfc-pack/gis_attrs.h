@@ -1,6 +1,6 @@
 /*
  * gis_attrs.h: the attributes of a GIS pack's features, for the file's
- * ATTR section (spec/hpfc-format.md §7.2): typed columns (integer, real,
+ * ATTR section (spec/hpfc-format.md §6.3): typed columns (integer, real,
  * string), one row per recorded feature (gis_features.h), in its order.
  *
  * Column 0 is always "source_fid", the feature's FID in its source (the

@@ -344,7 +344,7 @@ int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
     stage_time t = stage_now();
     int st = hpfc_faces_build(file, &faces);
     out->faces_t = stage_lap(&t);
-    uint64_t n = faces ? hpfc_faces_count(faces) : 0;
+    uint64_t n = faces ? hpfc_faces_face_count(faces) : 0;
     if (!st && n >= UINT32_MAX)
         st = HPFC_E_LIMIT;
     if (!st && !(w = malloc((n ? n : 1) * sizeof *w)))

@@ -1,7 +1,7 @@
 /*
  * gis_features.h: the source features of a GIS pack and which faces of the
  * built map they cover, for the file's FEAT section (spec/hpfc-format.md
- * §7.1).
+ * §6.2).
  *
  * gis_input.c records every feature with lines or polygons (its position
  * in its layer, its source FID, layer and key value) and its parts (rings

@@ -13,7 +13,8 @@
  * Conventions used throughout:
  *   - Every function that can fail returns an `int` status: HPFC_OK (0) or one
  *     of the pinned HPFC_E_* codes below. Results come back through
- *     out-parameters. hpfc_strerror() names every code.
+ *     out-parameters. hpfc_strerror() describes every code and
+ *     hpfc_status_name() spells its name.
  *   - Variable-length answers go to a caller's buffer of `cap` items: a NULL
  *     buffer asks only the count; a buffer too small gives
  *     HPFC_E_BUFFER_SMALL with the count needed set, so the caller can grow
@@ -25,22 +26,65 @@
  *     key, faces, label, geometry, attr, layer, shapes, ...), and the
  *     handle it reads through (the file, walker, tree, faces or shapes)
  *     is its first argument, whatever the object: hpfc_pixel_word(file,
- *     px, ...) and hpfc_pixel_vertex(walker, px, ...) are both about a
- *     pixel, one read through the file, the other through a walker's
+ *     px, ...) and hpfc_pixel_vertex_key(walker, px, ...) are both about
+ *     a pixel, one read through the file, the other through a walker's
  *     cache. When the object is the handle itself, the prefix is the
- *     handle's (hpfc_file_verify_checksums, hpfc_walker_set_cache_size).
+ *     handle's (hpfc_file_check_checksums, hpfc_walker_set_cache_size).
  *     `get` is in the name of exactly the calls that fill a caller's struct
  *     describing the handle or one of its parts, as hpfc_<handle>_get_<part>
  *     (hpfc_file_get_info, hpfc_file_get_level, hpfc_file_get_feature,
- *     hpfc_tree_get_pixel); a call that answers numbers or strings through
+ *     hpfc_file_get_attr_value); a call that answers numbers or strings through
  *     out-parameters names what it answers, without `get`
  *     (hpfc_layer_name, hpfc_pixel_type, hpfc_geometry_vertex). Counts end
- *     in _count. hpfc_open, hpfc_open_memory, hpfc_close and hpfc_locate,
- *     the file's own life and its one basic query, keep their short names.
- *     Older names stay callable, deprecated, at the end of this header.
+ *     in _count, after the thing counted in the singular
+ *     (hpfc_graph_edge_count, hpfc_faces_face_count, hpfc_face_feature_count);
+ *     the k-th of those things, one at a time, names what it answers
+ *     (hpfc_pixel_vertex_key, hpfc_face_feature_id); all of them at once,
+ *     into a caller's buffer, is the plural (hpfc_key_vertex_darts,
+ *     hpfc_label_leaf_faces). An object in the plural is a whole: a
+ *     section (hpfc_file_get_labels, hpfc_labels_verify), a numbering
+ *     (hpfc_faces) or an index (hpfc_shapes); in the singular, one item of
+ *     it (hpfc_label_key_face, hpfc_face_feature_count). A question that
+ *     several parts of the library answer, each from its own source, is
+ *     hpfc_<source>_<part>_<answer>, the part asked about (key, dart, pixel,
+ *     leaf, stretch, crossing, edge, face, feature) before the answer: the
+ *     face on a dart's right is hpfc_faces_key_face (hpfc_faces_build's
+ *     numbering) and hpfc_label_key_face (the stored labels), its edge
+ *     hpfc_label_key_edge and hpfc_geometry_key_edge, a feature's shape
+ *     hpfc_shapes_feature_polygons. hpfc_open, hpfc_open_memory, hpfc_close
+ *     and hpfc_locate, the file's own life and its one basic query, keep
+ *     their short names. Older names stay callable, deprecated, at the end
+ *     of this header, until 1.0.
+ *   - Ids. The vertices, edges, faces and features of a file are numbered
+ *     from 0 and named by an hpfc_id, 64 bits wide in every call that
+ *     reads a file, whatever the section it comes from; HPFC_ID_NONE is
+ *     "none" wherever an id may be missing (hpfc_point_location). Vertex
+ *     and edge ids are the input graph's indices (hpfc_graph_add_vertex and
+ *     hpfc_graph_add_edge order), face ids hpfc_faces_build's numbering
+ *     (spec §3.11), feature ids positions in the FEAT section (spec §6.2).
+ *     Three places keep another width, each for its reason: the graph and
+ *     tree being built (hpfc_graph_*, hpfc_tree_*) index with uint32_t, as
+ *     the builder keeps vertices, edges and crossings in 32-bit tables and
+ *     refuses graphs past 2^32 - 2 of them (HPFC_E_LIMIT); the tables a
+ *     writer is given (hpfc_feature_table, hpfc_attr_table,
+ *     hpfc_edge_feature_table) and hpfc_features_info hold the FEAT, ATTR
+ *     and EDGF sections' own 32-bit fields; hpfc_batch.h fills int64_t
+ *     columns for numpy and data frames, -1 (HPFC_ID_NONE's bits) for none.
+ *     Dart and vertex keys and dense indices (traversal, below) are not ids.
  *   - Functions that take a `hpfc_diag *` fill it (when non-NULL) with a
  *     one-line human-readable explanation of a failure: which line of a
- *     `.pfc` file, which edges and which point.
+ *     `.pfc` file, which edges and which point, which section of a file.
+ *   - Experimental calls. Declarations seen only when the program defines
+ *     HPFC_EXPERIMENTAL before including this header (block
+ *     "Experimental" near its end) expose the library's inner workings: the
+ *     path form of darts and vertices that keys superseded, the builder's
+ *     tree pixels, counters for benchmarks. They may change or go between
+ *     minor versions: a program that uses them is built against the
+ *     library it runs with (as this repository's tools, installed with
+ *     it), and rebuilt for each minor version; every other call keeps its
+ *     name and meaning, or a deprecated alias, as this header says. This is
+ *     zstd's ZSTD_STATIC_LINKING_ONLY tier, named for what the calls are
+ *     rather than for how zstd asks its users to link them.
  *   - Coordinates: a graph lives on an integer lattice. A lattice point
  *     (x, y) stands for the user coordinates (x * 10^e, y * 10^e), where e is
  *     the graph's decimal unit exponent (0 unless set). No floating-point
@@ -48,7 +92,8 @@
  *
  * Structs that grow. The structs the library fills (hpfc_tree_info,
  * hpfc_file_info, hpfc_level_info, hpfc_section_info, hpfc_features_info,
- * hpfc_labels_info, hpfc_geometry_info) and those it reads
+ * hpfc_feature, hpfc_labels_info, hpfc_attrs_info, hpfc_edge_links_info,
+ * hpfc_geometry_info) and those it reads
  * (hpfc_build_params, hpfc_write_options, hpfc_batch.h's hpfc_locate_out)
  * may gain fields in later releases. Each call that takes one is a
  * function named `..._sized` that also takes the struct's size as the
@@ -138,6 +183,11 @@ enum {
 
 /* A short static English description of a status code. Never NULL. */
 HPFC_API const char *hpfc_strerror(int status);
+/* The code's name as this header spells it: hpfc_status_name(HPFC_E_CORRUPT)
+ * is "HPFC_E_CORRUPT", for logs and bindings that show or match names. A
+ * number no code has gives "HPFC_E_UNKNOWN" (no code is named so). Never
+ * NULL; the strings are static. */
+HPFC_API const char *hpfc_status_name(int status);
 
 /* The library's version, "MAJOR.MINOR.PATCH", and as one number,
  * MAJOR * 10000 + MINOR * 100 + PATCH (as ZSTD_versionNumber): what the
@@ -146,11 +196,24 @@ HPFC_API const char *hpfc_strerror(int status);
 HPFC_API const char *hpfc_version_string(void);
 HPFC_API unsigned hpfc_version_number(void);
 
+/* The version of the .hpfc format (spec/hpfc-format.md) this library
+ * writes, a property of the format and not of the library's own version:
+ * it reads every file of major HPFC_FORMAT_MAJOR (HPFC_E_VERSION for
+ * another major), whatever its minor, and hpfc_file_info says which
+ * version a file has. */
+#define HPFC_FORMAT_MAJOR 1
+#define HPFC_FORMAT_MINOR 2
+
 /* Frees a buffer the library allocated and handed over (the serialised
  * files of hpfc_tree_serialize and hpfc_file_serialize). Always use it
  * rather than free(): the library and its caller may not share an
  * allocator (another C runtime, a sanitizer, a binding). NULL is fine. */
 HPFC_API void hpfc_free(void *buffer);
+
+/* The id of a vertex, edge, face or feature of a file (the introduction,
+ * "Ids"), and the value that stands for none. */
+typedef uint64_t hpfc_id;
+#define HPFC_ID_NONE UINT64_MAX
 
 /* Explanation of a failure, filled by functions that take one. */
 typedef struct hpfc_diag {
@@ -276,31 +339,6 @@ HPFC_API void hpfc_tree_get_info_sized(const hpfc_tree *tree, hpfc_tree_info *in
 #define hpfc_tree_get_info(tree, info) \
     hpfc_tree_get_info_sized((tree), (info), sizeof(hpfc_tree_info))
 
-/* Images of a level are numbered 0, 1, ... in pool order: the children of
- * level l's refined pixels, in the order those pixels appear in level l
- * (image by image, each image in scanline order: j = 0 (north) first,
- * i = 0 (west) first within a row). Level 0 has the root image only. */
-HPFC_API size_t hpfc_tree_image_count(const hpfc_tree *tree, uint32_t level);
-
-enum { HPFC_PIXEL_WORD = 0, HPFC_PIXEL_REFINED = 1 };
-
-typedef struct hpfc_tree_pixel {
-    int type;                  /* HPFC_PIXEL_WORD or HPFC_PIXEL_REFINED */
-    uint32_t child;            /* refined: image index at the next level */
-    const char *word;          /* word: symbols of "+=[]()Y", not 0-ended */
-    uint32_t word_len;
-    /* word: for crossing k (k-th non-'+' symbol), the input edge it lies on,
-     * and the index of the edge segment (0 = the one leaving vertex u). */
-    const uint32_t *cross_edge;
-    const uint32_t *cross_segment;
-    /* bounds of the pixel in the graph's lattice: [x0, x1) x [y0, y1) */
-    int64_t x0, y0, x1, y1;
-} hpfc_tree_pixel;
-
-/* Pixel (i, j) of image `image` of level `level`. */
-HPFC_API int hpfc_tree_get_pixel(const hpfc_tree *tree, uint32_t level,
-                                 size_t image, uint32_t i, uint32_t j,
-                                 hpfc_tree_pixel *out);
 
 
 /* ------------------------------------------------------------------------
@@ -308,7 +346,7 @@ HPFC_API int hpfc_tree_get_pixel(const hpfc_tree *tree, uint32_t level,
  * ------------------------------------------------------------------------ */
 
 /* The source features of a file's faces, for the FEAT section
- * (spec/hpfc-format.md §7.1): a GIS layer's polygons, each face of the map
+ * (spec/hpfc-format.md §6.2): a GIS layer's polygons, each face of the map
  * linked to the features that cover it. Face ids are those of
  * hpfc_faces_build() on the written file, which depend on the pools only:
  * serialise once without features, number the faces, then serialise again
@@ -329,7 +367,7 @@ typedef struct hpfc_feature_table {
                                        .. face_start[f + 1]), ascending */
 } hpfc_feature_table;
 
-/* Attribute value types (ATTR section, spec/hpfc-format.md §7.2). Dates
+/* Attribute value types (ATTR section, spec/hpfc-format.md §6.3). Dates
  * and times are strings (ISO 8601). */
 enum { HPFC_ATTR_NULL = 0, HPFC_ATTR_INTEGER = 1, HPFC_ATTR_REAL = 2, HPFC_ATTR_STRING = 3 };
 
@@ -356,7 +394,7 @@ typedef struct hpfc_attr_table {
 } hpfc_attr_table;
 
 /* The features of each edge of the map, for the EDGF section
- * (spec/hpfc-format.md §7.3): edge e (its id: the input graph's edge
+ * (spec/hpfc-format.md §6.4): edge e (its id: the input graph's edge
  * index) lies along the lines or rings of features
  * edge_feature[edge_start[e] .. edge_start[e + 1]), ascending indices into
  * the FEAT section's features. */
@@ -367,7 +405,7 @@ typedef struct hpfc_edge_feature_table {
 } hpfc_edge_feature_table;
 
 /* Optional metadata recorded with a tree. */
-/* Pool layouts (spec/hpfc-format.md §9 and §16). */
+/* Pool layouts (spec/hpfc-format.md §5.2 and §5.3). */
 enum {
     HPFC_LAYOUT_DEFAULT = 0, /* the library's default: HPFC_LAYOUT_COMPACT */
     HPFC_LAYOUT_PAPER = 1,   /* the paper's fixed slots and addresses (Sect. 4.1) */
@@ -378,7 +416,7 @@ typedef struct hpfc_write_options {
     const char *crs;          /* coordinate reference (e.g. "EPSG:32631" or a
                                  projection description), NULL for none */
     const hpfc_feature_table *features; /* FEAT section, NULL for none */
-    /* Write the LABL section (spec §15: every leaf's faces and crossings'
+    /* Write the LABL section (spec §6.5: every leaf's faces and crossings'
      * edge ids) from the tree: hpfc_tree_serialize numbers the faces of
      * the pools it writes. hpfc_file_serialize keeps the source file's
      * LABL section, whose labels stay valid since its pools are copied. */
@@ -386,7 +424,7 @@ typedef struct hpfc_write_options {
     const hpfc_attr_table *attributes;  /* ATTR section, NULL for none */
     const hpfc_edge_feature_table *edge_features; /* EDGF section, NULL for none */
     int layout;               /* HPFC_LAYOUT_*; hpfc_file_serialize keeps the file's */
-    /* Write the GEOM section (spec §17: exact coordinates, shape points,
+    /* Write the GEOM section (spec §6.6: exact coordinates, shape points,
      * crossings' segments) from this graph, the one the tree was built
      * from (hpfc_tree_serialize; HPFC_E_ARG for another graph); NULL for
      * none. hpfc_file_serialize ignores it and keeps the source file's
@@ -442,8 +480,13 @@ HPFC_API int hpfc_open_memory(const void *data, size_t size, unsigned flags,
                               hpfc_file **out);
 HPFC_API void hpfc_close(hpfc_file *file);
 
-/* Verifies every section checksum (reads the whole file). */
-HPFC_API int hpfc_file_verify_checksums(const hpfc_file *file);
+/* Verifies the header's checksum and every section's (spec §4.5; reads
+ * the whole file): HPFC_OK, or HPFC_E_CHECKSUM with diag naming the first
+ * that fails, as "section 2 (LABL) at offset 4096, 812 bytes: CRC-32C
+ * 0x1c2d3e4f stored, 0x5a6b7c8d computed" or "the header's (its first 352
+ * bytes): ..."; a file opened with HPFC_OPEN_SKIP_CHECKSUM gets its header
+ * checked here too. HPFC_E_ARG for a NULL file. */
+HPFC_API int hpfc_file_check_checksums(const hpfc_file *file, hpfc_diag *diag);
 
 /* Serialises an open file's map again with opts' CRS and FEAT sections in
  * place of its own (opts NULL: neither), into a new buffer the caller
@@ -524,6 +567,8 @@ typedef struct hpfc_pixel {
 } hpfc_pixel;
 
 enum { HPFC_WEST = 0, HPFC_NORTH = 1, HPFC_EAST = 2, HPFC_SOUTH = 3 };
+/* What a pixel holds: a word (a leaf), or a refined image below it. */
+enum { HPFC_PIXEL_WORD = 0, HPFC_PIXEL_REFINED = 1 };
 
 /* Pixel (i, j) of the root image. */
 HPFC_API int hpfc_pixel_root(const hpfc_file *file, uint32_t i, uint32_t j, hpfc_pixel *out);
@@ -532,7 +577,7 @@ HPFC_API int hpfc_pixel_type(const hpfc_file *file, const hpfc_pixel *px, int *t
 /* Is the pixel a private word pixel (word "++++")? */
 HPFC_API int hpfc_pixel_is_private(const hpfc_file *file, const hpfc_pixel *px, int *is_private);
 /* The pool layout's own structure at `level`, O(pool): for the compact
- * layout (spec §16) its block counts, type bits, word index and words agree;
+ * layout (spec §5.3) its block counts, type bits, word index and words agree;
  * for the paper layout nothing beyond what pixel access checks. HPFC_OK, or
  * HPFC_E_CORRUPT with the first fault in diag. */
 HPFC_API int hpfc_file_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag);
@@ -575,8 +620,9 @@ HPFC_API int hpfc_pixel_word(const hpfc_file *file, const hpfc_pixel *px, char *
  * any walker of it. Every traversal call below takes and gives keys;
  * hpfc_dart_index / hpfc_vertex_index turn them into small integers for
  * arrays. The path form (hpfc_dart, hpfc_vertex: the key's pixel with its
- * whole path from the root, HPFC_MAX_LEVELS steps) is a conversion, at the
- * end of this section, for callers that need the pixel itself.
+ * whole path from the root, HPFC_MAX_LEVELS steps) is experimental (block
+ * "Experimental" below): the operators are defined on it, and the key
+ * calls answer as it does.
  *
  * Traversal needs scratch memory sized by the file's longest word and a
  * cache; both live in an hpfc_walker, one per thread. Operators never
@@ -605,44 +651,47 @@ HPFC_API void hpfc_walker_free(hpfc_walker *walker);
  * a small one only makes the walker decode words again. HPFC_E_NOMEM leaves
  * the walker without a cache. */
 HPFC_API int hpfc_walker_set_cache_size(hpfc_walker *walker, size_t bytes);
-/* Word pixels whose word this walker has decoded so far. Without the cache
- * this is the paper's "pixels visited" (Sect. 5.1): every word an operator
- * reads; with it, a word read again from the cache does not count. */
-HPFC_API uint64_t hpfc_walker_pixels_visited(const hpfc_walker *walker);
 
-/* What every key call below shares, unless its own block says otherwise.
+/* What every key call shares (the calls below, and the per-dart calls of
+ * the faces, LABL and GEOM modules further on), unless its own block says
+ * otherwise.
  *
  * Statuses: HPFC_OK; HPFC_E_ARG for a NULL argument or a key that names no
  * dart (vertex) of the file (a position that is not the start of a word
  * slot: inside a mask, on a refined pixel's address, past the pools; a
  * crossing index past the word's crossings or on a stabbing; a local
- * vertex id past the pixel's vertices); HPFC_E_CORRUPT when the pools
- * contradict the format, including a layout that names a pixel ambiguously
- * (two addresses aliasing one image, images out of parent order or not
- * back to back, §9); HPFC_E_LIMIT past 2^32 images in one level;
- * HPFC_E_NOMEM. Outputs are written only on success. Safe on untrusted
- * files and keys: no crash, no read outside the file, no endless loop.
+ * vertex id past the pixel's vertices), HPFC_KEY_INVALID included;
+ * HPFC_E_CORRUPT when the pools contradict the format, including a layout
+ * that names a pixel ambiguously (two addresses aliasing one image, images
+ * out of parent order or not back to back, §5.2.2); HPFC_E_LIMIT past 2^32
+ * images in one level; HPFC_E_NOMEM. Outputs are written only on success.
+ * Safe on untrusted files and keys: no crash, no read outside the file, no
+ * endless loop.
  *
- * Answers: each call gives exactly what its path-form counterpart gives
- * on the key's hpfc_dart_from_key (hpfc_vertex_from_key), converted back
- * with hpfc_dart_key (hpfc_vertex_key), status included, whatever the
- * walker's cache holds (tests/test_handles.c checks every call so).
+ * Answers: each call gives exactly what its path-form counterpart
+ * (experimental) gives on the key's dart (vertex), status included,
+ * whatever the walker's cache holds.
  *
  * Cost: a key whose pixel the walker's cache holds costs one hash probe
  * more than the operator's own work, and no pixel path is built; a twin,
  * next or prev the cache has answered before is then one hash probe and
- * one load from a compact copy of the answers (bench/README.md, #4).
- * Otherwise the key is resolved to its pixel path, O(levels * log(images)),
- * and the operator runs as on its path form. The first such key builds the
- * walker's parent index, once, by one pass over the pools: O(pixels) time
- * and 16 bytes per image of the levels below the root, kept until
- * hpfc_walker_free. A file whose layout fails that pass gives its status to
- * every key call of the walker after it (the path-form operators still
- * work). Every key call resolves only a key whose pixel the cache does
- * not hold.
+ * one load from a compact copy of the answers (bench/README.md, "Targets
+ * and results", traversal). Otherwise the key is resolved to its pixel
+ * path, O(levels * log(images)), and the operator runs as on its path
+ * form. The first such key builds the walker's parent index, once, by one
+ * pass over the pools: O(pixels) time and 16 bytes per image of the levels
+ * below the root, kept until hpfc_walker_free. A file whose layout fails
+ * that pass gives its status to every key call of the walker after it
+ * (the path-form operators still work). Every key call resolves only a key
+ * whose pixel the cache does not hold.
  *
  * Thread safety: as every walker call, one walker per thread; keys are
  * plain numbers any thread may hold. */
+
+/* No dart or vertex: the key of a slot at bit 2^44 - 1, which no file
+ * under 2 TiB has; every key call answers HPFC_E_ARG for it, as for any
+ * key that names nothing. */
+#define HPFC_KEY_INVALID UINT64_MAX
 
 /* The vertices of a word pixel (a leaf, from hpfc_leaf_first/next or
  * hpfc_locate): their number, and the key of the index-th of them
@@ -678,26 +727,6 @@ HPFC_API int hpfc_key_prev(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key)
 HPFC_API int hpfc_key_origin(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key);
 HPFC_API int hpfc_key_target(hpfc_walker *w, uint64_t dart_key, uint64_t *vertex_key);
 
-/* Per-dart questions of the faces, LABL and GEOM modules, on a dart key:
- * hpfc_faces_of_dart, hpfc_label_dart_face, hpfc_label_dart_edge,
- * hpfc_geometry_dart_edge and hpfc_geometry_dart_points (their blocks say
- * what each answers and its statuses: HPFC_E_NO_SECTION without the
- * section, and so on). Why a walker: those answers need the key's pixel
- * with its path from the root (a leaf's number and bounds come from its
- * descent) and only a walker can find the path of a slot position, by its
- * parent index; the walker also names the file. Cost: the key's
- * hpfc_dart_from_key, then the path-form call;
- * `faces` must come from hpfc_faces_build on the walker's file. */
-struct hpfc_faces; /* hpfc_faces, "Faces" below */
-HPFC_API int hpfc_faces_of_key(const struct hpfc_faces *faces, hpfc_walker *w,
-                               uint64_t dart_key, uint64_t *face);
-HPFC_API int hpfc_key_label_face(hpfc_walker *w, uint64_t dart_key, uint64_t *face);
-HPFC_API int hpfc_key_label_edge(hpfc_walker *w, uint64_t dart_key, uint64_t *edge);
-HPFC_API int hpfc_key_geometry_edge(hpfc_walker *w, uint64_t dart_key, uint64_t *edge,
-                                    int *reversed);
-HPFC_API int hpfc_key_geometry_points(hpfc_walker *w, uint64_t dart_key, int64_t *xy,
-                                      size_t cap, size_t *count);
-
 /* Dense indices. Keys are sparse 64-bit numbers; these are small integers
  * for arrays of per-dart (per-vertex) data and visited bitmaps.
  *
@@ -705,7 +734,7 @@ HPFC_API int hpfc_key_geometry_points(hpfc_walker *w, uint64_t dart_key, int64_t
  * walker, cache or not, and across opens): number the file's pixels, word
  * and refined alike, level by level; the root image's in scanline order
  * first, then each level's images in pool order (the order of their
- * addresses, §9), each image's pixels in scanline order:
+ * addresses, §5.2.2), each image's pixels in scanline order:
  *   pixel(l, image, i, j) = P[l] + image * cols * rows + j * w + i
  * with P[0] = 0, P[1] = root_cols * root_rows, P[l + 1] = P[l] +
  * images[l] * cols * rows (hpfc_level_info.images), `image` the rank of the
@@ -742,7 +771,459 @@ HPFC_API int hpfc_key_next_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *
 HPFC_API int hpfc_key_prev_indexed(hpfc_walker *w, uint64_t dart_key, uint64_t *out_key,
                                    uint64_t *out_index);
 
-/* ---- the path form: a key's pixel, as a conversion ----------------------
+/* Iteration over the word pixels of the file in depth-first order (each
+ * image in scanline order): start with hpfc_leaf_first, then call
+ * hpfc_leaf_next until it returns HPFC_E_NO_PIXEL. On an untrusted file,
+ * stop with an error after more leaves than the levels' word_pixels add up
+ * to: a corrupt file can point several refined pixels at one image. */
+HPFC_API int hpfc_leaf_first(const hpfc_file *file, hpfc_pixel *px);
+HPFC_API int hpfc_leaf_next(const hpfc_file *file, hpfc_pixel *px);
+
+/* ------------------------------------------------------------------------
+ * Faces (spec/hpfc-format.md, "Faces"). A face with holes is one face with
+ * several boundary loops. hpfc_faces_build groups every dart and every
+ * private pixel into its face by a flood fill over the file's pixels (O(file),
+ * no table written by the writer): sidewalks that continue each other,
+ * stretches of a pixel's boundary between two crossings, and crossing-free
+ * stretches of roads all join one face. Face 0 is the unbounded face.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_faces hpfc_faces;
+
+/* Memory: 8 bytes per k_w bits of every level's pool (a table of the
+ * leaves by position, about 9 bytes a leaf) and 4 bytes per crossing and
+ * per private leaf (8 past 2^31 of them); bench/README.md has a continental
+ * map's figures. HPFC_E_CORRUPT on a file whose pixels contradict each
+ * other, HPFC_E_LIMIT past 2^24 crossings in one leaf or 2^40 crossings in
+ * all, HPFC_E_NOMEM. */
+HPFC_API int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out);
+HPFC_API void hpfc_faces_free(hpfc_faces *faces);
+/* The number of faces (ids 0 .. count - 1). */
+HPFC_API uint64_t hpfc_faces_face_count(const hpfc_faces *faces);
+/* The face on the right of a dart, given by its key: statuses and cost as
+ * every key call's (a key naming no dart: HPFC_E_ARG), then one lookup.
+ * The walker resolves the key (only it can find a slot's path, by its
+ * parent index); `faces` must come from hpfc_faces_build on the walker's
+ * file. */
+HPFC_API int hpfc_faces_key_face(const hpfc_faces *faces, hpfc_walker *w, uint64_t dart_key,
+                                 hpfc_id *face);
+/* The face holding a private pixel (HPFC_E_ARG if px is not private). */
+HPFC_API int hpfc_faces_pixel_face(const hpfc_faces *faces, const hpfc_pixel *px,
+                                   hpfc_id *face);
+
+/* ------------------------------------------------------------------------
+ * Source features (spec/hpfc-format.md §6.2, the FEAT section): which
+ * feature of the packed GIS layers each face belongs to. Read in place from
+ * the file; every access is bounds-checked (HPFC_E_CORRUPT on a corrupt
+ * table). Without a FEAT section these return HPFC_E_NO_SECTION; a feature,
+ * layer or face id out of range is HPFC_E_ARG. Strings point into the file
+ * and are not NUL-terminated.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_features_info {
+    uint32_t features, faces, layers;
+    uint32_t links;               /* face-to-feature links in all */
+    const char *key_field;        /* NULL when packed without a key field */
+    size_t key_field_len;
+} hpfc_features_info;
+
+typedef struct hpfc_feature {
+    int64_t fid;                  /* the feature's id in its source layer */
+    uint32_t layer;
+    const char *key;              /* NULL for no key field or a null value */
+    size_t key_len;
+} hpfc_feature;
+
+HPFC_API int hpfc_file_get_features_sized(const hpfc_file *file, hpfc_features_info *out,
+                                          size_t size);
+#define hpfc_file_get_features(file, out) \
+    hpfc_file_get_features_sized((file), (out), sizeof(hpfc_features_info))
+/* Feature `feature`'s record: its source fid, layer and key. */
+HPFC_API int hpfc_file_get_feature_sized(const hpfc_file *file, hpfc_id feature,
+                                         hpfc_feature *out, size_t size);
+#define hpfc_file_get_feature(file, feature, out) \
+    hpfc_file_get_feature_sized((file), (feature), (out), sizeof(hpfc_feature))
+HPFC_API int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name,
+                             size_t *len);
+/* The features of face `face` (an id of hpfc_faces_build): *count of them,
+ * then the k-th (k < count, else HPFC_E_ARG), in ascending feature ids. */
+HPFC_API int hpfc_face_feature_count(const hpfc_file *file, hpfc_id face, uint32_t *count);
+HPFC_API int hpfc_face_feature_id(const hpfc_file *file, hpfc_id face, uint32_t k,
+                                  hpfc_id *feature);
+
+/* ------------------------------------------------------------------------
+ * Stored face labels (spec/hpfc-format.md §6.5, the LABL section, 1.2):
+ * the face of every region of every leaf and the edge id of every
+ * crossing, written by the writer so that a query needs no
+ * hpfc_faces_build. Each call reads the pixels of one descent (the leaf's
+ * number comes from the descent, O(levels)) and the leaf's own record,
+ * never another leaf. Face ids are those of hpfc_faces_build (§3.11), edge
+ * ids the input graph's edge indices (hpfc_graph_add_edge order).
+ *
+ * A leaf's *stretches* are the pieces of its boundary between consecutive
+ * crossings: stretch t runs clockwise from crossing t - 1 (cyclically) to
+ * crossing t; a private leaf has one, stretch 0. Its *regions* are the
+ * parts of the pixel its components cut it into, numbered by their
+ * smallest stretch; a private leaf has one region, a stabbed leaf of n
+ * crossings and c components n - c + 1.
+ *
+ * Without a LABL section these return HPFC_E_NO_SECTION; a record that
+ * contradicts the map's layout (a face id >= faces, an edge id >= edges,
+ * a record outside the section, samples that do not lead to the pixel)
+ * gives HPFC_E_CORRUPT. hpfc-inspect --verify compares every stored label
+ * with hpfc_faces_build's.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_labels_info {
+    uint64_t faces, edges, leaves;
+    uint32_t face_bits, edge_bits;  /* widths of one face id, one edge id */
+    uint64_t section_bytes;         /* the whole section */
+    uint64_t label_bits;            /* the records */
+    uint64_t directory_bits;        /* the records' offsets */
+    uint64_t rank_bits;             /* the leaf-number samples */
+} hpfc_labels_info;
+
+HPFC_API int hpfc_file_get_labels_sized(const hpfc_file *file, hpfc_labels_info *out,
+                                        size_t size);
+#define hpfc_file_get_labels(file, out) \
+    hpfc_file_get_labels_sized((file), (out), sizeof(hpfc_labels_info))
+/* The faces of a leaf's regions, in region order: *count of them (1 for a
+ * private leaf); faces NULL asks only the count; cap too small is
+ * HPFC_E_BUFFER_SMALL with *count set. A point located in a private leaf is in
+ * faces[0]; in a stabbed one, in one of them. */
+HPFC_API int hpfc_label_leaf_faces(const hpfc_file *file, const hpfc_pixel *leaf,
+                                   hpfc_id *faces, size_t cap, size_t *count);
+/* The face along stretch `stretch` of a leaf. */
+HPFC_API int hpfc_label_stretch_face(const hpfc_file *file, const hpfc_pixel *leaf,
+                                     uint32_t stretch, hpfc_id *face);
+/* The edge id of crossing `crossing` of a leaf. */
+HPFC_API int hpfc_label_crossing_edge(const hpfc_file *file, const hpfc_pixel *leaf,
+                                      uint32_t crossing, hpfc_id *edge);
+/* The face on the right of a dart (hpfc_faces_key_face's answer) and the
+ * id of its edge, given by its key: statuses and cost as every key call's,
+ * then the stored label. The walker names the file and finds the key's
+ * leaf with its path from the root, which the leaf's number needs. */
+HPFC_API int hpfc_label_key_face(hpfc_walker *w, uint64_t dart_key, hpfc_id *face);
+HPFC_API int hpfc_label_key_edge(hpfc_walker *w, uint64_t dart_key, hpfc_id *edge);
+/* A leaf's number: its rank among the word pixels of its level, in pool
+ * order (images in the order they lie in the pool, each in scanline
+ * order). O(levels) with a LABL section, else a walk over the level's pool
+ * up to the leaf. */
+HPFC_API int hpfc_leaf_number(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *number);
+
+/* The stored labels against the map (hpfc-inspect --verify): the face
+ * count; every rank sample recounted from the pools; every leaf's number
+ * distinct; each record right after the previous one, the last ending the
+ * label stream; every stretch's face equal to faces' (hpfc_faces_build on
+ * the same file); every edge id below the edge count and equal on both
+ * sides of its road. HPFC_OK when all agree; HPFC_E_CORRUPT with
+ * report->message naming the first disagreement; HPFC_E_NO_SECTION,
+ * HPFC_E_NOMEM. O(file). */
+typedef struct hpfc_labels_report {
+    uint64_t leaves_checked, labels_checked;
+    char message[240];
+} hpfc_labels_report;
+HPFC_API int hpfc_labels_verify(const hpfc_file *file, const hpfc_faces *faces,
+                                hpfc_labels_report *report);
+
+/* ------------------------------------------------------------------------
+ * Attributes (spec/hpfc-format.md §6.3, the ATTR section): typed columns,
+ * one row per feature of the FEAT section, each value read in O(1) from
+ * the mapped file. Every access is bounds-checked (HPFC_E_CORRUPT on a
+ * corrupt section); without an ATTR section these return
+ * HPFC_E_NO_SECTION; a column or feature out of range is HPFC_E_ARG.
+ * Names and strings point into the file and are not NUL-terminated.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_attrs_info {
+    uint64_t features;       /* rows: FEAT's feature count */
+    uint64_t columns;
+    uint64_t string_bytes;   /* the names' and string values' bytes */
+    uint64_t section_bytes;  /* the whole section */
+} hpfc_attrs_info;
+
+HPFC_API int hpfc_file_get_attrs_sized(const hpfc_file *file, hpfc_attrs_info *out,
+                                       size_t size);
+#define hpfc_file_get_attrs(file, out) \
+    hpfc_file_get_attrs_sized((file), (out), sizeof(hpfc_attrs_info))
+HPFC_API int hpfc_attr_column(const hpfc_file *file, uint32_t column, const char **name,
+                              size_t *name_len, int *type);
+/* The column named name[0 .. len) (HPFC_E_ARG when there is none). */
+HPFC_API int hpfc_attr_find(const hpfc_file *file, const char *name, size_t len,
+                            uint32_t *column);
+/* The value of column `column` for feature `feature`. */
+HPFC_API int hpfc_file_get_attr_value(const hpfc_file *file, hpfc_id feature, uint32_t column,
+                                      hpfc_attr_value *out);
+
+/* ------------------------------------------------------------------------
+ * Features of edges (spec/hpfc-format.md §6.4, the EDGF section): which
+ * features' lines or rings each edge of the map lies along, as links from
+ * edges to features; edge ids are the input graph's edge indices. Same
+ * error rules as the face accessors.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_edge_links_info {
+    uint64_t edges;          /* the map's edge count */
+    uint64_t features;       /* FEAT's feature count */
+    uint64_t links;          /* edge-to-feature links in all */
+    uint64_t section_bytes;  /* the whole section */
+} hpfc_edge_links_info;
+
+HPFC_API int hpfc_file_get_edge_links_sized(const hpfc_file *file, hpfc_edge_links_info *out,
+                                            size_t size);
+#define hpfc_file_get_edge_links(file, out) \
+    hpfc_file_get_edge_links_sized((file), (out), sizeof(hpfc_edge_links_info))
+/* The features along edge `edge`: *count of them, then the k-th (k <
+ * count, else HPFC_E_ARG), in ascending feature ids. */
+HPFC_API int hpfc_edge_feature_count(const hpfc_file *file, hpfc_id edge, uint32_t *count);
+HPFC_API int hpfc_edge_feature_id(const hpfc_file *file, hpfc_id edge, uint32_t k,
+                                  hpfc_id *feature);
+
+/* ------------------------------------------------------------------------
+ * Exact geometry (spec/hpfc-format.md §6.6, the GEOM section): the input
+ * graph's lattice coordinates, read in O(1) per point from the mapped file.
+ * Vertex ids are the input graph's vertex indices (hpfc_graph_add_vertex
+ * order, `.pfc` `v` records), edge ids its edge indices (as LABL's).
+ * Coordinates are absolute lattice coordinates, the numbers the graph was
+ * given: user coordinates are lattice * 10^unit_exp10. Without a GEOM
+ * section these return HPFC_E_NO_SECTION; an id out of range is HPFC_E_ARG;
+ * a section that contradicts itself or the map HPFC_E_CORRUPT.
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_geometry_info {
+    uint64_t vertices;       /* V: vertices of the input graph */
+    uint64_t edges;          /* E: edges of the input graph (LABL's edge count) */
+    uint64_t points;         /* interior (shape) points of all edges */
+    uint64_t section_bytes;  /* the whole section */
+} hpfc_geometry_info;
+
+HPFC_API int hpfc_file_get_geometry_sized(const hpfc_file *file, hpfc_geometry_info *out,
+                                          size_t size);
+#define hpfc_file_get_geometry(file, out) \
+    hpfc_file_get_geometry_sized((file), (out), sizeof(hpfc_geometry_info))
+HPFC_API int hpfc_geometry_vertex(const hpfc_file *file, hpfc_id vertex, int64_t *x,
+                                  int64_t *y);
+/* Edge `edge` runs from vertex *u to vertex *v through *point_count points,
+ * its ends included (2 for a straight edge). */
+HPFC_API int hpfc_geometry_edge(const hpfc_file *file, hpfc_id edge, hpfc_id *u, hpfc_id *v,
+                                uint64_t *point_count);
+/* Point k of an edge: k = 0 is vertex u, k = point_count - 1 vertex v. */
+HPFC_API int hpfc_geometry_edge_point(const hpfc_file *file, hpfc_id edge, uint64_t k,
+                                      int64_t *x, int64_t *y);
+/* The faces on the left and on the right of an edge run from u to v
+ * (needs LABL too). Equal for a dangling edge. */
+HPFC_API int hpfc_geometry_edge_faces(const hpfc_file *file, hpfc_id edge, hpfc_id *left,
+                                      hpfc_id *right);
+/* The segment of its edge (k: from point k to point k + 1) on which crossing
+ * `crossing` (0-based, word order) of a stabbed leaf lies. O(levels). */
+HPFC_API int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf,
+                                            uint32_t crossing, uint64_t *segment);
+/* The section against itself and the map (hpfc-inspect --verify, spec
+ * §6.6.6): zero padding; every vertex, edge and point reads; the coordinates
+ * form a valid planar map (hpfc_graph_validate); every leaf holds as many
+ * vertices as its word has junctions; with LABL, every crossing's segment
+ * crosses its road, in the word's order along it, with the faces
+ * hpfc_geometry_edge_faces gives on its two sides. HPFC_OK; HPFC_E_CORRUPT
+ * with report->message naming the first disagreement; HPFC_E_NO_SECTION;
+ * HPFC_E_NOMEM. O(file) plus O(n log n) for planarity. */
+typedef struct hpfc_geometry_report {
+    uint64_t vertices_checked, crossings_checked;
+    char message[240];
+} hpfc_geometry_report;
+HPFC_API int hpfc_geometry_verify(const hpfc_file *file, hpfc_geometry_report *report);
+
+/* ------------------------------------------------------------------------
+ * Exact point location (needs LABL and GEOM): the one face that contains a
+ * lattice point, or, when the point lies on an edge or a vertex, the faces
+ * around it, decided by exact integer predicates on the edges that cross
+ * the point's leaf only. O(levels + the leaf's geometry).
+ * ------------------------------------------------------------------------ */
+typedef struct hpfc_point_location {
+    hpfc_pixel leaf;      /* the leaf holding the point */
+    int on_boundary;      /* 1: on an edge or a vertex; faces lists those around */
+    int on_vertex;        /* 1: on vertex `vertex` */
+    hpfc_id vertex;       /* on_vertex: its id (else HPFC_ID_NONE) */
+    hpfc_id edge;         /* on an edge (not at a vertex): its id (else HPFC_ID_NONE) */
+} hpfc_point_location;
+
+/* faces[0 .. *count): the face containing (x, y) (one), or the distinct
+ * faces around a boundary point in increasing order (around a vertex: the
+ * faces beside its edges; on an edge: its two sides, one face for a
+ * dangling edge or a bridge). The answer is spec §6.7's; ties between
+ * segments and grid lines fall by the perturbation rule of §3.5. A point
+ * outside the domain gives HPFC_E_NO_PIXEL and *count = 0. cap too small
+ * is HPFC_E_BUFFER_SMALL with *count and *out set; faces NULL asks only the
+ * count.
+ * Without GEOM or LABL: HPFC_E_NO_SECTION; GEOM that contradicts the
+ * leaf's word (a segment off its crossing's road, a piece leaving the
+ * leaf): HPFC_E_CORRUPT. Keeps no state (threads may share the file); its
+ * scratch is allocated per call (hpfc_locate_batch keeps one per array). */
+HPFC_API int hpfc_locate_point(const hpfc_file *file, int64_t x, int64_t y,
+                               hpfc_point_location *out, hpfc_id *faces, size_t cap,
+                               size_t *count);
+
+/* ------------------------------------------------------------------------
+ * Geometry back from the file (needs GEOM and LABL; FEAT and EDGF for the
+ * features): a dart's exact polyline, a face's boundary as exact rings, a
+ * feature's geometry as the union of its faces or the lines along its
+ * edges. Every coordinate is an absolute lattice point, exact; user
+ * coordinates are lattice * 10^unit_exp10 (hpfc_user_point). No
+ * floating-point value decides anything.
+ *
+ * Rings. A region's boundary is the set of edges with the region on
+ * exactly one side (an edge with the region on both sides, a dead end or a
+ * bridge inside it, is no part of it), each run with the region on its
+ * left. At a vertex where several such edges meet, each edge arriving is
+ * continued by the first edge leaving clockwise from it (the region's
+ * corner there), and a walk that comes back to a vertex it has visited is
+ * cut there into two rings; so every ring is simple (no vertex twice, the
+ * first point repeated last), rings meet at most at vertices and never
+ * cross, and a region pinched at a vertex gives two rings touching there.
+ * A ring that runs counter-clockwise (exact signed area > 0) is an outer
+ * ring; clockwise, a hole. Each hole goes with the smallest outer ring that
+ * contains it. A bounded face has exactly one outer ring; the unbounded
+ * face (0) only holes.
+ * ------------------------------------------------------------------------ */
+
+/* The edge of a dart, given by its key, and the way the dart runs along
+ * it: *reversed 0 when it goes from the edge's u to its v, 1 when from v
+ * to u. Decided exactly: which end lies in the dart's pixel, and for an
+ * edge with both ends there, on which of its segments the dart's crossing
+ * lies. */
+HPFC_API int hpfc_geometry_key_edge(hpfc_walker *w, uint64_t dart_key, hpfc_id *edge,
+                                    int *reversed);
+/* The exact polyline of a dart, given by its key, from its origin to its
+ * target, both included: xy[2k], xy[2k + 1] for k < *count. xy NULL asks
+ * only the count; cap (points) too small is HPFC_E_BUFFER_SMALL with
+ * *count set. Both: statuses and cost as every key call's, then GEOM's
+ * (and LABL's) reads. */
+HPFC_API int hpfc_geometry_key_points(hpfc_walker *w, uint64_t dart_key, int64_t *xy,
+                                      size_t cap, size_t *count);
+
+/* User coordinates of a lattice point: x * 10^unit_exp10, correctly
+ * rounded to double. */
+HPFC_API void hpfc_user_point(const hpfc_file *file, int64_t x, int64_t y, double *ux,
+                              double *uy);
+
+/* Polygons as rings of lattice points. Polygon p is rings
+ * [polygon_ring[p], polygon_ring[p + 1]): its outer ring, then its holes.
+ * Rings [polygon_ring[polygon_count], ring_count) are holes that no outer
+ * ring of the answer contains (the unbounded face's). Ring r is points
+ * [ring_point[r], ring_point[r + 1]) of xy (2 int64 a point), closed: its
+ * last point equals its first. Polylines (hpfc_shapes_feature_polylines)
+ * are rings [0, ring_count) as open polylines, with polygon_count 0 and
+ * polygon_ring[0] == ring_count. */
+typedef struct hpfc_polygons {
+    size_t polygon_count, ring_count, point_count;
+    const size_t *polygon_ring;  /* polygon_count + 1 entries */
+    const size_t *ring_point;    /* ring_count + 1 entries */
+    const int64_t *xy;           /* 2 * point_count values */
+} hpfc_polygons;
+
+/* The index over a file's geometry that the region calls need: each
+ * edge's ends and faces, each face's edges, each feature's faces and edges.
+ * Built once in O(edges + faces + links); 40 bytes an edge, 16 a face, 8 a
+ * feature link, 24 a vertex. The answers live in the object until its next
+ * call: one per thread. Statuses: HPFC_E_NO_SECTION without GEOM or LABL,
+ * HPFC_E_CORRUPT when the sections disagree (an edge's face past the face
+ * count, GEOM's edge count not LABL's) or claim more edges, vertices, faces
+ * or shape points than their bits can hold (checked before any allocation),
+ * HPFC_E_LIMIT past 2^32 - 1 vertices, edges or faces, HPFC_E_NOMEM. Safe
+ * on untrusted files: every answer is bounded by the file's size. */
+typedef struct hpfc_shapes hpfc_shapes;
+HPFC_API int hpfc_shapes_create(const hpfc_file *file, hpfc_shapes **out);
+HPFC_API void hpfc_shapes_free(hpfc_shapes *shapes);
+HPFC_API uint64_t hpfc_shapes_face_count(const hpfc_shapes *shapes);
+
+/* The rings of face `face` (HPFC_E_ARG past the face count), each polygon
+ * an outer ring then its holes, a hole going to the smallest outer ring
+ * around it. O(n log n) in the boundary's points, near-linear in
+ * practice: a hole belongs to the outer ring of the region's part (faces
+ * joined across edges) that surrounds it, known without geometry when
+ * that part has one outer ring; otherwise it finds the outer rings whose
+ * box holds its own through a tree over the boxes, and is tested against
+ * a long one through an index of its segments by y. HPFC_E_CORRUPT when
+ * the boundary does not close into rings. */
+HPFC_API int hpfc_shapes_face_polygons(hpfc_shapes *shapes, hpfc_id face, hpfc_polygons *out);
+/* The geometry of feature `feature` as the union of its faces: the
+ * boundary of the faces linked to it, as above. HPFC_E_NO_SECTION without
+ * FEAT; HPFC_E_ARG past the feature count; a feature with no face gives no
+ * ring. */
+HPFC_API int hpfc_shapes_feature_polygons(hpfc_shapes *shapes, hpfc_id feature,
+                                          hpfc_polygons *out);
+/* The lines of a feature: the edges EDGF links to it, joined end to end
+ * through every vertex where exactly two of them meet; each polyline runs
+ * the way its lowest-numbered edge goes from u to v, and a closed one
+ * repeats its first point.
+ * HPFC_E_NO_SECTION without EDGF. */
+HPFC_API int hpfc_shapes_feature_polylines(hpfc_shapes *shapes, hpfc_id feature,
+                                           hpfc_polygons *out);
+/* The faces linked to a feature, ascending: *count of them (0: a line
+ * feature, or one that covers no face); faces NULL asks only the count;
+ * cap too small is HPFC_E_BUFFER_SMALL with *count set. HPFC_E_NO_SECTION
+ * without FEAT; HPFC_E_ARG past the feature count. */
+HPFC_API int hpfc_shapes_feature_faces(const hpfc_shapes *shapes, hpfc_id feature,
+                                       hpfc_id *faces, size_t cap, size_t *count);
+
+/* ------------------------------------------------------------------------
+ * Windows: what of the map meets a rectangle (needs GEOM and LABL; FEAT or
+ * EDGF for features), through the hpfc_shapes index. The window is the
+ * closed lattice rectangle [x0, x1] x [y0, y1]; faces, edges and features
+ * are closed sets (a face holds its border), and one meets the window when
+ * they share a point. Each one found is flagged inside (it lies wholly in
+ * the window) or crossing (it reaches outside). Exact: decided by integer
+ * predicates on the GEOM coordinates of the leaves the window's border
+ * cuts; the leaves wholly inside give their faces and edges from LABL
+ * alone. The cost grows with the leaves the window meets and what it
+ * returns (and, to flag a face, with the edges around it), not with the
+ * file. The unbounded face (0) is never inside.
+ * ------------------------------------------------------------------------ */
+enum { HPFC_WINDOW_FACES = 1, HPFC_WINDOW_EDGES = 2, HPFC_WINDOW_FEATURES = 4 };
+
+/* What a window met: ids in increasing order, each with 1 (inside) or 0
+ * (crossing) in the matching *_inside array. Lists not asked for are
+ * empty. Valid until the shapes object's next call. */
+typedef struct hpfc_window_hits {
+    size_t face_count, edge_count, feature_count;
+    const hpfc_id *face, *edge, *feature;
+    const uint8_t *face_inside, *edge_inside, *feature_inside;
+} hpfc_window_hits;
+
+/* `what`: HPFC_WINDOW_FACES | _EDGES | _FEATURES. HPFC_E_ARG for x0 > x1,
+ * y0 > y1 or an unknown flag; HPFC_E_NO_SECTION for features without FEAT
+ * and EDGF; HPFC_E_CORRUPT when the sections contradict each other. A
+ * window beyond the domain meets the unbounded face. */
+HPFC_API int hpfc_shapes_window(hpfc_shapes *shapes, int64_t x0, int64_t y0, int64_t x1,
+                                int64_t y1, unsigned what, hpfc_window_hits *out);
+
+/* ------------------------------------------------------------------------
+ * Experimental (the introduction, "Experimental calls"): seen only with
+ * HPFC_EXPERIMENTAL defined before this header is included; may change
+ * between minor versions.
+ * ------------------------------------------------------------------------ */
+#ifdef HPFC_EXPERIMENTAL
+
+/* ---- the builder's tree, pixel by pixel -------------------------------- */
+
+/* Images of a level are numbered 0, 1, ... in pool order: the children of
+ * level l's refined pixels, in the order those pixels appear in level l
+ * (image by image, each image in scanline order: j = 0 (north) first,
+ * i = 0 (west) first within a row). Level 0 has the root image only. */
+HPFC_API size_t hpfc_tree_image_count(const hpfc_tree *tree, uint32_t level);
+
+typedef struct hpfc_tree_pixel {
+    int type;                  /* HPFC_PIXEL_WORD or HPFC_PIXEL_REFINED */
+    uint32_t child;            /* refined: image index at the next level */
+    const char *word;          /* word: symbols of "+=[]()Y", not 0-ended */
+    uint32_t word_len;
+    /* word: for crossing k (k-th non-'+' symbol), the input edge it lies on,
+     * and the index of the edge segment (0 = the one leaving vertex u). */
+    const uint32_t *cross_edge;
+    const uint32_t *cross_segment;
+    /* bounds of the pixel in the graph's lattice: [x0, x1) x [y0, y1) */
+    int64_t x0, y0, x1, y1;
+} hpfc_tree_pixel;
+
+/* Pixel (i, j) of image `image` of level `level`. */
+HPFC_API int hpfc_tree_get_pixel(const hpfc_tree *tree, uint32_t level,
+                                 size_t image, uint32_t i, uint32_t j,
+                                 hpfc_tree_pixel *out);
+
+/* ---- the path form of darts and vertices --------------------------------
  *
  * An hpfc_dart (hpfc_vertex) is a key spelled out: its word pixel with the
  * whole path from the root, and its crossing (local vertex id). Get one
@@ -791,362 +1272,35 @@ HPFC_API int hpfc_dart_target(hpfc_walker *w, const hpfc_dart *d, hpfc_vertex *o
  * key operators answer HPFC_E_ARG for it. */
 HPFC_API uint64_t hpfc_vertex_key(const hpfc_file *file, const hpfc_vertex *v);
 HPFC_API uint64_t hpfc_dart_key(const hpfc_file *file, const hpfc_dart *d);
-/* No dart or vertex: the key of a slot at bit 2^44 - 1, which no file
- * under 2 TiB has; the key operators answer HPFC_E_ARG for it, as for any
- * key that names nothing. */
-#define HPFC_KEY_INVALID UINT64_MAX
 
-/* Iteration over the word pixels of the file in depth-first order (each
- * image in scanline order): start with hpfc_leaf_first, then call
- * hpfc_leaf_next until it returns HPFC_E_NO_PIXEL. On an untrusted file,
- * stop with an error after more leaves than the levels' word_pixels add up
- * to: a corrupt file can point several refined pixels at one image. */
-HPFC_API int hpfc_leaf_first(const hpfc_file *file, hpfc_pixel *px);
-HPFC_API int hpfc_leaf_next(const hpfc_file *file, hpfc_pixel *px);
-
-/* ------------------------------------------------------------------------
- * Faces (spec/hpfc-format.md, "Faces"). A face with holes is one face with
- * several boundary loops. hpfc_faces_build groups every dart and every
- * private pixel into its face by a flood fill over the file's pixels (O(file),
- * no table written by the writer): sidewalks that continue each other,
- * stretches of a pixel's boundary between two crossings, and crossing-free
- * stretches of roads all join one face. Face 0 is the unbounded face.
- * ------------------------------------------------------------------------ */
-typedef struct hpfc_faces hpfc_faces;
-
-/* Memory: 8 bytes per k_w bits of every level's pool (a table of the
- * leaves by position, about 9 bytes a leaf) and 4 bytes per crossing and
- * per private leaf (8 past 2^31 of them); bench/README.md has a continental
- * map's figures. HPFC_E_CORRUPT on a file whose pixels contradict each
- * other, HPFC_E_LIMIT past 2^24 crossings in one leaf or 2^40 crossings in
- * all, HPFC_E_NOMEM. */
-HPFC_API int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out);
-HPFC_API void hpfc_faces_free(hpfc_faces *faces);
-HPFC_API uint64_t hpfc_faces_count(const hpfc_faces *faces);
-/* The face on the right of dart d (HPFC_E_ARG if d's pixel is a refined
- * pixel or has no crossing d->crossing). */
-HPFC_API int hpfc_faces_of_dart(const hpfc_faces *faces, const hpfc_dart *d, uint64_t *face);
-/* The face holding a private pixel (HPFC_E_ARG if px is not private). */
-HPFC_API int hpfc_faces_of_private_pixel(const hpfc_faces *faces, const hpfc_pixel *px,
-                                         uint64_t *face);
-
-/* ------------------------------------------------------------------------
- * Source features (spec/hpfc-format.md §7.1, the FEAT section): which
- * feature of the packed GIS layers each face belongs to. Read in place from
- * the file; every access is bounds-checked (HPFC_E_CORRUPT on a corrupt
- * table). Without a FEAT section these return HPFC_E_NO_SECTION. Strings
- * point into the file and are not NUL-terminated.
- * ------------------------------------------------------------------------ */
-typedef struct hpfc_features_info {
-    uint32_t features, faces, layers;
-    uint32_t links;               /* face-to-feature links in all */
-    const char *key_field;        /* NULL when packed without a key field */
-    size_t key_field_len;
-} hpfc_features_info;
-
-typedef struct hpfc_feature {
-    int64_t fid;                  /* the feature's id in its source layer */
-    uint32_t layer;
-    const char *key;              /* NULL for no key field or a null value */
-    size_t key_len;
-} hpfc_feature;
-
-HPFC_API int hpfc_file_get_features_sized(const hpfc_file *file, hpfc_features_info *out,
-                                          size_t size);
-#define hpfc_file_get_features(file, out) \
-    hpfc_file_get_features_sized((file), (out), sizeof(hpfc_features_info))
-HPFC_API int hpfc_file_get_feature(const hpfc_file *file, uint32_t index, hpfc_feature *out);
-HPFC_API int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name,
-                             size_t *len);
-/* The features of face `face` (an id of hpfc_faces_build): *count of them,
- * then each by hpfc_face_feature (ascending feature indices). A face id at
- * or beyond the table's face count is HPFC_E_ARG. */
-HPFC_API int hpfc_face_feature_count(const hpfc_file *file, uint64_t face, uint32_t *count);
-HPFC_API int hpfc_face_feature(const hpfc_file *file, uint64_t face, uint32_t k,
-                               uint32_t *feature);
-
-/* ------------------------------------------------------------------------
- * Stored face labels (spec/hpfc-format.md §15, the LABL section, 1.2):
- * the face of every region of every leaf and the edge id of every
- * crossing, written by the writer so that a query needs no
- * hpfc_faces_build. Each call reads the pixels of one descent (the leaf's
- * number comes from the descent, O(levels)) and the leaf's own record,
- * never another leaf. Face ids are those of hpfc_faces_build (§3.11), edge
- * ids the input graph's edge indices (hpfc_graph_add_edge order).
- *
- * A leaf's *stretches* are the pieces of its boundary between consecutive
- * crossings: stretch t runs clockwise from crossing t - 1 (cyclically) to
- * crossing t; a private leaf has one, stretch 0. Its *regions* are the
- * parts of the pixel its components cut it into, numbered by their
- * smallest stretch; a private leaf has one region, a stabbed leaf of n
- * crossings and c components n - c + 1.
- *
- * Without a LABL section these return HPFC_E_NO_SECTION; a record that
- * contradicts the map's layout (a face id >= faces, an edge id >= edges,
- * a record outside the section, samples that do not lead to the pixel)
- * gives HPFC_E_CORRUPT. hpfc-inspect --verify compares every stored label
- * with hpfc_faces_build's.
- * ------------------------------------------------------------------------ */
-typedef struct hpfc_labels_info {
-    uint64_t faces, edges, leaves;
-    uint32_t face_bits, edge_bits;  /* widths of one face id, one edge id */
-    uint64_t section_bytes;         /* the whole section */
-    uint64_t label_bits;            /* the records */
-    uint64_t directory_bits;        /* the records' offsets */
-    uint64_t rank_bits;             /* the leaf-number samples */
-} hpfc_labels_info;
-
-HPFC_API int hpfc_file_get_labels_sized(const hpfc_file *file, hpfc_labels_info *out,
-                                        size_t size);
-#define hpfc_file_get_labels(file, out) \
-    hpfc_file_get_labels_sized((file), (out), sizeof(hpfc_labels_info))
-/* The faces of a leaf's regions, in region order: *count of them (1 for a
- * private leaf); faces NULL asks only the count; cap too small is
- * HPFC_E_BUFFER_SMALL with *count set. A point located in a private leaf is in
- * faces[0]; in a stabbed one, in one of them. */
-HPFC_API int hpfc_label_leaf_faces(const hpfc_file *file, const hpfc_pixel *leaf,
-                                   uint64_t *faces, size_t cap, size_t *count);
-/* The face along stretch `stretch` of a leaf. */
-HPFC_API int hpfc_label_stretch_face(const hpfc_file *file, const hpfc_pixel *leaf,
-                                     uint32_t stretch, uint64_t *face);
-/* The face on the right of dart d (hpfc_faces_of_dart's answer). */
-HPFC_API int hpfc_label_dart_face(const hpfc_file *file, const hpfc_dart *d, uint64_t *face);
-/* The edge id of crossing `crossing` of a leaf, and of a dart's edge. */
-HPFC_API int hpfc_label_crossing_edge(const hpfc_file *file, const hpfc_pixel *leaf,
-                                      uint32_t crossing, uint64_t *edge);
-HPFC_API int hpfc_label_dart_edge(const hpfc_file *file, const hpfc_dart *d, uint64_t *edge);
-/* A leaf's number: its rank among the word pixels of its level, in pool
- * order (images in the order they lie in the pool, each in scanline
- * order). O(levels) with a LABL section, else a walk over the level's pool
- * up to the leaf. */
-HPFC_API int hpfc_leaf_number(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *number);
-
-/* The stored labels against the map (hpfc-inspect --verify): the face
- * count; every rank sample recounted from the pools; every leaf's number
- * distinct; each record right after the previous one, the last ending the
- * label stream; every stretch's face equal to faces' (hpfc_faces_build on
- * the same file); every edge id below the edge count and equal on both
- * sides of its road. HPFC_OK when all agree; HPFC_E_CORRUPT with
- * report->message naming the first disagreement; HPFC_E_NO_SECTION,
- * HPFC_E_NOMEM. O(file). */
-typedef struct hpfc_labels_report {
-    uint64_t leaves_checked, labels_checked;
-    char message[240];
-} hpfc_labels_report;
-HPFC_API int hpfc_labels_verify(const hpfc_file *file, const hpfc_faces *faces,
-                                hpfc_labels_report *report);
-
-/* ------------------------------------------------------------------------
- * Attributes (spec/hpfc-format.md §7.2, the ATTR section): typed columns,
- * one row per feature of the FEAT section, each value read in O(1) from
- * the mapped file. Every access is bounds-checked (HPFC_E_CORRUPT on a
- * corrupt section); without an ATTR section these return
- * HPFC_E_NO_SECTION; a column or feature out of range is HPFC_E_ARG.
- * Names and strings point into the file and are not NUL-terminated.
- * ------------------------------------------------------------------------ */
-HPFC_API int hpfc_attr_info(const hpfc_file *file, uint32_t *features, uint32_t *columns);
-HPFC_API int hpfc_attr_column(const hpfc_file *file, uint32_t column, const char **name,
-                              size_t *name_len, int *type);
-/* The column named name[0 .. len) (HPFC_E_ARG when there is none). */
-HPFC_API int hpfc_attr_find(const hpfc_file *file, const char *name, size_t len,
-                            uint32_t *column);
-HPFC_API int hpfc_file_get_attr(const hpfc_file *file, uint32_t feature, uint32_t column,
-                                hpfc_attr_value *out);
-
-/* ------------------------------------------------------------------------
- * Features of edges (spec/hpfc-format.md §7.3, the EDGF section): which
- * features' lines or rings each edge of the map lies along; edge ids are
- * the input graph's edge indices. Same error rules as the face accessors.
- * ------------------------------------------------------------------------ */
-HPFC_API int hpfc_edge_features_info(const hpfc_file *file, uint32_t *edges, uint32_t *links);
-HPFC_API int hpfc_edge_feature_count(const hpfc_file *file, uint64_t edge, uint32_t *count);
-HPFC_API int hpfc_edge_feature(const hpfc_file *file, uint64_t edge, uint32_t k,
-                               uint32_t *feature);
-
-/* ------------------------------------------------------------------------
- * Exact geometry (spec/hpfc-format.md §17, the GEOM section): the input
- * graph's lattice coordinates, read in O(1) per point from the mapped file.
- * Vertex ids are the input graph's vertex indices (hpfc_graph_add_vertex
- * order, `.pfc` `v` records), edge ids its edge indices (as LABL's).
- * Coordinates are absolute lattice coordinates, the numbers the graph was
- * given: user coordinates are lattice * 10^unit_exp10. Without a GEOM
- * section these return HPFC_E_NO_SECTION; an id out of range is HPFC_E_ARG;
- * a section that contradicts itself or the map HPFC_E_CORRUPT.
- * ------------------------------------------------------------------------ */
-typedef struct hpfc_geometry_info {
-    uint64_t vertices;       /* V: vertices of the input graph */
-    uint64_t edges;          /* E: edges of the input graph (LABL's edge count) */
-    uint64_t points;         /* interior (shape) points of all edges */
-    uint64_t section_bytes;  /* the whole section */
-} hpfc_geometry_info;
-
-HPFC_API int hpfc_file_get_geometry_sized(const hpfc_file *file, hpfc_geometry_info *out,
-                                          size_t size);
-#define hpfc_file_get_geometry(file, out) \
-    hpfc_file_get_geometry_sized((file), (out), sizeof(hpfc_geometry_info))
-HPFC_API int hpfc_geometry_vertex(const hpfc_file *file, uint64_t vertex, int64_t *x,
-                                  int64_t *y);
-/* Edge `edge` runs from vertex *u to vertex *v through *point_count points,
- * its ends included (2 for a straight edge). */
-HPFC_API int hpfc_geometry_edge(const hpfc_file *file, uint64_t edge, uint64_t *u,
-                                uint64_t *v, uint64_t *point_count);
-/* Point k of an edge: k = 0 is vertex u, k = point_count - 1 vertex v. */
-HPFC_API int hpfc_geometry_edge_point(const hpfc_file *file, uint64_t edge, uint64_t k,
-                                      int64_t *x, int64_t *y);
-/* The faces on the left and on the right of an edge run from u to v
- * (needs LABL too). Equal for a dangling edge. */
-HPFC_API int hpfc_geometry_edge_faces(const hpfc_file *file, uint64_t edge, uint64_t *left,
-                                      uint64_t *right);
-/* The segment of its edge (k: from point k to point k + 1) on which crossing
- * `crossing` (0-based, word order) of a stabbed leaf lies. O(levels). */
-HPFC_API int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf,
-                                            uint32_t crossing, uint64_t *segment);
-/* The section against itself and the map (hpfc-inspect --verify, spec
- * §17.5): zero padding; every vertex, edge and point reads; the coordinates form a valid
- * planar map (hpfc_graph_validate); every leaf holds as many vertices as
- * its word has junctions; with LABL, every crossing's segment crosses its
- * road, in the word's order along it, with the faces hpfc_geometry_edge_faces
- * gives on its two sides. HPFC_OK; HPFC_E_CORRUPT with report->message
- * naming the first disagreement; HPFC_E_NO_SECTION; HPFC_E_NOMEM. O(file)
- * plus O(n log n) for planarity. (Added by the GEOM work, below the
- * contract's own calls.) */
-typedef struct hpfc_geometry_report {
-    uint64_t vertices_checked, crossings_checked;
-    char message[240];
-} hpfc_geometry_report;
-HPFC_API int hpfc_geometry_verify(const hpfc_file *file, hpfc_geometry_report *report);
-
-/* ------------------------------------------------------------------------
- * Exact point location (needs LABL and GEOM): the one face that contains a
- * lattice point, or, when the point lies on an edge or a vertex, the faces
- * around it, decided by exact integer predicates on the edges that cross
- * the point's leaf only. O(levels + the leaf's geometry).
- * ------------------------------------------------------------------------ */
-typedef struct hpfc_point_location {
-    hpfc_pixel leaf;      /* the leaf holding the point */
-    int on_boundary;      /* 1: on an edge or a vertex; faces lists those around */
-    int on_vertex;        /* 1: on vertex `vertex` */
-    uint64_t vertex;      /* on_vertex: its id (else UINT64_MAX) */
-    uint64_t edge;        /* on an edge (not at a vertex): its id (else UINT64_MAX) */
-} hpfc_point_location;
-
-/* faces[0 .. *count): the face containing (x, y) (one), or the distinct
- * faces around a boundary point in increasing order (around a vertex: the
- * faces beside its edges; on an edge: its two sides, one face for a
- * dangling edge or a bridge). The answer is spec §17.8's; ties between
- * segments and grid lines fall by the perturbation rule of §3.5. A point
- * outside the domain gives HPFC_E_NO_PIXEL and *count = 0. cap too small
- * is HPFC_E_BUFFER_SMALL with *count and *out set; faces NULL asks only the
- * count.
- * Without GEOM or LABL: HPFC_E_NO_SECTION; GEOM that contradicts the
- * leaf's word (a segment off its crossing's road, a piece leaving the
- * leaf): HPFC_E_CORRUPT. Keeps no state (threads may share the file); its
- * scratch is allocated per call (hpfc_locate_batch keeps one per array). */
-HPFC_API int hpfc_locate_point(const hpfc_file *file, int64_t x, int64_t y,
-                               hpfc_point_location *out, uint64_t *faces, size_t cap,
-                               size_t *count);
-
-
-/* ------------------------------------------------------------------------
- * Geometry back from the file (needs GEOM and LABL; FEAT and EDGF for the
- * features): a dart's exact polyline, a face's boundary as exact rings, a
- * feature's geometry as the union of its faces or the lines along its
- * edges. Every coordinate is an absolute lattice point, exact; user
- * coordinates are lattice * 10^unit_exp10 (hpfc_user_point). No
- * floating-point value decides anything.
- *
- * Rings. A region's boundary is the set of edges with the region on
- * exactly one side (an edge with the region on both sides, a dead end or a
- * bridge inside it, is no part of it), each run with the region on its
- * left. At a vertex where several such edges meet, each edge arriving is
- * continued by the first edge leaving clockwise from it (the region's
- * corner there), and a walk that comes back to a vertex it has visited is
- * cut there into two rings; so every ring is simple (no vertex twice, the
- * first point repeated last), rings meet at most at vertices and never
- * cross, and a region pinched at a vertex gives two rings touching there.
- * A ring that runs counter-clockwise (exact signed area > 0) is an outer
- * ring; clockwise, a hole. Each hole goes with the smallest outer ring that
- * contains it. A bounded face has exactly one outer ring; the unbounded
- * face (0) only holes.
- * ------------------------------------------------------------------------ */
-
-/* The edge of dart d and the way d runs along it: *reversed 0 when d goes
- * from the edge's u to its v, 1 when from v to u. Decided exactly: which
- * end lies in d's pixel, and for an edge with both ends there, on which of
- * its segments d's crossing lies. */
-HPFC_API int hpfc_geometry_dart_edge(const hpfc_file *file, const hpfc_dart *d, uint64_t *edge,
+/* The per-dart questions on a path-form dart, the counterparts of
+ * hpfc_faces_key_face, hpfc_label_key_face, hpfc_label_key_edge,
+ * hpfc_geometry_key_edge and hpfc_geometry_key_points (which answer as
+ * these do on hpfc_dart_from_key's dart). A dart whose pixel is refined
+ * or has no crossing d->crossing: HPFC_E_ARG. */
+HPFC_API int hpfc_faces_dart_face(const hpfc_faces *faces, const hpfc_dart *d, hpfc_id *face);
+HPFC_API int hpfc_label_dart_face(const hpfc_file *file, const hpfc_dart *d, hpfc_id *face);
+HPFC_API int hpfc_label_dart_edge(const hpfc_file *file, const hpfc_dart *d, hpfc_id *edge);
+HPFC_API int hpfc_geometry_dart_edge(const hpfc_file *file, const hpfc_dart *d, hpfc_id *edge,
                                      int *reversed);
-/* The exact polyline of dart d, from its origin to its target, both
- * included: xy[2k], xy[2k + 1] for k < *count. xy NULL asks only the count;
- * cap (points) too small is HPFC_E_BUFFER_SMALL with *count set. */
 HPFC_API int hpfc_geometry_dart_points(const hpfc_file *file, const hpfc_dart *d, int64_t *xy,
                                        size_t cap, size_t *count);
 
-/* User coordinates of a lattice point: x * 10^unit_exp10, correctly
- * rounded to double. */
-HPFC_API void hpfc_user_point(const hpfc_file *file, int64_t x, int64_t y, double *ux,
-                              double *uy);
+/* ---- counters -------------------------------------------------------- */
 
-/* Polygons as rings of lattice points. Polygon p is rings
- * [polygon_ring[p], polygon_ring[p + 1]): its outer ring, then its holes.
- * Rings [polygon_ring[polygon_count], ring_count) are holes that no outer
- * ring of the answer contains (the unbounded face's). Ring r is points
- * [ring_point[r], ring_point[r + 1]) of xy (2 int64 a point), closed: its
- * last point equals its first. Lines (hpfc_shapes_feature_lines) are
- * rings [0, ring_count) as open polylines, with polygon_count 0 and
- * polygon_ring[0] == ring_count. */
-typedef struct hpfc_polygons {
-    size_t polygon_count, ring_count, point_count;
-    const size_t *polygon_ring;  /* polygon_count + 1 entries */
-    const size_t *ring_point;    /* ring_count + 1 entries */
-    const int64_t *xy;           /* 2 * point_count values */
-} hpfc_polygons;
+/* Word pixels whose word this walker has decoded so far. Without the cache
+ * this is the paper's "pixels visited" (Sect. 5.1): every word an operator
+ * reads; with it, a word read again from the cache does not count. */
+HPFC_API uint64_t hpfc_walker_pixels_visited(const hpfc_walker *walker);
 
-/* The index over a file's geometry that the region calls need: each
- * edge's ends and faces, each face's edges, each feature's faces and edges.
- * Built once in O(edges + faces + links); 40 bytes an edge, 16 a face, 8 a
- * feature link, 24 a vertex. The answers live in the object until its next
- * call: one per thread. Statuses: HPFC_E_NO_SECTION without GEOM or LABL,
- * HPFC_E_CORRUPT when the sections disagree (an edge's face past the face
- * count, GEOM's edge count not LABL's) or claim more edges, vertices, faces
- * or shape points than their bits can hold (checked before any allocation),
- * HPFC_E_LIMIT past 2^32 - 1 vertices, edges or faces, HPFC_E_NOMEM. Safe
- * on untrusted files: every answer is bounded by the file's size. */
-typedef struct hpfc_shapes hpfc_shapes;
-HPFC_API int hpfc_shapes_create(const hpfc_file *file, hpfc_shapes **out);
-HPFC_API void hpfc_shapes_free(hpfc_shapes *shapes);
-HPFC_API uint64_t hpfc_shapes_face_count(const hpfc_shapes *shapes);
-
-/* The rings of face `face` (HPFC_E_ARG past the face count), each polygon
- * an outer ring then its holes, a hole going to the smallest outer ring
- * around it. O(n log n) in the boundary's points, near-linear in
- * practice: a hole belongs to the outer ring of the region's part (faces
- * joined across edges) that surrounds it, known without geometry when
- * that part has one outer ring; otherwise it finds the outer rings whose
- * box holds its own through a tree over the boxes, and is tested against
- * a long one through an index of its segments by y. HPFC_E_CORRUPT when
- * the boundary does not close into rings. */
-HPFC_API int hpfc_shapes_face(hpfc_shapes *shapes, uint64_t face, hpfc_polygons *out);
-/* The geometry of feature `feature` (an index into FEAT's features) as the
- * union of its faces: the boundary of the faces linked to it, as above.
- * HPFC_E_NO_SECTION without FEAT; a feature with no face gives no ring. */
-HPFC_API int hpfc_shapes_feature(hpfc_shapes *shapes, uint32_t feature, hpfc_polygons *out);
-/* The lines of a feature: the edges EDGF links to it, joined end to end
- * through every vertex where exactly two of them meet; each polyline runs
- * the way its lowest-numbered edge goes from u to v, and a closed one
- * repeats its first point.
- * HPFC_E_NO_SECTION without EDGF. */
-HPFC_API int hpfc_shapes_feature_lines(hpfc_shapes *shapes, uint32_t feature,
-                                       hpfc_polygons *out);
-/* Faces linked to a feature (0: a line feature, or one that covers no
- * face). */
-HPFC_API int hpfc_shapes_feature_face_count(const hpfc_shapes *shapes, uint32_t feature,
-                                            uint64_t *count);
+#endif /* HPFC_EXPERIMENTAL */
 
 /* ------------------------------------------------------------------------
- * Deprecated names. Calls renamed to follow the naming rule above; the old
- * names still compile (with a deprecation warning) and will be removed at
- * 1.0. CHANGELOG.md lists them.
+ * Deprecated names. Calls renamed to follow the naming rule and the ids
+ * of the introduction; the old names still compile (with a deprecation
+ * warning) and will be removed at 1.0. CHANGELOG.md lists them. Those
+ * that answered 32-bit feature ids or counts still do: a FEAT, ATTR or
+ * EDGF section counts its features, columns, edges and links in 32 bits.
  * ------------------------------------------------------------------------ */
 #if defined(__GNUC__) || defined(__clang__)
 #define HPFC_DEPRECATED(use) __attribute__((deprecated("use " use)))
@@ -1154,10 +1308,15 @@ HPFC_API int hpfc_shapes_feature_face_count(const hpfc_shapes *shapes, uint32_t 
 #define HPFC_DEPRECATED(use)
 #endif
 
-HPFC_DEPRECATED("hpfc_file_verify_checksums")
+HPFC_DEPRECATED("hpfc_file_check_checksums")
+static inline int hpfc_file_verify_checksums(const hpfc_file *file)
+{
+    return hpfc_file_check_checksums(file, NULL);
+}
+HPFC_DEPRECATED("hpfc_file_check_checksums")
 static inline int hpfc_verify_checksums(const hpfc_file *file)
 {
-    return hpfc_file_verify_checksums(file);
+    return hpfc_file_check_checksums(file, NULL);
 }
 HPFC_DEPRECATED("hpfc_file_check_pool_layout")
 static inline int hpfc_check_pool_layout(const hpfc_file *file, uint32_t level, hpfc_diag *diag)
@@ -1174,22 +1333,143 @@ static inline int hpfc_feature_get(const hpfc_file *file, uint32_t index, hpfc_f
 {
     return hpfc_file_get_feature(file, index, out);
 }
+HPFC_DEPRECATED("hpfc_face_feature_id")
+static inline int hpfc_face_feature(const hpfc_file *file, hpfc_id face, uint32_t k,
+                                    uint32_t *feature)
+{
+    hpfc_id id = 0;
+    int st = feature ? hpfc_face_feature_id(file, face, k, &id) : HPFC_E_ARG;
+    if (st == HPFC_OK)
+        *feature = (uint32_t)id;
+    return st;
+}
 HPFC_DEPRECATED("hpfc_file_get_labels")
 static inline int hpfc_file_labels(const hpfc_file *file, hpfc_labels_info *out)
 {
     return hpfc_file_get_labels(file, out);
 }
-HPFC_DEPRECATED("hpfc_file_get_attr")
+HPFC_DEPRECATED("hpfc_file_get_attrs")
+static inline int hpfc_attr_info(const hpfc_file *file, uint32_t *features, uint32_t *columns)
+{
+    hpfc_attrs_info info;
+    int st = features && columns ? hpfc_file_get_attrs(file, &info) : HPFC_E_ARG;
+    if (st == HPFC_OK) {
+        *features = (uint32_t)info.features;
+        *columns = (uint32_t)info.columns;
+    }
+    return st;
+}
+HPFC_DEPRECATED("hpfc_file_get_attr_value")
+static inline int hpfc_file_get_attr(const hpfc_file *file, uint32_t feature, uint32_t column,
+                                     hpfc_attr_value *out)
+{
+    return hpfc_file_get_attr_value(file, feature, column, out);
+}
+HPFC_DEPRECATED("hpfc_file_get_attr_value")
 static inline int hpfc_attr_get(const hpfc_file *file, uint32_t feature, uint32_t column,
                                 hpfc_attr_value *out)
 {
-    return hpfc_file_get_attr(file, feature, column, out);
+    return hpfc_file_get_attr_value(file, feature, column, out);
+}
+HPFC_DEPRECATED("hpfc_file_get_edge_links")
+static inline int hpfc_edge_features_info(const hpfc_file *file, uint32_t *edges,
+                                          uint32_t *links)
+{
+    hpfc_edge_links_info info;
+    int st = edges && links ? hpfc_file_get_edge_links(file, &info) : HPFC_E_ARG;
+    if (st == HPFC_OK) {
+        *edges = (uint32_t)info.edges;
+        *links = (uint32_t)info.links;
+    }
+    return st;
+}
+HPFC_DEPRECATED("hpfc_edge_feature_id")
+static inline int hpfc_edge_feature(const hpfc_file *file, hpfc_id edge, uint32_t k,
+                                    uint32_t *feature)
+{
+    hpfc_id id = 0;
+    int st = feature ? hpfc_edge_feature_id(file, edge, k, &id) : HPFC_E_ARG;
+    if (st == HPFC_OK)
+        *feature = (uint32_t)id;
+    return st;
 }
 HPFC_DEPRECATED("hpfc_file_get_geometry")
 static inline int hpfc_file_geometry(const hpfc_file *file, hpfc_geometry_info *out)
 {
     return hpfc_file_get_geometry(file, out);
 }
+HPFC_DEPRECATED("hpfc_faces_face_count")
+static inline uint64_t hpfc_faces_count(const hpfc_faces *faces)
+{
+    return hpfc_faces_face_count(faces);
+}
+HPFC_DEPRECATED("hpfc_faces_key_face")
+static inline int hpfc_faces_of_key(const hpfc_faces *faces, hpfc_walker *w, uint64_t dart_key,
+                                    hpfc_id *face)
+{
+    return hpfc_faces_key_face(faces, w, dart_key, face);
+}
+HPFC_DEPRECATED("hpfc_faces_pixel_face")
+static inline int hpfc_faces_of_private_pixel(const hpfc_faces *faces, const hpfc_pixel *px,
+                                              hpfc_id *face)
+{
+    return hpfc_faces_pixel_face(faces, px, face);
+}
+HPFC_DEPRECATED("hpfc_label_key_face")
+static inline int hpfc_key_label_face(hpfc_walker *w, uint64_t dart_key, hpfc_id *face)
+{
+    return hpfc_label_key_face(w, dart_key, face);
+}
+HPFC_DEPRECATED("hpfc_label_key_edge")
+static inline int hpfc_key_label_edge(hpfc_walker *w, uint64_t dart_key, hpfc_id *edge)
+{
+    return hpfc_label_key_edge(w, dart_key, edge);
+}
+HPFC_DEPRECATED("hpfc_geometry_key_edge")
+static inline int hpfc_key_geometry_edge(hpfc_walker *w, uint64_t dart_key, hpfc_id *edge,
+                                         int *reversed)
+{
+    return hpfc_geometry_key_edge(w, dart_key, edge, reversed);
+}
+HPFC_DEPRECATED("hpfc_geometry_key_points")
+static inline int hpfc_key_geometry_points(hpfc_walker *w, uint64_t dart_key, int64_t *xy,
+                                           size_t cap, size_t *count)
+{
+    return hpfc_geometry_key_points(w, dart_key, xy, cap, count);
+}
+HPFC_DEPRECATED("hpfc_shapes_face_polygons")
+static inline int hpfc_shapes_face(hpfc_shapes *shapes, hpfc_id face, hpfc_polygons *out)
+{
+    return hpfc_shapes_face_polygons(shapes, face, out);
+}
+HPFC_DEPRECATED("hpfc_shapes_feature_polygons")
+static inline int hpfc_shapes_feature(hpfc_shapes *shapes, uint32_t feature, hpfc_polygons *out)
+{
+    return hpfc_shapes_feature_polygons(shapes, feature, out);
+}
+HPFC_DEPRECATED("hpfc_shapes_feature_polylines")
+static inline int hpfc_shapes_feature_lines(hpfc_shapes *shapes, uint32_t feature,
+                                            hpfc_polygons *out)
+{
+    return hpfc_shapes_feature_polylines(shapes, feature, out);
+}
+HPFC_DEPRECATED("hpfc_shapes_feature_faces")
+static inline int hpfc_shapes_feature_face_count(const hpfc_shapes *shapes, uint32_t feature,
+                                                 uint64_t *count)
+{
+    size_t n = 0;
+    int st = count ? hpfc_shapes_feature_faces(shapes, feature, NULL, 0, &n) : HPFC_E_ARG;
+    if (st == HPFC_OK)
+        *count = n;
+    return st;
+}
+#ifdef HPFC_EXPERIMENTAL
+HPFC_DEPRECATED("hpfc_faces_dart_face")
+static inline int hpfc_faces_of_dart(const hpfc_faces *faces, const hpfc_dart *d, hpfc_id *face)
+{
+    return hpfc_faces_dart_face(faces, d, face);
+}
+#endif
 
 #ifdef __cplusplus
 }

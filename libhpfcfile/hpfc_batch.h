@@ -1,19 +1,19 @@
 /*
- * hpfc_batch.h: point location for many points in one call (issue 18).
+ * hpfc_batch.h: point location for many points in one call.
  *
  * Bindings (the Python package in python/) hand a whole array of lattice
  * points to one C call instead of crossing into C once per point. The
  * answers are exactly those of the public calls it strings together:
  * hpfc_locate, then the faces of the leaf's regions from the stored
  * labels (hpfc_label_leaf_faces, LABL) or, given numbered faces,
- * hpfc_faces_of_private_pixel (a private leaf) or hpfc_faces_of_dart for
- * each crossing of a stabbed leaf, then the FEAT links of those faces
- * (hpfc_face_feature). A file with exact geometry (GEOM and LABL) is
- * answered by hpfc_locate_point's code instead: the one face holding the
- * point, or the faces around it when it lies on an edge or a vertex
- * (HPFC_LOC_BOUNDARY). Without it a stabbed leaf names its candidate
- * faces, not the one face holding the point; the batch reports how many
- * there are and a face only when there is one.
+ * hpfc_faces_pixel_face (a private leaf) or the face after each crossing
+ * of a stabbed leaf (hpfc_faces_dart_face, experimental), then the FEAT
+ * links of those faces (hpfc_face_feature_id). A file with exact geometry
+ * (GEOM and LABL) is answered by hpfc_locate_point's code instead: the one
+ * face holding the point, or the faces around it when it lies on an edge
+ * or a vertex (HPFC_LOC_BOUNDARY). Without it a stabbed leaf names its
+ * candidate faces, not the one face holding the point; the batch reports
+ * how many there are and a face only when there is one.
  */
 #ifndef HPFC_BATCH_H
 #define HPFC_BATCH_H
@@ -36,8 +36,10 @@ enum {
 };
 
 /* Per-point outputs; any pointer may be NULL when not wanted. Each array
- * has n entries. A point outside the domain, or skipped by `valid`, gets
- * face -1, feature -1, counts 0 and flags 0. */
+ * has n entries. Face and feature ids are int64_t columns, as numpy and
+ * data frames hold them, -1 for none (HPFC_ID_NONE's bits; no id reaches
+ * 2^63). A point outside the domain, or skipped by `valid`, gets face -1,
+ * feature -1, counts 0 and flags 0. */
 typedef struct hpfc_locate_out {
     int64_t *face;           /* the face when one answers (the point's with
                                 exact geometry, off the boundary), else -1 */

@@ -1,9 +1,11 @@
 /*
  * test_api.c: the conventions of the public header itself, checked against
- * independent sources: every status code against the spec's table (§12.4)
- * and every `HPFC_E_NAME (number)` the specs cite; the structs that grow
- * (a caller compiled against an older or a newer hpfc.h, simulated by the
- * size it passes).
+ * independent sources: every status code against the spec's table (§7.4)
+ * and every `HPFC_E_NAME (number)` the specs cite, and its name as
+ * hpfc_status_name gives it; the structs that grow (a caller compiled
+ * against an older or a newer hpfc.h, simulated by the size it passes);
+ * the format version a written file carries. The deprecated names have
+ * their own test (test_deprecated.c).
  */
 #include <stddef.h>
 #include <stdint.h>
@@ -60,11 +62,11 @@ static int code_of_name(const char *name, size_t len)
     return -1;
 }
 
-/* The spec's §12.4 rows "| number | `NAME` | meaning |": each names a code
+/* The spec's §7.4 rows "| number | `NAME` | meaning |": each names a code
  * of the header with its number, and each code has its row. */
 static void check_spec_table(const char *spec)
 {
-    const char *at = strstr(spec, "### 12.4 Status codes");
+    const char *at = strstr(spec, "### 7.4 Status codes");
     CHECK(at != NULL);
     if (!at)
         return;
@@ -126,6 +128,21 @@ static void check_strerror(void)
     CHECK(strcmp(hpfc_strerror(5), unknown) == 0);
 }
 
+/* hpfc_status_name spells every code as the header does, and no other. */
+static void check_status_names(void)
+{
+    for (size_t k = 0; k < CODE_COUNT; k++) {
+        const char *name = hpfc_status_name(all_codes[k].code);
+        if (strcmp(name, all_codes[k].name) != 0)
+            fprintf(stderr, "hpfc_status_name(%d) is %s\n", all_codes[k].code, name);
+        CHECK(strcmp(name, all_codes[k].name) == 0);
+    }
+    for (int code = -1; code < 100; code++)
+        if (code_of_name(hpfc_status_name(code), strlen(hpfc_status_name(code))) != code)
+            CHECK(strcmp(hpfc_status_name(code), "HPFC_E_UNKNOWN") == 0);
+    CHECK_EQ_INT(code_of_name("HPFC_E_UNKNOWN", 14), -1);
+}
+
 /* ---- structs that grow ------------------------------------------------------ */
 
 #define CANARY 0xA5
@@ -139,6 +156,9 @@ typedef union grown {
     hpfc_section_info section;
     hpfc_labels_info labels;
     hpfc_geometry_info geometry;
+    hpfc_feature feature;
+    hpfc_attrs_info attrs;
+    hpfc_edge_links_info edge_links;
     hpfc_build_params params;
     unsigned char bytes[sizeof(hpfc_file_info) + sizeof(hpfc_tree_info) + EXTRA];
 } grown;
@@ -282,30 +302,42 @@ static void check_write_options(const hpfc_tree *t, const hpfc_graph *g)
                  HPFC_E_ARG);
 }
 
-/* The names renamed by the naming rule still compile and answer alike. */
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
-static void check_deprecated_names(const hpfc_file *f)
+/* One feature along edge 0 (and over no face), with one attribute: the
+ * FEAT, ATTR and EDGF sections of the structs' check, on a map of at most
+ * 7 faces and 7 edges. */
+typedef struct gis_sections {
+    uint32_t face_start[8], edge_start[8], edge_feature[1], layer[1];
+    int64_t fid[1];
+    const char *layer_name[1], *key[1], *column[1];
+    uint8_t type[1];
+    hpfc_attr_value cell[1];
+    hpfc_feature_table ft;
+    hpfc_attr_table at;
+    hpfc_edge_feature_table et;
+} gis_sections;
+
+static void gis_sections_make(gis_sections *s, uint32_t faces, uint32_t edges)
 {
-    hpfc_labels_info la, lb;
-    hpfc_geometry_info ga, gb;
-    hpfc_features_info fi;
-    hpfc_feature feature;
-    hpfc_attr_value value;
-    CHECK_EQ_INT(hpfc_file_labels(f, &la), HPFC_OK);
-    CHECK_EQ_INT(hpfc_file_get_labels(f, &lb), HPFC_OK);
-    CHECK(memcmp(&la, &lb, sizeof la) == 0);
-    CHECK_EQ_INT(hpfc_file_geometry(f, &ga), HPFC_OK);
-    CHECK_EQ_INT(hpfc_file_get_geometry(f, &gb), HPFC_OK);
-    CHECK(memcmp(&ga, &gb, sizeof ga) == 0);
-    CHECK_EQ_INT(hpfc_verify_checksums(f), HPFC_OK);
-    CHECK_EQ_INT(hpfc_check_pool_layout(f, 0, NULL), HPFC_OK);
-    CHECK_EQ_INT(hpfc_check_pool_layout(f, 99, NULL), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_file_features(f, &fi), HPFC_E_NO_SECTION); /* no FEAT written */
-    CHECK_EQ_INT(hpfc_feature_get(f, 0, &feature), HPFC_E_NO_SECTION);
-    CHECK_EQ_INT(hpfc_attr_get(f, 0, 0, &value), HPFC_E_NO_SECTION);
+    memset(s, 0, sizeof *s);
+    CHECK(faces < 8 && edges > 0 && edges < 8);
+    for (uint32_t e = 1; e <= edges; e++)
+        s->edge_start[e] = 1; /* edge 0: feature 0 */
+    s->layer_name[0] = "layer";
+    s->key[0] = "k";
+    s->column[0] = "n";
+    s->type[0] = HPFC_ATTR_INTEGER;
+    s->cell[0] = (hpfc_attr_value){.type = HPFC_ATTR_INTEGER, .i = 42};
+    s->fid[0] = 7;
+    s->ft = (hpfc_feature_table){.feature_count = 1, .fid = s->fid, .layer = s->layer,
+                                 .key_field = "name", .key = s->key, .layer_count = 1,
+                                 .layer_name = s->layer_name, .face_count = faces,
+                                 .face_start = s->face_start};
+    s->at = (hpfc_attr_table){.feature_count = 1, .column_count = 1, .name = s->column,
+                              .type = s->type, .cells = s->cell};
+    s->et = (hpfc_edge_feature_table){.edge_count = edges, .feature_count = 1,
+                                      .edge_start = s->edge_start,
+                                      .edge_feature = s->edge_feature};
 }
-#pragma GCC diagnostic pop
 
 /* Every info call, older and newer callers against the full answer. */
 static void check_infos(const hpfc_tree *t, const hpfc_graph *g)
@@ -319,7 +351,10 @@ static void check_infos(const hpfc_tree *t, const hpfc_graph *g)
     hpfc_tree_get_info_sized(t, &newer.tree, sizeof ti + EXTRA);
     check_out("tree_info", &ti, sizeof ti, &older, size, &newer);
 
-    const hpfc_write_options o = {.face_labels = 1, .geometry = g};
+    gis_sections gs;
+    gis_sections_make(&gs, (uint32_t)ti.faces, (uint32_t)ti.edges);
+    const hpfc_write_options o = {.face_labels = 1, .geometry = g, .features = &gs.ft,
+                                  .attributes = &gs.at, .edge_features = &gs.et};
     uint8_t *buf = NULL;
     size_t n = 0;
     hpfc_file *f = NULL;
@@ -331,6 +366,8 @@ static void check_infos(const hpfc_tree *t, const hpfc_graph *g)
     }
     hpfc_file_info fi;
     hpfc_file_get_info(f, &fi);
+    CHECK_EQ_INT(fi.format_major, HPFC_FORMAT_MAJOR); /* what the library writes */
+    CHECK_EQ_INT(fi.format_minor, HPFC_FORMAT_MINOR);
     size = offsetof(hpfc_file_info, section_count);
     fill_canary(&older), fill_canary(&newer);
     hpfc_file_get_info_sized(f, &older.file, size);
@@ -369,7 +406,34 @@ static void check_infos(const hpfc_tree *t, const hpfc_graph *g)
     CHECK_EQ_INT(hpfc_file_get_geometry_sized(f, &older.geometry, size), HPFC_OK);
     CHECK_EQ_INT(hpfc_file_get_geometry_sized(f, &newer.geometry, sizeof gi + EXTRA), HPFC_OK);
     check_out("geometry_info", &gi, sizeof gi, &older, size, &newer);
-    check_deprecated_names(f);
+
+    hpfc_feature fe;
+    CHECK_EQ_INT(hpfc_file_get_feature(f, 0, &fe), HPFC_OK);
+    CHECK(fe.fid == 7 && fe.key_len == 1);
+    size = offsetof(hpfc_feature, key);
+    fill_canary(&older), fill_canary(&newer);
+    CHECK_EQ_INT(hpfc_file_get_feature_sized(f, 0, &older.feature, size), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_feature_sized(f, 0, &newer.feature, sizeof fe + EXTRA), HPFC_OK);
+    check_out("feature", &fe, sizeof fe, &older, size, &newer);
+
+    hpfc_attrs_info ai;
+    CHECK_EQ_INT(hpfc_file_get_attrs(f, &ai), HPFC_OK);
+    CHECK(ai.features == 1 && ai.columns == 1 && ai.string_bytes == 1);
+    size = offsetof(hpfc_attrs_info, string_bytes);
+    fill_canary(&older), fill_canary(&newer);
+    CHECK_EQ_INT(hpfc_file_get_attrs_sized(f, &older.attrs, size), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_attrs_sized(f, &newer.attrs, sizeof ai + EXTRA), HPFC_OK);
+    check_out("attrs_info", &ai, sizeof ai, &older, size, &newer);
+
+    hpfc_edge_links_info ei;
+    CHECK_EQ_INT(hpfc_file_get_edge_links(f, &ei), HPFC_OK);
+    CHECK(ei.edges == ti.edges && ei.features == 1 && ei.links == 1);
+    size = offsetof(hpfc_edge_links_info, links);
+    fill_canary(&older), fill_canary(&newer);
+    CHECK_EQ_INT(hpfc_file_get_edge_links_sized(f, &older.edge_links, size), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_get_edge_links_sized(f, &newer.edge_links, sizeof ei + EXTRA),
+                 HPFC_OK);
+    check_out("edge_links_info", &ei, sizeof ei, &older, size, &newer);
 
     /* hpfc_locate_out, an input struct of output arrays: an older caller's
      * struct ends before `feature`, so neither it nor `flags` is written */
@@ -433,6 +497,7 @@ int main(void)
     check_citations(spec, "hpfc-format.md");
     check_citations(pfc, "pfc-format.md");
     check_strerror();
+    check_status_names();
     check_sized_structs();
     check_version();
     free(spec);

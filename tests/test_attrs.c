@@ -1,5 +1,5 @@
 /*
- * The ATTR and EDGF sections (spec/hpfc-format.md §7.2, §7.3): written
+ * The ATTR and EDGF sections (spec/hpfc-format.md §6.3, §6.4): written
  * with a small map, read back value by value against the tables that were
  * written (the oracle), refused by the writer when inconsistent, and
  * damaged byte by byte: every byte of both sections set to 0x00, 0xFF and
@@ -100,11 +100,31 @@ static bool same(const char *s, size_t len, const char *want)
     return len == strlen(want) && memcmp(s, want, len) == 0;
 }
 
+/* The directory's entry of the section `tag` (all zero: none). */
+static hpfc_section_info section_named(const hpfc_file *f, const char *tag)
+{
+    hpfc_file_info info;
+    hpfc_section_info s;
+    hpfc_file_get_info(f, &info);
+    for (uint32_t k = 0; k < info.section_count; k++)
+        if (hpfc_file_get_section(f, k, &s) == HPFC_OK && strcmp(s.tag, tag) == 0)
+            return s;
+    memset(&s, 0, sizeof s);
+    return s;
+}
+
 static void check_read_back(const hpfc_file *f, const fixture *x)
 {
-    uint32_t features = 0, columns = 0;
-    CHECK_EQ_INT(hpfc_attr_info(f, &features, &columns), HPFC_OK);
-    CHECK(features == FEATURES && columns == COLUMNS);
+    hpfc_attrs_info ai;
+    CHECK_EQ_INT(hpfc_file_get_attrs(f, &ai), HPFC_OK);
+    CHECK(ai.features == FEATURES && ai.columns == COLUMNS);
+    uint64_t strings = 0; /* the column names, then every string value */
+    for (uint32_t c = 0; c < COLUMNS; c++)
+        strings += strlen(x->names[c]);
+    for (uint32_t k = 0; k < FEATURES * COLUMNS; k++)
+        strings += x->cells[k].type == HPFC_ATTR_STRING ? x->cells[k].len : 0;
+    CHECK_EQ_INT(ai.string_bytes, strings);
+    CHECK_EQ_INT(ai.section_bytes, section_named(f, "ATTR").length);
     for (uint32_t c = 0; c < COLUMNS; c++) {
         const char *name;
         size_t len;
@@ -119,7 +139,7 @@ static void check_read_back(const hpfc_file *f, const fixture *x)
         for (uint32_t c = 0; c < COLUMNS; c++) {
             const hpfc_attr_value *want = &x->cells[k * COLUMNS + c];
             hpfc_attr_value v;
-            CHECK_EQ_INT(hpfc_file_get_attr(f, k, c, &v), HPFC_OK);
+            CHECK_EQ_INT(hpfc_file_get_attr_value(f, k, c, &v), HPFC_OK);
             CHECK_EQ_INT(v.type, want->type);
             if (want->type == HPFC_ATTR_INTEGER)
                 CHECK(v.i == want->i);
@@ -130,31 +150,36 @@ static void check_read_back(const hpfc_file *f, const fixture *x)
         }
     hpfc_attr_value v;
     uint32_t col;
-    CHECK_EQ_INT(hpfc_file_get_attr(f, FEATURES, 0, &v), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_file_get_attr(f, 0, COLUMNS, &v), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_get_attr_value(f, FEATURES, 0, &v), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_get_attr_value(f, 0, COLUMNS, &v), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_attr_find(f, "nosuch", 6, &col), HPFC_E_ARG);
-    uint32_t edges = 0, links = 0;
-    CHECK_EQ_INT(hpfc_edge_features_info(f, &edges, &links), HPFC_OK);
-    CHECK(edges == x->et.edge_count && links == x->edge_start[edges]);
+    hpfc_edge_links_info ei;
+    CHECK_EQ_INT(hpfc_file_get_edge_links(f, &ei), HPFC_OK);
+    const uint32_t edges = x->et.edge_count;
+    CHECK(ei.edges == edges && ei.links == x->edge_start[edges] && ei.features == FEATURES);
+    CHECK_EQ_INT(ei.section_bytes, section_named(f, "EDGF").length);
     for (uint32_t e = 0; e < edges; e++) {
-        uint32_t n = 99, feature = 99;
+        uint32_t n = 99;
+        hpfc_id feature = 99;
         CHECK_EQ_INT(hpfc_edge_feature_count(f, e, &n), HPFC_OK);
         CHECK_EQ_INT(n, x->edge_start[e + 1] - x->edge_start[e]);
         for (uint32_t k = 0; k < n; k++) {
-            CHECK_EQ_INT(hpfc_edge_feature(f, e, k, &feature), HPFC_OK);
+            CHECK_EQ_INT(hpfc_edge_feature_id(f, e, k, &feature), HPFC_OK);
             CHECK_EQ_INT(feature, x->edge_feature[x->edge_start[e] + k]);
         }
-        CHECK_EQ_INT(hpfc_edge_feature(f, e, n, &feature), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_edge_feature_id(f, e, n, &feature), HPFC_E_ARG);
     }
-    CHECK_EQ_INT(hpfc_edge_feature_count(f, edges, &links), HPFC_E_ARG);
+    uint32_t n;
+    CHECK_EQ_INT(hpfc_edge_feature_count(f, edges, &n), HPFC_E_ARG);
 }
 
 /* Every accessor on a damaged copy: named statuses, values inside the file. */
 static void probe(const hpfc_file *f, const uint8_t *m, size_t size)
 {
-    uint32_t features = 0, columns = 0;
-    if (hpfc_attr_info(f, &features, &columns) == HPFC_OK) {
-        for (uint32_t c = 0; c <= columns && c < 8; c++) {
+    hpfc_attrs_info ai;
+    if (hpfc_file_get_attrs(f, &ai) == HPFC_OK) {
+        CHECK(ai.section_bytes <= size);
+        for (uint32_t c = 0; c <= ai.columns && c < 8; c++) {
             const char *name;
             size_t len;
             int type;
@@ -162,9 +187,9 @@ static void probe(const hpfc_file *f, const uint8_t *m, size_t size)
             CHECK(st == HPFC_OK || st == HPFC_E_ARG || st == HPFC_E_CORRUPT);
             if (st == HPFC_OK)
                 CHECK((const uint8_t *)name >= m && (const uint8_t *)name + len <= m + size);
-            for (uint32_t k = 0; k <= features && k < 8; k++) {
+            for (uint32_t k = 0; k <= ai.features && k < 8; k++) {
                 hpfc_attr_value v;
-                st = hpfc_file_get_attr(f, k, c, &v);
+                st = hpfc_file_get_attr_value(f, k, c, &v);
                 CHECK(st == HPFC_OK || st == HPFC_E_ARG || st == HPFC_E_CORRUPT);
                 if (st == HPFC_OK && v.type == HPFC_ATTR_STRING)
                     CHECK((const uint8_t *)v.s >= m && (const uint8_t *)v.s + v.len <= m + size);
@@ -174,14 +199,15 @@ static void probe(const hpfc_file *f, const uint8_t *m, size_t size)
         int st = hpfc_attr_find(f, "name", 4, &col);
         CHECK(st == HPFC_OK || st == HPFC_E_ARG || st == HPFC_E_CORRUPT);
     }
-    uint32_t edges = 0, links = 0;
-    if (hpfc_edge_features_info(f, &edges, &links) == HPFC_OK)
-        for (uint32_t e = 0; e <= edges && e < 16; e++) {
-            uint32_t n = 0, feature;
+    hpfc_edge_links_info ei;
+    if (hpfc_file_get_edge_links(f, &ei) == HPFC_OK)
+        for (uint32_t e = 0; e <= ei.edges && e < 16; e++) {
+            uint32_t n = 0;
+            hpfc_id feature;
             int st = hpfc_edge_feature_count(f, e, &n);
             CHECK(st == HPFC_OK || st == HPFC_E_ARG || st == HPFC_E_CORRUPT);
             for (uint32_t k = 0; st == HPFC_OK && k <= n && k < 16; k++) {
-                int s2 = hpfc_edge_feature(f, e, k, &feature);
+                int s2 = hpfc_edge_feature_id(f, e, k, &feature);
                 CHECK(s2 == HPFC_OK || s2 == HPFC_E_ARG || s2 == HPFC_E_CORRUPT);
             }
         }
@@ -192,15 +218,10 @@ static long damaged, opened;
 static void damage_section(const uint8_t *buf, size_t size, const char *tag)
 {
     hpfc_file *f = NULL;
-    hpfc_section_info si = {0};
     CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
-    hpfc_file_info fi;
-    hpfc_file_get_info(f, &fi);
-    for (uint32_t k = 0; k < fi.section_count; k++)
-        if (hpfc_file_get_section(f, k, &si) == HPFC_OK && memcmp(si.tag, tag, 4) == 0)
-            break;
+    const hpfc_section_info si = section_named(f, tag);
     hpfc_close(f);
-    CHECK(memcmp(si.tag, tag, 4) == 0 && si.length > 0);
+    CHECK(si.length > 0);
     for (uint64_t at = si.offset; at < si.offset + si.length; at++)
         for (int how = 0; how < 10; how++) {
             uint8_t *m = malloc(size);
@@ -212,7 +233,8 @@ static void damage_section(const uint8_t *buf, size_t size, const char *tag)
             damaged++;
             if (f) {
                 opened++;
-                CHECK_EQ_INT(hpfc_file_verify_checksums(f), m[at] == buf[at] ? HPFC_OK : HPFC_E_CHECKSUM);
+                CHECK_EQ_INT(hpfc_file_check_checksums(f, NULL),
+                             m[at] == buf[at] ? HPFC_OK : HPFC_E_CHECKSUM);
                 probe(f, m, size);
                 hpfc_close(f);
             }
@@ -245,7 +267,7 @@ static void test_sections(void)
         hpfc_file_info fi;
         hpfc_file_get_info(f, &fi);
         CHECK_EQ_INT(fi.format_minor, 2);
-        CHECK_EQ_INT(hpfc_file_verify_checksums(f), HPFC_OK);
+        CHECK_EQ_INT(hpfc_file_check_checksums(f, NULL), HPFC_OK);
         check_read_back(f, &x);
         /* a copy through hpfc_file_serialize keeps them */
         uint8_t *again = NULL;
@@ -260,10 +282,13 @@ static void test_sections(void)
     size_t plain_size = 0;
     CHECK_EQ_INT(hpfc_tree_serialize(t, NULL, &plain, &plain_size, &d), HPFC_OK);
     CHECK_EQ_INT(hpfc_open_memory(plain, plain_size, 0, &f), HPFC_OK);
-    uint32_t a, b;
+    uint32_t a;
     hpfc_attr_value v;
-    CHECK_EQ_INT(hpfc_attr_info(f, &a, &b), HPFC_E_NO_SECTION);
-    CHECK_EQ_INT(hpfc_file_get_attr(f, 0, 0, &v), HPFC_E_NO_SECTION);
+    hpfc_attrs_info ai;
+    hpfc_edge_links_info ei;
+    CHECK_EQ_INT(hpfc_file_get_attrs(f, &ai), HPFC_E_NO_SECTION);
+    CHECK_EQ_INT(hpfc_file_get_edge_links(f, &ei), HPFC_E_NO_SECTION);
+    CHECK_EQ_INT(hpfc_file_get_attr_value(f, 0, 0, &v), HPFC_E_NO_SECTION);
     CHECK_EQ_INT(hpfc_edge_feature_count(f, 0, &a), HPFC_E_NO_SECTION);
     hpfc_close(f);
     hpfc_free(plain);

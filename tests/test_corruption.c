@@ -6,9 +6,9 @@
  * Every byte is also set to 0x00 and to 0xFF (many bits of a count, an
  * offset or a mask wrong at once). For each damaged copy:
  *   - opening it (hpfc_open_memory with the checksum verified, then
- *     hpfc_file_verify_checksums) must fail with a file code; a flip is allowed
+ *     hpfc_file_check_checksums) must fail with a file code; a flip is allowed
  *     through only in bytes no checksum covers (the zero padding between
- *     sections, spec/hpfc-format.md §4), and a truncation never;
+ *     sections, spec/hpfc-format.md §4.1), and a truncation never;
  *   - opened with HPFC_OPEN_SKIP_CHECKSUM, it must traverse without a crash
  *     within a step budget: every leaf walked, every word decoded, the four
  *     moves from every leaf, twin / next / prev / origin / target and the
@@ -358,10 +358,10 @@ static uint64_t traverse(const hpfc_file *f)
     }
     hpfc_faces *faces = NULL;
     if (k.steps > 0 && !note(&k, hpfc_faces_build(f, &faces))) {
-        uint64_t count = hpfc_faces_count(faces), face;
+        uint64_t count = hpfc_faces_face_count(faces), face;
         CHECK(count >= 1);
         for (size_t d = 0; d < k.nd; d++) {
-            if (!note(&k, hpfc_faces_of_dart(faces, &k.darts[d], &face)))
+            if (!note(&k, hpfc_faces_dart_face(faces, &k.darts[d], &face)))
                 CHECK(face < count);
         }
     }
@@ -393,7 +393,7 @@ static int open_checked(const uint8_t *data, size_t size)
     hpfc_file *f = NULL;
     int st = hpfc_open_memory(data, size, 0, &f);
     if (!st)
-        st = hpfc_file_verify_checksums(f);
+        st = hpfc_file_check_checksums(f, NULL);
     hpfc_close(f);
     return st;
 }
@@ -703,7 +703,7 @@ static void set_bits(uint8_t *buf, uint64_t off, unsigned k, uint64_t v)
     }
 }
 
-/* Every key call on a file whose addresses break the layout of §9 (two
+/* Every key call on a file whose addresses break the layout of §5.2.2 (two
  * root records aliasing one image, two images swapped, an address past
  * the pool) gives HPFC_E_CORRUPT: a key's pixel would have no single path.
  * The dart operators still walk what the addresses say. */

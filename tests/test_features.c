@@ -1,6 +1,6 @@
 /*
  * The FEAT section (hpfc_file_get_features, hpfc_file_get_feature, hpfc_layer_name,
- * hpfc_face_feature*; spec/hpfc-format.md): a feature table written with a
+ * hpfc_face_feature_*; spec/hpfc-format.md): a feature table written with a
  * map reads back field for field; every byte of the section damaged gives
  * a refusal at open or accesses that stay in bounds; the writer refuses
  * inconsistent tables.
@@ -41,14 +41,15 @@ static void check_features_read_back(const hpfc_file *f, const feat_fixture *x)
         CHECK(same_string(name, len, x->layer_name[l]));
     }
     for (uint32_t face = 0; face < x->t.face_count; face++) {
-        uint32_t count = 99, feature = 99;
+        uint32_t count = 99;
+        hpfc_id feature = 99;
         CHECK_EQ_INT(hpfc_face_feature_count(f, face, &count), HPFC_OK);
         CHECK_EQ_INT(count, face == 0 ? 0 : 1 + face % 2);
         for (uint32_t k = 0; k < count; k++) {
-            CHECK_EQ_INT(hpfc_face_feature(f, face, k, &feature), HPFC_OK);
+            CHECK_EQ_INT(hpfc_face_feature_id(f, face, k, &feature), HPFC_OK);
             CHECK_EQ_INT(feature, k == 0 ? face % 5 : 5 + face % 2);
         }
-        CHECK_EQ_INT(hpfc_face_feature(f, face, count, &feature), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_face_feature_id(f, face, count, &feature), HPFC_E_ARG);
     }
     hpfc_feature ft;
     uint32_t count;
@@ -82,11 +83,12 @@ static void probe_features(const hpfc_file *f)
             (void)memchr(name, 0, len);
     }
     for (uint32_t face = 0; face <= fi.faces && face < 64; face++) {
-        uint32_t count = 0, feature;
+        uint32_t count = 0;
+        hpfc_id feature;
         int st = hpfc_face_feature_count(f, face, &count);
         CHECK(st == HPFC_OK || st == HPFC_E_ARG || st == HPFC_E_CORRUPT);
         for (uint32_t k = 0; st == HPFC_OK && k < count && k < 16; k++) {
-            int s2 = hpfc_face_feature(f, face, k, &feature);
+            int s2 = hpfc_face_feature_id(f, face, k, &feature);
             CHECK(s2 == HPFC_OK || s2 == HPFC_E_CORRUPT);
             CHECK(s2 != HPFC_OK || feature < fi.features);
         }
@@ -104,7 +106,7 @@ static void test_features(void)
     hpfc_faces *fc = NULL;
     CHECK_EQ_INT(hpfc_open_memory(plain, plain_size, 0, &f), HPFC_OK);
     CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
-    uint32_t faces = (uint32_t)hpfc_faces_count(fc);
+    uint32_t faces = (uint32_t)hpfc_faces_face_count(fc);
     hpfc_features_info fi;
     CHECK_EQ_INT(hpfc_file_get_features(f, &fi), HPFC_E_NO_SECTION);
     hpfc_faces_free(fc);
@@ -122,9 +124,9 @@ static void test_features(void)
     f = NULL;
     CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
     if (f) {
-        CHECK_EQ_INT(hpfc_file_verify_checksums(f), HPFC_OK);
+        CHECK_EQ_INT(hpfc_file_check_checksums(f, NULL), HPFC_OK);
         CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
-        CHECK_EQ_INT(hpfc_faces_count(fc), faces);
+        CHECK_EQ_INT(hpfc_faces_face_count(fc), faces);
         hpfc_faces_free(fc);
         check_features_read_back(f, &x);
         hpfc_close(f);
@@ -148,7 +150,8 @@ static void test_features(void)
             int st = hpfc_open_memory(m, size, HPFC_OPEN_SKIP_CHECKSUM, &f);
             CHECK(st == HPFC_OK || st == HPFC_E_SECTION);
             if (f) {
-                CHECK_EQ_INT(hpfc_file_verify_checksums(f), m[at] == buf[at] ? HPFC_OK : HPFC_E_CHECKSUM);
+                CHECK_EQ_INT(hpfc_file_check_checksums(f, NULL),
+                             m[at] == buf[at] ? HPFC_OK : HPFC_E_CHECKSUM);
                 probe_features(f);
                 hpfc_close(f);
             }

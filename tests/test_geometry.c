@@ -1,5 +1,5 @@
 /*
- * The GEOM section (spec/hpfc-format.md §17) against the input graph:
+ * The GEOM section (spec/hpfc-format.md §6.6) against the input graph:
  *   - every vertex's coordinates, every edge's end vertices and every
  *     point of every edge read back equal the graph's;
  *   - every crossing of every leaf: a naive reference lists, road by road,
@@ -232,7 +232,7 @@ static void check_crossings(const packed *p, const hpfc_graph *g)
                 break;
             }
             hpfc_dart d = {.pixel = px, .crossing = (uint32_t)k};
-            CHECK_EQ_INT(hpfc_faces_of_dart(fc, &d, &face), HPFC_OK);
+            CHECK_EQ_INT(hpfc_faces_dart_face(fc, &d, &face), HPFC_OK);
             /* the out-dart at k runs u -> v iff u -> v leaves the cell there */
             uint64_t want = leaves_cell(g, &ref[k], fi.x0, fi.y0, x0, y0, x1, y1) ? right[edge]
                                                                                   : left[edge];
@@ -310,9 +310,9 @@ static void check_wrong_graph(void)
     hpfc_graph_free(b);
 }
 
-/* spec/hpfc-format.md §17.7: the triangle of §14 with edge 2 bent through
+/* spec/hpfc-format.md §6.6.7: the triangle of §9 with edge 2 bent through
  * (1, 6), root 2 x 2, refined 2 x 2: its GEOM section's 322 bytes as
- * printed there, and its LABL section unchanged from §15.7. */
+ * printed there, and its LABL section unchanged from §6.5.7. */
 static void check_worked_example(void)
 {
     static const uint8_t want[322] = {

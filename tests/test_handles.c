@@ -35,32 +35,32 @@ static void compare_dart_calls(hpfc_walker *w, const hpfc_file *f, const hpfc_fa
     int ra = 0, rb = 0;
     int want, got;
     if (fc) {
-        want = d ? hpfc_faces_of_dart(fc, d, &a) : HPFC_E_ARG;
-        got = hpfc_faces_of_key(fc, w, key, &b);
+        want = d ? hpfc_faces_dart_face(fc, d, &a) : HPFC_E_ARG;
+        got = hpfc_faces_key_face(fc, w, key, &b);
         t->differ += want != got || (!got && a != b);
     }
     want = d ? hpfc_label_dart_face(f, d, &a) : HPFC_E_ARG;
-    got = hpfc_key_label_face(w, key, &b);
+    got = hpfc_label_key_face(w, key, &b);
     t->differ += want != got || (!got && a != b);
     want = d ? hpfc_label_dart_edge(f, d, &a) : HPFC_E_ARG;
-    got = hpfc_key_label_edge(w, key, &b);
+    got = hpfc_label_key_edge(w, key, &b);
     t->differ += want != got || (!got && a != b);
     want = d ? hpfc_geometry_dart_edge(f, d, &ea, &ra) : HPFC_E_ARG;
-    got = hpfc_key_geometry_edge(w, key, &eb, &rb);
+    got = hpfc_geometry_key_edge(w, key, &eb, &rb);
     t->differ += want != got || (!got && (ea != eb || ra != rb));
     size_t na = 0, nb = 0;
     want = d ? hpfc_geometry_dart_points(f, d, NULL, 0, &na) : HPFC_E_ARG;
-    got = hpfc_key_geometry_points(w, key, NULL, 0, &nb);
+    got = hpfc_geometry_key_points(w, key, NULL, 0, &nb);
     t->differ += want != got || (!got && na != nb);
     if (!want && !got && na > 0) {
         int64_t *pa = malloc(2 * na * sizeof *pa), *pb = malloc(2 * na * sizeof *pb);
         CHECK(pa && pb);
         t->differ += hpfc_geometry_dart_points(f, d, pa, na, &na) != HPFC_OK ||
-                     hpfc_key_geometry_points(w, key, pb, nb, &nb) != HPFC_OK ||
+                     hpfc_geometry_key_points(w, key, pb, nb, &nb) != HPFC_OK ||
                      memcmp(pa, pb, 2 * na * sizeof *pa) != 0;
         /* a cap too small: HPFC_E_BUFFER_SMALL, the count still set */
         nb = 0;
-        t->differ += hpfc_key_geometry_points(w, key, pb, na - 1, &nb) != HPFC_E_BUFFER_SMALL || nb != na;
+        t->differ += hpfc_geometry_key_points(w, key, pb, na - 1, &nb) != HPFC_E_BUFFER_SMALL || nb != na;
         free(pa), free(pb);
     }
 }
@@ -171,11 +171,11 @@ static void check_bad_arguments(hpfc_walker *w, const hpfc_file *f, const hpfc_f
         CHECK_EQ_INT(hpfc_key_vertex_dart(w, key, 0, &u), HPFC_E_ARG);
         CHECK_EQ_INT(hpfc_key_vertex_darts(w, key, &u, 1, &deg), HPFC_E_ARG);
         if (fc)
-            CHECK_EQ_INT(hpfc_faces_of_key(fc, w, key, &u), HPFC_E_ARG);
-        CHECK_EQ_INT(hpfc_key_label_face(w, key, &u), HPFC_E_ARG);
-        CHECK_EQ_INT(hpfc_key_label_edge(w, key, &u), HPFC_E_ARG);
-        CHECK_EQ_INT(hpfc_key_geometry_edge(w, key, &u, &reversed), HPFC_E_ARG);
-        CHECK_EQ_INT(hpfc_key_geometry_points(w, key, xy, 1, &count), HPFC_E_ARG);
+            CHECK_EQ_INT(hpfc_faces_key_face(fc, w, key, &u), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_label_key_face(w, key, &u), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_label_key_edge(w, key, &u), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_geometry_key_edge(w, key, &u, &reversed), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_geometry_key_points(w, key, xy, 1, &count), HPFC_E_ARG);
     }
     uint32_t deg;
     int reversed;
@@ -192,20 +192,20 @@ static void check_bad_arguments(hpfc_walker *w, const hpfc_file *f, const hpfc_f
     CHECK_EQ_INT(hpfc_key_vertex_dart(w, slot_key, 0, NULL), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_key_vertex_darts(NULL, slot_key, &u, 1, &deg), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_key_vertex_darts(w, slot_key, &u, 1, NULL), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_faces_of_key(NULL, w, slot_key, &u), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_faces_key_face(NULL, w, slot_key, &u), HPFC_E_ARG);
     if (fc) {
-        CHECK_EQ_INT(hpfc_faces_of_key(fc, NULL, slot_key, &u), HPFC_E_ARG);
-        CHECK_EQ_INT(hpfc_faces_of_key(fc, w, slot_key, NULL), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_faces_key_face(fc, NULL, slot_key, &u), HPFC_E_ARG);
+        CHECK_EQ_INT(hpfc_faces_key_face(fc, w, slot_key, NULL), HPFC_E_ARG);
     }
-    CHECK_EQ_INT(hpfc_key_label_face(NULL, slot_key, &u), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_key_label_face(w, slot_key, NULL), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_key_label_edge(NULL, slot_key, &u), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_key_label_edge(w, slot_key, NULL), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_key_geometry_edge(NULL, slot_key, &u, &reversed), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_key_geometry_edge(w, slot_key, NULL, &reversed), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_key_geometry_edge(w, slot_key, &u, NULL), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_key_geometry_points(NULL, slot_key, NULL, 0, &count), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_key_geometry_points(w, slot_key, NULL, 0, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_label_key_face(NULL, slot_key, &u), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_label_key_face(w, slot_key, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_label_key_edge(NULL, slot_key, &u), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_label_key_edge(w, slot_key, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_geometry_key_edge(NULL, slot_key, &u, &reversed), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_geometry_key_edge(w, slot_key, NULL, &reversed), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_geometry_key_edge(w, slot_key, &u, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_geometry_key_points(NULL, slot_key, NULL, 0, &count), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_geometry_key_points(w, slot_key, NULL, 0, NULL), HPFC_E_ARG);
 }
 
 /* A refined pixel: the path forms' verdict for the pixel calls, HPFC_E_CORRUPT

@@ -1,5 +1,5 @@
 /*
- * The LABL section (spec/hpfc-format.md §15) against independent oracles:
+ * The LABL section (spec/hpfc-format.md §6.5) against independent oracles:
  *   - leaf numbers: within a level, ranking the leaves by their slot's
  *     position in the pool (reader_leaf_slot_bit) gives 0, 1, 2, ...; the
  *     walk without the section gives the same numbers;
@@ -112,7 +112,7 @@ static void check_leaf_faces(const packed *p, const hpfc_faces *fc, const hpfc_p
     if (lw->n == 0) {
         uint64_t want = 0, got = 1;
         CHECK_EQ_INT(count, 1);
-        CHECK_EQ_INT(hpfc_faces_of_private_pixel(fc, px, &want), HPFC_OK);
+        CHECK_EQ_INT(hpfc_faces_pixel_face(fc, px, &want), HPFC_OK);
         CHECK_EQ_INT(hpfc_label_stretch_face(p->f, px, 0, &got), HPFC_OK);
         CHECK_EQ_INT(got, want);
         CHECK_EQ_INT(hpfc_label_stretch_face(p->f, px, 1, &got), HPFC_E_ARG);
@@ -131,7 +131,7 @@ static void check_leaf_faces(const packed *p, const hpfc_faces *fc, const hpfc_p
     for (uint32_t k = 0; k < lw->n; k++) {
         hpfc_dart d = {.pixel = *px, .crossing = k};
         uint64_t want = 0, got = 1, stretch = 2;
-        CHECK_EQ_INT(hpfc_faces_of_dart(fc, &d, &want), HPFC_OK);
+        CHECK_EQ_INT(hpfc_faces_dart_face(fc, &d, &want), HPFC_OK);
         CHECK_EQ_INT(hpfc_label_dart_face(p->f, &d, &got), HPFC_OK);
         CHECK_EQ_INT(got, want);
         CHECK_EQ_INT(hpfc_label_stretch_face(p->f, px, (k + 1) % lw->n, &stretch), HPFC_OK);
@@ -202,7 +202,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
     hpfc_walker *w = NULL;
     CHECK_EQ_INT(hpfc_faces_build(p.f, &fc), HPFC_OK);
     CHECK_EQ_INT(hpfc_walker_create(p.f, &w), HPFC_OK);
-    CHECK_EQ_INT(li.faces, hpfc_faces_count(fc));
+    CHECK_EQ_INT(li.faces, hpfc_faces_face_count(fc));
     uint64_t *darts_of_edge = calloc(hpfc_graph_edge_count(g), sizeof *darts_of_edge);
     hpfc_pixel px;
     for (st = hpfc_leaf_first(p.f, &px); !st; st = hpfc_leaf_next(p.f, &px)) {
@@ -246,7 +246,7 @@ static void check_graph(const hpfc_graph *g)
     check_map(g, 64, 2, 0);
 }
 
-/* spec/hpfc-format.md §15.7: the triangle with a dead end of §14, root
+/* spec/hpfc-format.md §6.5.7: the triangle with a dead end of §9, root
  * 2 x 2, refined 2 x 2: the LABL section's 84 bytes as printed there. */
 static void check_worked_example(void)
 {

@@ -1,5 +1,5 @@
 /*
- * hpfc_locate_point (spec §17.8) against a naive exact locator that shares
+ * hpfc_locate_point (spec §6.7) against a naive exact locator that shares
  * no code with it: every segment of every input edge, a ray from the point
  * eastwards to infinity, the face on the side of the nearest edge hit (face
  * 0, the unbounded face, when none is hit), and on_boundary for a point on
@@ -96,11 +96,11 @@ static int edge_sides(const hpfc_graph *g, packed *p)
         if (best == UINT32_MAX)
             return HPFC_E_CORRUPT;
         hpfc_dart d = {.pixel = px, .crossing = bestk}, t;
-        int st = hpfc_faces_of_dart(p->faces, &d, &p->right[e]);
+        int st = hpfc_faces_dart_face(p->faces, &d, &p->right[e]);
         if (!st)
             st = hpfc_dart_twin(p->w, &d, &t);
         if (!st)
-            st = hpfc_faces_of_dart(p->faces, &t, &p->left[e]);
+            st = hpfc_faces_dart_face(p->faces, &t, &p->left[e]);
         if (st)
             return st;
     }

@@ -332,7 +332,7 @@ static void check_file_info(const walk *w, const uint8_t *buf, size_t size, cons
     CHECK(strcmp(si.tag, "POOL") == 0 && si.flags == 1);
     CHECK_EQ_INT(si.crc32c, crc32c_update(0, buf + si.offset, (size_t)si.length));
     CHECK_EQ_INT(hpfc_file_get_section(w->f, fi.section_count, &si), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_file_verify_checksums(w->f), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_check_checksums(w->f, NULL), HPFC_OK);
 }
 
 /* reader_locate_near from `near` (and in place, out = near) gives
@@ -486,7 +486,7 @@ static void test_fig7_file(void)
     static const uint64_t paper_bits[3] = {252, 270, 408}, compact_bits[3] = {56, 64, 69};
     static const uint32_t paper_kw[3] = {20, 20, 16}, paper_ka[3] = {9, 9, 0};
     static const uint32_t compact_kw[3] = {16, 16, 10}, compact_ka[3] = {0, 0, 0};
-    /* spec §6 (paper) and §16.7 (compact): the sizes worked by hand */
+    /* spec §4.3 (paper) and §5.4 (compact): the sizes worked by hand */
     const uint64_t *bits = test_layout_compact ? compact_bits : paper_bits;
     const uint32_t *kw = test_layout_compact ? compact_kw : paper_kw;
     const uint32_t *ka = test_layout_compact ? compact_ka : paper_ka;
@@ -549,6 +549,24 @@ static void test_generated(void)
 
 /* ---- corrupt pools ------------------------------------------------------------------ */
 
+/* "section K (TAG) at offset", how hpfc_file_check_checksums names the
+ * section that holds byte `at` (the directory's sections do not overlap). */
+static const char *section_holding(const hpfc_file *f, uint64_t at)
+{
+    static char name[64];
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    snprintf(name, sizeof name, "no section holds byte %llu", (unsigned long long)at);
+    for (uint32_t k = 0; k < info.section_count; k++) {
+        hpfc_section_info s;
+        if (hpfc_file_get_section(f, k, &s) == HPFC_OK && at >= s.offset &&
+            at < s.offset + s.length)
+            snprintf(name, sizeof name, "section %u (%s) at offset %llu", k, s.tag,
+                     (unsigned long long)s.offset);
+    }
+    return name;
+}
+
 /* Every pool bit of a small file flipped in turn: navigation stays inside
  * the buffer and answers with a status (run under ASan/UBSan in CI). */
 static void test_pool_corruption(void)
@@ -583,7 +601,10 @@ static void test_pool_corruption(void)
         uint64_t codes = probe_file(f, 4000);
         CHECK((codes & ~allowed) == 0);
         corrupt += (codes & BIT(HPFC_E_CORRUPT)) != 0;
-        CHECK_EQ_INT(hpfc_file_verify_checksums(f), HPFC_E_CHECKSUM);
+        hpfc_diag diag;
+        CHECK_EQ_INT(hpfc_file_check_checksums(f, &diag), HPFC_E_CHECKSUM);
+        CHECK(diag.status == HPFC_E_CHECKSUM &&
+              strstr(diag.message, section_holding(f, bit >> 3)) == diag.message);
         hpfc_close(f);
         flips++;
     }
@@ -606,7 +627,7 @@ static void test_arguments(void)
     CHECK_EQ_INT(hpfc_open_memory("", 0, 0, &f), HPFC_E_TRUNCATED);
     CHECK_EQ_INT(hpfc_open_memory(FORMAT_MAGIC, 8, 0, &f), HPFC_E_TRUNCATED);
     hpfc_close(NULL);
-    CHECK_EQ_INT(hpfc_file_verify_checksums(NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_check_checksums(NULL, NULL), HPFC_E_ARG);
     uint8_t *out = NULL;
     size_t size = 0;
     CHECK_EQ_INT(hpfc_tree_serialize(NULL, NULL, &out, &size, NULL), HPFC_E_ARG);

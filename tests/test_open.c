@@ -53,7 +53,7 @@ typedef struct field {
     size_t off, size;
     uint64_t fixed;  /* statuses allowed once the meta checksum is recomputed */
     uint64_t raw;    /* ... and without recomputing it */
-    uint64_t verify; /* hpfc_file_verify_checksums after an accepted mutation */
+    uint64_t verify; /* hpfc_file_check_checksums after an accepted mutation */
 } field;
 
 typedef struct field_list {
@@ -217,7 +217,7 @@ static void mutate_field(const field *fd, const uint8_t *buf, size_t size, uint8
         CHECK_EQ_INT(skip, st); /* skipping the checksum reaches the same field check */
         if (!f)
             continue;
-        CHECK(BIT(hpfc_file_verify_checksums(f)) & fd->verify);
+        CHECK(BIT(hpfc_file_check_checksums(f, NULL)) & fd->verify);
         uint64_t codes = probe_file(f, 2000);
         CHECK((codes & ~(OKB | BIT(HPFC_E_NO_PIXEL) | BIT(HPFC_E_CORRUPT))) == 0);
         hpfc_close(f);
@@ -287,7 +287,7 @@ static void test_header_extension(void)
     CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &a), HPFC_OK);
     CHECK_EQ_INT(hpfc_open_memory(big, size + EXTRA, 0, &b), HPFC_OK);
     if (a && b) {
-        CHECK_EQ_INT(hpfc_file_verify_checksums(b), HPFC_OK);
+        CHECK_EQ_INT(hpfc_file_check_checksums(b, NULL), HPFC_OK);
         hpfc_file_info fa, fb;
         hpfc_file_get_info(a, &fa);
         hpfc_file_get_info(b, &fb);
@@ -412,7 +412,7 @@ static int open_and_verify(const char *path)
     hpfc_file *f = NULL;
     int st = hpfc_open(path, 0, &f);
     if (!st)
-        st = hpfc_file_verify_checksums(f);
+        st = hpfc_file_check_checksums(f, NULL);
     if (!st) {
         uint64_t codes = probe_file(f, 1 << 20);
         st = codes & BIT(HPFC_E_CORRUPT) ? HPFC_E_CORRUPT : HPFC_OK;

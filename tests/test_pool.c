@@ -1,6 +1,6 @@
 /*
  * Unit tests of the compact pool's word code (libhpfcfile/pool.c, spec
- * §16.5) and of its Elias-Fano word index, against an encoder written here
+ * §5.3.4) and of its Elias-Fano word index, against an encoder written here
  * from the spec's table alone: random words in every context, short and
  * long (past the decoder's 56-bit windows), at every bit offset of a
  * pool; truncated codes, a fourth '+' and "++++" rejected; and every
@@ -14,7 +14,7 @@
 #include "check.h"
 #include "pool.h"
 
-/* Spec §16.5: per context, the symbols in code order; the k-th of m + 1 is
+/* Spec §5.3.4: per context, the symbols in code order; the k-th of m + 1 is
  * k ones then a zero, the last m ones. */
 static const char *const spec_symbols[4] = {"[(+=", "+][(=", "+Y)[(=", "+][Y)(="};
 

@@ -40,8 +40,8 @@ static void check_leaves(const hpfc_file *f, const hpfc_faces *faces, uint64_t *
         CHECK_EQ_INT(is_private, len == 4);
         if (is_private) {
             uint64_t face;
-            CHECK_EQ_INT(hpfc_faces_of_private_pixel(faces, &px, &face), HPFC_OK);
-            CHECK(face < hpfc_faces_count(faces));
+            CHECK_EQ_INT(hpfc_faces_pixel_face(faces, &px, &face), HPFC_OK);
+            CHECK(face < hpfc_faces_face_count(faces));
         }
         ++*leaves;
     }
@@ -62,16 +62,16 @@ static void check_shapes(const hpfc_file *f, const hpfc_faces *faces)
     hpfc_shapes *s;
     if (hpfc_shapes_create(f, &s) != HPFC_OK)
         return; /* no GEOM: nothing to draw */
-    CHECK_EQ_INT(hpfc_shapes_face_count(s), hpfc_faces_count(faces));
+    CHECK_EQ_INT(hpfc_shapes_face_count(s), hpfc_faces_face_count(faces));
     hpfc_polygons p;
     for (uint64_t face = 0; face < hpfc_shapes_face_count(s); face++) {
-        CHECK_EQ_INT(hpfc_shapes_face(s, face, &p), HPFC_OK);
+        CHECK_EQ_INT(hpfc_shapes_face_polygons(s, face, &p), HPFC_OK);
         check_rings(&p);
     }
     hpfc_features_info fi;
     if (hpfc_file_get_features(f, &fi) == HPFC_OK)
         for (uint32_t k = 0; k < fi.features; k++) {
-            CHECK_EQ_INT(hpfc_shapes_feature(s, k, &p), HPFC_OK);
+            CHECK_EQ_INT(hpfc_shapes_feature_polygons(s, k, &p), HPFC_OK);
             check_rings(&p);
         }
     hpfc_shapes_free(s);
@@ -83,7 +83,7 @@ static void check_file(const char *path, uint64_t *files, uint64_t *leaves)
     CHECK_EQ_INT(hpfc_open(path, 0, &f), HPFC_OK);
     if (!f)
         return;
-    CHECK_EQ_INT(hpfc_file_verify_checksums(f), HPFC_OK);
+    CHECK_EQ_INT(hpfc_file_check_checksums(f, NULL), HPFC_OK);
     hpfc_faces *faces;
     CHECK_EQ_INT(hpfc_faces_build(f, &faces), HPFC_OK);
     if (faces) {

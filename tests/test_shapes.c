@@ -574,10 +574,10 @@ static void check_darts(const hpfc_file *f)
                 size_t n, tn;
                 hpfc_key_vertex_dart(w, v, j, &d);
                 hpfc_key_twin(w, d, &t);
-                if (hpfc_key_geometry_edge(w, d, &e, &rev) ||
-                    hpfc_key_geometry_edge(w, t, &te, &trev) || e != te || rev == trev ||
-                    hpfc_key_geometry_points(w, d, NULL, 0, &n) ||
-                    hpfc_key_geometry_points(w, t, NULL, 0, &tn) || n != tn ||
+                if (hpfc_geometry_key_edge(w, d, &e, &rev) ||
+                    hpfc_geometry_key_edge(w, t, &te, &trev) || e != te || rev == trev ||
+                    hpfc_geometry_key_points(w, d, NULL, 0, &n) ||
+                    hpfc_geometry_key_points(w, t, NULL, 0, &tn) || n != tn ||
                     n != dart_npoints((uint32_t)(2 * e))) {
                     bad++;
                     continue;
@@ -588,11 +588,11 @@ static void check_darts(const hpfc_file *f)
                     txy = realloc(txy, 2 * cap * sizeof *txy);
                 }
                 size_t short_n = 0; /* one point short: the count needed */
-                if (hpfc_key_geometry_points(w, d, xy, n - 1, &short_n) !=
+                if (hpfc_geometry_key_points(w, d, xy, n - 1, &short_n) !=
                         HPFC_E_BUFFER_SMALL || short_n != n)
                     bad++;
-                hpfc_key_geometry_points(w, d, xy, cap, &n);
-                hpfc_key_geometry_points(w, t, txy, cap, &tn);
+                hpfc_geometry_key_points(w, d, xy, cap, &n);
+                hpfc_geometry_key_points(w, t, txy, cap, &tn);
                 int64_t b[4]; /* a vertex's darts start in its leaf */
                 hpfc_pixel_bounds(f, &px, &b[0], &b[1], &b[2], &b[3]);
                 if (xy[0] < b[0] || xy[0] >= b[2] || xy[1] < b[1] || xy[1] >= b[3])
@@ -671,13 +671,13 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
         hpfc_polygons poly;
         char what[160];
         snprintf(what, sizeof what, "%s face %llu", name, (unsigned long long)face);
-        st = hpfc_shapes_face(s, face, &poly);
+        st = hpfc_shapes_face_polygons(s, face, &poly);
         CHECK_EQ_INT(st, HPFC_OK);
         if (!st)
             check_answer(what, &poly, &want, face_area[face], face == 0 ? 0 : want.n ? 1 : -1);
         free(want.s);
     }
-    CHECK_EQ_INT(hpfc_shapes_face(s, nf, &(hpfc_polygons){0}), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_shapes_face_polygons(s, nf, &(hpfc_polygons){0}), HPFC_E_ARG);
     hpfc_shapes_free(s);
 
     /* features: three, each a random set of bounded faces */
@@ -743,13 +743,13 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
         hpfc_polygons poly;
         char what[160];
         snprintf(what, sizeof what, "%s feature %u", name, k);
-        st = hpfc_shapes_feature(s, k, &poly);
+        st = hpfc_shapes_feature_polygons(s, k, &poly);
         CHECK_EQ_INT(st, HPFC_OK);
         if (!st)
             check_answer(what, &poly, &want, area, -1);
         free(want.s);
         snprintf(what, sizeof what, "%s lines of feature %u", name, k);
-        st = hpfc_shapes_feature_lines(s, k, &poly);
+        st = hpfc_shapes_feature_polylines(s, k, &poly);
         CHECK_EQ_INT(st, HPFC_OK);
         if (!st)
             check_lines(what, &poly, on_edge + k * ne);

@@ -236,14 +236,15 @@ static size_t faces_of_darts(const hpfc_file *f, hpfc_walker *w, const hpfc_face
     size_t n = collect_darts(f, w, darts, nd), bad = 0;
     CHECK_EQ_INT(n, nd);
     for (size_t d = 0; d < n; d++)
-        bad += hpfc_faces_of_dart(faces, &darts[d], &face_of[d]) != HPFC_OK || face_of[d] >= count;
+        bad += hpfc_faces_dart_face(faces, &darts[d], &face_of[d]) != HPFC_OK ||
+               face_of[d] >= count;
     for (size_t d = 0; d < n; d++) { /* a dart's pixel cut to a refined ancestor names no leaf */
         hpfc_dart up = darts[d];
         uint64_t face;
         if (up.pixel.depth == 0)
             continue;
         up.pixel.depth--;
-        bad += hpfc_faces_of_dart(faces, &up, &face) != HPFC_E_ARG;
+        bad += hpfc_faces_dart_face(faces, &up, &face) != HPFC_E_ARG;
         break;
     }
     free(darts);
@@ -262,7 +263,7 @@ static void check_wide_faces(const hpfc_file *f, hpfc_walker *w, uint64_t count,
     faces_narrow_nodes = narrow;
     if (!wide)
         return;
-    CHECK_EQ_INT(hpfc_faces_count(wide), count);
+    CHECK_EQ_INT(hpfc_faces_face_count(wide), count);
     uint64_t *wide_of = malloc(nd * sizeof *wide_of);
     CHECK_EQ_INT(faces_of_darts(f, w, wide, count, wide_of, nd), 0);
     CHECK(memcmp(wide_of, face_of, nd * sizeof *face_of) == 0);
@@ -295,7 +296,7 @@ static void check_faces(const hpfc_file *f, const exported_map *fm, const hpfc_g
             root[u] = v, comps--;
     }
     free(root);
-    uint64_t F = hpfc_faces_count(faces);
+    uint64_t F = hpfc_faces_face_count(faces);
     CHECK_EQ_INT(F, ne + 1 + comps - nv);
     /* loops = orbits of next; each must carry a single face id */
     hpfc_walker *w;

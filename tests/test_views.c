@@ -318,7 +318,7 @@ static void check_pixel_faces(const hpfc_file *f)
 {
     hpfc_faces *fc;
     CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
-    uint64_t nf = hpfc_faces_count(fc), faces[4096];
+    uint64_t nf = hpfc_faces_face_count(fc), faces[4096];
     size_t bad = 0;
     hpfc_pixel px;
     for (int st = hpfc_leaf_first(f, &px); !st; st = hpfc_leaf_next(f, &px)) {

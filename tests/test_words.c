@@ -129,7 +129,7 @@ static void test_parse_exhaustive(void)
     CHECK_EQ_INT(word_road_of_crossing(off, 0), 0);
 }
 
-/* Appends the §10 code of each symbol of s at bit *at of buf. */
+/* Appends the §5.2.3 code of each symbol of s at bit *at of buf. */
 static void encode(const char *s, uint8_t *buf, uint64_t *at)
 {
     for (; *s; s++) {

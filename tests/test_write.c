@@ -96,7 +96,7 @@ static void test_write_file(void)
         hpfc_file_info fi;
         hpfc_file_get_info(f, &fi);
         CHECK(fi.crs_len == 9 && memcmp(fi.crs, "EPSG:4326", 9) == 0);
-        CHECK_EQ_INT(hpfc_file_verify_checksums(f), HPFC_OK);
+        CHECK_EQ_INT(hpfc_file_check_checksums(f, NULL), HPFC_OK);
         CHECK_EQ_INT(probe_file(f, 1 << 20) & ~(OKB | BIT(HPFC_E_NO_PIXEL)), 0);
     }
     hpfc_close(f);
@@ -195,7 +195,7 @@ static void test_file_serialize(void)
     CHECK_EQ_INT(hpfc_open_memory(plain, size, 0, &f), HPFC_OK);
     CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
     feat_fixture x;
-    feat_fixture_make(&x, (uint32_t)hpfc_faces_count(fc));
+    feat_fixture_make(&x, (uint32_t)hpfc_faces_face_count(fc));
     hpfc_faces_free(fc);
     const hpfc_write_options opts[4] = {
         {.crs = NULL},

@@ -1,7 +1,7 @@
 /*
  * errors.c: what every caller of the library shares: the status codes'
- * texts, diagnostics, the version, and hpfc_free for what the library
- * hands over.
+ * texts and names, diagnostics, the version, and hpfc_free for what the
+ * library hands over.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -42,6 +42,44 @@ const char *hpfc_strerror(int status)
     case HPFC_E_NO_SECTION: return "the file has no such section";
     default: return "unknown status code";
     }
+}
+
+const char *hpfc_status_name(int status)
+{
+#define NAME(code) \
+    case code: return #code
+    switch (status) {
+    NAME(HPFC_OK);
+    NAME(HPFC_E_NOMEM);
+    NAME(HPFC_E_ARG);
+    NAME(HPFC_E_IO);
+    NAME(HPFC_E_BUFFER_SMALL);
+    NAME(HPFC_E_PFC_SYNTAX);
+    NAME(HPFC_E_PFC_VERSION);
+    NAME(HPFC_E_VERTEX_INDEX);
+    NAME(HPFC_E_DUPLICATE_POINT);
+    NAME(HPFC_E_ZERO_LENGTH);
+    NAME(HPFC_E_LOOP_INTERIOR);
+    NAME(HPFC_E_ISOLATED_VERTEX);
+    NAME(HPFC_E_NONPLANAR);
+    NAME(HPFC_E_EXTENT);
+    NAME(HPFC_E_EMPTY);
+    NAME(HPFC_E_TOO_MANY_PIXELS);
+    NAME(HPFC_E_LIMIT);
+    NAME(HPFC_E_MAGIC);
+    NAME(HPFC_E_VERSION);
+    NAME(HPFC_E_INCOMPATIBLE);
+    NAME(HPFC_E_TRUNCATED);
+    NAME(HPFC_E_CHECKSUM);
+    NAME(HPFC_E_HEADER);
+    NAME(HPFC_E_LEVEL_TABLE);
+    NAME(HPFC_E_SECTION);
+    NAME(HPFC_E_CORRUPT);
+    NAME(HPFC_E_NO_PIXEL);
+    NAME(HPFC_E_NO_SECTION);
+    default: return "HPFC_E_UNKNOWN";
+    }
+#undef NAME
 }
 
 const char *hpfc_version_string(void)

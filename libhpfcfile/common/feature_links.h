@@ -1,6 +1,6 @@
 /*
  * feature_links.h: links to features as FEAT keeps them per face and EDGF
- * per edge (spec/hpfc-format.md §7.1, §7.3), in one place for both: an
+ * per edge (spec/hpfc-format.md §6.2, §6.4), in one place for both: an
  * index of row_count + 1 u32 offsets, non-decreasing from 0 to link_count,
  * then link_count u32 feature indices, each row's ascending. The writer's
  * check and bytes and the reader's checked access are the same for a face
@@ -82,7 +82,7 @@ static inline int feature_links_count(const feature_links *t, uint64_t row, uint
 /* The k-th feature of row `row`: HPFC_E_ARG for k past the row's links,
  * HPFC_E_CORRUPT for a feature index not below the feature count. */
 static inline int feature_links_get(const feature_links *t, uint64_t row, uint32_t k,
-                                    uint32_t *feature)
+                                    hpfc_id *feature)
 {
     uint32_t first, end;
     int st = feature_links_row(t, row, &first, &end);

@@ -1,8 +1,9 @@
 /*
  * format.h: the .hpfc binary format (spec/hpfc-format.md) as the writer
  * and the reader see it: the format version it writes is FORMAT_MAJOR.
- * FORMAT_MINOR below (1.2), not the library's own (hpfc_version.h, from
- * meson's project version). Internal to the library (and its tests).
+ * FORMAT_MINOR below, hpfc.h's HPFC_FORMAT_MAJOR and HPFC_FORMAT_MINOR
+ * (1.2), not the library's own (hpfc_version.h, from meson's project
+ * version). Internal to the library (and its tests).
  *
  * - Every field of the header, the level table and the section directory is
  *   touched only through the get/set helpers below, named after the spec's
@@ -27,8 +28,8 @@
 /* ---- sizes and constants ------------------------------------------------- */
 
 enum {
-    FORMAT_MAJOR = 1,
-    FORMAT_MINOR = 2,               /* 1.1: FEAT; 1.2: LABL, ATTR, EDGF, GEOM, the compact pool */
+    FORMAT_MAJOR = HPFC_FORMAT_MAJOR,
+    FORMAT_MINOR = HPFC_FORMAT_MINOR, /* 1.1: FEAT; 1.2: LABL, ATTR, EDGF, GEOM, the compact pool */
     FORMAT_HEADER_SIZE = 128,       /* header_size written by this library */
     FORMAT_LEVEL_ENTRY_SIZE = 64,
     FORMAT_SECTION_ENTRY_SIZE = 32,
@@ -136,7 +137,7 @@ FORMAT_FIELD(sec, offset, 8, 8, uint64_t)
 FORMAT_FIELD(sec, length, 16, 8, uint64_t)
 FORMAT_FIELD(sec, crc32c, 24, 4, uint32_t)
 
-/* ATTR section (spec/hpfc-format.md §7.2): a 32-byte header, then the
+/* ATTR section (spec/hpfc-format.md §6.3): a 32-byte header, then the
  * column table (16 bytes a column), the cells (8 bytes each, row-major),
  * the null bits (one per cell, padded to 8 bytes) and the strings. Its
  * field tables, as the ones below, are FORMAT_FIELD runs (see there). */
@@ -153,7 +154,7 @@ enum { attrc_OFF_reserved = 9, attrc_SIZE_reserved = 7 };
 FORMAT_FIELD(attrs, offset, 0, 4, uint32_t)
 FORMAT_FIELD(attrs, length, 4, 4, uint32_t)
 
-/* EDGF section (spec/hpfc-format.md §7.3): a 16-byte header, then
+/* EDGF section (spec/hpfc-format.md §6.4): a 16-byte header, then
  * edge_count + 1 offsets and link_count feature indices, 4 bytes each. */
 enum { EDGF_HEADER_SIZE = 16 };
 FORMAT_FIELD(edgf, edge_count, 0, 4, uint32_t)
@@ -161,7 +162,7 @@ FORMAT_FIELD(edgf, link_count, 4, 4, uint32_t)
 FORMAT_FIELD(edgf, feature_count, 8, 4, uint32_t)
 FORMAT_FIELD(edgf, reserved, 12, 4, uint32_t)
 
-/* FEAT section header (32 bytes; spec/hpfc-format.md §7.1). */
+/* FEAT section header (32 bytes; spec/hpfc-format.md §6.2). */
 enum { FEAT_HEADER_SIZE = 32, FEAT_LAYER_SIZE = 8, FEAT_FEATURE_SIZE = 24 };
 #define FEAT_NONE UINT32_MAX /* a length meaning "no value" */
 FORMAT_FIELD(feat, feature_count, 0, 4, uint32_t)

@@ -1,5 +1,5 @@
 /*
- * pool.h: the compact pool layout (spec/hpfc-format.md §16), chosen per
+ * pool.h: the compact pool layout (spec/hpfc-format.md §5.3), chosen per
  * file by the incompat flag FORMAT_INCOMPAT_COMPACT_POOL. Internal to the
  * library (and its tests).
  *

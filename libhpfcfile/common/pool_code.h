@@ -1,7 +1,7 @@
 /*
  * pool_code.h: what the compact pool's reader (read/pool_read.c) and writer
  * (write/pool_write.c) share: the word code's table (spec/hpfc-format.md
- * §16.5) and where a type block's counts lie. Internal to the library.
+ * §5.3.4) and where a type block's counts lie. Internal to the library.
  */
 #ifndef HPFC_POOL_CODE_H
 #define HPFC_POOL_CODE_H
@@ -13,7 +13,7 @@
  * 'Y', or one that closes a group (']', ')', '='). In each context the
  * symbols the grammar (§3.8) allows there are listed by frequency on the
  * Delaunay and GIS maps measured for the issue; the k-th costs k + 1 bits,
- * k ones then a zero, the last one only its ones (spec §16.5).
+ * k ones then a zero, the last one only its ones (spec §5.3.4).
  *
  * The table is indexed by context and by the number of leading ones of
  * the next bits (capped at 7: no code has more than 6), so the decoder

@@ -1,5 +1,5 @@
 /*
- * The compact pool layout's geometry (pool.h, spec/hpfc-format.md §16): the
+ * The compact pool layout's geometry (pool.h, spec/hpfc-format.md §5.3): the
  * sizes of a level from its counts, and where a pixel's type bits lie. What
  * the reader and the writer both need.
  */

@@ -1,6 +1,6 @@
 /*
  * A word's symbols parsed and counted (words.h): the one implementation of
- * the grammar of spec/hpfc-format.md §3.8. The fixed word code of §10 is
+ * the grammar of spec/hpfc-format.md §3.8. The fixed word code of §5.2.3 is
  * read in read/words_read.c and written in write/words_write.c.
  */
 #include "words.h"

@@ -1,12 +1,12 @@
 /*
  * words.h: a word, the string of symbols "+=[]()Y" of a word pixel
- * (spec/hpfc-format.md §3.6-§3.8, §10), in one place: the symbol a
- * crossing gets (the builder), the fixed code of §10 measured and written
+ * (spec/hpfc-format.md §3.6-§3.8, §5.2.3), in one place: the symbol a
+ * crossing gets (the builder), the fixed code of §5.2.3 measured and written
  * (the writer) and decoded into symbols (the reader), the grammar parsed
  * into components (the traversal, faces, hpfc-inspect) and the crossings
  * counted per road.
  *
- * The compact pool's word code (spec §16.5) lives with its layout instead
+ * The compact pool's word code (spec §5.3.4) lives with its layout instead
  * (common/pool_code.h, read/pool_read.c, write/pool_write.c): it is a
  * different code (a symbol's bits depend on the symbol before it, and the
  * fourth '+' is not stored), and each pool layout keeps its own code next
@@ -44,7 +44,7 @@ static inline char word_crossing_symbol(bool junction, uint32_t seen, uint32_t s
     return seen == 1 ? '(' : seen == size ? ')' : 'Y';
 }
 
-/* Bits of a word's fixed code (§10: '+' one bit, any other symbol four);
+/* Bits of a word's fixed code (§5.2.3: '+' one bit, any other symbol four);
  * 0 when the word is not symbols ending at their fourth '+' (the builder
  * never makes one). */
 uint64_t word_code_bits(const char *word, uint32_t len);
@@ -56,7 +56,7 @@ void word_encode_code(uint8_t *pool, uint64_t off, const char *word, uint32_t le
 
 /* ---- decoding ---- */
 
-/* Decodes the fixed-code word (§10) in the word_bits-bit slot at bit `off`
+/* Decodes the fixed-code word (§5.2.3) in the word_bits-bit slot at bit `off`
  * of `pool`, symbol by symbol up to its fourth '+'. Stores the first `cap`
  * symbols when buf is non-NULL; *len gets the full length. HPFC_E_CORRUPT
  * for a slot without a fourth '+' or with a reserved code, HPFC_E_ARG when

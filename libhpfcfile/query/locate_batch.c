@@ -17,9 +17,9 @@
 
 /* Growable scratch for one point's candidate faces and features. */
 typedef struct batch_scratch {
-    uint64_t *faces;
+    hpfc_id *faces;
     size_t face_cap;
-    uint64_t *features;     /* uint32_t ids, kept wide to share the sort of faces */
+    hpfc_id *features;
     size_t feature_cap;
     int exact;              /* the file has GEOM and LABL: locx answers */
     locx_scratch locx;
@@ -51,7 +51,7 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
         if ((st = array_grow((void **)&s->faces, &s->face_cap, 1, sizeof *s->faces)))
             return st;
         *n = 1;
-        return hpfc_faces_of_private_pixel(fc, px, &s->faces[0]);
+        return hpfc_faces_pixel_face(fc, px, &s->faces[0]);
     }
     size_t len;
     if ((st = hpfc_pixel_word(f, px, NULL, 0, &len)))
@@ -64,7 +64,7 @@ static int leaf_faces(const hpfc_file *f, const hpfc_faces *fc, const hpfc_pixel
         return st;
     for (size_t k = 0; k < crossings; k++) {
         hpfc_dart d = {.pixel = *px, .crossing = (uint32_t)k};
-        if ((st = hpfc_faces_of_dart(fc, &d, &s->faces[k])))
+        if ((st = hpfc_faces_dart_face(fc, &d, &s->faces[k])))
             return st;
     }
     *n = scratch_sort_unique(s->faces, crossings);
@@ -90,11 +90,8 @@ static int leaf_features(const hpfc_file *f, batch_scratch *s, size_t n, size_t 
         if (!st)
             st = array_grow((void **)&s->features, &s->feature_cap, total + count,
                               sizeof *s->features);
-        for (uint32_t i = 0; i < count && !st; i++) {
-            uint32_t feature;
-            if (!(st = hpfc_face_feature(f, s->faces[k], i, &feature)))
-                s->features[total++] = feature;
-        }
+        for (uint32_t i = 0; i < count && !st; i++)
+            st = hpfc_face_feature_id(f, s->faces[k], i, &s->features[total++]);
         if (st)
             return st;
         if (count != 1 || s->features[total - 1] != s->features[0])

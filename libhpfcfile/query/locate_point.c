@@ -1,5 +1,5 @@
 /*
- * Exact point location (spec/hpfc-format.md §17.8): the face holding a
+ * Exact point location (spec/hpfc-format.md §6.7): the face holding a
  * lattice point, or the faces around it when it lies on an edge or a
  * vertex, from the located leaf alone.
  *
@@ -288,7 +288,7 @@ static int collect_segments(leaf_ctx *c)
 
 /* The faces on the left and on the right of a piece run u -> v: those of
  * the stretches before and after its crossing k, the right one after k
- * when the edge leaves the leaf there (§15.1: the face on the right of
+ * when the edge leaves the leaf there (§6.5.1: the face on the right of
  * out_k is stretch k + 1's). */
 static int stretch_face(const leaf_ctx *c, uint32_t t, uint64_t *face)
 {

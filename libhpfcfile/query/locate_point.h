@@ -1,5 +1,5 @@
 /*
- * locate_point.h: exact point location (spec/hpfc-format.md §17.8), the
+ * locate_point.h: exact point location (spec/hpfc-format.md §6.7), the
  * code behind hpfc_locate_point, shared with the batch call so that both
  * give the same answer. Internal to the library.
  */
@@ -18,7 +18,7 @@
 typedef struct locx_segment {
     lpoint a, b;          /* relative to the domain's south-west corner */
     uint64_t edge, index; /* edge id, segment index */
-    uint32_t crossing;    /* a crossing of its piece: its faces by §15 */
+    uint32_t crossing;    /* a crossing of its piece: its faces by §6.5 */
     uint64_t vertex;      /* the vertex id of its vertex end, if it has one */
     int8_t vertex_end;    /* -1: neither end is a vertex; 0: a is one; 1: b is */
 } locx_segment;

@@ -15,8 +15,8 @@
 #include "feat.h"
 #include "file.h"
 #include "ring_index.h"
+#include "shapes.h"
 
-__extension__ typedef __int128 s128;
 
 /* Coordinates past this come from a corrupt file (a graph's lie within
  * HPFC_LATTICE_MAX): refusing them keeps every difference, cross product
@@ -147,69 +147,6 @@ void hpfc_user_point(const hpfc_file *f, int64_t x, int64_t y, double *ux, doubl
 
 /* ---- the index ------------------------------------------------------------------- */
 
-/* A dart of a region's boundary: edge << 1 | reversed, with what the
- * assembly needs of it. */
-typedef struct bdart {
-    uint64_t code;
-    size_t pts;       /* its edge's points, u -> v, from s->ept[2 * pts] */
-    uint32_t face;    /* the region's face on its left */
-    uint32_t origin, target;
-    int64_t out[2];   /* direction leaving the origin */
-    int64_t back[2];  /* direction from the target back along the last segment */
-    uint32_t next;    /* the dart continuing it */
-    uint8_t has_prev, used;
-} bdart;
-
-/* A ring being assembled: points [start, end) of the scratch points. */
-typedef struct tring {
-    size_t start, end;
-    uint32_t part;    /* the region's part it bounds (see own_by_part) */
-    s128 area2;       /* twice the signed area */
-    int64_t box[4];   /* xmin, ymin, xmax, ymax */
-    size_t owner;     /* holes: the outer ring's index, SIZE_MAX: none */
-} tring;
-
-struct hpfc_shapes {
-    const hpfc_file *f;
-    uint64_t vertices, edges, faces, points;
-    uint32_t *eu, *ev;
-    uint64_t *left, *right;
-    uint64_t *first;            /* edge e's shape points: [first[e], first[e + 1]) */
-    int64_t *vxy;               /* the vertices' coordinates (pairs) */
-    uint64_t *face_start;       /* faces + 1 */
-    uint32_t *face_edge;
-    int have_features, have_edge_features;
-    uint32_t features;
-    uint64_t *feat_start;       /* features + 1 */
-    uint32_t *feat_face;
-    uint64_t *fe_start;         /* features + 1 (EDGF) */
-    uint32_t *fe_edge;
-    uint32_t *face_mark, mark;  /* face_mark[f] == mark: f is in the region */
-    uint32_t *face_local;       /* f's index among the region's faces */
-    uint32_t *vmark, *vpos, vgen;
-    /* scratch, reused by every call */
-    bdart *darts, *dsorted;
-    size_t ndarts, cap_darts, cap_dsorted;
-    key_item *dkeys;            /* the darts by origin, and scratch */
-    size_t cap_dkeys;
-    int64_t *ept;               /* the darts' edges' points (pairs) */
-    size_t nept, cap_ept;
-    uint32_t *part;             /* union-find over the region's faces */
-    size_t nparts, cap_part;
-    size_t *part_outer, cap_part_outer;
-    uint32_t *cycle;
-    size_t cap_cycle;
-    int64_t *txy;
-    size_t ntxy, cap_txy;       /* points (pairs) */
-    tring *rings;
-    size_t nrings, cap_rings;
-    /* the answer */
-    int64_t *xy;
-    size_t cap_xy;
-    size_t *ring_point, cap_ring_point;
-    size_t *polygon_ring, cap_polygon_ring;
-};
-
 /* Frees the hpfc_shapes object's arrays, then the object.
  * (hpfc_graph_free, hpfc_tree_free and hpfc_shapes_free look alike, a free()
  * a member, but each lists the arrays of its own struct.) */
@@ -245,18 +182,14 @@ void hpfc_shapes_free(hpfc_shapes *s)
     free(s->xy);
     free(s->ring_point);
     free(s->polygon_ring);
+    free(s->edge_box);
+    shapes_window_free(s->window);
     free(s);
 }
 
 uint64_t hpfc_shapes_face_count(const hpfc_shapes *s)
 {
     return s ? s->faces : 0;
-}
-
-/* Edge e's points: u, its shape points, v. */
-static uint64_t edge_points(const hpfc_shapes *s, uint64_t e)
-{
-    return s->first[e + 1] - s->first[e] + 2;
 }
 
 /* Each edge's ends, shape points and faces, each vertex's coordinates
@@ -345,7 +278,8 @@ static int invert_links(const feature_links *t, uint64_t rows, uint32_t features
             memcpy(fill, start, (size_t)features * sizeof *fill);
         }
         for (uint64_t o = 0; o < rows && !st; o++) {
-            uint32_t first, end, ft;
+            uint32_t first, end;
+            hpfc_id ft;
             if ((st = feature_links_row(t, o, &first, &end)))
                 break;
             for (uint32_t k = 0; k < end - first && !st; k++) {
@@ -378,7 +312,7 @@ static int index_features(hpfc_shapes *s)
         return st;
     s->have_features = 1;
     s->features = fi.features;
-    /* a FEAT table numbered against other faces is not to be used (§7.1) */
+    /* a FEAT table numbered against other faces is not to be used (§6.2.2) */
     uint64_t faces = fi.faces == s->faces ? s->faces : 0;
     if ((st = invert_links(&links, faces, fi.features, &s->feat_start, &s->feat_face)))
         return st;
@@ -449,7 +383,7 @@ enum feature_section { FEATURE_FACES, FEATURE_EDGES };
 /* What every per-feature call checks first: s and its output given, the
  * section it reads present, `feature` one of the map's. */
 static int check_feature_call(const hpfc_shapes *s, const void *out, enum feature_section need,
-                              uint32_t feature)
+                              hpfc_id feature)
 {
     if (!s || !out)
         return HPFC_E_ARG;
@@ -458,12 +392,20 @@ static int check_feature_call(const hpfc_shapes *s, const void *out, enum featur
     return feature < s->features ? HPFC_OK : HPFC_E_ARG;
 }
 
-int hpfc_shapes_feature_face_count(const hpfc_shapes *s, uint32_t feature, uint64_t *count)
+int hpfc_shapes_feature_faces(const hpfc_shapes *s, hpfc_id feature, hpfc_id *faces, size_t cap,
+                              size_t *count)
 {
     int st = check_feature_call(s, count, FEATURE_FACES, feature);
     if (st)
         return st;
-    *count = s->feat_start[feature + 1] - s->feat_start[feature];
+    uint64_t a = s->feat_start[feature], n = s->feat_start[feature + 1] - a;
+    *count = (size_t)n;
+    if (!faces)
+        return HPFC_OK;
+    if (cap < n)
+        return HPFC_E_BUFFER_SMALL;
+    for (uint64_t k = 0; k < n; k++)
+        faces[k] = s->feat_face[a + k];
     return HPFC_OK;
 }
 
@@ -529,7 +471,7 @@ static void parts_join(hpfc_shapes *s, uint64_t f, uint64_t g)
  * first. */
 static int load_edge(hpfc_shapes *s, uint64_t e, size_t *at)
 {
-    uint64_t n = edge_points(s, e);
+    uint64_t n = shapes_edge_points(s, e);
     if (array_grow((void **)&s->ept, &s->cap_ept, 2 * (s->nept + n), sizeof *s->ept))
         return HPFC_E_NOMEM;
     int64_t *p = s->ept + 2 * s->nept;
@@ -559,7 +501,7 @@ static int add_dart(hpfc_shapes *s, uint64_t e, int reversed, uint64_t face)
     int st = load_edge(s, e, &d->pts);
     if (st)
         return st;
-    uint64_t n = edge_points(s, e);
+    uint64_t n = shapes_edge_points(s, e);
     /* first two and last two points, u -> v */
     const int64_t *p0 = s->ept + 2 * d->pts, *p1 = p0 + 2, *q0 = p0 + 2 * (n - 2),
                   *q1 = p0 + 2 * (n - 1);
@@ -700,7 +642,7 @@ static int emit_ring(hpfc_shapes *s, size_t a, size_t b)
     int st = HPFC_OK;
     for (size_t k = a; k < b && !st; k++) {
         const bdart *d = &s->darts[s->cycle[k]];
-        uint64_t n = edge_points(s, d->code >> 1);
+        uint64_t n = shapes_edge_points(s, d->code >> 1);
         st = add_points(s, d->pts, n, (int)(d->code & 1), 0, n - 1);
     }
     if (st)
@@ -1029,7 +971,7 @@ static int assemble(hpfc_shapes *s, hpfc_polygons *out)
     return st;
 }
 
-int hpfc_shapes_face(hpfc_shapes *s, uint64_t face, hpfc_polygons *out)
+int hpfc_shapes_face_polygons(hpfc_shapes *s, hpfc_id face, hpfc_polygons *out)
 {
     if (!s || !out || face >= s->faces)
         return HPFC_E_ARG;
@@ -1054,7 +996,7 @@ static uint32_t next_mark(hpfc_shapes *s)
     return s->mark;
 }
 
-int hpfc_shapes_feature(hpfc_shapes *s, uint32_t feature, hpfc_polygons *out)
+int hpfc_shapes_feature_polygons(hpfc_shapes *s, hpfc_id feature, hpfc_polygons *out)
 {
     int st = check_feature_call(s, out, FEATURE_FACES, feature);
     if (st)
@@ -1139,7 +1081,7 @@ static int walk_line(line_walk *w, line_end from)
     int st = HPFC_OK, first = 1;
     for (size_t steps = 0; steps < w->n && !w->used[from.k] && !st; steps++) {
         uint32_t e = w->edges[from.k];
-        uint64_t n = edge_points(s, e);
+        uint64_t n = shapes_edge_points(s, e);
         w->used[from.k] = 1;
         size_t at;
         s->nept = 0;
@@ -1172,7 +1114,7 @@ static line_end line_start(const line_walk *w, uint32_t k)
     return at; /* the walk goes forward from here, along at.k */
 }
 
-int hpfc_shapes_feature_lines(hpfc_shapes *s, uint32_t feature, hpfc_polygons *out)
+int hpfc_shapes_feature_polylines(hpfc_shapes *s, hpfc_id feature, hpfc_polygons *out)
 {
     int st = check_feature_call(s, out, FEATURE_EDGES, feature);
     if (st)

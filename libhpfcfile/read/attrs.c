@@ -1,6 +1,6 @@
 /*
  * Attributes and the features of edges: the ATTR and EDGF sections
- * (spec/hpfc-format.md §7.2, §7.3).
+ * (spec/hpfc-format.md §6.3, §6.4).
  *
  * ATTR, after a 32-byte header: the column table (16 bytes a column), the
  * cells (8 bytes each, feature-major: feature k's value of column c is cell
@@ -18,6 +18,7 @@
 #include "feature_links.h"
 #include "file.h"
 #include "format.h"
+#include "sized.h"
 
 /* Cells at most 2^37: the cells then take at most 2^40 bytes, below the
  * format's file size limit, and no size below overflows 64 bits. */
@@ -168,28 +169,24 @@ static int section_of(const hpfc_file *file, attrs_section which, bool out_ok, c
     return *s ? HPFC_OK : HPFC_E_NO_SECTION;
 }
 
-/* The two counts of a section's header an info call answers: ATTR's
- * features and columns, EDGF's edges and links. */
-static int header_counts(const hpfc_file *file, attrs_section which, uint32_t *a, uint32_t *b)
-{
-    const uint8_t *s;
-    int st = section_of(file, which, a && b, &s);
-    if (st)
-        return st;
-    *a = which == SECTION_ATTR ? attr_get_feature_count(s) : edgf_get_edge_count(s);
-    *b = which == SECTION_ATTR ? attr_get_column_count(s) : edgf_get_link_count(s);
-    return HPFC_OK;
-}
-
 /* Does (off, len) lie in the strings? */
 static bool attr_string_fits(const uint8_t *s, uint64_t off, uint64_t len)
 {
     return off + len <= attr_get_string_bytes(s);
 }
 
-int hpfc_attr_info(const hpfc_file *file, uint32_t *features, uint32_t *columns)
+int hpfc_file_get_attrs_sized(const hpfc_file *file, hpfc_attrs_info *out, size_t size)
 {
-    return header_counts(file, SECTION_ATTR, features, columns);
+    const uint8_t *s;
+    int st = section_of(file, SECTION_ATTR, out != NULL, &s);
+    if (st)
+        return st;
+    const hpfc_attrs_info full = {.features = attr_get_feature_count(s),
+                                  .columns = attr_get_column_count(s),
+                                  .string_bytes = attr_get_string_bytes(s),
+                                  .section_bytes = attr_parts_of(s).end};
+    sized_out(out, size, &full, sizeof full);
+    return HPFC_OK;
 }
 
 /* Column c's entry, checked: a known type, zero reserved bytes, a name in
@@ -242,8 +239,8 @@ int hpfc_attr_find(const hpfc_file *file, const char *name, size_t len, uint32_t
     return HPFC_E_ARG;
 }
 
-int hpfc_file_get_attr(const hpfc_file *file, uint32_t feature, uint32_t column,
-                       hpfc_attr_value *out)
+int hpfc_file_get_attr_value(const hpfc_file *file, hpfc_id feature, uint32_t column,
+                             hpfc_attr_value *out)
 {
     const uint8_t *s, *e;
     int st = section_of(file, SECTION_ATTR, out != NULL, &s);
@@ -254,7 +251,7 @@ int hpfc_file_get_attr(const hpfc_file *file, uint32_t feature, uint32_t column,
     if (feature >= attr_get_feature_count(s))
         return HPFC_E_ARG;
     attr_parts p = attr_parts_of(s);
-    uint64_t k = (uint64_t)feature * attr_get_column_count(s) + column;
+    uint64_t k = feature * attr_get_column_count(s) + column;
     const uint8_t *cell = s + p.cells + k * ATTR_CELL_SIZE;
     memset(out, 0, sizeof *out);
     if (s[p.nulls + k / 8] >> (k % 8) & 1)
@@ -326,9 +323,20 @@ int edgf_section_check(const uint8_t *s, uint64_t length)
                : HPFC_E_SECTION;
 }
 
-int hpfc_edge_features_info(const hpfc_file *file, uint32_t *edges, uint32_t *links)
+int hpfc_file_get_edge_links_sized(const hpfc_file *file, hpfc_edge_links_info *out,
+                                   size_t size)
 {
-    return header_counts(file, SECTION_EDGF, edges, links);
+    const uint8_t *s;
+    int st = section_of(file, SECTION_EDGF, out != NULL, &s);
+    if (st)
+        return st;
+    const hpfc_edge_links_info full = {
+        .edges = edgf_get_edge_count(s),
+        .features = edgf_get_feature_count(s),
+        .links = edgf_get_link_count(s),
+        .section_bytes = edgf_layout_end(edgf_get_edge_count(s), edgf_get_link_count(s))};
+    sized_out(out, size, &full, sizeof full);
+    return HPFC_OK;
 }
 
 /* EDGF's edge index and links, for an accessor: as section_of answers.
@@ -348,14 +356,14 @@ int attrs_edge_links(const hpfc_file *file, bool out_ok, feature_links *links)
     return st;
 }
 
-int hpfc_edge_feature_count(const hpfc_file *file, uint64_t edge, uint32_t *count)
+int hpfc_edge_feature_count(const hpfc_file *file, hpfc_id edge, uint32_t *count)
 {
     feature_links links;
     int st = attrs_edge_links(file, count != NULL, &links);
     return st ? st : feature_links_count(&links, edge, count);
 }
 
-int hpfc_edge_feature(const hpfc_file *file, uint64_t edge, uint32_t k, uint32_t *feature)
+int hpfc_edge_feature_id(const hpfc_file *file, hpfc_id edge, uint32_t k, hpfc_id *feature)
 {
     feature_links links;
     int st = attrs_edge_links(file, feature != NULL, &links);

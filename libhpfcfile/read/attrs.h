@@ -1,4 +1,4 @@
-/* The ATTR and EDGF sections (spec/hpfc-format.md §7.2, §7.3), shared by
+/* The ATTR and EDGF sections (spec/hpfc-format.md §6.3, §6.4), shared by
  * the writer (write.c) and the reader (file.c, attrs.c). */
 #ifndef HPFC_ATTRS_H
 #define HPFC_ATTRS_H

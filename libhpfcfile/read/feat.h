@@ -1,4 +1,4 @@
-/* The FEAT section (spec/hpfc-format.md §7.1), shared by the writer
+/* The FEAT section (spec/hpfc-format.md §6.2), shared by the writer
  * (write.c) and the reader (file.c, features.c). */
 #ifndef HPFC_FEAT_H
 #define HPFC_FEAT_H

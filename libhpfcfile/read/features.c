@@ -1,5 +1,5 @@
 /*
- * Source features: the FEAT section (spec/hpfc-format.md §7.1).
+ * Source features: the FEAT section (spec/hpfc-format.md §6.2).
  *
  * Layout, after a 32-byte header: the layer table (8 bytes a layer), the
  * feature table (24 bytes a feature), the face index (face_count + 1
@@ -191,7 +191,7 @@ int hpfc_file_get_features_sized(const hpfc_file *file, hpfc_features_info *out,
 
 /* Entry `index` of the layer table (layers true) or of the feature table,
  * for an accessor: HPFC_E_ARG past the table's end, else as section_of. */
-static int table_entry(const hpfc_file *file, bool out_ok, bool layers, uint32_t index,
+static int table_entry(const hpfc_file *file, bool out_ok, bool layers, uint64_t index,
                        const uint8_t **s, const uint8_t **entry)
 {
     int st = section_of(file, out_ok, s);
@@ -205,23 +205,26 @@ static int table_entry(const hpfc_file *file, bool out_ok, bool layers, uint32_t
     return HPFC_OK;
 }
 
-int hpfc_file_get_feature(const hpfc_file *file, uint32_t index, hpfc_feature *out)
+int hpfc_file_get_feature_sized(const hpfc_file *file, hpfc_id feature, hpfc_feature *out,
+                                size_t size)
 {
     const uint8_t *s, *e;
-    int st = table_entry(file, out != NULL, false, index, &s, &e);
+    int st = table_entry(file, out != NULL, false, feature, &s, &e);
     if (st)
         return st;
     uint32_t off = featf_get_key_offset(e), len = featf_get_key_length(e);
     if (featf_get_layer(e) >= feat_get_layer_count(s) || featf_get_reserved(e) != 0 ||
         !string_fits(s, off, len))
         return HPFC_E_CORRUPT;
-    memset(out, 0, sizeof *out);
-    out->fid = featf_get_fid(e);
-    out->layer = featf_get_layer(e);
+    hpfc_feature full;
+    memset(&full, 0, sizeof full); /* padding too: a caller may compare bytes */
+    full.fid = featf_get_fid(e);
+    full.layer = featf_get_layer(e);
     if (len != FEAT_NONE) {
-        out->key = string_at(s, off);
-        out->key_len = len;
+        full.key = string_at(s, off);
+        full.key_len = len;
     }
+    sized_out(out, size, &full, sizeof full);
     return HPFC_OK;
 }
 
@@ -255,14 +258,14 @@ int features_face_links(const hpfc_file *file, bool out_ok, feature_links *links
     return st;
 }
 
-int hpfc_face_feature_count(const hpfc_file *file, uint64_t face, uint32_t *count)
+int hpfc_face_feature_count(const hpfc_file *file, hpfc_id face, uint32_t *count)
 {
     feature_links links;
     int st = features_face_links(file, count != NULL, &links);
     return st ? st : feature_links_count(&links, face, count);
 }
 
-int hpfc_face_feature(const hpfc_file *file, uint64_t face, uint32_t k, uint32_t *feature)
+int hpfc_face_feature_id(const hpfc_file *file, hpfc_id face, uint32_t k, hpfc_id *feature)
 {
     feature_links links;
     int st = features_face_links(file, feature != NULL, &links);

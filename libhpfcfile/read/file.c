@@ -147,7 +147,7 @@ static const uint8_t *level_entry(const hpfc_file *f, uint32_t l)
     return f->data + hdr_get_header_size(f->data) + (size_t)l * FORMAT_LEVEL_ENTRY_SIZE;
 }
 
-/* The compact layout's own fields (§16.1): no address, the stabbed
+/* The compact layout's own fields (§4.3): no address, the stabbed
  * pixels among the word pixels, a stream of at least one and at most k_w
  * bits a stabbed word, k_w = 0 exactly when no word is stabbed. */
 static int check_compact_counts(const hpfc_file *f, uint32_t l, const hpfc_level_info *in)
@@ -541,16 +541,36 @@ void hpfc_close(hpfc_file *f)
     free(f);
 }
 
-int hpfc_file_verify_checksums(const hpfc_file *f)
+int hpfc_file_check_checksums(const hpfc_file *f, hpfc_diag *diag)
 {
+    diag_clear(diag);
     if (!f)
-        return HPFC_E_ARG;
-    if (format_meta_crc(f->data, f->meta_size) != hdr_get_meta_crc32c(f->data))
-        return HPFC_E_CHECKSUM;
+        return diag_set(diag, HPFC_E_ARG, "no file");
+    uint32_t stored = hdr_get_meta_crc32c(f->data);
+    uint32_t computed = format_meta_crc(f->data, f->meta_size);
+    if (computed != stored)
+        return diag_set(diag, HPFC_E_CHECKSUM,
+                        "the header's (its first %llu bytes): CRC-32C 0x%08x stored, "
+                        "0x%08x computed",
+                        (unsigned long long)f->meta_size, stored, computed);
     for (uint32_t k = 0; k < f->info.section_count; k++) {
         const uint8_t *e = section_entry(f, k);
-        if (crc32c_update(0, f->data + sec_get_offset(e), (size_t)sec_get_length(e)) != sec_get_crc32c(e))
-            return HPFC_E_CHECKSUM;
+        uint64_t offset = sec_get_offset(e), length = sec_get_length(e);
+        stored = sec_get_crc32c(e);
+        computed = crc32c_update(0, f->data + offset, (size_t)length);
+        if (computed != stored) {
+            char tag[sec_SIZE_tag + 1];
+            for (size_t c = 0; c < sec_SIZE_tag; c++) /* any bytes in a damaged entry */
+                tag[c] = e[sec_OFF_tag + c] >= 0x20 && e[sec_OFF_tag + c] < 0x7f
+                             ? (char)e[sec_OFF_tag + c]
+                             : '?';
+            tag[sec_SIZE_tag] = '\0';
+            return diag_set(diag, HPFC_E_CHECKSUM,
+                            "section %u (%s) at offset %llu, %llu bytes: CRC-32C 0x%08x stored, "
+                            "0x%08x computed",
+                            k, tag, (unsigned long long)offset, (unsigned long long)length, stored,
+                            computed);
+        }
     }
     return HPFC_OK;
 }

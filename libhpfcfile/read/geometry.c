@@ -1,5 +1,5 @@
 /*
- * The GEOM section on the read side (spec/hpfc-format.md §17): the header
+ * The GEOM section on the read side (spec/hpfc-format.md §6.6): the header
  * and layout checked at open in O(1), then every value read in O(1) from
  * its column and checked against what it must name (a coordinate inside
  * the domain, a vertex id below V, a point range inside P, a segment of
@@ -87,7 +87,7 @@ int geometry_open(geom_view *v, const uint8_t *sec, uint64_t length, const geom_
         (lv->has_labels && lv->label_edges != v->edges))
         return HPFC_E_SECTION;
     /* No two points of a valid map coincide, so two of them never share a
-     * block of width 0 in both columns: each costs a bit at least (§17.4).
+     * block of width 0 in both columns: each costs a bit at least (§6.6.2).
      * This bounds every loop over the points by the section's size. */
     uint64_t most = length > (UINT64_MAX - 1) / 8 ? UINT64_MAX : 8 * length + 1;
     if (v->vertices > most || v->points > most || v->vertices > UINT32_MAX)

@@ -1,5 +1,5 @@
 /*
- * geometry.h: the GEOM section (spec/hpfc-format.md §17): the input
+ * geometry.h: the GEOM section (spec/hpfc-format.md §6.6): the input
  * graph's exact lattice coordinates, its edges' end vertices and shape
  * points, the segment of every crossing of a polyline map, and which of
  * LABL's two sides lies on the right of each edge run from u to v.
@@ -46,7 +46,7 @@ enum {
 };
 
 /* Header (48 bytes): a field table, one FORMAT_FIELD line a row of spec
- * §17's table; its likeness to the other sections' tables is the macro's
+ * §6.6.2's table; its likeness to the other sections' tables is the macro's
  * (format.h, FORMAT_FIELD). */
 FORMAT_FIELD(geom, vertex_count, 0, 8, uint64_t)
 FORMAT_FIELD(geom, edge_count, 8, 8, uint64_t)
@@ -110,7 +110,7 @@ typedef struct geom_levels {
 int geometry_open(geom_view *v, const uint8_t *sec, uint64_t length, const geom_levels *lv);
 
 /* Every byte between the parts and every bit after a stream's last bit
- * up to its last byte is zero (§17.2): false at the first that is not,
+ * up to its last byte is zero (§6.6.2): false at the first that is not,
  * with the byte's offset in *at. O(section). */
 bool geom_padding_zero(const geom_view *v, uint64_t *at);
 

@@ -1,5 +1,5 @@
 /*
- * The LABL section on the read side (spec/hpfc-format.md §15): leaf
+ * The LABL section on the read side (spec/hpfc-format.md §6.5): leaf
  * numbers from a located pixel, the leaf's record through a two-level
  * directory of bit offsets, and the record's face and edge ids.
  *
@@ -8,7 +8,7 @@
  * leaves, TEAM decision) comes from the descent itself: at each level the
  * image's index and the word pixels before it, read from a sample every
  * 2^sample_shift images and the masks of the images after the sample
- * (images lie back to back, §9, so an image's offset follows from its index
+ * (images lie back to back, §5.2.2, so an image's offset follows from its index
  * and the word pixels before it). The record's offset comes from a block
  * directory (an absolute offset every 2^block_shift leaves, a relative one
  * per other leaf), so no other leaf's word is decoded.
@@ -232,7 +232,7 @@ static int rank_by_samples(const hpfc_file *f, const labels_view *v, const hpfc_
                 if ((st = image_end(g, off, &off, &zeros)))
                     return st;
             if (off != px->path[l].image)
-                return HPFC_E_CORRUPT; /* the samples or the layout contradict §9 */
+                return HPFC_E_CORRUPT; /* the samples or the layout contradict §5.2.2 */
             p = (uint64_t)px->path[l].j * fi->cols + px->path[l].i;
             uint64_t pixels, ones_in;
             if ((st = mask_ones(g, off, p, &ones_in)))
@@ -250,7 +250,7 @@ static int rank_by_samples(const hpfc_file *f, const labels_view *v, const hpfc_
         }
         if (ones_before >= g->info.refined_pixels)
             return HPFC_E_CORRUPT;
-        index = ones_before; /* the k-th refined pixel points at image k (§9) */
+        index = ones_before; /* the k-th refined pixel points at image k (§5.1) */
     }
     return HPFC_E_ARG;
 }

@@ -1,5 +1,5 @@
 /*
- * labels.h: the LABL section (spec/hpfc-format.md §15): the face of every
+ * labels.h: the LABL section (spec/hpfc-format.md §6.5): the face of every
  * region of every leaf and the edge id of every crossing, stored so that a
  * located leaf's labels are read in O(levels) without touching another
  * leaf. Internal to the library (and its tests).
@@ -23,7 +23,7 @@ enum {
 };
 
 /* Header (48 bytes), then one 8-byte entry per level: a FORMAT_FIELD per
- * field of §15.2's tables, alike in shape to every section's field list
+ * field of §6.5.2's tables, alike in shape to every section's field list
  * (format.h, geometry.h) and each with its own fields. */
 FORMAT_FIELD(labl, face_count, 0, 8, uint64_t)
 FORMAT_FIELD(labl, edge_count, 8, 8, uint64_t)
@@ -80,7 +80,7 @@ bool labels_compute_layout(const labels_levels *lv, const uint32_t *rank_bits, u
                            uint32_t sample_shift, uint64_t edges, uint32_t face_bits,
                            uint64_t label_bits, labels_layout *out);
 
-/* Global leaf numbers (§15.1), which GEOM shares (§17.1): level l's leaves
+/* Global leaf numbers (§6.5.1), which GEOM shares (§6.6.1): level l's leaves
  * come after the word pixels of the levels above, so its first leaf is
  * first_leaf[l], and first_leaf[levels] counts them all. false when that
  * count overflows. */
@@ -90,13 +90,13 @@ bool labels_first_leaves(uint32_t levels, const uint64_t *word_pixels, uint64_t 
  * HPFC_E_SECTION when it fails. O(levels). */
 int labels_open(labels_view *v, const uint8_t *sec, uint64_t length, const labels_levels *lv);
 
-/* The leaf number of a word pixel (spec §15.3): its rank among its
+/* The leaf number of a word pixel (spec §6.5.4): its rank among its
  * level's leaves in pool order. Compact layout: O(1) from the type blocks'
  * counts. Paper layout: through the LABL rank samples when the file has
  * them (O(levels * 2^sample_shift)), else by a walk over the level's pool
  * before the leaf (O(pool)). HPFC_E_ARG for a refined pixel or a path
  * outside the file, HPFC_E_CORRUPT when the pools or the samples
- * contradict the layout of §9 (or §16). */
+ * contradict the layout of §5.2.2 (or §5.3). */
 int labels_leaf_rank(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
 /* The slow walk on its own (the tests' oracle). */
 int labels_rank_by_walk(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t *rank);
@@ -104,7 +104,7 @@ int labels_rank_by_walk(const hpfc_file *file, const hpfc_pixel *leaf, uint64_t 
 /* Words of up to this many crossings parse without a malloc. */
 #define LABELS_WORD_SMALL 64
 
-/* A word's regions and edge pieces (§15.2), from its components. */
+/* A word's regions and edge pieces (§6.5.1), from its components. */
 typedef struct labels_word {
     uint32_t n;          /* crossings */
     uint32_t regions;    /* 1 when private, else n - components + 1 */

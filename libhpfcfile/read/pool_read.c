@@ -1,5 +1,5 @@
 /*
- * The compact pool layout read (pool.h, spec/hpfc-format.md §16): the word
+ * The compact pool layout read (pool.h, spec/hpfc-format.md §5.3): the word
  * code decoded, O(1) pixel and word access, and the whole level checked.
  */
 #include "pool_code.h"

@@ -605,7 +605,7 @@ void reader_slot_grid(const hpfc_file *f, uint32_t level, uint64_t *unit, uint64
 }
 
 /* The compact layout's word pixels of a level before unit u (an image,
- * or a root pixel): what the LABL rank samples count (spec §15.2). */
+ * or a root pixel): what the LABL rank samples count (spec §6.5.2). */
 int reader_compact_words_before(const hpfc_file *f, uint32_t level, uint64_t unit, uint64_t *words)
 {
     const file_level *lv = &f->lv[level];

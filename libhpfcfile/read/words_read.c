@@ -1,5 +1,5 @@
 /*
- * The fixed word code of spec/hpfc-format.md §10 read (words.h): the paper
+ * The fixed word code of spec/hpfc-format.md §5.2.3 read (words.h): the paper
  * layout's word slots decoded into symbols.
  */
 #include "words.h"

@@ -398,12 +398,12 @@ void hpfc_faces_free(hpfc_faces *fc)
     free(fc);
 }
 
-uint64_t hpfc_faces_count(const hpfc_faces *fc)
+uint64_t hpfc_faces_face_count(const hpfc_faces *fc)
 {
     return fc ? fc->count : 0;
 }
 
-int hpfc_faces_of_dart(const hpfc_faces *fc, const hpfc_dart *d, uint64_t *face)
+int hpfc_faces_dart_face(const hpfc_faces *fc, const hpfc_dart *d, uint64_t *face)
 {
     if (!fc || !d || !face)
         return HPFC_E_ARG;
@@ -420,7 +420,7 @@ int hpfc_faces_of_dart(const hpfc_faces *fc, const hpfc_dart *d, uint64_t *face)
     return HPFC_OK;
 }
 
-int hpfc_faces_of_private_pixel(const hpfc_faces *fc, const hpfc_pixel *px, uint64_t *face)
+int hpfc_faces_pixel_face(const hpfc_faces *fc, const hpfc_pixel *px, uint64_t *face)
 {
     int is_private = 0;
     uint64_t base;

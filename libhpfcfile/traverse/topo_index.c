@@ -3,7 +3,7 @@
  * vertex from its pixel, and back, the word pixel of a key's slot with its
  * path from the root and its dense id, through a parent index built once
  * per walker by one pass over the pools. The index also checks the layout
- * that makes the path unique (§9: images back to back in parent order,
+ * that makes the path unique (§5.2.2: images back to back in parent order,
  * every address the start of the next image), so the path it gives is the
  * one dart operators use for that pixel. Calls only the reader.
  */

@@ -1,6 +1,6 @@
 /*
  * hpfc_geometry_verify: the GEOM section against itself and the map
- * (spec/hpfc-format.md §17.5), for hpfc-inspect --verify:
+ * (spec/hpfc-format.md §6.6.6), for hpfc-inspect --verify:
  *
  *   0. the padding between and after the parts is zero;
  *   1. every vertex, edge and shape point reads (ids and ranges in bounds,

@@ -1,6 +1,6 @@
 /*
  * hpfc_labels_verify: the stored LABL section against the map
- * (spec/hpfc-format.md §15.6). hpfc_faces_build stays the reference for
+ * (spec/hpfc-format.md §6.5.6). hpfc_faces_build stays the reference for
  * faces; the rank samples are recounted from the pools; the directory must
  * give each record right after the previous one; a crossing seen from both
  * sides of its road must carry one edge id. O(file).
@@ -92,9 +92,9 @@ static int check_leaf(verifier *z, const hpfc_pixel *px)
     for (uint32_t t = 0; t < (lw->n ? lw->n : 1); t++) {
         if (lw->n) {
             hpfc_dart d = {.pixel = *px, .crossing = t ? t - 1 : lw->n - 1};
-            st = hpfc_faces_of_dart(z->fc, &d, &want);
+            st = hpfc_faces_dart_face(z->fc, &d, &want);
         } else {
-            st = hpfc_faces_of_private_pixel(z->fc, px, &want);
+            st = hpfc_faces_pixel_face(z->fc, px, &want);
         }
         if (!st)
             st = hpfc_label_stretch_face(z->f, px, t, &got);
@@ -165,9 +165,9 @@ int hpfc_labels_verify(const hpfc_file *f, const hpfc_faces *fc, hpfc_labels_rep
     const labels_view *v = &f->labels;
     if (!v->present)
         return HPFC_E_NO_SECTION;
-    if (v->faces != hpfc_faces_count(fc))
+    if (v->faces != hpfc_faces_face_count(fc))
         return problem(r, "the section counts %llu faces, the map has %llu",
-                       (unsigned long long)v->faces, (unsigned long long)hpfc_faces_count(fc));
+                       (unsigned long long)v->faces, (unsigned long long)hpfc_faces_face_count(fc));
     int st = check_samples(f, v, r);
     if (st)
         return st;

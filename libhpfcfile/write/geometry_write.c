@@ -1,5 +1,5 @@
 /*
- * The GEOM section on the write side (spec/hpfc-format.md §17), from the
+ * The GEOM section on the write side (spec/hpfc-format.md §6.6), from the
  * graph the tree was built from and the tree itself:
  *
  *   - the graph gives the coordinates, the end vertices and the shape
@@ -7,7 +7,7 @@
  *   - the tree gives, for a map with shape points, every crossing's
  *     segment (hpfc_tree_pixel.cross_segment) in global leaf order, and,
  *     for every edge, its first crossing in that order: the crossing whose
- *     out-dart's right face LABL's reference writer calls side 0 (§15.2).
+ *     out-dart's right face LABL's reference writer calls side 0 (§6.5.2).
  *     Whether u -> v leaves the pixel there (exact predicate of geom.h on
  *     the crossing's road) says which side lies on the right of u -> v.
  *

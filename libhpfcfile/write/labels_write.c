@@ -1,11 +1,11 @@
 /*
- * The LABL section on the write side (spec/hpfc-format.md §15): from the
+ * The LABL section on the write side (spec/hpfc-format.md §6.5): from the
  * builder's tree (each crossing's input edge, hpfc_tree_pixel.cross_edge)
  * and the faces of the serialised file (hpfc_faces_build, the numbering of
  * §3.11), every leaf's record in leaf-number order, the block directory of
  * the records' offsets and the rank samples.
  *
- * Leaves are visited in the tree's image order, which is the pools' (§9:
+ * Leaves are visited in the tree's image order, which is the pools' (§5.2.2:
  * images in parent order, back to back), so the running word count is the
  * leaf number and the running image offset is where the reader finds the
  * slot (in the compact layout, the pixel's type bits); faces_leaf_nodes
@@ -144,7 +144,7 @@ static int visit_all(leaf_visit *v, const hpfc_tree *tree, const hpfc_file *file
                         continue;
                     }
                     /* the compact layout names a leaf by its type-bit position
-                     * (two bits a pixel, spec §16.3), as the faces' leaf table does */
+                     * (two bits a pixel, spec §5.3.2), as the faces' leaf table does */
                     uint64_t key = compact ? 2 * ((l ? im * cols * rows : 0) + (uint64_t)j * cols + i)
                                            : slot;
                     if ((st = visit_leaf(v, l, key, &px, diag)))
@@ -210,7 +210,7 @@ static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file
     hpfc_tree_info ti;
     hpfc_file_get_info(file, &fi);
     hpfc_tree_get_info(tree, &ti);
-    p->faces = hpfc_faces_count(fc);
+    p->faces = hpfc_faces_face_count(fc);
     p->edges = ti.edges;
     if (!p->faces || !p->edges)
         return diag_set(diag, HPFC_E_ARG, "labels: a map with no face or no edge");

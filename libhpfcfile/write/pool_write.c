@@ -1,5 +1,5 @@
 /*
- * The compact pool layout written (pool.h, spec/hpfc-format.md §16): the
+ * The compact pool layout written (pool.h, spec/hpfc-format.md §5.3): the
  * word code measured and emitted, the type bits, block counts and word
  * index of a level.
  */

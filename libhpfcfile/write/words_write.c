@@ -1,5 +1,5 @@
 /*
- * The fixed word code of spec/hpfc-format.md §10 written (words.h): its
+ * The fixed word code of spec/hpfc-format.md §5.2.3 written (words.h): its
  * size and its bits, for the paper layout's word slots.
  */
 #include "words.h"

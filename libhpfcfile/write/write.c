@@ -44,7 +44,7 @@ typedef struct layout {
     uint64_t geom_offset, geom_length;
     const char *crs;
     const hpfc_feature_table *features;
-    /* ATTR and EDGF (§7.2, §7.3), after FEAT */
+    /* ATTR and EDGF (§6.3, §6.4), after FEAT */
     const hpfc_attr_table *attributes;
     const hpfc_edge_feature_table *edge_features;
     uint64_t attr_offset, attr_length, edgf_offset, edgf_length;
@@ -492,7 +492,7 @@ static int make_labels(layout *L, hpfc_diag *diag)
 }
 
 /* The GEOM section of the tree laid out in L, from the graph it was built
- * from (spec §17). */
+ * from (spec §6.6). */
 static int make_geometry(layout *L, const hpfc_graph *graph, hpfc_diag *diag)
 {
     uint8_t *geom = NULL;

@@ -34,47 +34,12 @@ static PyObject *ErrorType; /* hpfc._errors.Error */
 
 /* ---- errors ----------------------------------------------------------------- */
 
-static const char *status_name(int st)
-{
-    switch (st) {
-    case HPFC_OK: return "HPFC_OK";
-    case HPFC_E_NOMEM: return "HPFC_E_NOMEM";
-    case HPFC_E_ARG: return "HPFC_E_ARG";
-    case HPFC_E_IO: return "HPFC_E_IO";
-    case HPFC_E_BUFFER_SMALL: return "HPFC_E_BUFFER_SMALL";
-    case HPFC_E_PFC_SYNTAX: return "HPFC_E_PFC_SYNTAX";
-    case HPFC_E_PFC_VERSION: return "HPFC_E_PFC_VERSION";
-    case HPFC_E_VERTEX_INDEX: return "HPFC_E_VERTEX_INDEX";
-    case HPFC_E_DUPLICATE_POINT: return "HPFC_E_DUPLICATE_POINT";
-    case HPFC_E_ZERO_LENGTH: return "HPFC_E_ZERO_LENGTH";
-    case HPFC_E_LOOP_INTERIOR: return "HPFC_E_LOOP_INTERIOR";
-    case HPFC_E_ISOLATED_VERTEX: return "HPFC_E_ISOLATED_VERTEX";
-    case HPFC_E_NONPLANAR: return "HPFC_E_NONPLANAR";
-    case HPFC_E_EXTENT: return "HPFC_E_EXTENT";
-    case HPFC_E_EMPTY: return "HPFC_E_EMPTY";
-    case HPFC_E_TOO_MANY_PIXELS: return "HPFC_E_TOO_MANY_PIXELS";
-    case HPFC_E_LIMIT: return "HPFC_E_LIMIT";
-    case HPFC_E_MAGIC: return "HPFC_E_MAGIC";
-    case HPFC_E_VERSION: return "HPFC_E_VERSION";
-    case HPFC_E_INCOMPATIBLE: return "HPFC_E_INCOMPATIBLE";
-    case HPFC_E_TRUNCATED: return "HPFC_E_TRUNCATED";
-    case HPFC_E_CHECKSUM: return "HPFC_E_CHECKSUM";
-    case HPFC_E_HEADER: return "HPFC_E_HEADER";
-    case HPFC_E_LEVEL_TABLE: return "HPFC_E_LEVEL_TABLE";
-    case HPFC_E_SECTION: return "HPFC_E_SECTION";
-    case HPFC_E_CORRUPT: return "HPFC_E_CORRUPT";
-    case HPFC_E_NO_PIXEL: return "HPFC_E_NO_PIXEL";
-    case HPFC_E_NO_SECTION: return "HPFC_E_NO_SECTION";
-    default: return "HPFC_E_UNKNOWN";
-    }
-}
-
 /* Raises hpfc.Error for status st; returns NULL for the caller to return. */
 static PyObject *raise_status(int st, const char *context)
 {
     if (st == HPFC_E_NOMEM && !PyErr_Occurred())
         return PyErr_NoMemory();
-    PyObject *err = PyObject_CallFunction(ErrorType, "isss", st, status_name(st),
+    PyObject *err = PyObject_CallFunction(ErrorType, "isss", st, hpfc_status_name(st),
                                           hpfc_strerror(st), context ? context : "");
     if (err) {
         PyErr_SetObject(ErrorType, err);
@@ -295,13 +260,14 @@ static PyObject *File_verify_checksums(FileObject *self, PyObject *unused)
     if (file_ready(self))
         return NULL;
     int st;
+    hpfc_diag diag;
     self->busy++;
     Py_BEGIN_ALLOW_THREADS
-    st = hpfc_file_verify_checksums(self->f);
+    st = hpfc_file_check_checksums(self->f, &diag);
     Py_END_ALLOW_THREADS
     self->busy--;
-    if (st)
-        return raise_status(st, "verify_checksums");
+    if (st) /* the context names the header or the section that fails */
+        return raise_status(st, diag.message[0] ? diag.message : "verify_checksums");
     Py_RETURN_NONE;
 }
 
@@ -335,7 +301,7 @@ static PyObject *File_face_count(FileObject *self, void *unused)
     (void)unused;
     if (file_faces(self))
         return NULL;
-    return PyLong_FromUnsignedLongLong(hpfc_faces_count(self->faces));
+    return PyLong_FromUnsignedLongLong(hpfc_faces_face_count(self->faces));
 }
 
 static int file_walker(FileObject *self)
@@ -745,7 +711,7 @@ static PyObject *Pixel_faces(PixelObject *self, PyObject *unused)
         return raise_status(st, "pixel faces");
     if (priv) {
         uint64_t face;
-        if ((st = hpfc_faces_of_private_pixel(self->file->faces, &self->px, &face)))
+        if ((st = hpfc_faces_pixel_face(self->file->faces, &self->px, &face)))
             return raise_status(st, "pixel faces");
         return Py_BuildValue("[K]", (unsigned long long)face);
     }
@@ -757,7 +723,7 @@ static PyObject *Pixel_faces(PixelObject *self, PyObject *unused)
         hpfc_dart d = {.pixel = self->px, .crossing = (uint32_t)k};
         uint64_t face;
         PyObject *o = NULL;
-        if ((st = hpfc_faces_of_dart(self->file->faces, &d, &face)) ||
+        if ((st = hpfc_faces_dart_face(self->file->faces, &d, &face)) ||
             !(o = PyLong_FromUnsignedLongLong(face)) || PySet_Add(set, o) < 0) {
             Py_XDECREF(o);
             Py_DECREF(set);
@@ -1037,12 +1003,12 @@ static PyObject *File_face_features(FileObject *self, PyObject *arg)
         return raise_status(st, "face features");
     PyObject *list = PyList_New(n);
     for (uint32_t k = 0; list && k < n; k++) {
-        uint32_t feature;
-        if ((st = hpfc_face_feature(self->f, face, k, &feature))) {
+        hpfc_id feature;
+        if ((st = hpfc_face_feature_id(self->f, face, k, &feature))) {
             Py_DECREF(list);
             return raise_status(st, "face features");
         }
-        PyList_SET_ITEM(list, k, PyLong_FromUnsignedLong(feature));
+        PyList_SET_ITEM(list, k, PyLong_FromUnsignedLongLong(feature));
     }
     return list;
 }
@@ -1085,7 +1051,7 @@ static PyObject *File_dart_face(FileObject *self, PyObject *arg)
     uint64_t key, face;
     if (key_arg(arg, &key) || file_faces(self) || file_walker(self))
         return NULL;
-    int st = hpfc_faces_of_key(self->faces, self->walker, key, &face);
+    int st = hpfc_faces_key_face(self->faces, self->walker, key, &face);
     if (st)
         return raise_status(st, "dart_face");
     return PyLong_FromUnsignedLongLong(face);
@@ -1155,7 +1121,8 @@ static PyMethodDef File_methods[] = {
     {"_level", (PyCFunction)File_level, METH_O, NULL},
     {"_section", (PyCFunction)File_section, METH_O, NULL},
     {"verify_checksums", (PyCFunction)File_verify_checksums, METH_NOARGS,
-     "verify_checksums(): reads the whole file; raises hpfc.Error on a mismatch"},
+     "verify_checksums(): reads the whole file; raises hpfc.Error on a mismatch, its\n"
+     "context naming the header or the section that fails"},
     {"_lattice_points", (PyCFunction)File_lattice_points, METH_VARARGS, NULL},
     {"_locate_into", (PyCFunction)File_locate_into, METH_VARARGS, NULL},
     {"_leaf_at", (PyCFunction)File_leaf_at, METH_VARARGS, NULL},
@@ -1219,7 +1186,7 @@ static PyObject *mod_status_name(PyObject *m, PyObject *arg)
     long code = PyLong_AsLong(arg);
     if (code == -1 && PyErr_Occurred())
         return NULL;
-    return PyUnicode_FromString(status_name((int)code));
+    return PyUnicode_FromString(hpfc_status_name((int)code));
 }
 
 /* lattice_floor(v, unit_exp10): the lattice coordinate of a user one, or

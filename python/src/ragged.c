@@ -90,7 +90,7 @@ static int add_polygons(ragged *r, const hpfc_polygons *p)
     return put(&r->part, (int64_t)r->polygon.n - 1);
 }
 
-/* Lines (hpfc_shapes_feature_lines): rings as polylines. */
+/* Lines (hpfc_shapes_feature_polylines): rings as polylines. */
 static int add_lines(ragged *r, const hpfc_polygons *p)
 {
     return add_rings(r, p) || put(&r->part, (int64_t)r->ring.n - 1);
@@ -124,12 +124,12 @@ static int add_dart(ragged *r, hpfc_walker *w, uint64_t key)
     size_t n = 0, got = 0;
     if (!w)
         return HPFC_E_ARG;
-    int st = hpfc_key_geometry_points(w, key, NULL, 0, &n);
+    int st = hpfc_geometry_key_points(w, key, NULL, 0, &n);
     if (st)
         return st;
     if (n > SIZE_MAX / 2 || reserve(&r->xy, 2 * n))
         return HPFC_E_NOMEM;
-    if ((st = hpfc_key_geometry_points(w, key, r->xy.v + r->xy.n, n, &got)))
+    if ((st = hpfc_geometry_key_points(w, key, r->xy.v + r->xy.n, n, &got)))
         return st;
     if (got != n)
         return HPFC_E_CORRUPT;
@@ -145,15 +145,15 @@ int ragged_add(ragged *r, const ragged_source *src, int kind, uint64_t id)
     case RAGGED_FACE:
         if (!src->shapes)
             return HPFC_E_ARG;
-        if ((st = hpfc_shapes_face(src->shapes, id, &p)))
+        if ((st = hpfc_shapes_face_polygons(src->shapes, id, &p)))
             return st;
         return add_polygons(r, &p) ? HPFC_E_NOMEM : HPFC_OK;
     case RAGGED_FEATURE:
     case RAGGED_FEATURE_LINES:
-        if (!src->shapes || id > UINT32_MAX)
+        if (!src->shapes)
             return HPFC_E_ARG;
-        st = kind == RAGGED_FEATURE ? hpfc_shapes_feature(src->shapes, (uint32_t)id, &p)
-                                    : hpfc_shapes_feature_lines(src->shapes, (uint32_t)id, &p);
+        st = kind == RAGGED_FEATURE ? hpfc_shapes_feature_polygons(src->shapes, id, &p)
+                                    : hpfc_shapes_feature_polylines(src->shapes, id, &p);
         if (st)
             return st;
         return (kind == RAGGED_FEATURE ? add_polygons(r, &p) : add_lines(r, &p)) ? HPFC_E_NOMEM

@@ -28,11 +28,11 @@ typedef struct {
 } ragged;
 
 enum ragged_kind {
-    RAGGED_FACE = 0,          /* hpfc_shapes_face: rings of a face */
-    RAGGED_FEATURE = 1,       /* hpfc_shapes_feature: union of its faces */
-    RAGGED_FEATURE_LINES = 2, /* hpfc_shapes_feature_lines */
+    RAGGED_FACE = 0,          /* hpfc_shapes_face_polygons: rings of a face */
+    RAGGED_FEATURE = 1,       /* hpfc_shapes_feature_polygons: union of its faces */
+    RAGGED_FEATURE_LINES = 2, /* hpfc_shapes_feature_polylines */
     RAGGED_EDGE = 3,          /* an input edge's polyline (hpfc_geometry_edge) */
-    RAGGED_DART = 4           /* a dart key's polyline (hpfc_geometry_dart_points) */
+    RAGGED_DART = 4           /* a dart key's polyline (hpfc_geometry_key_points) */
 };
 
 /* The item sources: shapes for faces and features, walker for dart keys

@@ -3,7 +3,7 @@
  * issue 16 point 3): the type _Shapes over the library's hpfc_shapes_*
  * (a face's rings, a feature's union of faces or its lines),
  * hpfc_geometry_* (an edge's exact polyline, a vertex) and
- * hpfc_geometry_dart_points, plus the features' ATTR values.
+ * hpfc_geometry_key_points, plus the features' ATTR values.
  *
  * Answers leave as flat int64 arrays (bytes) in one layout for every
  * kind, that of GeoArrow's ragged arrays, assembled by ragged.c (plain C,
@@ -324,12 +324,12 @@ static PyObject *Shapes_face_count(ShapesObject *self, PyObject *unused)
 /* _feature_face_count(k): faces linked to feature k (0: a line feature). */
 static PyObject *Shapes_feature_face_count(ShapesObject *self, PyObject *arg)
 {
-    uint64_t k, count;
+    uint64_t k;
+    size_t count;
     int *busy;
     if (u64_arg(arg, &k, "feature") || !shapes_file(self, &busy))
         return NULL;
-    int st = k > UINT32_MAX ? HPFC_E_ARG
-                            : hpfc_shapes_feature_face_count(self->shapes, (uint32_t)k, &count);
+    int st = hpfc_shapes_feature_faces(self->shapes, k, NULL, 0, &count);
     if (st == HPFC_E_ARG) {
         PyErr_Format(PyExc_IndexError, "feature %llu out of range", (unsigned long long)k);
         return NULL;
@@ -387,7 +387,7 @@ static PyObject *Shapes_dart_edge(ShapesObject *self, PyObject *arg)
         return NULL;
     int st = self->walker ? HPFC_OK : hpfc_walker_create(self->f, &self->walker);
     if (!st)
-        st = hpfc_key_geometry_edge(self->walker, key, &e, &reversed);
+        st = hpfc_geometry_key_edge(self->walker, key, &e, &reversed);
     if (st)
         return pyhpfc_raise(st, "dart edge");
     return Py_BuildValue("(KO)", (unsigned long long)e, reversed ? Py_True : Py_False);
@@ -446,14 +446,14 @@ static PyObject *mod_attribute_columns(PyObject *m, PyObject *file)
     const hpfc_file *f = pyhpfc_file_of(file, &busy);
     if (!f)
         return NULL;
-    uint32_t features, columns;
-    int st = hpfc_attr_info(f, &features, &columns);
+    hpfc_attrs_info ai;
+    int st = hpfc_file_get_attrs(f, &ai);
     if (st == HPFC_E_NO_SECTION)
         return PyList_New(0);
     if (st)
         return pyhpfc_raise(st, "attributes");
-    PyObject *list = PyList_New(columns);
-    for (uint32_t c = 0; list && c < columns; c++) {
+    PyObject *list = PyList_New((Py_ssize_t)ai.columns);
+    for (uint32_t c = 0; list && c < ai.columns; c++) {
         const char *name;
         size_t len;
         int type;
@@ -484,23 +484,24 @@ static PyObject *mod_attribute_rows(PyObject *m, PyObject *file)
     const hpfc_file *f = pyhpfc_file_of(file, &busy);
     if (!f)
         return NULL;
-    uint32_t features, columns;
-    int st = hpfc_attr_info(f, &features, &columns);
+    hpfc_attrs_info ai;
+    int st = hpfc_file_get_attrs(f, &ai);
     if (st == HPFC_E_NO_SECTION)
         return PyList_New(0);
     if (st)
         return pyhpfc_raise(st, "attributes");
-    PyObject *rows = PyList_New(features);
-    for (uint32_t k = 0; rows && k < features; k++) {
-        PyObject *row = PyTuple_New(columns);
+    PyObject *rows = PyList_New((Py_ssize_t)ai.features);
+    for (hpfc_id k = 0; rows && k < ai.features; k++) {
+        PyObject *row = PyTuple_New((Py_ssize_t)ai.columns);
         if (!row)
             goto fail;
-        PyList_SET_ITEM(rows, k, row);
-        for (uint32_t c = 0; c < columns; c++) {
+        PyList_SET_ITEM(rows, (Py_ssize_t)k, row);
+        for (uint32_t c = 0; c < ai.columns; c++) {
             hpfc_attr_value v;
-            if ((st = hpfc_file_get_attr(f, k, c, &v))) {
+            if ((st = hpfc_file_get_attr_value(f, k, c, &v))) {
                 char context[64];
-                snprintf(context, sizeof context, "feature %u, attribute %u", k, c);
+                snprintf(context, sizeof context, "feature %llu, attribute %u",
+                         (unsigned long long)k, c);
                 pyhpfc_raise(st, context);
                 goto fail;
             }

@@ -86,7 +86,7 @@ expect_invalid() {
 for f in "$TESTS"/data/invalid/*.hpfc; do
     name=$(basename "$f")
     case $name in
-        bad_pool_checksum.hpfc) reason="checksum mismatch" ;;
+        bad_pool_checksum.hpfc) reason="checksum mismatch: section 0 (POOL) at offset" ;;
         corrupt_last_level_refined.hpfc) reason="corrupt pixel data" ;;
         *) reason="" ;;
     esac

@@ -1,0 +1,98 @@
+/*
+ * shapes.h: the index behind geometry back from a file and the spatial
+ * queries over it (struct hpfc_shapes: each edge's ends and faces, each
+ * face's edges, each feature's faces and edges, and the scratch its calls
+ * share): shapes.c builds it and assembles rings; window.c answers windows
+ * through it. Internal to the library.
+ */
+#ifndef HPFC_SHAPES_H
+#define HPFC_SHAPES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "arrays.h"
+#include "hpfc.h"
+
+__extension__ typedef __int128 s128;
+
+/* A dart of a region's boundary: edge << 1 | reversed, with what the
+ * assembly needs of it. */
+typedef struct bdart {
+    uint64_t code;
+    size_t pts;       /* its edge's points, u -> v, from s->ept[2 * pts] */
+    uint32_t face;    /* the region's face on its left */
+    uint32_t origin, target;
+    int64_t out[2];   /* direction leaving the origin */
+    int64_t back[2];  /* direction from the target back along the last segment */
+    uint32_t next;    /* the dart continuing it */
+    uint8_t has_prev, used;
+} bdart;
+
+/* A ring being assembled: points [start, end) of the scratch points. */
+typedef struct tring {
+    size_t start, end;
+    uint32_t part;    /* the region's part it bounds (see own_by_part) */
+    s128 area2;       /* twice the signed area */
+    int64_t box[4];   /* xmin, ymin, xmax, ymax */
+    size_t owner;     /* holes: the outer ring's index, SIZE_MAX: none */
+} tring;
+
+struct hpfc_shapes {
+    const hpfc_file *f;
+    uint64_t vertices, edges, faces, points;
+    uint32_t *eu, *ev;
+    uint64_t *left, *right;
+    uint64_t *first;            /* edge e's shape points: [first[e], first[e + 1]) */
+    int64_t *vxy;               /* the vertices' coordinates (pairs) */
+    uint64_t *face_start;       /* faces + 1 */
+    uint32_t *face_edge;
+    int have_features, have_edge_features;
+    uint32_t features;
+    uint64_t *feat_start;       /* features + 1 */
+    uint32_t *feat_face;
+    uint64_t *fe_start;         /* features + 1 (EDGF) */
+    uint32_t *fe_edge;
+    uint32_t *face_mark, mark;  /* face_mark[f] == mark: f is in the region */
+    uint32_t *face_local;       /* f's index among the region's faces */
+    uint32_t *vmark, *vpos, vgen;
+    /* scratch, reused by every call */
+    bdart *darts, *dsorted;
+    size_t ndarts, cap_darts, cap_dsorted;
+    key_item *dkeys;            /* the darts by origin, and scratch */
+    size_t cap_dkeys;
+    int64_t *ept;               /* the darts' edges' points (pairs) */
+    size_t nept, cap_ept;
+    uint32_t *part;             /* union-find over the region's faces */
+    size_t nparts, cap_part;
+    size_t *part_outer, cap_part_outer;
+    uint32_t *cycle;
+    size_t cap_cycle;
+    int64_t *txy;
+    size_t ntxy, cap_txy;       /* points (pairs) */
+    tring *rings;
+    size_t nrings, cap_rings;
+    /* the answer */
+    int64_t *xy;
+    size_t cap_xy;
+    size_t *ring_point, cap_ring_point;
+    size_t *polygon_ring, cap_polygon_ring;
+    /* the spatial queries' state, made on first use */
+    int64_t (*edge_box)[4];     /* per edge; x0 > x1 until computed */
+    struct shapes_window *window;
+};
+
+typedef struct shapes_window shapes_window;
+void shapes_window_free(shapes_window *w);
+
+/* Edge e's points: u, its shape points, v. */
+static inline uint64_t shapes_edge_points(const hpfc_shapes *s, uint64_t e)
+{
+    return s->first[e + 1] - s->first[e] + 2;
+}
+
+/* Each edge's box (x0, y0, x1, y1) over all its points, computed on first
+ * use; HPFC_E_CORRUPT on a point that does not read. */
+int shapes_edge_box(hpfc_shapes *s, uint64_t edge, const int64_t **box);
+
+#endif

@@ -1,0 +1,495 @@
+/*
+ * window.c: what of the map meets a closed lattice rectangle (hpfc.h,
+ * hpfc_shapes_window), by a descent of the tree to the leaves that meet it.
+ *
+ * A leaf whose closed box lies in the window gives its faces (LABL) and the
+ * edges of its crossings, with no geometry. A leaf the window's border cuts
+ * is decided exactly on R, the part of its box in the window (a lattice
+ * rectangle): an edge meets R when one of its segments inside the leaf does
+ * (exact segment-rectangle test; the leaf holds few shape points, so the
+ * walk from each crossing's segment is short), and then both its faces do;
+ * a face that meets R along no such segment covers all of R (R is
+ * connected), so the face at R's south-west corner (hpfc_locate_point)
+ * completes the set. Every leaf whose closed box meets the window is
+ * visited, so a contact on a leaf's border is seen from the leaf that holds
+ * the segment.
+ *
+ * Inside or crossing: an edge lies inside when its box does; a bounded face
+ * when all the edges around it do (its boundary inside a convex window
+ * holds it); a feature when all its faces and edges do.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "arrays.h"
+#include "file.h"
+#include "shapes.h"
+
+/* The window's answer and the marks that keep each id once. */
+struct shapes_window {
+    uint32_t *face_mark, *edge_mark, *feature_mark, gen;
+    uint8_t *face_in; /* valid where face_mark is current: the face lies inside */
+    hpfc_id *face, *edge, *feature;
+    size_t nface, cap_face, nedge, cap_edge, nfeature, cap_feature;
+    uint8_t *face_inside, *edge_inside, *feature_inside;
+    size_t cap_face_inside, cap_edge_inside, cap_feature_inside;
+    char *word;
+    size_t cap_word;
+    uint64_t *leaf_faces;
+    size_t cap_leaf_faces;
+};
+
+void shapes_window_free(shapes_window *w)
+{
+    if (!w)
+        return;
+    free(w->face_mark);
+    free(w->edge_mark);
+    free(w->feature_mark);
+    free(w->face_in);
+    free(w->face);
+    free(w->edge);
+    free(w->feature);
+    free(w->face_inside);
+    free(w->edge_inside);
+    free(w->feature_inside);
+    free(w->word);
+    free(w->leaf_faces);
+    free(w);
+}
+
+/* The marks, once per shapes object; a new generation per query. */
+static int window_begin(hpfc_shapes *s)
+{
+    shapes_window *w = s->window;
+    if (!w) {
+        if (!(w = s->window = calloc(1, sizeof *w)))
+            return HPFC_E_NOMEM;
+        w->face_mark = calloc(s->faces + 1, sizeof *w->face_mark);
+        w->edge_mark = calloc(s->edges + 1, sizeof *w->edge_mark);
+        w->feature_mark = calloc((size_t)s->features + 1, sizeof *w->feature_mark);
+        w->face_in = calloc(s->faces + 1, 1);
+        if (!w->face_mark || !w->edge_mark || !w->feature_mark || !w->face_in)
+            return HPFC_E_NOMEM;
+    }
+    if (++w->gen == 0) { /* the stamps wrapped: forget them all */
+        memset(w->face_mark, 0, (s->faces + 1) * sizeof *w->face_mark);
+        memset(w->edge_mark, 0, (s->edges + 1) * sizeof *w->edge_mark);
+        memset(w->feature_mark, 0, ((size_t)s->features + 1) * sizeof *w->feature_mark);
+        w->gen = 1;
+    }
+    w->nface = w->nedge = w->nfeature = 0;
+    return HPFC_OK;
+}
+
+static int add_face(hpfc_shapes *s, uint64_t face)
+{
+    shapes_window *w = s->window;
+    if (face >= s->faces)
+        return HPFC_E_CORRUPT;
+    if (w->face_mark[face] == w->gen)
+        return HPFC_OK;
+    w->face_mark[face] = w->gen;
+    if (array_grow((void **)&w->face, &w->cap_face, w->nface + 1, sizeof *w->face))
+        return HPFC_E_NOMEM;
+    w->face[w->nface++] = face;
+    return HPFC_OK;
+}
+
+static int add_edge(hpfc_shapes *s, uint64_t edge)
+{
+    shapes_window *w = s->window;
+    if (edge >= s->edges)
+        return HPFC_E_CORRUPT;
+    if (w->edge_mark[edge] == w->gen)
+        return HPFC_OK;
+    w->edge_mark[edge] = w->gen;
+    if (array_grow((void **)&w->edge, &w->cap_edge, w->nedge + 1, sizeof *w->edge))
+        return HPFC_E_NOMEM;
+    w->edge[w->nedge++] = edge;
+    return HPFC_OK;
+}
+
+/* ---- exact tests ------------------------------------------------------------------ */
+
+typedef struct rect {
+    int64_t x0, y0, x1, y1; /* closed */
+} rect;
+
+static int rect_within(const rect *a, const rect *b)
+{
+    return a->x0 >= b->x0 && a->y0 >= b->y0 && a->x1 <= b->x1 && a->y1 <= b->y1;
+}
+
+static int sign128(s128 v)
+{
+    return (v > 0) - (v < 0);
+}
+
+/* Does segment a-b meet the closed rectangle r? Separating axes: x, y and
+ * the segment's normal (the rectangle's corners all strictly on one side). */
+static int segment_meets(const int64_t a[2], const int64_t b[2], const rect *r)
+{
+    if ((a[0] < r->x0 && b[0] < r->x0) || (a[0] > r->x1 && b[0] > r->x1) ||
+        (a[1] < r->y0 && b[1] < r->y0) || (a[1] > r->y1 && b[1] > r->y1))
+        return 0;
+    s128 dx = (s128)b[0] - a[0], dy = (s128)b[1] - a[1];
+    int64_t cx[4] = {r->x0, r->x1, r->x1, r->x0}, cy[4] = {r->y0, r->y0, r->y1, r->y1};
+    int pos = 0, neg = 0;
+    for (int k = 0; k < 4; k++) {
+        int o = sign128(dx * ((s128)cy[k] - a[1]) - dy * ((s128)cx[k] - a[0]));
+        pos += o > 0, neg += o < 0;
+    }
+    return !(pos == 4 || neg == 4);
+}
+
+int shapes_edge_box(hpfc_shapes *s, uint64_t edge, const int64_t **box)
+{
+    if (!s->edge_box) {
+        if (!(s->edge_box = malloc((s->edges + 1) * sizeof *s->edge_box)))
+            return HPFC_E_NOMEM;
+        for (uint64_t e = 0; e < s->edges; e++)
+            s->edge_box[e][0] = 1, s->edge_box[e][2] = 0; /* not computed */
+    }
+    int64_t *b = s->edge_box[edge];
+    if (b[0] > b[2]) {
+        int64_t x, y;
+        for (uint64_t k = 0; k < shapes_edge_points(s, edge); k++) {
+            int st = hpfc_geometry_edge_point(s->f, edge, k, &x, &y);
+            if (st)
+                return st;
+            if (k == 0 || x < b[0])
+                b[0] = x;
+            if (k == 0 || y < b[1])
+                b[1] = y;
+            if (k == 0 || x > b[2])
+                b[2] = x;
+            if (k == 0 || y > b[3])
+                b[3] = y;
+        }
+    }
+    *box = b;
+    return HPFC_OK;
+}
+
+static int edge_inside(hpfc_shapes *s, uint64_t edge, const rect *win, int *inside)
+{
+    const int64_t *b;
+    int st = shapes_edge_box(s, edge, &b);
+    if (!st)
+        *inside = b[0] >= win->x0 && b[1] >= win->y0 && b[2] <= win->x1 && b[3] <= win->y1;
+    return st;
+}
+
+/* ---- the descent ------------------------------------------------------------------- */
+
+/* Segment k (points k, k + 1) of edge e meets the closed box of a leaf? */
+static int segment_in_box(hpfc_shapes *s, uint64_t e, uint64_t k, const rect *box,
+                          const rect *r, int *meets_box, int *meets_r)
+{
+    int64_t a[2], b[2];
+    int st = hpfc_geometry_edge_point(s->f, e, k, &a[0], &a[1]);
+    if (!st)
+        st = hpfc_geometry_edge_point(s->f, e, k + 1, &b[0], &b[1]);
+    if (!st) {
+        *meets_box = segment_meets(a, b, box);
+        *meets_r = *meets_box && segment_meets(a, b, r);
+    }
+    return st;
+}
+
+/* The edge of crossing k of a cut leaf, if its piece inside the leaf meets
+ * r: the segments from the crossing's on, both ways, while they meet the
+ * leaf's closed box. */
+static int cut_crossing(hpfc_shapes *s, const hpfc_pixel *leaf, uint32_t k, const rect *box,
+                        const rect *r)
+{
+    uint64_t e, seg;
+    int st = hpfc_label_crossing_edge(s->f, leaf, k, &e);
+    if (!st)
+        st = hpfc_geometry_crossing_segment(s->f, leaf, k, &seg);
+    if (st)
+        return st;
+    if (e >= s->edges || seg + 1 >= shapes_edge_points(s, e))
+        return HPFC_E_CORRUPT;
+    int hit = 0, in_box, in_r;
+    for (uint64_t j = seg; !hit && j + 1 < shapes_edge_points(s, e); j++) {
+        if ((st = segment_in_box(s, e, j, box, r, &in_box, &in_r)))
+            return st;
+        hit = in_r;
+        if (!in_box)
+            break;
+    }
+    for (uint64_t j = seg; !hit && j-- > 0;) {
+        if ((st = segment_in_box(s, e, j, box, r, &in_box, &in_r)))
+            return st;
+        hit = in_r;
+        if (!in_box)
+            break;
+    }
+    if (!hit)
+        return HPFC_OK;
+    st = add_edge(s, e);
+    if (!st)
+        st = add_face(s, s->left[e]);
+    if (!st)
+        st = add_face(s, s->right[e]);
+    return st;
+}
+
+/* The crossings of a leaf: its word's symbols other than '+'. */
+static int leaf_crossings(hpfc_shapes *s, const hpfc_pixel *leaf, uint32_t *n)
+{
+    shapes_window *w = s->window;
+    size_t len;
+    int st = hpfc_pixel_word(s->f, leaf, NULL, 0, &len);
+    if (!st && array_grow((void **)&w->word, &w->cap_word, len + 1, 1))
+        st = HPFC_E_NOMEM;
+    if (!st)
+        st = hpfc_pixel_word(s->f, leaf, w->word, w->cap_word, &len);
+    if (st)
+        return st;
+    *n = 0;
+    for (size_t k = 0; k < len; k++)
+        *n += w->word[k] != '+';
+    return HPFC_OK;
+}
+
+/* A leaf whose closed box lies in the window: its faces and its crossings'
+ * edges. */
+static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf)
+{
+    shapes_window *w = s->window;
+    uint32_t n;
+    size_t count = 0;
+    int st = leaf_crossings(s, leaf, &n);
+    if (!st && array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, (size_t)n + 2,
+                          sizeof *w->leaf_faces))
+        st = HPFC_E_NOMEM;
+    if (!st)
+        st = hpfc_label_leaf_faces(s->f, leaf, w->leaf_faces, w->cap_leaf_faces, &count);
+    for (size_t k = 0; k < count && !st; k++)
+        st = add_face(s, w->leaf_faces[k]);
+    for (uint32_t k = 0; k < n && !st; k++) {
+        uint64_t e;
+        st = hpfc_label_crossing_edge(s->f, leaf, k, &e);
+        if (!st)
+            st = add_edge(s, e);
+    }
+    return st;
+}
+
+/* A leaf the window's border cuts: exactly, on r = its box in the window. */
+static int cut_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const rect *box, const rect *r)
+{
+    uint32_t n;
+    int st = leaf_crossings(s, leaf, &n);
+    for (uint32_t k = 0; k < n && !st; k++)
+        st = cut_crossing(s, leaf, k, box, r);
+    if (st)
+        return st;
+    /* a face meeting r along no segment covers r: the one at its corner */
+    shapes_window *w = s->window;
+    hpfc_point_location loc;
+    size_t count = 0;
+    if (array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, 8, sizeof *w->leaf_faces))
+        return HPFC_E_NOMEM;
+    st = hpfc_locate_point(s->f, r->x0, r->y0, &loc, w->leaf_faces, w->cap_leaf_faces, &count);
+    if (st == HPFC_E_BUFFER_SMALL) {
+        if (array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, count + 1,
+                       sizeof *w->leaf_faces))
+            return HPFC_E_NOMEM;
+        st = hpfc_locate_point(s->f, r->x0, r->y0, &loc, w->leaf_faces, w->cap_leaf_faces,
+                               &count);
+    }
+    if (st == HPFC_E_NO_PIXEL) /* r's corner on the domain's far border: outside it */
+        return add_face(s, 0);
+    for (size_t k = 0; k < count && !st; k++)
+        st = add_face(s, w->leaf_faces[k]);
+    return st;
+}
+
+/* Every leaf under px whose closed box meets the window. */
+static int descend(hpfc_shapes *s, const hpfc_pixel *px, const rect *win, uint32_t cols,
+                   uint32_t rows)
+{
+    rect box;
+    int type, st = hpfc_pixel_bounds(s->f, px, &box.x0, &box.y0, &box.x1, &box.y1);
+    if (!st)
+        st = hpfc_pixel_type(s->f, px, &type);
+    if (st)
+        return st;
+    if (box.x0 > win->x1 || box.x1 < win->x0 || box.y0 > win->y1 || box.y1 < win->y0)
+        return HPFC_OK;
+    if (type == HPFC_PIXEL_WORD) {
+        if (rect_within(&box, win))
+            return inside_leaf(s, px);
+        rect r = {box.x0 > win->x0 ? box.x0 : win->x0, box.y0 > win->y0 ? box.y0 : win->y0,
+                  box.x1 < win->x1 ? box.x1 : win->x1, box.y1 < win->y1 ? box.y1 : win->y1};
+        return cut_leaf(s, px, &box, &r);
+    }
+    for (uint32_t j = 0; j < rows && !st; j++)
+        for (uint32_t i = 0; i < cols && !st; i++) {
+            hpfc_pixel child;
+            st = hpfc_pixel_child(s->f, px, i, j, &child);
+            if (!st)
+                st = descend(s, &child, win, cols, rows);
+        }
+    return st;
+}
+
+/* The root pixels whose closed box can meet the window: columns and rows
+ * of the root image from the window's extent, one more each side. */
+static int descend_roots(hpfc_shapes *s, const rect *win)
+{
+    hpfc_file_info fi;
+    hpfc_level_info lv;
+    hpfc_file_get_info(s->f, &fi);
+    int st = hpfc_file_get_level(s->f, 0, &lv);
+    if (st)
+        return st;
+    if (lv.cell_w <= 0 || lv.cell_h <= 0)
+        return HPFC_E_CORRUPT;
+    /* the window relative to the domain, clamped, in root cells (row 0 north) */
+    int64_t c0 = win->x0 <= fi.x0 ? 0 : (win->x0 - fi.x0) / lv.cell_w;
+    int64_t c1 = win->x1 <= fi.x0 ? 0 : (win->x1 - fi.x0) / lv.cell_w;
+    int64_t r0 = win->y1 >= fi.y0 + fi.height ? 0 : (fi.y0 + fi.height - win->y1) / lv.cell_h;
+    int64_t r1 = win->y0 >= fi.y0 + fi.height ? 0 : (fi.y0 + fi.height - win->y0) / lv.cell_h;
+    for (int64_t j = r0 > 0 ? r0 - 1 : 0; j <= r1 && j < fi.root_rows && !st; j++)
+        for (int64_t i = c0 > 0 ? c0 - 1 : 0; i <= c1 && i < fi.root_cols && !st; i++) {
+            hpfc_pixel root;
+            st = hpfc_pixel_root(s->f, (uint32_t)i, (uint32_t)j, &root);
+            if (!st)
+                st = descend(s, &root, win, fi.cols, fi.rows);
+        }
+    return st;
+}
+
+/* ---- the answer -------------------------------------------------------------------- */
+
+static int cmp_id(const void *a, const void *b)
+{
+    hpfc_id x = *(const hpfc_id *)a, y = *(const hpfc_id *)b;
+    return (x > y) - (x < y);
+}
+
+/* Edges' and faces' flags (faces after edges: a face is inside when all
+ * the edges around it are). */
+static int flag_edges_faces(hpfc_shapes *s, const rect *win)
+{
+    shapes_window *w = s->window;
+    if (array_grow((void **)&w->edge_inside, &w->cap_edge_inside, w->nedge + 1, 1) ||
+        array_grow((void **)&w->face_inside, &w->cap_face_inside, w->nface + 1, 1))
+        return HPFC_E_NOMEM;
+    int st = HPFC_OK, inside;
+    for (size_t k = 0; k < w->nedge && !st; k++)
+        if (!(st = edge_inside(s, w->edge[k], win, &inside)))
+            w->edge_inside[k] = (uint8_t)inside;
+    for (size_t k = 0; k < w->nface && !st; k++) {
+        uint64_t f = w->face[k];
+        inside = f != 0;
+        for (uint64_t j = s->face_start[f]; j < s->face_start[f + 1] && inside && !st; j++)
+            st = edge_inside(s, s->face_edge[j], win, &inside);
+        w->face_inside[k] = (uint8_t)inside;
+        w->face_in[f] = (uint8_t)inside;
+    }
+    return st;
+}
+
+static int add_feature(hpfc_shapes *s, hpfc_id feature)
+{
+    shapes_window *w = s->window;
+    if (feature >= s->features)
+        return HPFC_E_CORRUPT;
+    if (w->feature_mark[feature] == w->gen)
+        return HPFC_OK;
+    w->feature_mark[feature] = w->gen;
+    if (array_grow((void **)&w->feature, &w->cap_feature, w->nfeature + 1, sizeof *w->feature))
+        return HPFC_E_NOMEM;
+    w->feature[w->nfeature++] = feature;
+    return HPFC_OK;
+}
+
+/* The features of the faces and edges found; inside when all their faces
+ * and edges are. */
+static int find_features(hpfc_shapes *s, const rect *win)
+{
+    shapes_window *w = s->window;
+    int st = HPFC_OK;
+    uint32_t n;
+    hpfc_id ft;
+    for (size_t k = 0; k < w->nface && s->have_features && !st; k++) {
+        if ((st = hpfc_face_feature_count(s->f, w->face[k], &n)))
+            break;
+        for (uint32_t j = 0; j < n && !st; j++)
+            if (!(st = hpfc_face_feature_id(s->f, w->face[k], j, &ft)))
+                st = add_feature(s, ft);
+    }
+    for (size_t k = 0; k < w->nedge && s->have_edge_features && !st; k++) {
+        if ((st = hpfc_edge_feature_count(s->f, w->edge[k], &n)))
+            break;
+        for (uint32_t j = 0; j < n && !st; j++)
+            if (!(st = hpfc_edge_feature_id(s->f, w->edge[k], j, &ft)))
+                st = add_feature(s, ft);
+    }
+    if (st)
+        return st;
+    if (w->nfeature)
+        qsort(w->feature, w->nfeature, sizeof *w->feature, cmp_id);
+    if (array_grow((void **)&w->feature_inside, &w->cap_feature_inside, w->nfeature + 1, 1))
+        return HPFC_E_NOMEM;
+    for (size_t k = 0; k < w->nfeature && !st; k++) {
+        hpfc_id ftr = w->feature[k];
+        int inside = 1;
+        for (uint64_t j = s->feat_start ? s->feat_start[ftr] : 0;
+             s->feat_start && j < s->feat_start[ftr + 1] && inside; j++) {
+            uint32_t f = s->feat_face[j];
+            inside = w->face_mark[f] == w->gen && w->face_in[f];
+        }
+        for (uint64_t j = s->fe_start ? s->fe_start[ftr] : 0;
+             s->fe_start && j < s->fe_start[ftr + 1] && inside && !st; j++)
+            st = edge_inside(s, s->fe_edge[j], win, &inside);
+        w->feature_inside[k] = (uint8_t)inside;
+    }
+    return st;
+}
+
+int hpfc_shapes_window(hpfc_shapes *s, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
+                       unsigned what, hpfc_window_hits *out)
+{
+    if (!s || !out || x0 > x1 || y0 > y1 ||
+        (what & ~(unsigned)(HPFC_WINDOW_FACES | HPFC_WINDOW_EDGES | HPFC_WINDOW_FEATURES)))
+        return HPFC_E_ARG;
+    if ((what & HPFC_WINDOW_FEATURES) && !s->have_features && !s->have_edge_features)
+        return HPFC_E_NO_SECTION;
+    memset(out, 0, sizeof *out);
+    rect win = {x0, y0, x1, y1};
+    int st = window_begin(s);
+    if (!st)
+        st = descend_roots(s, &win);
+    /* the unbounded face holds everything outside the domain */
+    hpfc_file_info fi;
+    hpfc_file_get_info(s->f, &fi);
+    if (!st && (x0 < fi.x0 || y0 < fi.y0 || x1 >= fi.x0 + fi.width || y1 >= fi.y0 + fi.height))
+        st = add_face(s, 0);
+    shapes_window *w = s->window;
+    if (!st) {
+        if (w->nface)
+            qsort(w->face, w->nface, sizeof *w->face, cmp_id);
+        if (w->nedge)
+            qsort(w->edge, w->nedge, sizeof *w->edge, cmp_id);
+        st = flag_edges_faces(s, &win);
+    }
+    if (!st && (what & HPFC_WINDOW_FEATURES))
+        st = find_features(s, &win);
+    if (st)
+        return st;
+    if (what & HPFC_WINDOW_FACES)
+        out->face_count = w->nface, out->face = w->face, out->face_inside = w->face_inside;
+    if (what & HPFC_WINDOW_EDGES)
+        out->edge_count = w->nedge, out->edge = w->edge, out->edge_inside = w->edge_inside;
+    if (what & HPFC_WINDOW_FEATURES)
+        out->feature_count = w->nfeature, out->feature = w->feature,
+        out->feature_inside = w->feature_inside;
+    return HPFC_OK;
+}
