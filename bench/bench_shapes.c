@@ -5,7 +5,7 @@
  *
  *   bench_shapes faces FILE.hpfc            hpfc_faces_build
  *   bench_shapes all FILE.hpfc              hpfc_shapes_create, then
- *                                           hpfc_shapes_feature of every feature
+ *                                           hpfc_shapes_feature_polygons of every feature
  *   bench_shapes feature FILE.hpfc K [REPEATS]
  *                                           hpfc_shapes_create, then feature K
  *                                           REPEATS times (default 1), the best
@@ -78,7 +78,7 @@ static int bench_faces(const hpfc_file *f)
     if (st)
         return fail("hpfc_faces_build", st);
     printf("{\"call\":\"faces\",\"wall_s\":%.6f,\"cpu_s\":%.6f,\"faces\":%llu}\n", t.wall, t.cpu,
-           (unsigned long long)hpfc_faces_count(faces));
+           (unsigned long long)hpfc_faces_face_count(faces));
     hpfc_faces_free(faces);
     return 0;
 }
@@ -109,7 +109,7 @@ static int bench_features(const hpfc_file *f, long k, int repeats)
         for (uint32_t q = first; q < end && !st; q++) {
             hpfc_polygons poly;
             t0 = now();
-            st = hpfc_shapes_feature(s, q, &poly);
+            st = hpfc_shapes_feature_polygons(s, q, &poly);
             times call = since(t0);
             t.wall += call.wall, t.cpu += call.cpu;
             if (st)
@@ -129,7 +129,7 @@ static int bench_features(const hpfc_file *f, long k, int repeats)
     }
     hpfc_shapes_free(s);
     if (st)
-        return fail("hpfc_shapes_feature", st);
+        return fail("hpfc_shapes_feature_polygons", st);
     printf("{\"call\":\"%s\",\"wall_s\":%.6f,\"cpu_s\":%.6f,\"create_wall_s\":%.6f,"
            "\"create_cpu_s\":%.6f,\"features\":%u,\"points\":%zu,\"rings\":%zu,"
            "\"largest\":%u,\"largest_points\":%zu,\"largest_rings\":%zu,"

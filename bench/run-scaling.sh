@@ -1,7 +1,7 @@
 #!/bin/sh
 # How every whole-file call grows with the map (bench/README.md, "Scaling"):
-# hpfc-pack's stages, hpfc_faces_build, hpfc_shapes_feature (the largest
-# feature, every feature), hpfc-inspect --export, --export-faces, --verify,
+# hpfc-pack's stages, hpfc_faces_build, hpfc_shapes_feature_polygons (the
+# largest feature, every feature), hpfc-inspect --export, --export-faces, --verify,
 # --render and the batch point location, each at three sizes of three
 # kinds of map (world countries from npm: world-atlas@2 and
 # @geo-maps/countries-land-1m, fetched into build-bench/scaling/ on the

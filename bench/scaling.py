@@ -76,8 +76,8 @@ PACK_REPORT = {"pack.read": "gis_read", "pack.project": "gis_project", "pack.nod
 CALLS = [
     ("faces", [(None, "hpfc_faces_build")]),
     ("shapes.create", [(None, "hpfc_shapes_create")]),
-    ("shapes.largest", [(None, "hpfc_shapes_feature")]),
-    ("shapes.all", [(None, "hpfc_shapes_feature")]),
+    ("shapes.largest", [(None, "hpfc_shapes_feature_polygons")]),
+    ("shapes.all", [(None, "hpfc_shapes_feature_polygons")]),
     ("export", [(None, "write_features")]),
     ("export-faces", [(None, "write_faces")]),
     ("verify", [(None, "verify_file")]),
