@@ -324,14 +324,6 @@ static void make_table(const gis_features *fs, face_link *fl, gis_feature_table 
         .face_start = out->face_start, .face_feature = out->face_feature};
 }
 
-int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const leaf_crossings *lc,
-                      const hpfc_file *file, gis_feature_table *out, char *err, size_t err_len)
-{
-    const char *method = getenv("HPFC_PACK_LINK");
-    return gis_features_link_method(fs, graph, lc, file, method && strcmp(method, "witness") == 0,
-                                    out, err, err_len);
-}
-
 int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
                              const leaf_crossings *lc, const hpfc_file *file, int witness,
                              gis_feature_table *out, char *err, size_t err_len)

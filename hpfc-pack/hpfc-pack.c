@@ -1,6 +1,6 @@
 /*
  * hpfc-pack: packs a planar map into an .hpfc file and prints the build
- * report (contracts §2).
+ * report (interfaces §2).
  *
  *   hpfc-pack [options] INPUT -o OUTPUT.hpfc
  *
@@ -23,11 +23,13 @@
 #include <malloc.h>
 #endif
 
+#include "clock.h"
 #include "draco_input.h"
 #include "gis_features.h"
 #include "gis_input.h"
 #include "hpfc.h"
 #include "jsonw.h"
+#include "paths.h"
 #include "progress.h"
 #include "stage_time.h"
 
@@ -52,6 +54,7 @@ typedef struct pack_args {
     int dateline;
     const char *assign_srs, *source_srs; /* -a_srs, -s_srs (as ogr2ogr) */
     int layout; /* HPFC_LAYOUT_*: --layout */
+    int link_witness; /* --link witness */
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -166,6 +169,11 @@ static void print_help(void)
            "  --no-geometry         write no GEOM section (the exact coordinates of every\n"
            "                        vertex and shape point, which exact point location\n"
            "                        and export need)\n"
+           "  --link topology|witness\n"
+           "                        GIS input: link faces to polygon features from the\n"
+           "                        map's topology, each face then confirmed by an exact\n"
+           "                        point-in-rings check (default), or every face by its\n"
+           "                        witness point alone (a cross-check)\n"
            "  --layout compact|paper\n"
            "                        pool layout: words in the bits they need and\n"
            "                        children by rank (default; format 1.2), or the\n"
@@ -304,6 +312,11 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->layout = strcmp(v, "compact") == 0 ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER;
         return strcmp(v, "paper") == 0 || strcmp(v, "compact") == 0 ? NULL : "paper or compact";
     }
+    if (strcmp(name, "--link") == 0) {
+        a->link_witness = strcmp(v, "witness") == 0;
+        return strcmp(v, "topology") == 0 || strcmp(v, "witness") == 0 ? NULL
+                                                                       : "topology or witness";
+    }
     if (strcmp(name, "--vertices") == 0) {
         a->vertex_model = strcmp(v, "junctions") == 0 ? GIS_VERTICES_JUNCTIONS : GIS_VERTICES_ALL;
         return strcmp(v, "all") == 0 || strcmp(v, "junctions") == 0 ? NULL : "all or junctions";
@@ -321,7 +334,7 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
                                         "--invalid",  "--wrap-dateline", "--key",
                                         "--fields",   "--output",   "-o",
                                         "-l",         "-a_srs",     "-s_srs",
-                                        "--layout"};
+                                        "--layout",   "--link"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -348,7 +361,7 @@ static int parse_args(int argc, char **argv, pack_args *a)
     int status = -1, only_files = 0;
     memset(a, 0, sizeof *a);
     hpfc_build_params_default(&a->params);
-    a->invalid_mode = GIS_INVALID_NODE; /* real layers have invalid rings (issue 17) */
+    a->invalid_mode = GIS_INVALID_NODE; /* real layers have invalid rings */
     /* A GIS user expects topology at junctions (as TopoJSON's arcs) and the
      * shape points kept exactly (GEOM): 2-5x smaller than a vertex at every
      * shape point, and with --leaf-points as fast to query (bench/README.md). */
@@ -833,14 +846,6 @@ static void print_text(FILE *out, const pack_args *a, const pack_report *r)
 
 /* ---- main ------------------------------------------------------------------ */
 
-/* Packing over INPUT itself would destroy it. */
-static int same_file(const char *a, const char *b)
-{
-    struct stat sa, sb;
-    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
-           sa.st_ino == sb.st_ino;
-}
-
 /* OUTPUT can be made, checked before the read and the build (minutes on a
  * continent): not a directory, not an existing file unless --force, in a
  * directory where a new file can be created (probed by creating one). 0 or
@@ -892,8 +897,8 @@ static int check_output(const pack_args *a)
  * crossings' segments from the tree, taken first; then the tree is freed,
  * since the faces' flood fill is where a pack's memory peaks. 0, or 1 with
  * a message in err. */
-static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f, pack_report *r,
-                         gis_feature_table *ft, char *err, size_t err_len)
+static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f, int witness,
+                         pack_report *r, gis_feature_table *ft, char *err, size_t err_len)
 {
     stage_time t0 = stage_now();
     leaf_crossings lc;
@@ -905,7 +910,8 @@ static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
                  hpfc_strerror(st));
         return 1;
     }
-    st = gis_features_link(r->gis_info.polygons, g, &lc, f, ft, err, err_len);
+    st = gis_features_link_method(r->gis_info.polygons, g, &lc, f, witness, ft, err,
+                                  err_len);
     leaf_crossings_free(&lc);
     if (!st) {
         r->features = ft->polygon_features;
@@ -1006,7 +1012,7 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     hpfc_attr_table attrs;
     hpfc_edge_feature_table edge_features;
     if (!st && r->gis && gis_features_count(r->gis_info.polygons) > 0) {
-        st = link_features(g, &t, f, r, &ft, diag.message, sizeof diag.message);
+        st = link_features(g, &t, f, a->link_witness, r, &ft, diag.message, sizeof diag.message);
         wopts.features = &ft.table;
         /* the features' attributes (ATTR) and the edges' features (EDGF) */
         if (!st && gis_attrs_table(r->gis_info.attrs, &attrs) != 0)

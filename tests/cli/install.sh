@@ -1,5 +1,5 @@
 #!/bin/sh
-# `meson install` (issue 17, point 6): installs the library, its header and
+# `meson install`: installs the library, its header and
 # the two tools, nothing of the tests, fuzzers or benchmarks; the benchmarks
 # and libFuzzer binaries are not built by default at all, and -Dtests=false
 # configures the library and the tools only. The installed tools carry a
