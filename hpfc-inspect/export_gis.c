@@ -46,8 +46,8 @@ typedef struct exporter {
     GDALDriverH driver;
     GDALDatasetH ds;
     int fid_column;             /* the driver's FID column is named "fid" */
-    double *x, *y;
-    size_t cap;
+    unsigned char *wkb;         /* the geometry being built, as WKB */
+    size_t wkb_len, wkb_cap;
     uint64_t written, polygons, rings, points, lines, empty, skipped_holes;
     char why[600];
 } exporter;
@@ -246,37 +246,60 @@ static int setup_srs(exporter *x)
 
 /* ---- geometry ---------------------------------------------------------------------- */
 
-static int reserve(exporter *x, size_t n)
+/* A geometry is written as WKB (in this machine's byte order) and read by
+ * GDAL in one call, which allocates each polygon's rings at once: adding
+ * them one by one, GDAL grew its ring array and checked each ring, more
+ * than the rest of the export cost on a layer with 10^5 holes. */
+
+/* Room for n more bytes. */
+static int wkb_room(exporter *x, size_t n)
 {
-    if (n <= x->cap)
+    if (x->wkb_len + n <= x->wkb_cap)
         return 0;
-    size_t c = x->cap ? x->cap : 1024;
-    while (c < n)
+    size_t c = x->wkb_cap ? x->wkb_cap : 4096;
+    while (c < x->wkb_len + n)
         c *= 2;
-    double *nx = realloc(x->x, c * sizeof *nx);
-    if (nx)
-        x->x = nx;
-    double *ny = nx ? realloc(x->y, c * sizeof *ny) : NULL;
-    if (ny)
-        x->y = ny;
-    if (!nx || !ny)
+    unsigned char *w = realloc(x->wkb, c);
+    if (!w)
         return fail(x, "out of memory");
-    x->cap = c;
+    x->wkb = w, x->wkb_cap = c;
     return 0;
 }
 
-/* The points [a, b) of an answer in output coordinates, into x->x, x->y. */
-static int convert(exporter *x, const hpfc_polygons *p, size_t a, size_t b)
+static int wkb_put(exporter *x, const void *v, size_t n)
 {
-    if (reserve(x, b - a + 1))
+    if (wkb_room(x, n))
         return 1;
-    for (size_t k = a; k < b; k++) {
-        double ux, uy;
-        hpfc_user_point(x->f, p->xy[2 * k], p->xy[2 * k + 1], &ux, &uy);
+    memcpy(x->wkb + x->wkb_len, v, n);
+    x->wkb_len += n;
+    return 0;
+}
+
+/* A geometry's header: byte order, type, and its count (points of a line,
+ * rings of a polygon, parts of a collection). */
+static int wkb_head(exporter *x, uint32_t type, size_t count)
+{
+    const uint16_t one = 1;
+    unsigned char order; /* 1: little-endian (wkbNDR), 0: big-endian */
+    memcpy(&order, &one, 1);
+    uint32_t n = (uint32_t)count;
+    if (count > UINT32_MAX)
+        return fail(x, "a geometry of %zu parts or points is too large for WKB", count);
+    return wkb_put(x, &order, 1) || wkb_put(x, &type, 4) || wkb_put(x, &n, 4);
+}
+
+/* The points of ring (or line) r of an answer in output coordinates. */
+static int wkb_points(exporter *x, const hpfc_polygons *p, size_t r)
+{
+    if (wkb_room(x, 16 * (p->ring_point[r + 1] - p->ring_point[r])))
+        return 1;
+    for (size_t k = p->ring_point[r]; k < p->ring_point[r + 1]; k++) {
+        double xy[2];
+        hpfc_user_point(x->f, p->xy[2 * k], p->xy[2 * k + 1], &xy[0], &xy[1]);
         if (x->plan) {
             double lon, lat;
-            if (mapproj_inverse(x->plan, ux, uy, &lon, &lat) != 0)
-                return fail(x, "point (%.17g, %.17g) cannot be projected back", ux, uy);
+            if (mapproj_inverse(x->plan, xy[0], xy[1], &lon, &lat) != 0)
+                return fail(x, "point (%.17g, %.17g) cannot be projected back", xy[0], xy[1]);
             /* A point on the antimeridian or a pole may come back a rounding
              * step past it (half a lattice unit: under 1e-6 degrees for any
              * lattice hpfc-pack chooses): it is put back on it, not on the
@@ -286,76 +309,67 @@ static int convert(exporter *x, const hpfc_polygons *p, size_t a, size_t b)
             else if (lon < -180.0)
                 lon = lon >= -180.0 - 1e-6 ? -180.0 : lon + 360.0;
             lat = lat > 90.0 ? 90.0 : lat < -90.0 ? -90.0 : lat;
-            ux = lon, uy = lat;
+            xy[0] = lon, xy[1] = lat;
         }
-        x->x[k - a] = ux;
-        x->y[k - a] = uy;
+        memcpy(x->wkb + x->wkb_len, xy, sizeof xy);
+        x->wkb_len += sizeof xy;
     }
-    x->points += b - a;
+    x->points += p->ring_point[r + 1] - p->ring_point[r];
     return 0;
 }
 
-static OGRGeometryH curve(exporter *x, const hpfc_polygons *p, size_t r, OGRwkbGeometryType t)
+/* Polygon k of an answer, its outer ring then its holes, appended. */
+static int wkb_polygon(exporter *x, const hpfc_polygons *p, size_t k)
 {
-    size_t a = p->ring_point[r], b = p->ring_point[r + 1];
-    if (convert(x, p, a, b))
-        return NULL;
-    OGRGeometryH g = OGR_G_CreateGeometry(t);
-    if (!g) {
-        fail(x, "out of memory");
-        return NULL;
+    size_t a = p->polygon_ring[k], b = p->polygon_ring[k + 1];
+    if (wkb_head(x, wkbPolygon, b - a))
+        return 1;
+    for (size_t r = a; r < b; r++) {
+        uint32_t n = (uint32_t)(p->ring_point[r + 1] - p->ring_point[r]);
+        if (wkb_put(x, &n, 4) || wkb_points(x, p, r))
+            return 1;
+        x->rings++;
     }
-    OGR_G_SetPoints(g, (int)(b - a), x->x, sizeof(double), x->y, sizeof(double), NULL, 0);
+    x->polygons++;
+    return 0;
+}
+
+/* The WKB built, as a GDAL geometry (NULL after fail()). */
+static OGRGeometryH from_wkb(exporter *x, int st)
+{
+    OGRGeometryH g = NULL;
+    if (!st && OGR_G_CreateFromWkbEx(x->wkb, NULL, &g, x->wkb_len) != OGRERR_NONE)
+        fail(x, "%s", gdal_reason("GDAL cannot read the geometry built"));
     return g;
 }
 
-/* Polygon k of an answer: its outer ring and holes. */
+/* Polygon k of an answer alone (a face). */
 static OGRGeometryH polygon(exporter *x, const hpfc_polygons *p, size_t k)
 {
-    OGRGeometryH poly = OGR_G_CreateGeometry(wkbPolygon);
-    for (size_t r = p->polygon_ring[k]; poly && r < p->polygon_ring[k + 1]; r++) {
-        OGRGeometryH ring = curve(x, p, r, wkbLinearRing);
-        if (!ring) {
-            OGR_G_DestroyGeometry(poly);
-            return NULL;
-        }
-        OGR_G_AddGeometryDirectly(poly, ring);
-        x->rings++;
-    }
-    if (!poly)
-        fail(x, "out of memory");
-    x->polygons++;
-    return poly;
+    x->wkb_len = 0;
+    return from_wkb(x, wkb_polygon(x, p, k));
 }
 
 static OGRGeometryH multipolygon(exporter *x, const hpfc_polygons *p)
 {
-    OGRGeometryH mp = OGR_G_CreateGeometry(wkbMultiPolygon);
-    for (size_t k = 0; mp && k < p->polygon_count; k++) {
-        OGRGeometryH poly = polygon(x, p, k);
-        if (!poly) {
-            OGR_G_DestroyGeometry(mp);
-            return NULL;
-        }
-        OGR_G_AddGeometryDirectly(mp, poly);
-    }
+    x->wkb_len = 0;
+    int st = wkb_head(x, wkbMultiPolygon, p->polygon_count);
+    for (size_t k = 0; k < p->polygon_count && !st; k++)
+        st = wkb_polygon(x, p, k);
     x->skipped_holes += p->ring_count - p->polygon_ring[p->polygon_count];
-    return mp;
+    return from_wkb(x, st);
 }
 
 static OGRGeometryH multiline(exporter *x, const hpfc_polygons *p)
 {
-    OGRGeometryH ml = OGR_G_CreateGeometry(wkbMultiLineString);
-    for (size_t r = 0; ml && r < p->ring_count; r++) {
-        OGRGeometryH line = curve(x, p, r, wkbLineString);
-        if (!line) {
-            OGR_G_DestroyGeometry(ml);
-            return NULL;
-        }
-        OGR_G_AddGeometryDirectly(ml, line);
+    x->wkb_len = 0;
+    int st = wkb_head(x, wkbMultiLineString, p->ring_count);
+    for (size_t r = 0; r < p->ring_count && !st; r++) {
+        st = wkb_head(x, wkbLineString, p->ring_point[r + 1] - p->ring_point[r]) ||
+             wkb_points(x, p, r);
         x->lines++;
     }
-    return ml;
+    return from_wkb(x, st);
 }
 
 /* A feature's geometry: its faces' union, else its lines, else none
@@ -921,7 +935,6 @@ int export_gis(const gis_export_options *o, FILE *report)
     if (x.srs)
         OSRDestroySpatialReference(x.srs);
     hpfc_close(x.f);
-    free(x.x);
-    free(x.y);
+    free(x.wkb);
     return r;
 }

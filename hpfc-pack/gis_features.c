@@ -7,10 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <time.h>
-
-
-#include "clock.h"
 #include "face_check.h"
 #include "face_link.h"
 #include "grow.h"
@@ -337,9 +333,9 @@ int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
     hpfc_faces *faces = NULL;
     face_witness *w = NULL;
     face_link fl = {0};
-    double t = clock_seconds();
+    stage_time t = stage_now();
     int st = hpfc_faces_build(file, &faces);
-    out->faces_s = clock_lap(&t);
+    out->faces_t = stage_lap(&t);
     uint64_t n = faces ? hpfc_faces_face_count(faces) : 0;
     if (!st && n >= UINT32_MAX)
         st = HPFC_E_LIMIT;
@@ -347,14 +343,14 @@ int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
         st = HPFC_E_NOMEM;
     if (!st)
         st = face_witnesses(graph, lc, file, faces, w);
-    out->witness_s = clock_lap(&t);
+    out->witness_t = stage_lap(&t);
     if (!st)
         st = face_link_run(&fl, fs, graph, lc, file, faces);
     hpfc_faces_free(faces); /* the walk needs the faces' ids only */
-    out->topology_s = clock_lap(&t);
+    out->topology_t = stage_lap(&t);
     if (!st)
         st = check_faces(fs, w, &fl, !out->method_witness, out);
-    out->check_s = clock_lap(&t);
+    out->check_t = stage_lap(&t);
     if (!st) {
         out->faces_propagated = out->method_witness ? 0 : fl.propagated - 1;
         make_table(fs, &fl, out);

@@ -26,6 +26,7 @@
 
 #include "face_witness.h"
 #include "hpfc.h"
+#include "stage_time.h"
 
 typedef struct gis_features gis_features;
 
@@ -81,9 +82,9 @@ typedef struct gis_feature_table {
     uint64_t anchors;          /* faces the walk did not reach: the witness's answer alone */
     uint64_t conflicts;        /* faces where the walk and the witness disagree */
     int method_witness;        /* no walk: every face by its witness (--link witness) */
-    /* wall time of the stages, seconds: faces numbered, witnesses found, topology
+    /* the time of the stages: faces numbered, witnesses found, topology
        (segments matched, sides found, walk), check (every witness) */
-    double faces_s, witness_s, topology_s, check_s;
+    stage_time faces_t, witness_t, topology_t, check_t;
 } gis_feature_table;
 
 void gis_feature_table_free(gis_feature_table *t);

@@ -26,7 +26,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <time.h>
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -1358,17 +1357,17 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     int64_t *lat = NULL;
     seg *segs = NULL;
     size_t n_segs = 0;
-    double t = clock_seconds();
+    stage_time t = stage_now();
     int st = read_dataset(&r, path, &srs_p4, &srs);
     info->points_read = r.n_points;
-    info->read_s = clock_lap(&t);
+    info->read_t = stage_lap(&t);
     if (!st) {
         lat = malloc((r.n_points ? r.n_points : 1) * 2 * sizeof *lat);
         st = lat ? project_and_snap(&r, srs, srs_p4, lat) : fail(&r, "out of memory");
     }
     free(r.xy);
     r.xy = NULL;
-    info->project_s = clock_lap(&t);
+    info->project_t = stage_lap(&t);
     seg *geos = NULL;
     size_t n_geos = 0;
     if (!st)
@@ -1378,10 +1377,10 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     if (geos != segs)
         free(geos);
     free(lat);
-    info->node_s = clock_lap(&t);
+    info->node_t = stage_lap(&t);
     if (!st)
         st = make_graph(&r, segs, n_segs, out);
-    info->graph_s = clock_lap(&t);
+    info->graph_t = stage_lap(&t);
     progress_end(&r.bar);
     free(segs);
     free(r.start);

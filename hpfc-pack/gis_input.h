@@ -18,6 +18,7 @@
 #include "gis_attrs.h"
 #include "gis_features.h"
 #include "hpfc.h"
+#include "stage_time.h"
 
 enum { GIS_VERTICES_ALL = 0, GIS_VERTICES_JUNCTIONS = 1 };
 /* What to do with a polygon GEOS finds invalid (a self-intersecting ring,
@@ -61,8 +62,8 @@ typedef struct gis_info {
     uint64_t points_read;      /* shape points read (after any cut) */
     char noding[8];            /* GEOS noded "none" of the segments, "partial", "all" */
     uint64_t noded_segments;   /* segments GEOS noded (its input when partial, output when all) */
-    /* wall time of each stage of gis_read_graph(), seconds */
-    double read_s, project_s, node_s, graph_s;
+    /* the time of each stage of gis_read_graph() */
+    stage_time read_t, project_t, node_t, graph_t;
     /* A layer without an SRS whose extent lies in the longitude/latitude
      * range was taken as WGS 84: the first such layer's name, "" if none. */
     char srs_assumed[64];

@@ -18,7 +18,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -33,6 +32,7 @@
 #include "jsonw.h"
 #include "paths.h"
 #include "progress.h"
+#include "stage_time.h"
 
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
 
@@ -70,7 +70,7 @@ typedef struct pack_report {
     hpfc_tree_info tree;
     level_report *levels;      /* tree.levels entries */
     uint64_t file_bytes;
-    double read_s, build_s, write_s;
+    stage_time read_t, build_t, write_t;
     int gis;                   /* INPUT was read by gis_read_graph() */
     gis_info gis_info;
     int draco;                 /* INPUT was a Draco mesh (draco_input.h) */
@@ -81,8 +81,8 @@ typedef struct pack_report {
     uint32_t all_features, edges_with_features;
     uint64_t faces_walked, faces_anchored, faces_checked, link_conflicts;
     int link_witness;
-    double link_s[4];
-    double features_s;
+    stage_time link_t[4];
+    stage_time features_t;
 } pack_report;
 
 /* ---- messages ------------------------------------------------------------ */
@@ -677,7 +677,7 @@ static void print_json(FILE *out, const pack_args *a, const pack_report *r)
             jsonw_null(&w, "key_field");
         jsonw_u64(&w, "faces_with_features", r->faces_with_features);
         jsonw_u64(&w, "faces_without_witness", r->faces_without_witness);
-        jsonw_double(&w, "features_seconds", r->features_s, 6);
+        jsonw_double(&w, "features_seconds", r->features_t.wall, 6);
         jsonw_u64(&w, "features_recorded", r->all_features);
         jsonw_u64(&w, "edges_with_features", r->edges_with_features);
         jsonw_object_begin(&w, "linking");
@@ -686,10 +686,10 @@ static void print_json(FILE *out, const pack_args *a, const pack_report *r)
         jsonw_u64(&w, "faces_anchored", r->faces_anchored);
         jsonw_u64(&w, "faces_checked", r->faces_checked);
         jsonw_u64(&w, "conflicts", r->link_conflicts);
-        jsonw_double(&w, "faces_seconds", r->link_s[0], 6);
-        jsonw_double(&w, "witness_seconds", r->link_s[1], 6);
-        jsonw_double(&w, "topology_seconds", r->link_s[2], 6);
-        jsonw_double(&w, "check_seconds", r->link_s[3], 6);
+        jsonw_double(&w, "faces_seconds", r->link_t[0].wall, 6);
+        jsonw_double(&w, "witness_seconds", r->link_t[1].wall, 6);
+        jsonw_double(&w, "topology_seconds", r->link_t[2].wall, 6);
+        jsonw_double(&w, "check_seconds", r->link_t[3].wall, 6);
         jsonw_object_end(&w);
         jsonw_u64(&w, "antimeridian_cut", gi->dateline_cut);
         jsonw_u64(&w, "points_read", gi->points_read);
@@ -697,10 +697,10 @@ static void print_json(FILE *out, const pack_args *a, const pack_report *r)
         jsonw_u64(&w, "noding_segments", gi->noded_segments);
         /* the stages inside read_seconds */
         jsonw_object_begin(&w, "gis_seconds");
-        jsonw_double(&w, "read", gi->read_s, 6);
-        jsonw_double(&w, "project", gi->project_s, 6);
-        jsonw_double(&w, "node", gi->node_s, 6);
-        jsonw_double(&w, "graph", gi->graph_s, 6);
+        jsonw_double(&w, "read", gi->read_t.wall, 6);
+        jsonw_double(&w, "project", gi->project_t.wall, 6);
+        jsonw_double(&w, "node", gi->node_t.wall, 6);
+        jsonw_double(&w, "graph", gi->graph_t.wall, 6);
         jsonw_object_end(&w);
     }
     jsonw_u64(&w, "vertices", t->vertices);
@@ -737,9 +737,27 @@ static void print_json(FILE *out, const pack_args *a, const pack_report *r)
     jsonw_u64(&w, "max_word_symbols", t->max_word_symbols);
     jsonw_u64(&w, "file_bytes", r->file_bytes);
     jsonw_double(&w, "bits_per_edge", bits_per_edge(r), 3);
-    jsonw_double(&w, "build_seconds", r->build_s, 6);
-    jsonw_double(&w, "read_seconds", r->read_s, 6);
-    jsonw_double(&w, "write_seconds", r->write_s, 6);
+    jsonw_double(&w, "build_seconds", r->build_t.wall, 6);
+    jsonw_double(&w, "read_seconds", r->read_t.wall, 6);
+    jsonw_double(&w, "write_seconds", r->write_t.wall, 6);
+    /* the CPU time of the same stages */
+    jsonw_object_begin(&w, "cpu_seconds");
+    jsonw_double(&w, "read", r->read_t.cpu, 6);
+    jsonw_double(&w, "build", r->build_t.cpu, 6);
+    jsonw_double(&w, "write", r->write_t.cpu, 6);
+    if (r->gis) {
+        const gis_info *gi = &r->gis_info;
+        jsonw_double(&w, "gis_read", gi->read_t.cpu, 6);
+        jsonw_double(&w, "gis_project", gi->project_t.cpu, 6);
+        jsonw_double(&w, "gis_node", gi->node_t.cpu, 6);
+        jsonw_double(&w, "gis_graph", gi->graph_t.cpu, 6);
+        jsonw_double(&w, "features", r->features_t.cpu, 6);
+        jsonw_double(&w, "link_faces", r->link_t[0].cpu, 6);
+        jsonw_double(&w, "link_witness", r->link_t[1].cpu, 6);
+        jsonw_double(&w, "link_topology", r->link_t[2].cpu, 6);
+        jsonw_double(&w, "link_check", r->link_t[3].cpu, 6);
+    }
+    jsonw_object_end(&w);
     jsonw_object_end(&w);
     jsonw_finish(&w);
 }
@@ -817,13 +835,13 @@ static void print_text(FILE *out, const pack_args *a, const pack_report *r)
     fprintf(out, "max word   %u symbols\n", t->max_word_symbols);
     fprintf(out, "file       %llu bytes, %.2f bits per edge\n", (unsigned long long)r->file_bytes,
            bits_per_edge(r));
-    fprintf(out, "time       build %.6f s (read %.6f s, write %.6f s)\n", r->build_s, r->read_s,
-           r->write_s);
+    fprintf(out, "time       build %.6f s (read %.6f s, write %.6f s)\n", r->build_t.wall,
+           r->read_t.wall, r->write_t.wall);
     if (r->gis)
         fprintf(out, "read       %.3f s: read %.3f s, project %.3f s, node %.3f s, graph %.3f s "
                "(%llu shape points, noding %s)\n",
-               r->read_s, r->gis_info.read_s, r->gis_info.project_s, r->gis_info.node_s,
-               r->gis_info.graph_s, (unsigned long long)r->gis_info.points_read,
+               r->read_t.wall, r->gis_info.read_t.wall, r->gis_info.project_t.wall,
+               r->gis_info.node_t.wall, r->gis_info.graph_t.wall, (unsigned long long)r->gis_info.points_read,
                r->gis_info.noding);
 }
 
@@ -867,7 +885,7 @@ static int check_output(const pack_args *a)
 static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f, int witness,
                          pack_report *r, gis_feature_table *ft, char *err, size_t err_len)
 {
-    double t0 = clock_seconds();
+    stage_time t0 = stage_now();
     leaf_crossings lc;
     int st = leaf_crossings_collect(*t, f, &lc);
     hpfc_tree_free(*t);
@@ -889,14 +907,14 @@ static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
         r->link_conflicts = ft->conflicts;
         r->faces_checked = ft->table.face_count - ft->faces_without_witness;
         r->link_witness = ft->method_witness;
-        r->link_s[0] = ft->faces_s, r->link_s[1] = ft->witness_s;
-        r->link_s[2] = ft->topology_s, r->link_s[3] = ft->check_s;
+        r->link_t[0] = ft->faces_t, r->link_t[1] = ft->witness_t;
+        r->link_t[2] = ft->topology_t, r->link_t[3] = ft->check_t;
         for (uint32_t e = 0; e < ft->edge_count; e++)
             r->edges_with_features += ft->edge_start[e + 1] > ft->edge_start[e];
         for (uint32_t k = 0; k < ft->table.face_count; k++)
             r->faces_with_features += ft->face_start[k + 1] > ft->face_start[k];
     }
-    r->features_s = clock_seconds() - t0;
+    r->features_t = stage_lap(&t0);
     return st;
 }
 
@@ -961,12 +979,12 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     gis_feature_table ft = {0};
     hpfc_diag diag = {0};
     hpfc_tree *t = NULL;
-    double t0 = clock_seconds();
+    stage_time t0 = stage_now();
     progress_show(&bar, "building", 0, 0, 1);
     int st = hpfc_build(g, &params, &t, &diag);
     progress_end(&bar);
     release_free_memory();
-    r->build_s = clock_seconds() - t0;
+    r->build_t = stage_lap(&t0);
     if (st) {
         complain("%s: %s", a->input, diag_text(&diag, st));
         return st == HPFC_E_ARG ? EXIT_USAGE : EXIT_FAIL;
@@ -977,7 +995,7 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     uint8_t *bytes = NULL;
     size_t size = 0;
     hpfc_file *f = NULL;
-    t0 = clock_seconds();
+    t0 = stage_now();
     if (!st && (st = hpfc_tree_serialize(t, &wopts, &bytes, &size, &diag)) == HPFC_OK &&
         ((st = hpfc_open_memory(bytes, size, 0, &f)) != HPFC_OK ||
          (st = read_levels(f, r)) != HPFC_OK))
@@ -1004,7 +1022,7 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     hpfc_tree_free(t);
     if (!st) /* the pools as serialised, with the FEAT section when there is one */
         st = write_output(a, f, &wopts, r, &diag);
-    r->write_s = clock_seconds() - t0;
+    r->write_t = stage_lap(&t0);
     hpfc_close(f);
     hpfc_free(bytes);
     gis_feature_table_free(&ft);
@@ -1029,9 +1047,9 @@ int main(int argc, char **argv)
         return status;
     pack_report r = {0};
     hpfc_graph *g = NULL;
-    double t0 = clock_seconds();
+    stage_time t0 = stage_now();
     status = read_graph(&a, &g, &r);
-    r.read_s = clock_seconds() - t0;
+    r.read_t = stage_lap(&t0);
     if (!status)
         status = build_and_write(&a, g, &r);
     hpfc_graph_free(g);

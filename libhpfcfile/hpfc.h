@@ -1169,8 +1169,8 @@ typedef struct hpfc_polygons {
 
 /* The index over a file's geometry that the region calls need: each
  * edge's ends and faces, each face's edges, each feature's faces and edges.
- * Built once in O(edges + faces + links); 40 bytes an edge, 12 a face, 8 a
- * feature link, 8 a vertex. The answers live in the object until its next
+ * Built once in O(edges + faces + links); 40 bytes an edge, 16 a face, 8 a
+ * feature link, 24 a vertex. The answers live in the object until its next
  * call: one per thread. Statuses: HPFC_E_NO_SECTION without GEOM or LABL,
  * HPFC_E_CORRUPT when the sections disagree (an edge's face past the face
  * count, GEOM's edge count not LABL's) or claim more edges, vertices, faces
@@ -1217,10 +1217,13 @@ HPFC_API int hpfc_shapes_set_limits_sized(hpfc_shapes *shapes, const hpfc_limits
 
 /* The rings of face `face` (HPFC_E_ARG past the face count), each polygon
  * an outer ring then its holes, a hole going to the smallest outer ring
- * around it. O(n log n) in the boundary's points: a hole finds the outer
- * rings whose box holds its own through a tree over the boxes, and is
- * tested against a long one through an index of its segments by y.
- * HPFC_E_CORRUPT when the boundary does not close into rings. */
+ * around it. O(n log n) in the boundary's points, near-linear in
+ * practice: a hole belongs to the outer ring of the region's part (faces
+ * joined across edges) that surrounds it, known without geometry when
+ * that part has one outer ring; otherwise it finds the outer rings whose
+ * box holds its own through a tree over the boxes, and is tested against
+ * a long one through an index of its segments by y. HPFC_E_CORRUPT when
+ * the boundary does not close into rings. */
 HPFC_API int hpfc_shapes_face_polygons(hpfc_shapes *shapes, hpfc_id face, hpfc_polygons *out);
 /* The geometry of feature `feature` as the union of its faces: the
  * boundary of the faces linked to it, as above. HPFC_E_NO_SECTION without

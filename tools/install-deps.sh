@@ -4,6 +4,9 @@
 # packages that are already there. Runs apt-get as root, or through sudo.
 set -eu
 PACKAGES="gcc clang meson ninja-build pkg-config python3 libcairo2-dev g++ libgdal-dev gdal-bin libgeos-dev libgeographiclib-dev libdraco-dev draco python3-gdal"
+# valgrind: the scaling benchmark's smoke counts instructions with callgrind
+# (bench/run-scaling.sh smoke, a step of .ci/run).
+PACKAGES="$PACKAGES valgrind"
 # The Python package (python/): Debian's interpreter, numpy, pytest, meson-python
 # (pip install .), venv (tools/test-python.sh); shapely, pandas, geopandas
 # for geometry, frames and the bench against geopandas.sjoin; pyproj (a

@@ -1,7 +1,9 @@
 /*
  * arrays.h: the library's growable arrays, in one place (an array grown by
- * doubling, with its capacity beside it), and the point locators' short
- * sorted id sets (locate_point.c, locate_batch.c).
+ * doubling, with its capacity beside it), the point locators' short
+ * sorted id sets (locate_point.c, locate_batch.c), and a sort of items by
+ * 32-bit keys (the batch's points in Morton order, the shapes' darts by
+ * vertex).
  */
 #ifndef HPFC_ARRAYS_H
 #define HPFC_ARRAYS_H
@@ -58,6 +60,38 @@ static inline size_t scratch_sort_unique(uint64_t *v, size_t n)
         if (u == 0 || v[u - 1] != v[i])
             v[u++] = v[i];
     return u;
+}
+
+/* An item to sort: its key and its index among the caller's items. */
+typedef struct key_item {
+    uint32_t key, index;
+} key_item;
+
+/* items[0 .. n) sorted by key, stably, tmp (n items) as scratch: insertion
+ * sort for a few, else LSD radix a byte a pass. */
+static inline void key_sort(key_item *items, key_item *tmp, size_t n)
+{
+    if (n < 64) {
+        for (size_t i = 1; i < n; i++) {
+            key_item t = items[i];
+            size_t j = i;
+            for (; j > 0 && items[j - 1].key > t.key; j--)
+                items[j] = items[j - 1];
+            items[j] = t;
+        }
+        return;
+    }
+    for (unsigned byte = 0; byte < 4; byte++) {
+        size_t count[257] = {0};
+        for (size_t k = 0; k < n; k++)
+            count[(items[k].key >> (8 * byte) & 0xFF) + 1]++;
+        for (unsigned b = 0; b < 256; b++)
+            count[b + 1] += count[b];
+        for (size_t k = 0; k < n; k++)
+            tmp[count[items[k].key >> (8 * byte) & 0xFF]++] = items[k];
+        key_item *t = items;
+        items = tmp, tmp = t; /* four passes: the result ends in `items` */
+    }
 }
 
 #endif

@@ -195,10 +195,6 @@ static int answer_point(const hpfc_file *f, const hpfc_faces *fc, int features, 
  * changes no answer: each point's is computed on its own. */
 enum { ORDER_CHUNK = 1u << 18, ORDER_MIN = 64 };
 
-typedef struct order_item {
-    uint32_t key, index; /* Morton code of 16-bit cell coordinates; index in the chunk */
-} order_item;
-
 /* Interleaves the low 16 bits of x (even bits) and y (odd bits). */
 static uint32_t morton16(uint32_t x, uint32_t y)
 {
@@ -218,22 +214,6 @@ static uint32_t order_key(const hpfc_file_info *fi, unsigned shift, int64_t x, i
     uint64_t ry = y < fi->y0 ? 0 : (uint64_t)y - (uint64_t)fi->y0;
     rx >>= shift, ry >>= shift;
     return morton16((uint32_t)(rx > 0xFFFF ? 0xFFFF : rx), (uint32_t)(ry > 0xFFFF ? 0xFFFF : ry));
-}
-
-/* items[0 .. n) sorted by key (LSD radix, four bytes), tmp as scratch. */
-static void order_sort(order_item *items, order_item *tmp, size_t n)
-{
-    for (unsigned byte = 0; byte < 4; byte++) {
-        size_t count[257] = {0};
-        for (size_t k = 0; k < n; k++)
-            count[(items[k].key >> (8 * byte) & 0xFF) + 1]++;
-        for (unsigned b = 0; b < 256; b++)
-            count[b + 1] += count[b];
-        for (size_t k = 0; k < n; k++)
-            tmp[count[items[k].key >> (8 * byte) & 0xFF]++] = items[k];
-        order_item *t = items;
-        items = tmp, tmp = t; /* four passes: the result ends in `items` */
-    }
 }
 
 /* The shift that maps the domain's larger side below 2^16. */
@@ -267,7 +247,7 @@ static int answer_in_order(const hpfc_file *file, const hpfc_faces *faces, int f
  * scattering in passes of their own keeps the answering loop on
  * sequential memory; the CPU overlaps the passes' cache misses. */
 typedef struct order_buf {
-    order_item *items, *tmp;
+    key_item *items, *tmp; /* key: Morton code of 16-bit cell coordinates; index in the chunk */
     int64_t *x, *y, *face, *feature;
     uint32_t *face_count, *feature_count;
     uint8_t *valid, *flags, *depth;
@@ -307,8 +287,8 @@ static int answer_sorted(const hpfc_file *file, const hpfc_faces *faces, int fea
     hpfc_file_get_info(file, &fi);
     unsigned shift = order_shift(&fi);
     for (size_t k = 0; k < n; k++)
-        b->items[k] = (order_item){order_key(&fi, shift, x[first + k], y[first + k]), (uint32_t)k};
-    order_sort(b->items, b->tmp, n);
+        b->items[k] = (key_item){order_key(&fi, shift, x[first + k], y[first + k]), (uint32_t)k};
+    key_sort(b->items, b->tmp, n);
     for (size_t i = 0; i < n; i++) {
         size_t k = first + b->items[i].index;
         b->x[i] = x[k], b->y[i] = y[k], b->valid[i] = valid ? valid[k] != 0 : 1;

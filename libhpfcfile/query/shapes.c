@@ -11,6 +11,8 @@
 #include <string.h>
 
 #include "arrays.h"
+#include "attrs.h"
+#include "feat.h"
 #include "file.h"
 #include "ring_index.h"
 #include "sized.h"
@@ -34,6 +36,17 @@ static int coord_ok(int64_t x, int64_t y)
 static int in_box(int64_t x, int64_t y, const int64_t b[4])
 {
     return x >= b[0] && x < b[2] && y >= b[1] && y < b[3];
+}
+
+/* Reverses the order of n points (x, y pairs). */
+static void reverse_points(int64_t *xy, uint64_t n)
+{
+    for (uint64_t a = 0, b = n ? n - 1 : 0; a < b; a++, b--)
+        for (int c = 0; c < 2; c++) {
+            int64_t t = xy[2 * a + c];
+            xy[2 * a + c] = xy[2 * b + c];
+            xy[2 * b + c] = t;
+        }
 }
 
 int hpfc_geometry_dart_edge(const hpfc_file *f, const hpfc_dart *d, uint64_t *edge,
@@ -103,8 +116,8 @@ int hpfc_geometry_dart_points(const hpfc_file *f, const hpfc_dart *d, int64_t *x
         return HPFC_OK;
     if (cap < n)
         return HPFC_E_BUFFER_SMALL;
-    for (uint64_t k = 0; k < n && !st; k++)
-        st = hpfc_geometry_edge_point(f, e, rev ? n - 1 - k : k, &xy[2 * k], &xy[2 * k + 1]);
+    if (!(st = geom_edge_points(f, e, xy)) && rev)
+        reverse_points(xy, n);
     return st;
 }
 
@@ -114,22 +127,23 @@ int hpfc_geometry_dart_points(const hpfc_file *f, const hpfc_dart *d, int64_t *x
  * so one multiplication or division rounds once. */
 static double scaled(int64_t v, int32_t e)
 {
-    double p = 1.0;
+    static const double pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
     int32_t m = e < 0 ? -e : e;
-    for (int32_t k = 0; k < m && k < 22; k++)
-        p *= 10.0;
+    double p = pow10[m < 22 ? m : 22];
     double r = e < 0 ? (double)v / p : (double)v * p;
     for (int32_t k = 22; k < m; k++)
         r = e < 0 ? r / 10.0 : r * 10.0;
     return r;
 }
 
+/* Called for every point an export writes: the unit read in place, the
+ * power of ten from a table. */
 void hpfc_user_point(const hpfc_file *f, int64_t x, int64_t y, double *ux, double *uy)
 {
-    hpfc_file_info fi;
-    hpfc_file_get_info(f, &fi);
-    *ux = scaled(x, fi.unit_exp10);
-    *uy = scaled(y, fi.unit_exp10);
+    *ux = scaled(x, f->info.unit_exp10);
+    *uy = scaled(y, f->info.unit_exp10);
 }
 
 /* ---- the index ------------------------------------------------------------------- */
@@ -145,7 +159,8 @@ void hpfc_shapes_free(hpfc_shapes *s)
     free(s->ev);
     free(s->left);
     free(s->right);
-    free(s->npoints);
+    free(s->first);
+    free(s->vxy);
     free(s->face_start);
     free(s->face_edge);
     free(s->feat_start);
@@ -153,9 +168,15 @@ void hpfc_shapes_free(hpfc_shapes *s)
     free(s->fe_start);
     free(s->fe_edge);
     free(s->face_mark);
+    free(s->face_local);
     free(s->vmark);
     free(s->vpos);
     free(s->darts);
+    free(s->dsorted);
+    free(s->dkeys);
+    free(s->ept);
+    free(s->part);
+    free(s->part_outer);
     free(s->cycle);
     free(s->txy);
     free(s->rings);
@@ -174,37 +195,50 @@ uint64_t hpfc_shapes_face_count(const hpfc_shapes *s)
     return s ? s->faces : 0;
 }
 
-/* Each edge's ends, point count and faces; each face's edges (an edge
- * with one face on both sides bounds nothing and is left out). */
+/* Each edge's ends, shape points and faces, each vertex's coordinates
+ * (GEOM's columns read in runs); each face's edges (an edge with one face
+ * on both sides bounds nothing and is left out). */
 static int index_edges(hpfc_shapes *s)
 {
     const hpfc_file *f = s->f;
     uint64_t E = s->edges;
+    enum { CHUNK = 1024 };
+    geom_edge *rec = malloc(CHUNK * sizeof *rec);
     s->eu = malloc((E + 1) * sizeof *s->eu);
     s->ev = malloc((E + 1) * sizeof *s->ev);
     s->left = malloc((E + 1) * sizeof *s->left);
     s->right = malloc((E + 1) * sizeof *s->right);
-    s->npoints = malloc((E + 1) * sizeof *s->npoints);
+    s->first = malloc((E + 1) * sizeof *s->first);
+    s->vxy = malloc((2 * s->vertices + 2) * sizeof *s->vxy);
     s->face_start = calloc(s->faces + 2, sizeof *s->face_start);
-    if (!s->eu || !s->ev || !s->left || !s->right || !s->npoints || !s->face_start)
+    if (!rec || !s->eu || !s->ev || !s->left || !s->right || !s->first || !s->vxy ||
+        !s->face_start) {
+        free(rec);
         return HPFC_E_NOMEM;
-    uint64_t interior = 0; /* a corrupt file's edges must not claim more points than it has */
-    for (uint64_t e = 0; e < E; e++) {
-        uint64_t u, v, n, l, r;
-        int st = hpfc_geometry_edge(f, e, &u, &v, &n);
-        if (!st)
-            st = hpfc_geometry_edge_faces(f, e, &l, &r);
-        if (st)
-            return st;
-        if (u >= s->vertices || v >= s->vertices || n < 2 || n - 2 > s->points - interior ||
-            l >= s->faces || r >= s->faces)
-            return HPFC_E_CORRUPT;
-        interior += n - 2;
-        s->eu[e] = (uint32_t)u, s->ev[e] = (uint32_t)v, s->npoints[e] = n;
-        s->left[e] = l, s->right[e] = r;
-        if (l != r)
-            s->face_start[l + 1]++, s->face_start[r + 1]++;
     }
+    int st = geom_points(f, GEOM_VX, 0, s->vertices, s->vxy);
+    for (uint64_t e0 = 0, m; e0 < E && !st; e0 += m) {
+        m = E - e0 < CHUNK ? E - e0 : CHUNK;
+        st = geom_edges(f, e0, m, rec);
+        for (uint64_t k = 0; k < m && !st; k++) {
+            uint64_t e = e0 + k, l, r;
+            if ((st = hpfc_geometry_edge_faces(f, e, &l, &r)))
+                break;
+            if (l >= s->faces || r >= s->faces) {
+                st = HPFC_E_CORRUPT;
+                break;
+            }
+            s->eu[e] = (uint32_t)rec[k].u, s->ev[e] = (uint32_t)rec[k].v;
+            s->first[e] = rec[k].first;
+            s->left[e] = l, s->right[e] = r;
+            if (l != r)
+                s->face_start[l + 1]++, s->face_start[r + 1]++;
+        }
+    }
+    free(rec);
+    if (st)
+        return st;
+    s->first[E] = s->points; /* geom_edges checked that the edges' points follow each other */
     for (uint64_t k = 0; k < s->faces; k++)
         s->face_start[k + 1] += s->face_start[k];
     s->face_edge = malloc((s->face_start[s->faces] + 1) * sizeof *s->face_edge);
@@ -223,14 +257,10 @@ static int index_edges(hpfc_shapes *s)
     return HPFC_OK;
 }
 
-/* A CSR from links given as (owner, item) by `get`, inverted: for each
- * feature, its items in increasing order. */
-typedef int (*link_fn)(const hpfc_file *f, hpfc_id owner, uint32_t k, hpfc_id *feature);
-typedef int (*link_count_fn)(const hpfc_file *f, hpfc_id owner, uint32_t *count);
-
-static int invert_links(const hpfc_file *f, uint64_t owners, uint32_t features,
-                        link_count_fn count_of, link_fn get, uint64_t **start_out,
-                        uint32_t **items_out)
+/* The links of rows [0, rows) (faces or edges) inverted: for each feature,
+ * the rows that link it, in increasing order. */
+static int invert_links(const feature_links *t, uint64_t rows, uint32_t features,
+                        uint64_t **start_out, uint32_t **items_out)
 {
     uint64_t *start = calloc((size_t)features + 2, sizeof *start);
     if (!start)
@@ -250,13 +280,13 @@ static int invert_links(const hpfc_file *f, uint64_t owners, uint32_t features,
             }
             memcpy(fill, start, (size_t)features * sizeof *fill);
         }
-        for (uint64_t o = 0; o < owners && !st; o++) {
-            uint32_t n;
+        for (uint64_t o = 0; o < rows && !st; o++) {
+            uint32_t first, end;
             hpfc_id ft;
-            if ((st = count_of(f, o, &n)))
+            if ((st = feature_links_row(t, o, &first, &end)))
                 break;
-            for (uint32_t k = 0; k < n && !st; k++) {
-                if ((st = get(f, o, k, &ft)))
+            for (uint32_t k = 0; k < end - first && !st; k++) {
+                if ((st = feature_links_get(t, o, k, &ft)))
                     break;
                 if (ft >= features)
                     st = HPFC_E_CORRUPT;
@@ -275,9 +305,12 @@ static int invert_links(const hpfc_file *f, uint64_t owners, uint32_t features,
 static int index_features(hpfc_shapes *s)
 {
     hpfc_features_info fi;
+    feature_links links;
     int st = hpfc_file_get_features(s->f, &fi);
     if (st == HPFC_E_NO_SECTION)
         return HPFC_OK;
+    if (!st)
+        st = features_face_links(s->f, true, &links);
     if (st)
         return st;
     s->have_features = 1;
@@ -285,20 +318,17 @@ static int index_features(hpfc_shapes *s)
     /* a FEAT table numbered against other faces is not to be used (§6.2.2) */
     uint64_t faces = fi.faces == s->faces ? s->faces : 0;
     s->face_features = faces != 0;
-    if ((st = invert_links(s->f, faces, fi.features, hpfc_face_feature_count,
-                           hpfc_face_feature_id, &s->feat_start, &s->feat_face)))
+    if ((st = invert_links(&links, faces, fi.features, &s->feat_start, &s->feat_face)))
         return st;
-    hpfc_edge_links_info ei;
-    st = hpfc_file_get_edge_links(s->f, &ei);
+    st = attrs_edge_links(s->f, true, &links);
     if (st == HPFC_E_NO_SECTION)
         return HPFC_OK;
     if (st)
         return st;
-    if (ei.edges != s->edges)
+    if (links.rows != s->edges)
         return HPFC_E_CORRUPT;
     s->have_edge_features = 1;
-    return invert_links(s->f, ei.edges, fi.features, hpfc_edge_feature_count,
-                        hpfc_edge_feature_id, &s->fe_start, &s->fe_edge);
+    return invert_links(&links, links.rows, fi.features, &s->fe_start, &s->fe_edge);
 }
 
 int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
@@ -338,9 +368,10 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
         st = index_features(s);
     if (!st) {
         s->face_mark = calloc(s->faces + 1, sizeof *s->face_mark);
+        s->face_local = calloc(s->faces + 1, sizeof *s->face_local);
         s->vmark = calloc(s->vertices + 1, sizeof *s->vmark);
         s->vpos = calloc(s->vertices + 1, sizeof *s->vpos);
-        if (!s->face_mark || !s->vmark || !s->vpos)
+        if (!s->face_mark || !s->face_local || !s->vmark || !s->vpos)
             st = HPFC_E_NOMEM;
     }
     if (st) {
@@ -410,9 +441,62 @@ static int cmp_dart(const void *pa, const void *pb)
     return cmp_angle(a->out, b->out);
 }
 
+/* ---- the region's parts ----------------------------------------------------------- */
+
+/* The region's faces (face_local numbers them) fall into parts, joined
+ * across the edges that have the region on both sides. A hole's part
+ * surrounds it and lies within the part's outer boundary, so a part with
+ * one outer ring owns all its holes (own_by_part): no geometry needed. */
+static int parts_init(hpfc_shapes *s, size_t n)
+{
+    if (array_grow((void **)&s->part, &s->cap_part, n + 1, sizeof *s->part))
+        return HPFC_E_NOMEM;
+    for (size_t k = 0; k < n; k++)
+        s->part[k] = (uint32_t)k;
+    s->nparts = n;
+    return HPFC_OK;
+}
+
+static uint32_t part_of(hpfc_shapes *s, uint64_t face)
+{
+    uint32_t x = s->face_local[face];
+    while (s->part[x] != x)
+        x = s->part[x] = s->part[s->part[x]]; /* path halving */
+    return x;
+}
+
+static void parts_join(hpfc_shapes *s, uint64_t f, uint64_t g)
+{
+    uint32_t a = part_of(s, f), b = part_of(s, g);
+    s->part[a > b ? a : b] = a < b ? a : b;
+}
+
 /* ---- assembling rings -------------------------------------------------------------- */
 
-static int add_dart(hpfc_shapes *s, uint64_t e, int reversed)
+/* Decodes edge e's points (u to v) onto the end of s->ept; *at: the
+ * first. */
+static int load_edge(hpfc_shapes *s, uint64_t e, size_t *at)
+{
+    uint64_t n = shapes_edge_points(s, e);
+    if (array_grow((void **)&s->ept, &s->cap_ept, 2 * (s->nept + n), sizeof *s->ept))
+        return HPFC_E_NOMEM;
+    int64_t *p = s->ept + 2 * s->nept;
+    memcpy(p, s->vxy + 2 * (size_t)s->eu[e], 2 * sizeof *p);
+    memcpy(p + 2 * (n - 1), s->vxy + 2 * (size_t)s->ev[e], 2 * sizeof *p);
+    int st = geom_points(s->f, GEOM_PX, s->first[e], n - 2, p + 2);
+    for (uint64_t k = 0; k < n && !st; k++)
+        if (!coord_ok(p[2 * k], p[2 * k + 1]))
+            st = HPFC_E_CORRUPT;
+    if (!st) {
+        *at = s->nept;
+        s->nept += n;
+    }
+    return st;
+}
+
+/* The dart of edge e with the region's face `face` on its left (v to u
+ * when reversed), its points decoded once for the ring that takes it. */
+static int add_dart(hpfc_shapes *s, uint64_t e, int reversed, uint64_t face)
 {
     /* the points this edge will bring to the answer, counted before the
      * tracing reads them */
@@ -423,20 +507,14 @@ static int add_dart(hpfc_shapes *s, uint64_t e, int reversed)
     bdart *d = &s->darts[s->ndarts++];
     memset(d, 0, sizeof *d);
     d->code = e << 1 | (uint64_t)reversed;
-    uint64_t n = s->npoints[e];
-    int64_t p0[2], p1[2], q0[2], q1[2]; /* first two and last two points, u -> v */
-    int st = hpfc_geometry_edge_point(s->f, e, 0, &p0[0], &p0[1]);
-    if (!st)
-        st = hpfc_geometry_edge_point(s->f, e, 1, &p1[0], &p1[1]);
-    if (!st)
-        st = hpfc_geometry_edge_point(s->f, e, n - 2, &q0[0], &q0[1]);
-    if (!st)
-        st = hpfc_geometry_edge_point(s->f, e, n - 1, &q1[0], &q1[1]);
+    d->face = (uint32_t)face;
+    int st = load_edge(s, e, &d->pts);
     if (st)
         return st;
-    if (!coord_ok(p0[0], p0[1]) || !coord_ok(p1[0], p1[1]) || !coord_ok(q0[0], q0[1]) ||
-        !coord_ok(q1[0], q1[1]))
-        return HPFC_E_CORRUPT;
+    uint64_t n = shapes_edge_points(s, e);
+    /* first two and last two points, u -> v */
+    const int64_t *p0 = s->ept + 2 * d->pts, *p1 = p0 + 2, *q0 = p0 + 2 * (n - 2),
+                  *q1 = p0 + 2 * (n - 1);
     int64_t fwd[2] = {p1[0] - p0[0], p1[1] - p0[1]}, bwd[2] = {q0[0] - q1[0], q0[1] - q1[1]};
     if ((!fwd[0] && !fwd[1]) || (!bwd[0] && !bwd[1]))
         return HPFC_E_CORRUPT; /* a zero-length segment */
@@ -447,38 +525,73 @@ static int add_dart(hpfc_shapes *s, uint64_t e, int reversed)
     return HPFC_OK;
 }
 
+/* A new stamp for vmark (the stamps cleared when they wrap). */
+static void next_vgen(hpfc_shapes *s)
+{
+    if (++s->vgen == 0) {
+        memset(s->vmark, 0, (s->vertices + 1) * sizeof *s->vmark);
+        s->vgen = 1;
+    }
+}
+
+/* Sorts the darts by origin, then by angle (cmp_dart): by origin with
+ * key_sort, then each vertex's few darts by angle. */
+static int sort_darts(hpfc_shapes *s)
+{
+    size_t n = s->ndarts;
+    if (array_grow((void **)&s->dkeys, &s->cap_dkeys, 2 * n, sizeof *s->dkeys) ||
+        array_grow((void **)&s->dsorted, &s->cap_dsorted, n, sizeof *s->dsorted))
+        return HPFC_E_NOMEM;
+    for (size_t k = 0; k < n; k++)
+        s->dkeys[k] = (key_item){s->darts[k].origin, (uint32_t)k};
+    key_sort(s->dkeys, s->dkeys + n, n);
+    for (size_t k = 0; k < n; k++)
+        s->dsorted[k] = s->darts[s->dkeys[k].index];
+    bdart *t = s->darts;
+    s->darts = s->dsorted, s->dsorted = t;
+    size_t c = s->cap_darts;
+    s->cap_darts = s->cap_dsorted, s->cap_dsorted = c;
+    /* each vertex's darts: from vpos[v] on, where vmark[v] holds the stamp */
+    next_vgen(s);
+    for (size_t a = 0, b; a < n; a = b) {
+        uint32_t v = s->darts[a].origin;
+        for (b = a + 1; b < n && s->darts[b].origin == v; b++)
+            ;
+        if (b - a > 1)
+            qsort(s->darts + a, b - a, sizeof *s->darts, cmp_dart);
+        s->vmark[v] = s->vgen;
+        s->vpos[v] = (uint32_t)a;
+    }
+    return HPFC_OK;
+}
+
 /* Links each dart to the one continuing it: at its target, the first dart
  * leaving clockwise from the way it came (the region's corner). A file
  * whose boundary does not pair up is corrupt. */
 static int link_darts(hpfc_shapes *s)
 {
-    bdart *D = s->darts;
     size_t n = s->ndarts;
     if (n == 0)
         return HPFC_OK; /* a face all of whose edges are bridges: no ring */
-    qsort(D, n, sizeof *D, cmp_dart);
+    int st = sort_darts(s);
+    if (st)
+        return st;
+    bdart *D = s->darts;
     for (size_t k = 0; k < n; k++) {
         uint32_t t = D[k].target;
-        size_t lo = 0, hi = n; /* the darts leaving t: [lo, hi) */
+        if (s->vmark[t] != s->vgen)
+            return HPFC_E_CORRUPT; /* the boundary ends at t */
+        /* the darts leaving t: [first, end); end found by bisection, since
+         * a scan would cost a vertex of degree d its d darts d times */
+        size_t first = s->vpos[t], lo = first + 1, hi = n;
         while (lo < hi) {
             size_t mid = lo + (hi - lo) / 2;
-            if (D[mid].origin < t)
-                lo = mid + 1;
-            else
-                hi = mid;
-        }
-        size_t first = lo;
-        hi = n;
-        while (lo < hi) {
-            size_t mid = lo + (hi - lo) / 2;
-            if (D[mid].origin <= t)
+            if (D[mid].origin == t)
                 lo = mid + 1;
             else
                 hi = mid;
         }
         size_t end = lo;
-        if (first == end)
-            return HPFC_E_CORRUPT; /* the boundary ends at t */
         /* the first of them at an angle not below the way back */
         lo = first, hi = end;
         while (lo < hi) {
@@ -494,6 +607,23 @@ static int link_darts(hpfc_shapes *s)
         D[next].has_prev = 1;
         D[k].next = (uint32_t)next;
     }
+    return HPFC_OK;
+}
+
+/* Appends points [from, to) of the n points s->ept[2 * at ..] (an edge's,
+ * u to v), taken from v to u when rev. */
+static int add_points(hpfc_shapes *s, size_t at, uint64_t n, int rev, uint64_t from, uint64_t to)
+{
+    if (array_grow((void **)&s->txy, &s->cap_txy, 2 * (s->ntxy + to - from), sizeof *s->txy))
+        return HPFC_E_NOMEM;
+    const int64_t *src = s->ept + 2 * at;
+    int64_t *dst = s->txy + 2 * s->ntxy;
+    for (uint64_t j = from; j < to; j++, dst += 2) {
+        uint64_t k = rev ? n - 1 - j : j;
+        dst[0] = src[2 * k];
+        dst[1] = src[2 * k + 1];
+    }
+    s->ntxy += to - from;
     return HPFC_OK;
 }
 
@@ -518,17 +648,12 @@ static int emit_ring(hpfc_shapes *s, size_t a, size_t b)
     tring *r = &s->rings[s->nrings];
     r->start = s->ntxy;
     r->owner = SIZE_MAX;
+    r->part = part_of(s, s->darts[s->cycle[a]].face);
     int st = HPFC_OK;
     for (size_t k = a; k < b && !st; k++) {
         const bdart *d = &s->darts[s->cycle[k]];
-        uint64_t e = d->code >> 1, n = s->npoints[e];
-        int rev = (int)(d->code & 1);
-        for (uint64_t j = 0; j + 1 < n && !st; j++) {
-            int64_t x, y;
-            st = hpfc_geometry_edge_point(s->f, e, rev ? n - 1 - j : j, &x, &y);
-            if (!st)
-                st = add_point(s, x, y);
-        }
+        uint64_t n = shapes_edge_points(s, d->code >> 1);
+        st = add_points(s, d->pts, n, (int)(d->code & 1), 0, n - 1);
     }
     if (st)
         return st;
@@ -566,10 +691,7 @@ static int trace_rings(hpfc_shapes *s)
     for (size_t start = 0; start < n; start++) {
         if (s->darts[start].used)
             continue;
-        if (++s->vgen == 0) { /* the stamps wrapped: forget them all */
-            memset(s->vmark, 0, (s->vertices + 1) * sizeof *s->vmark);
-            s->vgen = 1;
-        }
+        next_vgen(s);
         size_t top = 0; /* the walk so far, cut loops removed: cycle[0 .. top) */
         size_t d = start;
         for (size_t steps = 0; !s->darts[d].used; steps++) {
@@ -733,6 +855,33 @@ static int find_owner(hpfc_shapes *s, owners *w, size_t h, candidate **cand, siz
     return HPFC_OK;
 }
 
+/* Gives each hole the outer ring of its part where the part has exactly
+ * one, as a part joined across edges has; *rest: the holes left (a part
+ * with no outer ring or several), for find_owner's search by geometry. */
+static int own_by_part(hpfc_shapes *s, size_t *rest)
+{
+    const size_t none = SIZE_MAX, several = SIZE_MAX - 1;
+    if (array_grow((void **)&s->part_outer, &s->cap_part_outer, s->nparts + 1,
+                   sizeof *s->part_outer))
+        return HPFC_E_NOMEM;
+    for (size_t c = 0; c < s->nparts; c++)
+        s->part_outer[c] = none;
+    for (size_t r = 0; r < s->nrings; r++)
+        if (s->rings[r].area2 > 0) {
+            size_t *o = &s->part_outer[s->rings[r].part];
+            *o = *o == none ? r : several;
+        }
+    *rest = 0;
+    for (size_t h = 0; h < s->nrings; h++) {
+        tring *H = &s->rings[h];
+        if (H->area2 < 0 && s->part_outer[H->part] < several)
+            H->owner = s->part_outer[H->part];
+        else if (H->area2 < 0)
+            (*rest)++;
+    }
+    return HPFC_OK;
+}
+
 /* Copies ring r to the answer. */
 static void put_ring(hpfc_shapes *s, size_t r, size_t *rings, size_t *points)
 {
@@ -752,14 +901,15 @@ static int arrange(hpfc_shapes *s, hpfc_polygons *out)
     size_t nr = s->nrings, outers = 0, holes = 0;
     for (size_t r = 0; r < nr; r++)
         s->rings[r].area2 > 0 ? outers++ : holes++;
-    int st = HPFC_OK;
-    if (holes && outers) {
+    size_t rest = 0;
+    int st = holes && outers ? own_by_part(s, &rest) : HPFC_OK;
+    if (!st && rest) {
         owners w;
         candidate *cand = NULL;
         size_t cap = 0;
         st = owners_init(s, &w, outers);
         for (size_t h = 0; h < nr && !st; h++)
-            if (s->rings[h].area2 < 0)
+            if (s->rings[h].area2 < 0 && s->rings[h].owner == SIZE_MAX)
                 st = find_owner(s, &w, h, &cand, &cap);
         free(cand);
         owners_free(&w, outers);
@@ -816,7 +966,7 @@ static int arrange(hpfc_shapes *s, hpfc_polygons *out)
 
 static void reset(hpfc_shapes *s)
 {
-    s->ndarts = s->ntxy = s->nrings = 0;
+    s->ndarts = s->nept = s->ntxy = s->nrings = 0;
     s->call_points = 0;
 }
 
@@ -837,11 +987,12 @@ int hpfc_shapes_face_polygons(hpfc_shapes *s, hpfc_id face, hpfc_polygons *out)
     if (!s || !out || face >= s->faces)
         return HPFC_E_ARG;
     reset(s);
-    int st = HPFC_OK;
+    s->face_local[face] = 0;
+    int st = parts_init(s, 1);
     for (uint64_t k = s->face_start[face]; k < s->face_start[face + 1] && !st; k++) {
         uint32_t e = s->face_edge[k];
         /* the face on the left: u -> v when it is the left face */
-        st = add_dart(s, e, s->left[e] != face);
+        st = add_dart(s, e, s->left[e] != face, face);
     }
     return st ? st : assemble(s, out);
 }
@@ -855,16 +1006,21 @@ int hpfc_shapes_feature_polygons(hpfc_shapes *s, hpfc_id feature, hpfc_polygons 
     reset(s);
     uint32_t m = shapes_next_mark(s);
     uint64_t a = s->feat_start[feature], b = s->feat_start[feature + 1];
-    for (uint64_t k = a; k < b; k++)
+    for (uint64_t k = a; k < b; k++) {
         s->face_mark[s->feat_face[k]] = m;
+        s->face_local[s->feat_face[k]] = (uint32_t)(k - a);
+    }
+    st = parts_init(s, b - a);
     for (uint64_t k = a; k < b && !st; k++) {
         uint32_t face = s->feat_face[k];
         for (uint64_t j = s->face_start[face]; j < s->face_start[face + 1] && !st; j++) {
             uint32_t e = s->face_edge[j];
             int in_left = s->face_mark[s->left[e]] == m, in_right = s->face_mark[s->right[e]] == m;
+            if (in_left && in_right)
+                parts_join(s, s->left[e], s->right[e]);
             /* once per edge: from the face on its side inside the feature */
-            if (in_left != in_right && (in_left ? s->left[e] : s->right[e]) == face)
-                st = add_dart(s, e, in_right);
+            else if (in_left != in_right && (in_left ? s->left[e] : s->right[e]) == face)
+                st = add_dart(s, e, in_right, face);
         }
     }
     return st ? st : assemble(s, out);
@@ -927,16 +1083,15 @@ static int walk_line(line_walk *w, line_end from)
     int st = HPFC_OK, first = 1;
     for (size_t steps = 0; steps < w->n && !w->used[from.k] && !st; steps++) {
         uint32_t e = w->edges[from.k];
-        uint64_t n = s->npoints[e];
+        uint64_t n = shapes_edge_points(s, e);
         w->used[from.k] = 1;
         if ((st = shapes_take_points(s, n)))
             break;
-        for (uint64_t j = first ? 0 : 1; j < n && !st; j++) {
-            int64_t x, y;
-            st = hpfc_geometry_edge_point(s->f, e, from.end ? n - 1 - j : j, &x, &y);
-            if (!st)
-                st = add_point(s, x, y);
-        }
+        size_t at;
+        s->nept = 0;
+        st = load_edge(s, e, &at);
+        if (!st)
+            st = add_points(s, at, n, from.end, first ? 0 : 1, n);
         first = 0;
         line_end arrived = {from.end ? s->eu[e] : s->ev[e], from.k, 1 - from.end};
         const line_end *next = continuation(w, arrived.vertex, &arrived);

@@ -15,6 +15,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "arrays.h"
 #include "hpfc.h"
 
 __extension__ typedef __int128 s128;
@@ -23,6 +24,8 @@ __extension__ typedef __int128 s128;
  * assembly needs of it. */
 typedef struct bdart {
     uint64_t code;
+    size_t pts;       /* its edge's points, u -> v, from s->ept[2 * pts] */
+    uint32_t face;    /* the region's face on its left */
     uint32_t origin, target;
     int64_t out[2];   /* direction leaving the origin */
     int64_t back[2];  /* direction from the target back along the last segment */
@@ -33,6 +36,7 @@ typedef struct bdart {
 /* A ring being assembled: points [start, end) of the scratch points. */
 typedef struct tring {
     size_t start, end;
+    uint32_t part;    /* the region's part it bounds (see own_by_part) */
     s128 area2;       /* twice the signed area */
     int64_t box[4];   /* xmin, ymin, xmax, ymax */
     size_t owner;     /* holes: the outer ring's index, SIZE_MAX: none */
@@ -42,7 +46,9 @@ struct hpfc_shapes {
     const hpfc_file *f;
     uint64_t vertices, edges, faces, points;
     uint32_t *eu, *ev;
-    uint64_t *left, *right, *npoints;
+    uint64_t *left, *right;
+    uint64_t *first;            /* edge e's shape points: [first[e], first[e + 1]) */
+    int64_t *vxy;               /* the vertices' coordinates (pairs) */
     uint64_t *face_start;       /* faces + 1 */
     uint32_t *face_edge;
     int have_features, have_edge_features;
@@ -53,10 +59,18 @@ struct hpfc_shapes {
     uint64_t *fe_start;         /* features + 1 (EDGF) */
     uint32_t *fe_edge;
     uint32_t *face_mark, mark;  /* face_mark[f] == mark: f is in the region */
+    uint32_t *face_local;       /* f's index among the region's faces */
     uint32_t *vmark, *vpos, vgen;
     /* scratch, reused by every call */
-    bdart *darts;
-    size_t ndarts, cap_darts;
+    bdart *darts, *dsorted;
+    size_t ndarts, cap_darts, cap_dsorted;
+    key_item *dkeys;            /* the darts by origin, and scratch */
+    size_t cap_dkeys;
+    int64_t *ept;               /* the darts' edges' points (pairs) */
+    size_t nept, cap_ept;
+    uint32_t *part;             /* union-find over the region's faces */
+    size_t nparts, cap_part;
+    size_t *part_outer, cap_part_outer;
     uint32_t *cycle;
     size_t cap_cycle;
     int64_t *txy;
@@ -129,6 +143,12 @@ int shapes_feature_border(hpfc_shapes *s, hpfc_id feature, uint32_t **edges, siz
 /* Whether segment a-b meets the closed box (x0, y0, x1, y1), exactly.
  * window.c. */
 int shapes_segment_meets(const int64_t a[2], const int64_t b[2], const int64_t box[4]);
+
+/* Edge e's points: u, its shape points, v. */
+static inline uint64_t shapes_edge_points(const hpfc_shapes *s, uint64_t e)
+{
+    return s->first[e + 1] - s->first[e] + 2;
+}
 
 /* Each edge's box (x0, y0, x1, y1) over all its points, computed on first
  * use; HPFC_E_CORRUPT on a point that does not read. */

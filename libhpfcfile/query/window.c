@@ -164,7 +164,7 @@ int shapes_edge_box(hpfc_shapes *s, uint64_t edge, const int64_t **box)
     int64_t *b = s->edge_box[edge];
     if (b[0] > b[2]) {
         int64_t x, y;
-        for (uint64_t k = 0; k < s->npoints[edge]; k++) {
+        for (uint64_t k = 0; k < shapes_edge_points(s, edge); k++) {
             int st = hpfc_geometry_edge_point(s->f, edge, k, &x, &y);
             if (st)
                 return st;
@@ -220,10 +220,10 @@ static int cut_crossing(hpfc_shapes *s, const hpfc_pixel *leaf, uint32_t k, cons
         st = hpfc_geometry_crossing_segment(s->f, leaf, k, &seg);
     if (st)
         return st;
-    if (e >= s->edges || seg + 1 >= s->npoints[e])
+    if (e >= s->edges || seg + 1 >= shapes_edge_points(s, e))
         return HPFC_E_CORRUPT;
     int hit = 0, in_box, in_r;
-    for (uint64_t j = seg; !hit && j + 1 < s->npoints[e]; j++) {
+    for (uint64_t j = seg; !hit && j + 1 < shapes_edge_points(s, e); j++) {
         if ((st = segment_in_box(s, e, j, box, r, &in_box, &in_r)))
             return st;
         hit = in_r;

@@ -341,10 +341,10 @@ int hpfc_file_get_edge_links_sized(const hpfc_file *file, hpfc_edge_links_info *
 
 /* EDGF's edge index and links, for an accessor: as section_of answers.
  * feature_links.h reads them for edges here and for faces in features.c;
- * what stays twice (this, features.c's face_links and their two
+ * what stays twice (this, features.c's features_face_links and their two
  * accessors) is each section's own part: finding its links in its own
  * layout. */
-static int edge_links(const hpfc_file *file, bool out_ok, feature_links *links)
+int attrs_edge_links(const hpfc_file *file, bool out_ok, feature_links *links)
 {
     const uint8_t *s;
     int st = section_of(file, SECTION_EDGF, out_ok, &s);
@@ -359,13 +359,13 @@ static int edge_links(const hpfc_file *file, bool out_ok, feature_links *links)
 int hpfc_edge_feature_count(const hpfc_file *file, hpfc_id edge, uint32_t *count)
 {
     feature_links links;
-    int st = edge_links(file, count != NULL, &links);
+    int st = attrs_edge_links(file, count != NULL, &links);
     return st ? st : feature_links_count(&links, edge, count);
 }
 
 int hpfc_edge_feature_id(const hpfc_file *file, hpfc_id edge, uint32_t k, hpfc_id *feature)
 {
     feature_links links;
-    int st = edge_links(file, feature != NULL, &links);
+    int st = attrs_edge_links(file, feature != NULL, &links);
     return st ? st : feature_links_get(&links, edge, k, feature);
 }

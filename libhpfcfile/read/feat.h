@@ -3,7 +3,10 @@
 #ifndef HPFC_FEAT_H
 #define HPFC_FEAT_H
 
+#include <stdbool.h>
+
 #include "diag.h"
+#include "feature_links.h"
 
 /* Checks a feature table for the writer and computes the section's length
  * (HPFC_E_ARG on an inconsistent table, HPFC_E_LIMIT beyond 32-bit counts). */
@@ -15,5 +18,8 @@ void feat_section_emit(const hpfc_feature_table *t, uint8_t *out);
  * the strings. HPFC_E_SECTION otherwise. O(1): the tables are checked at
  * each access. */
 int feat_section_check(const uint8_t *section, uint64_t length);
+/* FEAT's face links (feature_links.h), for hpfc_face_feature* and the
+ * shapes' index: HPFC_E_ARG when !out_ok, HPFC_E_NO_SECTION without FEAT. */
+int features_face_links(const hpfc_file *file, bool out_ok, feature_links *links);
 
 #endif

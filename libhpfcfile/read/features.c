@@ -244,9 +244,9 @@ int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name, si
 
 /* FEAT's face index and links, for an accessor: as section_of answers.
  * feature_links.h reads them for faces here and for edges in attrs.c;
- * what stays twice (this, attrs.c's edge_links and their two accessors)
+ * what stays twice (this, attrs.c's attrs_edge_links and their two accessors)
  * is each section's own part: finding its links in its own layout. */
-static int face_links(const hpfc_file *file, bool out_ok, feature_links *links)
+int features_face_links(const hpfc_file *file, bool out_ok, feature_links *links)
 {
     const uint8_t *s;
     int st = section_of(file, out_ok, &s);
@@ -261,13 +261,13 @@ static int face_links(const hpfc_file *file, bool out_ok, feature_links *links)
 int hpfc_face_feature_count(const hpfc_file *file, hpfc_id face, uint32_t *count)
 {
     feature_links links;
-    int st = face_links(file, count != NULL, &links);
+    int st = features_face_links(file, count != NULL, &links);
     return st ? st : feature_links_count(&links, face, count);
 }
 
 int hpfc_face_feature_id(const hpfc_file *file, hpfc_id face, uint32_t k, hpfc_id *feature)
 {
     feature_links links;
-    int st = face_links(file, feature != NULL, &links);
+    int st = features_face_links(file, feature != NULL, &links);
     return st ? st : feature_links_get(&links, face, k, feature);
 }

@@ -157,36 +157,82 @@ bool geom_padding_zero(const geom_view *v, uint64_t *at)
     return true;
 }
 
+/* The directory entry of a column's block: where its values start in the
+ * payload, their base and their width. */
+typedef struct column_block {
+    uint64_t off, base;
+    uint32_t width;
+} column_block;
+
+static column_block block_entry(const geom_column *c, uint64_t block)
+{
+    uint64_t at = block * c->entry_bits; /* < dir bits: checked at open */
+    column_block b;
+    if (c->entry_bits <= 57) {
+        /* the usual case: the block's entry in one read, then split */
+        uint64_t e = format_get(&c->dir, at, c->entry_bits);
+        b.width = (uint32_t)(e & ((1u << GEOM_WIDTH_BITS) - 1));
+        e >>= GEOM_WIDTH_BITS;
+        b.base = e & ((UINT64_C(1) << c->base_bits) - 1); /* base_bits <= 50 here */
+        b.off = e >> c->base_bits;
+    } else {
+        b.off = format_get(&c->dir, at, c->offset_bits);
+        b.base = format_get(&c->dir, at + c->offset_bits, c->base_bits);
+        b.width = (uint32_t)format_get(&c->dir, at + c->offset_bits + c->base_bits,
+                                       GEOM_WIDTH_BITS);
+    }
+    return b;
+}
+
+/* Values q .. q + n - 1 of block b into out[0], out[stride], ...:
+ * HPFC_E_CORRUPT when the last lies outside the payload or a value
+ * overflows. */
+static int block_values(const geom_column *c, const column_block *b, uint64_t q, uint64_t n,
+                        uint64_t *out, size_t stride)
+{
+    uint64_t pos, end;
+    if (b->width > 64 || !format_mul(q + n, b->width, &end) || !format_add(b->off, end, &end) ||
+        end > c->payload.bits)
+        return HPFC_E_CORRUPT;
+    pos = b->off + q * b->width;
+    uint64_t most = b->width == 64 ? UINT64_MAX : (UINT64_C(1) << b->width) - 1;
+    if (b->width && b->width <= 57 && b->base <= UINT64_MAX - most) {
+        /* the usual block: no value can overflow, each one read */
+        for (uint64_t k = 0; k < n; k++, pos += b->width)
+            out[k * stride] =
+                b->base + (format_peek(&c->payload, pos, b->width) >> (64 - b->width));
+        return HPFC_OK;
+    }
+    for (uint64_t k = 0; k < n; k++, pos += b->width) {
+        uint64_t delta = format_get(&c->payload, pos, b->width);
+        if (delta > UINT64_MAX - b->base)
+            return HPFC_E_CORRUPT;
+        out[k * stride] = b->base + delta;
+    }
+    return HPFC_OK;
+}
+
 int geom_column_get(const geom_column *c, uint64_t i, uint64_t *value)
 {
     if (i >= c->count)
         return HPFC_E_CORRUPT;
-    uint64_t block = i >> c->shift, q = i & ((UINT64_C(1) << c->shift) - 1);
-    uint64_t at = block * c->entry_bits; /* < dir bits: checked at open */
-    uint64_t off, base;
-    uint32_t width;
-    if (c->entry_bits <= 57) {
-        /* the usual case: the block's entry in one read, then split */
-        uint64_t e = format_get(&c->dir, at, c->entry_bits);
-        width = (uint32_t)(e & ((1u << GEOM_WIDTH_BITS) - 1));
-        e >>= GEOM_WIDTH_BITS;
-        base = e & ((UINT64_C(1) << c->base_bits) - 1); /* base_bits <= 50 here */
-        off = e >> c->base_bits;
-    } else {
-        off = format_get(&c->dir, at, c->offset_bits);
-        base = format_get(&c->dir, at + c->offset_bits, c->base_bits);
-        width = (uint32_t)format_get(&c->dir, at + c->offset_bits + c->base_bits,
-                                     GEOM_WIDTH_BITS);
+    column_block b = block_entry(c, i >> c->shift);
+    return block_values(c, &b, i & ((UINT64_C(1) << c->shift) - 1), 1, value, 1);
+}
+
+int geom_column_run(const geom_column *c, uint64_t i, uint64_t n, uint64_t *out, size_t stride)
+{
+    if (i > c->count || n > c->count - i)
+        return HPFC_E_CORRUPT;
+    uint64_t size = UINT64_C(1) << c->shift;
+    int st = HPFC_OK;
+    while (n && !st) {
+        uint64_t q = i & (size - 1), take = size - q < n ? size - q : n;
+        column_block b = block_entry(c, i >> c->shift);
+        st = block_values(c, &b, q, take, out, stride);
+        i += take, n -= take, out += take * stride;
     }
-    uint64_t pos, end;
-    if (width > 64 || !format_mul(q, width, &pos) || !format_add(off, pos, &pos) ||
-        !format_add(pos, width, &end) || end > c->payload.bits)
-        return HPFC_E_CORRUPT;
-    uint64_t delta = format_get(&c->payload, pos, width);
-    if (delta > UINT64_MAX - base)
-        return HPFC_E_CORRUPT;
-    *value = base + delta;
-    return HPFC_OK;
+    return st;
 }
 
 /* ---- accessors ---------------------------------------------------------------- */
@@ -244,38 +290,56 @@ int hpfc_geometry_vertex(const hpfc_file *file, uint64_t vertex, int64_t *x, int
     return point_at(file, v, GEOM_VX, vertex, x, y);
 }
 
-/* Edge e's end vertices and its shape points [first, first + n). */
-typedef struct edge_rec {
-    uint64_t u, v, first, n;
-} edge_rec;
-
-static int edge_record(const geom_view *v, uint64_t e, edge_rec *r)
+/* Checks an edge's record read from the columns, its shape points ending
+ * where the next edge's (`next`) start, and sets r->n. */
+static int edge_check(const geom_view *v, geom_edge *r, uint64_t next)
 {
+    if (r->u >= v->vertices || r->v >= v->vertices || r->first > next || next > v->points)
+        return HPFC_E_CORRUPT;
+    r->n = next - r->first;
+    /* a loop needs two shape points (spec §3.9 rule 1) */
+    return r->u == r->v && r->n < 2 ? HPFC_E_CORRUPT : HPFC_OK;
+}
+
+static int edge_record(const geom_view *v, uint64_t e, geom_edge *r)
+{
+    uint64_t next = v->points;
+    r->first = r->n = 0;
     int st = geom_column_get(&v->col[GEOM_EU], e, &r->u);
     if (!st)
         st = geom_column_get(&v->col[GEOM_EV], e, &r->v);
-    if (!st && (r->u >= v->vertices || r->v >= v->vertices))
-        st = HPFC_E_CORRUPT;
-    r->first = r->n = 0;
-    if (!st && v->points) {
-        uint64_t next = v->points;
+    if (!st && v->points)
         st = geom_column_get(&v->col[GEOM_EPOINT], e, &r->first);
-        if (!st && e + 1 < v->edges)
-            st = geom_column_get(&v->col[GEOM_EPOINT], e + 1, &next);
-        if (!st && (r->first > next || next > v->points))
-            st = HPFC_E_CORRUPT;
-        r->n = st ? 0 : next - r->first;
-    }
-    /* a loop needs two shape points (spec §3.9 rule 1) */
-    if (!st && r->u == r->v && r->n < 2)
-        st = HPFC_E_CORRUPT;
+    if (!st && v->points && e + 1 < v->edges)
+        st = geom_column_get(&v->col[GEOM_EPOINT], e + 1, &next);
+    return st ? st : edge_check(v, r, next);
+}
+
+int geom_edges(const hpfc_file *file, uint64_t first, uint64_t n, geom_edge *out)
+{
+    const geom_view *v = &file->geom;
+    if (first > v->edges || n > v->edges - first)
+        return HPFC_E_ARG;
+    const size_t stride = sizeof *out / sizeof(uint64_t);
+    uint64_t next = v->points;
+    int st = geom_column_run(&v->col[GEOM_EU], first, n, &out->u, stride);
+    if (!st)
+        st = geom_column_run(&v->col[GEOM_EV], first, n, &out->v, stride);
+    for (uint64_t k = 0; k < n && !v->points; k++)
+        out[k].first = 0;
+    if (!st && v->points)
+        st = geom_column_run(&v->col[GEOM_EPOINT], first, n, &out->first, stride);
+    if (!st && v->points && first + n < v->edges)
+        st = geom_column_get(&v->col[GEOM_EPOINT], first + n, &next);
+    for (uint64_t k = 0; k < n && !st; k++)
+        st = edge_check(v, &out[k], k + 1 < n ? out[k + 1].first : next);
     return st;
 }
 
 /* Edge `edge`'s record for an accessor: as geometry_of answers, then
  * HPFC_E_ARG past the edges, then as edge_record. */
 static int edge_of(const hpfc_file *file, bool args_ok, uint64_t edge, const geom_view **g,
-                   edge_rec *r)
+                   geom_edge *r)
 {
     int st = geometry_of(file, args_ok, g);
     if (st)
@@ -289,7 +353,7 @@ int hpfc_geometry_edge(const hpfc_file *file, uint64_t edge, uint64_t *u, uint64
                        uint64_t *point_count)
 {
     const geom_view *g;
-    edge_rec r;
+    geom_edge r;
     int st = edge_of(file, u && v && point_count, edge, &g, &r);
     if (st)
         return st;
@@ -303,7 +367,7 @@ int hpfc_geometry_edge_point(const hpfc_file *file, uint64_t edge, uint64_t k, i
                              int64_t *y)
 {
     const geom_view *g;
-    edge_rec r;
+    geom_edge r;
     int st = edge_of(file, x && y, edge, &g, &r);
     if (st)
         return st;
@@ -314,6 +378,34 @@ int hpfc_geometry_edge_point(const hpfc_file *file, uint64_t edge, uint64_t k, i
     if (k == r.n + 1)
         return point_at(file, g, GEOM_VX, r.v, x, y);
     return point_at(file, g, GEOM_PX, r.first + k - 1, x, y);
+}
+
+int geom_points(const hpfc_file *file, int column, uint64_t first, uint64_t n, int64_t *xy)
+{
+    const geom_view *g = &file->geom;
+    uint64_t *d = (uint64_t *)xy; /* the offsets from the domain's corner, then made absolute */
+    int st = geom_column_run(&g->col[column], first, n, d, 2);
+    if (!st)
+        st = geom_column_run(&g->col[column + 1], first, n, d + 1, 2);
+    for (uint64_t k = 0; k < n && !st; k++) {
+        if (d[2 * k] >= g->width || d[2 * k + 1] >= g->height)
+            return HPFC_E_CORRUPT;
+        xy[2 * k] = file->info.x0 + (int64_t)d[2 * k];
+        xy[2 * k + 1] = file->info.y0 + (int64_t)d[2 * k + 1];
+    }
+    return st;
+}
+
+int geom_edge_points(const hpfc_file *file, uint64_t edge, int64_t *xy)
+{
+    const geom_view *g;
+    geom_edge r;
+    int st = edge_of(file, xy != NULL, edge, &g, &r);
+    if (!st)
+        st = point_at(file, g, GEOM_VX, r.u, &xy[0], &xy[1]);
+    if (!st)
+        st = point_at(file, g, GEOM_VX, r.v, &xy[2 * r.n + 2], &xy[2 * r.n + 3]);
+    return st ? st : geom_points(file, GEOM_PX, r.first, r.n, xy + 2);
 }
 
 int hpfc_geometry_edge_faces(const hpfc_file *file, uint64_t edge, uint64_t *left,
@@ -385,7 +477,7 @@ int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf
     /* a segment of the crossing's own edge, when LABL names it */
     uint64_t edge;
     if (file->labels.present) {
-        edge_rec r;
+        geom_edge r;
         st = hpfc_label_crossing_edge(file, leaf, crossing, &edge);
         if (!st && edge >= g->edges)
             st = HPFC_E_CORRUPT;

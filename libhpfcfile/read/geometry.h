@@ -117,6 +117,32 @@ bool geom_padding_zero(const geom_view *v, uint64_t *at);
 /* Value i of a column (i < count): HPFC_E_CORRUPT when its block's
  * directory entry or field lies outside the column. */
 int geom_column_get(const geom_column *c, uint64_t i, uint64_t *value);
+/* Values [i, i + n) of a column into out[0], out[stride], ...: a block's
+ * directory entry read once for all its values. HPFC_E_CORRUPT as
+ * geom_column_get, or when the run passes the column's end. */
+int geom_column_run(const geom_column *c, uint64_t i, uint64_t n, uint64_t *out, size_t stride);
+
+/* An edge's end vertices and its shape points [first, first + n). */
+typedef struct geom_edge {
+    uint64_t u, v, first, n;
+} geom_edge;
+
+/* Edges [first, first + n)'s records into out, read a column run at a
+ * time, each checked as hpfc_geometry_edge checks it (HPFC_E_CORRUPT);
+ * HPFC_E_ARG past the edges. The GEOM section is present. */
+int geom_edges(const hpfc_file *file, uint64_t first, uint64_t n, geom_edge *out);
+
+/* Points [first, first + n) of a point column, GEOM_VX (the vertices) or
+ * GEOM_PX (the shape points), as lattice coordinates into xy (x, y a
+ * point), read a column run at a time. HPFC_E_CORRUPT for a run past the
+ * column or a point outside the domain. */
+int geom_points(const hpfc_file *file, int column, uint64_t first, uint64_t n, int64_t *xy);
+
+/* Every point of edge `edge`, u first, v last (hpfc_geometry_edge's
+ * point_count of them), into xy: x, y a point. Statuses as
+ * hpfc_geometry_edge_point's; the points of a whole edge at once cost
+ * about a third of its calls point by point. */
+int geom_edge_points(const hpfc_file *file, uint64_t edge, int64_t *xy);
 
 /* Builds the section's bytes from the graph the tree was built from:
  * *out (malloc'ed), *length. HPFC_E_ARG when the graph is not the tree's. */

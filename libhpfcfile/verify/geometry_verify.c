@@ -54,8 +54,8 @@ static int check_graph(const hpfc_file *f, const geom_view *g, hpfc_geometry_rep
             st = problem(r, "edge %llu: %s", (unsigned long long)e, hpfc_strerror(st));
             break;
         }
-        if (n - 2 > cap) {
-            cap = n - 2;
+        if (n > cap) {
+            cap = n;
             int64_t *grown = cap <= SIZE_MAX / 16 ? realloc(xy, cap * 16) : NULL;
             if (!grown) {
                 st = HPFC_E_NOMEM;
@@ -63,11 +63,11 @@ static int check_graph(const hpfc_file *f, const geom_view *g, hpfc_geometry_rep
             }
             xy = grown;
         }
-        for (uint64_t k = 1; !st && k + 1 < n; k++)
-            if ((st = hpfc_geometry_edge_point(f, e, k, &xy[2 * (k - 1)], &xy[2 * (k - 1) + 1])))
-                st = problem(r, "edge %llu point %llu: %s", (unsigned long long)e,
-                             (unsigned long long)k, hpfc_strerror(st));
-        if (!st && (st = hpfc_graph_add_edge(gr, (uint32_t)u, (uint32_t)v, xy, (size_t)(n - 2), NULL)))
+        if ((st = geom_edge_points(f, e, xy)))
+            st = problem(r, "edge %llu's points: %s", (unsigned long long)e, hpfc_strerror(st));
+        /* the shape points between u and v */
+        if (!st && (st = hpfc_graph_add_edge(gr, (uint32_t)u, (uint32_t)v, xy + 2,
+                                             (size_t)(n - 2), NULL)))
             st = problem(r, "edge %llu: %s", (unsigned long long)e, hpfc_strerror(st));
     }
     free(xy);
