@@ -1,36 +1,44 @@
 /*
- * clock.h: the tools' stage timers: wall seconds on the monotonic clock
- * (reports, progress bars, --json stage times) and the process's CPU
- * seconds beside them. Header-only.
+ * clock.h: the tools' timers: wall seconds on the monotonic clock (reports,
+ * progress bars, --json times) and, for hpfc-pack's stages, the wall and
+ * CPU time together. The CPU time is the whole process's (user + system,
+ * every thread): on a shared machine it varies less than the wall time.
+ * Header-only.
  */
 #ifndef HPFC_TOOLS_CLOCK_H
 #define HPFC_TOOLS_CLOCK_H
 
 #include <time.h>
 
+static inline double clock_read(clockid_t id)
+{
+    struct timespec ts;
+    clock_gettime(id, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 /* Seconds on a clock that never jumps (differences only). */
 static inline double clock_seconds(void)
 {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+    return clock_read(CLOCK_MONOTONIC);
 }
 
-/* Seconds since *t, which moves on to now: one stage's wall time. */
-static inline double clock_lap(double *t)
+typedef struct stage_time {
+    double wall, cpu; /* seconds */
+} stage_time;
+
+static inline stage_time stage_now(void)
 {
-    double now = clock_seconds();
-    double d = now - *t;
+    return (stage_time){clock_seconds(), clock_read(CLOCK_PROCESS_CPUTIME_ID)};
+}
+
+/* The time since *t, which moves on to now: one stage's. */
+static inline stage_time stage_lap(stage_time *t)
+{
+    stage_time now = stage_now();
+    stage_time d = {now.wall - t->wall, now.cpu - t->cpu};
     *t = now;
     return d;
-}
-
-/* CPU seconds the process has used, all its threads. */
-static inline double clock_cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 #endif

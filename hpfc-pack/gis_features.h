@@ -26,7 +26,7 @@
 
 #include "face_witness.h"
 #include "hpfc.h"
-#include "stage_time.h"
+#include "clock.h"
 
 typedef struct gis_features gis_features;
 

@@ -18,7 +18,7 @@
 #include "gis_attrs.h"
 #include "gis_features.h"
 #include "hpfc.h"
-#include "stage_time.h"
+#include "clock.h"
 
 enum { GIS_VERTICES_ALL = 0, GIS_VERTICES_JUNCTIONS = 1 };
 /* What to do with a polygon GEOS finds invalid (a self-intersecting ring,

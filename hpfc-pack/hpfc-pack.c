@@ -32,7 +32,6 @@
 #include "jsonw.h"
 #include "paths.h"
 #include "progress.h"
-#include "stage_time.h"
 
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
 
