@@ -263,13 +263,13 @@ static int leaf_crossing(hpfc_shapes *s, const hpfc_pixel *leaf, uint32_t k, con
         st = hpfc_geometry_crossing_segment(s->f, leaf, k, &seg);
     if (st)
         return st;
-    if (e >= s->edges || seg + 1 >= s->npoints[e])
+    if (e >= s->edges || seg + 1 >= shapes_edge_points(s, e))
         return HPFC_E_CORRUPT;
     int64_t a[2], b[2], first[2];
     if ((st = read_point(s, e, seg, a)))
         return st;
     first[0] = a[0], first[1] = a[1];
-    for (uint64_t j = seg; j + 1 < s->npoints[e] && !st; j++) {
+    for (uint64_t j = seg; j + 1 < shapes_edge_points(s, e) && !st; j++) {
         if ((st = read_point(s, e, j + 1, b)))
             return st;
         /* the crossing's own segment too: in a damaged file it may lie
@@ -483,7 +483,7 @@ static int feature_nearest(hpfc_shapes *s, hpfc_id feature)
     for (size_t k = 0; k < n->nborder && !st; k++) {
         uint32_t e = n->border[k];
         st = read_point(s, e, 0, a);
-        for (uint64_t j = 0; j + 1 < s->npoints[e] && !st; j++) {
+        for (uint64_t j = 0; j + 1 < shapes_edge_points(s, e) && !st; j++) {
             if (!(st = read_point(s, e, j + 1, b)))
                 st = consider(s, e, j, a, b);
             a[0] = b[0], a[1] = b[1];

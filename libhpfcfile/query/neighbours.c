@@ -213,7 +213,7 @@ static int edge_length(hpfc_shapes *s, uint64_t e, double *len)
     if (t->length[e] < 0) {
         double sum = 0;
         int64_t px = 0, py = 0, x, y;
-        for (uint64_t k = 0; k < s->npoints[e]; k++) {
+        for (uint64_t k = 0; k < shapes_edge_points(s, e); k++) {
             int st = hpfc_geometry_edge_point(s->f, e, k, &x, &y);
             if (st)
                 return st;

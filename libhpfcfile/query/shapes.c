@@ -500,7 +500,7 @@ static int add_dart(hpfc_shapes *s, uint64_t e, int reversed, uint64_t face)
 {
     /* the points this edge will bring to the answer, counted before the
      * tracing reads them */
-    if (shapes_take_points(s, s->npoints[e]))
+    if (shapes_take_points(s, shapes_edge_points(s, e)))
         return HPFC_E_OVER_LIMIT;
     if (array_grow((void **)&s->darts, &s->cap_darts, s->ndarts + 1, sizeof *s->darts))
         return HPFC_E_NOMEM;
@@ -1236,7 +1236,7 @@ int hpfc_shapes_features_polygons(hpfc_shapes *s, const hpfc_id *features, size_
             uint32_t e = s->face_edge[j];
             int in_left = s->face_mark[s->left[e]] == m, in_right = s->face_mark[s->right[e]] == m;
             if (in_left != in_right && (in_left ? s->left[e] : s->right[e]) == face)
-                st = add_dart(s, e, in_right);
+                st = add_dart(s, e, in_right, face);
         }
     }
     free(faces);
