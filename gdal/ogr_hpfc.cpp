@@ -583,6 +583,7 @@ OGRFeature *HPFCLayer::Build(uint64_t id, int64_t fid)
                     s += (s.empty() ? "" : " ") + std::to_string(feat.fid);
             }
             if (st) {
+                OGR_G_DestroyGeometry(geom);
                 status_error("edge features", st);
                 return nullptr;
             }
