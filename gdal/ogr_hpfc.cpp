@@ -384,6 +384,10 @@ bool HPFCDataset::Window(const OGREnvelope &env, int64_t *x0, int64_t *y0, int64
     lx1 = std::min(lx1, dx1 + 1), ly1 = std::min(ly1, dy1 + 1);
     if (lx0 > lx1 || ly0 > ly1)
         return false;
+    /* a hostile header's domain may reach past what int64 holds as a double */
+    const double lim = 4611686018427387904.0; /* 2^62 */
+    lx0 = std::min(std::max(lx0, -lim), lim), ly0 = std::min(std::max(ly0, -lim), lim);
+    lx1 = std::min(std::max(lx1, -lim), lim), ly1 = std::min(std::max(ly1, -lim), lim);
     *x0 = static_cast<int64_t>(lx0), *y0 = static_cast<int64_t>(ly0);
     *x1 = static_cast<int64_t>(lx1), *y1 = static_cast<int64_t>(ly1);
     return true;
