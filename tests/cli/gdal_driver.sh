@@ -85,6 +85,13 @@ expect_ok "ogr2ogr -f HPFC"
 run "$PACK" --key name --fields all "$tmp/src.gpkg" -o "$tmp/packed.hpfc"
 expect_ok "hpfc-pack of the same GPKG"
 cmp "$tmp/written.hpfc" "$tmp/packed.hpfc" >/dev/null || fail "ogr2ogr -f HPFC and hpfc-pack differ"
+# straight from GeoJSON too (no FID column there: ogr2ogr numbers them as
+# GeoJSON's reader does)
+run ogr2ogr -f HPFC "$tmp/written_gj.hpfc" "$GIS/counties_ne.geojson" -dsco KEY=name
+expect_ok "ogr2ogr -f HPFC from GeoJSON"
+run "$PACK" --key name --fields all "$GIS/counties_ne.geojson" -o "$tmp/packed_gj.hpfc"
+expect_ok "hpfc-pack of the GeoJSON"
+cmp "$tmp/written_gj.hpfc" "$tmp/packed_gj.hpfc" >/dev/null || fail "ogr2ogr -f HPFC and hpfc-pack differ (GeoJSON)"
 run ogr2ogr -f GPKG "$tmp/src2.gpkg" "$GIS/countries_world.geojson"
 expect_ok "source GPKG 2"
 run ogr2ogr -f HPFC "$tmp/written2.hpfc" "$tmp/src2.gpkg" -dsco VERTICES=all -dsco LEAF_POINTS=4 \
