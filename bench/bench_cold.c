@@ -1,5 +1,5 @@
 /*
- * bench_cold: one answer from a cold handle (issue #15): hpfc_open, one
+ * bench_cold: one answer from a cold handle: hpfc_open, one
  * point location, the point's faces and their source features, then
  * hpfc_close, timed as a whole, once per fresh open.
  *

@@ -1,6 +1,6 @@
 /*
  * bench_locate: point-in-feature queries on a packed GIS layer, hpfc
- * against GEOS (issue 5).
+ * against GEOS.
  *
  *   bench_locate DATASET FILE.hpfc N [SEED]
  *

@@ -1,6 +1,6 @@
 /*
  * bench_locate_batch: the C batch path the Python package is measured
- * against (issue 18, bench/python_bench.py).
+ * against (bench/python_bench.py).
  *
  *   bench_locate_batch locate FILE.hpfc POINTS.f64 lonlat|xy [REPEATS]
  *   bench_locate_batch open FILE.hpfc [REPEATS]

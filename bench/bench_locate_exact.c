@@ -1,6 +1,6 @@
 /*
  * bench_locate_exact: exact point -> feature, hpfc against GEOS prepared
- * polygons in an STRtree, on the same points in the same run (issue 16).
+ * polygons in an STRtree, on the same points in the same run.
  *
  *   bench_locate_exact LAYER FILE.hpfc N [SEED [XMIN YMIN XMAX YMAX]]
  *

@@ -1,5 +1,5 @@
 /*
- * Reader benchmark (issue 3 targets):
+ * Reader benchmark (its targets):
  *   (a) opening costs O(1) in the file size: at most 1 ms and 1 MB of
  *       resident memory for a file of 500 MB or more;
  *   (b) a random pixel fetched and its word decoded: at most 200 ns;
@@ -125,7 +125,7 @@ static uint64_t rng(void)
     return rng_state;
 }
 
-/* Both pool layouts in one run: A/B (issue #20). */
+/* Both pool layouts in one run: A/B. */
 static const struct {
     int layout;
     const char *name;

@@ -416,8 +416,7 @@ static array_result walk_array(const exported_map *m)
     return r;
 }
 
-/* The hPFC files' pool layout: argv[3], paper (default) or compact (A/B,
- * issue #20). */
+/* The hPFC files' pool layout: argv[3], paper (default) or compact (A/B). */
 static int hpfc_layout = HPFC_LAYOUT_PAPER;
 
 static hpfc_file *pack(const hpfc_graph *g, int flat, uint8_t **buf)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The shape that made linking faces to features quadratic (issue #15): a
+"""The shape that made linking faces to features quadratic: a
 large coastline ring with very many small islands and lakes inside its
 bounding box, like a 1:10m world land layer.
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""File sizes with exact geometry (issue #16): bytes per shape point of a
+"""File sizes with exact geometry: bytes per shape point of a
 packed .hpfc (whole file, and its GEOM section alone) against FlatGeobuf,
 GeoPackage (both by ogr2ogr, attributes kept) and quantized TopoJSON (the
 layer's object alone, with only the arcs it uses, as the npm packages ship

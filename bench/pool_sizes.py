@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Pool sizes of both layouts in one run (issue #20).
+"""Pool sizes of both layouts in one run.
 
 usage: python3 bench/pool_sizes.py HPFC_PACK HPFC_INSPECT NAME -- PACK_ARGS... [;; NAME -- ...]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The Python package against geopandas and against the C batch path (issue 18).
+"""The Python package against geopandas and against the C batch path.
 
     /usr/bin/python3 bench/python_bench.py LAYER FILE.hpfc [N] [--layer NAME]
         [--c-bench build/bench/bench_locate_batch] [--open BIG.hpfc]

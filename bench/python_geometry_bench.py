@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Geometry from Python (issue 18): a GeoDataFrame of a packed layer's
+"""Geometry from Python: a GeoDataFrame of a packed layer's
 features against reading the layer with geopandas, in the same run.
 
     /usr/bin/python3 bench/python_geometry_bench.py FILE.hpfc LAYER.geojson [RUNS]

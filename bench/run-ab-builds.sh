@@ -1,6 +1,6 @@
 #!/bin/sh
 # Same-run A/B of two builds of the library, for changes that must not be
-# slower (issue 19's refactor):
+# slower (refactor):
 #   sh bench/run-ab-builds.sh BUILD_A BUILD_B [ROUNDS [FILE.hpfc]]
 # BUILD_A and BUILD_B are release build directories (meson setup X
 # --buildtype=release) of two commits. bench_read and bench_traverse run

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Paper against compact pool layout, the three access targets of issue #20,
+# Paper against compact pool layout, the three access targets of the compact layout,
 # in one run (the machine's speed drifts; ratios taken in the same run do
 # not):
 #   fetch + decode of a random leaf   compact at most 2x paper

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Linking at scale (issue #15): hpfc-pack on the archipelago shape of
+# Linking at scale: hpfc-pack on the archipelago shape of
 # bench/gen_archipelago.py (a coastline ring with N/2 lakes, N/2 islands in
 # its bounding box, ~7 points a part) for growing N, in the default vertex
 # model. One row per run: CPU time (user + system) and peak RSS of the
@@ -7,7 +7,7 @@
 # time, and the stages from the --json report (wall seconds: read = GDAL,
 # projection, noding and graph; build; link = numbering the faces, witness
 # points, topology walk, anchors). With the pre-1.2
-# witness method (HPFC_PACK_LINK=witness) too, up to WITNESS_MAX parts.
+# witness method (--link witness) too, up to WITNESS_MAX parts.
 #   sh bench/run-archipelago.sh [N ...]      (default 10000 30000 100000 300000 1000000)
 # Data goes to build-bench/archipelago/ (FlatGeobuf; delete it to remake).
 set -eu
@@ -27,8 +27,8 @@ for n in $sizes; do
     [ -s "$src" ] || $py bench/gen_archipelago.py "$n" "$src" 2>/dev/null
     for method in topology witness; do
         [ "$method" = witness ] && [ "$n" -gt "$WITNESS_MAX" ] && continue
-        HPFC_PACK_LINK=$method /usr/bin/time -f '%e %U %S %M' -o "$dir/time.txt" \
-            build-bench/hpfc-pack/hpfc-pack --json "$src" -o "$dir/out.hpfc" >"$dir/report.json"
+        /usr/bin/time -f '%e %U %S %M' -o "$dir/time.txt" \
+            build-bench/hpfc-pack/hpfc-pack --link "$method" --json "$src" -o "$dir/out.hpfc" >"$dir/report.json"
         python3 - "$n" "$method" "$dir/time.txt" "$dir/report.json" <<'PY'
 import json, sys
 n, method, tf, rf = sys.argv[1:5]

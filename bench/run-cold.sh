@@ -1,5 +1,5 @@
 #!/bin/sh
-# One answer from a cold handle (issue #15): bench_cold (hpfc_open + one
+# One answer from a cold handle: bench_cold (hpfc_open + one
 # point location + the point's faces and features + hpfc_close, median of
 # 100 fresh opens) and the hpfc-inspect --locate* process against
 # hpfc-inspect --version, on three files from about 1 MB to several hundred

@@ -1,5 +1,5 @@
 #!/bin/sh
-# The export benchmark (issue 16): hpfc-inspect --export of world-atlas
+# The export benchmark: hpfc-inspect --export of world-atlas
 # countries-10m to GeoPackage against the peer a user would pick, ogr2ogr
 # converting the same layer from GeoJSON to GeoPackage, in the same run,
 # runs interleaved (bench/export_bench.py). Then the round trip's worst

@@ -1,5 +1,5 @@
 #!/bin/sh
-# The GIS packing benchmark (issue #5): hpfc-pack on a synthetic continental
+# The GIS packing benchmark: hpfc-pack on a synthetic continental
 # coverage of about 4 million shape points (bench/gen_continent.py), as
 # GeoJSON and, when ogr2ogr is there, FlatGeobuf and GeoPackage, in both
 # vertex models. Prints one row per run (bench/gis_bench.py). Called by bench/run.sh; on its own:

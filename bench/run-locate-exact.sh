@@ -1,5 +1,5 @@
 #!/bin/sh
-# Exact point -> feature (issue 16): hpfc_locate_batch on files packed with
+# Exact point -> feature: hpfc_locate_batch on files packed with
 # their exact geometry against GEOS prepared polygons in an STRtree, same
 # points, same run, with agreement counts (bench/bench_locate_exact.c).
 #   sh bench/run-locate-exact.sh [N] [NODE_MODULES]

@@ -33,24 +33,24 @@ $B --header paper
 $B paper 5
 echo
 
-echo "(c) traversal (issue 4): BFS over all darts by next and twin on the hPFC file, the"
+echo "(c) traversal: BFS over all darts by next and twin on the hPFC file, the"
 echo "    flat rPFC file and a half-edge array (next[], twin[]) of the same map; on the hPFC"
 echo "    file also by 64-bit keys (hpfc_key_next, hpfc_key_twin)"
 build-bench/bench/bench_traverse 5 1
 echo
 
-echo "(d) reader (issue 3): open cost on a 671 MB file, pixel fetch + decode, deep locate"
+echo "(d) reader: open cost on a 671 MB file, pixel fetch + decode, deep locate"
 build-bench/bench/bench_read
 echo
 
-echo "(e) GIS packing (issue 5): hpfc-pack on a synthetic continental coverage, stages in"
+echo "(e) GIS packing: hpfc-pack on a synthetic continental coverage, stages in"
 echo "    seconds, peak RSS against the input file's size"
 sh bench/run-gis.sh
 echo
 
 # (e) needs the GIS dependencies (bench_locate is built only with them)
 if [ -x build-bench/bench/bench_locate ]; then
-    echo "(f) point in feature (issue 5): hpfc --locate path (hpfc_locate, the leaf's faces, their"
+    echo "(f) point in feature: hpfc --locate path (hpfc_locate, the leaf's faces, their"
     echo "    FEAT features) against GEOS prepared polygons in an STRtree, same random points of"
     echo "    the projected extent; set-up ms (faces numbered / polygons prepared), ns per point,"
     echo "    share of private leaves, share of answers that agree"

@@ -1,5 +1,5 @@
 /*
- * s2_peer.h: Google's S2 as a peer of exact point location (issue 16):
+ * s2_peer.h: Google's S2 as a peer of exact point location:
  * polygons in lon/lat, as S2LaxPolygonShapes in an S2ShapeIndex, encoded
  * and queried through EncodedS2ShapeIndex with lazy decoding and
  * S2ContainsPointQuery, S2's way of answering containment straight from an

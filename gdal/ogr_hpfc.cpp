@@ -1,5 +1,5 @@
 /*
- * ogr_hpfc.cpp: the OGR vector driver "HPFC" (contracts §7), a GDAL plugin
+ * ogr_hpfc.cpp: the OGR vector driver "HPFC" (interfaces §7), a GDAL plugin
  * over the public hpfc.h. A file opens as one layer per source layer, then
  * "faces" and "edges" (the topology itself); geometry and fields come from
  * common/ogr_shapes.h, the code behind hpfc-inspect --export, so the

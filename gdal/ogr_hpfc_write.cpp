@@ -131,8 +131,8 @@ bool HPFCWriter::Pack()
     wopts.geometry = g;
     pack_write_stats stats;
     hpfc_diag diag;
-    int st = pack_write(g, &params, &wopts, &info, path_.c_str(), 0, nullptr, nullptr, &stats,
-                        &diag);
+    int st = pack_write(g, &params, &wopts, &info, 0, path_.c_str(), 0, nullptr, nullptr,
+                        &stats, &diag);
     if (st)
         CPLError(CE_Failure, CPLE_AppDefined, "HPFC: %s: %s", path_.c_str(),
                  diag.message[0] ? diag.message : hpfc_strerror(st));

@@ -1,6 +1,6 @@
 /*
  * attrs_json.h: a feature's stored attributes (ATTR section) and an edge's
- * features (EDGF section) in hpfc-inspect's JSON answers (contracts §4).
+ * features (EDGF section) in hpfc-inspect's JSON answers (interfaces §4).
  */
 #ifndef HPFC_INSPECT_ATTRS_JSON_H
 #define HPFC_INSPECT_ATTRS_JSON_H

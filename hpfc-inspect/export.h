@@ -1,5 +1,5 @@
 /* The planar map an .hpfc file encodes, reconstructed with the library's
- * traversal operators only (contracts §3, --export-graph). */
+ * traversal operators only (interfaces §3, --export-graph). */
 #ifndef HPFC_EXPORT_H
 #define HPFC_EXPORT_H
 
@@ -19,7 +19,7 @@ typedef struct exported_map {
 int export_map(const hpfc_file *file, exported_map *out);
 void exported_map_free(exported_map *map);
 
-/* Writes the map as the hpfc-graph JSON of contracts §3, boxes in the
+/* Writes the map as the hpfc-graph JSON of interfaces §3, boxes in the
  * input's coordinates. */
 int export_map_json(const hpfc_file *file, const exported_map *map, FILE *out);
 

@@ -1,6 +1,6 @@
 /*
  * export_gis.c: hpfc-inspect --export / --export-faces through GDAL/OGR
- * (contracts §5). The geometry is the library's exact rings
+ * (interfaces §5). The geometry is the library's exact rings
  * (hpfc_shapes_*), turned into user coordinates (lattice * 10^unit_exp10)
  * and, for a map that hpfc-pack projected from longitude and latitude,
  * projected back with the inverse of the projection the CRS section
@@ -29,6 +29,7 @@
 #include <ogr_api.h>
 #include <ogr_srs_api.h>
 
+#include "clock.h"
 #include "hpfc.h"
 #include "jsonw.h"
 #include "ogr_shapes.h"
@@ -447,13 +448,6 @@ static void print_report(const exporter *x, FILE *out, double seconds)
     }
 }
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static int run(exporter *x)
 {
     int st = hpfc_open(x->o->file, 0, &x->f);
@@ -486,12 +480,12 @@ static int run(exporter *x)
 int export_gis(const gis_export_options *o, FILE *report)
 {
     exporter x = {.o = o};
-    double t0 = now();
+    double t0 = clock_seconds();
     CPLPushErrorHandler(CPLQuietErrorHandler);
     GDALAllRegister();
     int r = run(&x);
     if (!r)
-        print_report(&x, report, now() - t0);
+        print_report(&x, report, clock_seconds() - t0);
     else
         fprintf(stderr, "hpfc-inspect: %s\n", x.why);
     CPLPopErrorHandler();

@@ -1,5 +1,5 @@
 /*
- * export_gis.h: hpfc-inspect --export and --export-faces (contracts §5):
+ * export_gis.h: hpfc-inspect --export and --export-faces (interfaces §5):
  * the file's features, or its faces, as exact (multi)polygons and
  * (multi)line strings through a GDAL vector driver, in the source SRS.
  */

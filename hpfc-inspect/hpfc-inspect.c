@@ -1,15 +1,15 @@
 /*
- * hpfc-inspect: shows, checks and exports an .hpfc file (contracts §3).
+ * hpfc-inspect: shows, checks and exports an .hpfc file (interfaces §3).
  *
  *   hpfc-inspect FILE                       summary and per-level table
  *   hpfc-inspect --json FILE                the same as one JSON object
  *   hpfc-inspect --verify [--json] FILE     full structural and topological check
  *   hpfc-inspect --export-graph OUT FILE    the map as hpfc-graph JSON
- *   hpfc-inspect --export OUT [-f DRIVER] FILE        the features through GDAL (contracts §5)
+ *   hpfc-inspect --export OUT [-f DRIVER] FILE        the features through GDAL (interfaces §5)
  *   hpfc-inspect --export-faces OUT [-f DRIVER] FILE  the faces through GDAL
  *   hpfc-inspect --sections FILE            the file's map, with checksum status
  *   hpfc-inspect --pixel PATH FILE          one pixel taken apart
- *   hpfc-inspect --locate X,Y FILE          the leaf and faces at a point (contracts §4)
+ *   hpfc-inspect --locate X,Y FILE          the leaf and faces at a point (interfaces §4)
  *   hpfc-inspect --stats FILE               histograms of words, depths, stabbings
  *   hpfc-inspect --render OUT.svg|OUT.png FILE   a picture of the grid and the graph
  *
@@ -38,6 +38,7 @@
 #include "hpfc.h"
 #include "jsonw.h"
 #include "locate.h"
+#include "paths.h"
 #include "render.h"
 #include "verify.h"
 #include "views.h"
@@ -410,7 +411,7 @@ static int read_summary(const hpfc_file *f, summary *s)
     return HPFC_OK;
 }
 
-/* ---- the lattice unit (issue 16: resolution stated) ------------------------------- */
+/* ---- the lattice unit: the resolution stated ------------------------------------ */
 
 /* What one lattice unit is: 10^unit_exp10 user units, and in metres when
  * the CRS section's description names its unit (+units=, +to_meter=, or
@@ -759,14 +760,6 @@ static int write_graph(const char *out, const hpfc_file *f, const exported_map *
     free(tmp);
     free(dir);
     return failed ? EXIT_FAIL : 0;
-}
-
-/* Whether two paths name one existing file (exporting over the input would
- * destroy it). */
-static int same_file(const char *p, const char *q)
-{
-    struct stat a, b;
-    return stat(p, &a) == 0 && stat(q, &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino;
 }
 
 static void print_export_summary(const inspect_args *a, const exported_map *m)

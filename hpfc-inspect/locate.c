@@ -1,5 +1,5 @@
 /*
- * Point queries (contracts §4): --locate X,Y, --locate-lonlat LON,LAT and
+ * Point queries (interfaces §4): --locate X,Y, --locate-lonlat LON,LAT and
  * --locate-batch POINTS.
  *
  * A file with exact geometry (GEOM and LABL sections, format 1.2) answers
@@ -16,6 +16,7 @@
  * its source features.
  */
 #include "locate.h"
+#include "locator.h"
 
 #include "attrs_json.h"
 
@@ -25,46 +26,14 @@
 #include <strings.h>
 #include <sys/types.h>
 
+#include "grow.h"
 #include "jsonw.h"
 #include "projection.h"
 #include "roads.h"
 
-#define PATH_TEXT 1200
 
-/* ---- the locator ------------------------------------------------------------- */
 
-typedef struct locator {
-    const hpfc_file *f;
-    hpfc_file_info info;
-    hpfc_faces *faces;       /* NULL when the file stores its labels */
-    int labels;              /* the file has a LABL section */
-    int exact;               /* and a GEOM section: hpfc_locate_point answers */
-    int features;            /* the file has a FEAT section */
-    hpfc_features_info fi;
-    uint64_t *cand;          /* candidate faces of one leaf */
-    size_t cap;
-    hpfc_id *feat;           /* features of the candidates */
-    size_t feat_cap;
-    int edge_features;       /* LABL and EDGF: the leaf's edges name their features */
-    hpfc_id *along;          /* features of the located leaf's edges */
-    size_t along_cap;
-    mapproj_plan *plan;      /* --lonlat: the file's projection */
-} locator;
-
-/* The answer for one point. */
-typedef struct answer {
-    int inside;
-    hpfc_pixel px;
-    char path[PATH_TEXT];
-    int is_private;
-    char *word;
-    size_t nfaces, nfeat;
-    size_t nalong;           /* features whose lines or rings cross the leaf */
-    int exact;               /* faces is the exact answer (else candidates) */
-    hpfc_point_location loc; /* exact: on_boundary, vertex or edge */
-} answer;
-
-static void locator_close(locator *L)
+void locator_close(locator *L)
 {
     hpfc_faces_free(L->faces);
     free(L->cand);
@@ -86,7 +55,7 @@ static int open_projection(locator *L, char *why)
     return VIEW_OK;
 }
 
-static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
+int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
 {
     memset(L, 0, sizeof *L);
     L->f = f;
@@ -125,19 +94,6 @@ static int locator_open(const hpfc_file *f, int lonlat, locator *L, char *why)
     return VIEW_OK;
 }
 
-/* Room for n candidate faces. */
-static int reserve(void **p, size_t *cap, size_t n, size_t size)
-{
-    if (n <= *cap)
-        return 0;
-    void *q = realloc(*p, n * size);
-    if (!q)
-        return -1;
-    *p = q;
-    *cap = n;
-    return 0;
-}
-
 static int cmp_id(const void *a, const void *b)
 {
     hpfc_id x = *(const hpfc_id *)a, y = *(const hpfc_id *)b;
@@ -165,7 +121,7 @@ static int gather_features(locator *L, answer *a)
     for (size_t k = 0; k < a->nfaces; k++) {
         uint32_t count;
         int st = hpfc_face_feature_count(L->f, L->cand[k], &count);
-        if (!st && reserve((void **)&L->feat, &L->feat_cap, a->nfeat + count, sizeof *L->feat))
+        if (!st && !array_grow((void **)&L->feat, &L->feat_cap, a->nfeat + count, sizeof *L->feat))
             st = HPFC_E_NOMEM;
         for (uint32_t i = 0; i < count && !st; i++)
             st = hpfc_face_feature_id(L->f, L->cand[k], i, &L->feat[a->nfeat++]);
@@ -191,7 +147,7 @@ static int gather_along(locator *L, answer *a)
         int st = hpfc_label_crossing_edge(L->f, &a->px, (uint32_t)k, &edge);
         if (!st)
             st = hpfc_edge_feature_count(L->f, edge, &count);
-        if (!st && reserve((void **)&L->along, &L->along_cap, a->nalong + count, sizeof *L->along))
+        if (!st && !array_grow((void **)&L->along, &L->along_cap, a->nalong + count, sizeof *L->along))
             st = HPFC_E_NOMEM;
         for (uint32_t i = 0; i < count && !st; i++)
             st = hpfc_edge_feature_id(L->f, edge, i, &L->along[a->nalong++]);
@@ -232,7 +188,7 @@ static int exact_faces(locator *L, int64_t x, int64_t y, answer *a)
     size_t n = 0;
     int st = hpfc_locate_point(L->f, x, y, &a->loc, L->cand, L->cap, &n);
     if (st == HPFC_E_BUFFER_SMALL) {
-        if (reserve((void **)&L->cand, &L->cap, n, sizeof *L->cand))
+        if (!array_grow((void **)&L->cand, &L->cap, n, sizeof *L->cand))
             return HPFC_E_NOMEM;
         st = hpfc_locate_point(L->f, x, y, &a->loc, L->cand, L->cap, &n);
     }
@@ -259,7 +215,7 @@ static int locate_lattice(locator *L, int64_t x, int64_t y, answer *a)
     a->inside = 1;
     pixel_path_text(&a->px, a->path, sizeof a->path);
     if (!(a->word = malloc(len + 1)) ||
-        reserve((void **)&L->cand, &L->cap, len > 4 ? len - 4 : 1, sizeof *L->cand))
+        !array_grow((void **)&L->cand, &L->cap, len > 4 ? len - 4 : 1, sizeof *L->cand))
         return HPFC_E_NOMEM;
     if ((st = hpfc_pixel_word(L->f, &a->px, a->word, len + 1, &len)))
         return st;
@@ -276,7 +232,7 @@ static int locate_lattice(locator *L, int64_t x, int64_t y, answer *a)
 }
 
 /* Answers a point given in user coordinates. */
-static int locate_decimal(locator *L, const decimal xy[2], answer *a)
+int locate_decimal(locator *L, const decimal xy[2], answer *a)
 {
     int64_t x, y;
     if (decimal_floor_lattice(&xy[0], L->info.unit_exp10, &x) ||
@@ -290,7 +246,7 @@ static int locate_decimal(locator *L, const decimal xy[2], answer *a)
 
 /* Projects (lon, lat) into user coordinates, kept as exact decimals of
  * the projected doubles. */
-static int project_lonlat(const locator *L, const decimal ll[2], decimal xy[2], char *why)
+int project_lonlat(const locator *L, const decimal ll[2], decimal xy[2], char *why)
 {
     double x, y;
     char text[2][40];
@@ -310,12 +266,12 @@ static int project_lonlat(const locator *L, const decimal ll[2], decimal xy[2], 
 
 /* ---- printing ------------------------------------------------------------------- */
 
-static void json_decimal(jsonw *w, const char *key, const decimal *d)
+void json_decimal(jsonw *w, const char *key, const decimal *d)
 {
     jsonw_double(w, key, d->value, decimal_fraction_digits(d));
 }
 
-static void json_feature(jsonw *w, const locator *L, hpfc_id index)
+void json_feature(jsonw *w, const locator *L, hpfc_id index)
 {
     hpfc_feature ft;
     const char *layer;
@@ -336,7 +292,7 @@ static void json_feature(jsonw *w, const locator *L, hpfc_id index)
 
 /* "along": the features of the edges crossing the located leaf (files with
  * LABL and EDGF only), each as in "features". */
-static void json_along(jsonw *w, const locator *L, const answer *a)
+void json_along(jsonw *w, const locator *L, const answer *a)
 {
     if (!L->edge_features || !a->inside)
         return;
@@ -350,7 +306,7 @@ static void json_along(jsonw *w, const locator *L, const answer *a)
  * point lies on an edge or a vertex: faces are those around it; false for
  * an answer that is not exact, which cannot tell) and, on the boundary,
  * the "vertex" or "edge" it lies on (input graph ids). */
-static void json_exact(jsonw *w, const locator *L, const answer *a)
+void json_exact(jsonw *w, const locator *L, const answer *a)
 {
     jsonw_bool(w, "exact", L->exact);
     jsonw_bool(w, "on_boundary", a->exact && a->loc.on_boundary);
@@ -360,7 +316,7 @@ static void json_exact(jsonw *w, const locator *L, const answer *a)
         jsonw_u64(w, "edge", a->loc.edge);
 }
 
-/* One answer as the JSON object of contracts §4. ll: the lon/lat asked
+/* One answer as the JSON object of interfaces §4. ll: the lon/lat asked
  * for (NULL for a plain point). */
 static void print_json(FILE *out, const locator *L, const decimal *ll, const decimal xy[2],
                        const answer *a)
@@ -497,529 +453,3 @@ int view_locate_lonlat(const hpfc_file *f, const decimal lonlat[2], FILE *out, i
     return answer_one(f, lonlat, NULL, out, json, why);
 }
 
-/* ---- --locate-batch ------------------------------------------------------------------ */
-
-/* The fields of one line of POINTS, pointing into the line (which the
- * split rewrites in place). */
-typedef struct fields {
-    char **v;
-    size_t n, cap;
-} fields;
-
-/* One line of POINTS without its end: blank or '#' lines are skipped. */
-static int blank_line(const char *s)
-{
-    s += strspn(s, " \t\r");
-    return *s == '\0' || *s == '#';
-}
-
-/* The separator of POINTS, from its first line: a tab, else a comma, else
- * a semicolon, else runs of blanks (' '). */
-static char guess_separator(const char *line)
-{
-    if (strchr(line, '\t'))
-        return '\t';
-    if (strchr(line, ','))
-        return ',';
-    if (strchr(line, ';'))
-        return ';';
-    return ' ';
-}
-
-static char *trim(char *s)
-{
-    s += strspn(s, " \t");
-    size_t n = strlen(s);
-    while (n && (s[n - 1] == ' ' || s[n - 1] == '\t'))
-        s[--n] = '\0';
-    return s;
-}
-
-static int is_separator(char c, char sep)
-{
-    return c == sep || (sep == ' ' && c == '\t');
-}
-
-/* Splits `line` in place at `sep` (' ': runs of blanks and tabs). A field
- * in double quotes may hold the separator, and "" stands for one quote, as
- * in CSV; fields are trimmed of blanks. 0, or -1 when memory runs out. */
-static int split_fields(char *line, char sep, fields *fl)
-{
-    const char *blanks = sep == '\t' ? " " : " \t";
-    char *p = line;
-    fl->n = 0;
-    if (sep == ' ' && !*(p += strspn(p, blanks)))
-        return 0;
-    for (;;) {
-        if (reserve((void **)&fl->v, &fl->cap, fl->n + 1, sizeof *fl->v))
-            return -1;
-        char *start = p + strspn(p, blanks), *q = start, *w;
-        if (*q == '"') { /* copied down over itself: w never passes q */
-            w = start;
-            for (q++; *q; *w++ = *q++)
-                if (*q == '"' && q[1] == '"')
-                    q++;
-                else if (*q == '"') {
-                    q++;
-                    break;
-                }
-            while (*q && !is_separator(*q, sep))
-                *w++ = *q++;
-        } else {
-            while (*q && !is_separator(*q, sep))
-                q++;
-            w = q;
-        }
-        char end = *q;
-        *w = '\0';
-        fl->v[fl->n++] = trim(start);
-        if (!end)
-            return 0;
-        p = q + 1;
-        if (sep == ' ' && !*(p += strspn(p, blanks)))
-            return 0;
-    }
-}
-
-static int name_is(const char *name, const char *const *list)
-{
-    for (; *list; list++)
-        if (strcasecmp(name, *list) == 0)
-            return 1;
-    return 0;
-}
-
-static const char *const lon_names[] = {"lon", "lng", "long", "longitude", NULL};
-static const char *const lat_names[] = {"lat", "latitude", NULL};
-static const char *const x_names[] = {"x", "easting", NULL};
-static const char *const y_names[] = {"y", "northing", NULL};
-static const char *const id_names[] = {"id", NULL};
-
-/* A column number ("3": the third column), 0 if `text` is a name. */
-static size_t column_number(const char *text)
-{
-    size_t v = 0;
-    for (const char *c = text; *c; c++) {
-        if (*c < '0' || *c > '9' || v > 100000)
-            return 0;
-        v = v * 10 + (size_t)(*c - '0');
-    }
-    return v;
-}
-
-/* How POINTS is laid out, from its first line. */
-typedef struct layout {
-    char sep;
-    int header;
-    size_t ncols;
-    char **names;            /* per column: its header name, or "colN" */
-    size_t lon, lat;         /* the coordinate columns */
-    long id;                 /* the id column, -1 for none */
-    int lonlat;              /* the coordinates are degrees */
-} layout;
-
-static void layout_free(layout *t)
-{
-    for (size_t k = 0; t->names && k < t->ncols; k++)
-        free(t->names[k]);
-    free(t->names);
-}
-
-/* The column `opt` names (a header name, any case, or a number), or the
- * first whose name is in `guess`; -1 when none. */
-static long find_column(const layout *t, const char *opt, const char *const *guess,
-                        const char *const *guess2)
-{
-    if (opt && column_number(opt))
-        return column_number(opt) <= t->ncols ? (long)column_number(opt) - 1 : -1;
-    for (size_t k = 0; t->header && k < t->ncols; k++)
-        if (opt ? strcasecmp(t->names[k], opt) == 0
-                : name_is(t->names[k], guess) || (guess2 && name_is(t->names[k], guess2)))
-            return (long)k;
-    return -1;
-}
-
-static int is_number(const char *s)
-{
-    decimal d;
-    return *s && decimal_parse(s, strlen(s), &d) == 0;
-}
-
-/* Reads the layout from the first line: a header when its coordinate
- * fields are not numbers (or when columns are named by --lon-col ...). */
-static int layout_read(layout *t, const fields *fl, char sep, const batch_options *o,
-                       const char *in_name, unsigned long line, char *why)
-{
-    memset(t, 0, sizeof *t);
-    t->sep = sep;
-    t->ncols = fl->n;
-    t->id = -1;
-    size_t lon_n = o->lon_col ? column_number(o->lon_col) : 1;
-    size_t lat_n = o->lat_col ? column_number(o->lat_col) : 2;
-    t->header = (o->lon_col && !lon_n) || (o->lat_col && !lat_n) || (o->id_col && !column_number(o->id_col)) ||
-                (lon_n && lon_n <= fl->n && !is_number(fl->v[lon_n - 1])) ||
-                (lat_n && lat_n <= fl->n && !is_number(fl->v[lat_n - 1]));
-    if (!(t->names = calloc(t->ncols ? t->ncols : 1, sizeof *t->names)))
-        return view_fail(why, "out of memory");
-    for (size_t k = 0; k < t->ncols; k++) {
-        char buf[32];
-        snprintf(buf, sizeof buf, "col%zu", k + 1);
-        if (!(t->names[k] = strdup(t->header ? fl->v[k] : buf)))
-            return view_fail(why, "out of memory");
-    }
-    long lon = find_column(t, o->lon_col, lon_names, o->lonlat ? x_names : x_names);
-    long lat = find_column(t, o->lat_col, lat_names, y_names);
-    if (!t->header && !o->lon_col)
-        lon = t->ncols >= 1 ? 0 : -1;
-    if (!t->header && !o->lat_col)
-        lat = t->ncols >= 2 ? 1 : -1;
-    if (lon < 0 || lat < 0 || lon == lat)
-        return view_fail(why, "%s line %lu: no %s column (%s; or give --lon-col and --lat-col)",
-                         in_name, line, lon < 0 ? "longitude/x" : "latitude/y",
-                         t->header ? "name it lon, lng, longitude or x, and lat, latitude or y"
-                                   : "a line without header has x then y");
-    t->lon = (size_t)lon, t->lat = (size_t)lat;
-    if (o->id_col && (t->id = find_column(t, o->id_col, NULL, NULL)) < 0)
-        return view_fail(why, "%s line %lu: --id-col %s: no such column", in_name, line, o->id_col);
-    if (!o->id_col && t->header)
-        t->id = find_column(t, NULL, id_names, NULL);
-    /* degrees: --lonlat, or coordinate columns named as longitude/latitude */
-    t->lonlat = o->lonlat || (t->header && name_is(t->names[t->lon], lon_names) &&
-                              name_is(t->names[t->lat], lat_names));
-    return VIEW_OK;
-}
-
-/* ---- output rows ---- */
-
-typedef struct batch_row {
-    unsigned long line;
-    const char *id;            /* NULL: no id column */
-    const fields *fl;          /* the line's fields (NULL for none) */
-    const decimal *ll, *xy;    /* NULL when the line gave no point */
-    const char *error;         /* NULL for an answer */
-} batch_row;
-
-static int is_extra(const layout *t, size_t k)
-{
-    return k != t->lon && k != t->lat && (long)k != t->id;
-}
-
-/* The row's answer fields (contracts §4) into an open JSON object. */
-static void json_answer(jsonw *w, const locator *L, const batch_row *row, const answer *a)
-{
-    if (row->ll) {
-        json_decimal(w, "lon", &row->ll[0]);
-        json_decimal(w, "lat", &row->ll[1]);
-    }
-    if (row->xy) {
-        json_decimal(w, "x", &row->xy[0]);
-        json_decimal(w, "y", &row->xy[1]);
-    }
-    if (row->error) {
-        jsonw_string(w, "error", row->error);
-        return;
-    }
-    if (a->inside) {
-        jsonw_string(w, "pixel", a->path);
-        jsonw_u64(w, "depth", a->px.depth);
-        jsonw_bool(w, "private", a->is_private);
-    } else {
-        jsonw_null(w, "pixel");
-        jsonw_null(w, "depth");
-        jsonw_null(w, "private");
-    }
-    json_exact(w, L, a);
-    jsonw_array_begin(w, "faces");
-    for (size_t k = 0; k < a->nfaces; k++)
-        jsonw_u64(w, NULL, L->cand[k]);
-    jsonw_array_end(w);
-    jsonw_array_begin(w, "features");
-    for (size_t k = 0; k < a->nfeat; k++)
-        json_feature(w, L, L->feat[k]);
-    jsonw_array_end(w);
-    json_along(w, L, a);
-    if (a->inside)
-        jsonw_string(w, "word", a->word);
-    jsonw_bool(w, "inside", a->inside);
-}
-
-static void json_row_head(jsonw *w, const batch_row *row)
-{
-    jsonw_u64(w, "line", row->line);
-    if (row->id)
-        jsonw_string(w, "id", row->id);
-    else
-        jsonw_null(w, "id");
-}
-
-/* The columns passed through, as "columns": {name: value}. */
-static void json_columns(jsonw *w, const layout *t, const batch_row *row, const char *key)
-{
-    jsonw_object_begin(w, key);
-    for (size_t k = 0; row->fl && k < t->ncols; k++)
-        if (is_extra(t, k))
-            jsonw_string(w, t->names[k], k < row->fl->n ? row->fl->v[k] : "");
-    jsonw_object_end(w);
-}
-
-static void print_jsonl_row(FILE *out, const locator *L, const layout *t, const batch_row *row,
-                            const answer *a)
-{
-    jsonw w;
-    jsonw_init(&w, out);
-    jsonw_object_begin(&w, NULL);
-    json_row_head(&w, row);
-    json_answer(&w, L, row, a);
-    if (t->ncols > 2 + (t->id >= 0))
-        json_columns(&w, t, row, "columns");
-    jsonw_object_end(&w);
-    jsonw_finish(&w);
-}
-
-/* GeoJSON: a Point at (lon, lat) for degrees (RFC 7946), else at the
- * file's (x, y); an error row has no geometry. */
-static void print_geojson_row(FILE *out, const locator *L, const layout *t, const batch_row *row,
-                              const answer *a, int first)
-{
-    jsonw w;
-    if (!first)
-        fputs(",\n", out);
-    jsonw_init(&w, out);
-    jsonw_object_begin(&w, NULL);
-    jsonw_string(&w, "type", "Feature");
-    const decimal *p = row->ll ? row->ll : row->xy;
-    if (p && !row->error) {
-        jsonw_object_begin(&w, "geometry");
-        jsonw_string(&w, "type", "Point");
-        jsonw_array_begin(&w, "coordinates");
-        json_decimal(&w, NULL, &p[0]);
-        json_decimal(&w, NULL, &p[1]);
-        jsonw_array_end(&w);
-        jsonw_object_end(&w);
-    } else
-        jsonw_null(&w, "geometry");
-    jsonw_object_begin(&w, "properties");
-    json_row_head(&w, row);
-    json_answer(&w, L, row, a);
-    for (size_t k = 0; row->fl && k < t->ncols; k++)
-        if (is_extra(t, k))
-            jsonw_string(&w, t->names[k], k < row->fl->n ? row->fl->v[k] : "");
-    jsonw_object_end(&w);
-    jsonw_object_end(&w);
-}
-
-/* One CSV field, after a comma unless it is the line's first, quoted when
- * it holds a comma, a quote or a line end. */
-static void csv_field(FILE *out, const char *s, int *first)
-{
-    if (!*first)
-        fputc(',', out);
-    *first = 0;
-    if (!strpbrk(s, ",\"\r\n")) {
-        fputs(s, out);
-        return;
-    }
-    fputc('"', out);
-    for (; *s; s++) {
-        if (*s == '"')
-            fputc('"', out);
-        fputc(*s, out);
-    }
-    fputc('"', out);
-}
-
-static void print_csv_header(FILE *out, const layout *t)
-{
-    static const char *const fixed[] = {"line",  "id",      "lon",   "lat",  "x",
-                                        "y",     "inside",  "pixel", "depth", "private",
-                                        "exact", "on_boundary", "faces", "fids", "keys",
-                                        "error"};
-    int first = 1;
-    for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; k++)
-        if (t->lonlat || (k != 2 && k != 3))
-            csv_field(out, fixed[k], &first);
-    for (size_t k = 0; k < t->ncols; k++)
-        if (is_extra(t, k))
-            csv_field(out, t->names[k], &first);
-    fputc('\n', out);
-}
-
-/* A growing text buffer for the list fields. */
-typedef struct text {
-    char *s;
-    size_t len, cap;
-} text;
-
-static void text_add(text *b, const char *sep, const char *s, size_t n)
-{
-    size_t m = b->len ? strlen(sep) : 0;
-    if (reserve((void **)&b->s, &b->cap, b->len + m + n + 1, 1))
-        return; /* out of memory: the list is cut short */
-    memcpy(b->s + b->len, sep, m);
-    memcpy(b->s + b->len + m, s, n);
-    b->len += m + n;
-    b->s[b->len] = '\0';
-}
-
-/* faces (space-separated ids), fids (space-separated) and keys ('|'). */
-static void csv_lists(FILE *out, const locator *L, const answer *a, int *first)
-{
-    text faces = {0}, fids = {0}, keys = {0};
-    char buf[32];
-    for (size_t k = 0; k < a->nfaces; k++) {
-        snprintf(buf, sizeof buf, "%llu", (unsigned long long)L->cand[k]);
-        text_add(&faces, " ", buf, strlen(buf));
-    }
-    for (size_t k = 0; k < a->nfeat; k++) {
-        hpfc_feature ft;
-        if (hpfc_file_get_feature(L->f, L->feat[k], &ft) != HPFC_OK)
-            continue;
-        snprintf(buf, sizeof buf, "%lld", (long long)ft.fid);
-        text_add(&fids, " ", buf, strlen(buf));
-        if (ft.key)
-            text_add(&keys, "|", ft.key, ft.key_len);
-    }
-    csv_field(out, faces.s ? faces.s : "", first);
-    csv_field(out, fids.s ? fids.s : "", first);
-    csv_field(out, keys.s ? keys.s : "", first);
-    free(faces.s);
-    free(fids.s);
-    free(keys.s);
-}
-
-static void print_csv_row(FILE *out, const locator *L, const layout *t, const batch_row *row,
-                          const answer *a)
-{
-    char buf[64];
-    int first = 1;
-    snprintf(buf, sizeof buf, "%lu", row->line);
-    csv_field(out, buf, &first);
-    csv_field(out, row->id ? row->id : "", &first);
-    for (int k = t->lonlat ? 0 : 2; k < 4; k++) {
-        const decimal *d = k < 2 ? row->ll : row->xy;
-        if (d)
-            snprintf(buf, sizeof buf, "%.*f", decimal_fraction_digits(&d[k % 2]), d[k % 2].value);
-        csv_field(out, d ? buf : "", &first);
-    }
-    if (row->error) {
-        for (int k = 0; k < 9; k++)
-            csv_field(out, "", &first);
-        csv_field(out, row->error, &first);
-    } else {
-        csv_field(out, a->inside ? "true" : "false", &first);
-        snprintf(buf, sizeof buf, "%u", a->px.depth);
-        csv_field(out, a->inside ? a->path : "", &first);
-        csv_field(out, a->inside ? buf : "", &first);
-        csv_field(out, !a->inside ? "" : a->is_private ? "true" : "false", &first);
-        csv_field(out, L->exact ? "true" : "false", &first);
-        csv_field(out, a->exact && a->loc.on_boundary ? "true" : "false", &first);
-        csv_lists(out, L, a, &first);
-        csv_field(out, "", &first);
-    }
-    for (size_t k = 0; k < t->ncols; k++)
-        if (is_extra(t, k))
-            csv_field(out, row->fl && k < row->fl->n ? row->fl->v[k] : "", &first);
-    fputc('\n', out);
-}
-
-static void print_row(FILE *out, const batch_options *o, const locator *L, const layout *t,
-                      const batch_row *row, const answer *a, unsigned long *rows)
-{
-    if (o->format == BATCH_CSV)
-        print_csv_row(out, L, t, row, a);
-    else if (o->format == BATCH_GEOJSON)
-        print_geojson_row(out, L, t, row, a, *rows == 0);
-    else
-        print_jsonl_row(out, L, t, row, a);
-    ++*rows;
-}
-
-/* The point of one data line, or the reason it has none (in err). */
-static int read_point(locator *L, const layout *t, const fields *fl, decimal ll[2],
-                      decimal xy[2], char *err)
-{
-    size_t need = (t->lon > t->lat ? t->lon : t->lat) + 1;
-    if (fl->n < need)
-        return view_fail(err, "expected at least %zu columns, found %zu", need, fl->n);
-    const char *v[2] = {fl->v[t->lon], fl->v[t->lat]};
-    decimal *d = t->lonlat ? ll : xy;
-    for (int k = 0; k < 2; k++)
-        if (decimal_parse(v[k], strlen(v[k]), &d[k]))
-            return view_fail(err, "column '%.40s': '%.40s' is not a decimal number",
-                             t->names[k ? t->lat : t->lon], v[k]);
-    return t->lonlat ? project_lonlat(L, ll, xy, err) : VIEW_OK;
-}
-
-int view_locate_batch(const hpfc_file *f, FILE *in, const char *in_name, const batch_options *o,
-                      FILE *out, char *why)
-{
-    locator L;
-    answer a = {0};
-    layout t = {0};
-    fields fl = {0};
-    char *line = NULL;
-    size_t line_cap = 0;
-    unsigned long n = 0, rows = 0;
-    int status = VIEW_OK, ready = 0;
-    memset(&L, 0, sizeof L);
-    ssize_t got;
-    while (!status && (got = getline(&line, &line_cap, in)) >= 0) {
-        n++;
-        line[strcspn(line, "\r\n")] = '\0';
-        if (blank_line(line))
-            continue;
-        char sep = ready ? t.sep : guess_separator(line);
-        if (split_fields(line, sep, &fl)) {
-            status = view_fail(why, "out of memory");
-            break;
-        }
-        if (!ready) {
-            /* the first line sets the layout; the locator opens once it
-             * knows whether the points are degrees */
-            ready = 1;
-            if ((status = layout_read(&t, &fl, sep, o, in_name, n, why)) ||
-                (status = locator_open(f, t.lonlat, &L, why)))
-                break;
-            if (o->format == BATCH_CSV)
-                print_csv_header(out, &t);
-            else if (o->format == BATCH_GEOJSON)
-                fputs("{\"type\": \"FeatureCollection\", \"features\": [\n", out);
-            if (t.header)
-                continue;
-        }
-        decimal ll[2], xy[2];
-        char err[VIEW_WHY];
-        batch_row row = {.line = n, .fl = &fl};
-        row.id = t.id >= 0 && (size_t)t.id < fl.n ? fl.v[t.id] : NULL;
-        if (read_point(&L, &t, &fl, ll, xy, err)) {
-            row.error = err;
-            row.ll = t.lonlat && fl.n > (t.lon > t.lat ? t.lon : t.lat) &&
-                             is_number(fl.v[t.lon]) && is_number(fl.v[t.lat])
-                         ? ll
-                         : NULL;
-            print_row(out, o, &L, &t, &row, &a, &rows);
-            continue;
-        }
-        row.ll = t.lonlat ? ll : NULL;
-        row.xy = xy;
-        int st = locate_decimal(&L, xy, &a);
-        if (st) {
-            status = view_fail(why, "%s line %lu: locate: %s", in_name, n, hpfc_strerror(st));
-            break;
-        }
-        print_row(out, o, &L, &t, &row, &a, &rows);
-    }
-    if (!status && ferror(in))
-        status = view_fail(why, "%s: read error", in_name);
-    if (!status && !ready && (status = locator_open(f, 0, &L, why)) == VIEW_OK &&
-        o->format == BATCH_CSV) /* no points: the CSV still gets its header */
-        print_csv_header(out, &t);
-    if (!status && o->format == BATCH_GEOJSON)
-        fputs(ready ? "\n]}\n" : "{\"type\": \"FeatureCollection\", \"features\": []}\n", out);
-    free(line);
-    free(fl.v);
-    free(a.word);
-    layout_free(&t);
-    locator_close(&L);
-    return status;
-}

@@ -1,5 +1,5 @@
 /*
- * locate.h: point queries of hpfc-inspect (contracts §4): the leaf, the
+ * locate.h: point queries of hpfc-inspect (interfaces §4): the leaf, the
  * faces and the source features (FEAT section) at a point. Each returns an
  * exit status (VIEW_OK, VIEW_FAIL) with a one-line reason in `why`.
  */

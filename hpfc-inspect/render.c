@@ -14,6 +14,9 @@
 #include <cairo.h>
 #endif
 
+#include "clock.h"
+#include "escape.h"
+#include "grow.h"
 #include "jsonw.h"
 #include "roads.h"
 #include "word.h"
@@ -68,23 +71,8 @@ typedef struct scene {
     size_t cand_cap;
 } scene;
 
-static int reserve(void **v, size_t *cap, size_t n, size_t size)
-{
-    if (n <= *cap)
-        return 0;
-    size_t c = *cap ? *cap : 256;
-    while (c < n)
-        c *= 2;
-    void *p = realloc(*v, c * size);
-    if (!p)
-        return -1;
-    *v = p;
-    *cap = c;
-    return 0;
-}
-
 #define PUSH(vec, item)                                                                  \
-    (reserve((void **)&(vec).v, &(vec).cap, (vec).n + 1, sizeof *(vec).v)              \
+    (!array_grow((void **)&(vec).v, &(vec).cap, (vec).n + 1, sizeof *(vec).v)         \
          ? HPFC_E_NOMEM                                                                  \
          : ((vec).v[(vec).n++] = (item), HPFC_OK))
 
@@ -173,7 +161,7 @@ static int leaf_rgb(scene *s, const hpfc_pixel *leaf, uint32_t *rgb)
     }
     if (!st)
         st = hpfc_pixel_word(s->f, leaf, NULL, 0, &len);
-    if (!st && reserve((void **)&s->cand, &s->cand_cap, len + 1, sizeof *s->cand))
+    if (!st && !array_grow((void **)&s->cand, &s->cand_cap, len + 1, sizeof *s->cand))
         st = HPFC_E_NOMEM;
     if (!st)
         st = view_pixel_faces(s->f, s->faces, leaf, s->cand, s->cand_cap, &n);
@@ -834,21 +822,6 @@ static void svg_graph(const svg_out *o)
     fprintf(o->f, "\"/>\n");
 }
 
-/* Words use "+=[]()Y" only; anything else is escaped anyway. */
-static void svg_text(FILE *out, const char *t)
-{
-    for (; *t; t++) {
-        if (*t == '<')
-            fputs("&lt;", out);
-        else if (*t == '&')
-            fputs("&amp;", out);
-        else if (*t == '>')
-            fputs("&gt;", out);
-        else
-            fputc(*t, out);
-    }
-}
-
 static void write_svg(scene *s, FILE *out)
 {
     double unit = pow10i(s->info.unit_exp10), px = unit / s->scale;
@@ -880,7 +853,7 @@ static void write_svg(scene *s, FILE *out)
         fputs("\" y=\"", out);
         svg_num(&o, -user_y(&o, s->labels.v[k].y));
         fputs("\">", out);
-        svg_text(out, s->labels.v[k].text);
+        xml_write_text(out, s->labels.v[k].text);
         fprintf(out, "</text>\n");
     }
     fprintf(out, "</g>\n</svg>\n");
@@ -1085,16 +1058,9 @@ static int write_world_file(const scene *s, const render_params *p, render_repor
     return err != 0;
 }
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 int render_file(const hpfc_file *f, const render_params *p, render_report *rep, char *why)
 {
-    double t0 = now();
+    double t0 = clock_seconds();
     scene s;
     memset(&s, 0, sizeof s);
     memset(rep, 0, sizeof *rep);
@@ -1124,7 +1090,7 @@ int render_file(const hpfc_file *f, const render_params *p, render_report *rep, 
     rep->ink = s.ink.n;
     for (size_t k = 0; k < s.rects.n; k++)
         rep->outlined += s.rects.v[k].outline;
-    rep->seconds = now() - t0;
+    rep->seconds = clock_seconds() - t0;
     scene_free(&s);
     return bad;
 }

@@ -1,5 +1,5 @@
 /*
- * render.h: `hpfc-inspect --render OUT.svg|OUT.png` (issues 7, 17): a
+ * render.h: `hpfc-inspect --render OUT.svg|OUT.png`: a
  * picture of the map as the file encodes it, and of its hierarchical grid.
  *
  * The window is the data's extent by default (the leaves holding a vertex,

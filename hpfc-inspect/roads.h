@@ -16,7 +16,7 @@
 #include <stdbool.h>
 
 #include "hpfc.h"
-#include "road.h"
+#include "common/road.h" /* header-only: roads walked exactly as the reader walks them */
 #include "word.h"
 
 /* A pixel's lattice box [x0, x1) x [y0, y1): the library's (road.h, whose

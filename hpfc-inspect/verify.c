@@ -40,11 +40,11 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "clock.h"
 #include "export.h"
 #include "hpfc.h"
 #include "jsonw.h"
-#include "road.h"
-#include "words.h"
+#include "common/road.h" /* header-only: roads walked exactly as the reader walks them */
 
 #ifdef __GNUC__
 #define PRINTF_LIKE(f, a) __attribute__((format(printf, f, a)))
@@ -69,7 +69,7 @@ static void problem(verify_report *r, const char *fmt, ...)
     r->problem_count++;
 }
 
-/* A pixel's path from the root, "i,j/i,j/..." as in contracts §4. */
+/* A pixel's path from the root, "i,j/i,j/..." as in interfaces §4. */
 static const char *pixel_name(const hpfc_pixel *px, char *buf, size_t cap)
 {
     size_t used = 0;
@@ -492,7 +492,7 @@ static int road_counts(verifier *v, const hpfc_pixel *px, uint64_t count[4])
     int st = hpfc_pixel_word(v->f, px, v->word, v->word_cap, &len);
     if (st)
         return st == HPFC_E_BUFFER_SMALL ? HPFC_E_CORRUPT : st;
-    word_count_roads(v->word, len, off);
+    hpfc_word_count_roads(v->word, len, off);
     for (int road = 0; road < 4; road++)
         count[road] = off[road + 1] - off[road];
     return HPFC_OK;
@@ -987,19 +987,12 @@ static int run_checks(verifier *v, unsigned flags)
     return check_topology(v);
 }
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 int verify_file(const char *path, unsigned flags, verify_report *r)
 {
     memset(r, 0, sizeof *r);
     r->format = r->checksums = r->structure = r->roads = r->topology = CHECK_SKIPPED;
     r->euler = r->loops_ok = r->features = r->labels = r->geometry = CHECK_SKIPPED;
-    double t0 = now_seconds();
+    double t0 = clock_seconds();
     mapped_file mf;
     int err, st = map_file(path, &mf, &err);
     if (st) {
@@ -1020,7 +1013,7 @@ int verify_file(const char *path, unsigned flags, verify_report *r)
     hpfc_walker_free(v.w);
     hpfc_close(f);
     unmap_file(&mf);
-    r->seconds = now_seconds() - t0;
+    r->seconds = clock_seconds() - t0;
     return r->problem_count == 0;
 }
 

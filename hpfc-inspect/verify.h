@@ -1,6 +1,6 @@
 /*
  * verify.h: the full structural and topological check of an .hpfc file
- * behind `hpfc-inspect --verify` (contracts §3, spec §8.7).
+ * behind `hpfc-inspect --verify` (interfaces §3, spec §8.7).
  *
  * The check reads the file with the library's public reader and traversal
  * API only, plus the raw bytes for what no API exposes (padding). It never

@@ -1,12 +1,12 @@
 /*
- * views.h: hpfc-inspect's queries on an open file (issue 7):
+ * views.h: hpfc-inspect's queries on an open file:
  *
  *   --sections      the file's map: header, level table, directory, every
  *                   section with its checksum status, each level's pool
  *   --pixel PATH    one pixel: type, word and code, roads, components,
  *                   vertices, neighbours
  *   --locate X,Y    the leaf holding a point and the faces it may lie in
- *                   (contracts §4)
+ *                   (interfaces §4)
  *   --stats         histograms of word length, leaf depth, crossings per
  *                   pixel and stabbings per edge
  *
@@ -34,8 +34,10 @@ int view_fail(char *why, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
+/* view_fail with "what: " and the status's hpfc_strerror text. */
+int view_fail_status(char *why, const char *what, int st);
 
-/* ---- arguments ------------------------------------------------------------ */
+/* ---- arguments (args.c) ------------------------------------------------------------ */
 
 /* A decimal number as written, kept exact: value = digits * 10^exp10. */
 typedef struct decimal {
@@ -67,19 +69,17 @@ int pixel_path_parse(const char *text, pixel_path *out, char *why, size_t cap);
 
 /* ---- views ---------------------------------------------------------------- */
 
-/* `path` is re-read with stdio to compute the checksums of every section
- * (the API verifies them all at once only). VIEW_FAIL when one mismatches. */
+/* view_sections.c: every checksum computed and shown beside the stored one
+ * (`path` is only printed). VIEW_FAIL when one mismatches. */
 int view_sections(const hpfc_file *f, const char *path, FILE *out, int json, char *why);
+/* view_pixel.c */
 int view_pixel(const hpfc_file *f, const pixel_path *pp, FILE *out, int json, char *why);
+/* view_stats.c */
 int view_stats(const hpfc_file *f, FILE *out, int json, char *why);
 
 /* ---- helpers shared with render.c and the tests --------------------------- */
 
-/* CRC-32C (Castagnoli, reflected, spec §4.5) of len bytes, continuing crc
- * (start with 0). */
-uint32_t view_crc32c(uint32_t crc, const void *data, size_t len);
-
-/* The face candidates of a word pixel (contracts §4): its one face when
+/* The face candidates of a word pixel (interfaces §4): its one face when
  * private, else the faces on the right of the out-dart of each of its
  * crossings, sorted and without repeats. Every region of a word pixel cut
  * by its components reaches the pixel's boundary (no edge lies inside a

@@ -3,48 +3,44 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "format.h"
-
 void word_info_free(word_info *wi)
 {
     free(wi->sym);
-    word_parts_free(&wi->parts);
+    hpfc_word_parser_free(wi->parser);
     memset(wi, 0, sizeof *wi);
 }
 
-/* Arrays for n crossings (the library's parse rejects more than they hold). */
-static int reserve(word_info *wi, size_t n)
+static int reserve_symbols(word_info *wi, size_t n)
 {
-    if (wi->sym && n <= wi->parts.cap)
+    if (wi->sym && n <= wi->sym_cap)
         return 0;
-    size_t cap = wi->parts.cap ? wi->parts.cap : 16;
-    while (cap < n)
-        cap *= 2;
-    if (cap >= UINT32_MAX)
+    char *grown = realloc(wi->sym, n);
+    if (!grown)
         return -1;
-    word_info_free(wi);
-    if (!(wi->sym = malloc(cap)) || word_parts_alloc(&wi->parts, (uint32_t)cap)) {
-        word_info_free(wi);
-        return -1;
-    }
+    wi->sym = grown;
+    wi->sym_cap = n;
     return 0;
 }
 
 int word_parse(word_info *wi, const char *sym, size_t len)
 {
-    if (reserve(wi, len ? len : 1))
+    if (!wi->parser && hpfc_word_parser_create(&wi->parser))
         return -2;
-    const word_parts *p = &wi->parts;
-    int st = word_parse_symbols(&wi->parts, sym, len);
-    wi->n = st ? 0 : p->n;
-    wi->ncomp = st ? 0 : p->ncomp;
-    wi->nvert = st ? 0 : p->nvert;
-    memcpy(wi->road_off, p->road_off, sizeof wi->road_off);
-    wi->comp = p->comp;
-    wi->comp_first = p->comp_first;
-    wi->comp_last = p->comp_last;
-    wi->comp_size = p->comp_size;
-    wi->comp_vertex = p->comp_vertex;
+    if (reserve_symbols(wi, len ? len : 1))
+        return -2;
+    hpfc_word_parts p;
+    int st = hpfc_word_parse(wi->parser, sym, len, &p);
+    if (st == HPFC_E_NOMEM || st == HPFC_E_LIMIT || st == HPFC_E_ARG)
+        return -2;
+    wi->n = st ? 0 : p.crossings;
+    wi->ncomp = p.components;
+    wi->nvert = p.junctions;
+    memcpy(wi->road_off, p.road_first, sizeof wi->road_off);
+    wi->comp = p.component;
+    wi->comp_first = p.component_first;
+    wi->comp_last = p.component_last;
+    wi->comp_size = p.component_size;
+    wi->comp_vertex = p.component_vertex;
     if (st)
         return -1;
     uint32_t k = 0;
@@ -56,13 +52,16 @@ int word_parse(word_info *wi, const char *sym, size_t len)
 
 int word_road_of(const word_info *wi, uint32_t k)
 {
-    return word_road_of_crossing(wi->road_off, k);
+    int road = 0;
+    while (road < 3 && k >= wi->road_off[road + 1])
+        road++;
+    return road;
 }
 
 void word_road_counts(const char *sym, size_t len, uint32_t counts[4])
 {
     uint32_t off[5];
-    word_count_roads(sym, len, off);
+    hpfc_word_count_roads(sym, len, off);
     for (int road = 0; road < 4; road++)
         counts[road] = off[road + 1] - off[road];
 }
@@ -70,8 +69,8 @@ void word_road_counts(const char *sym, size_t len, uint32_t counts[4])
 const char *word_symbol_code(char symbol)
 {
     static const char *const codes[] = {"1000", "1001", "1010", "1011", "1100", "1101"};
-    int code = format_symbol_code(symbol);
-    if (symbol == '+')
+    int code = hpfc_word_symbol_code(symbol);
+    if (code == 0)
         return "0";
-    return code >= 0 ? codes[code - 0x8] : "????";
+    return code >= 0x8 && code <= 0xD ? codes[code - 0x8] : "????";
 }

@@ -2,9 +2,9 @@
  * word.h: a word pixel's word taken apart (spec/hpfc-format.md §3.6-§3.8,
  * §5.2.3), for hpfc-inspect's views and renderer.
  *
- * The parse is the library's (libhpfcfile/words.h, compiled into the tool):
- * this layer only grows its arrays to any word's length, names each
- * crossing's symbol, and spells the §5.2.3 codes as text.
+ * The parse is the library's (hpfc_word_parse, hpfc.h's experimental
+ * tier): this layer keeps the parts under the names the views use, names
+ * each crossing's symbol, and spells the §5.2.3 codes as text.
  */
 #ifndef HPFC_INSPECT_WORD_H
 #define HPFC_INSPECT_WORD_H
@@ -12,11 +12,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "words.h" /* the library's: WORD_NONE, word_parts */
+#include "hpfc.h"
 
-/* The parts of one word: the library's parse (fields as in word_parts,
- * pointing into `parts`) and each crossing's symbol. Arrays grow with
- * word_parse and belong to the struct; word_info_free releases them. */
+#define WORD_NONE HPFC_WORD_NONE
+
+/* The parts of one word: the library's parse (arrays owned by `parser`)
+ * and each crossing's symbol. A zeroed struct is ready; word_parse grows
+ * it to any word's length; word_info_free releases it. */
 typedef struct word_info {
     uint32_t n;              /* crossings */
     uint32_t road_off[5];    /* first crossing of roads W, N, E, S; then n */
@@ -27,7 +29,8 @@ typedef struct word_info {
     const uint32_t *comp_last;   /* per component: last crossing in word order */
     const uint32_t *comp_size;   /* per component: crossings (a junction's degree) */
     const uint32_t *comp_vertex; /* per component: local vertex id, WORD_NONE for a stabbing */
-    word_parts parts;
+    hpfc_word_parser *parser;
+    size_t sym_cap;
 } word_info;
 
 void word_info_free(word_info *wi);

@@ -10,16 +10,7 @@
 #include <time.h>
 
 
-/* Seconds since *t, which moves on to now. */
-static double lap_seconds(struct timespec *t)
-{
-    struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    double d = (double)(now.tv_sec - t->tv_sec) + (double)(now.tv_nsec - t->tv_nsec) * 1e-9;
-    *t = now;
-    return d;
-}
-
+#include "clock.h"
 #include "face_check.h"
 #include "face_link.h"
 #include "grow.h"
@@ -337,14 +328,6 @@ static void make_table(const gis_features *fs, face_link *fl, gis_feature_table 
         .face_start = out->face_start, .face_feature = out->face_feature};
 }
 
-int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const leaf_crossings *lc,
-                      const hpfc_file *file, gis_feature_table *out, char *err, size_t err_len)
-{
-    const char *method = getenv("HPFC_PACK_LINK");
-    return gis_features_link_method(fs, graph, lc, file, method && strcmp(method, "witness") == 0,
-                                    out, err, err_len);
-}
-
 int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
                              const leaf_crossings *lc, const hpfc_file *file, int witness,
                              gis_feature_table *out, char *err, size_t err_len)
@@ -354,10 +337,9 @@ int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
     hpfc_faces *faces = NULL;
     face_witness *w = NULL;
     face_link fl = {0};
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
+    double t = clock_seconds();
     int st = hpfc_faces_build(file, &faces);
-    out->faces_s = lap_seconds(&t);
+    out->faces_s = clock_lap(&t);
     uint64_t n = faces ? hpfc_faces_face_count(faces) : 0;
     if (!st && n >= UINT32_MAX)
         st = HPFC_E_LIMIT;
@@ -365,14 +347,14 @@ int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
         st = HPFC_E_NOMEM;
     if (!st)
         st = face_witnesses(graph, lc, file, faces, w);
-    out->witness_s = lap_seconds(&t);
+    out->witness_s = clock_lap(&t);
     if (!st)
         st = face_link_run(&fl, fs, graph, lc, file, faces);
     hpfc_faces_free(faces); /* the walk needs the faces' ids only */
-    out->topology_s = lap_seconds(&t);
+    out->topology_s = clock_lap(&t);
     if (!st)
         st = check_faces(fs, w, &fl, !out->method_witness, out);
-    out->check_s = lap_seconds(&t);
+    out->check_s = clock_lap(&t);
     if (!st) {
         out->faces_propagated = out->method_witness ? 0 : fl.propagated - 1;
         make_table(fs, &fl, out);

@@ -80,7 +80,7 @@ typedef struct gis_feature_table {
     uint64_t faces_propagated; /* reached by the walk from the unbounded face */
     uint64_t anchors;          /* faces the walk did not reach: the witness's answer alone */
     uint64_t conflicts;        /* faces where the walk and the witness disagree */
-    int method_witness;        /* no walk: every face by its witness (HPFC_PACK_LINK=witness) */
+    int method_witness;        /* no walk: every face by its witness (--link witness) */
     /* wall time of the stages, seconds: faces numbered, witnesses found, topology
        (segments matched, sides found, walk), check (every witness) */
     double faces_s, witness_s, topology_s, check_s;
@@ -91,13 +91,10 @@ void gis_feature_table_free(gis_feature_table *t);
 /* The linking step of a pack: numbers the faces of the open map `file`
  * (built from `graph`; lc: its crossings, taken from the tree before it was
  * freed), links them and the edges to the features and makes the table.
- * With the environment variable HPFC_PACK_LINK=witness, the walk is not
- * compared: every face is answered by its witness point alone (a checking
- * aid: the tests compare both). 0, or 1 with a message in err. */
-int gis_features_link(const gis_features *fs, const hpfc_graph *graph, const leaf_crossings *lc,
-                      const hpfc_file *file, gis_feature_table *out, char *err, size_t err_len);
-/* The same with the method given: witness 1 answers every face by its
- * witness point, 0 links from the topology. */
+ * `witness` 0 links from the topology, every face then confirmed by the
+ * exact check (hpfc-pack's default); 1 answers every face by its witness
+ * point alone (hpfc-pack --link witness, a cross-check the tests compare
+ * with the default). 0, or 1 with a message in err. */
 int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
                              const leaf_crossings *lc, const hpfc_file *file, int witness,
                              gis_feature_table *out, char *err, size_t err_len);

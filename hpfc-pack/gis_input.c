@@ -36,31 +36,16 @@
 #include <ogr_srs_api.h>
 #include <geos_c.h>
 
+#include "clock.h"
 #include "dateline.h"
 #include "grow.h"
 #include "lattice.h"
 #include "noded_paths.h"
 #include "progress.h"
 #include "projection.h"
+#include "segment_graph.h"
 #include "segnode.h"
 #include "sort.h"
-
-/* ---- stage times ------------------------------------------------------------ */
-
-static double mono_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-/* Seconds since *t, which moves on to now: one stage's wall time. */
-static double lap(double *t)
-{
-    double now = mono_now(), d = now - *t;
-    *t = now;
-    return d;
-}
 
 /* ---- state ---------------------------------------------------------------------- */
 
@@ -956,17 +941,7 @@ static int project_and_snap(reader *r, OGRSpatialReferenceH srs, const char *srs
 
 typedef segnode_seg seg;
 
-typedef struct pt {
-    int64_t x, y;
-} pt;
-
-static int cmp_pt(const void *a, const void *b)
-{
-    const pt *p = a, *q = b;
-    if (p->x != q->x)
-        return p->x < q->x ? -1 : 1;
-    return (p->y > q->y) - (p->y < q->y);
-}
+typedef segnode_pt pt;
 
 static int cmp_i64(int64_t a, int64_t b)
 {
@@ -989,20 +964,11 @@ static int push_seg(reader *r, seg **segs, size_t *n, size_t *cap, pt a, pt b)
 {
     if (!array_grow((void **)segs, cap, *n + 1, sizeof **segs))
         return fail(r, "out of memory");
-    int c = cmp_pt(&a, &b);
+    int c = segnode_pt_cmp(&a, &b);
     (*segs)[*n] = (seg){c < 0 ? a.x : b.x, c < 0 ? a.y : b.y, c < 0 ? b.x : a.x,
                         c < 0 ? b.y : a.y};
     ++*n;
     return 0;
-}
-
-/* Gives back the tail of an array that shrank: a polygon coverage stores
- * each shared border twice, so deduplication halves the arrays below, which
- * are held through the graph's making, the read's peak. */
-static void *shrink(void *p, size_t n, size_t size)
-{
-    void *q = realloc(p, (n ? n : 1) * size);
-    return q ? q : p;
 }
 
 /* Sorts and deduplicates segs; returns the array, shrunk to *n. */
@@ -1014,7 +980,9 @@ static seg *sort_unique(seg *segs, size_t *n)
         if (u == 0 || cmp_seg(&segs[u - 1], &segs[i]) != 0)
             segs[u++] = segs[i];
     *n = u;
-    return shrink(segs, u, sizeof *segs);
+    /* a polygon coverage stores each shared border twice: deduplication
+     * halves the array, held through the graph's making, the read's peak */
+    return array_shrink(segs, u, sizeof *segs);
 }
 
 /* The distinct non-degenerate segments of the snapped parts, sorted. */
@@ -1028,7 +996,7 @@ static int collect_segments(reader *r, const int64_t *lat, seg **out, size_t *n_
     for (size_t k = 0; k < r->n_parts; k++)
         for (size_t i = r->start[k] + 1; i < r->start[k + 1]; i++) {
             pt a = {lat[2 * i - 2], lat[2 * i - 1]}, b = {lat[2 * i], lat[2 * i + 1]};
-            if (cmp_pt(&a, &b) != 0 && push_seg(r, &segs, &n, &cap, a, b)) {
+            if (segnode_pt_cmp(&a, &b) != 0 && push_seg(r, &segs, &n, &cap, a, b)) {
                 free(segs);
                 return 1;
             }
@@ -1111,7 +1079,7 @@ static int collect_noded(reader *r, const GEOSGeometry *noded, seg **segs, size_
             if ((double)p.x != x || (double)p.y != y)
                 return fail(r, "internal error: GEOS left a point off the lattice (%.17g, %.17g)",
                             x, y);
-            if (i > 0 && cmp_pt(&prev, &p) != 0 && push_seg(r, segs, n, cap, prev, p))
+            if (i > 0 && segnode_pt_cmp(&prev, &p) != 0 && push_seg(r, segs, n, cap, prev, p))
                 return 1;
             prev = p;
         }
@@ -1261,7 +1229,7 @@ static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out, se
 
 static int has_segment(const seg *segs, size_t n, pt a, pt b)
 {
-    int c = cmp_pt(&a, &b);
+    int c = segnode_pt_cmp(&a, &b);
     seg key = {c < 0 ? a.x : b.x, c < 0 ? a.y : b.y, c < 0 ? b.x : a.x, c < 0 ? b.y : a.y};
     return bsearch(&key, segs, n, sizeof *segs, cmp_seg) != NULL;
 }
@@ -1279,7 +1247,7 @@ static int part_in_map(reader *r, const int64_t *lat, size_t k, const seg *segs,
         return fail(r, "out of memory");
     for (size_t i = i0 + 1; i < r->start[k + 1]; i++) {
         pt a = {lat[2 * i - 2], lat[2 * i - 1]}, b = {lat[2 * i], lat[2 * i + 1]};
-        if (cmp_pt(&a, &b) == 0)
+        if (segnode_pt_cmp(&a, &b) == 0)
             continue;
         int st = 1;
         if (has_segment(segs, n_segs, a, b))
@@ -1319,166 +1287,15 @@ static int keep_parts(reader *r, const int64_t *lat, const seg *segs, size_t n_s
     return st;
 }
 
-/* ---- step 5: the graph ------------------------------------------------------------- */
-
-static size_t find_pt(const pt *pts, size_t n, int64_t x, int64_t y)
-{
-    pt key = {x, y};
-    const pt *p = bsearch(&key, pts, n, sizeof *pts, cmp_pt);
-    return (size_t)(p - pts);
-}
-
-typedef struct graph_builder {
-    reader *r;
-    hpfc_graph *g;
-    const seg *segs;
-    size_t n_segs;
-    pt *pts;
-    size_t n_pts;
-    uint32_t *seg_a, *seg_b;    /* point index of each segment's ends */
-    size_t *adj_start, *adj;    /* incident segments of each point (CSR) */
-    uint32_t *vertex;           /* point -> graph vertex, UINT32_MAX if none */
-    unsigned char *used;
-    int64_t *interior;
-    size_t cap_interior;
-} graph_builder;
-
-static int gb_vertex(graph_builder *b, size_t p, uint32_t *out)
-{
-    if (b->vertex[p] == UINT32_MAX) {
-        int st = hpfc_graph_add_vertex(b->g, b->pts[p].x, b->pts[p].y, &b->vertex[p]);
-        if (st)
-            return fail(b->r, "graph: %s", hpfc_strerror(st));
-    }
-    *out = b->vertex[p];
-    return 0;
-}
-
-static size_t degree(const graph_builder *b, size_t p)
-{
-    return b->adj_start[p + 1] - b->adj_start[p];
-}
-
-/* Follows the chain from point p along segment s through degree-2 points,
- * up to a junction (or back to p), and adds it as one edge. */
-static int gb_chain(graph_builder *b, size_t p, size_t s)
-{
-    size_t n_int = 0, cur = p;
-    for (;;) {
-        b->used[s] = 1;
-        size_t q = b->seg_a[s] == cur ? b->seg_b[s] : b->seg_a[s];
-        if (q == p || degree(b, q) != 2) {
-            uint32_t u = 0, v = 0; /* set when st == 0; -O3 cannot tell */
-            int st = gb_vertex(b, p, &u);
-            if (!st)
-                st = gb_vertex(b, q, &v);
-            if (!st && (st = hpfc_graph_add_edge(b->g, u, v, b->interior, n_int, NULL)) != 0)
-                return fail(b->r, "graph: %s", hpfc_strerror(st));
-            return st;
-        }
-        if (!array_grow((void **)&b->interior, &b->cap_interior, 2 * n_int + 2, sizeof(int64_t)))
-            return fail(b->r, "out of memory");
-        b->interior[2 * n_int] = b->pts[q].x;
-        b->interior[2 * n_int + 1] = b->pts[q].y;
-        n_int++;
-        size_t s0 = b->adj[b->adj_start[q]], s1 = b->adj[b->adj_start[q] + 1];
-        s = s0 == s ? s1 : s0;
-        cur = q;
-    }
-}
+/* ---- step 5: the graph (segment_graph.c) ------------------------------------------ */
 
 static int make_graph(reader *r, const seg *segs, size_t n_segs, hpfc_graph **out)
 {
-    graph_builder b = {.r = r, .segs = segs, .n_segs = n_segs};
-    int st = 0;
-    if (n_segs >= UINT32_MAX / 2)
-        return fail(r, "too many segments (%zu) for one graph", n_segs);
-    b.pts = malloc(2 * n_segs * sizeof *b.pts);
-    b.seg_a = malloc(n_segs * sizeof *b.seg_a);
-    b.seg_b = malloc(n_segs * sizeof *b.seg_b);
-    b.used = calloc(n_segs ? n_segs : 1, 1);
-    if (!b.pts || !b.seg_a || !b.seg_b || !b.used) {
-        st = fail(r, "out of memory");
-        goto done;
-    }
-    for (size_t i = 0; i < n_segs; i++) {
-        b.pts[2 * i] = (pt){segs[i].ax, segs[i].ay};
-        b.pts[2 * i + 1] = (pt){segs[i].bx, segs[i].by};
-    }
-    sort_in_place(b.pts, 2 * n_segs, sizeof *b.pts, cmp_pt);
-    for (size_t i = 0; i < 2 * n_segs; i++)
-        if (b.n_pts == 0 || cmp_pt(&b.pts[b.n_pts - 1], &b.pts[i]) != 0)
-            b.pts[b.n_pts++] = b.pts[i];
-    b.pts = shrink(b.pts, b.n_pts, sizeof *b.pts);
-    b.adj_start = calloc(b.n_pts + 1, sizeof *b.adj_start);
-    b.adj = malloc(2 * n_segs * sizeof *b.adj);
-    b.vertex = malloc(b.n_pts * sizeof *b.vertex);
-    if (!b.adj_start || !b.adj || !b.vertex) {
-        st = fail(r, "out of memory");
-        goto done;
-    }
-    for (size_t i = 0; i < n_segs; i++) {
-        b.seg_a[i] = (uint32_t)find_pt(b.pts, b.n_pts, segs[i].ax, segs[i].ay);
-        b.seg_b[i] = (uint32_t)find_pt(b.pts, b.n_pts, segs[i].bx, segs[i].by);
-        b.adj_start[b.seg_a[i] + 1]++;
-        b.adj_start[b.seg_b[i] + 1]++;
-    }
-    for (size_t p = 0; p < b.n_pts; p++) {
-        b.adj_start[p + 1] += b.adj_start[p];
-        b.vertex[p] = UINT32_MAX;
-    }
-    {
-        size_t *fill = malloc((b.n_pts + 1) * sizeof *fill);
-        if (!fill) {
-            st = fail(r, "out of memory");
-            goto done;
-        }
-        memcpy(fill, b.adj_start, (b.n_pts + 1) * sizeof *fill);
-        for (size_t i = 0; i < n_segs; i++) {
-            b.adj[fill[b.seg_a[i]]++] = i;
-            b.adj[fill[b.seg_b[i]]++] = i;
-        }
-        free(fill);
-    }
-    if ((st = hpfc_graph_create(&b.g)) != 0 ||
-        (st = hpfc_graph_set_unit_exp10(b.g, r->info->unit_exp10)) != 0) {
-        st = fail(r, "graph: %s", hpfc_strerror(st));
-        goto done;
-    }
     progress_show(&r->bar, "graph", 0, 0, 1);
-    if (r->opt->vertex_model == GIS_VERTICES_ALL) {
-        for (size_t p = 0; p < b.n_pts && !st; p++) {
-            uint32_t v;
-            st = gb_vertex(&b, p, &v);
-        }
-        for (size_t i = 0; i < n_segs && !st; i++)
-            if ((st = hpfc_graph_add_edge(b.g, b.seg_a[i], b.seg_b[i], NULL, 0, NULL)) != 0)
-                st = fail(r, "graph: %s", hpfc_strerror(st));
-    } else {
-        /* chains between junctions, then the closed chains with none */
-        for (size_t p = 0; p < b.n_pts && !st; p++)
-            if (degree(&b, p) != 2)
-                for (size_t k = b.adj_start[p]; k < b.adj_start[p + 1] && !st; k++)
-                    if (!b.used[b.adj[k]])
-                        st = gb_chain(&b, p, b.adj[k]);
-        for (size_t p = 0; p < b.n_pts && !st; p++)
-            if (degree(&b, p) == 2 && !b.used[b.adj[b.adj_start[p]]])
-                st = gb_chain(&b, p, b.adj[b.adj_start[p]]);
-    }
-done:
-    if (!st)
-        *out = b.g;
-    else
-        hpfc_graph_free(b.g);
-    free(b.pts);
-    free(b.seg_a);
-    free(b.seg_b);
-    free(b.used);
-    free(b.adj_start);
-    free(b.adj);
-    free(b.vertex);
-    free(b.interior);
-    return st;
+    char why[256];
+    int st = segment_graph_make(segs, n_segs, r->opt->vertex_model == GIS_VERTICES_ALL,
+                                r->info->unit_exp10, out, why, sizeof why);
+    return st ? fail(r, "%s", why) : 0;
 }
 
 /* ---- entry point ----------------------------------------------------------------- */
@@ -1525,17 +1342,17 @@ static int read_graph(const char *path, GDALDatasetH given, const gis_options *o
     int64_t *lat = NULL;
     seg *segs = NULL;
     size_t n_segs = 0;
-    double t = mono_now();
+    double t = clock_seconds();
     int st = read_dataset(&r, path, &srs_p4, &srs);
     info->points_read = r.n_points;
-    info->read_s = lap(&t);
+    info->read_s = clock_lap(&t);
     if (!st) {
         lat = malloc((r.n_points ? r.n_points : 1) * 2 * sizeof *lat);
         st = lat ? project_and_snap(&r, srs, srs_p4, lat) : fail(&r, "out of memory");
     }
     free(r.xy);
     r.xy = NULL;
-    info->project_s = lap(&t);
+    info->project_s = clock_lap(&t);
     seg *geos = NULL;
     size_t n_geos = 0;
     if (!st)
@@ -1545,10 +1362,10 @@ static int read_graph(const char *path, GDALDatasetH given, const gis_options *o
     if (geos != segs)
         free(geos);
     free(lat);
-    info->node_s = lap(&t);
+    info->node_s = clock_lap(&t);
     if (!st)
         st = make_graph(&r, segs, n_segs, out);
-    info->graph_s = lap(&t);
+    info->graph_s = clock_lap(&t);
     progress_end(&r.bar);
     free(segs);
     free(r.start);

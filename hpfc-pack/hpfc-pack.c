@@ -1,6 +1,6 @@
 /*
  * hpfc-pack: packs a planar map into an .hpfc file and prints the build
- * report (contracts §2).
+ * report (interfaces §2).
  *
  *   hpfc-pack [options] INPUT -o OUTPUT.hpfc
  *
@@ -21,12 +21,14 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "clock.h"
 #include "draco_input.h"
 #include "gis_features.h"
 #include "gis_input.h"
 #include "hpfc.h"
 #include "jsonw.h"
 #include "pack_write.h"
+#include "paths.h"
 #include "progress.h"
 
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
@@ -50,6 +52,7 @@ typedef struct pack_args {
     int dateline;
     const char *assign_srs, *source_srs; /* -a_srs, -s_srs (as ogr2ogr) */
     int layout; /* HPFC_LAYOUT_*: --layout */
+    int link_witness; /* --link witness */
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -164,6 +167,11 @@ static void print_help(void)
            "  --no-geometry         write no GEOM section (the exact coordinates of every\n"
            "                        vertex and shape point, which exact point location\n"
            "                        and export need)\n"
+           "  --link topology|witness\n"
+           "                        GIS input: link faces to polygon features from the\n"
+           "                        map's topology, each face then confirmed by an exact\n"
+           "                        point-in-rings check (default), or every face by its\n"
+           "                        witness point alone (a cross-check)\n"
            "  --layout compact|paper\n"
            "                        pool layout: words in the bits they need and\n"
            "                        children by rank (default; format 1.2), or the\n"
@@ -302,6 +310,11 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->layout = strcmp(v, "compact") == 0 ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER;
         return strcmp(v, "paper") == 0 || strcmp(v, "compact") == 0 ? NULL : "paper or compact";
     }
+    if (strcmp(name, "--link") == 0) {
+        a->link_witness = strcmp(v, "witness") == 0;
+        return strcmp(v, "topology") == 0 || strcmp(v, "witness") == 0 ? NULL
+                                                                       : "topology or witness";
+    }
     if (strcmp(name, "--vertices") == 0) {
         a->vertex_model = strcmp(v, "junctions") == 0 ? GIS_VERTICES_JUNCTIONS : GIS_VERTICES_ALL;
         return strcmp(v, "all") == 0 || strcmp(v, "junctions") == 0 ? NULL : "all or junctions";
@@ -319,7 +332,7 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
                                         "--invalid",  "--wrap-dateline", "--key",
                                         "--fields",   "--output",   "-o",
                                         "-l",         "-a_srs",     "-s_srs",
-                                        "--layout"};
+                                        "--layout",   "--link"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -346,7 +359,7 @@ static int parse_args(int argc, char **argv, pack_args *a)
     int status = -1, only_files = 0;
     memset(a, 0, sizeof *a);
     hpfc_build_params_default(&a->params);
-    a->invalid_mode = GIS_INVALID_NODE; /* real layers have invalid rings (issue 17) */
+    a->invalid_mode = GIS_INVALID_NODE; /* real layers have invalid rings */
     /* A GIS user expects topology at junctions (as TopoJSON's arcs) and the
      * shape points kept exactly (GEOM): 2-5x smaller than a vertex at every
      * shape point, and with --leaf-points as fast to query (bench/README.md). */
@@ -403,13 +416,6 @@ static int parse_args(int argc, char **argv, pack_args *a)
 }
 
 /* ---- input --------------------------------------------------------------- */
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 /* Reads a whole file (or standard input for "-"); reads in chunks so that
  * pipes work too. */
@@ -820,14 +826,6 @@ static void print_text(FILE *out, const pack_args *a, const pack_report *r)
 
 /* ---- main ------------------------------------------------------------------ */
 
-/* Packing over INPUT itself would destroy it. */
-static int same_file(const char *a, const char *b)
-{
-    struct stat sa, sb;
-    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
-           sa.st_ino == sb.st_ino;
-}
-
 /* OUTPUT can be made, checked before the read and the build (minutes on a
  * continent): not a directory, not an existing file unless --force, in a
  * directory where a new file can be created (probed by creating one). 0 or
@@ -895,7 +893,7 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
                                 .geometry = a->no_geometry ? NULL : g};
     pack_write_stats w;
     hpfc_diag diag;
-    int st = pack_write(g, &a->params, &wopts, r->gis ? &r->gis_info : NULL,
+    int st = pack_write(g, &a->params, &wopts, r->gis ? &r->gis_info : NULL, a->link_witness,
                         a->to_stdout ? NULL : a->output, isatty(2) && !a->quiet, report_tree,
                         r, &w, &diag);
     r->build_s = w.build_s, r->write_s = w.write_s, r->features_s = w.features_s;
@@ -934,9 +932,9 @@ int main(int argc, char **argv)
         return status;
     pack_report r = {0};
     hpfc_graph *g = NULL;
-    double t0 = now_seconds();
+    double t0 = clock_seconds();
     status = read_graph(&a, &g, &r);
-    r.read_s = now_seconds() - t0;
+    r.read_s = clock_seconds() - t0;
     if (!status)
         status = build_and_write(&a, g, &r);
     hpfc_graph_free(g);

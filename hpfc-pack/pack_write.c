@@ -9,22 +9,15 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
 
+#include "clock.h"
 #include "face_witness.h"
 #include "gis_features.h"
 #include "progress.h"
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* Links the faces of the serialised file to the GIS features that
  * cover it, for the FEAT section. The witnesses need the crossings'
@@ -32,10 +25,10 @@ static double now_seconds(void)
  * faces' flood fill is where a pack's memory peaks. 0, or 1 with a message
  * in err. */
 static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
-                         const gis_info *gis, pack_write_stats *r, gis_feature_table *ft,
-                         char *err, size_t err_len)
+                         const gis_info *gis, int witness, pack_write_stats *r,
+                         gis_feature_table *ft, char *err, size_t err_len)
 {
-    double t0 = now_seconds();
+    double t0 = clock_seconds();
     leaf_crossings lc;
     int st = leaf_crossings_collect(*t, f, &lc);
     hpfc_tree_free(*t);
@@ -45,7 +38,7 @@ static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
                  hpfc_strerror(st));
         return 1;
     }
-    st = gis_features_link(gis->polygons, g, &lc, f, ft, err, err_len);
+    st = gis_features_link_method(gis->polygons, g, &lc, f, witness, ft, err, err_len);
     leaf_crossings_free(&lc);
     if (!st) {
         r->features = ft->polygon_features;
@@ -63,7 +56,7 @@ static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
         for (uint32_t k = 0; k < ft->table.face_count; k++)
             r->faces_with_features += ft->face_start[k + 1] > ft->face_start[k];
     }
-    r->features_s = now_seconds() - t0;
+    r->features_s = clock_seconds() - t0;
     return st;
 }
 
@@ -106,8 +99,8 @@ static int write_stdout(const hpfc_file *f, const hpfc_write_options *wopts,
 }
 
 int pack_write(const hpfc_graph *g, const hpfc_build_params *p,
-               const hpfc_write_options *base, const gis_info *gis, const char *output,
-               int progress_on, pack_write_hook hook, void *user, pack_write_stats *r,
+               const hpfc_write_options *base, const gis_info *gis, int link_witness,
+               const char *output, int progress_on, pack_write_hook hook, void *user, pack_write_stats *r,
                hpfc_diag *diag)
 {
     memset(r, 0, sizeof *r);
@@ -119,12 +112,12 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p,
     hpfc_write_options wopts = *base;
     gis_feature_table ft = {0};
     hpfc_tree *t = NULL;
-    double t0 = now_seconds();
+    double t0 = clock_seconds();
     progress_show(&bar, "building", 0, 0, 1);
     int st = hpfc_build(g, &params, &t, diag);
     progress_end(&bar);
     release_free_memory();
-    r->build_s = now_seconds() - t0;
+    r->build_s = clock_seconds() - t0;
     if (st) {
         r->build_failed = 1;
         return st;
@@ -132,7 +125,7 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p,
     uint8_t *bytes = NULL;
     size_t size = 0;
     hpfc_file *f = NULL;
-    t0 = now_seconds();
+    t0 = clock_seconds();
     if ((st = hpfc_tree_serialize(t, &wopts, &bytes, &size, diag)) == HPFC_OK &&
         ((st = hpfc_open_memory(bytes, size, 0, &f)) != HPFC_OK ||
          (hook && (st = hook(user, t, f)) != HPFC_OK)))
@@ -142,7 +135,8 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p,
     hpfc_attr_table attrs;
     hpfc_edge_feature_table edge_features;
     if (!st && gis && gis_features_count(gis->polygons) > 0) {
-        st = link_features(g, &t, f, gis, r, &ft, diag->message, sizeof diag->message);
+        st = link_features(g, &t, f, gis, link_witness, r, &ft, diag->message,
+                           sizeof diag->message);
         wopts.features = &ft.table;
         /* the features' attributes (ATTR) and the edges' features (EDGF) */
         if (!st && gis_attrs_table(gis->attrs, &attrs) != 0)
@@ -164,7 +158,7 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p,
     struct stat written;
     if (!st && output && wopts.features && stat(output, &written) == 0)
         r->file_bytes = (uint64_t)written.st_size; /* with the FEAT section */
-    r->write_s = now_seconds() - t0;
+    r->write_s = clock_seconds() - t0;
     hpfc_close(f);
     hpfc_free(bytes);
     gis_feature_table_free(&ft);

@@ -35,12 +35,14 @@ typedef int (*pack_write_hook)(void *user, const hpfc_tree *t, const hpfc_file *
 
 /* Builds g with `params` and writes it to `output` (NULL: standard output)
  * with `base`'s options (CRS, labels, layout, geometry) and, when `gis` holds
- * features, their FEAT, ATTR and EDGF sections. `progress_on` draws bars on
+ * features, their FEAT, ATTR and EDGF sections, linked to the faces by the
+ * topology or, with `link_witness`, by each face's witness point alone
+ * (hpfc-pack --link). `progress_on` draws bars on
  * stderr. HPFC_OK, or a status with diag->message saying why (nothing
  * written). */
 int pack_write(const hpfc_graph *g, const hpfc_build_params *params,
-               const hpfc_write_options *base, const gis_info *gis, const char *output,
-               int progress_on, pack_write_hook hook, void *user, pack_write_stats *stats,
+               const hpfc_write_options *base, const gis_info *gis, int link_witness,
+               const char *output, int progress_on, pack_write_hook hook, void *user, pack_write_stats *stats,
                hpfc_diag *diag);
 
 #ifdef __cplusplus

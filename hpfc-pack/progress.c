@@ -4,18 +4,13 @@
 #include <stdio.h>
 #include <time.h>
 
-static double mono_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
+#include "clock.h"
 
 void progress_show(progress *p, const char *stage, double done, double total, int force)
 {
     if (!p->on)
         return;
-    double t = mono_now();
+    double t = clock_seconds();
     if (!force && t - p->last < 0.1)
         return;
     p->last = t;

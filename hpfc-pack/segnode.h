@@ -22,6 +22,19 @@ typedef struct segnode_seg {
     int64_t ax, ay, bx, by;
 } segnode_seg;
 
+/* A lattice point, and the order segnode_seg's ends follow: x, then y. */
+typedef struct segnode_pt {
+    int64_t x, y;
+} segnode_pt;
+
+static inline int segnode_pt_cmp(const void *a, const void *b)
+{
+    const segnode_pt *p = a, *q = b;
+    if (p->x != q->x)
+        return p->x < q->x ? -1 : 1;
+    return (p->y > q->y) - (p->y < q->y);
+}
+
 /* Sets dirty[i] to 1 for every segment s[i] that meets another segment
  * other than at an end point of both, leaving the others as they are (so a
  * caller can pre-mark segments). The segments must be distinct and

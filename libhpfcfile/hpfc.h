@@ -488,6 +488,16 @@ HPFC_API void hpfc_close(hpfc_file *file);
  * checked here too. HPFC_E_ARG for a NULL file. */
 HPFC_API int hpfc_file_check_checksums(const hpfc_file *file, hpfc_diag *diag);
 
+/* The CRC-32C the file's bytes give, computed from the mapping, to set
+ * beside the stored one: of section `index` (hpfc_section_info.crc32c), or,
+ * with index HPFC_CHECKSUM_METADATA, of the metadata block with its own CRC
+ * field taken as zero (hpfc_file_info.meta_crc32c, spec §4.5). A tool shows
+ * every mismatch this way, where hpfc_file_check_checksums stops at the
+ * first. HPFC_E_ARG for a NULL argument or no such section. O(its bytes). */
+#define HPFC_CHECKSUM_METADATA UINT32_MAX
+HPFC_API int hpfc_file_compute_checksum(const hpfc_file *file, uint32_t index,
+                                        uint32_t *crc32c);
+
 /* Serialises an open file's map again with opts' CRS and FEAT sections in
  * place of its own (opts NULL: neither), into a new buffer the caller
  * frees with hpfc_free(). The pools are copied bit for bit, so pixels,
@@ -525,6 +535,11 @@ typedef struct hpfc_file_info {
     uint32_t section_count;
     const char *crs;                /* NUL-free text, crs_len bytes; NULL if none */
     size_t crs_len;
+    /* The metadata block (spec §4.1): header, level table and directory,
+     * the bytes meta_crc32c covers (read with hpfc_file_compute_checksum). */
+    uint32_t header_size;
+    uint32_t meta_crc32c;
+    uint64_t meta_size;
 } hpfc_file_info;
 
 typedef struct hpfc_level_info {
@@ -1282,6 +1297,48 @@ HPFC_API int hpfc_geometry_dart_edge(const hpfc_file *file, const hpfc_dart *d, 
                                      int *reversed);
 HPFC_API int hpfc_geometry_dart_points(const hpfc_file *file, const hpfc_dart *d, int64_t *xy,
                                        size_t cap, size_t *count);
+
+/* ---- a word taken apart (spec §3.6-§3.8, §5.2.3) -------------------------
+ *
+ * The components of a word pixel's word as the traversal sees them, for a
+ * tool that draws or explains one leaf (hpfc-inspect --pixel, --render):
+ * get the symbols with hpfc_pixel_word, then parse them here. The parser
+ * grows its arrays to any word's length and owns them; a parse's
+ * hpfc_word_parts points into it until its next parse or free. */
+typedef struct hpfc_word_parser hpfc_word_parser;
+
+#define HPFC_WORD_NONE UINT32_MAX /* no local vertex: a stabbing's component */
+
+typedef struct hpfc_word_parts {
+    uint32_t crossings;          /* the symbols other than '+' */
+    uint32_t road_first[5];      /* first crossing of roads W, N, E, S; then crossings */
+    uint32_t components;         /* junctions and stabbings */
+    uint32_t junctions;          /* the pixel's vertices */
+    const uint32_t *component;        /* per crossing: its component */
+    const uint32_t *component_first;  /* per component: first crossing in word order */
+    const uint32_t *component_last;   /* per component: last crossing in word order */
+    const uint32_t *component_size;   /* per component: crossings (a junction's degree) */
+    const uint32_t *component_vertex; /* per component: local vertex id, or HPFC_WORD_NONE */
+} hpfc_word_parts;
+
+HPFC_API int hpfc_word_parser_create(hpfc_word_parser **out);
+HPFC_API void hpfc_word_parser_free(hpfc_word_parser *parser);
+
+/* Parses `len` symbols of "+=[]()Y" with the one-pass stack of spec §3.8:
+ * HPFC_OK; HPFC_E_CORRUPT for a word outside the grammar (then only
+ * crossings and road_first are filled, as hpfc_word_count_roads gives
+ * them); HPFC_E_NOMEM; HPFC_E_ARG for a NULL argument. O(len). */
+HPFC_API int hpfc_word_parse(hpfc_word_parser *parser, const char *symbols, size_t len,
+                             hpfc_word_parts *out);
+
+/* The crossings of each road straight from the symbols, grammar or not:
+ * road_first as hpfc_word_parse gives it. */
+HPFC_API void hpfc_word_count_roads(const char *symbols, size_t len, uint32_t road_first[5]);
+
+/* The fixed code of one symbol in the paper layout (spec §5.2.3): 0 for
+ * '+', 0x8 '=', 0x9 '[', 0xA ']', 0xB '(', 0xC 'Y', 0xD ')'; -1 for any
+ * other byte. */
+HPFC_API int hpfc_word_symbol_code(char symbol);
 
 /* ---- counters -------------------------------------------------------- */
 

@@ -404,6 +404,93 @@ static void test_truncation(void)
     free(buf);
 }
 
+/* ---- checksums computed from the mapping -------------------------------------------- */
+
+/* CRC-32C bit by bit, the definition itself (spec §4.5): the oracle for the
+ * library's table-driven one. */
+static uint32_t crc32c_bitwise(uint32_t crc, const uint8_t *p, size_t n)
+{
+    crc = ~crc;
+    for (size_t k = 0; k < n; k++) {
+        crc ^= p[k];
+        for (int b = 0; b < 8; b++)
+            crc = crc & 1 ? (crc >> 1) ^ 0x82F63B78u : crc >> 1;
+    }
+    return ~crc;
+}
+
+static uint32_t meta_crc_oracle(const uint8_t *buf, uint64_t meta)
+{
+    static const uint8_t zero[4];
+    uint32_t crc = crc32c_bitwise(0, buf, hdr_OFF_meta_crc32c);
+    crc = crc32c_bitwise(crc, zero, 4);
+    return crc32c_bitwise(crc, buf + hdr_OFF_meta_crc32c + 4,
+                          (size_t)meta - hdr_OFF_meta_crc32c - 4);
+}
+
+/* Each section's computed checksum against the bitwise oracle, before and
+ * after one byte of it is flipped: only that section's changes, and
+ * hpfc_file_check_checksums then fails. */
+static void test_computed_checksums(void)
+{
+    size_t size = 0;
+    uint32_t levels = 0;
+    uint8_t *buf = sample_file(&size, &levels);
+    if (!buf)
+        return;
+    hpfc_file *f = NULL;
+    CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
+    if (!f) {
+        free(buf);
+        return;
+    }
+    hpfc_file_info fi;
+    hpfc_file_get_info(f, &fi);
+    CHECK_EQ_INT(fi.header_size, hdr_get_header_size(buf));
+    CHECK_EQ_INT(fi.meta_size, hdr_get_meta_size(buf));
+    CHECK_EQ_INT(fi.meta_crc32c, hdr_get_meta_crc32c(buf));
+    uint32_t crc = 0;
+    CHECK_EQ_INT(hpfc_file_compute_checksum(f, HPFC_CHECKSUM_METADATA, &crc), HPFC_OK);
+    CHECK_EQ_INT(crc, meta_crc_oracle(buf, fi.meta_size));
+    CHECK_EQ_INT(crc, fi.meta_crc32c);
+    CHECK_EQ_INT(hpfc_file_compute_checksum(f, fi.section_count, &crc), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_compute_checksum(NULL, 0, &crc), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_compute_checksum(f, 0, NULL), HPFC_E_ARG);
+    CHECK(fi.section_count >= 2);
+    for (uint32_t k = 0; k < fi.section_count; k++) {
+        hpfc_section_info si;
+        CHECK_EQ_INT(hpfc_file_get_section(f, k, &si), HPFC_OK);
+        CHECK_EQ_INT(hpfc_file_compute_checksum(f, k, &crc), HPFC_OK);
+        CHECK_EQ_INT(crc, crc32c_bitwise(0, buf + si.offset, (size_t)si.length));
+        CHECK_EQ_INT(crc, si.crc32c);
+    }
+    hpfc_close(f);
+    for (uint32_t k = 0; k < fi.section_count; k++) {
+        f = NULL;
+        CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
+        hpfc_section_info si;
+        CHECK_EQ_INT(hpfc_file_get_section(f, k, &si), HPFC_OK);
+        hpfc_close(f);
+        if (si.length == 0)
+            continue;
+        size_t at = (size_t)(si.offset + si.length / 2);
+        buf[at] ^= 0x10; /* section bytes are outside the header's checksum */
+        f = NULL;
+        CHECK_EQ_INT(hpfc_open_memory(buf, size, HPFC_OPEN_SKIP_CHECKSUM, &f), HPFC_OK);
+        for (uint32_t j = 0; f && j < fi.section_count; j++) {
+            hpfc_section_info sj;
+            CHECK_EQ_INT(hpfc_file_get_section(f, j, &sj), HPFC_OK);
+            CHECK_EQ_INT(hpfc_file_compute_checksum(f, j, &crc), HPFC_OK);
+            CHECK((crc == sj.crc32c) == (j != k));
+        }
+        if (f)
+            CHECK_EQ_INT(hpfc_file_check_checksums(f, NULL), HPFC_E_CHECKSUM);
+        hpfc_close(f);
+        buf[at] ^= 0x10;
+    }
+    free(buf);
+}
+
 /* ---- fixtures ------------------------------------------------------------------------------ */
 
 /* Opens and verifies a fixture: the first failing status. */
@@ -446,6 +533,7 @@ int main(void)
     test_header_extension();
     test_section_overlaps();
     test_truncation();
+    test_computed_checksums();
     const char *root = getenv("HPFC_TEST_DATA");
     CHECK(root != NULL);
     if (root) {

@@ -30,14 +30,6 @@
 /* the layout under test (check_use_test_layout) */
 static int test_layout_compact;
 
-static void test_crc(void)
-{
-    CHECK_EQ_INT(view_crc32c(0, "123456789", 9), 0xE3069283u);
-    CHECK_EQ_INT(view_crc32c(0, "", 0), 0);
-    /* continuing a CRC equals one pass */
-    CHECK_EQ_INT(view_crc32c(view_crc32c(0, "1234", 4), "56789", 5), 0xE3069283u);
-}
-
 static void test_words(void)
 {
     word_info wi;
@@ -455,7 +447,6 @@ static void check_graph(const char *name, hpfc_graph *g, uint32_t n0, uint32_t n
 int main(void)
 {
     test_layout_compact = check_use_test_layout();
-    test_crc();
     test_words();
     test_decimals();
     test_paths();

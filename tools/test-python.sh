@@ -1,5 +1,5 @@
 #!/bin/sh
-# Tests the Python package (python/, issue 18) with Debian's /usr/bin/python3
+# Tests the Python package (python/) with Debian's /usr/bin/python3
 # (not whatever python3 comes first on PATH): builds it without sanitizers in
 # build-python (an extension linked with ASan cannot load into an interpreter
 # started without the ASan runtime), installs it by `meson install` into a

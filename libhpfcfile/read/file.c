@@ -101,6 +101,9 @@ static int read_header(hpfc_file *f)
     in->unit_exp10 = hdr_get_unit_exp10(d);
     in->file_size = hdr_get_file_size(d);
     f->meta_size = hdr_get_meta_size(d);
+    in->meta_size = f->meta_size;
+    in->header_size = hdr_get_header_size(d);
+    in->meta_crc32c = hdr_get_meta_crc32c(d);
 
     if (in->root_cols < 1 || in->root_rows < 1 ||
         (uint64_t)in->root_cols * in->root_rows > FORMAT_MAX_ROOT_PIXELS || in->cols < 2 ||
@@ -572,6 +575,22 @@ int hpfc_file_check_checksums(const hpfc_file *f, hpfc_diag *diag)
                             computed);
         }
     }
+    return HPFC_OK;
+}
+
+int hpfc_file_compute_checksum(const hpfc_file *f, uint32_t index, uint32_t *crc32c)
+{
+    if (!f || !crc32c)
+        return HPFC_E_ARG;
+    if (index == HPFC_CHECKSUM_METADATA) {
+        *crc32c = format_meta_crc(f->data, f->meta_size);
+        return HPFC_OK;
+    }
+    if (index >= f->info.section_count)
+        return HPFC_E_ARG;
+    /* open checked every section lies inside the file */
+    const uint8_t *e = section_entry(f, index);
+    *crc32c = crc32c_update(0, f->data + sec_get_offset(e), (size_t)sec_get_length(e));
     return HPFC_OK;
 }
 

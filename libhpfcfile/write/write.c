@@ -73,7 +73,7 @@ static void layout_free(layout *L)
 }
 
 /* HPFC_LAYOUT_DEFAULT means this (the compact layout, since it passes
- * every test; issue #20); a variable so that the tests can run every case
+ * every test); a variable so that the tests can run every case
  * on both layouts (HPFC_TEST_LAYOUT, tests/meson.build). */
 int write_default_layout = HPFC_LAYOUT_COMPACT;
 

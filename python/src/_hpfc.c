@@ -1,5 +1,5 @@
 /*
- * _hpfc: the C half of the Python package hpfc (issue 18).
+ * _hpfc: the C half of the Python package hpfc.
  *
  * A thin layer over libhpfcfile's public API (hpfc.h, hpfc_batch.h): the
  * types _File (an open, memory-mapped .hpfc file) and Pixel (a pixel of

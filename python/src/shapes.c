@@ -1,6 +1,6 @@
 /*
- * shapes.c: geometry back from the file for the Python package (issue 18,
- * issue 16 point 3): the type _Shapes over the library's hpfc_shapes_*
+ * shapes.c: geometry back from the file for the Python package: the type
+ * _Shapes over the library's hpfc_shapes_*
  * (a face's rings, a feature's union of faces or its lines),
  * hpfc_geometry_* (an edge's exact polyline, a vertex) and
  * hpfc_geometry_key_points, plus the features' ATTR values.

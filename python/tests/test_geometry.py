@@ -1,4 +1,4 @@
-"""Geometry back from the file (issue 16 point 3, issue 18): numpy rings,
+"""Geometry back from the file: numpy rings,
 shapely objects, GeoDataFrames, against oracles that share nothing with the
 library: the input .pfc polygonized by shapely (GEOS), the input GeoJSON
 read with json + shapely (projected with pyproj when it is lon/lat), and

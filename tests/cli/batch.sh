@@ -1,6 +1,5 @@
 #!/bin/sh
-# hpfc-inspect --locate-batch on tables as GIS users have them (issue 17,
-# point 3; contracts §4): a header or none, comma, tab, semicolon or blank
+# hpfc-inspect --locate-batch on tables as GIS users have them (interfaces §4): a header or none, comma, tab, semicolon or blank
 # separators, CSV quotes, coordinate and id columns guessed by name or given
 # (--lon-col, --lat-col, --id-col, by name or number), extra columns passed
 # through, a bad line answered as an error row with its line number while

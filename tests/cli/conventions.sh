@@ -1,5 +1,5 @@
 #!/bin/sh
-# Command-line conventions of the tools (issue 17, point 5), on the real
+# Command-line conventions of the tools, on the real
 # hpfc-pack (PACK_BIN, not lib.sh's --force wrapper):
 #  - -q is --quiet, -l is --layer;
 #  - an existing OUTPUT is refused (exit 1, untouched) unless --force or
@@ -107,7 +107,7 @@ for out in graph.json map.svg; do
     done
 done
 
-# both tools' --help list the options of issue 17
+# both tools' --help list the options of the conventions
 run "$PACK_BIN" --help
 for opt in "-q, --quiet" "-l, --layer" "--force, -overwrite" "-a_srs" "-s_srs" "--invalid node|reject"; do
     grep -q -- "$opt" "$tmp/out" || fail "hpfc-pack --help lacks $opt"

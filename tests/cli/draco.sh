@@ -1,5 +1,5 @@
 #!/bin/sh
-# hpfc-pack on Draco meshes (contracts §2, issue 6). The fixtures of
+# hpfc-pack on Draco meshes (interfaces §2). The fixtures of
 # tests/data/mesh/ pack to the verdicts of draco.expect: counts, the same
 # topology as the mesh's .pfc twin (the very same exported map when the
 # positions are lossless), files hpfc-inspect --verify accepts, and clear

@@ -1,5 +1,5 @@
 #!/bin/sh
-# hpfc-inspect --export / --export-faces (contracts §5, issue 16 points 3-5):
+# hpfc-inspect --export / --export-faces (interfaces §5):
 # the round trip input -> hpfc-pack -> --export through GDAL gives back every
 # source shape point within half a lattice unit (plus the projection's
 # error) and the same rings per feature (export_oracle.py, GDAL/GEOS on the
@@ -84,7 +84,7 @@ rows = {f.GetField("fid"): (f.GetField("id"), f.GetField("name")) for f in layer
 assert rows[0] == ("710", "South Africa"), rows[0]
 PY
 
-# the lattice unit, in user units and metres (issue 16 point 5)
+# the lattice unit, in user units and metres
 run "$INSPECT" "$tmp/world.hpfc"
 grep -q "^unit       1 lattice unit = .* user units = .* m (metres of the projected plane)" "$tmp/out" ||
     fail "summary: no lattice unit in metres: $(grep unit "$tmp/out")"

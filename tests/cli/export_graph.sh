@@ -1,5 +1,5 @@
 #!/bin/sh
-# hpfc-inspect --export-graph OUT FILE (contracts §3): the JSON has the
+# hpfc-inspect --export-graph OUT FILE (interfaces §3): the JSON has the
 # contract's shape and is the input's planar map (graph_check.py graph: counts,
 # twin / next, genus 0, each input vertex in the box of one exported vertex of
 # its degree, boxes exact decimals in the input's units, clockwise bounded

@@ -1,5 +1,5 @@
 #!/bin/sh
-# The OGR driver HPFC (gdal/, contracts §7) from GDAL's own tools and from
+# The OGR driver HPFC (gdal/, interfaces §7) from GDAL's own tools and from
 # Python, with the build's plugin found through GDAL_DRIVER_PATH (set by
 # meson): ogrinfo -al -so, -spat, -where; ogr2ogr to GPKG and GeoJSON and
 # back; osgeo.ogr random reads; fiona and geopandas reads with bbox=;

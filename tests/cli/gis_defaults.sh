@@ -1,5 +1,5 @@
 #!/bin/sh
-# hpfc-pack's defaults on real-looking GIS data (issue 17, points 1 and 2):
+# hpfc-pack's defaults on real-looking GIS data:
 #  1. invalid polygons are noded by default, counted in the text and JSON
 #     reports with the feature named by its --key value; --invalid reject
 #     refuses them, naming the feature by its key; empty geometries are
@@ -137,7 +137,7 @@ run "$INSPECT" --locate-lonlat 173,51 --json "$tmp/lcc.hpfc"
 grep -q '"fid": *2[,}]' "$tmp/out" || fail "lcc: (173, 51) is not in Island: $(cat "$tmp/out")"
 
 # ---- 3. the vertex model: junctions, shape points kept, leaves bounded -------
-# (issue 16: a file no larger than FlatGeobuf by default). The states' outer
+# (a file no larger than FlatGeobuf by default). The states' outer
 # arcs have 3 shape points each, so with --leaf-points 1 the leaves holding
 # them must refine further than the default's.
 run "$PACK" --json "$tmp/states.json" -o "$tmp/d.hpfc"

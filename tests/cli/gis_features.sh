@@ -1,5 +1,5 @@
 #!/bin/sh
-# GIS features (FEAT section, contracts §4): the polygon features of the
+# GIS features (FEAT section, interfaces §4): the polygon features of the
 # counties and the world fixtures are found again by hpfc-inspect
 # --locate-batch --lonlat on random points away from borders, against an independent GDAL/GEOS answer
 # (feature_oracle.py): in a private leaf exactly the features containing the
@@ -97,7 +97,7 @@ run "$INSPECT" --locate-batch - --lonlat "$tmp/c.hpfc"
 python3 - "$tmp/one.json" "$tmp/batch1.json" <<'PY' || fail "--locate-lonlat and --locate-batch differ"
 import json, sys
 one, row = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
-assert row.pop("line") == 1 and row.pop("id") is None, row  # batch rows add these (contracts 4)
+assert row.pop("line") == 1 and row.pop("id") is None, row  # batch rows add these (interfaces §4)
 assert one == row, (one, row)
 PY
 x=$(python3 -c 'import json,sys; a=json.load(open(sys.argv[1])); print(repr(a["x"]) + "," + repr(a["y"]))' "$tmp/one.json")

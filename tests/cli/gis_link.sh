@@ -1,12 +1,12 @@
 #!/bin/sh
-# Linking faces to features from the topology (issue #15), feature ids that
+# Linking faces to features from the topology, feature ids that
 # do not depend on the input format, stored attributes (ATTR) and the edges'
 # features (EDGF):
 #  - nested rings (islands in lakes in islands), an archipelago inside a
 #    coast's box, overlapping features, a hole holding another feature,
 #    with and without crossing rings, --vertices all and junctions: the
 #    topological linking gives byte-identical files to the pre-1.2 witness
-#    method (HPFC_PACK_LINK=witness), and --locate-batch agrees with a naive
+#    method (--link witness), and --locate-batch agrees with a naive
 #    even-odd point-in-polygon oracle (link_oracle.py);
 #  - GeoJSON, Shapefile and GeoPackage copies of the counties (ogr2ogr) give
 #    the same fids, keys and attributes, each its own source_fid;
@@ -44,7 +44,7 @@ for kind in nested crossing; do
         run "$PACK" --json --vertices "$v" "$tmp/$kind.geojson" -o "$tmp/t.hpfc"
         expect_ok "$kind $v: pack"
         cp "$tmp/out" "$tmp/report.json"
-        HPFC_PACK_LINK=witness "$PACK" --vertices "$v" "$tmp/$kind.geojson" -o "$tmp/w.hpfc" \
+        "$PACK" --link witness --vertices "$v" "$tmp/$kind.geojson" -o "$tmp/w.hpfc" \
             >/dev/null 2>&1 || fail "$kind $v: pack with the witness method"
         cmp -s "$tmp/t.hpfc" "$tmp/w.hpfc" || fail "$kind $v: topology and witness linking differ"
         python3 - "$tmp/report.json" "$kind" <<'PY' || fail "$kind $v: link report"

@@ -7,7 +7,7 @@ tests/cli/export_graph.sh).
     graph_check.py invalid VERIFY.json
         --verify --json says invalid, with at least one problem
     graph_check.py graph GRAPH.json [PFC [UNIT_EXP10]]
-        GRAPH.json has the shape of contracts §3 and is a planar map: twin an
+        GRAPH.json has the shape of interfaces §3 and is a planar map: twin an
         involution without fixed points, next a permutation, origin(next(d)) =
         origin(twin(d)), and V - E + (orbits of next) = 2C (genus 0). With
         PFC: as many vertices and edges, and a one-to-one matching of the .pfc

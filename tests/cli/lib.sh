@@ -19,7 +19,7 @@ failures=0
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/hpfc-cli.XXXXXX") || exit 1
 trap 'rm -rf "$tmp"' EXIT INT TERM
 
-# Both tools refuse an existing output without --force (issue 17). The
+# Both tools refuse an existing output without --force. The
 # scripts write to the same paths again and again, so $PACK and $INSPECT
 # are the tools with --force; PACK_BIN and INSPECT_BIN are the tools
 # themselves, for the checks of the refusal (cli_conventions).

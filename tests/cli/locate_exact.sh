@@ -1,6 +1,6 @@
 #!/bin/sh
 # hpfc-inspect --locate / --locate-batch on files with exact geometry (issue
-# 16, contracts §4; spec §6.7): one face per point, or on an edge or a
+# 16, interfaces §4; spec §6.7): one face per point, or on an edge or a
 # vertex "on_boundary" with the faces around it and the edge or vertex id,
 # "exact": true; a file packed --no-geometry keeps its candidate faces with
 # "exact": false. The oracle is the input graph: a square ring around a

@@ -1,5 +1,5 @@
 #!/bin/sh
-# hpfc-inspect --render as a map (issue 17, point 4): the window fits the
+# hpfc-inspect --render as a map: the window fits the
 # data by default (oracle: the vertices' leaves in --export-graph, plus 2 %),
 # faces are filled by feature (by face without features; the outside
 # white), the SVG's coordinates are the file's user coordinates (a point's

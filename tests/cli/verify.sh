@@ -1,5 +1,5 @@
 #!/bin/sh
-# hpfc-inspect --verify (contracts §3): exit 0 and a report with the input's
+# hpfc-inspect --verify (interfaces §3): exit 0 and a report with the input's
 # counts on files packed from every tests/data/valid/*.pfc and data/*.pfc and
 # on every tests/data/valid/*.hpfc; exit 1 with exactly one stderr line
 # "hpfc-inspect: FILE: <problem>" on every tests/data/invalid/*.hpfc and on

@@ -1,9 +1,9 @@
 /*
- * grow.h: amortised growth of a malloc'ed array, for hpfc-pack's readers
- * (GIS input, the antimeridian cut, the features). Header-only.
+ * grow.h: amortised growth of a malloc'ed array, for the tools (hpfc-pack's
+ * readers, hpfc-inspect's queries and renderer). Header-only.
  */
-#ifndef HPFC_PACK_GROW_H
-#define HPFC_PACK_GROW_H
+#ifndef HPFC_TOOLS_GROW_H
+#define HPFC_TOOLS_GROW_H
 
 #include <stdint.h>
 #include <stdlib.h>
@@ -29,6 +29,14 @@ static inline int array_grow(void **p, size_t *cap, size_t need, size_t size)
     *p = np;
     *cap = c;
     return 1;
+}
+
+/* Gives back the tail of an array that shrank to n elements (p itself when
+ * realloc will not). */
+static inline void *array_shrink(void *p, size_t n, size_t size)
+{
+    void *q = realloc(p, (n ? n : 1) * size);
+    return q ? q : p;
 }
 
 #endif

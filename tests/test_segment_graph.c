@@ -1,0 +1,229 @@
+/*
+ * Unit tests of hpfc-pack's last GIS step (hpfc-pack/segment_graph.h),
+ * without GDAL or GEOS: random sets of lattice segments that meet only at
+ * shared ends (edges of a jittered grid, some removed, plus loose squares
+ * and lone segments), made into graphs, checked against the segments
+ * themselves: every edge expands back into input segments, each used once;
+ * vertices sit exactly where the input's degree is not 2, plus one on each
+ * closed chain without a junction, at its least point; interior points
+ * have degree 2. With all_vertices, one vertex a point and one edge a
+ * segment.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "segment_graph.h"
+#include "segnode.h"
+
+static uint64_t rng_state;
+
+static uint32_t rnd(uint32_t n)
+{
+    rng_state = rng_state * 6364136223846793005u + 1442695040888963407u;
+    return (uint32_t)(rng_state >> 33) % n;
+}
+
+static segnode_seg make_seg(int64_t x1, int64_t y1, int64_t x2, int64_t y2)
+{
+    int swap = x2 < x1 || (x2 == x1 && y2 < y1);
+    return swap ? (segnode_seg){x2, y2, x1, y1} : (segnode_seg){x1, y1, x2, y2};
+}
+
+static int cmp_seg(const void *a, const void *b)
+{
+    const segnode_seg *p = a, *q = b;
+    const int64_t u[4] = {p->ax, p->ay, p->bx, p->by}, v[4] = {q->ax, q->ay, q->bx, q->by};
+    for (int k = 0; k < 4; k++)
+        if (u[k] != v[k])
+            return u[k] < v[k] ? -1 : 1;
+    return 0;
+}
+
+/* Grid points (i, j) at jittered lattice positions: kept apart so that
+ * edges between grid neighbours never meet but at their ends. */
+static void grid_point(int i, int j, const int64_t *jx, const int64_t *jy, int w, int64_t *x,
+                       int64_t *y)
+{
+    *x = 100 * i + jx[j * w + i];
+    *y = 100 * j + jy[j * w + i];
+}
+
+static size_t make_segments(segnode_seg *s, int w, int h, int keep_percent)
+{
+    int64_t *jx = malloc(sizeof *jx * (size_t)(w * h)), *jy = malloc(sizeof *jy * (size_t)(w * h));
+    for (int k = 0; k < w * h; k++) {
+        jx[k] = (int64_t)rnd(41) - 20;
+        jy[k] = (int64_t)rnd(41) - 20;
+    }
+    size_t n = 0;
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            int64_t x0, y0, x1, y1;
+            grid_point(i, j, jx, jy, w, &x0, &y0);
+            if (i + 1 < w && (int)rnd(100) < keep_percent) {
+                grid_point(i + 1, j, jx, jy, w, &x1, &y1);
+                s[n++] = make_seg(x0, y0, x1, y1);
+            }
+            if (j + 1 < h && (int)rnd(100) < keep_percent) {
+                grid_point(i, j + 1, jx, jy, w, &x1, &y1);
+                s[n++] = make_seg(x0, y0, x1, y1);
+            }
+        }
+    /* closed chains without a junction and lone segments, off the grid */
+    for (int k = 0; k < 3; k++) {
+        int64_t x = 100 * (w + 2) + 50 * k, y = 30 * k;
+        s[n++] = make_seg(x, y, x + 10, y);
+        s[n++] = make_seg(x + 10, y, x + 10, y + 10);
+        s[n++] = make_seg(x + 10, y + 10, x, y + 10);
+        s[n++] = make_seg(x, y + 10, x, y);
+    }
+    s[n++] = make_seg(-500, -500, -490, -480);
+    free(jx);
+    free(jy);
+    qsort(s, n, sizeof *s, cmp_seg);
+    return n;
+}
+
+typedef struct point_degree {
+    segnode_pt p;
+    int degree;
+} point_degree;
+
+static int cmp_pd(const void *a, const void *b)
+{
+    return segnode_pt_cmp(&((const point_degree *)a)->p, &((const point_degree *)b)->p);
+}
+
+/* Every end with the number of segments at it, sorted by point. */
+static size_t degrees(const segnode_seg *s, size_t n, point_degree *pd)
+{
+    size_t m = 0;
+    for (size_t i = 0; i < n; i++) {
+        pd[m++] = (point_degree){{s[i].ax, s[i].ay}, 1};
+        pd[m++] = (point_degree){{s[i].bx, s[i].by}, 1};
+    }
+    qsort(pd, m, sizeof *pd, cmp_pd);
+    size_t u = 0;
+    for (size_t i = 0; i < m; i++)
+        if (u && cmp_pd(&pd[u - 1], &pd[i]) == 0)
+            pd[u - 1].degree++;
+        else
+            pd[u++] = pd[i];
+    return u;
+}
+
+static int degree_at(const point_degree *pd, size_t n, int64_t x, int64_t y)
+{
+    point_degree key = {{x, y}, 0};
+    const point_degree *f = bsearch(&key, pd, n, sizeof *pd, cmp_pd);
+    return f ? f->degree : 0;
+}
+
+static void check_graph(const segnode_seg *s, size_t n, const hpfc_graph *g, int all_vertices)
+{
+    point_degree *pd = malloc(2 * n * sizeof *pd + 1);
+    size_t npts = degrees(s, n, pd);
+    segnode_seg *back = malloc(n * sizeof *back + 1);
+    size_t nback = 0, nv = hpfc_graph_vertex_count(g), ne = hpfc_graph_edge_count(g);
+    int ok = 1;
+    for (size_t e = 0; e < ne && ok; e++) {
+        uint32_t u, v;
+        const int64_t *in;
+        size_t m;
+        hpfc_graph_edge(g, e, &u, &v, &in, &m);
+        int64_t px, py, qx, qy;
+        hpfc_graph_vertex(g, u, &px, &py);
+        for (size_t k = 0; k <= m && ok; k++) {
+            if (k < m) {
+                qx = in[2 * k], qy = in[2 * k + 1];
+                CHECK_EQ_INT(degree_at(pd, npts, qx, qy), 2); /* interior: degree 2 */
+            } else {
+                hpfc_graph_vertex(g, v, &qx, &qy);
+            }
+            if (nback == n) {
+                ok = 0; /* more segments than the input has */
+                break;
+            }
+            back[nback++] = make_seg(px, py, qx, qy);
+            px = qx, py = qy;
+        }
+    }
+    CHECK(ok);
+    CHECK_EQ_INT(nback, n);
+    qsort(back, nback, sizeof *back, cmp_seg);
+    for (size_t i = 0; i < nback && i < n; i++)
+        CHECK_EQ_INT(cmp_seg(&back[i], &s[i]), 0); /* the same set, each segment once */
+    if (all_vertices) {
+        CHECK_EQ_INT(nv, npts);
+        CHECK_EQ_INT(ne, n);
+    } else {
+        size_t junctions = 0;
+        for (size_t k = 0; k < npts; k++)
+            junctions += pd[k].degree != 2;
+        size_t loops = 0;
+        for (size_t k = 0; k < nv; k++) {
+            int64_t x, y;
+            hpfc_graph_vertex(g, k, &x, &y);
+            loops += degree_at(pd, npts, x, y) == 2;
+        }
+        CHECK(loops >= 3); /* the loose squares */
+        CHECK_EQ_INT(nv, junctions + loops);
+        /* a degree-2 vertex closes a chain: its one edge is a loop */
+        for (size_t e = 0; e < ne; e++) {
+            uint32_t u, v;
+            const int64_t *in;
+            size_t m;
+            hpfc_graph_edge(g, e, &u, &v, &in, &m);
+            int64_t x, y;
+            hpfc_graph_vertex(g, u, &x, &y);
+            if (degree_at(pd, npts, x, y) == 2) {
+                CHECK_EQ_INT(u, v);
+                for (size_t k = 0; k < m; k++) /* at the chain's least point */
+                    CHECK(in[2 * k] > x || (in[2 * k] == x && in[2 * k + 1] > y));
+            }
+        }
+    }
+    free(pd);
+    free(back);
+}
+
+static void test_random(void)
+{
+    for (int round = 0; round < 60; round++) {
+        rng_state = 0x5e9u + (uint64_t)round;
+        int w = 2 + (int)rnd(12), h = 2 + (int)rnd(12);
+        segnode_seg *s = malloc(sizeof *s * (size_t)(2 * w * h + 20));
+        size_t n = make_segments(s, w, h, 40 + (int)rnd(60));
+        for (int all = 0; all < 2; all++) {
+            hpfc_graph *g = NULL;
+            char why[256] = "";
+            CHECK_EQ_INT(segment_graph_make(s, n, all, -3, &g, why, sizeof why), HPFC_OK);
+            if (g) {
+                CHECK_EQ_INT(hpfc_graph_unit_exp10(g), -3);
+                CHECK_EQ_INT(hpfc_graph_validate(g, NULL), HPFC_OK);
+                check_graph(s, n, g, all);
+            }
+            hpfc_graph_free(g);
+        }
+        free(s);
+    }
+}
+
+static void test_empty(void)
+{
+    hpfc_graph *g = NULL;
+    char why[64];
+    CHECK_EQ_INT(segment_graph_make(NULL, 0, 0, 0, &g, why, sizeof why), HPFC_OK);
+    CHECK(g != NULL);
+    CHECK_EQ_INT(hpfc_graph_vertex_count(g), 0);
+    CHECK_EQ_INT(hpfc_graph_edge_count(g), 0);
+    hpfc_graph_free(g);
+}
+
+int main(void)
+{
+    test_random();
+    test_empty();
+    return check_report("test_segment_graph");
+}
