@@ -88,7 +88,7 @@ static inline bool fuzz_split_file(const uint8_t *data, size_t size, uint8_t **f
         if (declared >= FUZZ_HEADER_SIZE && declared <= size)
             cut = (size_t)declared;
     }
-    *file = malloc(cut ? cut : 1);
+    *file = (uint8_t *)malloc(cut ? cut : 1);
     if (!*file)
         return false;
     memcpy(*file, data, cut);

@@ -21,7 +21,7 @@
 set -eu
 cd "$(dirname "$0")/.."
 build=${HPFC_FUZZ_BUILD:-build-fuzz-clang}
-all="open_buffer navigate_pixels traverse_darts read_labels read_geom parse_pfc roundtrip_graph decode_drc read_gis parse_points locate_batch read_shapes query_topology"
+all="open_buffer navigate_pixels traverse_darts read_labels read_geom parse_pfc roundtrip_graph decode_drc read_gis parse_points locate_batch read_shapes query_topology read_driver"
 
 have_libfuzzer() {
     command -v clang >/dev/null 2>&1 && command -v clang++ >/dev/null 2>&1 || return 1
@@ -119,7 +119,7 @@ for h in $harnesses; do
     fi
     before=$(find "$work/artifacts" -type f | wc -l)
     lsan=${LSAN_OPTIONS:-}
-    if [ "$h" = read_gis ]; then # GDAL's own leaks: fuzz/lsan-gdal.supp
+    if [ "$h" = read_gis ] || [ "$h" = read_driver ]; then # GDAL's own leaks: fuzz/lsan-gdal.supp
         lsan="suppressions=fuzz/lsan-gdal.supp:fast_unwind_on_malloc=0:print_suppressions=0"
     fi
     LSAN_OPTIONS=$lsan "$exe" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \

@@ -169,8 +169,34 @@ static void split_crs(const char *crs, size_t len, crs_parts *p)
     }
 }
 
+/* (as common/ogr_shapes.c, which the GDAL driver reads with) Whether the CRS text of a hostile file is safe to hand to PROJ: a PROJ
+ * string of "+key" and "+key=value" tokens, or an AUTH:CODE. PROJ takes
+ * any other text for a name and searches its database for it, which can
+ * take seconds on a crafted string. */
+static int plain_crs_text(const char *text, int proj4)
+{
+    if (proj4) {
+        if (strncmp(text, "+proj=", 6) != 0)
+            return 0;
+        for (const char *p = text; *p; p++)
+            if (!(isalnum((unsigned char)*p) || strchr("+=_.,-/@ ", *p)) ||
+                (*p == ' ' && p[1] != '+' && p[1] != '\0'))
+                return 0;
+        return 1;
+    }
+    const char *colon = strchr(text, ':');
+    if (!colon || colon == text || !colon[1])
+        return 0;
+    for (const char *p = text; *p; p++)
+        if (!(isalnum((unsigned char)*p) || *p == '_' || *p == '.' || p == colon))
+            return 0;
+    return 1;
+}
+
 static OGRSpatialReferenceH srs_from(const char *text, int proj4)
 {
+    if (!plain_crs_text(text, proj4))
+        return NULL;
     OGRSpatialReferenceH s = OSRNewSpatialReference(NULL);
     if (!s)
         return NULL;

@@ -57,6 +57,7 @@ typedef struct part_ref {
 
 typedef struct reader {
     const gis_options *opt;
+    GDALDatasetH given;  /* the caller's open dataset (gis_read_graph_dataset), else NULL */
     gis_info *info;
     char *err;
     size_t err_len;
@@ -706,7 +707,9 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
     static const char *const open_options[] = {"WRITE_GFS=NO", NULL};
     if ((r->opt->assign_srs || r->opt->source_srs) && !(r->given_srs = user_srs(r)))
         return 1;
-    GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL, open_options, NULL);
+    GDALDatasetH ds = r->given ? r->given
+                               : GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL,
+                                            open_options, NULL);
     if (!ds) {
         /* through GDAL's file layer, so /vsimem/ and /vsizip/ paths are
          * judged as GDAL sees them */
@@ -773,7 +776,8 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
         }
         CPLFree(p4);
     }
-    GDALClose(ds);
+    if (!r->given)
+        GDALClose(ds);
     *srs_out = srs0;
     return st;
 }
@@ -1326,11 +1330,11 @@ int gis_projection_valid(const char *name)
     return mapproj_parse_kind(name, &k);
 }
 
-int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, gis_info *info,
-                   char *err, size_t err_len)
+static int read_graph(const char *path, GDALDatasetH given, const gis_options *opt,
+                      hpfc_graph **out, gis_info *info, char *err, size_t err_len)
 {
     memset(info, 0, sizeof *info);
-    reader r = {.opt = opt, .info = info, .err = err, .err_len = err_len};
+    reader r = {.opt = opt, .given = given, .info = info, .err = err, .err_len = err_len};
     r.bar.on = opt->progress;
     r.xmin = r.ymin = INFINITY;
     r.xmax = r.ymax = -INFINITY;
@@ -1407,7 +1411,26 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     return 0;
 }
 
+int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, gis_info *info,
+                   char *err, size_t err_len)
+{
+    return read_graph(path, NULL, opt, out, info, err, err_len);
+}
+
+int gis_read_graph_dataset(void *dataset, const gis_options *opt, hpfc_graph **out,
+                           gis_info *info, char *err, size_t err_len)
+{
+    return read_graph("dataset", (GDALDatasetH)dataset, opt, out, info, err, err_len);
+}
+
 #else /* !HPFC_HAVE_GIS */
+
+int gis_read_graph_dataset(void *dataset, const gis_options *opt, hpfc_graph **out,
+                           gis_info *info, char *err, size_t err_len)
+{
+    (void)dataset;
+    return gis_read_graph(NULL, opt, out, info, err, err_len);
+}
 
 int gis_available(void)
 {

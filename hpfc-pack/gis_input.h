@@ -20,6 +20,10 @@
 #include "hpfc.h"
 #include "clock.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 enum { GIS_VERTICES_ALL = 0, GIS_VERTICES_JUNCTIONS = 1 };
 /* What to do with a polygon GEOS finds invalid (a self-intersecting ring,
  * a hole outside its shell, ...): refuse the input, or node its rings like
@@ -85,6 +89,16 @@ int gis_projection_valid(const char *name);
 int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out,
                    gis_info *info, char *err, size_t err_len);
 
+/* The same on a vector dataset the caller opened (a GDALDatasetH, which it
+ * keeps and closes): the GDAL driver's writer (gdal/) packs the features
+ * it was given, gathered in GDAL's Memory driver, exactly as hpfc-pack
+ * packs a file that holds them. */
+int gis_read_graph_dataset(void *dataset, const gis_options *opt, hpfc_graph **out,
+                           gis_info *info, char *err, size_t err_len);
 void gis_info_free(gis_info *info);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -19,9 +19,6 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 
 #include "atomic_output.h"
 #include "clock.h"
@@ -30,6 +27,7 @@
 #include "gis_input.h"
 #include "hpfc.h"
 #include "jsonw.h"
+#include "pack_write.h"
 #include "paths.h"
 #include "progress.h"
 
@@ -876,155 +874,45 @@ static int check_output(const pack_args *a)
     return 0;
 }
 
-/* Links every face of the serialised map `f` to the polygon features that
- * cover it, for the FEAT section, and reports it. The witnesses need the
- * crossings' segments from the tree, taken first; then the tree is freed,
- * since the faces' flood fill is where a pack's memory peaks. 0, or 1 with
- * a message in err. */
-static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f, int witness,
-                         pack_report *r, gis_feature_table *ft, char *err, size_t err_len)
+/* The tree's private pixels and the levels as the serialised bytes give
+ * them, for the report (pack_write's hook). */
+static int report_tree(void *user, const hpfc_tree *t, const hpfc_file *f)
 {
-    stage_time t0 = stage_now();
-    leaf_crossings lc;
-    int st = leaf_crossings_collect(*t, f, &lc);
-    hpfc_tree_free(*t);
-    *t = NULL;
-    if (st) {
-        snprintf(err, err_len, "internal error: the file does not match its tree (%s)",
-                 hpfc_strerror(st));
-        return 1;
-    }
-    st = gis_features_link_method(r->gis_info.polygons, g, &lc, f, witness, ft, err,
-                                  err_len);
-    leaf_crossings_free(&lc);
-    if (!st) {
-        r->features = ft->polygon_features;
-        r->all_features = ft->table.feature_count;
-        r->faces_without_witness = ft->faces_without_witness;
-        r->faces_walked = ft->faces_propagated;
-        r->faces_anchored = ft->anchors;
-        r->link_conflicts = ft->conflicts;
-        r->faces_checked = ft->table.face_count - ft->faces_without_witness;
-        r->link_witness = ft->method_witness;
-        r->link_t[0] = ft->faces_t, r->link_t[1] = ft->witness_t;
-        r->link_t[2] = ft->topology_t, r->link_t[3] = ft->check_t;
-        for (uint32_t e = 0; e < ft->edge_count; e++)
-            r->edges_with_features += ft->edge_start[e + 1] > ft->edge_start[e];
-        for (uint32_t k = 0; k < ft->table.face_count; k++)
-            r->faces_with_features += ft->face_start[k + 1] > ft->face_start[k];
-    }
-    r->features_t = stage_lap(&t0);
-    return st;
+    pack_report *r = user;
+    hpfc_tree_get_info(t, &r->tree);
+    r->levels = calloc(r->tree.levels, sizeof *r->levels);
+    int st = r->levels ? count_private(t, &r->tree, r->levels) : HPFC_E_NOMEM;
+    return st ? st : read_levels(f, r);
 }
 
-/* Gives the heap's free pages back to the system. The builder frees
- * about a hundred megabytes of working arrays on a continental map, in
- * pieces glibc keeps, while the serialised file and the crossings that
- * follow are large enough to be mapped afresh: without this, both would
- * count at the pack's peak. */
-static void release_free_memory(void)
-{
-#ifdef __GLIBC__
-    malloc_trim(0);
-#endif
-}
-
-/* hpfc_build's progress, as a bar per level. */
-static void show_build_progress(void *user, uint32_t level, uint64_t done, uint64_t total)
-{
-    char stage[24];
-    snprintf(stage, sizeof stage, "level %u", level);
-    progress_show(user, stage, (double)done, (double)total, done == total);
-}
-
-/* The final bytes (with the FEAT section) on standard output (-o -) or
- * to OUTPUT through common/atomic_output.h. */
-static int write_output(const pack_args *a, const hpfc_file *f, const hpfc_write_options *wopts,
-                        pack_report *r, hpfc_diag *diag)
-{
-    uint8_t *bytes = NULL;
-    size_t size = 0;
-    char why[ATOMIC_WHY];
-    int st = hpfc_file_serialize(f, wopts, &bytes, &size, diag);
-    if (!st && a->to_stdout && (fwrite(bytes, 1, size, stdout) != size || fflush(stdout) != 0)) {
-        snprintf(diag->message, sizeof diag->message, "cannot write to standard output: %s",
-                 strerror(errno));
-        st = HPFC_E_IO;
-    } else if (!st && !a->to_stdout && atomic_output_write(a->output, bytes, size, why)) {
-        /* why[] starts "OUTPUT: ", which the caller prints itself */
-        size_t n = strlen(a->output);
-        const char *reason = strncmp(why, a->output, n) == 0 && why[n] == ':' ? why + n + 2 : why;
-        snprintf(diag->message, sizeof diag->message, "%.300s", reason);
-        st = HPFC_E_IO;
-    }
-    if (!st)
-        r->file_bytes = size;
-    hpfc_free(bytes);
-    return st;
-}
-
-/* Builds, checks the serialised bytes, then writes OUTPUT; 0 or an exit
- * status (the message is printed). */
+/* Builds, checks the serialised bytes, then writes OUTPUT (pack_write.h);
+ * 0 or an exit status (the message is printed). */
 static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report *r)
 {
-    progress bar = {.on = isatty(2) && !a->quiet};
-    hpfc_build_params params = a->params;
-    params.progress = show_build_progress;
-    params.progress_user = &bar;
     hpfc_write_options wopts = {.crs = r->gis ? r->gis_info.crs : NULL,
                                 .face_labels = !a->no_labels,
                                 .layout = a->layout,
                                 .geometry = a->no_geometry ? NULL : g};
-    gis_feature_table ft = {0};
-    hpfc_diag diag = {0};
-    hpfc_tree *t = NULL;
-    stage_time t0 = stage_now();
-    progress_show(&bar, "building", 0, 0, 1);
-    int st = hpfc_build(g, &params, &t, &diag);
-    progress_end(&bar);
-    release_free_memory();
-    r->build_t = stage_lap(&t0);
-    if (st) {
+    pack_write_stats w;
+    hpfc_diag diag;
+    int st = pack_write(g, &a->params, &wopts, r->gis ? &r->gis_info : NULL, a->link_witness,
+                        a->to_stdout ? NULL : a->output, isatty(2) && !a->quiet, report_tree,
+                        r, &w, &diag);
+    r->build_t = w.build_t, r->write_t = w.write_t, r->features_t = w.features_t;
+    if (w.file_bytes)
+        r->file_bytes = w.file_bytes;
+    r->features = w.features, r->all_features = w.all_features;
+    r->edges_with_features = w.edges_with_features;
+    r->faces_with_features = w.faces_with_features;
+    r->faces_without_witness = w.faces_without_witness;
+    r->faces_walked = w.faces_walked, r->faces_anchored = w.faces_anchored;
+    r->faces_checked = w.faces_checked, r->link_conflicts = w.link_conflicts;
+    r->link_witness = w.link_witness;
+    memcpy(r->link_t, w.link_t, sizeof r->link_t);
+    if (st && w.build_failed) {
         complain("%s: %s", a->input, diag_text(&diag, st));
         return st == HPFC_E_ARG ? EXIT_USAGE : EXIT_FAIL;
     }
-    hpfc_tree_get_info(t, &r->tree);
-    r->levels = calloc(r->tree.levels, sizeof *r->levels);
-    st = r->levels ? count_private(t, &r->tree, r->levels) : HPFC_E_NOMEM;
-    uint8_t *bytes = NULL;
-    size_t size = 0;
-    hpfc_file *f = NULL;
-    t0 = stage_now();
-    if (!st && (st = hpfc_tree_serialize(t, &wopts, &bytes, &size, &diag)) == HPFC_OK &&
-        ((st = hpfc_open_memory(bytes, size, 0, &f)) != HPFC_OK ||
-         (st = read_levels(f, r)) != HPFC_OK))
-        snprintf(diag.message, sizeof diag.message,
-                 "internal error: the serialised file does not read back (%s)",
-                 hpfc_strerror(st));
-    hpfc_attr_table attrs;
-    hpfc_edge_feature_table edge_features;
-    if (!st && r->gis && gis_features_count(r->gis_info.polygons) > 0) {
-        st = link_features(g, &t, f, a->link_witness, r, &ft, diag.message, sizeof diag.message);
-        wopts.features = &ft.table;
-        /* the features' attributes (ATTR) and the edges' features (EDGF) */
-        if (!st && gis_attrs_table(r->gis_info.attrs, &attrs) != 0)
-            st = HPFC_E_NOMEM;
-        if (!st && attrs.feature_count == ft.table.feature_count)
-            wopts.attributes = &attrs;
-        edge_features = (hpfc_edge_feature_table){.edge_count = ft.edge_count,
-                                                  .feature_count = ft.table.feature_count,
-                                                  .edge_start = ft.edge_start,
-                                                  .edge_feature = ft.edge_feature};
-        if (!st && ft.edge_start)
-            wopts.edge_features = &edge_features;
-    }
-    hpfc_tree_free(t);
-    if (!st) /* the pools as serialised, with the FEAT section when there is one */
-        st = write_output(a, f, &wopts, r, &diag);
-    r->write_t = stage_lap(&t0);
-    hpfc_close(f);
-    hpfc_free(bytes);
-    gis_feature_table_free(&ft);
     if (st) {
         complain("%s: %s", a->output, diag_text(&diag, st));
         return EXIT_FAIL;

@@ -10,8 +10,9 @@ PACKAGES="$PACKAGES valgrind"
 # The Python package (python/): Debian's interpreter, numpy, pytest, meson-python
 # (pip install .), venv (tools/test-python.sh); shapely, pandas, geopandas
 # for geometry, frames and the bench against geopandas.sjoin; pyproj (a
-# dependency of geopandas, named because the geometry tests project with it).
-PACKAGES="$PACKAGES python3-dev python3-numpy python3-pytest python3-mesonpy python3-venv python3-shapely python3-pandas python3-geopandas python3-pyproj"
+# dependency of geopandas, named because the geometry tests project with it);
+# fiona, the engine of geopandas.read_file in the GDAL driver's tests.
+PACKAGES="$PACKAGES python3-dev python3-numpy python3-pytest python3-mesonpy python3-venv python3-shapely python3-pandas python3-geopandas python3-pyproj python3-fiona"
 missing=""
 for p in $PACKAGES; do
     dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"

@@ -1,6 +1,6 @@
 #!/bin/sh
-# `meson install`: installs the library, its header and
-# the two tools, nothing of the tests, fuzzers or benchmarks; the benchmarks
+# `meson install`: installs the library, its header, the two tools and
+# the GDAL plugin, nothing of the tests, fuzzers or benchmarks; the benchmarks
 # and libFuzzer binaries are not built by default at all, and -Dtests=false
 # configures the library and the tools only. The installed tools carry a
 # RUNPATH to the installed library's directory, so that they run from any
@@ -49,6 +49,27 @@ extra=$(find "$tmp/dest" -type f -name 'bench_*' -o -type f -name 'replay_*' -o 
     -o -type f -name 'test_*' -o -type f -name 'gen-*')
 [ -n "$extra" ] && fail "installed: $extra"
 [ -n "$(find "$tmp/dest$libdir" -name 'libhpfcfile.so*')" ] || fail "libhpfcfile not in $libdir"
+# the GDAL plugin, where built: in LIBDIR/gdalplugins with a RUNPATH to the
+# library, and found there by GDAL_DRIVER_PATH (the library from DESTDIR,
+# as the installed prefix would give it)
+if [ -f "$build/gdal/ogr_HPFC.so" ]; then
+    plugin=$tmp/dest$libdir/gdalplugins/ogr_HPFC.so
+    if [ ! -f "$plugin" ]; then
+        fail "ogr_HPFC.so not installed in $libdir/gdalplugins"
+    else
+        if command -v readelf >/dev/null; then
+            readelf -d "$plugin" | grep -E "RUNPATH|RPATH" | grep -qF "$libdir" ||
+                fail "ogr_HPFC.so: no RUNPATH to $libdir"
+        fi
+        # (a sanitized plugin loads only into a process with the runtime
+        # preloaded: tests/cli/gdal_driver.sh covers that build)
+        if command -v ogrinfo >/dev/null && ! ldd "$plugin" 2>/dev/null | grep -q 'libasan\|libubsan'; then
+            run env GDAL_DRIVER_PATH="$tmp/dest$libdir/gdalplugins" LD_LIBRARY_PATH="$tmp/dest$libdir" \
+                ogrinfo --formats
+            grep -q "HPFC -vector-" "$tmp/out" || fail "the installed plugin is not found: $(cat "$tmp/err")"
+        fi
+    fi
+fi
 
 # -Dtests=false: the library and the tools, no test, fuzz or bench target
 if meson setup "$tmp/b" "$src" -Dtests=false >"$tmp/setup.log" 2>&1; then

@@ -1,0 +1,719 @@
+/*
+ * ogr_hpfc.cpp: the OGR vector driver "HPFC" (interfaces §7), a GDAL plugin
+ * over the public hpfc.h. A file opens as one layer per source layer, then
+ * "faces" and "edges" (the topology itself); geometry and fields come from
+ * common/ogr_shapes.h, the code behind hpfc-inspect --export, so the
+ * driver and the export give the same features.
+ *
+ * Every byte of the file is hostile: the library bounds-checks each read
+ * and answers a status, which the driver turns into a CPLError, never an
+ * abort. Spatial filters descend the tree (hpfc_shapes_window) to the
+ * window's leaves; OGR's own FilterGeometry then refines the candidates
+ * exactly against the filter geometry.
+ */
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <cpl_vsi.h>
+#include <gdal_priv.h>
+#include <ogrsf_frmts.h>
+
+#include "hpfc.h"
+#include "ogr_hpfc.h"
+#include "ogr_shapes.h"
+
+namespace
+{
+
+const unsigned char kMagic[8] = {0x89, 'H', 'P', 'F', 'C', '\r', '\n', 0x1a};
+
+class HPFCDataset;
+
+enum class LayerKind { Source, Faces, Edges };
+
+class HPFCLayer final : public OGRLayer
+{
+  public:
+    HPFCLayer(HPFCDataset *ds, LayerKind kind, uint32_t source, const std::string &name,
+              OGRwkbGeometryType type);
+    ~HPFCLayer() override;
+
+    void ResetReading() override;
+    OGRFeature *GetNextFeature() override;
+    OGRFeature *GetFeature(GIntBig fid) override;
+    GIntBig GetFeatureCount(int force) override;
+    OGRErr GetExtent(OGREnvelope *env, int force) override;
+    OGRErr GetExtent(int geom_field, OGREnvelope *env, int force) override
+    {
+        return geom_field == 0 ? GetExtent(env, force) : OGRERR_FAILURE;
+    }
+    void SetSpatialFilter(OGRGeometry *geom) override;
+    void SetSpatialFilter(int geom_field, OGRGeometry *geom) override
+    {
+        if (geom_field == 0)
+            SetSpatialFilter(geom);
+        else
+            CPLError(CE_Failure, CPLE_AppDefined, "HPFC: no geometry field %d", geom_field);
+    }
+    OGRFeatureDefn *GetLayerDefn() override { return defn_; }
+    int TestCapability(const char *cap) override;
+    const char *GetFIDColumn() override { return fid_column_.c_str(); }
+
+    bool Init(); /* fields; false after a CPLError */
+    void AddMember(hpfc_id feature, int64_t fid) { members_.push_back({feature, fid}); }
+    void IndexMembers();
+
+  private:
+    OGRFeature *Build(uint64_t id, int64_t fid);
+    bool BuildWindow();
+    uint64_t Count() const;
+
+    HPFCDataset *ds_;
+    LayerKind kind_;
+    uint32_t source_;
+    OGRFeatureDefn *defn_;
+    std::string fid_column_;
+    ogr_shapes_field *fields_ = nullptr;
+    size_t field_count_ = 0;
+    int count_field_ = -1, fids_field_ = -1, keys_field_ = -1; /* faces */
+    int left_face_ = -1, right_face_ = -1, left_fids_ = -1, right_fids_ = -1,
+        line_fids_ = -1; /* edges */
+    struct Member {
+        hpfc_id feature;
+        int64_t fid;
+    };
+    std::vector<Member> members_;                   /* source: its features, file order */
+    std::unordered_map<int64_t, size_t> by_fid_;    /* source: fid -> members_ index */
+    uint64_t cursor_ = 0;
+    bool windowed_ = false;                         /* iterate over hits_ */
+    std::vector<uint64_t> hits_;                    /* members_ indices or face/edge ids */
+};
+
+class HPFCDataset final : public GDALDataset
+{
+  public:
+    ~HPFCDataset() override;
+    static GDALDataset *Open(GDALOpenInfo *info);
+
+    int GetLayerCount() override { return static_cast<int>(layers_.size()); }
+    OGRLayer *GetLayer(int i) override
+    {
+        return i >= 0 && i < GetLayerCount() ? layers_[static_cast<size_t>(i)].get() : nullptr;
+    }
+    int TestCapability(const char *) override { return FALSE; }
+
+    hpfc_file *file_ = nullptr;
+    hpfc_shapes *shapes_ = nullptr;
+    ogr_shapes g_{};
+    bool g_ready_ = false;
+    OGRSpatialReference *srs_ = nullptr;
+    bool have_features_ = false;
+    hpfc_features_info features_{};
+    hpfc_geometry_info geometry_{};
+    bool extent_done_ = false, extent_ok_ = false;
+    OGREnvelope extent_;
+
+    bool Extent(OGREnvelope *env);
+    bool Window(const OGREnvelope &env, int64_t *x0, int64_t *y0, int64_t *x1, int64_t *y1);
+
+  private:
+    GByte *buffer_ = nullptr; /* a /vsi file read whole; else the library maps it */
+    std::vector<std::unique_ptr<HPFCLayer>> layers_;
+    bool Load(GDALOpenInfo *info);
+};
+
+/* ---- errors ------------------------------------------------------------------------ */
+
+void status_error(const char *what, int st)
+{
+    CPLError(CE_Failure, CPLE_AppDefined, "HPFC: %s: %s", what, hpfc_strerror(st));
+}
+
+/* ---- dataset ----------------------------------------------------------------------- */
+
+HPFCDataset::~HPFCDataset()
+{
+    layers_.clear();
+    if (g_ready_)
+        ogr_shapes_release(&g_);
+    if (srs_)
+        srs_->Release();
+    hpfc_shapes_free(shapes_);
+    hpfc_close(file_);
+    CPLFree(buffer_);
+}
+
+int identify(GDALOpenInfo *info)
+{
+    return info->nHeaderBytes >= 8 && memcmp(info->pabyHeader, kMagic, 8) == 0;
+}
+
+GDALDataset *HPFCDataset::Open(GDALOpenInfo *info)
+{
+    if (!identify(info) || !(info->nOpenFlags & GDAL_OF_VECTOR))
+        return nullptr;
+    if (info->eAccess == GA_Update) {
+        CPLError(CE_Failure, CPLE_NotSupported,
+                 "HPFC: a file is written whole (ogr2ogr -f HPFC), never updated in place");
+        return nullptr;
+    }
+    auto ds = std::make_unique<HPFCDataset>();
+    if (!ds->Load(info))
+        return nullptr;
+    return ds.release();
+}
+
+bool HPFCDataset::Load(GDALOpenInfo *info)
+{
+    const char *path = info->pszFilename;
+    bool verify = CPLTestBool(CSLFetchNameValueDef(info->papszOpenOptions, "VERIFY_CHECKSUMS",
+                                                   "YES"));
+    unsigned flags = verify ? 0u : HPFC_OPEN_SKIP_CHECKSUM;
+    int st;
+    if (!STARTS_WITH(path, "/vsi")) {
+        st = hpfc_open(path, flags, &file_);
+    } else {
+        /* no mapping of a virtual file: its bytes, read once */
+        vsi_l_offset size = 0;
+        if (!VSIIngestFile(nullptr, path, &buffer_, &size, -1)) {
+            CPLError(CE_Failure, CPLE_FileIO, "HPFC: %s: cannot read", path);
+            return false;
+        }
+        st = hpfc_open_memory(buffer_, static_cast<size_t>(size), flags, &file_);
+    }
+    if (st) {
+        CPLError(CE_Failure, CPLE_OpenFailed, "HPFC: %s: %s", path, hpfc_strerror(st));
+        return false;
+    }
+    /* a damaged file must not give a plausible but wrong map */
+    hpfc_diag diag;
+    if (verify && (st = hpfc_file_check_checksums(file_, &diag))) {
+        CPLError(CE_Failure, CPLE_OpenFailed, "HPFC: %s: %s", path,
+                 diag.message[0] ? diag.message : hpfc_strerror(st));
+        return false;
+    }
+    if ((st = hpfc_shapes_create(file_, &shapes_))) {
+        if (st == HPFC_E_NO_SECTION)
+            CPLError(CE_Failure, CPLE_OpenFailed,
+                     "HPFC: %s: no exact geometry (GEOM and LABL sections); pack it again "
+                     "with hpfc-pack 1.2",
+                     path);
+        else
+            CPLError(CE_Failure, CPLE_OpenFailed, "HPFC: %s: geometry: %s", path,
+                     hpfc_strerror(st));
+        return false;
+    }
+    if ((st = hpfc_file_get_geometry(file_, &geometry_))) {
+        status_error("geometry", st);
+        return false;
+    }
+    if (ogr_shapes_init(&g_, file_, shapes_)) {
+        CPLError(CE_Failure, CPLE_OpenFailed, "HPFC: %s: %s", path, g_.why);
+        ogr_shapes_release(&g_);
+        return false;
+    }
+    g_ready_ = true;
+    if (g_.srs)
+        srs_ = OGRSpatialReference::FromHandle(OSRClone(g_.srs));
+    SetDescription(path);
+
+    st = hpfc_file_get_features(file_, &features_);
+    if (st && st != HPFC_E_NO_SECTION) {
+        status_error("features", st);
+        return false;
+    }
+    have_features_ = st == HPFC_OK;
+    std::vector<std::string> names;
+    if (have_features_) {
+        /* each layer's members and geometry type, in one pass over FEAT */
+        std::vector<int> polys(features_.layers), lines(features_.layers);
+        for (uint32_t l = 0; l < features_.layers; l++) {
+            const char *name;
+            size_t len;
+            if ((st = hpfc_layer_name(file_, l, &name, &len))) {
+                status_error("layer name", st);
+                return false;
+            }
+            names.emplace_back(len ? std::string(name, len) : std::string("features"));
+        }
+        for (uint32_t l = 0; l < features_.layers; l++)
+            layers_.emplace_back(new HPFCLayer(this, LayerKind::Source, l, names[l], wkbUnknown));
+        for (uint32_t k = 0; k < features_.features; k++) {
+            hpfc_feature ft;
+            size_t faces = 0;
+            if ((st = hpfc_file_get_feature(file_, k, &ft)) ||
+                (st = hpfc_shapes_feature_faces(shapes_, k, nullptr, 0, &faces))) {
+                status_error("feature", st);
+                return false;
+            }
+            if (ft.layer >= features_.layers) {
+                status_error("feature", HPFC_E_CORRUPT);
+                return false;
+            }
+            layers_[ft.layer]->AddMember(k, ft.fid);
+            (faces ? polys : lines)[ft.layer] = 1;
+        }
+        for (uint32_t l = 0; l < features_.layers; l++) {
+            OGRwkbGeometryType t = polys[l] && lines[l] ? wkbUnknown
+                                   : polys[l]           ? wkbMultiPolygon
+                                                        : wkbMultiLineString;
+            layers_[l]->GetLayerDefn()->SetGeomType(t);
+            layers_[l]->IndexMembers();
+        }
+    }
+    /* the topology's layers keep their names unless a source layer has taken them */
+    auto free_name = [&](const char *base) {
+        std::string n = base;
+        while (std::find(names.begin(), names.end(), n) != names.end())
+            n = "hpfc_" + n;
+        names.push_back(n);
+        return n;
+    };
+    layers_.emplace_back(new HPFCLayer(this, LayerKind::Faces, 0, free_name("faces"), wkbPolygon));
+    layers_.emplace_back(
+        new HPFCLayer(this, LayerKind::Edges, 0, free_name("edges"), wkbLineString));
+    for (auto &l : layers_)
+        if (!l->Init())
+            return false;
+    return true;
+}
+
+/* The map's extent in output coordinates, from every point of GEOM (each
+ * layer's features lie within it): computed once, O(points), on first
+ * asking, and kept. */
+bool HPFCDataset::Extent(OGREnvelope *env)
+{
+    if (!extent_done_) {
+        extent_done_ = true;
+        OGREnvelope e;
+        bool ok = true;
+        for (uint64_t v = 0; ok && v < geometry_.vertices; v++) {
+            int64_t x, y;
+            double ox, oy;
+            ok = hpfc_geometry_vertex(file_, v, &x, &y) == HPFC_OK &&
+                 ogr_shapes_point(&g_, x, y, &ox, &oy) == 0;
+            if (ok)
+                e.Merge(ox, oy);
+        }
+        for (uint64_t edge = 0; ok && edge < geometry_.edges; edge++) {
+            hpfc_id u, v;
+            uint64_t n;
+            ok = hpfc_geometry_edge(file_, edge, &u, &v, &n) == HPFC_OK;
+            for (uint64_t k = 1; ok && k + 1 < n; k++) {
+                int64_t x, y;
+                double ox, oy;
+                ok = hpfc_geometry_edge_point(file_, edge, k, &x, &y) == HPFC_OK &&
+                     ogr_shapes_point(&g_, x, y, &ox, &oy) == 0;
+                if (ok)
+                    e.Merge(ox, oy);
+            }
+        }
+        extent_ok_ = ok && e.IsInit();
+        if (!ok)
+            CPLError(CE_Failure, CPLE_AppDefined, "HPFC: extent: the geometry does not read");
+        extent_ = e;
+    }
+    if (extent_ok_)
+        *env = extent_;
+    return extent_ok_;
+}
+
+/* A lattice window holding every lattice point whose output coordinates
+ * lie in env. Without a projection back that is env scaled and rounded
+ * outwards. With one, the envelope (in longitude/latitude) is traced along
+ * its border and projected forwards; the projections hpfc-pack uses bend
+ * a border's image by far less than the margin added, and a window too
+ * wide only costs time, since OGR refines every candidate exactly. Where
+ * the projection cannot be trusted (a wide or polar window) the whole
+ * domain is the window. */
+bool HPFCDataset::Window(const OGREnvelope &env, int64_t *x0, int64_t *y0, int64_t *x1,
+                         int64_t *y1)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(file_, &fi);
+    double scale = std::pow(10.0, -static_cast<double>(fi.unit_exp10));
+    double ux0, uy0, ux1, uy1;
+    bool whole = false;
+    if (!g_.plan) {
+        ux0 = env.MinX, uy0 = env.MinY, ux1 = env.MaxX, uy1 = env.MaxY;
+    } else {
+        double lon0 = std::max(env.MinX, -180.0), lon1 = std::min(env.MaxX, 180.0);
+        double lat0 = std::max(env.MinY, -90.0), lat1 = std::min(env.MaxY, 90.0);
+        if (lon0 > lon1 || lat0 > lat1)
+            return false; /* nothing of the map's lon/lat range */
+        whole = lon1 - lon0 > 60.0 || lat0 < -80.0 || lat1 > 80.0;
+        ux0 = uy0 = std::numeric_limits<double>::infinity();
+        ux1 = uy1 = -ux0;
+        const int steps = 64;
+        for (int side = 0; !whole && side < 4; side++)
+            for (int k = 0; k <= steps; k++) {
+                double t = static_cast<double>(k) / steps;
+                double lon = side < 2 ? lon0 + t * (lon1 - lon0) : side == 2 ? lon0 : lon1;
+                double lat = side < 2 ? (side == 0 ? lat0 : lat1) : lat0 + t * (lat1 - lat0);
+                double px, py;
+                if (mapproj_forward(g_.plan, lon, lat, &px, &py) != 0 || !std::isfinite(px) ||
+                    !std::isfinite(py)) {
+                    whole = true;
+                    break;
+                }
+                ux0 = std::min(ux0, px), ux1 = std::max(ux1, px);
+                uy0 = std::min(uy0, py), uy1 = std::max(uy1, py);
+            }
+        if (!whole) {
+            double mx = 0.01 * (ux1 - ux0) + 1.0, my = 0.01 * (uy1 - uy0) + 1.0;
+            ux0 -= mx, ux1 += mx, uy0 -= my, uy1 += my;
+        }
+    }
+    double dx0 = static_cast<double>(fi.x0), dy0 = static_cast<double>(fi.y0);
+    double dx1 = dx0 + static_cast<double>(fi.width), dy1 = dy0 + static_cast<double>(fi.height);
+    double lx0 = whole ? dx0 : std::floor(ux0 * scale) - 1, ly0 = whole ? dy0 : std::floor(uy0 * scale) - 1;
+    double lx1 = whole ? dx1 : std::ceil(ux1 * scale) + 1, ly1 = whole ? dy1 : std::ceil(uy1 * scale) + 1;
+    if (!(lx0 <= lx1 && ly0 <= ly1)) /* NaN too */
+        return false;
+    /* nothing lies outside the domain: clamping keeps the integers exact */
+    lx0 = std::max(lx0, dx0 - 1), ly0 = std::max(ly0, dy0 - 1);
+    lx1 = std::min(lx1, dx1 + 1), ly1 = std::min(ly1, dy1 + 1);
+    if (lx0 > lx1 || ly0 > ly1)
+        return false;
+    /* a hostile header's domain may reach past what int64 holds as a double */
+    const double lim = 4611686018427387904.0; /* 2^62 */
+    lx0 = std::min(std::max(lx0, -lim), lim), ly0 = std::min(std::max(ly0, -lim), lim);
+    lx1 = std::min(std::max(lx1, -lim), lim), ly1 = std::min(std::max(ly1, -lim), lim);
+    *x0 = static_cast<int64_t>(lx0), *y0 = static_cast<int64_t>(ly0);
+    *x1 = static_cast<int64_t>(lx1), *y1 = static_cast<int64_t>(ly1);
+    return true;
+}
+
+/* ---- layers ------------------------------------------------------------------------ */
+
+HPFCLayer::HPFCLayer(HPFCDataset *ds, LayerKind kind, uint32_t source, const std::string &name,
+                     OGRwkbGeometryType type)
+    : ds_(ds), kind_(kind), source_(source)
+{
+    defn_ = new OGRFeatureDefn(name.c_str());
+    defn_->Reference();
+    defn_->SetGeomType(type);
+    if (ds->srs_)
+        defn_->GetGeomFieldDefn(0)->SetSpatialRef(ds->srs_);
+    SetDescription(defn_->GetName());
+}
+
+HPFCLayer::~HPFCLayer()
+{
+    ogr_shapes_fields_free(fields_, field_count_);
+    defn_->Release();
+}
+
+void HPFCLayer::IndexMembers()
+{
+    by_fid_.reserve(members_.size());
+    for (size_t k = 0; k < members_.size(); k++)
+        by_fid_.emplace(members_[k].fid, k); /* a repeated fid: its first feature */
+}
+
+static void add_field(OGRFeatureDefn *defn, const char *name, OGRFieldType t, int *index)
+{
+    OGRFieldDefn fd(name, t);
+    defn->AddFieldDefn(&fd);
+    *index = defn->GetFieldCount() - 1;
+}
+
+bool HPFCLayer::Init()
+{
+    const bool features = ds_->have_features_;
+    if (kind_ == LayerKind::Source) {
+        if (ogr_shapes_fields(&ds_->g_, 0, &fields_, &field_count_)) {
+            CPLError(CE_Failure, CPLE_AppDefined, "HPFC: %s", ds_->g_.why);
+            return false;
+        }
+        for (size_t c = 0; c < field_count_; c++) {
+            OGRFieldDefn fd(fields_[c].name, fields_[c].type);
+            defn_->AddFieldDefn(&fd);
+        }
+        /* the fid the tools print is the OGR FID; ogr2ogr keeps it under this name */
+        uint32_t col;
+        if (hpfc_attr_find(ds_->file_, "fid", 3, &col) != HPFC_OK &&
+            defn_->GetFieldIndex("fid") < 0)
+            fid_column_ = "fid";
+    } else if (kind_ == LayerKind::Faces) {
+        if (features) {
+            add_field(defn_, "features", OFTInteger, &count_field_);
+            add_field(defn_, "fids", OFTString, &fids_field_);
+            if (ds_->features_.key_field)
+                add_field(defn_, "keys", OFTString, &keys_field_);
+        }
+        fid_column_ = "face";
+    } else {
+        add_field(defn_, "left_face", OFTInteger64, &left_face_);
+        add_field(defn_, "right_face", OFTInteger64, &right_face_);
+        if (features) {
+            add_field(defn_, "left_fids", OFTString, &left_fids_);
+            add_field(defn_, "right_fids", OFTString, &right_fids_);
+        }
+        hpfc_edge_links_info li;
+        if (hpfc_file_get_edge_links(ds_->file_, &li) == HPFC_OK)
+            add_field(defn_, "line_fids", OFTString, &line_fids_);
+        fid_column_ = "edge";
+    }
+    ResetReading();
+    return true;
+}
+
+uint64_t HPFCLayer::Count() const
+{
+    if (kind_ == LayerKind::Source)
+        return members_.size();
+    if (kind_ == LayerKind::Faces) {
+        uint64_t n = hpfc_shapes_face_count(ds_->shapes_);
+        return n ? n - 1 : 0;
+    }
+    return ds_->geometry_.edges;
+}
+
+void HPFCLayer::ResetReading()
+{
+    cursor_ = 0;
+    windowed_ = false;
+    hits_.clear();
+    if (m_poFilterGeom && !BuildWindow()) {
+        windowed_ = true; /* after an error: nothing */
+        hits_.clear();
+    }
+}
+
+/* The candidates of the spatial filter: what the tree's window query
+ * finds in the lattice window around the filter's envelope. */
+bool HPFCLayer::BuildWindow()
+{
+    int64_t x0, y0, x1, y1;
+    windowed_ = true;
+    if (!ds_->Window(m_sFilterEnvelope, &x0, &y0, &x1, &y1))
+        return true; /* the filter misses the map */
+    unsigned what = kind_ == LayerKind::Source  ? HPFC_WINDOW_FEATURES
+                    : kind_ == LayerKind::Faces ? HPFC_WINDOW_FACES
+                                                : HPFC_WINDOW_EDGES;
+    hpfc_window_hits h;
+    int st = hpfc_shapes_window(ds_->shapes_, x0, y0, x1, y1, what, &h);
+    if (st) {
+        status_error("spatial filter", st);
+        return false;
+    }
+    if (kind_ == LayerKind::Source) {
+        /* members_ is in ascending feature order, as the hits are */
+        size_t m = 0;
+        for (size_t k = 0; k < h.feature_count; k++) {
+            while (m < members_.size() && members_[m].feature < h.feature[k])
+                m++;
+            if (m < members_.size() && members_[m].feature == h.feature[k])
+                hits_.push_back(m);
+        }
+    } else if (kind_ == LayerKind::Faces) {
+        for (size_t k = 0; k < h.face_count; k++)
+            if (h.face[k] != 0)
+                hits_.push_back(h.face[k]);
+    } else {
+        hits_.assign(h.edge, h.edge + h.edge_count);
+    }
+    return true;
+}
+
+void HPFCLayer::SetSpatialFilter(OGRGeometry *geom)
+{
+    if (InstallFilter(geom))
+        ResetReading();
+}
+
+/* A feature list "fid fid ..." of a face's features into `field`. */
+static bool face_fids(HPFCDataset *ds, OGRFeature *f, hpfc_id face, int field)
+{
+    return ogr_shapes_face_features(&ds->g_, OGRFeature::ToHandle(f), face, -1, field, -1) == 0;
+}
+
+OGRFeature *HPFCLayer::Build(uint64_t id, int64_t fid)
+{
+    ogr_shapes *g = &ds_->g_;
+    auto f = std::make_unique<OGRFeature>(defn_);
+    OGRGeometryH geom = nullptr;
+    bool ok = true;
+    if (kind_ == LayerKind::Source) {
+        hpfc_feature feat;
+        int st = hpfc_file_get_feature(ds_->file_, id, &feat);
+        if (st) {
+            status_error("feature", st);
+            return nullptr;
+        }
+        ok = ogr_shapes_feature_geometry(g, id, &geom) == 0 &&
+             ogr_shapes_fill(g, OGRFeature::ToHandle(f.get()), 0, fields_, field_count_, id,
+                             &feat) == 0;
+        f->SetFID(feat.fid);
+    } else if (kind_ == LayerKind::Faces) {
+        geom = ogr_shapes_face_geometry(g, id);
+        ok = geom && (!ds_->have_features_ ||
+                      ogr_shapes_face_features(g, OGRFeature::ToHandle(f.get()), id,
+                                               count_field_, fids_field_, keys_field_) == 0);
+        f->SetFID(static_cast<GIntBig>(id));
+    } else {
+        hpfc_id left, right;
+        int st = hpfc_geometry_edge_faces(ds_->file_, id, &left, &right);
+        if (st) {
+            status_error("edge", st);
+            return nullptr;
+        }
+        geom = ogr_shapes_edge_geometry(g, id);
+        ok = geom != nullptr;
+        f->SetField(left_face_, static_cast<GIntBig>(left));
+        f->SetField(right_face_, static_cast<GIntBig>(right));
+        if (ok && ds_->have_features_)
+            ok = face_fids(ds_, f.get(), left, left_fids_) &&
+                 face_fids(ds_, f.get(), right, right_fids_);
+        if (ok && line_fids_ >= 0) {
+            uint32_t n = 0;
+            std::string s;
+            st = hpfc_edge_feature_count(ds_->file_, id, &n);
+            for (uint32_t k = 0; !st && k < n; k++) {
+                hpfc_id index;
+                hpfc_feature feat;
+                if (!(st = hpfc_edge_feature_id(ds_->file_, id, k, &index)) &&
+                    !(st = hpfc_file_get_feature(ds_->file_, index, &feat)))
+                    s += (s.empty() ? "" : " ") + std::to_string(feat.fid);
+            }
+            if (st) {
+                OGR_G_DestroyGeometry(geom);
+                status_error("edge features", st);
+                return nullptr;
+            }
+            f->SetField(line_fids_, s.c_str());
+        }
+        f->SetFID(static_cast<GIntBig>(id));
+    }
+    (void)fid;
+    if (!ok) {
+        if (geom)
+            OGR_G_DestroyGeometry(geom);
+        CPLError(CE_Failure, CPLE_AppDefined, "HPFC: %s", g->why);
+        return nullptr;
+    }
+    if (geom) {
+        OGRGeometry *og = OGRGeometry::FromHandle(geom);
+        og->assignSpatialReference(ds_->srs_);
+        f->SetGeometryDirectly(og);
+    }
+    return f.release();
+}
+
+OGRFeature *HPFCLayer::GetNextFeature()
+{
+    for (;;) {
+        uint64_t id;
+        int64_t fid = 0;
+        if (windowed_) {
+            if (cursor_ >= hits_.size())
+                return nullptr;
+            id = hits_[cursor_++];
+        } else {
+            if (cursor_ >= Count())
+                return nullptr;
+            id = cursor_++;
+        }
+        if (kind_ == LayerKind::Source) {
+            fid = members_[id].fid;
+            id = members_[id].feature;
+        } else if (kind_ == LayerKind::Faces && !windowed_) {
+            id++; /* the unbounded face has no polygon */
+        }
+        OGRFeature *f = Build(id, fid);
+        if (!f)
+            return nullptr;
+        if (FilterGeometry(f->GetGeometryRef()) &&
+            (!m_poAttrQuery || m_poAttrQuery->Evaluate(f)))
+            return f;
+        delete f;
+    }
+}
+
+OGRFeature *HPFCLayer::GetFeature(GIntBig fid)
+{
+    if (kind_ == LayerKind::Source) {
+        auto it = by_fid_.find(fid);
+        return it == by_fid_.end() ? nullptr : Build(members_[it->second].feature, fid);
+    }
+    if (fid < (kind_ == LayerKind::Faces ? 1 : 0) ||
+        static_cast<uint64_t>(fid) >= Count() + (kind_ == LayerKind::Faces))
+        return nullptr;
+    return Build(static_cast<uint64_t>(fid), fid);
+}
+
+GIntBig HPFCLayer::GetFeatureCount(int force)
+{
+    if (m_poFilterGeom || m_poAttrQuery)
+        return OGRLayer::GetFeatureCount(force);
+    return static_cast<GIntBig>(Count());
+}
+
+OGRErr HPFCLayer::GetExtent(OGREnvelope *env, int force)
+{
+    (void)force;
+    if (Count() == 0)
+        return OGRERR_FAILURE;
+    return ds_->Extent(env) ? OGRERR_NONE : OGRERR_FAILURE;
+}
+
+int HPFCLayer::TestCapability(const char *cap)
+{
+    if (EQUAL(cap, OLCRandomRead) || EQUAL(cap, OLCFastGetExtent) ||
+        EQUAL(cap, OLCFastSpatialFilter) || EQUAL(cap, OLCStringsAsUTF8))
+        return TRUE;
+    if (EQUAL(cap, OLCFastFeatureCount))
+        return !m_poFilterGeom && !m_poAttrQuery;
+    return FALSE;
+}
+
+} // namespace
+
+/* ---- registration ------------------------------------------------------------------- */
+
+void GDALRegister_HPFC()
+{
+    if (!GDAL_CHECK_VERSION("HPFC"))
+        return;
+    if (GDALGetDriverByName("HPFC") != nullptr)
+        return;
+    auto *driver = new GDALDriver();
+    driver->SetDescription("HPFC");
+    driver->SetMetadataItem(GDAL_DCAP_VECTOR, "YES");
+    driver->SetMetadataItem(GDAL_DMD_LONGNAME, "hierarchical Planar Face Complex (hpfc)");
+    driver->SetMetadataItem(GDAL_DMD_EXTENSION, "hpfc");
+    driver->SetMetadataItem(GDAL_DMD_HELPTOPIC, "https://github.com/hpfc/hpfc");
+    driver->SetMetadataItem(GDAL_DCAP_VIRTUALIO, "YES");
+    driver->SetMetadataItem(GDAL_DMD_SUPPORTED_SQL_DIALECTS, "OGRSQL SQLITE");
+    driver->SetMetadataItem(
+        GDAL_DMD_OPENOPTIONLIST,
+        "<OpenOptionList>"
+        "  <Option name='VERIFY_CHECKSUMS' type='boolean' default='YES' "
+        "description='Check every section CRC-32C on open (reads the whole file once)'/>"
+        "</OpenOptionList>");
+    driver->pfnIdentify = identify;
+    driver->pfnOpen = HPFCDataset::Open;
+    hpfc_gdal_register_create(driver);
+    GetGDALDriverManager()->RegisterDriver(driver);
+}
+
+/* GDAL's plugin loader calls RegisterOGR<NAME> for ogr_<NAME>.so. */
+extern "C" HPFC_GDAL_EXPORT void RegisterOGRHPFC()
+{
+    GDALRegister_HPFC();
+}
+
+extern "C" HPFC_GDAL_EXPORT void GDALRegisterMe()
+{
+    GDALRegister_HPFC();
+}

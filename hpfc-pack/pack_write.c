@@ -1,0 +1,168 @@
+/*
+ * pack_write.c: pack_write.h, the steps hpfc-pack ran after reading its
+ * input, moved here unchanged so that the GDAL driver runs the very same.
+ */
+#include "pack_write.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
+#include "atomic_output.h"
+#include "clock.h"
+#include "face_witness.h"
+#include "gis_features.h"
+#include "progress.h"
+
+/* Links the faces of the serialised file to the GIS features that
+ * cover it, for the FEAT section. The witnesses need the crossings'
+ * segments from the tree, taken first; then the tree is freed, since the
+ * faces' flood fill is where a pack's memory peaks. 0, or 1 with a message
+ * in err. */
+static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
+                         const gis_info *gis, int witness, pack_write_stats *r,
+                         gis_feature_table *ft, char *err, size_t err_len)
+{
+    stage_time t0 = stage_now();
+    leaf_crossings lc;
+    int st = leaf_crossings_collect(*t, f, &lc);
+    hpfc_tree_free(*t);
+    *t = NULL;
+    if (st) {
+        snprintf(err, err_len, "internal error: the file does not match its tree (%s)",
+                 hpfc_strerror(st));
+        return 1;
+    }
+    st = gis_features_link_method(gis->polygons, g, &lc, f, witness, ft, err, err_len);
+    leaf_crossings_free(&lc);
+    if (!st) {
+        r->features = ft->polygon_features;
+        r->all_features = ft->table.feature_count;
+        r->faces_without_witness = ft->faces_without_witness;
+        r->faces_walked = ft->faces_propagated;
+        r->faces_anchored = ft->anchors;
+        r->link_conflicts = ft->conflicts;
+        r->faces_checked = ft->table.face_count - ft->faces_without_witness;
+        r->link_witness = ft->method_witness;
+        r->link_t[0] = ft->faces_t, r->link_t[1] = ft->witness_t;
+        r->link_t[2] = ft->topology_t, r->link_t[3] = ft->check_t;
+        for (uint32_t e = 0; e < ft->edge_count; e++)
+            r->edges_with_features += ft->edge_start[e + 1] > ft->edge_start[e];
+        for (uint32_t k = 0; k < ft->table.face_count; k++)
+            r->faces_with_features += ft->face_start[k + 1] > ft->face_start[k];
+    }
+    r->features_t = stage_lap(&t0);
+    return st;
+}
+
+/* Gives the heap's free pages back to the system. The builder frees
+ * about a hundred megabytes of working arrays on a continental map, in
+ * pieces glibc keeps, while the serialised file and the crossings that
+ * follow are large enough to be mapped afresh: without this, both would
+ * count at the pack's peak. */
+static void release_free_memory(void)
+{
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
+}
+
+/* hpfc_build's progress, as a bar per level. */
+static void show_build_progress(void *user, uint32_t level, uint64_t done, uint64_t total)
+{
+    char stage[24];
+    snprintf(stage, sizeof stage, "level %u", level);
+    progress_show(user, stage, (double)done, (double)total, done == total);
+}
+
+/* The final bytes (with the FEAT section) on standard output (output
+ * NULL) or to OUTPUT through common/atomic_output.h. */
+static int write_output(const char *output, const hpfc_file *f, const hpfc_write_options *wopts,
+                        pack_write_stats *r, hpfc_diag *diag)
+{
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    char why[ATOMIC_WHY];
+    int st = hpfc_file_serialize(f, wopts, &bytes, &size, diag);
+    if (!st && !output && (fwrite(bytes, 1, size, stdout) != size || fflush(stdout) != 0)) {
+        snprintf(diag->message, sizeof diag->message, "cannot write to standard output: %s",
+                 strerror(errno));
+        st = HPFC_E_IO;
+    } else if (!st && output && atomic_output_write(output, bytes, size, why)) {
+        /* why[] starts "OUTPUT: ", which the caller prints itself */
+        size_t n = strlen(output);
+        const char *reason = strncmp(why, output, n) == 0 && why[n] == ':' ? why + n + 2 : why;
+        snprintf(diag->message, sizeof diag->message, "%.300s", reason);
+        st = HPFC_E_IO;
+    }
+    if (!st)
+        r->file_bytes = size;
+    hpfc_free(bytes);
+    return st;
+}
+
+int pack_write(const hpfc_graph *g, const hpfc_build_params *p,
+               const hpfc_write_options *base, const gis_info *gis, int link_witness,
+               const char *output, int progress_on, pack_write_hook hook, void *user, pack_write_stats *r,
+               hpfc_diag *diag)
+{
+    memset(r, 0, sizeof *r);
+    memset(diag, 0, sizeof *diag);
+    progress bar = {.on = progress_on};
+    hpfc_build_params params = *p;
+    params.progress = show_build_progress;
+    params.progress_user = &bar;
+    hpfc_write_options wopts = *base;
+    gis_feature_table ft = {0};
+    hpfc_tree *t = NULL;
+    stage_time t0 = stage_now();
+    progress_show(&bar, "building", 0, 0, 1);
+    int st = hpfc_build(g, &params, &t, diag);
+    progress_end(&bar);
+    release_free_memory();
+    r->build_t = stage_lap(&t0);
+    if (st) {
+        r->build_failed = 1;
+        return st;
+    }
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    hpfc_file *f = NULL;
+    if ((st = hpfc_tree_serialize(t, &wopts, &bytes, &size, diag)) == HPFC_OK &&
+        ((st = hpfc_open_memory(bytes, size, 0, &f)) != HPFC_OK ||
+         (hook && (st = hook(user, t, f)) != HPFC_OK)))
+        snprintf(diag->message, sizeof diag->message,
+                 "internal error: the serialised file does not read back (%s)",
+                 hpfc_strerror(st));
+    hpfc_attr_table attrs;
+    hpfc_edge_feature_table edge_features;
+    if (!st && gis && gis_features_count(gis->polygons) > 0) {
+        st = link_features(g, &t, f, gis, link_witness, r, &ft, diag->message,
+                           sizeof diag->message);
+        wopts.features = &ft.table;
+        /* the features' attributes (ATTR) and the edges' features (EDGF) */
+        if (!st && gis_attrs_table(gis->attrs, &attrs) != 0)
+            st = HPFC_E_NOMEM;
+        if (!st && attrs.feature_count == ft.table.feature_count)
+            wopts.attributes = &attrs;
+        edge_features = (hpfc_edge_feature_table){.edge_count = ft.edge_count,
+                                                  .feature_count = ft.table.feature_count,
+                                                  .edge_start = ft.edge_start,
+                                                  .edge_feature = ft.edge_feature};
+        if (!st && ft.edge_start)
+            wopts.edge_features = &edge_features;
+    }
+    hpfc_tree_free(t);
+    if (!st) /* the pools as serialised, with the FEAT section when there is one */
+        st = write_output(output, f, &wopts, r, diag);
+    r->write_t = stage_lap(&t0);
+    hpfc_close(f);
+    hpfc_free(bytes);
+    gis_feature_table_free(&ft);
+    return st;
+}

@@ -1,0 +1,53 @@
+/*
+ * pack_write.h: the end of a pack, from a planar graph to the written file:
+ * build the tree, serialise it, link the GIS features to the faces (FEAT,
+ * with their attributes, ATTR, and the edges' features, EDGF) and write the
+ * file atomically. hpfc-pack and the GDAL driver's writer (gdal/) both call
+ * it, so that a map packed either way is the same bytes.
+ */
+#ifndef HPFC_PACK_WRITE_H
+#define HPFC_PACK_WRITE_H
+
+#include <stdint.h>
+
+#include "clock.h"
+#include "gis_input.h"
+#include "hpfc.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* What the pack did, for hpfc-pack's report. */
+typedef struct pack_write_stats {
+    int build_failed;           /* the failure (if any) was the build's: the input's fault */
+    uint64_t file_bytes;        /* the file written, 0 where the hook's count stands */
+    stage_time build_t, write_t, features_t; /* wall and CPU */
+    uint32_t features, all_features, edges_with_features;
+    uint64_t faces_with_features, faces_without_witness;
+    uint64_t faces_walked, faces_anchored, faces_checked, link_conflicts;
+    int link_witness;
+    stage_time link_t[4]; /* faces, witnesses, topology, check */
+} pack_write_stats;
+
+/* Called once the tree is built and serialised and the bytes reopened,
+ * before the tree is freed: a status, HPFC_OK to go on. */
+typedef int (*pack_write_hook)(void *user, const hpfc_tree *t, const hpfc_file *f);
+
+/* Builds g with `params` and writes it to `output` (NULL: standard output)
+ * with `base`'s options (CRS, labels, layout, geometry) and, when `gis` holds
+ * features, their FEAT, ATTR and EDGF sections, linked to the faces by the
+ * topology or, with `link_witness`, by each face's witness point alone
+ * (hpfc-pack --link). `progress_on` draws bars on
+ * stderr. HPFC_OK, or a status with diag->message saying why (nothing
+ * written). */
+int pack_write(const hpfc_graph *g, const hpfc_build_params *params,
+               const hpfc_write_options *base, const gis_info *gis, int link_witness,
+               const char *output, int progress_on, pack_write_hook hook, void *user, pack_write_stats *stats,
+               hpfc_diag *diag);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
