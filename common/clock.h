@@ -27,16 +27,21 @@ typedef struct stage_time {
     double wall, cpu; /* seconds */
 } stage_time;
 
+/* (no compound literal: C++ includes this header through pack_write.h) */
 static inline stage_time stage_now(void)
 {
-    return (stage_time){clock_seconds(), clock_read(CLOCK_PROCESS_CPUTIME_ID)};
+    stage_time t;
+    t.wall = clock_seconds();
+    t.cpu = clock_read(CLOCK_PROCESS_CPUTIME_ID);
+    return t;
 }
 
 /* The time since *t, which moves on to now: one stage's. */
 static inline stage_time stage_lap(stage_time *t)
 {
-    stage_time now = stage_now();
-    stage_time d = {now.wall - t->wall, now.cpu - t->cpu};
+    stage_time now = stage_now(), d;
+    d.wall = now.wall - t->wall;
+    d.cpu = now.cpu - t->cpu;
     *t = now;
     return d;
 }
