@@ -1227,15 +1227,21 @@ int hpfc_shapes_features_polygons(hpfc_shapes *s, const hpfc_id *features, size_
             faces[u++] = faces[k];
     reset(s);
     uint32_t m = shapes_next_mark(s);
-    for (size_t k = 0; k < u; k++)
+    for (size_t k = 0; k < u; k++) {
         s->face_mark[faces[k]] = m;
-    int st = HPFC_OK;
+        s->face_local[faces[k]] = (uint32_t)k;
+    }
+    /* as one feature's faces: parts joined across the edges inside the set,
+     * so that each hole is owned by the part around it */
+    int st = parts_init(s, u);
     for (size_t k = 0; k < u && !st; k++) {
         uint32_t face = faces[k];
         for (uint64_t j = s->face_start[face]; j < s->face_start[face + 1] && !st; j++) {
             uint32_t e = s->face_edge[j];
             int in_left = s->face_mark[s->left[e]] == m, in_right = s->face_mark[s->right[e]] == m;
-            if (in_left != in_right && (in_left ? s->left[e] : s->right[e]) == face)
+            if (in_left && in_right)
+                parts_join(s, s->left[e], s->right[e]);
+            else if (in_left != in_right && (in_left ? s->left[e] : s->right[e]) == face)
                 st = add_dart(s, e, in_right, face);
         }
     }

@@ -15,7 +15,8 @@ crossings and touchings become vertices, each segment is split at every
 vertex on it, and identical pieces count once. Then
 
     all:        vertices = points, edges = pieces
-    junctions:  vertices = points of degree != 2, plus one per component
+    junctions:  vertices = points of degree != 2 or where a line starts or
+                stops, plus one per component
                 without such a point (a closed ring); edges = vertices - points
                 + pieces (each dropped degree-2 point joins two pieces)
     faces     = edges - vertices + components + 1 (Euler, with the outer face)
@@ -121,8 +122,21 @@ def polygons(geom):
             yield from polygons(g)
 
 
-def segments(geom, cut):
+def segments(geom, cut, ends=None):
+    """The segments of a geometry; with `ends`, the points where its lines
+    (open parts, after the meridian cut) start and stop are added to it."""
     for rings, closed in polygons(geom):
+        if ends is not None and not closed:
+            for r in rings:
+                if not r:
+                    continue
+                r = [(exact(x), exact(y)) for x, y, *_ in r]
+                run = [s for s in (cut_path(r, []) if cut else zip(r, r[1:])) if s[0] != s[1]]
+                for i, (a, b) in enumerate(run):
+                    if i == 0 or run[i - 1][1] != a:
+                        ends.add(a)
+                    if i + 1 == len(run) or run[i + 1][0] != b:
+                        ends.add(b)
         rings = [[(exact(x), exact(y)) for x, y, *_ in r] for r in rings if r]
         if closed:
             rings = [r + [r[0]] if r[0] != r[-1] else r for r in rings]
@@ -190,11 +204,12 @@ def main():
     datas = [json.load(open(path)) for path in sys.argv[1:]]
     S = scale(datas)
     segs = set()
+    ends = set()  # where lines start and stop: vertices whatever their degree
     for data in datas:
         feats = data["features"] if data.get("type") == "FeatureCollection" else [data]
         cut = geographic(data)
         for f in feats:
-            for p, q in segments(f.get("geometry"), cut):
+            for p, q in segments(f.get("geometry"), cut, ends):
                 if p != q:
                     segs.add((min(p, q), max(p, q)))
     segs = sorted(segs)
@@ -233,9 +248,10 @@ def main():
     comps = len({find(p) for p in adj})
     nv, ne = len(adj), len(pieces)
     faces = ne - nv + comps + 1
-    # junctions: each degree-2 point merges two edges into one; a closed
-    # chain of degree-2 points keeps one vertex and one edge
-    junc = [p for p in adj if len(adj[p]) != 2]
+    # junctions: each degree-2 point merges two edges into one, unless a
+    # line ends there; a closed chain of degree-2 points keeps one vertex
+    # and one edge
+    junc = [p for p in adj if len(adj[p]) != 2 or p in ends]
     cycles = comps - len({find(p) for p in junc})
     njv = len(junc) + cycles
     nje = ne - (nv - njv)
