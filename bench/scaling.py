@@ -59,14 +59,14 @@ PACK = [
     ("pack.read", [(None, "read_dataset")]),
     ("pack.project", [(None, "project_and_snap")]),
     ("pack.node", [(None, "node")]),
-    ("pack.graph", [(None, "make_graph")]),
+    ("pack.graph", [(None, "segment_graph_make")]),
     ("pack.build", [(None, "hpfc_build_sized")]),
-    ("pack.link", [(None, "leaf_crossings_collect"), (None, "gis_features_link")]),
+    ("pack.link", [(None, "leaf_crossings_collect"), (None, "gis_features_link_method")]),
     ("pack.link.faces", [("gis_features_link_method", "hpfc_faces_build")]),
     ("pack.link.witness", [(None, "face_witnesses")]),
     ("pack.link.topology", [(None, "face_link_run")]),
     ("pack.link.check", [(None, "face_check_create"), (None, "face_check_features")]),
-    ("pack.write", [(None, "hpfc_tree_serialize_sized"), (None, "hpfc_file_write_file_sized")]),
+    ("pack.write", [(None, "hpfc_tree_serialize_sized"), (None, "hpfc_file_serialize_sized"), (None, "atomic_output_write")]),
 ]
 # the report's CPU seconds of each pack stage (write: what is not linking)
 PACK_REPORT = {"pack.read": "gis_read", "pack.project": "gis_project", "pack.node": "gis_node",
