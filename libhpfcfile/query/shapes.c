@@ -280,17 +280,19 @@ static int invert_links(const feature_links *t, uint64_t rows, uint32_t features
             }
             memcpy(fill, start, (size_t)features * sizeof *fill);
         }
+        /* the links read straight from the section: a row's run at a time */
+        const uint8_t *link = t->index + 4 * ((size_t)t->rows + 1);
         for (uint64_t o = 0; o < rows && !st; o++) {
             uint32_t first, end;
-            hpfc_id ft;
             if ((st = feature_links_row(t, o, &first, &end)))
                 break;
-            for (uint32_t k = 0; k < end - first && !st; k++) {
-                if ((st = feature_links_get(t, o, k, &ft)))
-                    break;
-                if (ft >= features)
+            for (uint32_t i = first; i < end; i++) {
+                uint32_t ft = (uint32_t)le_load(link + 4 * (size_t)i, 4);
+                if (ft >= features || ft >= t->features) {
                     st = HPFC_E_CORRUPT;
-                else if (pass == 0)
+                    break;
+                }
+                if (pass == 0)
                     start[ft + 1]++;
                 else
                     (*items_out)[fill[ft]++] = (uint32_t)o;
