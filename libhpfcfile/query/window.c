@@ -179,6 +179,24 @@ static int segment_meets(const int64_t a[2], const int64_t b[2], const rect *r)
     return !(pos == 4 || neg == 4);
 }
 
+/* Does segment a-b meet the open interior of r (x0 < x1, y0 < y1)? The
+ * same axes, the separation now weak: the open box lies strictly on one
+ * side of the segment's line when its four corners lie on one closed side. */
+static int segment_meets_interior(const int64_t a[2], const int64_t b[2], const rect *r)
+{
+    if ((a[0] <= r->x0 && b[0] <= r->x0) || (a[0] >= r->x1 && b[0] >= r->x1) ||
+        (a[1] <= r->y0 && b[1] <= r->y0) || (a[1] >= r->y1 && b[1] >= r->y1))
+        return 0;
+    s128 dx = (s128)b[0] - a[0], dy = (s128)b[1] - a[1];
+    int64_t cx[4] = {r->x0, r->x1, r->x1, r->x0}, cy[4] = {r->y0, r->y0, r->y1, r->y1};
+    int pos = 0, neg = 0;
+    for (int k = 0; k < 4; k++) {
+        int o = sign128(dx * ((s128)cy[k] - a[1]) - dy * ((s128)cx[k] - a[0]));
+        pos += o > 0, neg += o < 0;
+    }
+    return pos > 0 && neg > 0;
+}
+
 int shapes_segment_meets(const int64_t a[2], const int64_t b[2], const int64_t box[4])
 {
     rect r = {box[0], box[1], box[2], box[3]};
@@ -194,21 +212,20 @@ int shapes_edge_box(hpfc_shapes *s, uint64_t edge, const int64_t **box)
             s->edge_box[e][0] = 1, s->edge_box[e][2] = 0; /* not computed */
     }
     int64_t *b = s->edge_box[edge];
-    if (b[0] > b[2]) {
-        int64_t x, y;
-        for (uint64_t k = 0; k < shapes_edge_points(s, edge); k++) {
-            int st = hpfc_geometry_edge_point(s->f, edge, k, &x, &y);
+    if (b[0] > b[2]) { /* read a run of points at a time */
+        enum { RUN = 128 };
+        int64_t xy[2 * RUN], lo[2] = {INT64_MAX, INT64_MAX}, hi[2] = {INT64_MIN, INT64_MIN};
+        for (uint64_t k0 = 0, n = shapes_edge_points(s, edge), m; k0 < n; k0 += m) {
+            m = n - k0 < RUN ? n - k0 : RUN;
+            int st = shapes_edge_point_run(s, edge, k0, m, xy);
             if (st)
                 return st;
-            if (k == 0 || x < b[0])
-                b[0] = x;
-            if (k == 0 || y < b[1])
-                b[1] = y;
-            if (k == 0 || x > b[2])
-                b[2] = x;
-            if (k == 0 || y > b[3])
-                b[3] = y;
+            for (uint64_t k = 0; k < 2 * m; k++) {
+                lo[k & 1] = xy[k] < lo[k & 1] ? xy[k] : lo[k & 1];
+                hi[k & 1] = xy[k] > hi[k & 1] ? xy[k] : hi[k & 1];
+            }
         }
+        b[0] = lo[0], b[1] = lo[1], b[2] = hi[0], b[3] = hi[1];
     }
     *box = b;
     return HPFC_OK;
@@ -225,45 +242,56 @@ static int edge_inside(hpfc_shapes *s, uint64_t edge, const rect *win, int *insi
 
 /* ---- the descent ------------------------------------------------------------------- */
 
-/* Segment k (points k, k + 1) of edge e meets the closed box of a leaf? */
-static int segment_in_box(hpfc_shapes *s, uint64_t e, uint64_t k, const rect *box,
-                          const rect *r, int *meets_box, int *meets_r)
+/* The segments of edge e after `seg` (forward: seg, seg + 1, ...) or
+ * before it (seg - 1, seg - 2, ...), while they meet the leaf's closed
+ * box: *hit 1 when one of them meets r, 2 when it meets r's interior
+ * (r not flat). The points come a run at a time. */
+static int walk_segments(hpfc_shapes *s, uint64_t e, uint64_t seg, int forward, const rect *box,
+                         const rect *r, int *hit)
 {
-    int64_t a[2], b[2];
-    int st = hpfc_geometry_edge_point(s->f, e, k, &a[0], &a[1]);
-    if (!st)
-        st = hpfc_geometry_edge_point(s->f, e, k + 1, &b[0], &b[1]);
-    if (!st) {
-        *meets_box = segment_meets(a, b, box);
-        *meets_r = *meets_box && segment_meets(a, b, r);
+    enum { RUN = 16 };
+    int64_t xy[2 * (RUN + 1)];
+    uint64_t segments = shapes_edge_points(s, e) - 1, j = seg;
+    while (forward ? j < segments : j > 0) {
+        uint64_t m = forward ? segments - j : j;
+        m = m < RUN ? m : RUN;
+        uint64_t from = forward ? j : j - m;
+        int st = shapes_edge_point_run(s, e, from, m + 1, xy);
+        if (st)
+            return st;
+        for (uint64_t i = 0; i < m; i++) {
+            uint64_t k = forward ? i : m - 1 - i; /* segment from + k: points k, k + 1 */
+            if (!segment_meets(&xy[2 * k], &xy[2 * k + 2], box))
+                return HPFC_OK;
+            if (segment_meets(&xy[2 * k], &xy[2 * k + 2], r)) {
+                *hit = r->x0 < r->x1 && r->y0 < r->y1 &&
+                               segment_meets_interior(&xy[2 * k], &xy[2 * k + 2], r)
+                           ? 2
+                           : 1;
+                return HPFC_OK;
+            }
+        }
+        j = forward ? j + m : j - m;
     }
-    return st;
+    return HPFC_OK;
 }
 
-/* The edge of crossing k of a cut leaf, if its piece inside the leaf meets
- * r: the segments from the crossing's on, both ways, while they meet the
- * leaf's closed box. */
-static int cut_crossing(hpfc_shapes *s, uint64_t e, uint64_t seg, const rect *box, const rect *r)
+/* The edge of a crossing of a cut leaf (its edge e, its segment seg), if
+ * its piece inside the leaf meets r: the segments from the crossing's on,
+ * both ways, while they meet the leaf's closed box. *through: set when
+ * the piece crosses r's interior. */
+static int cut_crossing(hpfc_shapes *s, uint64_t e, uint64_t seg, const rect *box, const rect *r,
+                        int *through)
 {
     if (e >= s->edges || seg + 1 >= shapes_edge_points(s, e))
         return HPFC_E_CORRUPT;
-    int st, hit = 0, in_box, in_r;
-    for (uint64_t j = seg; !hit && j + 1 < shapes_edge_points(s, e); j++) {
-        if ((st = segment_in_box(s, e, j, box, r, &in_box, &in_r)))
-            return st;
-        hit = in_r;
-        if (!in_box)
-            break;
-    }
-    for (uint64_t j = seg; !hit && j-- > 0;) {
-        if ((st = segment_in_box(s, e, j, box, r, &in_box, &in_r)))
-            return st;
-        hit = in_r;
-        if (!in_box)
-            break;
-    }
-    if (!hit)
-        return HPFC_OK;
+    int hit = 0;
+    int st = walk_segments(s, e, seg, 1, box, r, &hit);
+    if (!st && !hit)
+        st = walk_segments(s, e, seg, 0, box, r, &hit);
+    if (st || !hit)
+        return st;
+    *through |= hit == 2;
     st = add_edge(s, e, 1);
     if (!st)
         st = add_face(s, s->left[e], 1);
@@ -324,11 +352,14 @@ static int cut_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const rect *box, con
     if (array_grow((void **)&w->seg, &w->cap_seg, (size_t)n + 1, sizeof *w->seg))
         return HPFC_E_NOMEM;
     st = geom_leaf_segments(s->f, leaf, n, w->seg);
+    int through = 0;
     for (uint32_t k = 0; k < n && !st; k++)
-        st = cut_crossing(s, w->leaf.edge[k], w->seg[k], box, r);
-    if (st)
+        st = cut_crossing(s, w->leaf.edge[k], w->seg[k], box, r, &through);
+    /* A face meeting r along no segment covers r: the one at its corner.
+     * None does when an edge crosses r's interior (it would hold that
+     * edge's points, and be one of its sides). */
+    if (st || through)
         return st;
-    /* a face meeting r along no segment covers r: the one at its corner */
     hpfc_point_location loc;
     size_t count = 0;
     if (array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, 8, sizeof *w->leaf_faces))
