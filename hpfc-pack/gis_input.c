@@ -1111,9 +1111,31 @@ static int geos_node(reader *r, GEOSGeometry **lines, size_t n_lines, seg **segs
     return st;
 }
 
+/* The segments a[i] not marked skip[i] and b[0 .. nb), both sorted lists
+ * of distinct segments, merged in order, each once: a malloc'ed array of
+ * *n_out (no copy of a's kept ones first: a may be most of the map). */
+static seg *merge_unique(const seg *a, size_t na, const unsigned char *skip, size_t kept,
+                         const seg *b, size_t nb, size_t *n_out)
+{
+    seg *out = malloc((kept + nb ? kept + nb : 1) * sizeof *out);
+    size_t i = 0, j = 0, n = 0;
+    while (out && (i < na || j < nb)) {
+        if (i < na && skip[i]) {
+            i++;
+            continue;
+        }
+        int c = i == na ? 1 : j == nb ? -1 : cmp_seg(&a[i], &b[j]);
+        out[n++] = c <= 0 ? a[i] : b[j];
+        i += c <= 0, j += c >= 0;
+    }
+    *n_out = n;
+    return out;
+}
+
 /* GEOS nodes the segments marked dirty; the clean ones are kept as they
- * are. Fills *out when the result is a planar graph (checked exactly), and
- * *geos_out with GEOS's own segments (sorted), else leaves them NULL. */
+ * are. Fills *out when the result is a planar graph (checked exactly: the
+ * clean ones met nothing, so only what meets GEOS's segments can break it),
+ * and *geos_out with GEOS's own segments (sorted), else leaves them NULL. */
 static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char *dirty,
                        size_t n_dirty, seg **out, size_t *n_out, seg **geos_out,
                        size_t *n_geos_out)
@@ -1131,26 +1153,18 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
     free(lines);
     seg *from_geos = NULL; /* GEOS's segments: the paths of the dirty ones run along them */
     size_t n_geos = m;
-    if (!st && !(from_geos = malloc((m ? m : 1) * sizeof *from_geos)))
-        st = fail(r, "out of memory");
     if (!st) {
-        memcpy(from_geos, merged, m * sizeof *merged);
-        from_geos = sort_unique(from_geos, &n_geos);
+        from_geos = sort_unique(merged, &n_geos);
+        merged = NULL;
     }
-    for (size_t i = 0; i < n && !st; i++)
-        if (!dirty[i] && !array_grow((void **)&merged, &cap, m + 1, sizeof *merged))
-            st = fail(r, "out of memory");
-        else if (!dirty[i])
-            merged[m++] = segs[i];
-    unsigned char *again = st ? NULL : calloc(m ? m : 1, 1);
-    if (!st && !again)
+    /* the clean segments, in segs' sorted order, and GEOS's */
+    if (!st && !(merged = merge_unique(segs, n, dirty, n - n_dirty, from_geos, n_geos, &m)))
         st = fail(r, "out of memory");
     if (!st) {
-        merged = sort_unique(merged, &m);
-        long long left = segnode_find_dirty(merged, m, again);
-        if (left < 0)
+        int near = segnode_any_near(from_geos, n_geos, merged, m);
+        if (near < 0)
             st = fail(r, "out of memory");
-        else if (left == 0) {
+        else if (near == 0) {
             *out = merged;
             *n_out = m;
             merged = NULL;
@@ -1160,7 +1174,6 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
         }
     }
     free(from_geos);
-    free(again);
     free(merged);
     return st;
 }

@@ -109,6 +109,82 @@ static void test_cell(const segnode_seg *s, const uint32_t *ids, size_t k, unsig
         }
 }
 
+static int same_seg(const segnode_seg *a, const segnode_seg *b)
+{
+    return a->ax == b->ax && a->ay == b->ay && a->bx == b->bx && a->by == b->by;
+}
+
+/* The cells of the grid that segment s's box covers, clipped to the grid:
+ * 0 when it lies outside it. */
+static int clipped_range(const grid *g, const segnode_seg *s, size_t *i0, size_t *i1,
+                         size_t *j0, size_t *j1)
+{
+    int64_t x1 = g->x0 + (int64_t)g->cols * g->size - 1, y1 = g->y0 + (int64_t)g->rows * g->size - 1;
+    int64_t sy0 = min64(s->ay, s->by), sy1 = max64(s->ay, s->by);
+    if (s->bx < g->x0 || s->ax > x1 || sy1 < g->y0 || sy0 > y1)
+        return 0;
+    segnode_seg c = {max64(s->ax, g->x0), max64(sy0, g->y0), min64(s->bx, x1), min64(sy1, y1)};
+    cell_range(g, &c, i0, i1, j0, j1);
+    return 1;
+}
+
+int segnode_any_near(const segnode_seg *fresh, size_t m, const segnode_seg *all, size_t n)
+{
+    if (m == 0)
+        return 0;
+    if (m >= UINT32_MAX)
+        return 1;
+    grid g = make_grid(fresh, m);
+    size_t cells = g.cols * g.rows, entries = 0, i0, i1, j0, j1;
+    size_t *start = calloc(cells + 1, sizeof *start);
+    if (!start)
+        return -1;
+    int found = 0;
+    for (size_t f = 0; f < m && !found; f++) {
+        cell_range(&g, &fresh[f], &i0, &i1, &j0, &j1);
+        found = (i1 - i0 + 1) * (j1 - j0 + 1) > MAX_CELLS_PER_SEGMENT;
+        for (size_t j = j0; j <= j1 && !found; j++)
+            for (size_t c = i0; c <= i1; c++)
+                start[j * g.cols + c + 1]++, entries++;
+    }
+    for (size_t c = 0; c < cells; c++)
+        start[c + 1] += start[c];
+    uint32_t *ids = found ? NULL : malloc((entries ? entries : 1) * sizeof *ids);
+    size_t *fill = found ? NULL : malloc((cells + 1) * sizeof *fill);
+    if (!found && (!ids || !fill))
+        found = -1;
+    for (size_t c = 0; c <= cells && !found; c++)
+        fill[c] = start[c];
+    for (size_t f = 0; f < m && !found; f++) {
+        cell_range(&g, &fresh[f], &i0, &i1, &j0, &j1);
+        for (size_t j = j0; j <= j1; j++)
+            for (size_t c = i0; c <= i1; c++)
+                ids[fill[j * g.cols + c]++] = (uint32_t)f;
+    }
+    /* every segment against the fresh ones of the cells its box covers */
+    for (size_t i = 0; i < n && !found; i++) {
+        if (!clipped_range(&g, &all[i], &i0, &i1, &j0, &j1))
+            continue;
+        if ((i1 - i0 + 1) * (j1 - j0 + 1) > MAX_CELLS_PER_SEGMENT) {
+            found = 1;
+            break;
+        }
+        for (size_t j = j0; j <= j1 && !found; j++)
+            for (size_t c = i0; c <= i1 && !found; c++)
+                for (size_t k = start[j * g.cols + c]; k < start[j * g.cols + c + 1]; k++) {
+                    const segnode_seg *f = &fresh[ids[k]];
+                    if (!same_seg(f, &all[i]) && segnode_interact(f, &all[i])) {
+                        found = 1;
+                        break;
+                    }
+                }
+    }
+    free(ids);
+    free(fill);
+    free(start);
+    return found;
+}
+
 long long segnode_find_dirty(const segnode_seg *s, size_t n, unsigned char *dirty)
 {
     long long marked = 0;

@@ -44,6 +44,18 @@ static inline int segnode_pt_cmp(const void *a, const void *b)
  * Returns the number of dirty segments, or -1 when memory runs out. */
 long long segnode_find_dirty(const segnode_seg *s, size_t n, unsigned char *dirty);
 
+/* 1 when a segment of all[0 .. n) meets one of fresh[0 .. m) other than at
+ * an end point of both (a segment of all equal to a fresh one is that one,
+ * not tested against itself), or when a fresh segment, or a segment of all
+ * near them, covers too many cells of the fresh segments' grid to be tested
+ * (as segnode_find_dirty marks it); 0 when none does; -1 when memory runs
+ * out. The pairs within all are not tested: after segnode_find_dirty, the
+ * segments it left clean meet none but at shared ends, so a graph made of
+ * them and of freshly noded segments is planar iff this gives 0, at a cost
+ * that follows n plus the pairs near the fresh segments, not a second pass
+ * over every cell. */
+int segnode_any_near(const segnode_seg *fresh, size_t m, const segnode_seg *all, size_t n);
+
 /* Does segment a meet segment b other than at an end point of both? Exact. */
 int segnode_interact(const segnode_seg *a, const segnode_seg *b);
 

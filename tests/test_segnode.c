@@ -2,7 +2,8 @@
  * Unit tests of hpfc-pack's exact "needs noding" test (hpfc-pack/segnode.h):
  * segnode_interact() against hand-made cases and an independent parametric
  * oracle on small integer segments (many degeneracies: shared ends, touches,
- * collinear overlaps), and segnode_find_dirty()'s grid against all pairs,
+ * collinear overlaps), segnode_find_dirty()'s grid against all pairs,
+ * segnode_any_near() against all pairs with a fresh segment,
  * with long segments and coordinates near the lattice bound.
  */
 #include <stdlib.h>
@@ -173,10 +174,63 @@ static void test_grid(void)
     grid_case((int64_t)1 << 38, (int64_t)1 << 38, 0);
 }
 
+/* ---- segnode_any_near against all pairs with a fresh segment ------------------- */
+
+/* all: n random segments (distinct); fresh: m of them (every k-th, so each
+ * is also in all) or, with `apart`, m new ones. Brute force: does any pair
+ * (fresh, all) other than a segment with itself meet? */
+static int near_case(int64_t span, int64_t len, size_t m, int apart)
+{
+    enum { N = 1200 };
+    segnode_seg all[N], fresh[N];
+    size_t n = 0;
+    while (n < N) {
+        int64_t x = rnd(span), y = rnd(span);
+        segnode_seg t = seg(x, y, x + rnd(2 * len + 1) - len, y + rnd(2 * len + 1) - len);
+        if (t.ax != t.bx || t.ay != t.by)
+            all[n++] = t;
+    }
+    qsort(all, n, sizeof *all, cmp);
+    size_t u = 0;
+    for (size_t i = 0; i < n; i++)
+        if (u == 0 || cmp(&all[u - 1], &all[i]) != 0)
+            all[u++] = all[i];
+    for (size_t k = 0; k < m; k++) {
+        if (!apart) {
+            fresh[k] = all[(k * 7919) % u];
+            continue;
+        }
+        int64_t x = rnd(span), y = rnd(span);
+        fresh[k] = seg(x, y, x + len, y + 1 + rnd(len));
+    }
+    int want = 0;
+    for (size_t k = 0; k < m && !want; k++)
+        for (size_t i = 0; i < u && !want; i++)
+            want = memcmp(&fresh[k], &all[i], sizeof all[i]) != 0 &&
+                   segnode_interact(&fresh[k], &all[i]);
+    CHECK_EQ_INT(segnode_any_near(fresh, m, all, u), want);
+    return want;
+}
+
+static void test_near(void)
+{
+    int seen[2] = {0, 0};
+    for (int round = 0; round < 300 && !check_failures; round++) {
+        /* from sparse maps, where a few fresh segments often meet nothing,
+         * to dense ones, where most do */
+        int64_t span = round % 3 == 0 ? 100000 : round % 3 == 1 ? 5000 : 400;
+        size_t m = 1 + (size_t)rnd(round % 2 ? 3 : 40);
+        seen[near_case(span, 1 + rnd(20), m, round % 4 == 3)]++;
+    }
+    CHECK(seen[0] > 10 && seen[1] > 10); /* both answers were asked for */
+    CHECK_EQ_INT(segnode_any_near(NULL, 0, NULL, 0), 0);
+}
+
 int main(void)
 {
     test_cases();
     test_oracle();
     test_grid();
+    test_near();
     return check_report("test_segnode");
 }
