@@ -3,12 +3,12 @@
 # mode (interfaces §3): each mode run on `cat FILE |` ... `-` and on a FIFO
 # fed by cat must print what the same command prints on the path, and write
 # the same OUT byte for byte (the oracle: the path, which is mapped, against
-# the bytes read into memory). The modes that read FILE more than once
-# before (--export-graph verifies first; --dissolve --export exports the
-# open file again) are among them. Refusals: POINTS and FILE both standard
-# input; OUT that is the file standard input is redirected from. The GIS
-# modes (--export, --neighbours, --dissolve --export) run only when GDAL
-# is built in.
+# the bytes read into memory). Among them the modes that read FILE twice
+# before (--export-graph verified it first; --dissolve --export exported
+# the open file again) and --render, whose OUT is named after OUT alone.
+# Refusals: POINTS and FILE both standard input; OUT that is the file
+# standard input is redirected from. The GIS modes (--export, --neighbours,
+# --dissolve, --mesh --export) run only when GDAL is built in.
 # shellcheck source=tests/cli/lib.sh
 . "$(dirname "$0")/lib.sh"
 
@@ -73,6 +73,7 @@ same "--window" "$p" "" --window 0,0,1,1 --json
 same "--nearest" "$p" "" --nearest 0.5,0.25
 same "--locate" "$p" "" --locate 0.5,0.25
 same "--export-graph" "$p" json --export-graph
+same "--render" "$p" svg --json --render
 
 # The check is able to fail: a pipe that carries half the file is refused.
 head -c 4000 "$p" | "$INSPECT" --verify - >"$tmp/out" 2>"$tmp/err" && fail "--verify of half a file passed"
