@@ -80,6 +80,7 @@ compare("ogrinfo -spat (1 % of the counties) against a full read",
         [("ogrinfo -spat counties.hpfc", ["ogrinfo", "-ro", "-q", path("counties.hpfc"), "counties", "-spat"] + SPAT),
          ("ogrinfo counties.hpfc (full read)", ["ogrinfo", "-ro", "-q", path("counties.hpfc"), "counties"]),
          ("ogrinfo -spat counties.fgb (indexed bbox)", ["ogrinfo", "-ro", "-q", path("counties.fgb"), "counties", "-spat"] + SPAT),
+         ("ogrinfo -spat counties_srs.fgb (EPSG:4326)", ["ogrinfo", "-ro", "-q", path("counties_srs.fgb"), "counties", "-spat"] + SPAT),
          ("ogrinfo counties.fgb (full read)", ["ogrinfo", "-ro", "-q", path("counties.fgb"), "counties"])])
 gp = ("import fiona, geopandas, sys; fiona.supported_drivers['HPFC'] = 'r'; "
       "df = geopandas.read_file(sys.argv[1], layer='countries', engine='fiona'); assert len(df) > 200")

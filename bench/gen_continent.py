@@ -2,11 +2,11 @@
 """A synthetic continental polygon coverage in longitude/latitude, for the
 GIS packing benchmark (bench/run-gis.sh).
 
-    gen_continent.py OUT.geojson [COLS ROWS POINTS_PER_SIDE [SEED]]
+    gen_continent.py OUT.geojson [COLS ROWS POINTS_PER_SIDE [SEED [W S E N]]]
 
 Defaults: 80 x 50 county-like cells over 125-67 W, 25-49 N (the extent of the
 conterminous United States), 250 shape points inside every side: about 4
-million shape points, 130 MB of GeoJSON.
+million shape points, 130 MB of GeoJSON. W S E N: another extent (degrees).
 
 - Cells are the faces of a jittered grid. Each side between two grid nodes is
   one jagged polyline (a bounded random walk across the side, tapered to
@@ -76,13 +76,15 @@ def main():
     rows = int(sys.argv[3]) if len(sys.argv) > 3 else 50
     k = int(sys.argv[4]) if len(sys.argv) > 4 else 250
     rng = random.Random(int(sys.argv[5]) if len(sys.argv) > 5 else 1)
-    cw, ch = (LON1 - LON0) / cols, (LAT1 - LAT0) / rows
+    lon0, lat0, lon1, lat1 = ([float(v) for v in sys.argv[6:10]] if len(sys.argv) > 9 else
+                              (LON0, LAT0, LON1, LAT1))
+    cw, ch = (lon1 - lon0) / cols, (lat1 - lat0) / rows
     node = {}
     for j in range(rows + 1):
         for i in range(cols + 1):
             jit = 0 if i in (0, cols) or j in (0, rows) else 0.15
-            node[i, j] = (LON0 + (i + rng.uniform(-jit, jit)) * cw,
-                          LAT0 + (j + rng.uniform(-jit, jit)) * ch)
+            node[i, j] = (lon0 + (i + rng.uniform(-jit, jit)) * cw,
+                          lat0 + (j + rng.uniform(-jit, jit)) * ch)
     # sides, rounded once so that both users print the same digits
     horiz = {(i, j): [fmt(p) for p in side(rng, node[i, j], node[i + 1, j], k, 0.12)]
              for j in range(rows + 1) for i in range(cols)}

@@ -100,7 +100,8 @@ static void print_help(void)
            "       hpfc-inspect --window X0,Y0,X1,Y1 | --window-lonlat W,S,E,N [--json] FILE\n"
            "       hpfc-inspect --neighbours KEY|FID [--json] FILE\n"
            "       hpfc-inspect --nearest X,Y | --nearest-lonlat LON,LAT [--within D] [--json] FILE\n"
-           "       hpfc-inspect --dissolve FIELD | --mesh [interior|exterior|all|FIELD]\n"
+           "       hpfc-inspect --dissolve FIELD | --dissolve-features KEY|FID,...\n"
+           "                    | --mesh [interior|exterior|all|FIELD]\n"
            "                    [--export OUT [-f DRIVER]] [--json] FILE\n"
            "\n"
            "Shows the header, the section directory and the per-level table of an\n"
@@ -195,6 +196,9 @@ static void print_help(void)
            "                         within D user units. --nearest-lonlat LON,LAT\n"
            "  --dissolve FIELD       the features merged by FIELD's value: exact polygons\n"
            "                         (with --export OUT: a layer 'dissolved' through GDAL)\n"
+           "  --dissolve-features KEY|FID,...\n"
+           "                         the listed features merged into one exact polygon\n"
+           "                         (each a key or a fid, as --neighbours takes it)\n"
            "  --mesh [K]             the borders as lines: interior (default: between\n"
            "                         features), exterior (the outline), all, or FIELD\n"
            "                         (between different values); --export OUT: layer 'mesh'\n"
@@ -284,7 +288,8 @@ static int query_option(int argc, char **argv, int *i, inspect_args *a)
 }
 
 /* The topology queries (queries.c): --window without --render is one;
- * --export and -f go with --dissolve and --mesh. -2 when there is none. */
+ * --export and -f go with --dissolve, --dissolve-features and --mesh. -2 when
+ * there is none. */
 static int parse_topology(inspect_args *a)
 {
     const char **v = a->values;

@@ -66,7 +66,8 @@ int topo_option(int argc, char **argv, int *i, topo_args *t)
         const char **slot;
     } opts[] = {{"--neighbours", &t->neighbours}, {"--neighbors", &t->neighbours},
                 {"--nearest-lonlat", &t->nearest_lonlat}, {"--nearest", &t->nearest},
-                {"--within", &t->within}, {"--dissolve", &t->dissolve}, {"--mesh", &t->mesh}};
+                {"--within", &t->within}, {"--dissolve-features", &t->dissolve_features},
+                {"--dissolve", &t->dissolve}, {"--mesh", &t->mesh}};
     for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++) {
         int missing = 0;
         /* --mesh alone is the interior borders: its value is optional when
@@ -96,7 +97,8 @@ int topo_option(int argc, char **argv, int *i, topo_args *t)
 int topo_count(const topo_args *t)
 {
     return !!(t->window || t->window_lonlat) + !!t->neighbours +
-           !!(t->nearest || t->nearest_lonlat) + !!t->dissolve + !!t->mesh;
+           !!(t->nearest || t->nearest_lonlat) + !!(t->dissolve || t->dissolve_features) +
+           !!t->mesh;
 }
 
 /* n comma-separated finite decimals. */
@@ -113,8 +115,9 @@ static int numbers(const char *text, decimal *d, int n)
 int topo_check(const topo_args *t)
 {
     decimal d[4];
-    if (topo_count(t) > 1)
-        return usage(NULL, "use one of --window, --neighbours, --nearest, --dissolve and --mesh");
+    if (topo_count(t) > 1 || (t->dissolve && t->dissolve_features))
+        return usage(NULL, "use one of --window, --neighbours, --nearest, --dissolve, "
+                           "--dissolve-features and --mesh");
     if (t->window && t->window_lonlat)
         return usage(NULL, "use one of --window and --window-lonlat");
     if (t->nearest && t->nearest_lonlat)
@@ -135,8 +138,9 @@ int topo_check(const topo_args *t)
         return usage("--within", "only with --nearest or --nearest-lonlat");
     if (t->within && (numbers(t->within, d, 1) || d[0].value < 0))
         return usage("--within", "expected a distance >= 0 in user units");
-    if (t->export_out && !t->dissolve && !t->mesh)
-        return usage("--export", "with a topology query only with --dissolve or --mesh");
+    if (t->export_out && !t->dissolve && !t->dissolve_features && !t->mesh)
+        return usage("--export",
+                     "with a topology query only with --dissolve, --dissolve-features or --mesh");
     return -1;
 }
 
@@ -314,16 +318,16 @@ static void text_feature(FILE *out, const ctx *c, hpfc_id k)
         fprintf(out, " '%.*s'", (int)ft.key_len, ft.key);
 }
 
-/* The feature KEY names (its --key value), else the one whose fid is FID. */
-static int find_feature(ctx *c, const char *text, hpfc_id *out)
+/* The feature KEY names (its --key value), else the one whose fid is FID:
+ * text[0 .. n). */
+static int find_feature(ctx *c, const char *opt, const char *text, size_t n, hpfc_id *out)
 {
     if (!c->features)
-        return fail(c, "--neighbours: the file has no features (FEAT section)");
-    size_t n = strlen(text);
+        return fail(c, "%s: the file has no features (FEAT section)", opt);
     char *end;
     errno = 0;
     long long fid = strtoll(text, &end, 10);
-    int numeric = end != text && !*end && !errno;
+    int numeric = end != text && end == text + n && !errno;
     hpfc_id by_fid = HPFC_ID_NONE;
     for (uint32_t k = 0; k < c->fi.features; k++) {
         hpfc_feature ft;
@@ -337,7 +341,8 @@ static int find_feature(ctx *c, const char *text, hpfc_id *out)
             by_fid = k;
     }
     if (by_fid == HPFC_ID_NONE)
-        return fail(c, "--neighbours: '%s' names no feature (neither a key nor a fid)", text);
+        return fail(c, "%s: '%.*s' names no feature (neither a key nor a fid)", opt, (int)n,
+                    text);
     *out = by_fid;
     return VIEW_OK;
 }
@@ -473,7 +478,7 @@ static int run_window(ctx *c, const topo_args *t, FILE *out)
 static int run_neighbours(ctx *c, const topo_args *t, FILE *out)
 {
     hpfc_id self = HPFC_ID_NONE;
-    if (find_feature(c, t->neighbours, &self))
+    if (find_feature(c, "--neighbours", t->neighbours, strlen(t->neighbours), &self))
         return VIEW_FAIL;
     hpfc_neighbours nb;
     int st = hpfc_shapes_feature_neighbours(c->s, self, &nb);
@@ -761,6 +766,49 @@ static int group_by(ctx *c, const char *field, const char *opt, groups *g)
     return r;
 }
 
+static int cmp_id(const void *pa, const void *pb)
+{
+    hpfc_id a = *(const hpfc_id *)pa, b = *(const hpfc_id *)pb;
+    return (a > b) - (a < b);
+}
+
+/* One group: the features LIST names (comma-separated KEY|FID, each as
+ * --neighbours takes it; one named twice counts once), its value the list. */
+static int group_list(ctx *c, const char *list, const char *opt, groups *g)
+{
+    memset(g, 0, sizeof *g);
+    size_t items = 1;
+    for (const char *p = list; *p; p++)
+        items += *p == ',';
+    size_t len = strlen(list);
+    g->value = calloc(2, sizeof *g->value);
+    g->members = malloc(items * sizeof *g->members);
+    g->start = malloc(2 * sizeof *g->start);
+    if (!g->value || !g->members || !g->start || !(g->value[0] = malloc(len + 1)))
+        return fail(c, "out of memory");
+    memcpy(g->value[0], list, len + 1);
+    g->count = 1;
+    size_t m = 0;
+    for (const char *p = list;; p++) {
+        const char *comma = strchr(p, ',');
+        size_t n = comma ? (size_t)(comma - p) : strlen(p);
+        if (n == 0)
+            return fail(c, "%s: an empty item in '%s'", opt, list);
+        if (find_feature(c, opt, p, n, &g->members[m++]))
+            return VIEW_FAIL;
+        if (!comma)
+            break;
+        p = comma;
+    }
+    qsort(g->members, m, sizeof *g->members, cmp_id);
+    size_t u = 0;
+    for (size_t k = 0; k < m; k++)
+        if (u == 0 || g->members[k] != g->members[u - 1])
+            g->members[u++] = g->members[k];
+    g->start[0] = 0, g->start[1] = u;
+    return VIEW_OK;
+}
+
 /* ---- --dissolve and --mesh ------------------------------------------------------------ */
 
 /* Twice the signed area of an answer's rings, in lattice units squared
@@ -818,13 +866,17 @@ static int export_layer(ctx *c, const topo_args *t, gis_custom_layer *layer, FIL
     return VIEW_OK;
 }
 
+/* --dissolve FIELD (a group per value) or --dissolve-features LIST (one). */
 static int run_dissolve(ctx *c, const topo_args *t, FILE *out)
 {
     groups g;
-    int r = group_by(c, t->dissolve, "--dissolve", &g);
+    const char *opt = t->dissolve ? "--dissolve" : "--dissolve-features";
+    const char *field = t->dissolve ? t->dissolve : "features";
+    int r = t->dissolve ? group_by(c, t->dissolve, opt, &g)
+                        : group_list(c, t->dissolve_features, opt, &g);
     if (!r && t->export_out) {
         layer_ctx l = {.g = &g};
-        gis_custom_layer layer = {.name = "dissolved", .field = t->dissolve, .count = g.count,
+        gis_custom_layer layer = {.name = "dissolved", .field = field, .count = g.count,
                                   .item = dissolve_item, .ctx = &l};
         r = export_layer(c, t, &layer, out);
         groups_free(&g);
@@ -835,7 +887,7 @@ static int run_dissolve(ctx *c, const topo_args *t, FILE *out)
         jsonw_init(&j, out);
         jsonw_object_begin(&j, NULL);
         jsonw_string(&j, "file", c->file);
-        jsonw_string(&j, "field", t->dissolve);
+        jsonw_string(&j, t->dissolve ? "field" : "features", t->dissolve ? field : t->dissolve_features);
         jsonw_array_begin(&j, "groups");
     }
     double scale = user_scale(c);
@@ -844,7 +896,7 @@ static int run_dissolve(ctx *c, const topo_args *t, FILE *out)
         size_t n = g.start[k + 1] - g.start[k];
         int st = hpfc_shapes_features_polygons(c->s, g.members + g.start[k], n, &p);
         if (st) {
-            r = lib_fail(c, "--dissolve", st);
+            r = lib_fail(c, opt, st);
             break;
         }
         double area = area2(&p) / 2 * scale * scale;
@@ -938,7 +990,7 @@ int topo_run(const char *file, const topo_args *t, FILE *out)
             r = run_neighbours(&c, t, out);
         else if (t->nearest || t->nearest_lonlat)
             r = run_nearest(&c, t, out);
-        else if (t->dissolve)
+        else if (t->dissolve || t->dissolve_features)
             r = run_dissolve(&c, t, out);
         else
             r = run_mesh(&c, t, out);

@@ -1,7 +1,8 @@
 /*
  * queries.h: hpfc-inspect's topology queries (contracts §6): --window
  * (without --render), --neighbours, --nearest, --nearest-lonlat (with
- * --within), --dissolve FIELD and --mesh [interior|exterior|all|FIELD]
+ * --within), --dissolve FIELD, --dissolve-features KEY|FID,... and --mesh
+ * [interior|exterior|all|FIELD]
  * (each alone or with --export OUT), over the library's hpfc_shapes calls.
  * Parsed here, dispatched from hpfc-inspect.c.
  */
@@ -16,13 +17,15 @@ typedef struct topo_args {
     const char *nearest, *nearest_lonlat; /* X,Y / LON,LAT */
     const char *within;                   /* D, with --nearest* */
     const char *dissolve;                 /* FIELD */
+    const char *dissolve_features;        /* KEY|FID,KEY|FID,... */
     const char *mesh;                     /* interior, exterior, all or FIELD */
     const char *export_out, *driver;      /* --export OUT, -f DRIVER */
     int json;
 } topo_args;
 
 /* The option at argv[*i] if it is one of this file's (--neighbours,
- * --nearest, --nearest-lonlat, --within, --dissolve, --mesh): -1 when it is
+ * --nearest, --nearest-lonlat, --within, --dissolve, --dissolve-features,
+ * --mesh): -1 when it is
  * not, 0 when taken (*i advanced past its value), 2 after a usage message. */
 int topo_option(int argc, char **argv, int *i, topo_args *t);
 

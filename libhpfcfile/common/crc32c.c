@@ -2,8 +2,19 @@
  * CRC-32C (Castagnoli): reflected polynomial 0x82F63B78, initial value and
  * final xor 0xFFFFFFFF; the check value of "123456789" is 0xE3069283
  * (spec/hpfc-format.md "Conventions"). Slicing-by-8 over a constant table,
- * so the reader keeps no mutable global state and needs no CPU features.
+ * so the reader keeps no mutable global state and needs no CPU features;
+ * on x86-64 CPUs with SSE 4.2 the crc32 instruction, about ten times
+ * faster, which matters because programs that open a file check all of it
+ * first (a GDAL open, hpfc-inspect --verify). The CPU is asked (cpuid) at
+ * each call long enough to repay the question, so nothing is kept between
+ * calls and nothing beyond libc is linked.
  */
+#include <string.h>
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <cpuid.h>
+#define CRC32C_HARDWARE 1
+#endif
+
 #include "format.h"
 
 /* CRC32C_TABLE[0] is the byte-wise table; CRC32C_TABLE[k][b] advances
@@ -376,7 +387,7 @@ static const uint32_t CRC32C_TABLE[8][256] = {
     },
 };
 
-uint32_t crc32c_update(uint32_t crc, const void *data, size_t length)
+uint32_t crc32c_update_sliced(uint32_t crc, const void *data, size_t length)
 {
     const uint8_t *p = data;
     crc = ~crc;
@@ -393,6 +404,47 @@ uint32_t crc32c_update(uint32_t crc, const void *data, size_t length)
     for (; length; length--)
         crc = (crc >> 8) ^ CRC32C_TABLE[0][(crc ^ *p++) & 0xff];
     return ~crc;
+}
+
+#ifdef CRC32C_HARDWARE
+__attribute__((target("sse4.2"))) static uint32_t crc32c_update_sse42(uint32_t crc,
+                                                                      const void *data,
+                                                                      size_t length)
+{
+    const uint8_t *p = data;
+    uint64_t c = ~crc;
+    for (; length && ((uintptr_t)p & 7); length--)
+        c = __builtin_ia32_crc32qi((uint32_t)c, *p++);
+    for (; length >= 8; length -= 8, p += 8) {
+        uint64_t v;
+        memcpy(&v, p, 8); /* x86 is little-endian, as the slicing's loads */
+        c = __builtin_ia32_crc32di(c, v);
+    }
+    for (; length; length--)
+        c = __builtin_ia32_crc32qi((uint32_t)c, *p++);
+    return ~(uint32_t)c;
+}
+#endif
+
+int crc32c_hardware(void)
+{
+#ifdef CRC32C_HARDWARE
+    unsigned a, b, c, d;
+    return __get_cpuid(1, &a, &b, &c, &d) && (c & bit_SSE4_2);
+#else
+    return 0;
+#endif
+}
+
+uint32_t crc32c_update(uint32_t crc, const void *data, size_t length)
+{
+#ifdef CRC32C_HARDWARE
+    /* cpuid may cost a microsecond under a hypervisor: the table does the
+     * short runs (headers, small sections) */
+    if (length >= 4096 && crc32c_hardware())
+        return crc32c_update_sse42(crc, data, length);
+#endif
+    return crc32c_update_sliced(crc, data, length);
 }
 
 uint32_t format_meta_crc(const uint8_t *file, uint64_t meta_size)

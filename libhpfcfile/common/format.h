@@ -196,6 +196,10 @@ static inline bool format_all_zero(const uint8_t *p, size_t n)
 /* Continues a CRC-32C (Castagnoli) over data: start with crc = 0; the
  * pre- and post-inversion are inside, so calls chain. */
 uint32_t crc32c_update(uint32_t crc, const void *data, size_t length);
+/* The same, always by the table (the tests hold the two paths equal), and
+ * whether crc32c_update uses the CPU's crc32 instruction here. */
+uint32_t crc32c_update_sliced(uint32_t crc, const void *data, size_t length);
+int crc32c_hardware(void);
 
 /* The header checksum: CRC-32C of [0, meta_size) with the meta_crc32c field
  * taken as zero. meta_size >= FORMAT_HEADER_SIZE. */

@@ -146,6 +146,31 @@ void hpfc_user_point(const hpfc_file *f, int64_t x, int64_t y, double *ux, doubl
     *uy = scaled(y, f->info.unit_exp10);
 }
 
+int shapes_edge_point_run(const hpfc_shapes *s, uint64_t e, uint64_t from, uint64_t n,
+                          int64_t *xy)
+{
+    uint64_t last = shapes_edge_points(s, e) - 1, end = from + n;
+    if (n == 0)
+        return HPFC_OK;
+    if (from > last || n > last - from + 1)
+        return HPFC_E_ARG;
+    uint64_t k = from;
+    if (k == 0) {
+        xy[0] = s->vxy[2 * (size_t)s->eu[e]], xy[1] = s->vxy[2 * (size_t)s->eu[e] + 1];
+        xy += 2, k++;
+    }
+    uint64_t inner = end < last ? end : last; /* shape points: 1 .. last - 1 */
+    if (k < inner) {
+        int st = geom_points(s->f, GEOM_PX, s->first[e] + k - 1, inner - k, xy);
+        if (st)
+            return st;
+        xy += 2 * (inner - k), k = inner;
+    }
+    if (k < end) /* k == last */
+        xy[0] = s->vxy[2 * (size_t)s->ev[e]], xy[1] = s->vxy[2 * (size_t)s->ev[e] + 1];
+    return HPFC_OK;
+}
+
 /* ---- the index ------------------------------------------------------------------- */
 
 /* Frees the hpfc_shapes object's arrays, then the object.
@@ -280,17 +305,19 @@ static int invert_links(const feature_links *t, uint64_t rows, uint32_t features
             }
             memcpy(fill, start, (size_t)features * sizeof *fill);
         }
+        /* the links read straight from the section: a row's run at a time */
+        const uint8_t *link = t->index + 4 * ((size_t)t->rows + 1);
         for (uint64_t o = 0; o < rows && !st; o++) {
             uint32_t first, end;
-            hpfc_id ft;
             if ((st = feature_links_row(t, o, &first, &end)))
                 break;
-            for (uint32_t k = 0; k < end - first && !st; k++) {
-                if ((st = feature_links_get(t, o, k, &ft)))
-                    break;
-                if (ft >= features)
+            for (uint32_t i = first; i < end; i++) {
+                uint32_t ft = (uint32_t)le_load(link + 4 * (size_t)i, 4);
+                if (ft >= features || ft >= t->features) {
                     st = HPFC_E_CORRUPT;
-                else if (pass == 0)
+                    break;
+                }
+                if (pass == 0)
                     start[ft + 1]++;
                 else
                     (*items_out)[fill[ft]++] = (uint32_t)o;

@@ -150,6 +150,13 @@ static inline uint64_t shapes_edge_points(const hpfc_shapes *s, uint64_t e)
     return s->first[e + 1] - s->first[e] + 2;
 }
 
+/* Points [from, from + n) of edge e (point 0 is u, the last v) into xy
+ * (x, y a point): the vertices from the index, the shape points in one
+ * run of GEOM's column, a fraction of their cost point by point.
+ * HPFC_E_ARG past the edge's points, HPFC_E_CORRUPT as GEOM's reads. */
+int shapes_edge_point_run(const hpfc_shapes *s, uint64_t e, uint64_t from, uint64_t n,
+                          int64_t *xy);
+
 /* Each edge's box (x0, y0, x1, y1) over all its points, computed on first
  * use; HPFC_E_CORRUPT on a point that does not read. */
 int shapes_edge_box(hpfc_shapes *s, uint64_t edge, const int64_t **box);

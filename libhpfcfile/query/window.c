@@ -16,27 +16,37 @@
  *
  * Inside or crossing: an edge lies inside when its box does; a bounded face
  * when all the edges around it do (its boundary inside a convex window
- * holds it); a feature when all its faces and edges do.
+ * holds it); a feature when all its faces and edges do. Only what meets
+ * the window's border needs that test: a face or edge that reaches
+ * outside meets the border (it is connected) at some point p, and every
+ * leaf whose closed box holds p meets the border too; the one where it
+ * passes p (its interior near p, or its segment through p) finds it there.
+ * So what the descent finds in border leaves alone (a closed box not
+ * within the window's interior) is tested; the rest lies inside.
  */
 #include <stdlib.h>
 #include <string.h>
 
 #include "arrays.h"
 #include "file.h"
+#include "geometry.h"
+#include "labels.h"
 #include "shapes.h"
 
 /* The window's answer and the marks that keep each id once. */
 struct shapes_window {
     uint32_t *face_mark, *edge_mark, *feature_mark, gen;
-    uint8_t *face_in; /* valid where face_mark is current: the face lies inside */
+    uint32_t *face_border, *edge_border; /* == gen: found in a border leaf */
+    uint8_t *face_in, *edge_in; /* valid where *_mark is current: it lies inside */
     hpfc_id *face, *edge, *feature;
     size_t nface, cap_face, nedge, cap_edge, nfeature, cap_feature;
     uint8_t *face_inside, *edge_inside, *feature_inside;
     size_t cap_face_inside, cap_edge_inside, cap_feature_inside;
     char *word;
     size_t cap_word;
-    uint64_t *leaf_faces;
-    size_t cap_leaf_faces;
+    labels_leaf leaf;       /* the leaf's labels, loaded once */
+    uint64_t *leaf_faces, *seg;
+    size_t cap_leaf_faces, cap_seg;
 };
 
 void shapes_window_free(shapes_window *w)
@@ -46,7 +56,10 @@ void shapes_window_free(shapes_window *w)
     free(w->face_mark);
     free(w->edge_mark);
     free(w->feature_mark);
+    free(w->face_border);
+    free(w->edge_border);
     free(w->face_in);
+    free(w->edge_in);
     free(w->face);
     free(w->edge);
     free(w->feature);
@@ -54,7 +67,9 @@ void shapes_window_free(shapes_window *w)
     free(w->edge_inside);
     free(w->feature_inside);
     free(w->word);
+    labels_leaf_free(&w->leaf);
     free(w->leaf_faces);
+    free(w->seg);
     free(w);
 }
 
@@ -68,13 +83,19 @@ static int window_begin(hpfc_shapes *s)
         w->face_mark = calloc(s->faces + 1, sizeof *w->face_mark);
         w->edge_mark = calloc(s->edges + 1, sizeof *w->edge_mark);
         w->feature_mark = calloc((size_t)s->features + 1, sizeof *w->feature_mark);
+        w->face_border = calloc(s->faces + 1, sizeof *w->face_border);
+        w->edge_border = calloc(s->edges + 1, sizeof *w->edge_border);
         w->face_in = calloc(s->faces + 1, 1);
-        if (!w->face_mark || !w->edge_mark || !w->feature_mark || !w->face_in)
+        w->edge_in = calloc(s->edges + 1, 1);
+        if (!w->face_mark || !w->edge_mark || !w->feature_mark || !w->face_border ||
+            !w->edge_border || !w->face_in || !w->edge_in)
             return HPFC_E_NOMEM;
     }
     if (++w->gen == 0) { /* the stamps wrapped: forget them all */
         memset(w->face_mark, 0, (s->faces + 1) * sizeof *w->face_mark);
         memset(w->edge_mark, 0, (s->edges + 1) * sizeof *w->edge_mark);
+        memset(w->face_border, 0, (s->faces + 1) * sizeof *w->face_border);
+        memset(w->edge_border, 0, (s->edges + 1) * sizeof *w->edge_border);
         memset(w->feature_mark, 0, ((size_t)s->features + 1) * sizeof *w->feature_mark);
         w->gen = 1;
     }
@@ -82,11 +103,14 @@ static int window_begin(hpfc_shapes *s)
     return HPFC_OK;
 }
 
-static int add_face(hpfc_shapes *s, uint64_t face)
+/* Face `face` met; `border`: in a border leaf. */
+static int add_face(hpfc_shapes *s, uint64_t face, int border)
 {
     shapes_window *w = s->window;
     if (face >= s->faces)
         return HPFC_E_CORRUPT;
+    if (border)
+        w->face_border[face] = w->gen;
     if (w->face_mark[face] == w->gen)
         return HPFC_OK;
     w->face_mark[face] = w->gen;
@@ -98,11 +122,13 @@ static int add_face(hpfc_shapes *s, uint64_t face)
     return HPFC_OK;
 }
 
-static int add_edge(hpfc_shapes *s, uint64_t edge)
+static int add_edge(hpfc_shapes *s, uint64_t edge, int border)
 {
     shapes_window *w = s->window;
     if (edge >= s->edges)
         return HPFC_E_CORRUPT;
+    if (border)
+        w->edge_border[edge] = w->gen;
     if (w->edge_mark[edge] == w->gen)
         return HPFC_OK;
     w->edge_mark[edge] = w->gen;
@@ -123,6 +149,12 @@ typedef struct rect {
 static int rect_within(const rect *a, const rect *b)
 {
     return a->x0 >= b->x0 && a->y0 >= b->y0 && a->x1 <= b->x1 && a->y1 <= b->y1;
+}
+
+/* a within b's interior: it does not touch b's border */
+static int rect_within_interior(const rect *a, const rect *b)
+{
+    return a->x0 > b->x0 && a->y0 > b->y0 && a->x1 < b->x1 && a->y1 < b->y1;
 }
 
 static int sign128(s128 v)
@@ -147,6 +179,24 @@ static int segment_meets(const int64_t a[2], const int64_t b[2], const rect *r)
     return !(pos == 4 || neg == 4);
 }
 
+/* Does segment a-b meet the open interior of r (x0 < x1, y0 < y1)? The
+ * same axes, the separation now weak: the open box lies strictly on one
+ * side of the segment's line when its four corners lie on one closed side. */
+static int segment_meets_interior(const int64_t a[2], const int64_t b[2], const rect *r)
+{
+    if ((a[0] <= r->x0 && b[0] <= r->x0) || (a[0] >= r->x1 && b[0] >= r->x1) ||
+        (a[1] <= r->y0 && b[1] <= r->y0) || (a[1] >= r->y1 && b[1] >= r->y1))
+        return 0;
+    s128 dx = (s128)b[0] - a[0], dy = (s128)b[1] - a[1];
+    int64_t cx[4] = {r->x0, r->x1, r->x1, r->x0}, cy[4] = {r->y0, r->y0, r->y1, r->y1};
+    int pos = 0, neg = 0;
+    for (int k = 0; k < 4; k++) {
+        int o = sign128(dx * ((s128)cy[k] - a[1]) - dy * ((s128)cx[k] - a[0]));
+        pos += o > 0, neg += o < 0;
+    }
+    return pos > 0 && neg > 0;
+}
+
 int shapes_segment_meets(const int64_t a[2], const int64_t b[2], const int64_t box[4])
 {
     rect r = {box[0], box[1], box[2], box[3]};
@@ -162,21 +212,20 @@ int shapes_edge_box(hpfc_shapes *s, uint64_t edge, const int64_t **box)
             s->edge_box[e][0] = 1, s->edge_box[e][2] = 0; /* not computed */
     }
     int64_t *b = s->edge_box[edge];
-    if (b[0] > b[2]) {
-        int64_t x, y;
-        for (uint64_t k = 0; k < shapes_edge_points(s, edge); k++) {
-            int st = hpfc_geometry_edge_point(s->f, edge, k, &x, &y);
+    if (b[0] > b[2]) { /* read a run of points at a time */
+        enum { RUN = 128 };
+        int64_t xy[2 * RUN], lo[2] = {INT64_MAX, INT64_MAX}, hi[2] = {INT64_MIN, INT64_MIN};
+        for (uint64_t k0 = 0, n = shapes_edge_points(s, edge), m; k0 < n; k0 += m) {
+            m = n - k0 < RUN ? n - k0 : RUN;
+            int st = shapes_edge_point_run(s, edge, k0, m, xy);
             if (st)
                 return st;
-            if (k == 0 || x < b[0])
-                b[0] = x;
-            if (k == 0 || y < b[1])
-                b[1] = y;
-            if (k == 0 || x > b[2])
-                b[2] = x;
-            if (k == 0 || y > b[3])
-                b[3] = y;
+            for (uint64_t k = 0; k < 2 * m; k++) {
+                lo[k & 1] = xy[k] < lo[k & 1] ? xy[k] : lo[k & 1];
+                hi[k & 1] = xy[k] > hi[k & 1] ? xy[k] : hi[k & 1];
+            }
         }
+        b[0] = lo[0], b[1] = lo[1], b[2] = hi[0], b[3] = hi[1];
     }
     *box = b;
     return HPFC_OK;
@@ -193,113 +242,124 @@ static int edge_inside(hpfc_shapes *s, uint64_t edge, const rect *win, int *insi
 
 /* ---- the descent ------------------------------------------------------------------- */
 
-/* Segment k (points k, k + 1) of edge e meets the closed box of a leaf? */
-static int segment_in_box(hpfc_shapes *s, uint64_t e, uint64_t k, const rect *box,
-                          const rect *r, int *meets_box, int *meets_r)
+/* The segments of edge e after `seg` (forward: seg, seg + 1, ...) or
+ * before it (seg - 1, seg - 2, ...), while they meet the leaf's closed
+ * box: *hit 1 when one of them meets r, 2 when it meets r's interior
+ * (r not flat). The points come a run at a time. */
+static int walk_segments(hpfc_shapes *s, uint64_t e, uint64_t seg, int forward, const rect *box,
+                         const rect *r, int *hit)
 {
-    int64_t a[2], b[2];
-    int st = hpfc_geometry_edge_point(s->f, e, k, &a[0], &a[1]);
-    if (!st)
-        st = hpfc_geometry_edge_point(s->f, e, k + 1, &b[0], &b[1]);
-    if (!st) {
-        *meets_box = segment_meets(a, b, box);
-        *meets_r = *meets_box && segment_meets(a, b, r);
+    enum { RUN = 16 };
+    int64_t xy[2 * (RUN + 1)];
+    uint64_t segments = shapes_edge_points(s, e) - 1, j = seg;
+    while (forward ? j < segments : j > 0) {
+        uint64_t m = forward ? segments - j : j;
+        m = m < RUN ? m : RUN;
+        uint64_t from = forward ? j : j - m;
+        int st = shapes_edge_point_run(s, e, from, m + 1, xy);
+        if (st)
+            return st;
+        for (uint64_t i = 0; i < m; i++) {
+            uint64_t k = forward ? i : m - 1 - i; /* segment from + k: points k, k + 1 */
+            if (!segment_meets(&xy[2 * k], &xy[2 * k + 2], box))
+                return HPFC_OK;
+            if (segment_meets(&xy[2 * k], &xy[2 * k + 2], r)) {
+                *hit = r->x0 < r->x1 && r->y0 < r->y1 &&
+                               segment_meets_interior(&xy[2 * k], &xy[2 * k + 2], r)
+                           ? 2
+                           : 1;
+                return HPFC_OK;
+            }
+        }
+        j = forward ? j + m : j - m;
     }
-    return st;
+    return HPFC_OK;
 }
 
-/* The edge of crossing k of a cut leaf, if its piece inside the leaf meets
- * r: the segments from the crossing's on, both ways, while they meet the
- * leaf's closed box. */
-static int cut_crossing(hpfc_shapes *s, const hpfc_pixel *leaf, uint32_t k, const rect *box,
-                        const rect *r)
+/* The edge of a crossing of a cut leaf (its edge e, its segment seg), if
+ * its piece inside the leaf meets r: the segments from the crossing's on,
+ * both ways, while they meet the leaf's closed box. *through: set when
+ * the piece crosses r's interior. */
+static int cut_crossing(hpfc_shapes *s, uint64_t e, uint64_t seg, const rect *box, const rect *r,
+                        int *through)
 {
-    uint64_t e, seg;
-    int st = hpfc_label_crossing_edge(s->f, leaf, k, &e);
-    if (!st)
-        st = hpfc_geometry_crossing_segment(s->f, leaf, k, &seg);
-    if (st)
-        return st;
     if (e >= s->edges || seg + 1 >= shapes_edge_points(s, e))
         return HPFC_E_CORRUPT;
-    int hit = 0, in_box, in_r;
-    for (uint64_t j = seg; !hit && j + 1 < shapes_edge_points(s, e); j++) {
-        if ((st = segment_in_box(s, e, j, box, r, &in_box, &in_r)))
-            return st;
-        hit = in_r;
-        if (!in_box)
-            break;
-    }
-    for (uint64_t j = seg; !hit && j-- > 0;) {
-        if ((st = segment_in_box(s, e, j, box, r, &in_box, &in_r)))
-            return st;
-        hit = in_r;
-        if (!in_box)
-            break;
-    }
-    if (!hit)
-        return HPFC_OK;
-    st = add_edge(s, e);
+    int hit = 0;
+    int st = walk_segments(s, e, seg, 1, box, r, &hit);
+    if (!st && !hit)
+        st = walk_segments(s, e, seg, 0, box, r, &hit);
+    if (st || !hit)
+        return st;
+    *through |= hit == 2;
+    st = add_edge(s, e, 1);
     if (!st)
-        st = add_face(s, s->left[e]);
+        st = add_face(s, s->left[e], 1);
     if (!st)
-        st = add_face(s, s->right[e]);
+        st = add_face(s, s->right[e], 1);
     return st;
 }
 
-/* The crossings of a leaf: its word's symbols other than '+'. */
-static int leaf_crossings(hpfc_shapes *s, const hpfc_pixel *leaf, uint32_t *n)
+/* A leaf's word and labels, read once into w->leaf (w->leaf.rec.word.n
+ * crossings, w->leaf.edge their edges). */
+static int load_leaf(hpfc_shapes *s, const hpfc_pixel *leaf)
 {
     shapes_window *w = s->window;
-    size_t len;
-    int st = hpfc_pixel_word(s->f, leaf, NULL, 0, &len);
-    if (!st && array_grow((void **)&w->word, &w->cap_word, len + 1, 1))
-        st = HPFC_E_NOMEM;
-    if (!st)
+    size_t len = 0;
+    int st = HPFC_E_BUFFER_SMALL;
+    if (w->cap_word)
         st = hpfc_pixel_word(s->f, leaf, w->word, w->cap_word, &len);
-    if (st)
-        return st;
-    *n = 0;
-    for (size_t k = 0; k < len; k++)
-        *n += w->word[k] != '+';
-    return HPFC_OK;
+    if (st == HPFC_E_BUFFER_SMALL) { /* rare: the buffer keeps the longest word yet */
+        st = hpfc_pixel_word(s->f, leaf, NULL, 0, &len);
+        if (!st && array_grow((void **)&w->word, &w->cap_word, len < 64 ? 64 : len + 1, 1))
+            st = HPFC_E_NOMEM;
+        if (!st)
+            st = hpfc_pixel_word(s->f, leaf, w->word, w->cap_word, &len);
+    }
+    if (!st)
+        st = labels_leaf_load(s->f, leaf, w->word, len, &w->leaf);
+    return st;
 }
 
 /* A leaf whose closed box lies in the window: its faces and its crossings'
  * edges. */
-static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf)
+static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, int border)
 {
     shapes_window *w = s->window;
-    uint32_t n;
-    size_t count = 0;
-    int st = leaf_crossings(s, leaf, &n);
-    if (!st && array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, (size_t)n + 2,
-                          sizeof *w->leaf_faces))
-        st = HPFC_E_NOMEM;
-    if (!st)
-        st = hpfc_label_leaf_faces(s->f, leaf, w->leaf_faces, w->cap_leaf_faces, &count);
-    for (size_t k = 0; k < count && !st; k++)
-        st = add_face(s, w->leaf_faces[k]);
-    for (uint32_t k = 0; k < n && !st; k++) {
-        uint64_t e;
-        st = hpfc_label_crossing_edge(s->f, leaf, k, &e);
-        if (!st)
-            st = add_edge(s, e);
-    }
+    int st = load_leaf(s, leaf);
+    if (st)
+        return st;
+    uint32_t n = w->leaf.rec.word.n, regions = w->leaf.rec.word.regions;
+    if (array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, (size_t)regions + 1,
+                   sizeof *w->leaf_faces))
+        return HPFC_E_NOMEM;
+    st = labels_leaf_regions(s->f, &w->leaf, w->leaf_faces);
+    for (uint32_t k = 0; k < regions && !st; k++)
+        st = add_face(s, w->leaf_faces[k], border);
+    for (uint32_t k = 0; k < n && !st; k++)
+        st = add_edge(s, w->leaf.edge[k], border);
     return st;
 }
 
 /* A leaf the window's border cuts: exactly, on r = its box in the window. */
 static int cut_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const rect *box, const rect *r)
 {
-    uint32_t n;
-    int st = leaf_crossings(s, leaf, &n);
-    for (uint32_t k = 0; k < n && !st; k++)
-        st = cut_crossing(s, leaf, k, box, r);
+    shapes_window *w = s->window;
+    int st = load_leaf(s, leaf);
     if (st)
         return st;
-    /* a face meeting r along no segment covers r: the one at its corner */
-    shapes_window *w = s->window;
+    uint32_t n = w->leaf.rec.word.n;
+    if (array_grow((void **)&w->seg, &w->cap_seg, (size_t)n + 1, sizeof *w->seg))
+        return HPFC_E_NOMEM;
+    st = geom_leaf_segments(s->f, leaf, n, w->seg);
+    int through = 0;
+    for (uint32_t k = 0; k < n && !st; k++)
+        st = cut_crossing(s, w->leaf.edge[k], w->seg[k], box, r, &through);
+    /* A face meeting r along no segment covers r: the one at its corner.
+     * None does when an edge crosses r's interior (it would hold that
+     * edge's points, and be one of its sides). */
+    if (st || through)
+        return st;
     hpfc_point_location loc;
     size_t count = 0;
     if (array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, 8, sizeof *w->leaf_faces))
@@ -313,9 +373,9 @@ static int cut_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const rect *box, con
                                &count);
     }
     if (st == HPFC_E_NO_PIXEL) /* r's corner on the domain's far border: outside it */
-        return add_face(s, 0);
+        return add_face(s, 0, 1);
     for (size_t k = 0; k < count && !st; k++)
-        st = add_face(s, w->leaf_faces[k]);
+        st = add_face(s, w->leaf_faces[k], 1);
     return st;
 }
 
@@ -333,7 +393,7 @@ static int descend(hpfc_shapes *s, const hpfc_pixel *px, const rect *win, uint32
         return HPFC_OK;
     if (type == HPFC_PIXEL_WORD) {
         if (rect_within(&box, win))
-            return inside_leaf(s, px);
+            return inside_leaf(s, px, !rect_within_interior(&box, win));
         rect r = {box.x0 > win->x0 ? box.x0 : win->x0, box.y0 > win->y0 ? box.y0 : win->y0,
                   box.x1 < win->x1 ? box.x1 : win->x1, box.y1 < win->y1 ? box.y1 : win->y1};
         return cut_leaf(s, px, &box, &r);
@@ -391,17 +451,22 @@ static int flag_edges_faces(hpfc_shapes *s, const rect *win)
     if (array_grow((void **)&w->edge_inside, &w->cap_edge_inside, w->nedge + 1, 1) ||
         array_grow((void **)&w->face_inside, &w->cap_face_inside, w->nface + 1, 1))
         return HPFC_E_NOMEM;
-    int st = HPFC_OK, inside;
-    for (size_t k = 0; k < w->nedge && !st; k++)
-        if (!(st = edge_inside(s, w->edge[k], win, &inside)))
-            w->edge_inside[k] = (uint8_t)inside;
+    int st = HPFC_OK, inside = 1;
+    for (size_t k = 0; k < w->nedge && !st; k++) {
+        uint64_t e = w->edge[k];
+        if (w->edge_border[e] == w->gen)
+            st = edge_inside(s, e, win, &inside);
+        else
+            inside = 1;
+        w->edge_inside[k] = w->edge_in[e] = (uint8_t)inside;
+    }
     for (size_t k = 0; k < w->nface && !st; k++) {
         uint64_t f = w->face[k];
         inside = f != 0;
-        for (uint64_t j = s->face_start[f]; j < s->face_start[f + 1] && inside && !st; j++)
+        for (uint64_t j = s->face_start[f];
+             w->face_border[f] == w->gen && j < s->face_start[f + 1] && inside && !st; j++)
             st = edge_inside(s, s->face_edge[j], win, &inside);
-        w->face_inside[k] = (uint8_t)inside;
-        w->face_in[f] = (uint8_t)inside;
+        w->face_inside[k] = w->face_in[f] = (uint8_t)inside;
     }
     return st;
 }
@@ -424,7 +489,7 @@ static int add_feature(hpfc_shapes *s, hpfc_id feature)
 
 /* The features of the faces and edges found; inside when all their faces
  * and edges are. */
-static int find_features(hpfc_shapes *s, const rect *win)
+static int find_features(hpfc_shapes *s)
 {
     shapes_window *w = s->window;
     int st = HPFC_OK;
@@ -459,8 +524,10 @@ static int find_features(hpfc_shapes *s, const rect *win)
             inside = w->face_mark[f] == w->gen && w->face_in[f];
         }
         for (uint64_t j = s->fe_start ? s->fe_start[ftr] : 0;
-             s->fe_start && j < s->fe_start[ftr + 1] && inside && !st; j++)
-            st = edge_inside(s, s->fe_edge[j], win, &inside);
+             s->fe_start && j < s->fe_start[ftr + 1] && inside; j++) {
+            uint32_t e = s->fe_edge[j];
+            inside = w->edge_mark[e] == w->gen && w->edge_in[e];
+        }
         w->feature_inside[k] = (uint8_t)inside;
     }
     return st;
@@ -483,7 +550,7 @@ int hpfc_shapes_window(hpfc_shapes *s, int64_t x0, int64_t y0, int64_t x1, int64
     hpfc_file_info fi;
     hpfc_file_get_info(s->f, &fi);
     if (!st && (x0 < fi.x0 || y0 < fi.y0 || x1 >= fi.x0 + fi.width || y1 >= fi.y0 + fi.height))
-        st = add_face(s, 0);
+        st = add_face(s, 0, 1);
     shapes_window *w = s->window;
     if (!st) {
         if (w->nface)
@@ -493,7 +560,7 @@ int hpfc_shapes_window(hpfc_shapes *s, int64_t x0, int64_t y0, int64_t x1, int64
         st = flag_edges_faces(s, &win);
     }
     if (!st && (what & HPFC_WINDOW_FEATURES))
-        st = find_features(s, &win);
+        st = find_features(s);
     if (st)
         return st;
     if (what & HPFC_WINDOW_FACES)

@@ -444,6 +444,31 @@ static int leaf_crossings(const hpfc_file *file, const hpfc_pixel *leaf, uint64_
     return HPFC_OK;
 }
 
+int geom_leaf_segments(const hpfc_file *file, const hpfc_pixel *leaf, uint32_t n,
+                       uint64_t *segment)
+{
+    const geom_view *g;
+    int st = geometry_of(file, leaf && segment, &g);
+    if (st)
+        return st;
+    if (!g->points) { /* every edge is one segment */
+        memset(segment, 0, (size_t)n * sizeof *segment);
+        return HPFC_OK;
+    }
+    uint64_t rank, start, end = g->crossings;
+    if ((st = labels_leaf_rank(file, leaf, &rank)))
+        return st;
+    uint64_t gl = g->first_leaf[leaf->depth] + rank;
+    st = geom_column_get(&g->col[GEOM_LCROSS], gl, &start);
+    if (!st && gl + 1 < g->leaves)
+        st = geom_column_get(&g->col[GEOM_LCROSS], gl + 1, &end);
+    if (!st && (start > end || end > g->crossings || end - start != n))
+        st = HPFC_E_CORRUPT;
+    if (!st && n)
+        st = geom_column_run(&g->col[GEOM_CSEG], start, n, segment, 1);
+    return st;
+}
+
 int hpfc_geometry_crossing_segment(const hpfc_file *file, const hpfc_pixel *leaf,
                                    uint32_t crossing, uint64_t *segment)
 {

@@ -144,6 +144,14 @@ int geom_points(const hpfc_file *file, int column, uint64_t first, uint64_t n, i
  * about a third of its calls point by point. */
 int geom_edge_points(const hpfc_file *file, uint64_t edge, int64_t *xy);
 
+/* The segments of a leaf's n crossings (its word's symbols other than
+ * '+'), from GEOM's crossing column in one run: what
+ * hpfc_geometry_crossing_segment answers one crossing at a time, without
+ * checking each against its edge (the caller, who knows the edges, does).
+ * HPFC_E_CORRUPT when the column does not give the leaf n crossings. */
+int geom_leaf_segments(const hpfc_file *file, const hpfc_pixel *leaf, uint32_t n,
+                       uint64_t *segment);
+
 /* Builds the section's bytes from the graph the tree was built from:
  * *out (malloc'ed), *length. HPFC_E_ARG when the graph is not the tree's. */
 int geometry_build(const hpfc_tree *tree, const hpfc_graph *graph, uint8_t **out,

@@ -313,3 +313,42 @@ def test_cli_agrees(coverage, inspect_tool):
     r = subprocess.run([inspect_tool, "--neighbours", "nowhere", str(path)],
                        capture_output=True, text=True, check=False)
     assert r.returncode == 1 and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_cli_dissolve(coverage, inspect_tool):
+    """hpfc-inspect --dissolve FIELD and --dissolve-features LIST against
+    unary_union of the listed features (area, polygons, holes)."""
+    import subprocess
+
+    f, geoms, keys = coverage
+    path = f.path if hasattr(f, "path") else None
+    if path is None:
+        pytest.skip("the file's path is not known")
+
+    def run(*args):
+        out = subprocess.run([inspect_tool, *args, "--json", str(path)], capture_output=True,
+                             text=True, check=True).stdout
+        return json.loads(out)["groups"]
+
+    def holes(g):
+        polys = g.geoms if g.geom_type == "MultiPolygon" else [g]
+        return sum(len(p.interiors) for p in polys)
+
+    for grp in run("--dissolve", "grp"):
+        want = unary_union([geoms[n] for n in keys if GROUP[n] == grp["value"]])
+        assert grp["area"] == pytest.approx(want.area)
+        assert grp["holes"] == holes(want)
+    fid = {n: f.feature(keys.index(n))["fid"] for n in keys}
+    lists = [["ring", "enclave"], ["ring"], ["west", "south", "diag_a", "diag_b", "ring"]]
+    for names in lists:
+        # keys for the first list, fids for the rest
+        items = names if names == lists[0] else [str(fid[n]) for n in names]
+        (grp,) = run("--dissolve-features", ",".join(items))
+        want = unary_union([geoms[n] for n in names])
+        polys = len(want.geoms) if want.geom_type == "MultiPolygon" else 1
+        assert grp["features"] == len(names)
+        assert grp["area"] == pytest.approx(want.area)
+        assert (grp["polygons"], grp["holes"]) == (polys, holes(want))
+    r = subprocess.run([inspect_tool, "--dissolve-features", "ring,nowhere", str(path)],
+                       capture_output=True, text=True, check=False)
+    assert r.returncode == 1 and len(r.stderr.strip().splitlines()) == 1
