@@ -8,7 +8,7 @@
 # the open file again) and --render, whose OUT is named after OUT alone.
 # Refusals: POINTS and FILE both standard input; OUT that is the file
 # standard input is redirected from. The GIS modes (--export, --neighbours,
-# --dissolve, --mesh --export) run only when GDAL is built in.
+# --dissolve*, --mesh --export) run only when GDAL is built in.
 # shellcheck source=tests/cli/lib.sh
 . "$(dirname "$0")/lib.sh"
 
@@ -104,5 +104,7 @@ same "--export-faces" "$g" geojson --export-faces
 same "--neighbours" "$g" "" --neighbours 0
 same "--neighbours --json" "$g" "" --json --neighbours 0
 same "--dissolve --export" "$g" geojson --dissolve source_fid --export
+same "--dissolve-features" "$g" "" --dissolve-features 0,1
+same "--dissolve-features --export" "$g" geojson --dissolve-features 0,1 --export
 same "--mesh --export" "$g" geojson --mesh --export
 finish
