@@ -8,11 +8,16 @@
  * feature linking, atomic write), with the creation options standing for
  * hpfc-pack's flags. So the file is the one hpfc-pack writes from the same
  * features with the same options, byte for byte, and a failure leaves no
- * file behind.
+ * file behind. An existing file of that name is replaced by the final
+ * rename only (delete_dataset below): until then it stays whole.
  */
+#include <cerrno>
 #include <cstring>
 #include <memory>
 #include <string>
+
+#include <dlfcn.h>
+#include <execinfo.h>
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -170,6 +175,52 @@ GDALDataset *create(const char *path, int, int, int bands, GDALDataType, char **
     return new HPFCWriter(path, options, mem);
 }
 
+/* Whether GDAL deletes the dataset because it is about to create one of
+ * that name: GDALDriver::Create and CreateCopy first delete an existing
+ * dataset they recognise (GDALDriver::QuietDelete), so a full disk, a kill
+ * or a failed build would leave no file at all where the old one was. GDAL
+ * gives a driver no way to keep it, so the callers are recognised by their
+ * exported names on the stack; where that fails (no unwind information),
+ * the delete goes ahead, as GDAL's own would. */
+bool deleting_to_create()
+{
+    void *frames[8];
+    int n = backtrace(frames, 8);
+    for (int k = 1; k < n; k++) {
+        Dl_info info;
+        if (!dladdr(frames[k], &info) || !info.dli_sname)
+            continue;
+        const char *name = info.dli_sname;
+        if (std::strstr(name, "GDALDriver11QuietDelete") ||
+            std::strstr(name, "GDALDriver6Create") || std::strstr(name, "GDALDriver10CreateCopy"))
+            return true;
+        if (std::strstr(name, "GDALDeleteDataset") || std::strstr(name, "DeleteDataSource"))
+            return false; /* a delete asked for */
+    }
+    return false;
+}
+
+/* The driver's Delete: an .hpfc dataset is its one file. Kept when a create
+ * of the same name follows (above): the writer replaces it by renaming the
+ * new file over it, or leaves it as it was. */
+CPLErr delete_dataset(const char *path)
+{
+    GDALOpenInfo info(path, GA_ReadOnly);
+    GDALDriver *self = GetGDALDriverManager()->GetDriverByName("HPFC");
+    if (!self || !self->pfnIdentify || !self->pfnIdentify(&info)) {
+        CPLError(CE_Failure, CPLE_OpenFailed, "HPFC: %s: not an .hpfc file, not deleted", path);
+        return CE_Failure;
+    }
+    if (deleting_to_create())
+        return CE_None;
+    if (VSIUnlink(path) != 0) {
+        CPLError(CE_Failure, CPLE_FileIO, "HPFC: %s: cannot delete: %s", path,
+                 VSIStrerror(errno));
+        return CE_Failure;
+    }
+    return CE_None;
+}
+
 } // namespace
 
 void hpfc_gdal_register_create(GDALDriver *driver)
@@ -205,4 +256,5 @@ void hpfc_gdal_register_create(GDALDriver *driver)
                             "description='Ignored: the source fids are kept'/>"
                             "</LayerCreationOptionList>");
     driver->pfnCreate = create;
+    driver->pfnDelete = delete_dataset;
 }

@@ -33,11 +33,13 @@
 #include "clock.h"
 #include "hpfc.h"
 #include "jsonw.h"
+#include "open_input.h"
 #include "projection.h"
 
 typedef struct exporter {
     const gis_export_options *o;
-    hpfc_file *f;
+    const hpfc_file *f;         /* o->open, or owned */
+    hpfc_file *owned;           /* opened here */
     hpfc_file_info fi;
     hpfc_shapes *shapes;
     mapproj_plan *plan;         /* back to lon/lat; NULL: user coordinates */
@@ -912,10 +914,15 @@ static void print_report(const exporter *x, FILE *out, double seconds)
 
 static int run(exporter *x)
 {
-    int st = hpfc_open(x->o->file, 0, &x->f);
-    if (st)
+    int st = HPFC_OK;
+    errno = 0;
+    if (x->o->open)
+        x->f = x->o->open;
+    else if ((st = open_input(x->o->file, &x->owned)))
         return fail(x, "%s: %s", x->o->file,
                     st == HPFC_E_IO && errno ? strerror(errno) : hpfc_strerror(st));
+    else
+        x->f = x->owned;
     hpfc_file_get_info(x->f, &x->fi);
     /* a damaged file must not give a plausible but wrong map */
     if ((st = hpfc_file_check_checksums(x->f, NULL)))
@@ -960,7 +967,7 @@ int export_gis(const gis_export_options *o, FILE *report)
     mapproj_free(x.plan);
     if (x.srs)
         OSRDestroySpatialReference(x.srs);
-    hpfc_close(x.f);
+    hpfc_close(x.owned);
     free(x.wkb);
     return r;
 }

@@ -25,7 +25,8 @@ typedef struct gis_custom_layer {
 } gis_custom_layer;
 
 typedef struct gis_export_options {
-    const char *file;     /* the .hpfc file */
+    const char *file;     /* the .hpfc file ("-": standard input), named in messages */
+    const hpfc_file *open; /* non-NULL: FILE already open (read once), used as is */
     const char *output;   /* OUT */
     const char *driver;   /* -f: a GDAL driver name, NULL: from OUT's extension */
     int faces;            /* --export-faces: the faces, not the features */

@@ -18,6 +18,7 @@
  * pools, so it runs in O(levels + sections) on any file size. --verify
  * decodes everything (verify.c); --export-graph walks the map with the
  * library's operators (export.c). The queries live in views.c and render.c.
+ * Every mode reads FILE through open_input.c, once: '-' and pipes work too.
  * Exit status: 0 success (for --verify: the file is valid), 1 when FILE
  * cannot be opened, is invalid, a query fails (no such pixel, a checksum that
  * --sections finds wrong) or OUT cannot be written ("hpfc-inspect: FILE:
@@ -39,6 +40,7 @@
 #include "hpfc.h"
 #include "jsonw.h"
 #include "locate.h"
+#include "open_input.h"
 #include "paths.h"
 #include "queries.h"
 #include "render.h"
@@ -104,7 +106,8 @@ static void print_help(void)
            "\n"
            "Shows the header, the section directory and the per-level table of an\n"
            ".hpfc file; or checks it; or exports the planar map it encodes; or\n"
-           "answers one query about it (one query a run).\n"
+           "answers one query about it (one query a run). In every mode FILE '-' is\n"
+           "standard input, and FILE may be a pipe or a FIFO (read into memory).\n"
            "\n"
            "options:\n"
            "  --json                 print one JSON object instead of text (every query)\n"
@@ -336,6 +339,8 @@ static int parse_queries(inspect_args *a)
     for (int k = V_LON_COL; k <= V_FORMAT; k++)
         if (v[k] && !v[V_LOCATE_BATCH])
             return usage_error("only with --locate-batch", value_names[k]);
+    if (v[V_LOCATE_BATCH] && strcmp(v[V_LOCATE_BATCH], "-") == 0 && strcmp(a->file, "-") == 0)
+        return usage_error("POINTS and FILE cannot both be standard input", "--locate-batch");
     if (v[V_LOCATE_BATCH] && a->json)
         return usage_error("--locate-batch prints JSON lines, or --format csv|geojson", "--json");
     if ((v[V_WINDOW] || v[V_SIZE] || v[V_WINDOW_LONLAT]) && !v[V_RENDER])
@@ -676,7 +681,7 @@ static void print_text(const char *path, const summary *s)
 static int open_error(const char *path, int st, int err)
 {
     struct stat sb;
-    if (st == HPFC_E_IO && !err && stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+    if (st == HPFC_E_IO && !err && stat(input_path(path), &sb) == 0 && S_ISDIR(sb.st_mode))
         err = EISDIR; /* the map fails, not the open */
     if (st == HPFC_E_IO && err)
         fprintf(stderr, "hpfc-inspect: %s: %s\n", path, strerror(err));
@@ -758,12 +763,12 @@ static void print_export_summary(const inspect_args *a, const exported_map *m)
  * another would make export_map's walks over the tree explode. The check is
  * linear in the file and cheaper than the export. Returns 0 or EXIT_FAIL
  * after printing the first problem. */
-static int check_before_export(const char *path)
+static int check_before_export(const char *file, const input_bytes *b)
 {
     verify_report *r = malloc(sizeof *r);
-    int valid = r && verify_file(path, VERIFY_STRUCTURE_ONLY, r);
+    int valid = r && verify_bytes(b, VERIFY_STRUCTURE_ONLY, r);
     if (!valid)
-        fprintf(stderr, "hpfc-inspect: %s: %s\n", path,
+        fprintf(stderr, "hpfc-inspect: %s: %s\n", file,
                 r ? r->problems[0] : hpfc_strerror(HPFC_E_NOMEM));
     free(r);
     return valid ? 0 : EXIT_FAIL;
@@ -780,31 +785,40 @@ static int check_new_output(const inspect_args *a, const char *out)
     return EXIT_FAIL;
 }
 
-/* The map as the reader rebuilds it, once the file's structure verifies. */
+/* The graph of the file open on FILE's bytes. */
+static int export_open(const inspect_args *a, hpfc_file *f)
+{
+    exported_map m;
+    int st = export_map(f, &m);
+    if (st)
+        return open_error(a->file, st, 0);
+    int status = write_graph(a->graph_out, f, &m);
+    if (!status)
+        print_export_summary(a, &m);
+    exported_map_free(&m);
+    return status;
+}
+
+/* The map as the reader rebuilds it, once the file's structure verifies.
+ * FILE is read once (it may be a pipe): verified and opened in memory. */
 static int run_export(const inspect_args *a)
 {
-    if (same_file(a->file, a->graph_out))
+    if (same_file(input_path(a->file), a->graph_out))
         return usage_error("OUT is FILE; refusing to overwrite the input", a->graph_out);
     if (check_new_output(a, a->graph_out))
         return EXIT_FAIL;
-    if (check_before_export(a->file))
-        return EXIT_FAIL;
-    hpfc_file *f = NULL;
-    errno = 0;
-    int st = hpfc_open(a->file, 0, &f);
-    if (st)
-        return open_error(a->file, st, errno);
-    exported_map m;
+    input_bytes b;
+    int err, st = input_load(a->file, &b, &err);
     int status;
-    if ((st = export_map(f, &m))) {
-        status = open_error(a->file, st, 0);
-    } else {
-        status = write_graph(a->graph_out, f, &m);
-        if (!status)
-            print_export_summary(a, &m);
-        exported_map_free(&m);
+    hpfc_file *f = NULL;
+    if (st) {
+        status = open_error(a->file, st, err);
+    } else if ((status = check_before_export(a->file, &b)) == 0) {
+        st = hpfc_open_memory(b.data, b.size, 0, &f);
+        status = st ? open_error(a->file, st, 0) : export_open(a, f);
     }
     hpfc_close(f);
+    input_unload(&b);
     return status;
 }
 
@@ -815,7 +829,7 @@ static int run_export_gis(const inspect_args *a)
     gis_export_options o = {.file = a->file, .driver = a->values[V_DRIVER], .json = a->json};
     o.faces = a->values[V_EXPORT_FACES] != NULL;
     o.output = o.faces ? a->values[V_EXPORT_FACES] : a->values[V_EXPORT];
-    if (same_file(a->file, o.output))
+    if (same_file(input_path(a->file), o.output))
         return usage_error("OUT is FILE; refusing to overwrite the input", o.output);
     if (check_new_output(a, o.output))
         return EXIT_FAIL;
@@ -826,7 +840,7 @@ static int run_export_gis(const inspect_args *a)
 static int run_topology(const inspect_args *a)
 {
     const char *out = a->topo.export_out;
-    if (out && same_file(a->file, out))
+    if (out && same_file(input_path(a->file), out))
         return usage_error("OUT is FILE; refusing to overwrite the input", out);
     if (out && check_new_output(a, out))
         return EXIT_FAIL;
@@ -859,24 +873,11 @@ static int run_batch(const inspect_args *a, const hpfc_file *f, char *why)
     return status;
 }
 
-/* FILE for hpfc_open: "-" is standard input, and a file that cannot be
- * mapped (standard input, a pipe, a FIFO) is read into memory instead
- * (HPFC_OPEN_READ), once: the summary and the queries read it through the
- * handle only. */
-static int open_input(const char *path, hpfc_file **f)
-{
-    struct stat sb;
-    int from_stdin = strcmp(path, "-") == 0;
-    const char *p = from_stdin ? "/dev/stdin" : path;
-    int unmappable = stat(p, &sb) == 0 && !S_ISREG(sb.st_mode) && !S_ISDIR(sb.st_mode);
-    return hpfc_open(p, from_stdin || unmappable ? HPFC_OPEN_READ : 0, f);
-}
-
 /* One query on the open file; a failure is one line naming FILE. */
 static int run_query(const inspect_args *a)
 {
     const char *out = a->values[V_RENDER];
-    if (out && same_file(a->file, out))
+    if (out && same_file(input_path(a->file), out))
         return usage_error("OUT is FILE; refusing to overwrite the input", out);
     if (out && check_new_output(a, out))
         return EXIT_FAIL;

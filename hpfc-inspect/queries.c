@@ -26,6 +26,7 @@
 #include "export_gis.h"
 #include "hpfc.h"
 #include "jsonw.h"
+#include "open_input.h"
 #include "projection.h"
 #include "views.h"
 
@@ -184,7 +185,7 @@ static int lib_fail(ctx *c, const char *what, int st)
 static int open_ctx(ctx *c, int lonlat)
 {
     errno = 0;
-    int st = hpfc_open(c->file, 0, &c->f);
+    int st = open_input(c->file, &c->f);
     if (st)
         return fail(c, "%s", st == HPFC_E_IO && errno ? strerror(errno) : hpfc_strerror(st));
     hpfc_file_get_info(c->f, &c->info);
@@ -858,8 +859,8 @@ static int mesh_item(void *vc, hpfc_shapes *s, size_t k, hpfc_polygons *p, const
 
 static int export_layer(ctx *c, const topo_args *t, gis_custom_layer *layer, FILE *out)
 {
-    gis_export_options o = {.file = c->file, .output = t->export_out, .driver = t->driver,
-                            .json = t->json, .custom = layer};
+    gis_export_options o = {.file = c->file, .open = c->f, .output = t->export_out,
+                            .driver = t->driver, .json = t->json, .custom = layer};
     if (export_gis(&o, out))
         return fail(c, "--export failed (the reason is above)");
     return VIEW_OK;

@@ -28,17 +28,12 @@
  */
 #include "verify.h"
 
-#include <errno.h>
-#include <fcntl.h>
 #include <inttypes.h>
 #include <stdarg.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "clock.h"
 #include "export.h"
@@ -85,57 +80,6 @@ static const char *pixel_name(const hpfc_pixel *px, char *buf, size_t cap)
 }
 
 static const char *const road_names[4] = {"W", "N", "E", "S"};
-
-/* ---- the file's bytes ---------------------------------------------------------- */
-
-/* The file mapped by this code, so that padding (which no API exposes) can
- * be read; the library reads the same bytes through hpfc_open_memory. */
-typedef struct mapped_file {
-    const uint8_t *data;
-    size_t size;
-    void *map;
-} mapped_file;
-
-/* HPFC_OK, or HPFC_E_IO / HPFC_E_NOMEM with the system's reason in *err. */
-static int map_file(const char *path, mapped_file *m, int *err)
-{
-    static const uint8_t empty[1];
-    memset(m, 0, sizeof *m);
-    *err = 0;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        *err = errno;
-        return errno == ENOMEM ? HPFC_E_NOMEM : HPFC_E_IO;
-    }
-    struct stat sb;
-    if (fstat(fd, &sb) || !S_ISREG(sb.st_mode) || (uint64_t)sb.st_size > SIZE_MAX) {
-        *err = errno ? errno : EINVAL;
-        if (!errno && S_ISDIR(sb.st_mode))
-            *err = EISDIR;
-        close(fd);
-        return HPFC_E_IO;
-    }
-    m->size = (size_t)sb.st_size;
-    m->data = empty; /* mmap refuses an empty mapping; the verdict is the same */
-    if (m->size) {
-        m->map = mmap(NULL, m->size, PROT_READ, MAP_PRIVATE, fd, 0);
-        if (m->map == MAP_FAILED) {
-            *err = errno;
-            m->map = NULL;
-            close(fd);
-            return *err == ENOMEM ? HPFC_E_NOMEM : HPFC_E_IO;
-        }
-        m->data = m->map;
-    }
-    close(fd);
-    return HPFC_OK;
-}
-
-static void unmap_file(mapped_file *m)
-{
-    if (m->map)
-        munmap(m->map, m->size);
-}
 
 /* Whether bits [b0, b1) of a pool are all zero; bit b is bit 7 - b % 8 of
  * byte b / 8 (spec §2.2). The caller keeps b1 within the pool's bytes. */
@@ -946,9 +890,9 @@ static int check_topology(verifier *v)
 
 /* ---- driver ---------------------------------------------------------------------- */
 
-static int open_checked(verifier *v, const mapped_file *mf, hpfc_file **f)
+static int open_checked(verifier *v, const input_bytes *b, hpfc_file **f)
 {
-    int st = hpfc_open_memory(mf->data, mf->size, 0, f);
+    int st = hpfc_open_memory(b->data, b->size, 0, f);
     if (st) {
         problem(v->r, "%s", hpfc_strerror(st));
         return st;
@@ -956,7 +900,7 @@ static int open_checked(verifier *v, const mapped_file *mf, hpfc_file **f)
     v->f = *f;
     hpfc_file_get_info(*f, &v->info);
     v->compact = v->info.incompat_flags & 0x1;
-    v->data = mf->data;
+    v->data = b->data;
     v->r->format_major = v->info.format_major;
     v->r->format_minor = v->info.format_minor;
     v->r->levels = v->info.levels;
@@ -987,23 +931,20 @@ static int run_checks(verifier *v, unsigned flags)
     return check_topology(v);
 }
 
-int verify_file(const char *path, unsigned flags, verify_report *r)
+static void report_init(verify_report *r)
 {
     memset(r, 0, sizeof *r);
     r->format = r->checksums = r->structure = r->roads = r->topology = CHECK_SKIPPED;
     r->euler = r->loops_ok = r->features = r->labels = r->geometry = CHECK_SKIPPED;
+}
+
+int verify_bytes(const input_bytes *b, unsigned flags, verify_report *r)
+{
+    report_init(r);
     double t0 = clock_seconds();
-    mapped_file mf;
-    int err, st = map_file(path, &mf, &err);
-    if (st) {
-        r->format = CHECK_FAILED;
-        problem(r, "%s%s%s%s", hpfc_strerror(st), err ? " (" : "", err ? strerror(err) : "",
-                err ? ")" : "");
-        return 0;
-    }
     verifier v = {.r = r};
     hpfc_file *f = NULL;
-    st = open_checked(&v, &mf, &f);
+    int st = open_checked(&v, b, &f);
     r->format = st ? CHECK_FAILED : CHECK_OK;
     if (!st && (st = run_checks(&v, flags)))
         problem(r, "%s", hpfc_strerror(st)); /* out of memory: the verdict is incomplete */
@@ -1012,9 +953,27 @@ int verify_file(const char *path, unsigned flags, verify_report *r)
     free(v.word);
     hpfc_walker_free(v.w);
     hpfc_close(f);
-    unmap_file(&mf);
     r->seconds = clock_seconds() - t0;
     return r->problem_count == 0;
+}
+
+int verify_file(const char *file, unsigned flags, verify_report *r)
+{
+    double t0 = clock_seconds();
+    input_bytes b;
+    int err, st = input_load(file, &b, &err);
+    int valid = 0;
+    if (st) {
+        report_init(r);
+        r->format = CHECK_FAILED;
+        problem(r, "%s%s%s%s", hpfc_strerror(st), err ? " (" : "", err ? strerror(err) : "",
+                err ? ")" : "");
+    } else {
+        valid = verify_bytes(&b, flags, r);
+    }
+    input_unload(&b);
+    r->seconds = clock_seconds() - t0; /* reading FILE counts, as a pipe's writer sets its pace */
+    return valid;
 }
 
 /* ---- reports --------------------------------------------------------------------- */

@@ -15,6 +15,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "open_input.h"
+
 /* Problems kept verbatim; later ones are only counted. */
 #define VERIFY_MAX_PROBLEMS 32
 #define VERIFY_PROBLEM_LEN 240
@@ -54,10 +56,14 @@ typedef struct verify_report {
                                        enough to make any walk over the tree
                                        (leaf iteration, export_map) linear */
 
-/* Runs every check on the file at `path` (fewer with flags). Returns 1 when
- * the file is valid (no problem at all), 0 otherwise; r->problems[0] is then
- * the first one. Failures to read the file are problems too. */
-int verify_file(const char *path, unsigned flags, verify_report *r);
+/* Runs every check on FILE, read by input_load ("-" is standard input),
+ * fewer with flags. Returns 1 when the file is valid (no problem at all), 0
+ * otherwise; r->problems[0] is then the first one. Failures to read the
+ * file are problems too. */
+int verify_file(const char *file, unsigned flags, verify_report *r);
+/* The same on bytes already read, so that a caller that goes on to open
+ * them (--export-graph) reads FILE once. */
+int verify_bytes(const input_bytes *b, unsigned flags, verify_report *r);
 
 void verify_print_text(FILE *out, const char *path, const verify_report *r);
 void verify_print_json(FILE *out, const char *path, const verify_report *r);

@@ -19,6 +19,10 @@ from ._geometry import RingArrays
 
 library_version = _hpfc.library_version
 strerror = _hpfc.strerror
+LIMIT_NONE = _hpfc.LIMIT_NONE
+LIMIT_POINTS_DEFAULT = _hpfc.LIMIT_POINTS_DEFAULT
+LIMIT_ITEMS_DEFAULT = _hpfc.LIMIT_ITEMS_DEFAULT
 
 __all__ = ["Error", "File", "Location", "Locations", "Pixel", "RingArrays", "open", "strerror",
-           "library_version", "WEST", "NORTH", "EAST", "SOUTH"]
+           "library_version", "WEST", "NORTH", "EAST", "SOUTH", "LIMIT_NONE",
+           "LIMIT_POINTS_DEFAULT", "LIMIT_ITEMS_DEFAULT"]

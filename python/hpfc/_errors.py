@@ -18,4 +18,9 @@ class Error(Exception):
 
     def __str__(self):
         where = f"{self.context}: " if self.context else ""
-        return f"{where}{self.message} ({self.name}, code {self.code})"
+        hint = _HINTS.get(self.code, "")
+        return f"{where}{self.message} ({self.name}, code {self.code}){hint}"
+
+
+# What a user can do about a status, where the library's text cannot say it.
+_HINTS = {51: "; File.limits are the caps, File.set_limits() raises or lifts them"}

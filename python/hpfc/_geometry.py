@@ -197,6 +197,32 @@ class GeometryMixin:
             self.__dict__["_shapes_index"] = index
         return index
 
+    # ---- resource limits -----------------------------------------------------------
+
+    @property
+    def limits(self):
+        """The caps on one geometry or topology call (hpfc_limits), a dict:
+        "max_points", the shape points one feature's or face's geometry may
+        gather, and "max_items", the faces + edges + features one window()
+        may list; hpfc.LIMIT_NONE where lifted."""
+        return dict(self.__dict__.get("_limits") or _default_limits())
+
+    def set_limits(self, max_points=None, max_items=None):
+        """Sets both caps of every later geometry and topology call on this
+        file (each None: the library's default, hpfc.LIMIT_POINTS_DEFAULT
+        or hpfc.LIMIT_ITEMS_DEFAULT; hpfc.LIMIT_NONE: none). A call that
+        would pass a cap raises hpfc.Error HPFC_E_OVER_LIMIT before it
+        allocates its answer, and the file stays usable. The defaults keep
+        one call under about 300 MB, against a file (valid or hostile)
+        whose one feature holds 10^8 points."""
+        limits = {"max_points": _limit(max_points, "max_points", _hpfc.LIMIT_POINTS_DEFAULT),
+                  "max_items": _limit(max_items, "max_items", _hpfc.LIMIT_ITEMS_DEFAULT)}
+        # stored first: an index made meanwhile by another thread reads them
+        self.__dict__["_limits"] = limits
+        index = self.__dict__.get("_shapes_index")
+        if index is not None:
+            index.set_limits(limits)
+
     def source_is_lonlat(self):
         """Whether hpfc-pack projected a geographic (lon, lat) source: then
         coords="source" gives lon/lat, as hpfc-inspect --export writes."""
@@ -458,6 +484,24 @@ def _geodetic_of(desc):
         return None
 
 
+def _default_limits():
+    return {"max_points": _hpfc.LIMIT_POINTS_DEFAULT, "max_items": _hpfc.LIMIT_ITEMS_DEFAULT}
+
+
+def _limit(value, name, default):
+    """A cap from set_limits: None the default, else an int from 1 to
+    hpfc.LIMIT_NONE (0, which the C call reads as the default, is refused:
+    it reads as "nothing allowed")."""
+    if value is None:
+        return default
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name}: an integer, None or hpfc.LIMIT_NONE expected, "
+                        f"got {type(value).__name__}")
+    if value < 1 or value > _hpfc.LIMIT_NONE:
+        raise ValueError(f"{name}: from 1 to hpfc.LIMIT_NONE expected, got {value}")
+    return int(value)
+
+
 class _ShapesIndex:
     """The library's hpfc_shapes over a file (built once, O(edges + faces +
     links)), and the conversions of lattice points."""
@@ -469,6 +513,13 @@ class _ShapesIndex:
         self._c = _hpfc._Shapes(file)
         # the library's index answers one call at a time: threads take turns
         self._lock = threading.Lock()
+        limits = file.__dict__.get("_limits")
+        if limits is not None:
+            self.set_limits(limits)
+
+    def set_limits(self, limits):
+        with self._lock:
+            self._c._set_limits(limits["max_points"], limits["max_items"])
 
     @property
     def face_count(self):

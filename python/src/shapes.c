@@ -3,7 +3,8 @@
  * _Shapes over the library's hpfc_shapes_*
  * (a face's rings, a feature's union of faces or its lines),
  * hpfc_geometry_* (an edge's exact polyline, a vertex) and
- * hpfc_geometry_key_points, plus the features' ATTR values.
+ * hpfc_geometry_key_points, plus the features' ATTR values and the
+ * index's resource limits (hpfc_shapes_set_limits).
  *
  * Answers leave as flat int64 arrays (bytes) in one layout for every
  * kind, that of GeoArrow's ragged arrays, assembled by ragged.c (plain C,
@@ -393,6 +394,25 @@ static PyObject *Shapes_dart_edge(ShapesObject *self, PyObject *arg)
     return Py_BuildValue("(KO)", (unsigned long long)e, reversed ? Py_True : Py_False);
 }
 
+/* _set_limits(max_points, max_items): the caps of every later call
+ * (hpfc_shapes_set_limits: 0 the default, HPFC_LIMIT_NONE none); the
+ * Python half checks the range and remembers them, the library has no
+ * getter. */
+static PyObject *Shapes_set_limits(ShapesObject *self, PyObject *args)
+{
+    unsigned long long points, items;
+    if (!PyArg_ParseTuple(args, "KK", &points, &items))
+        return NULL;
+    int *busy;
+    if (!shapes_file(self, &busy))
+        return NULL;
+    hpfc_limits limits = {.max_points = points, .max_items = items};
+    int st = hpfc_shapes_set_limits(self->shapes, &limits);
+    if (st)
+        return pyhpfc_raise(st, "limits");
+    Py_RETURN_NONE;
+}
+
 hpfc_shapes *pyhpfc_shapes_begin(PyObject *o, const hpfc_file **f, int **busy)
 {
     ShapesObject *self = (ShapesObject *)o;
@@ -417,6 +437,7 @@ static PyMethodDef Shapes_methods[] = {
     {"_edge", (PyCFunction)Shapes_edge, METH_O, NULL},
     {"_vertex", (PyCFunction)Shapes_vertex, METH_O, NULL},
     {"_dart_edge", (PyCFunction)Shapes_dart_edge, METH_O, NULL},
+    {"_set_limits", (PyCFunction)Shapes_set_limits, METH_VARARGS, NULL},
     {NULL, NULL, 0, NULL}};
 
 static PyTypeObject ShapesType = {
@@ -556,6 +577,14 @@ int pyhpfc_shapes_add(PyObject *module)
     if (PyType_Ready(&ShapesType) < 0)
         return -1;
     if (PyModule_AddObject(module, "_Shapes", Py_NewRef((PyObject *)&ShapesType)) < 0)
+        return -1;
+    /* the limits' values from hpfc.h, so that Python cannot drift from them */
+    if (PyModule_AddObject(module, "LIMIT_NONE",
+                           PyLong_FromUnsignedLongLong(HPFC_LIMIT_NONE)) < 0 ||
+        PyModule_AddObject(module, "LIMIT_POINTS_DEFAULT",
+                           PyLong_FromUnsignedLongLong(HPFC_LIMIT_POINTS_DEFAULT)) < 0 ||
+        PyModule_AddObject(module, "LIMIT_ITEMS_DEFAULT",
+                           PyLong_FromUnsignedLongLong(HPFC_LIMIT_ITEMS_DEFAULT)) < 0)
         return -1;
     for (PyMethodDef *d = shapes_module_methods; d->ml_name; d++) {
         PyObject *fn = PyCFunction_NewEx(d, NULL, NULL);

@@ -1,12 +1,20 @@
 """Writers that fail cleanly: every program that writes a file (hpfc-pack's
 .hpfc, hpfc-inspect's --export-graph, --render SVG and PNG with its world
-file, --export through GDAL) meets a file size limit (the disk full as the
-process sees it: RLIMIT_FSIZE, as prlimit --fsize sets it), a SIGKILL at a
-random instant of its run, and a read-only output directory. After each:
-OUT is byte for byte the old file or the new one (the oracle: the same
-command run undisturbed in another directory), and the directory holds
-nothing else, apart from a killed run's hidden temporary, which must be
-whole, never a partial output, and gone after the next run.
+file, --export through GDAL, and the GDAL driver's create path, ogr2ogr -f
+HPFC) meets a file size limit (the disk full as the process sees it:
+RLIMIT_FSIZE, as prlimit --fsize sets it), a SIGKILL at a random instant
+of its run, and a read-only output directory. After each: OUT is byte for
+byte the old file or the new one (the oracle: the same command run
+undisturbed in another directory), and the directory holds nothing else,
+apart from a killed run's hidden temporary, which must be whole, never a
+partial output, and gone after the next run. The old OUT of ogr2ogr is a
+real .hpfc file of another map: GDAL deletes an existing dataset it
+recognises before it creates one of that name, which an old file of any
+other bytes would not reveal.
+
+ogr2ogr runs with the build's plugin from HPFC_GDAL_DRIVER_PATH (and, in a
+sanitized build, the sanitizer runtimes from HPFC_GDAL_PRELOAD, as meson
+sets both); without them, or without ogr2ogr, it is not tested.
 
 Usage: faults.py PACK INSPECT TESTS_DIR [KILLS]
 """
@@ -34,14 +42,14 @@ def fail(msg):
     failures.append(msg)
 
 
-def run(cmd, cwd, limit=None, user=None):
+def run(cmd, cwd, limit=None, user=None, env=None):
     def pre():
         if limit is not None:
             resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
     if user is not None:
         cmd = ["setpriv", "--reuid=%d" % user, "--regid=%d" % user, "--clear-groups"] + cmd
     return subprocess.run(cmd, cwd=cwd, stdin=subprocess.DEVNULL, capture_output=True,
-                          preexec_fn=pre)
+                          preexec_fn=pre, env=env)
 
 
 def listing(d):
@@ -56,12 +64,20 @@ def read(path):
 TEMP = re.compile(r"^\.(.+)\.(\d+)\.[0-9a-f]{12}\.tmp$")
 
 
+# The one stderr line of a failed run: the tools' own, or GDAL's for ogr2ogr.
+TOOL_LINE = r"^hpfc-(pack|inspect): "
+GDAL_LINE = r"^ERROR \d+: HPFC: "
+
+
 class Writer:
     """One command writing `outs` (names in its working directory) from
-    `inputs` (copied there)."""
+    `inputs` (copied there), over `old` (bytes) where an old OUT is, in
+    `env` (None: this one's); a failed run says why in one line matching
+    `line`."""
 
-    def __init__(self, name, argv, outs, inputs):
+    def __init__(self, name, argv, outs, inputs, old=OLD, env=None, line=TOOL_LINE):
         self.name, self.argv, self.outs, self.inputs = name, argv, outs, inputs
+        self.old, self.env, self.line = old, env, line
 
     def setup(self, d, old):
         os.makedirs(d, exist_ok=True)
@@ -72,7 +88,7 @@ class Writer:
             p = os.path.join(d, o)
             if old:
                 with open(p, "wb") as f:
-                    f.write(OLD)
+                    f.write(self.old)
             elif os.path.exists(p):
                 os.unlink(p)
 
@@ -90,7 +106,7 @@ def check_outs(w, d, new, label, old_present=True):
                 fail(f"{w.name} {label}: {o} is gone")
             continue
         b = read(p)
-        if b != OLD and b != new[o]:
+        if b != w.old and b != new[o]:
             fail(f"{w.name} {label}: {o} is neither the old nor the new output "
                  f"({len(b)} bytes; new {len(new[o])})")
 
@@ -104,8 +120,8 @@ def one_line(w, r, label, needle):
     lines = err.strip("\n").split("\n")
     if r.returncode != 1:
         fail(f"{w.name} {label}: exit status {r.returncode}, expected 1 ({err[:200]!r})")
-    elif len(lines) != 1 or not re.match(r"^hpfc-(pack|inspect): ", lines[0]):
-        fail(f"{w.name} {label}: not one line 'hpfc-...: why' on stderr: {err[:300]!r}")
+    elif len(lines) != 1 or not re.match(w.line, lines[0]):
+        fail(f"{w.name} {label}: not one line '{w.line}...' on stderr: {err[:300]!r}")
     elif needle and needle not in err:
         fail(f"{w.name} {label}: {needle!r} not in {err.strip()!r}")
 
@@ -118,7 +134,7 @@ def size_limits(w, work, new):
             d = os.path.join(work, "fsize")
             shutil.rmtree(d, ignore_errors=True)
             w.setup(d, old)
-            r = run(w.argv, d, limit=limit)
+            r = run(w.argv, d, limit=limit, env=w.env)
             label = f"file size limit {limit} ({'over an old OUT' if old else 'no OUT'})"
             one_line(w, r, label, "File too large")
             check_outs(w, d, new, label, old_present=old)
@@ -139,7 +155,7 @@ def kills(w, work, new, seconds):
     killed = set()
     for i in range(KILLS):
         p = subprocess.Popen(w.argv, cwd=d, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                             stderr=subprocess.DEVNULL)
+                             stderr=subprocess.DEVNULL, env=w.env)
         time.sleep(rng.uniform(0, seconds * 1.1))
         p.send_signal(signal.SIGKILL)
         p.wait()
@@ -161,7 +177,7 @@ def kills(w, work, new, seconds):
     for n in (dead_tmp, live_tmp):
         with open(os.path.join(d, n), "wb") as f:
             f.write(b"partial")
-    r = run(w.argv, d)
+    r = run(w.argv, d, env=w.env)
     if os.path.exists(os.path.join(d, dead_tmp)):
         fail(f"{w.name}: a dead writer's temporary file was not swept")
     if not os.path.exists(os.path.join(d, live_tmp)):
@@ -186,17 +202,40 @@ def read_only(w, work, new, as_user):
     w.setup(d, True)
     os.chmod(d, 0o555)
     try:
-        r = run(w.argv, d, user=as_user)
+        r = run(w.argv, d, user=as_user, env=w.env)
     finally:
         os.chmod(d, 0o755)
     one_line(w, r, "read-only directory", "Permission denied")
     check_outs(w, d, new, "read-only directory")
     for o in w.outs:
-        if read(os.path.join(d, o)) != OLD:
+        if read(os.path.join(d, o)) != w.old:
             fail(f"{w.name} read-only directory: {o} changed")
     extra = leftovers(w, d)
     if extra:
         fail(f"{w.name} read-only directory: left {extra}")
+
+
+def gdal_writer(base, pack, src):
+    """ogr2ogr -f HPFC through the build's plugin, over an old .hpfc of
+    another map; None (after saying why) without the plugin or ogr2ogr."""
+    plugin_dir = os.environ.get("HPFC_GDAL_DRIVER_PATH", "")
+    ogr2ogr = shutil.which("ogr2ogr")
+    if not os.path.isfile(os.path.join(plugin_dir, "ogr_HPFC.so")) or not ogr2ogr:
+        print("ogr2ogr -f HPFC: no GDAL driver built or no ogr2ogr, not tested")
+        return None
+    env = dict(os.environ, GDAL_DRIVER_PATH=plugin_dir)
+    # ogr2ogr is not sanitized, the plugin may be: its runtimes go first,
+    # and GDAL keeps memory to its end by design (no leak check)
+    if os.environ.get("HPFC_GDAL_PRELOAD"):
+        env.update(LD_PRELOAD=os.environ["HPFC_GDAL_PRELOAD"],
+                   ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:verify_asan_link_order=0",
+                   UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1")
+    other = os.path.join(TESTS, "data", "gis", "ok", "lines_crossing.geojson")
+    old = os.path.join(base, "old.hpfc")
+    r = run([pack, "-q", other, "-o", old], base)
+    assert r.returncode == 0, r.stderr
+    return Writer("ogr2ogr -f HPFC", [ogr2ogr, "-f", "HPFC", "o.hpfc", os.path.basename(src)],
+                  ["o.hpfc"], [src], old=read(old), env=env, line=GDAL_LINE)
 
 
 def main():
@@ -232,6 +271,9 @@ def main():
                 writers.append(Writer(f"--export {ext}", [inspect, "--force", "--export",
                                                           f"e.{ext}", "gis.hpfc"],
                                       [f"e.{ext}"], [gis]))
+            w = gdal_writer(base, pack, os.path.join(TESTS, "data", "gis", "counties_ne.geojson"))
+            if w:
+                writers.append(w)
         else:
             print("--export: GIS not built in, not tested")
         # whom the read-only directory stops: root writes anywhere, so the
@@ -246,13 +288,13 @@ def main():
             d = os.path.join(work, "clean-" + w.name.replace(" ", "_").strip("-"))
             w.setup(d, False)
             t0 = time.monotonic()
-            r = run(w.argv, d)
+            r = run(w.argv, d, env=w.env)
             seconds = time.monotonic() - t0
             if r.returncode != 0:
                 fail(f"{w.name}: the undisturbed run failed: {r.stderr[:300]!r}")
                 continue
             new = {o: read(os.path.join(d, o)) for o in w.outs}
-            r = run(w.argv, d)
+            r = run(w.argv, d, env=w.env)
             if any(read(os.path.join(d, o)) != new[o] for o in w.outs):
                 print(f"{w.name}: output differs from run to run; not tested")
                 continue
