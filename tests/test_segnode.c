@@ -126,6 +126,17 @@ static int cmp(const void *p, const void *q)
     return memcmp(p, q, sizeof(segnode_seg));
 }
 
+/* Sorts s[0 .. n) and keeps each segment once: the count kept. */
+static size_t sort_unique(segnode_seg *s, size_t n)
+{
+    qsort(s, n, sizeof *s, cmp);
+    size_t u = 0;
+    for (size_t i = 0; i < n; i++)
+        if (u == 0 || cmp(&s[u - 1], &s[i]) != 0)
+            s[u++] = s[i];
+    return u;
+}
+
 static void grid_case(int64_t span, int64_t offset, int n_long)
 {
     enum { N = 1500 };
@@ -139,11 +150,7 @@ static void grid_case(int64_t span, int64_t offset, int n_long)
         if (t.ax != t.bx || t.ay != t.by)
             s[n++] = t;
     }
-    qsort(s, n, sizeof *s, cmp);
-    size_t u = 0;
-    for (size_t i = 0; i < n; i++)
-        if (u == 0 || cmp(&s[u - 1], &s[i]) != 0)
-            s[u++] = s[i];
+    size_t u = sort_unique(s, n);
     unsigned char got[N] = {0}, want[N] = {0};
     long long marked = segnode_find_dirty(s, u, got);
     long long expect = 0;
@@ -190,11 +197,7 @@ static int near_case(int64_t span, int64_t len, size_t m, int apart)
         if (t.ax != t.bx || t.ay != t.by)
             all[n++] = t;
     }
-    qsort(all, n, sizeof *all, cmp);
-    size_t u = 0;
-    for (size_t i = 0; i < n; i++)
-        if (u == 0 || cmp(&all[u - 1], &all[i]) != 0)
-            all[u++] = all[i];
+    size_t u = sort_unique(all, n);
     for (size_t k = 0; k < m; k++) {
         if (!apart) {
             fresh[k] = all[(k * 7919) % u];

@@ -162,6 +162,19 @@ static int sign128(s128 v)
     return (v > 0) - (v < 0);
 }
 
+/* How many of r's corners lie strictly left of the line a-b (*pos) and
+ * strictly right (*neg): exact, on 128-bit products. */
+static void corner_sides(const int64_t a[2], const int64_t b[2], const rect *r, int *pos, int *neg)
+{
+    s128 dx = (s128)b[0] - a[0], dy = (s128)b[1] - a[1];
+    int64_t cx[4] = {r->x0, r->x1, r->x1, r->x0}, cy[4] = {r->y0, r->y0, r->y1, r->y1};
+    *pos = *neg = 0;
+    for (int k = 0; k < 4; k++) {
+        int o = sign128(dx * ((s128)cy[k] - a[1]) - dy * ((s128)cx[k] - a[0]));
+        *pos += o > 0, *neg += o < 0;
+    }
+}
+
 /* Does segment a-b meet the closed rectangle r? Separating axes: x, y and
  * the segment's normal (the rectangle's corners all strictly on one side). */
 static int segment_meets(const int64_t a[2], const int64_t b[2], const rect *r)
@@ -169,13 +182,8 @@ static int segment_meets(const int64_t a[2], const int64_t b[2], const rect *r)
     if ((a[0] < r->x0 && b[0] < r->x0) || (a[0] > r->x1 && b[0] > r->x1) ||
         (a[1] < r->y0 && b[1] < r->y0) || (a[1] > r->y1 && b[1] > r->y1))
         return 0;
-    s128 dx = (s128)b[0] - a[0], dy = (s128)b[1] - a[1];
-    int64_t cx[4] = {r->x0, r->x1, r->x1, r->x0}, cy[4] = {r->y0, r->y0, r->y1, r->y1};
-    int pos = 0, neg = 0;
-    for (int k = 0; k < 4; k++) {
-        int o = sign128(dx * ((s128)cy[k] - a[1]) - dy * ((s128)cx[k] - a[0]));
-        pos += o > 0, neg += o < 0;
-    }
+    int pos, neg;
+    corner_sides(a, b, r, &pos, &neg);
     return !(pos == 4 || neg == 4);
 }
 
@@ -187,13 +195,8 @@ static int segment_meets_interior(const int64_t a[2], const int64_t b[2], const 
     if ((a[0] <= r->x0 && b[0] <= r->x0) || (a[0] >= r->x1 && b[0] >= r->x1) ||
         (a[1] <= r->y0 && b[1] <= r->y0) || (a[1] >= r->y1 && b[1] >= r->y1))
         return 0;
-    s128 dx = (s128)b[0] - a[0], dy = (s128)b[1] - a[1];
-    int64_t cx[4] = {r->x0, r->x1, r->x1, r->x0}, cy[4] = {r->y0, r->y0, r->y1, r->y1};
-    int pos = 0, neg = 0;
-    for (int k = 0; k < 4; k++) {
-        int o = sign128(dx * ((s128)cy[k] - a[1]) - dy * ((s128)cx[k] - a[0]));
-        pos += o > 0, neg += o < 0;
-    }
+    int pos, neg;
+    corner_sides(a, b, r, &pos, &neg);
     return pos > 0 && neg > 0;
 }
 
