@@ -14,12 +14,15 @@
 
 /* ---- the map's segments ------------------------------------------------------ */
 
-enum { SEG_REP = 1 }; /* the edge's representative: its first segment in sorted order */
-
-/* A segment of an edge of the map, ends in lexicographic (x, y) order. */
+/* A segment of an edge of the map, ends in lexicographic (x, y) order:
+ * segment `pos` of edge `edge` joins its points pos and pos + 1 (point 0
+ * is u). Segment 0 is the edge's representative, where the rings' toggles
+ * are counted: the parity is the same on every segment of an edge (at a
+ * point of degree 2 a path's ends on its two segments add up to an even
+ * number), so one segment stands for the edge. */
 typedef struct map_seg {
     int64_t ax, ay, bx, by;
-    uint32_t edge, flags;
+    uint32_t edge, pos;
 } map_seg;
 
 static int cmp_ends(int64_t ax, int64_t ay, int64_t bx, int64_t by, const map_seg *s)
@@ -86,25 +89,13 @@ static map_seg *map_segments(const hpfc_graph *g, size_t *n)
                 hpfc_graph_vertex(g, v, &qx, &qy);
             int64_t ax = px, ay = py, bx = qx, by = qy;
             if (order_ends(&ax, &ay, &bx, &by))
-                s[m++] = (map_seg){ax, ay, bx, by, (uint32_t)e, 0};
+                s[m++] = (map_seg){ax, ay, bx, by, (uint32_t)e, (uint32_t)i};
             px = qx, py = qy;
         }
     }
     sort_in_place(s, m, sizeof *s, cmp_map_seg);
     *n = m;
     return s;
-}
-
-/* Marks one segment of each edge as its representative, where the rings'
- * toggles are counted (the parity is the same on every segment of an
- * edge). */
-static void mark_representatives(map_seg *s, size_t n, uint8_t *seen)
-{
-    for (size_t i = 0; i < n; i++)
-        if (!seen[s[i].edge]) {
-            seen[s[i].edge] = 1;
-            s[i].flags = SEG_REP;
-        }
 }
 
 static const map_seg *find_seg(const map_seg *s, size_t n, int64_t ax, int64_t ay, int64_t bx,
@@ -139,28 +130,91 @@ static int push_u64(u64_list *l, uint64_t x)
     return HPFC_OK;
 }
 
-/* One segment of a part, which is a segment of the map (the parts were
+/* Where a part runs along an edge: point `at` of edge `edge` (0 .. k + 1),
+ * going toward higher points (dir 1) or lower (-1); edge UINT32_MAX: none. */
+typedef struct edge_walk {
+    const hpfc_graph *g;
+    uint32_t edge, at;
+    int dir;
+    uint32_t u, v;
+    const int64_t *xy;
+    size_t k;
+} edge_walk;
+
+static void walk_point(const edge_walk *w, size_t j, int64_t *x, int64_t *y)
+{
+    if (j == 0)
+        hpfc_graph_vertex(w->g, w->u, x, y);
+    else if (j == w->k + 1)
+        hpfc_graph_vertex(w->g, w->v, x, y);
+    else
+        *x = w->xy[2 * (j - 1)], *y = w->xy[2 * (j - 1) + 1];
+}
+
+/* The part's segment p-q as the next one along the edge being walked: its
+ * position, else -1. */
+static int64_t walk_next(const edge_walk *w, int64_t qx, int64_t qy)
+{
+    if (w->edge == UINT32_MAX || (w->dir < 0 && w->at == 0) || (w->dir > 0 && w->at > w->k))
+        return -1;
+    int64_t x, y;
+    size_t next = w->dir > 0 ? w->at + 1 : w->at - 1;
+    walk_point(w, next, &x, &y);
+    if (x != qx || y != qy)
+        return -1;
+    return (int64_t)(w->dir > 0 ? w->at : next);
+}
+
+/* Starts walking edge m->edge from p (an end of segment m) toward q. */
+static void walk_start(edge_walk *w, const map_seg *m, int64_t px, int64_t py)
+{
+    size_t k;
+    w->edge = m->edge;
+    hpfc_graph_edge(w->g, m->edge, &w->u, &w->v, &w->xy, &k);
+    w->k = k;
+    int64_t x, y;
+    walk_point(w, m->pos, &x, &y);
+    w->dir = x == px && y == py ? 1 : -1;
+    w->at = w->dir > 0 ? m->pos : m->pos + 1;
+}
+
+/* One segment p-q of a part, which is a segment of the map (the parts were
  * recorded as they lie in the map, gis_features.h): the edge's feature (once
  * per run along one edge) and, on the edge's representative segment, a
- * toggle of a ring. */
-static int match_segment(const map_seg *s, size_t n, int64_t ax, int64_t ay, int64_t bx,
-                         int64_t by, uint32_t feature, int ring, u64_list *uses, u64_list *toggles)
+ * toggle of a ring. The segment is first sought as the next one of the
+ * edge the part was running along (one comparison), and only at the edge's
+ * end among all the map's (a binary search a segment cost a cache miss a
+ * step, most of the stage on large maps). */
+static int match_segment(const map_seg *s, size_t n, edge_walk *w, int64_t px, int64_t py,
+                         int64_t qx, int64_t qy, uint32_t feature, int ring, u64_list *uses,
+                         u64_list *toggles)
 {
+    int64_t ax = px, ay = py, bx = qx, by = qy;
     if (!order_ends(&ax, &ay, &bx, &by))
         return HPFC_OK;
-    const map_seg *m = find_seg(s, n, ax, ay, bx, by);
-    if (!m)
-        return HPFC_E_CORRUPT; /* a part leaves the map */
-    uint64_t key = (uint64_t)m->edge << 32 | feature;
+    uint32_t edge;
+    int64_t pos = walk_next(w, qx, qy);
+    if (pos >= 0) {
+        edge = w->edge;
+        w->at = (uint32_t)(w->at + w->dir);
+    } else {
+        const map_seg *m = find_seg(s, n, ax, ay, bx, by);
+        if (!m)
+            return HPFC_E_CORRUPT; /* a part leaves the map */
+        walk_start(w, m, px, py);
+        w->at = (uint32_t)(w->at + w->dir);
+        edge = m->edge, pos = m->pos;
+    }
+    uint64_t key = (uint64_t)edge << 32 | feature;
     if ((uses->n == 0 || uses->v[uses->n - 1] != key) && push_u64(uses, key))
         return HPFC_E_NOMEM;
-    if (ring && (m->flags & SEG_REP))
+    if (ring && pos == 0)
         return push_u64(toggles, key);
     return HPFC_OK;
 }
 
-static int match_parts(const gis_features *fs, const map_seg *s, size_t n, u64_list *uses,
-                       u64_list *toggles)
+static int match_parts(const gis_features *fs, const hpfc_graph *g, const map_seg *s, size_t n,
+                       u64_list *uses, u64_list *toggles)
 {
     size_t parts = gis_features_part_count(fs);
     for (size_t r = 0; r < parts; r++) {
@@ -173,13 +227,14 @@ static int match_parts(const gis_features *fs, const map_seg *s, size_t n, u64_l
         gis_part_next(&c, &x0, &y0);
         px = x0, py = y0;
         int st = HPFC_OK;
+        edge_walk w = {.g = g, .edge = UINT32_MAX};
         while (c.left && !st) {
             gis_part_next(&c, &qx, &qy);
-            st = match_segment(s, n, px, py, qx, qy, feature, ring, uses, toggles);
+            st = match_segment(s, n, &w, px, py, qx, qy, feature, ring, uses, toggles);
             px = qx, py = qy;
         }
         if (!st && ring) /* the closing segment */
-            st = match_segment(s, n, px, py, x0, y0, feature, ring, uses, toggles);
+            st = match_segment(s, n, &w, px, py, x0, y0, feature, ring, uses, toggles);
         if (st)
             return st;
     }
@@ -394,14 +449,8 @@ int face_link_run(face_link *fl, const gis_features *fs, const hpfc_graph *graph
     u64_list uses = {0}, toggles = {0};
     if (!st && !segs)
         st = HPFC_E_NOMEM;
-    uint8_t *seen = st ? NULL : calloc(ne ? ne : 1, 1);
-    if (!st && !seen)
-        st = HPFC_E_NOMEM;
-    if (!st) {
-        mark_representatives(segs, n_seg, seen);
-        st = match_parts(fs, segs, n_seg, &uses, &toggles);
-    }
-    free(seen);
+    if (!st)
+        st = match_parts(fs, graph, segs, n_seg, &uses, &toggles);
     free(segs);
     if (!st)
         st = edge_csr(&uses, fl->edges, 0, &fl->edge_start, &fl->edge_feature);

@@ -1178,18 +1178,34 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
     return st;
 }
 
+/* The segments marked dirty, in segs' order (sorted): *out malloc'ed. */
+static int keep_dirty(reader *r, const seg *segs, size_t n, const unsigned char *dirty,
+                      size_t n_dirty, seg **out, size_t *n_out)
+{
+    if (!(*out = malloc((n_dirty ? n_dirty : 1) * sizeof **out)))
+        return fail(r, "out of memory");
+    *n_out = 0;
+    for (size_t i = 0; i < n; i++)
+        if (dirty[i])
+            (*out)[(*n_out)++] = segs[i];
+    return 0;
+}
+
 /* Nodes the snapped parts; fills *segs with the distinct segments, each
  * with a < b, and *geos with those GEOS made (NULL when it was not called;
- * *segs itself when it noded everything). Most segments of a topologically
+ * *segs itself when it noded everything); when GEOS noded a few segments
+ * only, *dirty with those (sorted), else NULL. Most segments of a topologically
  * built layer need no noding (segnode.h): when none does, GEOS is not
  * called; when a few do, GEOS nodes those; when that leaves the graph
  * non-planar, or when many do, GEOS nodes all the linework, as it always
  * did. */
 static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out, seg **geos,
-                size_t *n_geos)
+                size_t *n_geos, seg **dirty_out, size_t *n_dirty_out)
 {
     seg *segs = NULL;
     size_t n = 0;
+    *dirty_out = NULL;
+    *n_dirty_out = 0;
     int st = collect_segments(r, lat, &segs, &n);
     unsigned char *dirty = st ? NULL : calloc(n, 1);
     if (!st && !dirty)
@@ -1208,6 +1224,8 @@ static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out, se
         st = node_partly(r, segs, n, dirty, (size_t)n_dirty, segs_out, n_out, geos, n_geos);
         snprintf(r->info->noding, sizeof r->info->noding, "partial");
         r->info->noded_segments = (uint64_t)n_dirty;
+        if (!st && *segs_out)
+            st = keep_dirty(r, segs, n, dirty, (size_t)n_dirty, dirty_out, n_dirty_out);
     }
     free(dirty);
     free(segs);
@@ -1248,11 +1266,31 @@ static int has_segment(const seg *segs, size_t n, pt a, pt b)
     return bsearch(&key, segs, n, sizeof *segs, cmp_seg) != NULL;
 }
 
+/* Which segments of the snapped parts are segments of the map: every one
+ * when nothing was noded; when GEOS noded a few, those it did not node and
+ * those it gave back unchanged; when it noded everything, those it gave
+ * back. The short lists are searched where there are some: a search per
+ * point in all the map's segments was the stage's largest cost at 10^7
+ * points (a cache miss a step), and it grew faster than the map. */
+typedef struct map_segments {
+    const seg *all, *dirty, *geos; /* geos NULL: nothing noded; geos == all: all noded */
+    size_t n_all, n_dirty, n_geos;
+} map_segments;
+
+static int in_map(const map_segments *m, pt a, pt b)
+{
+    if (!m->geos)
+        return 1;
+    if (m->geos == m->all || !m->dirty)
+        return has_segment(m->all, m->n_all, a, b);
+    return !has_segment(m->dirty, m->n_dirty, a, b) || has_segment(m->geos, m->n_geos, a, b);
+}
+
 /* Appends part k's path through the map to *out: each segment as it is
  * where noding left it alone, else the path GEOS's noding gave it
  * (noded_paths.h; paths: an index over GEOS's segments, NULL when GEOS was
  * not called). */
-static int part_in_map(reader *r, const int64_t *lat, size_t k, const seg *segs, size_t n_segs,
+static int part_in_map(reader *r, const int64_t *lat, size_t k, const map_segments *map,
                        const noded_index *paths, point_list *out)
 {
     size_t i0 = r->start[k];
@@ -1264,7 +1302,7 @@ static int part_in_map(reader *r, const int64_t *lat, size_t k, const seg *segs,
         if (segnode_pt_cmp(&a, &b) == 0)
             continue;
         int st = 1;
-        if (has_segment(segs, n_segs, a, b))
+        if (in_map(map, a, b))
             st = point_list_push(out, b.x, b.y);
         else if (paths)
             st = noded_path(paths, a.x, a.y, b.x, b.y, out);
@@ -1279,9 +1317,6 @@ static int part_in_map(reader *r, const int64_t *lat, size_t k, const seg *segs,
     return 0;
 }
 
-/* Records the features' parts as they lie in the map, for the faces' and
- * edges' features: a ring's area is what its path through the map encloses
- * (face_link.h), so every part segment must be a segment of the map. */
 /* A line's ends must be vertices of the map: where one line stops and the
  * next goes on through a point of degree 2, an edge running through it
  * would belong to both lines, and each line's geometry would take in the
@@ -1297,16 +1332,18 @@ static int add_line_ends(reader *r, const point_list *part)
     return 0;
 }
 
-static int keep_parts(reader *r, const int64_t *lat, const seg *segs, size_t n_segs,
-                      const seg *geos, size_t n_geos)
+/* Records the features' parts as they lie in the map, for the faces' and
+ * edges' features: a ring's area is what its path through the map encloses
+ * (face_link.h), so every part segment must be a segment of the map. */
+static int keep_parts(reader *r, const int64_t *lat, const map_segments *map)
 {
     noded_index *paths = NULL;
-    if (geos && noded_index_create(geos, n_geos, &paths))
+    if (map->geos && noded_index_create(map->geos, map->n_geos, &paths))
         return fail(r, "out of memory");
     point_list part = {0};
     int st = 0;
     for (size_t k = 0; k < r->n_parts && !st; k++) {
-        st = part_in_map(r, lat, k, segs, n_segs, paths, &part);
+        st = part_in_map(r, lat, k, map, paths, &part);
         if (!st && !r->refs[k].ring && part.n > 0)
             st = add_line_ends(r, &part);
         if (!st && gis_features_add_part(r->info->polygons, r->refs[k].feature, r->refs[k].ring,
@@ -1385,14 +1422,16 @@ static int read_graph(const char *path, GDALDatasetH given, const gis_options *o
     free(r.xy);
     r.xy = NULL;
     info->project_t = stage_lap(&t);
-    seg *geos = NULL;
-    size_t n_geos = 0;
+    seg *geos = NULL, *dirty = NULL;
+    size_t n_geos = 0, n_dirty = 0;
     if (!st)
-        st = node(&r, lat, &segs, &n_segs, &geos, &n_geos);
+        st = node(&r, lat, &segs, &n_segs, &geos, &n_geos, &dirty, &n_dirty);
+    map_segments map = {segs, dirty, geos, n_segs, n_dirty, n_geos};
     if (!st)
-        st = keep_parts(&r, lat, segs, n_segs, geos, n_geos);
+        st = keep_parts(&r, lat, &map);
     if (geos != segs)
         free(geos);
+    free(dirty);
     free(lat);
     info->node_t = stage_lap(&t);
     if (!st)
