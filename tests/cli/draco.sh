@@ -1,9 +1,10 @@
 #!/bin/sh
 # hpfc-pack on Draco meshes (interfaces §2). The fixtures of
-# tests/data/mesh/ pack to the verdicts of draco.expect: counts, the same
-# topology as the mesh's .pfc twin (the very same exported map when the
-# positions are lossless), files hpfc-inspect --verify accepts, and clear
-# refusals. Then: Draco found by content, from standard input, and corrupt
+# tests/data/mesh/ pack to the verdicts of draco.expect: those of ok/ to
+# counts, the same topology as the mesh's .pfc twin (the very same exported
+# map when the positions are lossless) and files hpfc-inspect --verify
+# accepts; those of bad/ to clear refusals. Every file of ok/ and bad/ must
+# have its line there, so none sits untested under the wrong verdict. Then: Draco found by content, from standard input, and corrupt
 # input: every 7th prefix of a fixture, a suffix without the magic and
 # bit flips in the header fail with exit 1, one stderr line and no output;
 # single-bit flips anywhere either fail the same way or decode to a mesh
@@ -12,8 +13,26 @@
 # shellcheck source=tests/cli/lib.sh
 . "$(dirname "$0")/lib.sh"
 MESH=$TESTS/data/mesh
+OK=$MESH/ok
+BAD=$MESH/bad
 
-run "$PACK" --quiet "$MESH/cluster_lossless.drc" -o "$tmp/probe.hpfc"
+# The directory is the verdict: each file of ok/ is a `pack` fixture or its
+# twin, each file of bad/ a `fail` fixture. Checked first, as it needs no
+# Draco: a file dropped in either without its line would otherwise never run.
+awk '$1 == "pack" { print $2; if ($3 != "-") print $3 }' "$HERE/draco.expect" |
+    LC_ALL=C sort -u >"$tmp/want-ok"
+awk '$1 == "fail" { print $2 }' "$HERE/draco.expect" | LC_ALL=C sort -u >"$tmp/want-bad"
+for d in ok bad; do
+    (cd "$MESH/$d" && LC_ALL=C ls) >"$tmp/have-$d"
+    for f in $(LC_ALL=C comm -23 "$tmp/want-$d" "$tmp/have-$d"); do
+        fail "draco.expect names $f, which is not in mesh/$d/"
+    done
+    for f in $(LC_ALL=C comm -13 "$tmp/want-$d" "$tmp/have-$d"); do
+        fail "mesh/$d/$f has no line of its verdict in draco.expect"
+    done
+done
+
+run "$PACK" --quiet "$OK/cluster_lossless.drc" -o "$tmp/probe.hpfc"
 if [ "$rc" -eq 2 ]; then
     expect_error "pack .drc without Draco" "hpfc-pack: " 2
     grep -q "needs Draco, not built in" "$tmp/err" ||
@@ -53,7 +72,7 @@ while read -r verb fixture rest; do
         # shellcheck disable=SC2086 # rest holds several words
         set -- $rest
         twin=$1 match=$2 want="$3 $4 $5 $6"
-        run "$PACK" --json "$MESH/$fixture" -o "$tmp/out.hpfc"
+        run "$PACK" --json "$OK/$fixture" -o "$tmp/out.hpfc"
         expect_ok "$fixture"
         [ -f "$tmp/out.hpfc" ] || { fail "$fixture: no output file"; continue; }
         cp "$tmp/out" "$tmp/report.json"
@@ -67,8 +86,8 @@ while read -r verb fixture rest; do
         run "$INSPECT" --verify "$tmp/out.hpfc"
         expect_ok "$fixture: verify"
         [ "$twin" = - ] && continue
-        check report "$tmp/report.json" "$MESH/$twin" || fail "$fixture: counts differ from $twin"
-        run "$PACK" --json "$MESH/$twin" -o "$tmp/twin.hpfc"
+        check report "$tmp/report.json" "$OK/$twin" || fail "$fixture: counts differ from $twin"
+        run "$PACK" --json "$OK/$twin" -o "$tmp/twin.hpfc"
         expect_ok "$twin"
         got=$(numbers "$tmp/out" vertices edges faces components)
         [ "$got" = "$want" ] || fail "$twin: V E F C = $got, expected $want"
@@ -82,7 +101,7 @@ while read -r verb fixture rest; do
         fi
         ;;
     fail)
-        run "$PACK" --json "$MESH/$fixture" -o "$tmp/out.hpfc"
+        run "$PACK" --json "$BAD/$fixture" -o "$tmp/out.hpfc"
         fails "$fixture"
         grep -qF -- "$rest" "$tmp/err" || fail "$fixture: reason lacks '$rest': $(cat "$tmp/err")"
         ;;
@@ -91,18 +110,18 @@ while read -r verb fixture rest; do
 done <"$HERE/draco.expect"
 
 # ---- found by content, read from standard input -----------------------------------
-cp "$MESH/cluster_q11.drc" "$tmp/mesh.bin"
+cp "$OK/cluster_q11.drc" "$tmp/mesh.bin"
 run "$PACK" --json "$tmp/mesh.bin" -o "$tmp/out.hpfc"
 expect_ok "a .drc named .bin"
 [ "$(numbers "$tmp/out" input_format vertices)" = "draco 5" ] || fail "a .drc named .bin: report"
 rc=0
-"$PACK" --json - -o "$tmp/stdin.hpfc" <"$MESH/cluster_q11.drc" >"$tmp/out" 2>"$tmp/err" || rc=$?
+"$PACK" --json - -o "$tmp/stdin.hpfc" <"$OK/cluster_q11.drc" >"$tmp/out" 2>"$tmp/err" || rc=$?
 expect_ok "a .drc on standard input"
 [ "$(numbers "$tmp/out" input_format vertices)" = "draco 5" ] || fail "standard input: report"
 
 # a failure leaves an existing OUTPUT alone
 printf 'precious' >"$tmp/existing.hpfc"
-run "$PACK" "$MESH/fold.drc" -o "$tmp/existing.hpfc"
+run "$PACK" "$BAD/fold.drc" -o "$tmp/existing.hpfc"
 expect_error "fold.drc over an existing file" "hpfc-pack: " 1
 check unchanged "$tmp/existing.hpfc" precious || fail "fold.drc: existing output modified"
 
@@ -118,10 +137,10 @@ for f in fake.drc empty.drc; do
     grep -q 'not a Draco file' "$tmp/err" || fail "$f: reason: $(cat "$tmp/err")"
 done
 
-size=$(wc -c <"$MESH/delaunay_q11.drc")
+size=$(wc -c <"$OK/delaunay_q11.drc")
 n=0
 while [ "$n" -lt "$size" ]; do
-    head -c "$n" "$MESH/delaunay_q11.drc" >"$tmp/cut.drc"
+    head -c "$n" "$OK/delaunay_q11.drc" >"$tmp/cut.drc"
     run "$PACK" --json "$tmp/cut.drc" -o "$tmp/out.hpfc"
     fails "delaunay_q11.drc cut to $n bytes"
     n=$((n + 7))
@@ -131,7 +150,7 @@ done
 # rest of the file a flip may still decode (a moved point, another quantized
 # value), and then the file written must verify.
 mkdir "$tmp/flip"
-python3 - "$tmp/flip" "$MESH/cluster_q11.drc" 2 "$MESH/delaunay_q11.drc" 37 <<'PY'
+python3 - "$tmp/flip" "$OK/cluster_q11.drc" 2 "$OK/delaunay_q11.drc" 37 <<'PY'
 import os, sys
 out = sys.argv[1]
 for path, step in zip(sys.argv[2::2], sys.argv[3::2]):

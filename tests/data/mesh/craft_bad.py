@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""Writes the hand-made hostile Draco files of this directory (regen.sh
+"""Writes the hand-made hostile Draco files of bad/ (regen.sh
 calls it): tiny files whose headers declare sizes Draco would allocate
 before reading any data, which hpfc-pack refuses up front
 (hpfc-pack/draco_input.cc, "declared sizes").
 
-    python3 tests/data/mesh/craft_bad.py DIR
+    python3 tests/data/mesh/craft_bad.py tests/data/mesh/bad
 """
 import os
 import sys
