@@ -153,7 +153,8 @@ static inline uint64_t shapes_edge_points(const hpfc_shapes *s, uint64_t e)
 /* Points [from, from + n) of edge e (point 0 is u, the last v) into xy
  * (x, y a point): the vertices from the index, the shape points in one
  * run of GEOM's column, a fraction of their cost point by point.
- * HPFC_E_ARG past the edge's points, HPFC_E_CORRUPT as GEOM's reads. */
+ * HPFC_E_ARG past the edge's points, HPFC_E_CORRUPT as GEOM's reads.
+ * window.c (shapes.c calls window.c, not the other way round). */
 int shapes_edge_point_run(const hpfc_shapes *s, uint64_t e, uint64_t from, uint64_t n,
                           int64_t *xy);
 

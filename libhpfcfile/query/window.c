@@ -206,6 +206,31 @@ int shapes_segment_meets(const int64_t a[2], const int64_t b[2], const int64_t b
     return segment_meets(a, b, &r);
 }
 
+int shapes_edge_point_run(const hpfc_shapes *s, uint64_t e, uint64_t from, uint64_t n,
+                          int64_t *xy)
+{
+    uint64_t last = shapes_edge_points(s, e) - 1, end = from + n;
+    if (n == 0)
+        return HPFC_OK;
+    if (from > last || n > last - from + 1)
+        return HPFC_E_ARG;
+    uint64_t k = from;
+    if (k == 0) {
+        xy[0] = s->vxy[2 * (size_t)s->eu[e]], xy[1] = s->vxy[2 * (size_t)s->eu[e] + 1];
+        xy += 2, k++;
+    }
+    uint64_t inner = end < last ? end : last; /* shape points: 1 .. last - 1 */
+    if (k < inner) {
+        int st = geom_points(s->f, GEOM_PX, s->first[e] + k - 1, inner - k, xy);
+        if (st)
+            return st;
+        xy += 2 * (inner - k), k = inner;
+    }
+    if (k < end) /* k == last */
+        xy[0] = s->vxy[2 * (size_t)s->ev[e]], xy[1] = s->vxy[2 * (size_t)s->ev[e] + 1];
+    return HPFC_OK;
+}
+
 int shapes_edge_box(hpfc_shapes *s, uint64_t edge, const int64_t **box)
 {
     if (!s->edge_box) {
