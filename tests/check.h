@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "hpfc.h"
+
 static int check_failures;
 static long check_count;
 
@@ -31,18 +33,33 @@ static long check_count;
         }                                                                  \
     } while (0)
 
-/* The pool layout the library writes by default, from HPFC_TEST_LAYOUT
- * ("compact" or unset): tests/meson.build runs the file tests once per
- * layout. Returns 1 for the compact layout. */
-extern int write_default_layout;
+/* The pool layout the tests write, from HPFC_TEST_LAYOUT ("compact" or
+ * unset: the paper's): tests/meson.build runs the file tests once per
+ * layout. check_tree_serialize writes it wherever a test asks for the
+ * library's default layout; a layout a test names explicitly is kept. */
+static int check_layout = HPFC_LAYOUT_PAPER;
+
+/* Returns 1 for the compact layout. */
 static inline int check_use_test_layout(void)
 {
     const char *v = getenv("HPFC_TEST_LAYOUT");
     int compact = v && v[0] == 'c';
-    write_default_layout = compact ? 2 : 1; /* HPFC_LAYOUT_COMPACT, _PAPER */
+    check_layout = compact ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER;
     if (compact)
         printf("layout: compact\n");
     return compact;
+}
+
+/* hpfc_tree_serialize in the layout under test. */
+static inline int check_tree_serialize(const hpfc_tree *t, const hpfc_write_options *opts,
+                                       uint8_t **out, size_t *out_size, hpfc_diag *diag)
+{
+    hpfc_write_options o = {0};
+    if (opts)
+        o = *opts;
+    if (o.layout == HPFC_LAYOUT_DEFAULT)
+        o.layout = check_layout;
+    return hpfc_tree_serialize(t, &o, out, out_size, diag);
 }
 
 static inline int check_report(const char *name)

@@ -49,7 +49,7 @@ static inline uint8_t *serialize(const hpfc_tree *t, const char *crs, size_t *si
     hpfc_write_options opts = {.crs = crs};
     uint8_t *buf = NULL;
     hpfc_diag d;
-    int st = hpfc_tree_serialize(t, &opts, &buf, size, &d);
+    int st = check_tree_serialize(t, &opts, &buf, size, &d);
     if (st)
         fprintf(stderr, "serialize failed: %s: %s\n", hpfc_strerror(st), d.message);
     CHECK_EQ_INT(st, HPFC_OK);

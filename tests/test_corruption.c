@@ -675,7 +675,7 @@ static void generated_campaigns(void)
         hpfc_write_options opts = {.crs = gd->crs, .face_labels = gd->labels,
                                    .geometry = gd->geometry ? g : NULL};
         if (t)
-            CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, NULL), HPFC_OK);
+            CHECK_EQ_INT(check_tree_serialize(t, &opts, &buf, &size, NULL), HPFC_OK);
         CHECK(buf == NULL || size <= 4096); /* keep the campaign fast */
         if (buf && size <= 4096)
             campaign(gd->name, buf, size);
@@ -720,7 +720,7 @@ static void test_key_layout(void)
     CHECK_EQ_INT(hpfc_build(g, &p, &t, NULL), HPFC_OK);
     /* addresses exist in the paper layout only (compact children are ranks) */
     const hpfc_write_options paper = {.layout = HPFC_LAYOUT_PAPER};
-    CHECK_EQ_INT(hpfc_tree_serialize(t, &paper, &buf, &size, NULL), HPFC_OK);
+    CHECK_EQ_INT(check_tree_serialize(t, &paper, &buf, &size, NULL), HPFC_OK);
     hpfc_file *f = NULL;
     CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
     if (!f)

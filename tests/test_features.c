@@ -118,7 +118,7 @@ static void test_features(void)
     hpfc_write_options opts = {.crs = "EPSG:4326", .features = &x.t};
     uint8_t *buf = NULL;
     hpfc_diag d;
-    CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, &d), HPFC_OK);
+    CHECK_EQ_INT(check_tree_serialize(t, &opts, &buf, &size, &d), HPFC_OK);
     /* the same pools, so the same faces; FEAT only adds a section */
     CHECK(buf && size > plain_size);
     f = NULL;
@@ -162,13 +162,13 @@ static void test_features(void)
     hpfc_free(buf);
     uint32_t saved = x.link[0];
     x.link[0] = 7; /* no such feature */
-    CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(check_tree_serialize(t, &opts, &buf, &size, &d), HPFC_E_ARG);
     x.link[0] = saved;
     x.layer[2] = 2; /* no such layer */
-    CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(check_tree_serialize(t, &opts, &buf, &size, &d), HPFC_E_ARG);
     x.layer[2] = 0;
     x.start[1] = 3, x.start[2] = 2; /* decreasing offsets */
-    CHECK_EQ_INT(hpfc_tree_serialize(t, &opts, &buf, &size, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(check_tree_serialize(t, &opts, &buf, &size, &d), HPFC_E_ARG);
     CHECK(buf == NULL);
     free(x.start);
     free(x.link);

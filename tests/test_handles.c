@@ -274,7 +274,7 @@ static hpfc_file *pack(const hpfc_graph *g, uint32_t n0, bool sections, uint8_t 
     size_t size;
     *buf = NULL;
     CHECK_EQ_INT(hpfc_build(g, &p, &t, NULL), HPFC_OK);
-    if (t && hpfc_tree_serialize(t, &opts, buf, &size, NULL) == HPFC_OK)
+    if (t && check_tree_serialize(t, &opts, buf, &size, NULL) == HPFC_OK)
         CHECK_EQ_INT(hpfc_open_memory(*buf, size, 0, &f), HPFC_OK);
     hpfc_tree_free(t);
     return f;

@@ -39,9 +39,9 @@ static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, packed *
     hpfc_write_options o = {.face_labels = 1};
     int st = hpfc_build(g, &bp, &p->tree, NULL);
     if (!st)
-        st = hpfc_tree_serialize(p->tree, &o, &p->with, &s1, NULL);
+        st = check_tree_serialize(p->tree, &o, &p->with, &s1, NULL);
     if (!st)
-        st = hpfc_tree_serialize(p->tree, NULL, &p->without, &s0, NULL);
+        st = check_tree_serialize(p->tree, NULL, &p->without, &s0, NULL);
     if (!st)
         st = hpfc_open_memory(p->with, s1, 0, &p->f);
     if (!st)

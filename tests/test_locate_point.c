@@ -241,7 +241,7 @@ static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, packed *p)
     hpfc_write_options o = {.face_labels = 1, .geometry = g};
     int st = hpfc_build(g, &bp, &p->tree, NULL);
     if (!st)
-        st = hpfc_tree_serialize(p->tree, &o, &p->bytes, &size, NULL);
+        st = check_tree_serialize(p->tree, &o, &p->bytes, &size, NULL);
     if (!st)
         st = hpfc_open_memory(p->bytes, size, 0, &p->f);
     if (!st)
@@ -497,7 +497,7 @@ static void check_api(void)
     hpfc_build_params bp;
     hpfc_build_params_default(&bp);
     CHECK_EQ_INT(hpfc_build(g, &bp, &t, NULL), HPFC_OK);
-    CHECK_EQ_INT(hpfc_tree_serialize(t, &o, &bytes, &size, NULL), HPFC_OK);
+    CHECK_EQ_INT(check_tree_serialize(t, &o, &bytes, &size, NULL), HPFC_OK);
     CHECK_EQ_INT(hpfc_open_memory(bytes, size, 0, &f), HPFC_OK);
     CHECK_EQ_INT(hpfc_locate_point(f, vx, vy, &loc, &face, 1, &count), HPFC_E_NO_SECTION);
     hpfc_close(f);

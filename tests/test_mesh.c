@@ -414,7 +414,7 @@ static hpfc_file *pack(const hpfc_graph *g, uint8_t **buf)
     size_t size;
     *buf = NULL;
     if (hpfc_build(g, &p, &t, NULL) == HPFC_OK &&
-        hpfc_tree_serialize(t, NULL, buf, &size, NULL) == HPFC_OK)
+        check_tree_serialize(t, NULL, buf, &size, NULL) == HPFC_OK)
         CHECK_EQ_INT(hpfc_open_memory(*buf, size, 0, &f), HPFC_OK);
     hpfc_tree_free(t);
     return f;

@@ -535,7 +535,7 @@ static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, packed *
     hpfc_write_options o = {.face_labels = 1, .geometry = g};
     int st = hpfc_build(g, &bp, &p->tree, NULL);
     if (!st)
-        st = hpfc_tree_serialize(p->tree, &o, &p->buf, &size, NULL);
+        st = check_tree_serialize(p->tree, &o, &p->buf, &size, NULL);
     if (!st)
         st = hpfc_open_memory(p->buf, size, 0, &p->f);
     return st;

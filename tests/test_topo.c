@@ -171,7 +171,7 @@ static hpfc_file *pack_with(const hpfc_graph *g, const hpfc_build_params *p, uin
     hpfc_file *f = NULL;
     size_t size;
     *buf = NULL;
-    if (hpfc_build(g, p, &t, NULL) == HPFC_OK && hpfc_tree_serialize(t, NULL, buf, &size, NULL) == HPFC_OK)
+    if (hpfc_build(g, p, &t, NULL) == HPFC_OK && check_tree_serialize(t, NULL, buf, &size, NULL) == HPFC_OK)
         CHECK_EQ_INT(hpfc_open_memory(*buf, size, 0, &f), HPFC_OK);
     hpfc_tree_free(t);
     return f;
@@ -256,11 +256,8 @@ static size_t faces_of_darts(const hpfc_file *f, hpfc_walker *w, const hpfc_face
 static void check_wide_faces(const hpfc_file *f, hpfc_walker *w, uint64_t count,
                              const uint64_t *face_of, size_t nd)
 {
-    uint64_t narrow = faces_narrow_nodes;
-    faces_narrow_nodes = 0;
     hpfc_faces *wide;
-    CHECK_EQ_INT(hpfc_faces_build(f, &wide), HPFC_OK);
-    faces_narrow_nodes = narrow;
+    CHECK_EQ_INT(faces_build_width(f, 0, &wide), HPFC_OK);
     if (!wide)
         return;
     CHECK_EQ_INT(hpfc_faces_face_count(wide), count);

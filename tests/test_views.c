@@ -142,7 +142,7 @@ static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, packed *p)
     p->ne = hpfc_graph_edge_count(g);
     int st = hpfc_build(g, &bp, &t, NULL);
     if (!st)
-        st = hpfc_tree_serialize(t, NULL, &p->buf, &p->size, NULL);
+        st = check_tree_serialize(t, NULL, &p->buf, &p->size, NULL);
     if (!st)
         st = hpfc_open_memory(p->buf, p->size, 0, &p->f);
     hpfc_tree_free(t);

@@ -259,7 +259,7 @@ static void run_map(const char *name, const hpfc_graph *g, uint32_t n0, uint64_t
     hpfc_file *f = NULL;
     int st = hpfc_build(g, &bp, &tree, NULL);
     if (!st)
-        st = hpfc_tree_serialize(tree, &o, &buf, &size, NULL);
+        st = check_tree_serialize(tree, &o, &buf, &size, NULL);
     if (!st)
         st = hpfc_open_memory(buf, size, 0, &f);
     CHECK_EQ_INT(st, HPFC_OK);

@@ -74,17 +74,18 @@ static void test_write_file(void)
     size_t size_a, size_b;
     uint8_t *buf_a = serialize(a, NULL, &size_a), *buf_b = serialize(b, "EPSG:4326", &size_b);
     hpfc_diag d;
+    const hpfc_write_options plain = {.layout = check_layout};
 
     /* a missing directory: a clean failure, nothing created */
-    CHECK_EQ_INT(hpfc_tree_write_file(a, NULL, bad, &d), HPFC_E_IO);
+    CHECK_EQ_INT(hpfc_tree_write_file(a, &plain, bad, &d), HPFC_E_IO);
     CHECK_EQ_INT(d.status, HPFC_E_IO);
     CHECK_EQ_INT(dir_entries(dir), 0);
 
     /* a new file, then a replacement */
-    CHECK_EQ_INT(hpfc_tree_write_file(a, NULL, path, &d), HPFC_OK);
+    CHECK_EQ_INT(hpfc_tree_write_file(a, &plain, path, &d), HPFC_OK);
     CHECK(file_equals(path, buf_a, size_a));
     CHECK_EQ_INT(dir_entries(dir), 1);
-    hpfc_write_options opts = {.crs = "EPSG:4326"};
+    hpfc_write_options opts = {.crs = "EPSG:4326", .layout = check_layout};
     CHECK_EQ_INT(hpfc_tree_write_file(b, &opts, path, &d), HPFC_OK);
     CHECK(file_equals(path, buf_b, size_b));
     CHECK_EQ_INT(dir_entries(dir), 1);
@@ -109,7 +110,7 @@ static void test_write_file(void)
         small = old_limit;
         small.rlim_cur = 64;
         CHECK_EQ_INT(setrlimit(RLIMIT_FSIZE, &small), 0);
-        CHECK_EQ_INT(hpfc_tree_write_file(a, NULL, path, &d), HPFC_E_IO);
+        CHECK_EQ_INT(hpfc_tree_write_file(a, &plain, path, &d), HPFC_E_IO);
         CHECK_EQ_INT(setrlimit(RLIMIT_FSIZE, &old_limit), 0);
         signal(SIGXFSZ, old_handler);
         CHECK(file_equals(path, buf_b, size_b));
@@ -125,7 +126,7 @@ static void test_write_file(void)
     /* a directory we may not write to (meaningless for root) */
     if (geteuid() != 0) {
         CHECK_EQ_INT(chmod(dir, 0555), 0);
-        CHECK_EQ_INT(hpfc_tree_write_file(a, NULL, path, &d), HPFC_E_IO);
+        CHECK_EQ_INT(hpfc_tree_write_file(a, &plain, path, &d), HPFC_E_IO);
         CHECK_EQ_INT(chmod(dir, 0755), 0);
         CHECK(file_equals(path, buf_b, size_b));
         CHECK_EQ_INT(dir_entries(dir), 2);
@@ -166,8 +167,8 @@ static void check_reserialized(const hpfc_tree *t, const hpfc_write_options *fro
     size_t src_size = 0, want_size = 0, got_size = 0;
     hpfc_diag d;
     hpfc_file *f = NULL;
-    CHECK_EQ_INT(hpfc_tree_serialize(t, from, &src, &src_size, &d), HPFC_OK);
-    CHECK_EQ_INT(hpfc_tree_serialize(t, to, &want, &want_size, &d), HPFC_OK);
+    CHECK_EQ_INT(check_tree_serialize(t, from, &src, &src_size, &d), HPFC_OK);
+    CHECK_EQ_INT(check_tree_serialize(t, to, &want, &want_size, &d), HPFC_OK);
     CHECK_EQ_INT(hpfc_open_memory(src, src_size, 0, &f), HPFC_OK);
     if (f) {
         CHECK_EQ_INT(hpfc_file_serialize(f, to, &got, &got_size, &d), HPFC_OK);

@@ -77,17 +77,15 @@ static void node_set(node_array *a, uint64_t x, uint64_t v)
         a->wide[x] = v;
 }
 
-uint64_t faces_narrow_nodes = UINT64_C(1) << 31;
-
 static uint64_t node_tag(const node_array *a)
 {
     return a->narrow ? UINT64_C(1) << 31 : UINT64_C(1) << 63;
 }
 
-static int node_array_init(node_array *a, uint64_t nodes)
+static int node_array_init(node_array *a, uint64_t nodes, uint64_t narrow_below)
 {
     size_t n = (size_t)nodes + 1;
-    if (nodes < faces_narrow_nodes)
+    if (nodes < narrow_below)
         a->narrow = malloc(n * sizeof *a->narrow);
     else
         a->wide = malloc(n * sizeof *a->wide);
@@ -360,6 +358,11 @@ static int number_faces(hpfc_faces *fc, hpfc_walker *w)
 
 int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out)
 {
+    return faces_build_width(file, FACES_NARROW_NODES, out);
+}
+
+int faces_build_width(const hpfc_file *file, uint64_t narrow_below, hpfc_faces **out)
+{
     if (!file || !out)
         return HPFC_E_ARG;
     *out = NULL;
@@ -374,7 +377,7 @@ int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out)
     if (!st)
         st = number_leaves(fc, w);
     if (!st)
-        st = node_array_init(&fc->parent, fc->nodes);
+        st = node_array_init(&fc->parent, fc->nodes, narrow_below);
     if (!st)
         st = unite_all(fc, w);
     if (!st)

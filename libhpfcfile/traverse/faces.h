@@ -10,9 +10,12 @@
 #include "hpfc.h"
 
 /* hpfc_faces_build's union-find takes 32-bit words below this many nodes
- * (2^31: the top bit tags numbered roots), else 64-bit ones. A variable
- * only so that the tests can run the 64-bit path on small maps. */
-extern uint64_t faces_narrow_nodes;
+ * (2^31: the top bit tags numbered roots), else 64-bit ones. */
+#define FACES_NARROW_NODES (UINT64_C(1) << 31)
+
+/* hpfc_faces_build with 32-bit words below `narrow_below` nodes: the tests
+ * pass 0 to run the 64-bit path on small maps. */
+int faces_build_width(const hpfc_file *file, uint64_t narrow_below, hpfc_faces **out);
 
 /* The nodes of the leaf whose record (level 0) or slot starts at bit `bit`
  * of level `level`'s pool: node base + t is stretch t (one node for a

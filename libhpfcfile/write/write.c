@@ -72,11 +72,6 @@ static void layout_free(layout *L)
         free(L->image_off[l]);
 }
 
-/* HPFC_LAYOUT_DEFAULT means this (the compact layout, since it passes
- * every test); a variable so that the tests can run every case
- * on both layouts (HPFC_TEST_LAYOUT, tests/meson.build). */
-int write_default_layout = HPFC_LAYOUT_COMPACT;
-
 /* ---- pass 1: counts ------------------------------------------------------ */
 
 static int count_pixel(layout *L, uint32_t level, size_t image, const hpfc_tree_pixel *px,
@@ -556,7 +551,7 @@ int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *o
     if (kind < HPFC_LAYOUT_DEFAULT || kind > HPFC_LAYOUT_COMPACT)
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: unknown layout %d", kind);
     L.tree = tree;
-    L.compact = (kind ? kind : write_default_layout) == HPFC_LAYOUT_COMPACT;
+    L.compact = kind != HPFC_LAYOUT_PAPER; /* HPFC_LAYOUT_DEFAULT is the compact layout */
     hpfc_tree_get_info(tree, &L.info);
     st = check_tree_info(&L.info, diag);
     for (uint32_t l = 0; l < L.info.levels && !st; l++)
