@@ -2,7 +2,7 @@
  * parse_points: hpfc-inspect's --locate-batch table reader (locate.c) on
  * untrusted text: separators, quotes, headers, column choices, numbers.
  *
- * The map is fixed: a 40-point Delaunay graph of tests/gen.h packed once in
+ * The map is fixed: a 40-point Delaunay graph of tests/support/gen.h packed once in
  * memory (no CRS, so degrees are refused per row). The input is
  *   byte 0      options: bits 0-1 the format (jsonl, csv, geojson), bit 2
  *               --lonlat, bits 3-4 --lon-col (none, "x", "2", "lon"),

@@ -3,7 +3,7 @@
  * compared with what went in.
  *
  * The input describes the graph and the packing:
- *   byte 0      mode: a generator of tests/gen.h (a special graph but the
+ *   byte 0      mode: a generator of tests/support/gen.h (a special graph but the
  *               comb, Delaunay, polyline, jittered grid, from a seed and
  *               sizes in the next bytes) or a graph decoded from the bytes:
  *               up to 16 points

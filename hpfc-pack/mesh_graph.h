@@ -3,7 +3,7 @@
  *
  * hpfc-pack's Draco input (draco_input.h) decodes a mesh and hands its
  * positions and triangles here; this part is pure C and knows nothing of
- * Draco, so the unit tests (tests/test_mesh.c) drive it directly.
+ * Draco, so the unit tests (tests/tools/test_mesh.c) drive it directly.
  *
  * The graph is the set of triangle edges, each shared edge once, in x, y: z
  * and any further position component are ignored. hpfc-pack/README.md

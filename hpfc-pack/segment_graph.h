@@ -2,7 +2,7 @@
  * segment_graph.h: the last step of the GIS input: the noded lattice
  * segments of a layer made into the planar graph the builder takes. Pure
  * integer work, no GDAL or GEOS, so that it is tested on its own
- * (tests/test_segment_graph.c).
+ * (tests/tools/test_segment_graph.c).
  */
 #ifndef HPFC_PACK_SEGMENT_GRAPH_H
 #define HPFC_PACK_SEGMENT_GRAPH_H

@@ -466,7 +466,7 @@ HPFC_API int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_
  * never a crash, an out-of-bounds read or an endless loop. Safe on
  * untrusted input.
  *
- * Thread safety, handle by handle (tests/test_threads.c runs them from 8
+ * Thread safety, handle by handle (tests/lib/test_threads.c runs them from 8
  * threads under ThreadSanitizer):
  *   - hpfc_file: read-only once open; any number of threads may call
  *     any function on one handle at once (hpfc_locate, hpfc_locate_point,

@@ -20,7 +20,7 @@ if [ "$fuzz_seconds" -gt 0 ] && sh fuzz/run.sh --check; then
 else
     echo "fuzz: skipped (no clang with libFuzzer, or HPFC_FUZZ_SECONDS=0)"
 fi
-# Many readers at once under ThreadSanitizer: tests/test_threads.c (8
+# Many readers at once under ThreadSanitizer: tests/lib/test_threads.c (8
 # threads on one file, each query against one thread's answer) built with
 # clang -fsanitize=thread, that program alone (what it links: the library
 # and the test generator), so the step costs about a minute. Any report

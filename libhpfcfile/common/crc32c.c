@@ -22,7 +22,7 @@
  * Its rows are data, not code written twice: they look alike (six
  * constants a line) and a duplicate finder pairs them, but C has no
  * compile-time loop to derive them from the polynomial, and building them
- * at run time would give the reader mutable global state. tests/test_bits.c
+ * at run time would give the reader mutable global state. tests/lib/test_bits.c
  * checks them: the check value, and slicing against the byte-wise loop. */
 static const uint32_t CRC32C_TABLE[8][256] = {
     {

@@ -21,7 +21,7 @@
  * cached follow records only what topo_cross_road answers (topo_links.c);
  * a key block is only ever a copy of its entry (topo_cache.c); and
  * topo_walk.c's arrive, the one place dart and key operators walk, puts
- * the cache in front of the plain walk. tests/test_topo.c
+ * the cache in front of the plain walk. tests/lib/test_topo.c
  * (check_three_sources) runs every operator on every dart of generated
  * graphs without the cache, with caches of several sizes and through keys,
  * and compares.

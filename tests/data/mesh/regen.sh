@@ -1,7 +1,7 @@
 #!/bin/sh
 # Regenerates the mesh fixtures: OBJ/PLY meshes (here, the encoder's input:
 # hpfc-pack reads no OBJ or PLY) and their triangle-edge graphs as .pfc
-# (ok/) from gen-mesh (tests/gen_mesh.c), and their Draco encodings from
+# (ok/) from gen-mesh (tests/support/gen_mesh.c), and their Draco encodings from
 # draco_encoder (Debian 12's `draco` 1.5.5), into ok/ or bad/ by the verdict
 # of tests/cli/draco.expect. The outputs are committed, so the tests need
 # neither tool.

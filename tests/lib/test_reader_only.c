@@ -8,7 +8,7 @@
  * labels and geometry verified where the file has them, and every face's
  * and feature's rings (closed, at least four points). A call this program
  * makes that the reader does not hold fails the link; a library it needs
- * beyond libc fails it too (tests/check_reader.py checks the archive).
+ * beyond libc fails it too (tests/lib/check_reader.py checks the archive).
  */
 #include <dirent.h>
 #include <stdio.h>

@@ -549,7 +549,7 @@ static void unpack(packed *p)
     hpfc_tree_free(p->tree);
 }
 
-/* Every dart of the file, by key (tests/test_handles.c holds the path form to
+/* Every dart of the file, by key (tests/lib/test_handles.c holds the path form to
  * the key form): its polyline is its edge's, run from the end in
  * its pixel; its twin's is the reverse. */
 static void check_darts(const hpfc_file *f)
