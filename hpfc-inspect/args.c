@@ -26,6 +26,41 @@ int view_fail_status(char *why, const char *what, int st)
     return view_fail(why, "%s: %s", what, hpfc_strerror(st));
 }
 
+/* ---- options ------------------------------------------------------------------ */
+
+/* The value of option `name` at argv[*i], as "--name VALUE" or
+ * "--name=VALUE"; NULL when argv[*i] is another option. *missing is set when
+ * the option is there without its value. A separate VALUE that looks like an
+ * option counts as missing: "--export-graph --json FILE" is a slip, and
+ * writing a file named "--json" would hide it (--name=-x still works). */
+const char *option_value(int argc, char **argv, int *i, const char *name, int *missing)
+{
+    size_t n = strlen(name);
+    const char *arg = argv[*i];
+    if (strncmp(arg, name, n) != 0)
+        return NULL;
+    if (arg[n] == '=')
+        return arg + n + 1;
+    if (arg[n] != '\0')
+        return NULL;
+    if (*i + 1 >= argc || (argv[*i + 1][0] == '-' && argv[*i + 1][1] != '\0')) {
+        *missing = 1;
+        return NULL;
+    }
+    return argv[++*i];
+}
+
+/* A value that starts with '-' and then a digit or a point is a negative
+ * number, not a slip: "--locate -5,3 FILE". */
+const char *option_numeric_value(int argc, char **argv, int *i, const char *name, int *missing)
+{
+    const char *next = *i + 1 < argc ? argv[*i + 1] : "";
+    if (strcmp(argv[*i], name) == 0 && next[0] == '-' &&
+        ((next[1] >= '0' && next[1] <= '9') || next[1] == '.'))
+        return argv[++*i];
+    return option_value(argc, argv, i, name, missing);
+}
+
 /* ---- decimals ----------------------------------------------------------------- */
 
 static size_t scan_digits(const char *s, size_t len, size_t p)

@@ -233,39 +233,6 @@ static int usage_error(const char *what, const char *arg)
     return EXIT_USAGE;
 }
 
-/* The value of option `name` at argv[*i], as "--name VALUE" or
- * "--name=VALUE"; NULL when argv[*i] is another option. *missing is set when
- * the option is there without its value. A separate VALUE that looks like an
- * option counts as missing: "--export-graph --json FILE" is a slip, and
- * writing a file named "--json" would hide it (--name=-x still works). */
-static const char *option_value(int argc, char **argv, int *i, const char *name, int *missing)
-{
-    size_t n = strlen(name);
-    const char *arg = argv[*i];
-    if (strncmp(arg, name, n) != 0)
-        return NULL;
-    if (arg[n] == '=')
-        return arg + n + 1;
-    if (arg[n] != '\0')
-        return NULL;
-    if (*i + 1 >= argc || (argv[*i + 1][0] == '-' && argv[*i + 1][1] != '\0')) {
-        *missing = 1;
-        return NULL;
-    }
-    return argv[++*i];
-}
-
-/* A value that starts with '-' and then a digit or a point is a negative
- * number, not a slip: "--locate -5,3 FILE". */
-static const char *numeric_value(int argc, char **argv, int *i, const char *name, int *missing)
-{
-    const char *next = *i + 1 < argc ? argv[*i + 1] : "";
-    if (strcmp(argv[*i], name) == 0 && next[0] == '-' &&
-        ((next[1] >= '0' && next[1] <= '9') || next[1] == '.'))
-        return argv[++*i];
-    return option_value(argc, argv, i, name, missing);
-}
-
 /* One of the value options of the queries at argv[*i]: -1 when it is not
  * one, 0 when taken, or the usage exit status. */
 static int query_option(int argc, char **argv, int *i, inspect_args *a)
@@ -273,7 +240,7 @@ static int query_option(int argc, char **argv, int *i, inspect_args *a)
     for (int k = 0; k < V_COUNT; k++) {
         int missing = 0, numeric = k == V_LOCATE || k == V_LOCATE_LONLAT || k == V_WINDOW ||
                                    k == V_WINDOW_LONLAT;
-        const char *value = numeric ? numeric_value(argc, argv, i, value_names[k], &missing)
+        const char *value = numeric ? option_numeric_value(argc, argv, i, value_names[k], &missing)
                                     : option_value(argc, argv, i, value_names[k], &missing);
         if (!value && !missing)
             continue;

@@ -38,27 +38,6 @@ static int usage(const char *opt, const char *what)
     return VIEW_USAGE;
 }
 
-/* "--name VALUE" or "--name=VALUE": the value, or NULL (*missing set when
- * the option is there without one). A value that starts with '-' is taken
- * when numeric ("--nearest -97.7,30.2"). */
-static const char *value_of(int argc, char **argv, int *i, const char *name, int *missing)
-{
-    size_t n = strlen(name);
-    const char *arg = argv[*i];
-    if (strncmp(arg, name, n) != 0)
-        return NULL;
-    if (arg[n] == '=')
-        return arg + n + 1;
-    if (arg[n] != '\0')
-        return NULL;
-    const char *next = *i + 1 < argc ? argv[*i + 1] : NULL;
-    if (!next || (next[0] == '-' && !((next[1] >= '0' && next[1] <= '9') || next[1] == '.'))) {
-        *missing = 1;
-        return NULL;
-    }
-    return argv[++*i];
-}
-
 int topo_option(int argc, char **argv, int *i, topo_args *t)
 {
     struct {
@@ -79,7 +58,7 @@ int topo_option(int argc, char **argv, int *i, topo_args *t)
             t->mesh = "interior";
             return 0;
         }
-        const char *v = value_of(argc, argv, i, opts[k].name, &missing);
+        const char *v = option_numeric_value(argc, argv, i, opts[k].name, &missing);
         if (!v && !missing)
             continue;
         if (missing)

@@ -39,6 +39,15 @@ int view_fail_status(char *why, const char *what, int st);
 
 /* ---- arguments (args.c) ------------------------------------------------------------ */
 
+/* The value of option `name` at argv[*i], as "--name VALUE" or
+ * "--name=VALUE" (*i moves past a separate VALUE); NULL when argv[*i] is
+ * another option, and *missing set when the option is there without its
+ * value. A separate VALUE that starts with '-' is a slip ("--export-graph
+ * --json FILE"), except in option_numeric_value when a digit or a point
+ * follows: a negative number ("--locate -5,3 FILE"). */
+const char *option_value(int argc, char **argv, int *i, const char *name, int *missing);
+const char *option_numeric_value(int argc, char **argv, int *i, const char *name, int *missing);
+
 /* A decimal number as written, kept exact: value = digits * 10^exp10. */
 typedef struct decimal {
     int neg;

@@ -1000,32 +1000,40 @@ int hpfc_shapes_face_polygons(hpfc_shapes *s, hpfc_id face, hpfc_polygons *out)
 }
 
 
-int hpfc_shapes_feature_polygons(hpfc_shapes *s, hpfc_id feature, hpfc_polygons *out)
+/* The polygons of a region given as its faces (distinct ids): the faces'
+ * parts joined across the edges inside the region, so that each hole is
+ * owned by the part around it, and a dart for every edge on its border. */
+static int region_polygons(hpfc_shapes *s, const uint32_t *faces, size_t n, hpfc_polygons *out)
 {
-    int st = check_feature_call(s, out, FEATURE_FACES, feature);
-    if (st)
-        return st;
     reset(s);
     uint32_t m = shapes_next_mark(s);
-    uint64_t a = s->feat_start[feature], b = s->feat_start[feature + 1];
-    for (uint64_t k = a; k < b; k++) {
-        s->face_mark[s->feat_face[k]] = m;
-        s->face_local[s->feat_face[k]] = (uint32_t)(k - a);
+    for (size_t k = 0; k < n; k++) {
+        s->face_mark[faces[k]] = m;
+        s->face_local[faces[k]] = (uint32_t)k;
     }
-    st = parts_init(s, b - a);
-    for (uint64_t k = a; k < b && !st; k++) {
-        uint32_t face = s->feat_face[k];
+    int st = parts_init(s, n);
+    for (size_t k = 0; k < n && !st; k++) {
+        uint32_t face = faces[k];
         for (uint64_t j = s->face_start[face]; j < s->face_start[face + 1] && !st; j++) {
             uint32_t e = s->face_edge[j];
             int in_left = s->face_mark[s->left[e]] == m, in_right = s->face_mark[s->right[e]] == m;
             if (in_left && in_right)
                 parts_join(s, s->left[e], s->right[e]);
-            /* once per edge: from the face on its side inside the feature */
+            /* once per edge: from the face on its side inside the region */
             else if (in_left != in_right && (in_left ? s->left[e] : s->right[e]) == face)
                 st = add_dart(s, e, in_right, face);
         }
     }
     return st ? st : assemble(s, out);
+}
+
+int hpfc_shapes_feature_polygons(hpfc_shapes *s, hpfc_id feature, hpfc_polygons *out)
+{
+    int st = check_feature_call(s, out, FEATURE_FACES, feature);
+    if (st)
+        return st;
+    uint64_t a = s->feat_start[feature], b = s->feat_start[feature + 1];
+    return region_polygons(s, s->feat_face + a, (size_t)(b - a), out);
 }
 
 /* ---- lines --------------------------------------------------------------------------- */
@@ -1227,28 +1235,10 @@ int hpfc_shapes_features_polygons(hpfc_shapes *s, const hpfc_id *features, size_
     for (size_t k = 0; k < nf; k++)
         if (!u || faces[k] != faces[u - 1])
             faces[u++] = faces[k];
-    reset(s);
-    uint32_t m = shapes_next_mark(s);
-    for (size_t k = 0; k < u; k++) {
-        s->face_mark[faces[k]] = m;
-        s->face_local[faces[k]] = (uint32_t)k;
-    }
-    /* as one feature's faces: parts joined across the edges inside the set,
-     * so that each hole is owned by the part around it */
-    int st = parts_init(s, u);
-    for (size_t k = 0; k < u && !st; k++) {
-        uint32_t face = faces[k];
-        for (uint64_t j = s->face_start[face]; j < s->face_start[face + 1] && !st; j++) {
-            uint32_t e = s->face_edge[j];
-            int in_left = s->face_mark[s->left[e]] == m, in_right = s->face_mark[s->right[e]] == m;
-            if (in_left && in_right)
-                parts_join(s, s->left[e], s->right[e]);
-            else if (in_left != in_right && (in_left ? s->left[e] : s->right[e]) == face)
-                st = add_dart(s, e, in_right, face);
-        }
-    }
+    /* as one feature's faces */
+    int st = region_polygons(s, faces, u, out);
     free(faces);
-    return st ? st : assemble(s, out);
+    return st;
 }
 
 /* The groups of the features of a face, sorted and each once, into g
