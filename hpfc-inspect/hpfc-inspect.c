@@ -548,6 +548,9 @@ static void print_json(const char *path, const summary *s)
         jsonw_object_end(&w);
     }
     jsonw_array_end(&w);
+    /* --sections --json lists the levels too, with the byte positions it
+     * shows instead of the cell sizes: two documents, each with its own
+     * fields, so written apart. */
     jsonw_array_begin(&w, "levels");
     for (uint32_t l = 0; l < fi->levels; l++) {
         const hpfc_level_info *lv = &s->levels[l];

@@ -279,24 +279,19 @@ extern "C" int draco_read_graph(const char *path, const draco_options *opts, hpf
     if (!out || !path)
         return fail(diag, HPFC_E_ARG, "no path or no output graph");
     *out = nullptr;
+    std::vector<char> bytes;
     try {
         std::unique_ptr<std::FILE, int (*)(std::FILE *)> f(std::fopen(path, "rb"), std::fclose);
         if (!f)
             return fail(diag, HPFC_E_IO, "%s", std::strerror(errno));
-        std::vector<char> bytes;
         char chunk[1 << 16];
         size_t n;
         while ((n = std::fread(chunk, 1, sizeof chunk, f.get())) > 0)
             bytes.insert(bytes.end(), chunk, chunk + n);
         if (std::ferror(f.get()))
             return fail(diag, HPFC_E_IO, "read error");
-        f.reset();
-        return decode(bytes.data(), bytes.size(), opts, out, diag);
     } catch (const std::bad_alloc &) {
-        return fail(diag, HPFC_E_NOMEM, "out of memory decoding the Draco mesh");
-    } catch (const std::exception &e) {
-        return fail(diag, DRACO_E_DECODE, "the Draco decoder failed: %s", e.what());
-    } catch (...) {
-        return fail(diag, DRACO_E_DECODE, "the Draco decoder failed");
+        return fail(diag, HPFC_E_NOMEM, "out of memory reading the Draco mesh");
     }
+    return draco_graph_from_memory(bytes.data(), bytes.size(), opts, out, diag);
 }

@@ -89,7 +89,8 @@ static size_t lower_first(const noded_index *ix, int64_t x, int64_t y)
     return lo;
 }
 
-/* First position in by_b at or after (x, y). */
+/* First position in by_b at or after (x, y): lower_first's search over the
+ * other array, whose records hold the point itself. */
 static size_t lower_second(const noded_index *ix, int64_t x, int64_t y)
 {
     size_t lo = 0, hi = ix->n;
