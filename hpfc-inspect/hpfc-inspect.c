@@ -117,7 +117,8 @@ static void print_help(void)
            "                         road, and the map the traversal operators rebuild\n"
            "                         (twin, next, prev, origin, target, faces, Euler)\n"
            "  --export-graph OUT     write the map as hpfc-graph JSON to OUT (atomic:\n"
-           "                         no partial OUT on failure)\n"
+           "                         no partial OUT on failure; - for standard output,\n"
+           "                         the summary then on standard error)\n"
            );
     printf(
            "  --export OUT           write every feature as its exact (multi)polygon (the\n"
@@ -689,6 +690,15 @@ static int run_verify(const inspect_args *a)
  * reason. */
 static int write_graph(const char *out, const hpfc_file *f, const exported_map *m)
 {
+    if (strcmp(out, "-") == 0) { /* standard output: written as it goes */
+        errno = 0;
+        if (export_map_json(f, m, stdout) != HPFC_OK || fflush(stdout) != 0) {
+            fprintf(stderr, "hpfc-inspect: standard output: cannot write: %s\n",
+                    strerror(errno ? errno : EIO));
+            return EXIT_FAIL;
+        }
+        return 0;
+    }
     char why[ATOMIC_WHY];
     atomic_output o;
     if (atomic_output_open(&o, out, why)) {
@@ -710,11 +720,14 @@ static int write_graph(const char *out, const hpfc_file *f, const exported_map *
     return 0;
 }
 
+/* The summary goes to standard output, or to standard error when the
+ * graph itself does (OUT "-"). */
 static void print_export_summary(const inspect_args *a, const exported_map *m)
 {
+    FILE *to = strcmp(a->graph_out, "-") == 0 ? stderr : stdout;
     if (a->json) {
         jsonw w;
-        jsonw_init(&w, stdout);
+        jsonw_init(&w, to);
         jsonw_object_begin(&w, NULL);
         jsonw_string(&w, "file", a->file);
         jsonw_string(&w, "output", a->graph_out);
@@ -724,7 +737,8 @@ static void print_export_summary(const inspect_args *a, const exported_map *m)
         jsonw_object_end(&w);
         jsonw_finish(&w);
     } else {
-        printf("%s: %zu vertices, %zu edges (%zu darts)\n", a->graph_out, m->nv, m->nd / 2, m->nd);
+        fprintf(to, "%s: %zu vertices, %zu edges (%zu darts)\n", a->graph_out, m->nv, m->nd / 2,
+                m->nd);
     }
 }
 
@@ -749,7 +763,7 @@ static int check_before_export(const char *file, const input_bytes *b)
 static int check_new_output(const inspect_args *a, const char *out)
 {
     struct stat st;
-    if (a->force || lstat(out, &st) != 0)
+    if (a->force || strcmp(out, "-") == 0 || lstat(out, &st) != 0)
         return 0;
     fprintf(stderr, "hpfc-inspect: %s: exists; --force (or -overwrite) replaces it\n", out);
     return EXIT_FAIL;
@@ -773,7 +787,7 @@ static int export_open(const inspect_args *a, hpfc_file *f)
  * FILE is read once (it may be a pipe): verified and opened in memory. */
 static int run_export(const inspect_args *a)
 {
-    if (same_file(input_path(a->file), a->graph_out))
+    if (strcmp(a->graph_out, "-") != 0 && same_file(input_path(a->file), a->graph_out))
         return usage_error("OUT is FILE; refusing to overwrite the input", a->graph_out);
     if (check_new_output(a, a->graph_out))
         return EXIT_FAIL;

@@ -115,4 +115,22 @@ run "$INSPECT" --export-graph "$tmp/sq.hpfc" "$tmp/sq.hpfc"
 expect_error "export onto FILE" "hpfc-inspect: " 2
 cmp -s "$tmp/sq.hpfc" "$tmp/sq-copy.hpfc" || fail "export onto FILE: FILE was modified"
 
+# OUT "-": the same JSON on standard output, the summary on standard error,
+# no file named "-" (from a pipe too).
+had_dash=no
+[ -e ./- ] && had_dash=yes
+rm -f "$dir/graph.json"
+run "$INSPECT" --export-graph "$dir/graph.json" "$tmp/sq.hpfc"
+expect_ok "export sq to a file"
+"$INSPECT" --export-graph - "$tmp/sq.hpfc" >"$tmp/stdout.json" 2>"$tmp/stderr.txt" ||
+    fail "export to -: non-zero exit: $(head -c 300 "$tmp/stderr.txt")"
+cmp -s "$dir/graph.json" "$tmp/stdout.json" || fail "export to -: not the file's JSON"
+grep -q "vertices" "$tmp/stderr.txt" || fail "export to -: no summary on standard error"
+[ $had_dash = no ] && [ -e ./- ] && fail "export to -: wrote a file named -"
+"$INSPECT" --export-graph - --json - <"$tmp/sq.hpfc" >"$tmp/stdout2.json" 2>"$tmp/stderr2.txt" ||
+    fail "export - to -: non-zero exit: $(head -c 300 "$tmp/stderr2.txt")"
+cmp -s "$dir/graph.json" "$tmp/stdout2.json" || fail "export - to -: not the file's JSON"
+python3 -c 'import json,sys; json.load(open(sys.argv[1]))' "$tmp/stderr2.txt" ||
+    fail "export - to - --json: the summary is not JSON"
+
 finish
