@@ -31,6 +31,7 @@
 #include "file.h"
 #include "geometry.h"
 #include "labels.h"
+#include "reader.h"
 #include "shapes.h"
 
 /* The window's answer and the marks that keep each id once. */
@@ -333,40 +334,33 @@ static int cut_crossing(hpfc_shapes *s, uint64_t e, uint64_t seg, const rect *bo
 static int load_leaf(hpfc_shapes *s, const hpfc_pixel *leaf)
 {
     shapes_window *w = s->window;
-    size_t len = 0;
-    int st = HPFC_E_BUFFER_SMALL;
-    if (w->cap_word)
-        st = hpfc_pixel_word(s->f, leaf, w->word, w->cap_word, &len);
-    if (st == HPFC_E_BUFFER_SMALL) { /* rare: the buffer keeps the longest word yet */
-        st = hpfc_pixel_word(s->f, leaf, NULL, 0, &len);
-        if (!st && array_grow((void **)&w->word, &w->cap_word, len < 64 ? 64 : len + 1, 1))
-            st = HPFC_E_NOMEM;
-        if (!st)
-            st = hpfc_pixel_word(s->f, leaf, w->word, w->cap_word, &len);
-    }
-    if (!st)
-        st = labels_leaf_load(s->f, leaf, w->word, len, &w->leaf);
-    return st;
+    return labels_leaf_load_word(s->f, leaf, &w->word, &w->cap_word, &w->leaf);
 }
 
 /* A leaf whose closed box lies in the window: its faces and its crossings'
- * edges. */
+ * edges. With crossings, the faces are their edges' sides: every region of
+ * the leaf borders an edge piece (the pieces cut the leaf into its
+ * regions), and each piece has a region on either side. */
 static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, int border)
 {
     shapes_window *w = s->window;
     int st = load_leaf(s, leaf);
     if (st)
         return st;
-    uint32_t n = w->leaf.rec.word.n, regions = w->leaf.rec.word.regions;
-    if (array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, (size_t)regions + 1,
-                   sizeof *w->leaf_faces))
-        return HPFC_E_NOMEM;
-    st = labels_leaf_regions(s->f, &w->leaf, w->leaf_faces);
-    for (uint32_t k = 0; k < regions && !st; k++)
-        st = add_face(s, w->leaf_faces[k], border);
-    for (uint32_t k = 0; k < n && !st; k++)
-        st = add_edge(s, w->leaf.edge[k], border);
-    return st;
+    uint32_t n = w->leaf.rec.word.n;
+    for (uint32_t k = 0; k < n && !st; k++) {
+        uint64_t e = w->leaf.edge[k];
+        st = add_edge(s, e, border);
+        if (!st)
+            st = add_face(s, s->left[e], border);
+        if (!st && s->right[e] != s->left[e])
+            st = add_face(s, s->right[e], border);
+    }
+    if (st || n > 0)
+        return st;
+    uint64_t face; /* a private leaf: one region */
+    st = labels_leaf_regions(s->f, &w->leaf, &face);
+    return st ? st : add_face(s, face, border);
 }
 
 /* A leaf the window's border cuts: exactly, on r = its box in the window. */
@@ -407,31 +401,51 @@ static int cut_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const rect *box, con
     return st;
 }
 
-/* Every leaf under px whose closed box meets the window. */
-static int descend(hpfc_shapes *s, const hpfc_pixel *px, const rect *win, uint32_t cols,
-                   uint32_t rows)
+/* What the descent keeps fixed: the window, and each level's cell size. */
+typedef struct descent {
+    rect win;
+    int64_t cell_w[HPFC_MAX_LEVELS], cell_h[HPFC_MAX_LEVELS];
+    uint32_t cols, rows;
+} descent;
+
+static int rect_meets(const rect *a, const rect *b)
 {
-    rect box;
-    int type, st = hpfc_pixel_bounds(s->f, px, &box.x0, &box.y0, &box.x1, &box.y1);
-    if (!st)
-        st = hpfc_pixel_type(s->f, px, &type);
-    if (st)
-        return st;
-    if (box.x0 > win->x1 || box.x1 < win->x0 || box.y0 > win->y1 || box.y1 < win->y0)
-        return HPFC_OK;
+    return a->x0 <= b->x1 && a->x1 >= b->x0 && a->y0 <= b->y1 && a->y1 >= b->y0;
+}
+
+/* Every leaf under px (of `type`, its closed box `box` meeting the window)
+ * whose closed box meets the window. A child's box is its parent's corner
+ * plus its cell, as hpfc_pixel_bounds adds them, so only the children that
+ * meet the window are read. */
+static int descend(hpfc_shapes *s, const descent *d, const hpfc_pixel *px, int type,
+                   const rect *box)
+{
+    const rect *win = &d->win;
     if (type == HPFC_PIXEL_WORD) {
-        if (rect_within(&box, win))
-            return inside_leaf(s, px, !rect_within_interior(&box, win));
-        rect r = {box.x0 > win->x0 ? box.x0 : win->x0, box.y0 > win->y0 ? box.y0 : win->y0,
-                  box.x1 < win->x1 ? box.x1 : win->x1, box.y1 < win->y1 ? box.y1 : win->y1};
-        return cut_leaf(s, px, &box, &r);
+        if (rect_within(box, win))
+            return inside_leaf(s, px, !rect_within_interior(box, win));
+        rect r = {box->x0 > win->x0 ? box->x0 : win->x0, box->y0 > win->y0 ? box->y0 : win->y0,
+                  box->x1 < win->x1 ? box->x1 : win->x1, box->y1 < win->y1 ? box->y1 : win->y1};
+        return cut_leaf(s, px, box, &r);
     }
-    for (uint32_t j = 0; j < rows && !st; j++)
-        for (uint32_t i = 0; i < cols && !st; i++) {
+    uint64_t image;
+    int st = reader_child_image(s->f, px, &image);
+    uint32_t level = px->depth + 1; /* a refined pixel is above the last level */
+    int64_t cw = d->cell_w[level], ch = d->cell_h[level];
+    for (uint32_t j = 0; j < d->rows && !st; j++)
+        for (uint32_t i = 0; i < d->cols && !st; i++) {
+            rect cb;
+            cb.x0 = box->x0 + (int64_t)i * cw;
+            cb.y0 = box->y0 + (int64_t)(d->rows - 1 - j) * ch;
+            cb.x1 = cb.x0 + cw;
+            cb.y1 = cb.y0 + ch;
+            if (!rect_meets(&cb, win))
+                continue;
             hpfc_pixel child;
-            st = hpfc_pixel_child(s->f, px, i, j, &child);
+            int child_type;
+            st = reader_child(s->f, px, image, i, j, &child, &child_type);
             if (!st)
-                st = descend(s, &child, win, cols, rows);
+                st = descend(s, d, &child, child_type, &cb);
         }
     return st;
 }
@@ -441,24 +455,35 @@ static int descend(hpfc_shapes *s, const hpfc_pixel *px, const rect *win, uint32
 static int descend_roots(hpfc_shapes *s, const rect *win)
 {
     hpfc_file_info fi;
-    hpfc_level_info lv;
     hpfc_file_get_info(s->f, &fi);
-    int st = hpfc_file_get_level(s->f, 0, &lv);
-    if (st)
-        return st;
-    if (lv.cell_w <= 0 || lv.cell_h <= 0)
-        return HPFC_E_CORRUPT;
+    descent d = {.win = *win, .cols = fi.cols, .rows = fi.rows};
+    for (uint32_t l = 0; l < fi.levels; l++) {
+        hpfc_level_info lv;
+        int st = hpfc_file_get_level(s->f, l, &lv);
+        if (st)
+            return st;
+        if (lv.cell_w <= 0 || lv.cell_h <= 0)
+            return HPFC_E_CORRUPT;
+        d.cell_w[l] = lv.cell_w, d.cell_h[l] = lv.cell_h;
+    }
     /* the window relative to the domain, clamped, in root cells (row 0 north) */
-    int64_t c0 = win->x0 <= fi.x0 ? 0 : (win->x0 - fi.x0) / lv.cell_w;
-    int64_t c1 = win->x1 <= fi.x0 ? 0 : (win->x1 - fi.x0) / lv.cell_w;
-    int64_t r0 = win->y1 >= fi.y0 + fi.height ? 0 : (fi.y0 + fi.height - win->y1) / lv.cell_h;
-    int64_t r1 = win->y0 >= fi.y0 + fi.height ? 0 : (fi.y0 + fi.height - win->y0) / lv.cell_h;
+    int64_t c0 = win->x0 <= fi.x0 ? 0 : (win->x0 - fi.x0) / d.cell_w[0];
+    int64_t c1 = win->x1 <= fi.x0 ? 0 : (win->x1 - fi.x0) / d.cell_w[0];
+    int64_t r0 = win->y1 >= fi.y0 + fi.height ? 0 : (fi.y0 + fi.height - win->y1) / d.cell_h[0];
+    int64_t r1 = win->y0 >= fi.y0 + fi.height ? 0 : (fi.y0 + fi.height - win->y0) / d.cell_h[0];
+    int st = HPFC_OK;
     for (int64_t j = r0 > 0 ? r0 - 1 : 0; j <= r1 && j < fi.root_rows && !st; j++)
         for (int64_t i = c0 > 0 ? c0 - 1 : 0; i <= c1 && i < fi.root_cols && !st; i++) {
             hpfc_pixel root;
+            rect box;
+            int type;
             st = hpfc_pixel_root(s->f, (uint32_t)i, (uint32_t)j, &root);
             if (!st)
-                st = descend(s, &root, win, fi.cols, fi.rows);
+                st = hpfc_pixel_bounds(s->f, &root, &box.x0, &box.y0, &box.x1, &box.y1);
+            if (!st)
+                st = hpfc_pixel_type(s->f, &root, &type);
+            if (!st && rect_meets(&box, win))
+                st = descend(s, &d, &root, type, &box);
         }
     return st;
 }

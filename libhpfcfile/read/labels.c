@@ -16,8 +16,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "arrays.h"
 #include "file.h"
 #include "labels.h"
+#include "reader.h"
 #include "sized.h"
 
 #define NONE_REGION UINT32_MAX
@@ -420,19 +422,16 @@ static int record_offset(const labels_view *v, uint64_t g, uint64_t *off)
 }
 
 /* Parses the leaf's word sym[0 .. len) into rec->word (free with
- * labels_word_free), finds its record and checks that it lies in the
- * label stream. */
-static int load_record_sym(const hpfc_file *f, const labels_view *v, const hpfc_pixel *leaf,
-                           const char *sym, size_t len, leaf_record *rec)
+ * labels_word_free), finds its record (the leaf is the rank-th of its
+ * level, rank < the level's leaves) and checks that it lies in the label
+ * stream. */
+static int load_record_ranked(const labels_view *v, const hpfc_pixel *leaf, uint64_t rank,
+                              const char *sym, size_t len, leaf_record *rec)
 {
     rec->off = 0;
     rec->word.heap = NULL;
-    uint64_t rank;
-    int st = labels_leaf_rank(f, leaf, &rank);
-    if (st)
-        return st;
     uint64_t g = v->first_leaf[leaf->depth] + rank; /* rank < word_pixels: g < leaves */
-    st = labels_word_parse(&rec->word, sym, len);
+    int st = labels_word_parse(&rec->word, sym, len);
     if (!st)
         st = record_offset(v, g, &rec->off);
     if (st) {
@@ -445,6 +444,17 @@ static int load_record_sym(const hpfc_file *f, const labels_view *v, const hpfc_
         return HPFC_E_CORRUPT;
     }
     return HPFC_OK;
+}
+
+/* The same, the leaf ranked here. */
+static int load_record_sym(const hpfc_file *f, const labels_view *v, const hpfc_pixel *leaf,
+                           const char *sym, size_t len, leaf_record *rec)
+{
+    rec->off = 0;
+    rec->word.heap = NULL;
+    uint64_t rank;
+    int st = labels_leaf_rank(f, leaf, &rank);
+    return st ? st : load_record_ranked(v, leaf, rank, sym, len, rec);
 }
 
 /* The same, decoding the leaf's word first. */
@@ -635,17 +645,10 @@ void labels_leaf_free(labels_leaf *l)
     memset(l, 0, sizeof *l);
 }
 
-int labels_leaf_load(const hpfc_file *f, const hpfc_pixel *leaf, const char *sym, size_t len,
-                     labels_leaf *out)
+/* The crossings' edges of a loaded record into out->edge. */
+static int load_edges(const labels_view *v, labels_leaf *out)
 {
-    int st;
-    const labels_view *v = labels_of(f, true, &st);
-    if (st)
-        return st;
-    labels_word_free(&out->rec.word);
-    leaf_record *rec = &out->rec;
-    if ((st = load_record_sym(f, v, leaf, sym, len, rec)))
-        return st;
+    const leaf_record *rec = &out->rec;
     uint32_t n = rec->word.n, entries = n ? n : 1;
     if (entries > out->cap) {
         uint64_t *e = realloc(out->edge, entries * sizeof *e);
@@ -654,9 +657,50 @@ int labels_leaf_load(const hpfc_file *f, const hpfc_pixel *leaf, const char *sym
         out->edge = e;
         out->cap = entries;
     }
+    int st = HPFC_OK;
     for (uint32_t k = 0; k < n && !st; k++)
         st = crossing_edge(v, rec, k, &out->edge[k]);
     return st;
+}
+
+int labels_leaf_load(const hpfc_file *f, const hpfc_pixel *leaf, const char *sym, size_t len,
+                     labels_leaf *out)
+{
+    int st;
+    const labels_view *v = labels_of(f, true, &st);
+    if (st)
+        return st;
+    labels_word_free(&out->rec.word);
+    if ((st = load_record_sym(f, v, leaf, sym, len, &out->rec)))
+        return st;
+    return load_edges(v, out);
+}
+
+int labels_leaf_load_word(const hpfc_file *f, const hpfc_pixel *leaf, char **word, size_t *cap,
+                          labels_leaf *out)
+{
+    int st;
+    const labels_view *v = labels_of(f, word && cap && out, &st);
+    if (st)
+        return st;
+    labels_word_free(&out->rec.word);
+    size_t len = 0;
+    uint64_t rank;
+    st = *cap ? reader_leaf_word(f, leaf, *word, *cap, &len, &rank) : HPFC_E_BUFFER_SMALL;
+    if (st == HPFC_E_BUFFER_SMALL) { /* rare: the buffer keeps the longest word yet */
+        st = reader_leaf_word(f, leaf, NULL, 0, &len, &rank);
+        if (!st && array_grow((void **)word, cap, len < 64 ? 64 : len + 1, 1))
+            st = HPFC_E_NOMEM;
+        if (!st)
+            st = reader_leaf_word(f, leaf, *word, *cap, &len, &rank);
+    }
+    if (st)
+        return st;
+    if (rank == UINT64_MAX)
+        st = load_record_sym(f, v, leaf, *word, len, &out->rec);
+    else
+        st = load_record_ranked(v, leaf, rank, *word, len, &out->rec);
+    return st ? st : load_edges(v, out);
 }
 
 int labels_leaf_regions(const hpfc_file *f, const labels_leaf *l, uint64_t *faces)

@@ -150,6 +150,11 @@ typedef struct labels_leaf {
  * Statuses as hpfc_label_stretch_face's. */
 int labels_leaf_load(const hpfc_file *file, const hpfc_pixel *leaf, const char *sym, size_t len,
                      labels_leaf *out);
+/* The same, the word read here into *word (a buffer of *cap bytes that
+ * grows to the longest word yet, for a caller that loads many leaves) and
+ * the leaf ranked from the same read of its pool (compact layout). */
+int labels_leaf_load_word(const hpfc_file *file, const hpfc_pixel *leaf, char **word, size_t *cap,
+                          labels_leaf *out);
 void labels_leaf_free(labels_leaf *l);
 /* The face of stretch `stretch` (< max(word.n, 1)) of a loaded leaf. */
 int labels_leaf_face(const hpfc_file *file, const labels_leaf *l, uint32_t stretch,

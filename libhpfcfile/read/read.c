@@ -173,6 +173,34 @@ int hpfc_pixel_child(const hpfc_file *f, const hpfc_pixel *px, uint32_t i, uint3
     return HPFC_OK;
 }
 
+int reader_child_image(const hpfc_file *f, const hpfc_pixel *px, uint64_t *image)
+{
+    pixel_at at;
+    int st = image ? top_pixel(f, px, &at) : HPFC_E_ARG;
+    if (st)
+        return st;
+    if (at.type != HPFC_PIXEL_REFINED)
+        return HPFC_E_NO_PIXEL;
+    return child_address(f, px->depth, &at, image);
+}
+
+int reader_child(const hpfc_file *f, const hpfc_pixel *px, uint64_t image, uint32_t i, uint32_t j,
+                 hpfc_pixel *out, int *type)
+{
+    uint32_t d = px->depth; /* < levels - 1: reader_child_image found a refined pixel */
+    pixel_at at;
+    int st = image_pixel(f, d + 1, image, i, j, &at);
+    if (st)
+        return st;
+    copy_path(out, px, d);
+    out->depth = d + 1;
+    out->path[d + 1].image = image;
+    out->path[d + 1].i = i;
+    out->path[d + 1].j = j;
+    *type = at.type;
+    return HPFC_OK;
+}
+
 int hpfc_pixel_parent(const hpfc_pixel *px, hpfc_pixel *out)
 {
     if (!px || !out || px->depth >= HPFC_MAX_LEVELS)
@@ -381,6 +409,45 @@ int hpfc_pixel_word(const hpfc_file *f, const hpfc_pixel *px, char *buf, size_t 
     if (f->compact)
         return compact_word(lv, &at, buf, cap, len);
     return word_decode_code(&lv->pool, at.slot, lv->word_bits, buf, cap, len);
+}
+
+int reader_leaf_word(const hpfc_file *f, const hpfc_pixel *leaf, char *buf, size_t cap,
+                     size_t *len, uint64_t *rank)
+{
+    if (!f || !leaf || !len || !rank || leaf->depth >= f->info.levels)
+        return HPFC_E_ARG;
+    *rank = UINT64_MAX;
+    if (!f->compact)
+        return hpfc_pixel_word(f, leaf, buf, cap, len);
+    uint32_t d = leaf->depth;
+    const file_level *lv = &f->lv[d];
+    uint64_t image = leaf->path[d].image;
+    if (leaf->path[d].i >= lv->cols || leaf->path[d].j >= lv->rows)
+        return HPFC_E_ARG;
+    if (image >= lv->info.images)
+        return d ? HPFC_E_CORRUPT : HPFC_E_ARG; /* as compact_image_pixel says */
+    /* one read of the type bits' counts gives both ranks */
+    uint64_t g = image * lv->image_pixels + (uint64_t)leaf->path[d].j * lv->cols + leaf->path[d].i;
+    pool_pixel px;
+    int st = pool_read_pixel(&lv->pool, &lv->compact, g, &px);
+    if (st)
+        return st;
+    if (px.kind == POOL_REFINED)
+        return lv->last ? HPFC_E_CORRUPT : HPFC_E_ARG;
+    if (g - px.refined >= lv->info.word_pixels)
+        return HPFC_E_CORRUPT; /* damaged block counts */
+    pixel_at at = {.type = HPFC_PIXEL_WORD, .slot = g, .word = px.kind == POOL_PRIVATE ? NO_WORD : 0};
+    if (px.kind == POOL_PRIVATE) {
+        st = compact_word(lv, &at, buf, cap, len);
+    } else {
+        uint64_t start, end;
+        st = pool_word_span(&lv->pool, &lv->compact, lv->word_bits, px.stabbed, &start, &end);
+        if (!st)
+            st = pool_decode_word(&lv->pool, start, end, buf, cap, len);
+    }
+    if (!st)
+        *rank = g - px.refined;
+    return st;
 }
 
 int hpfc_pixel_is_private(const hpfc_file *f, const hpfc_pixel *px, int *is_private)

@@ -35,6 +35,20 @@ int reader_next_refined(const hpfc_file *file, uint32_t level, uint64_t image, r
  * when no word slot starts there. O(pixels of the image). */
 int reader_word_at(const hpfc_file *file, uint32_t level, uint64_t image, uint64_t bit,
                    uint32_t *pixel);
+/* A refined pixel's children with the pixel read once (hpfc_pixel_child
+ * reads it again for each child): reader_child_image gives its child
+ * image (HPFC_E_NO_PIXEL for a word pixel), reader_child then child (i, j)
+ * of it, its path in *out and its type (HPFC_PIXEL_*), checked as
+ * hpfc_pixel_child checks it. */
+int reader_child_image(const hpfc_file *file, const hpfc_pixel *px, uint64_t *image);
+int reader_child(const hpfc_file *file, const hpfc_pixel *px, uint64_t image, uint32_t i,
+                 uint32_t j, hpfc_pixel *out, int *type);
+/* A word pixel's word, as hpfc_pixel_word gives it, and in the compact
+ * layout its rank among its level's leaves (labels_leaf_rank's) from the
+ * same read of its type bits' counts; *rank is UINT64_MAX when not
+ * computed (the paper layout). */
+int reader_leaf_word(const hpfc_file *file, const hpfc_pixel *leaf, char *buf, size_t cap,
+                     size_t *len, uint64_t *rank);
 /* hpfc_locate, from `near` (NULL: from the root): the levels where the
  * point lies in one of near's ancestors take near's path instead of reading
  * the pools again, so locating next to a known pixel costs the levels below

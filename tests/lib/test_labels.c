@@ -68,6 +68,51 @@ static int cmp_slot(const void *a, const void *b)
     return (x->slot > y->slot) - (x->slot < y->slot);
 }
 
+/* The window's shortcuts against the public calls they stand for: a
+ * child read from its parent's image (reader_child), a leaf's word with
+ * its rank (reader_leaf_word: the rank only in the compact layout) and
+ * its labels loaded with that word (labels_leaf_load_word). */
+static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t rank)
+{
+    char want[4096], got[4096], *grown = NULL;
+    size_t want_len = 0, got_len = 0, cap = 0;
+    uint64_t got_rank = 0;
+    CHECK_EQ_INT(hpfc_pixel_word(p->f, px, want, sizeof want, &want_len), HPFC_OK);
+    CHECK_EQ_INT(reader_leaf_word(p->f, px, got, sizeof got, &got_len, &got_rank), HPFC_OK);
+    CHECK_EQ_INT(got_len, want_len);
+    CHECK(memcmp(got, want, want_len) == 0);
+    CHECK_EQ_INT(got_rank, p->f->compact ? rank : UINT64_MAX);
+    if (want_len > 0) /* one byte short: the length needed */
+        CHECK_EQ_INT(reader_leaf_word(p->f, px, got, want_len - 1, &got_len, &got_rank),
+                     HPFC_E_BUFFER_SMALL);
+    labels_leaf a = {0}, b = {0};
+    CHECK_EQ_INT(labels_leaf_load(p->f, px, want, want_len, &a), HPFC_OK);
+    CHECK_EQ_INT(labels_leaf_load_word(p->f, px, &grown, &cap, &b), HPFC_OK);
+    CHECK_EQ_INT(b.rec.word.n, a.rec.word.n);
+    CHECK_EQ_INT(b.rec.off, a.rec.off);
+    for (uint32_t k = 0; k < a.rec.word.n && k < b.rec.word.n; k++)
+        CHECK_EQ_INT(b.edge[k], a.edge[k]);
+    labels_leaf_free(&a);
+    labels_leaf_free(&b);
+    free(grown);
+    if (px->depth == 0)
+        return;
+    hpfc_pixel parent, child, want_child;
+    uint64_t image = 0;
+    int type = -1;
+    uint32_t i = px->path[px->depth].i, j = px->path[px->depth].j;
+    CHECK_EQ_INT(hpfc_pixel_parent(px, &parent), HPFC_OK);
+    CHECK_EQ_INT(reader_child_image(p->f, &parent, &image), HPFC_OK);
+    CHECK_EQ_INT(reader_child_image(p->f, px, &image), HPFC_E_NO_PIXEL);
+    CHECK_EQ_INT(reader_child_image(p->f, &parent, &image), HPFC_OK);
+    CHECK_EQ_INT(hpfc_pixel_child(p->f, &parent, i, j, &want_child), HPFC_OK);
+    CHECK_EQ_INT(reader_child(p->f, &parent, image, i, j, &child, &type), HPFC_OK);
+    CHECK_EQ_INT(type, HPFC_PIXEL_WORD);
+    CHECK_EQ_INT(child.depth, want_child.depth);
+    CHECK(memcmp(child.path, want_child.path, (child.depth + 1) * sizeof child.path[0]) == 0);
+    CHECK_EQ_INT(reader_child(p->f, &parent, image, UINT32_MAX, j, &child, &type), HPFC_E_ARG);
+}
+
 static void check_ranks(const packed *p)
 {
     hpfc_file_info fi;
@@ -85,6 +130,7 @@ static void check_ranks(const packed *p)
         CHECK_EQ_INT(hpfc_leaf_number(p->f, &px, &rank), HPFC_OK);
         CHECK_EQ_INT(hpfc_leaf_number(p->f0, &px, &walk), HPFC_OK); /* no section: the walk */
         CHECK_EQ_INT(rank, walk);
+        check_leaf_shortcuts(p, &px, rank);
         sr[px.depth][count[px.depth]++] = (slot_rank){slot, rank};
     }
     CHECK_EQ_INT(st, HPFC_E_NO_PIXEL);
