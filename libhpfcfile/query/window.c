@@ -45,7 +45,8 @@ struct shapes_window {
     size_t cap_face_inside, cap_edge_inside, cap_feature_inside;
     char *word;
     size_t cap_word;
-    labels_leaf leaf;       /* the leaf's labels, loaded once */
+    labels_leaf leaf;       /* a cut leaf's labels, loaded once */
+    labels_pieces pieces;   /* an inside leaf's edges */
     uint64_t *leaf_faces, *seg;
     size_t cap_leaf_faces, cap_seg;
 };
@@ -69,6 +70,7 @@ void shapes_window_free(shapes_window *w)
     free(w->feature_inside);
     free(w->word);
     labels_leaf_free(&w->leaf);
+    free(w->pieces.edge);
     free(w->leaf_faces);
     free(w->seg);
     free(w);
@@ -338,29 +340,27 @@ static int load_leaf(hpfc_shapes *s, const hpfc_pixel *leaf)
 }
 
 /* A leaf whose closed box lies in the window: its faces and its crossings'
- * edges. With crossings, the faces are their edges' sides: every region of
- * the leaf borders an edge piece (the pieces cut the leaf into its
- * regions), and each piece has a region on either side. */
+ * edges, from its record's pieces (labels_leaf_pieces: which crossing is
+ * on which edge does not matter here). With crossings, the faces are their
+ * edges' sides: every region of the leaf borders an edge piece (the pieces
+ * cut the leaf into its regions), and each piece has a region on either
+ * side. */
 static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, int border)
 {
     shapes_window *w = s->window;
-    int st = load_leaf(s, leaf);
-    if (st)
-        return st;
-    uint32_t n = w->leaf.rec.word.n;
-    for (uint32_t k = 0; k < n && !st; k++) {
-        uint64_t e = w->leaf.edge[k];
+    labels_pieces *lp = &w->pieces;
+    int st = labels_leaf_pieces(s->f, leaf, &w->word, &w->cap_word, lp);
+    if (!st && lp->crossings == 0)
+        st = add_face(s, lp->face, border);
+    for (uint32_t k = 0; k < lp->count && !st && lp->crossings; k++) {
+        uint64_t e = lp->edge[k];
         st = add_edge(s, e, border);
         if (!st)
             st = add_face(s, s->left[e], border);
         if (!st && s->right[e] != s->left[e])
             st = add_face(s, s->right[e], border);
     }
-    if (st || n > 0)
-        return st;
-    uint64_t face; /* a private leaf: one region */
-    st = labels_leaf_regions(s->f, &w->leaf, &face);
-    return st ? st : add_face(s, face, border);
+    return st;
 }
 
 /* A leaf the window's border cuts: exactly, on r = its box in the window. */

@@ -676,6 +676,24 @@ int labels_leaf_load(const hpfc_file *f, const hpfc_pixel *leaf, const char *sym
     return load_edges(v, out);
 }
 
+/* A leaf's word into *word (grown to fit) and its rank among its level's
+ * leaves, from one read of the pool where the layout allows. */
+static int read_leaf_word(const hpfc_file *f, const hpfc_pixel *leaf, char **word, size_t *cap,
+                          size_t *len, uint64_t *rank)
+{
+    int st = *cap ? reader_leaf_word(f, leaf, *word, *cap, len, rank) : HPFC_E_BUFFER_SMALL;
+    if (st == HPFC_E_BUFFER_SMALL) { /* rare: the buffer keeps the longest word yet */
+        st = reader_leaf_word(f, leaf, NULL, 0, len, rank);
+        if (!st && array_grow((void **)word, cap, *len < 64 ? 64 : *len + 1, 1))
+            st = HPFC_E_NOMEM;
+        if (!st)
+            st = reader_leaf_word(f, leaf, *word, *cap, len, rank);
+    }
+    if (!st && *rank == UINT64_MAX) /* the paper layout ranks apart */
+        st = labels_leaf_rank(f, leaf, rank);
+    return st;
+}
+
 int labels_leaf_load_word(const hpfc_file *f, const hpfc_pixel *leaf, char **word, size_t *cap,
                           labels_leaf *out)
 {
@@ -686,21 +704,54 @@ int labels_leaf_load_word(const hpfc_file *f, const hpfc_pixel *leaf, char **wor
     labels_word_free(&out->rec.word);
     size_t len = 0;
     uint64_t rank;
-    st = *cap ? reader_leaf_word(f, leaf, *word, *cap, &len, &rank) : HPFC_E_BUFFER_SMALL;
-    if (st == HPFC_E_BUFFER_SMALL) { /* rare: the buffer keeps the longest word yet */
-        st = reader_leaf_word(f, leaf, NULL, 0, &len, &rank);
-        if (!st && array_grow((void **)word, cap, len < 64 ? 64 : len + 1, 1))
-            st = HPFC_E_NOMEM;
-        if (!st)
-            st = reader_leaf_word(f, leaf, *word, *cap, &len, &rank);
-    }
-    if (st)
-        return st;
-    if (rank == UINT64_MAX)
-        st = load_record_sym(f, v, leaf, *word, len, &out->rec);
-    else
+    if (!(st = read_leaf_word(f, leaf, word, cap, &len, &rank)))
         st = load_record_ranked(v, leaf, rank, *word, len, &out->rec);
     return st ? st : load_edges(v, out);
+}
+
+int labels_leaf_pieces(const hpfc_file *f, const hpfc_pixel *leaf, char **word, size_t *cap,
+                       labels_pieces *out)
+{
+    int st;
+    const labels_view *v = labels_of(f, word && cap && out, &st);
+    if (st)
+        return st;
+    size_t len = 0;
+    uint64_t rank, off;
+    if ((st = read_leaf_word(f, leaf, word, cap, &len, &rank)))
+        return st;
+    if (len > UINT32_MAX / 8)
+        return HPFC_E_LIMIT; /* as labels_word_parse */
+    /* a piece per crossing but a stabbing's second, ']' (number_pieces) */
+    uint32_t crossings = 0, seconds = 0;
+    for (size_t k = 0; k < len; k++)
+        crossings += (*word)[k] != '+', seconds += (*word)[k] == ']';
+    uint32_t pieces = crossings - seconds;
+    uint64_t need = crossings ? (uint64_t)pieces * (v->edge_bits + 1) : v->face_bits;
+    if ((st = record_offset(v, v->first_leaf[leaf->depth] + rank, &off)))
+        return st;
+    if (off > v->label_bits || need > v->label_bits - off)
+        return HPFC_E_CORRUPT;
+    out->crossings = crossings;
+    out->count = pieces;
+    if (!crossings) {
+        out->face = format_get(&v->labels, off, v->face_bits);
+        return out->face < v->faces ? HPFC_OK : HPFC_E_CORRUPT;
+    }
+    if (pieces > out->cap) {
+        uint64_t *e = realloc(out->edge, pieces * sizeof *e);
+        if (!e)
+            return HPFC_E_NOMEM;
+        out->edge = e;
+        out->cap = pieces;
+    }
+    for (uint32_t q = 0; q < pieces; q++) {
+        uint64_t id = format_get(&v->labels, off + (uint64_t)q * (v->edge_bits + 1), v->edge_bits);
+        if (id >= v->edges)
+            return HPFC_E_CORRUPT;
+        out->edge[q] = id;
+    }
+    return HPFC_OK;
 }
 
 int labels_leaf_regions(const hpfc_file *f, const labels_leaf *l, uint64_t *faces)

@@ -156,6 +156,21 @@ int labels_leaf_load(const hpfc_file *file, const hpfc_pixel *leaf, const char *
 int labels_leaf_load_word(const hpfc_file *file, const hpfc_pixel *leaf, char **word, size_t *cap,
                           labels_leaf *out);
 void labels_leaf_free(labels_leaf *l);
+/* What a leaf's record says without its word's grammar: the edge of each
+ * piece (a crossing's, one for both crossings of a stabbing) or a private
+ * leaf's face. Enough for a caller that wants the set of the leaf's edges
+ * and not which crossing lies on which (a window's leaves inside it): the
+ * pieces are counted from the symbols, the grammar is not checked. */
+typedef struct labels_pieces {
+    uint32_t crossings;   /* the word's crossings; 0: a private leaf, `face` */
+    uint32_t count;       /* its pieces, edge[0 .. count) */
+    uint64_t *edge;       /* grows to the most pieces yet; free() it */
+    size_t cap;
+    uint64_t face;
+} labels_pieces;
+int labels_leaf_pieces(const hpfc_file *file, const hpfc_pixel *leaf, char **word, size_t *cap,
+                       labels_pieces *out);
+
 /* The face of stretch `stretch` (< max(word.n, 1)) of a loaded leaf. */
 int labels_leaf_face(const hpfc_file *file, const labels_leaf *l, uint32_t stretch,
                      uint64_t *face);

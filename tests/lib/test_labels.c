@@ -71,7 +71,8 @@ static int cmp_slot(const void *a, const void *b)
 /* The window's shortcuts against the public calls they stand for: a
  * child read from its parent's image (reader_child), a leaf's word with
  * its rank (reader_leaf_word: the rank only in the compact layout) and
- * its labels loaded with that word (labels_leaf_load_word). */
+ * its labels loaded with that word (labels_leaf_load_word), and its
+ * pieces' edges read without the word's grammar (labels_leaf_pieces). */
 static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t rank)
 {
     char want[4096], got[4096], *grown = NULL;
@@ -92,6 +93,20 @@ static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t
     CHECK_EQ_INT(b.rec.off, a.rec.off);
     for (uint32_t k = 0; k < a.rec.word.n && k < b.rec.word.n; k++)
         CHECK_EQ_INT(b.edge[k], a.edge[k]);
+    /* the pieces without the grammar: the crossings' edges, each piece
+     * once (a stabbing's two crossings share theirs), or the private face */
+    labels_pieces lp = {0};
+    CHECK_EQ_INT(labels_leaf_pieces(p->f, px, &grown, &cap, &lp), HPFC_OK);
+    CHECK_EQ_INT(lp.crossings, a.rec.word.n);
+    CHECK_EQ_INT(lp.count, a.rec.word.pieces);
+    for (uint32_t k = 0; k < a.rec.word.n; k++)
+        CHECK_EQ_INT(lp.edge[a.rec.word.piece[k]], a.edge[k]);
+    if (a.rec.word.n == 0) {
+        uint64_t face = UINT64_MAX;
+        CHECK_EQ_INT(labels_leaf_face(p->f, &a, 0, &face), HPFC_OK);
+        CHECK_EQ_INT(lp.face, face);
+    }
+    free(lp.edge);
     labels_leaf_free(&a);
     labels_leaf_free(&b);
     free(grown);
