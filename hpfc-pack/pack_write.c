@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -80,30 +81,50 @@ static void show_build_progress(void *user, uint32_t level, uint64_t done, uint6
     progress_show(user, stage, (double)done, (double)total, done == total);
 }
 
+/* atomic_output's why[] ("OUTPUT: reason") as diag's message, without the
+ * name the caller prints itself. */
+static int output_failed(const char *output, const char *why, hpfc_diag *diag)
+{
+    size_t n = strlen(output);
+    const char *reason = strncmp(why, output, n) == 0 && why[n] == ':' ? why + n + 2 : why;
+    snprintf(diag->message, sizeof diag->message, "%.300s", reason);
+    return HPFC_E_IO;
+}
+
 /* The final bytes (with the FEAT section) on standard output (output
- * NULL) or to OUTPUT through common/atomic_output.h. */
+ * NULL: serialised, then written) or to OUTPUT through
+ * common/atomic_output.h, written a section at a time from the mapping
+ * (hpfc_file_write_fd), so the pack never holds the file twice. */
 static int write_output(const char *output, const hpfc_file *f, const hpfc_write_options *wopts,
                         pack_write_stats *r, hpfc_diag *diag)
 {
-    uint8_t *bytes = NULL;
-    size_t size = 0;
     char why[ATOMIC_WHY];
-    int st = hpfc_file_serialize(f, wopts, &bytes, &size, diag);
-    if (!st && !output && (fwrite(bytes, 1, size, stdout) != size || fflush(stdout) != 0)) {
-        snprintf(diag->message, sizeof diag->message, "cannot write to standard output: %s",
-                 strerror(errno));
-        st = HPFC_E_IO;
-    } else if (!st && output && atomic_output_write(output, bytes, size, why)) {
-        /* why[] starts "OUTPUT: ", which the caller prints itself */
-        size_t n = strlen(output);
-        const char *reason = strncmp(why, output, n) == 0 && why[n] == ':' ? why + n + 2 : why;
-        snprintf(diag->message, sizeof diag->message, "%.300s", reason);
-        st = HPFC_E_IO;
+    if (!output) {
+        uint8_t *bytes = NULL;
+        size_t size = 0;
+        int st = hpfc_file_serialize(f, wopts, &bytes, &size, diag);
+        if (!st && (fwrite(bytes, 1, size, stdout) != size || fflush(stdout) != 0)) {
+            snprintf(diag->message, sizeof diag->message, "cannot write to standard output: %s",
+                     strerror(errno));
+            st = HPFC_E_IO;
+        }
+        if (!st)
+            r->file_bytes = size;
+        hpfc_free(bytes);
+        return st;
     }
-    if (!st)
-        r->file_bytes = size;
-    hpfc_free(bytes);
-    return st;
+    atomic_output o;
+    if (atomic_output_open(&o, output, why))
+        return output_failed(output, why, diag);
+    int st = hpfc_file_write_fd(f, wopts, o.fd, diag);
+    struct stat sb;
+    if (!st && fstat(o.fd, &sb) == 0)
+        r->file_bytes = (uint64_t)sb.st_size;
+    if (st) { /* "cannot write: reason", after the OUTPUT the caller prints */
+        atomic_output_discard(&o);
+        return st;
+    }
+    return atomic_output_commit(&o, why) ? output_failed(output, why, diag) : HPFC_OK;
 }
 
 int pack_write(const hpfc_graph *g, const hpfc_build_params *p,

@@ -559,6 +559,17 @@ HPFC_API int hpfc_file_write_file_sized(const hpfc_file *file, const hpfc_write_
                                         size_t opts_size, const char *path, hpfc_diag *diag);
 #define hpfc_file_write_file(file, opts, path, diag) \
     hpfc_file_write_file_sized((file), (opts), sizeof(hpfc_write_options), (path), (diag))
+/* The same, written from the start of `fd`, an open regular file the
+ * caller owns (for a tool with its own way of replacing its output): set
+ * to the file's size, then written a section at a time at known offsets
+ * (pwrite), so the output is never held in memory; the sections the file
+ * already has (pools, LABL, GEOM) are written straight from its mapping.
+ * HPFC_E_IO (with the system's reason in diag) when a write fails; fd is
+ * neither synced nor closed. Both write_file calls write this way. */
+HPFC_API int hpfc_file_write_fd_sized(const hpfc_file *file, const hpfc_write_options *opts,
+                                      size_t opts_size, int fd, hpfc_diag *diag);
+#define hpfc_file_write_fd(file, opts, fd, diag) \
+    hpfc_file_write_fd_sized((file), (opts), sizeof(hpfc_write_options), (fd), (diag))
 
 #define HPFC_MAX_LEVELS 48
 

@@ -356,73 +356,190 @@ static void emit_level_table(const layout *L, uint8_t *file)
     }
 }
 
-static void emit_section(uint8_t *file, uint32_t index, const char *tag, uint32_t flags, uint64_t offset,
-                         uint64_t length, uint32_t levels)
+/* Directory entry `index` of the metadata `meta` (the file's first
+ * meta_size bytes). */
+static void emit_section(uint8_t *meta, uint32_t index, const char *tag, uint32_t flags, uint64_t offset,
+                         uint64_t length, uint32_t crc, uint32_t levels)
 {
-    uint8_t *e = file + FORMAT_HEADER_SIZE + (size_t)levels * FORMAT_LEVEL_ENTRY_SIZE +
+    uint8_t *e = meta + FORMAT_HEADER_SIZE + (size_t)levels * FORMAT_LEVEL_ENTRY_SIZE +
                  (size_t)index * FORMAT_SECTION_ENTRY_SIZE;
     memcpy(e + sec_OFF_tag, tag, sec_SIZE_tag);
     sec_set_flags(e, flags);
     sec_set_offset(e, offset);
     sec_set_length(e, length);
-    sec_set_crc32c(e, crc32c_update(0, file + offset, (size_t)length));
+    sec_set_crc32c(e, crc);
 }
 
-/* The pools of an open file, bit for bit: same counts and widths give the
- * same sizes (its level table was checked at open). */
-static void copy_pools(const layout *L, uint8_t *file)
+/* ---- where the bytes go ------------------------------------------------------ */
+
+/* The file being written: a memory image of all of it (the serialize
+ * calls), or a file descriptor written section by section at known
+ * offsets (the write calls), so that a writer to disk holds one section
+ * at a time, never the file. */
+typedef struct sink {
+    uint8_t *file;  /* the memory image (zeroed), or NULL */
+    int fd;         /* else: a regular file, already file_size bytes of zeros */
+    int err;        /* the first write error (an errno) */
+} sink;
+
+/* Room for `length` bytes at `offset`, zeroed: in the image, or a buffer
+ * of their own (NULL when out of memory: *nomem set). */
+static uint8_t *sink_room(sink *k, uint64_t offset, uint64_t length, int *nomem)
 {
-    const uint8_t *from = L->source->data;
-    for (uint32_t l = 0; l < L->info.levels; l++) {
+    if (k->file)
+        return k->file + offset;
+    uint8_t *b = calloc(1, length ? (size_t)length : 1);
+    *nomem |= b == NULL;
+    return b;
+}
+
+static void sink_pwrite(sink *k, uint64_t offset, const uint8_t *bytes, uint64_t length)
+{
+    while (length > 0 && !k->err) {
+        size_t n = length > ((size_t)1 << 30) ? ((size_t)1 << 30) : (size_t)length;
+        ssize_t w = pwrite(k->fd, bytes, n, (off_t)offset);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0) {
+            k->err = w < 0 ? errno : EIO;
+            return;
+        }
+        bytes += w, offset += (uint64_t)w, length -= (uint64_t)w;
+    }
+}
+
+/* The bytes of a section (or a pool) placed at `offset`: written out and
+ * released when they had a buffer of their own (`own`, from sink_room);
+ * returns their CRC-32C, continued from `crc`. */
+static uint32_t sink_put(sink *k, uint64_t offset, const uint8_t *bytes, uint64_t length, int own,
+                         uint32_t crc)
+{
+    crc = crc32c_update(crc, bytes, (size_t)length);
+    if (k->file && !own)
+        memcpy(k->file + offset, bytes, (size_t)length);
+    else if (!k->file)
+        sink_pwrite(k, offset, bytes, length);
+    if (own && !k->file)
+        free((void *)bytes);
+    return crc;
+}
+
+/* The CRC-32C of `n` zero bytes after `crc`: the padding between pools. */
+static uint32_t crc_zeros(uint32_t crc, uint64_t n)
+{
+    static const uint8_t zeros[8];
+    return crc32c_update(crc, zeros, (size_t)n);
+}
+
+/* Level l's pool: copied bit for bit from an open file (same counts and
+ * widths give the same sizes: its level table was checked at open), or
+ * laid out from the tree into a zeroed room. */
+static uint32_t emit_pool(const layout *L, uint32_t l, sink *k, uint32_t crc, int *nomem)
+{
+    uint64_t bytes = format_pool_bytes(L->lv[l].pool_bits);
+    if (L->source) {
         hpfc_level_info li;
         hpfc_file_get_level(L->source, l, &li);
-        memcpy(file + L->pool_offset[l], from + li.pool_offset,
-               (size_t)format_pool_bytes(L->lv[l].pool_bits));
+        return sink_put(k, L->pool_offset[l], L->source->data + li.pool_offset, bytes, 0, crc);
     }
+    uint8_t *pool = sink_room(k, L->pool_offset[l], bytes, nomem);
+    if (!pool)
+        return crc;
+    if (L->compact)
+        emit_compact_level(L, l, pool);
+    else if (l == 0)
+        emit_root(L, pool);
+    else
+        emit_level(L, l, pool);
+    return sink_put(k, L->pool_offset[l], pool, bytes, 1, crc);
 }
 
-static void emit(const layout *L, uint8_t *file)
+/* A table section (FEAT, ATTR, EDGF) emitted into its room. */
+typedef void (*table_emit)(const void *table, uint8_t *out);
+
+static uint32_t emit_table(sink *k, uint64_t offset, uint64_t length, table_emit fn, const void *t,
+                           int *nomem)
 {
-    if (L->source) {
-        copy_pools(L, file);
-    } else if (L->compact) {
-        for (uint32_t l = 0; l < L->info.levels; l++)
-            emit_compact_level(L, l, file + L->pool_offset[l]);
-    } else {
-        emit_root(L, file + L->pool_offset[0]);
-        for (uint32_t l = 1; l < L->info.levels; l++)
-            emit_level(L, l, file + L->pool_offset[l]);
+    uint8_t *room = sink_room(k, offset, length, nomem);
+    if (!room)
+        return 0;
+    fn(t, room);
+    return sink_put(k, offset, room, length, 1, 0);
+}
+
+static void feat_emit(const void *t, uint8_t *out)
+{
+    feat_section_emit(t, out);
+}
+
+static void attr_emit(const void *t, uint8_t *out)
+{
+    attr_section_emit(t, out);
+}
+
+static void edgf_emit(const void *t, uint8_t *out)
+{
+    edgf_section_emit(t, out);
+}
+
+/* Every section in file order, then the metadata (header, level table,
+ * directory) with their CRCs, into k. HPFC_E_NOMEM when a section's room
+ * could not be had; a write error stays in k->err. */
+static int emit_to(const layout *L, sink *k)
+{
+    int nomem = 0;
+    uint32_t pool_crc = 0;
+    for (uint32_t l = 0; l < L->info.levels; l++) {
+        pool_crc = emit_pool(L, l, k, pool_crc, &nomem);
+        if (l + 1 < L->info.levels) /* the zeros up to the next pool, inside the section */
+            pool_crc = crc_zeros(pool_crc, L->pool_offset[l + 1] - L->pool_offset[l] -
+                                               format_pool_bytes(L->lv[l].pool_bits));
     }
+    uint32_t crs_crc = 0, feat_crc = 0, attr_crc = 0, edgf_crc = 0, labl_crc = 0, geom_crc = 0;
     if (L->crs)
-        memcpy(file + L->crs_offset, L->crs, (size_t)L->crs_length);
+        crs_crc = sink_put(k, L->crs_offset, (const uint8_t *)L->crs, L->crs_length, 0, 0);
     if (L->features)
-        feat_section_emit(L->features, file + L->feat_offset);
+        feat_crc = emit_table(k, L->feat_offset, L->feat_length, feat_emit, L->features, &nomem);
     if (L->attributes)
-        attr_section_emit(L->attributes, file + L->attr_offset);
+        attr_crc = emit_table(k, L->attr_offset, L->attr_length, attr_emit, L->attributes, &nomem);
     if (L->edge_features)
-        edgf_section_emit(L->edge_features, file + L->edgf_offset);
+        edgf_crc = emit_table(k, L->edgf_offset, L->edgf_length, edgf_emit, L->edge_features,
+                              &nomem);
     if (L->labl)
-        memcpy(file + L->labl_offset, L->labl, (size_t)L->labl_length);
+        labl_crc = sink_put(k, L->labl_offset, L->labl, L->labl_length, 0, 0);
     if (L->geom)
-        memcpy(file + L->geom_offset, L->geom, (size_t)L->geom_length);
-    emit_header(L, file);
-    emit_level_table(L, file);
-    emit_section(file, 0, FORMAT_TAG_POOL, FORMAT_SECTION_REQUIRED, L->pool_section, L->pool_length,
-                 L->info.levels);
-    uint32_t next = 1;
+        geom_crc = sink_put(k, L->geom_offset, L->geom, L->geom_length, 0, 0);
+    uint8_t *meta = sink_room(k, 0, L->meta_size, &nomem);
+    if (!meta || nomem) {
+        if (meta && !k->file)
+            free(meta);
+        return HPFC_E_NOMEM;
+    }
+    emit_header(L, meta);
+    emit_level_table(L, meta);
+    uint32_t levels = L->info.levels, next = 1;
+    emit_section(meta, 0, FORMAT_TAG_POOL, FORMAT_SECTION_REQUIRED, L->pool_section, L->pool_length,
+                 pool_crc, levels);
     if (L->crs)
-        emit_section(file, next++, FORMAT_TAG_CRS, 0, L->crs_offset, L->crs_length, L->info.levels);
+        emit_section(meta, next++, FORMAT_TAG_CRS, 0, L->crs_offset, L->crs_length, crs_crc, levels);
     if (L->features)
-        emit_section(file, next++, FORMAT_TAG_FEAT, 0, L->feat_offset, L->feat_length, L->info.levels);
+        emit_section(meta, next++, FORMAT_TAG_FEAT, 0, L->feat_offset, L->feat_length, feat_crc,
+                     levels);
     if (L->attributes)
-        emit_section(file, next++, FORMAT_TAG_ATTR, 0, L->attr_offset, L->attr_length, L->info.levels);
+        emit_section(meta, next++, FORMAT_TAG_ATTR, 0, L->attr_offset, L->attr_length, attr_crc,
+                     levels);
     if (L->edge_features)
-        emit_section(file, next++, FORMAT_TAG_EDGF, 0, L->edgf_offset, L->edgf_length, L->info.levels);
+        emit_section(meta, next++, FORMAT_TAG_EDGF, 0, L->edgf_offset, L->edgf_length, edgf_crc,
+                     levels);
     if (L->labl)
-        emit_section(file, next++, FORMAT_TAG_LABL, 0, L->labl_offset, L->labl_length, L->info.levels);
+        emit_section(meta, next++, FORMAT_TAG_LABL, 0, L->labl_offset, L->labl_length, labl_crc,
+                     levels);
     if (L->geom)
-        emit_section(file, next, FORMAT_TAG_GEOM, 0, L->geom_offset, L->geom_length, L->info.levels);
-    hdr_set_meta_crc32c(file, format_meta_crc(file, L->meta_size));
+        emit_section(meta, next, FORMAT_TAG_GEOM, 0, L->geom_offset, L->geom_length, geom_crc,
+                     levels);
+    hdr_set_meta_crc32c(meta, format_meta_crc(meta, L->meta_size));
+    sink_put(k, 0, meta, L->meta_size, 1, 0);
+    return HPFC_OK;
 }
 
 /* ---- entry points ------------------------------------------------------------ */
@@ -452,12 +569,40 @@ static int serialize_layout(layout *L, uint8_t **out, size_t *out_size, hpfc_dia
     if (!st && !(file = calloc(1, (size_t)L->file_size)))
         st = diag_set(diag, HPFC_E_NOMEM, "out of memory for a %llu-byte file",
                       (unsigned long long)L->file_size);
+    sink k = {.file = file, .fd = -1};
+    if (!st && (st = emit_to(L, &k)))
+        diag_set(diag, st, "out of memory");
     if (!st) {
-        emit(L, file);
         *out = file;
         *out_size = (size_t)L->file_size;
+    } else {
+        free(file);
     }
     return st;
+}
+
+static int write_error(hpfc_diag *diag, const char *name, int err)
+{
+    if (name)
+        return diag_set(diag, HPFC_E_IO, "cannot write %s: %s", name, strerror(err));
+    return diag_set(diag, HPFC_E_IO, "cannot write: %s", strerror(err));
+}
+
+/* Places the sections and writes the file laid out in L to fd, a regular
+ * file, from its start, a section at a time; `name` for the messages
+ * (NULL: the caller's descriptor, which the caller names). */
+static int write_layout(layout *L, int fd, const char *name, hpfc_diag *diag)
+{
+    int st = place_sections(L, diag);
+    if (st)
+        return st;
+    /* emptied, then sized: the padding between sections reads as zeros */
+    if (ftruncate(fd, 0) != 0 || ftruncate(fd, (off_t)L->file_size) != 0)
+        return write_error(diag, name, errno);
+    sink k = {.fd = fd};
+    if ((st = emit_to(L, &k)))
+        return diag_set(diag, st, "out of memory");
+    return k.err ? write_error(diag, name, k.err) : HPFC_OK;
 }
 
 /* The LABL section of the tree laid out in L: its faces are numbered on
@@ -511,27 +656,113 @@ static int read_options(const hpfc_write_options *opts, size_t size, hpfc_write_
     return HPFC_OK;
 }
 
-/* What both serialize calls (`who`) do first: the diagnostic cleared, the
- * arguments checked (`source` is the tree or the file), the caller's
- * options read over the defaults into *opts, the outputs emptied, and L
- * started with the sections opts gives. */
-static int begin_serialize(const char *who, const void *source, const hpfc_write_options *opts_arg,
-                           size_t opts_size, uint8_t **out, size_t *out_size,
-                           hpfc_write_options *opts, layout *L, hpfc_diag *diag)
+/* What every serialize and write call (`who`) does first: the diagnostic
+ * cleared, the source (the tree or the file) checked, the caller's options
+ * read over the defaults into *opts, and L started with the sections opts
+ * gives. */
+static int begin_layout(const char *who, const void *source, const hpfc_write_options *opts_arg,
+                        size_t opts_size, hpfc_write_options *opts, layout *L, hpfc_diag *diag)
 {
     diag_clear(diag);
-    if (!source || !out || !out_size)
+    *L = (layout){0};
+    if (!source)
         return diag_set(diag, HPFC_E_ARG, "%s: NULL argument", who);
     int st = read_options(opts_arg, opts_size, opts, who, diag);
     if (st)
         return st;
-    *out = NULL;
-    *out_size = 0;
     *L = (layout){.crs = opts->crs,
                   .features = opts->features,
                   .attributes = opts->attributes,
                   .edge_features = opts->edge_features};
     return HPFC_OK;
+}
+
+/* The serialize calls' start: begin_layout, and the outputs emptied. */
+static int begin_serialize(const char *who, const void *source, const hpfc_write_options *opts_arg,
+                           size_t opts_size, uint8_t **out, size_t *out_size,
+                           hpfc_write_options *opts, layout *L, hpfc_diag *diag)
+{
+    int st = begin_layout(who, source, opts_arg, opts_size, opts, L, diag);
+    if (!st && (!out || !out_size))
+        st = diag_set(diag, HPFC_E_ARG, "%s: NULL argument", who);
+    if (st)
+        return st;
+    *out = NULL;
+    *out_size = 0;
+    return HPFC_OK;
+}
+
+/* The tree's layout: counted, sized, its LABL and GEOM made as opts asks.
+ * layout_release after, whatever it returns. */
+static int lay_out_tree(const hpfc_tree *tree, const hpfc_write_options *opts, layout *L,
+                        hpfc_diag *diag)
+{
+    int kind = opts->layout;
+    if (kind < HPFC_LAYOUT_DEFAULT || kind > HPFC_LAYOUT_COMPACT)
+        return diag_set(diag, HPFC_E_ARG, "unknown layout %d", kind);
+    L->tree = tree;
+    L->compact = kind != HPFC_LAYOUT_PAPER; /* HPFC_LAYOUT_DEFAULT is the compact layout */
+    hpfc_tree_get_info(tree, &L->info);
+    int st = check_tree_info(&L->info, diag);
+    for (uint32_t l = 0; l < L->info.levels && !st; l++)
+        st = count_level(L, l, diag);
+    if (!st)
+        st = size_levels(L, diag);
+    if (!st && opts->face_labels)
+        st = make_labels(L, diag);
+    if (!st && opts->geometry)
+        st = make_geometry(L, opts->geometry, diag);
+    return st;
+}
+
+/* What lay_out_tree made (an open file's layout only points into it). */
+static void layout_release(layout *L)
+{
+    if (L->tree) {
+        free((void *)L->labl);
+        free((void *)L->geom);
+    }
+    layout_free(L);
+}
+
+/* An open file's layout: its pools, LABL and GEOM as they are. */
+static void lay_out_file(const hpfc_file *file, layout *L)
+{
+    L->source = file;
+    const labels_view *labels = &file->labels;
+    if (labels->present) { /* the pools are copied bit for bit: the labels stay true */
+        L->labl = labels->section;
+        L->labl_length = labels->section_length;
+    }
+    const geom_view *geometry = &file->geom;
+    if (geometry->present) { /* ids and coordinates do not depend on the sections replaced */
+        L->geom = geometry->section;
+        L->geom_length = geometry->section_length;
+    }
+    hpfc_file_info fi;
+    hpfc_file_get_info(file, &fi);
+    L->info = (hpfc_tree_info){.root_cols = fi.root_cols,
+                               .root_rows = fi.root_rows,
+                               .cols = fi.cols,
+                               .rows = fi.rows,
+                               .levels = fi.levels,
+                               .x0 = fi.x0,
+                               .y0 = fi.y0,
+                               .width = fi.width,
+                               .height = fi.height,
+                               .unit_exp10 = fi.unit_exp10};
+    /* the pools are copied as they are, in their layout */
+    L->compact = file->compact;
+    const uint8_t *bytes = file->data;
+    for (uint32_t l = 0; l < fi.levels; l++) {
+        hpfc_level_info li;
+        hpfc_file_get_level(file, l, &li);
+        L->lv[l] = (format_level){li.word_pixels, li.refined_pixels, li.images,
+                                  li.word_bits,   li.address_bits,   li.pool_bits};
+        const uint8_t *e = bytes + hdr_get_header_size(bytes) + (size_t)l * FORMAT_LEVEL_ENTRY_SIZE;
+        L->stabbed[l] = L->compact ? lvl_get_stabbed_pixels(e) : 0;
+        L->stream_bits[l] = L->compact ? lvl_get_stream_bits(e) : 0;
+    }
 }
 
 /* hpfc_tree_serialize and hpfc_file_serialize below share their signature
@@ -547,26 +778,10 @@ int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *o
                              &opts, &L, diag);
     if (st)
         return st;
-    int kind = opts.layout;
-    if (kind < HPFC_LAYOUT_DEFAULT || kind > HPFC_LAYOUT_COMPACT)
-        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_serialize: unknown layout %d", kind);
-    L.tree = tree;
-    L.compact = kind != HPFC_LAYOUT_PAPER; /* HPFC_LAYOUT_DEFAULT is the compact layout */
-    hpfc_tree_get_info(tree, &L.info);
-    st = check_tree_info(&L.info, diag);
-    for (uint32_t l = 0; l < L.info.levels && !st; l++)
-        st = count_level(&L, l, diag);
-    if (!st)
-        st = size_levels(&L, diag);
-    if (!st && opts.face_labels)
-        st = make_labels(&L, diag);
-    if (!st && opts.geometry)
-        st = make_geometry(&L, opts.geometry, diag);
+    st = lay_out_tree(tree, &opts, &L, diag);
     if (!st)
         st = serialize_layout(&L, out, out_size, diag);
-    free((void *)L.labl);
-    free((void *)L.geom);
-    layout_free(&L);
+    layout_release(&L);
     return st;
 }
 
@@ -580,42 +795,22 @@ int hpfc_file_serialize_sized(const hpfc_file *file, const hpfc_write_options *o
                              &opts, &L, diag);
     if (st)
         return st;
-    L.source = file;
-    const labels_view *labels = &file->labels;
-    if (labels->present) { /* the pools are copied bit for bit: the labels stay true */
-        L.labl = labels->section;
-        L.labl_length = labels->section_length;
-    }
-    const geom_view *geometry = &file->geom;
-    if (geometry->present) { /* ids and coordinates do not depend on the sections replaced */
-        L.geom = geometry->section;
-        L.geom_length = geometry->section_length;
-    }
-    hpfc_file_info fi;
-    hpfc_file_get_info(file, &fi);
-    L.info = (hpfc_tree_info){.root_cols = fi.root_cols,
-                              .root_rows = fi.root_rows,
-                              .cols = fi.cols,
-                              .rows = fi.rows,
-                              .levels = fi.levels,
-                              .x0 = fi.x0,
-                              .y0 = fi.y0,
-                              .width = fi.width,
-                              .height = fi.height,
-                              .unit_exp10 = fi.unit_exp10};
-    /* the pools are copied as they are, in their layout */
-    L.compact = file->compact;
-    const uint8_t *bytes = file->data;
-    for (uint32_t l = 0; l < fi.levels; l++) {
-        hpfc_level_info li;
-        hpfc_file_get_level(file, l, &li);
-        L.lv[l] = (format_level){li.word_pixels, li.refined_pixels, li.images,
-                                 li.word_bits,   li.address_bits,   li.pool_bits};
-        const uint8_t *e = bytes + hdr_get_header_size(bytes) + (size_t)l * FORMAT_LEVEL_ENTRY_SIZE;
-        L.stabbed[l] = L.compact ? lvl_get_stabbed_pixels(e) : 0;
-        L.stream_bits[l] = L.compact ? lvl_get_stream_bits(e) : 0;
-    }
+    lay_out_file(file, &L);
     return serialize_layout(&L, out, out_size, diag);
+}
+
+int hpfc_file_write_fd_sized(const hpfc_file *file, const hpfc_write_options *opts_arg,
+                             size_t opts_size, int fd, hpfc_diag *diag)
+{
+    hpfc_write_options opts;
+    layout L;
+    int st = begin_layout("hpfc_file_write_fd", file, opts_arg, opts_size, &opts, &L, diag);
+    if (!st && fd < 0)
+        st = diag_set(diag, HPFC_E_ARG, "hpfc_file_write_fd: no file descriptor");
+    if (st)
+        return st;
+    lay_out_file(file, &L);
+    return write_layout(&L, fd, NULL, diag);
 }
 
 /* ---- atomic file output ------------------------------------------------------ */
@@ -671,21 +866,6 @@ static int create_temp(const char *dir, const char *base, char **tmp, int *fd)
     return HPFC_OK; /* *fd < 0 with errno == EEXIST */
 }
 
-static int write_all(int fd, const uint8_t *buf, size_t size)
-{
-    while (size > 0) {
-        ssize_t n = write(fd, buf, size);
-        if (n < 0) {
-            if (errno == EINTR)
-                continue;
-            return errno;
-        }
-        buf += n;
-        size -= (size_t)n;
-    }
-    return 0;
-}
-
 /* Makes the rename durable. Some file systems refuse fsync on a directory
  * (EINVAL); the rename has happened by then, so only real errors count. */
 static int sync_dir(const char *dir)
@@ -698,18 +878,21 @@ static int sync_dir(const char *dir)
     return err == EINVAL || err == ENOTSUP ? 0 : err;
 }
 
-/* Writes, syncs and closes the temporary file (fd is closed in any case). */
-static int fill_temp(int fd, const char *tmp, const uint8_t *buf, size_t size, hpfc_diag *diag)
+/* Writes L into the temporary file, syncs and closes it (fd is closed in
+ * any case). */
+static int fill_temp(int fd, const char *tmp, layout *L, hpfc_diag *diag)
 {
-    int err = write_all(fd, buf, size);
-    if (!err && fsync(fd))
+    int st = write_layout(L, fd, tmp, diag), err = 0;
+    if (!st && fsync(fd))
         err = errno;
-    if (close(fd) && !err)
+    if (close(fd) && !st && !err)
         err = errno;
-    return err ? io_error(diag, "write", tmp, err) : HPFC_OK;
+    return st ? st : err ? io_error(diag, "write", tmp, err) : HPFC_OK;
 }
 
-static int write_atomic(const char *path, const uint8_t *buf, size_t size, hpfc_diag *diag)
+/* L written to path through a temporary file beside it, renamed over path
+ * once complete and synced. */
+static int write_atomic(const char *path, layout *L, hpfc_diag *diag)
 {
     char *dir = NULL, *tmp = NULL;
     const char *base;
@@ -723,7 +906,7 @@ static int write_atomic(const char *path, const uint8_t *buf, size_t size, hpfc_
     } else if (fd < 0) {
         st = io_error(diag, "create a temporary file in", dir, errno);
     } else {
-        st = fill_temp(fd, tmp, buf, size, diag);
+        st = fill_temp(fd, tmp, L, diag);
         if (!st && rename(tmp, path))
             st = io_error(diag, "replace", path, errno);
         if (st)
@@ -736,35 +919,35 @@ static int write_atomic(const char *path, const uint8_t *buf, size_t size, hpfc_
     return st;
 }
 
-/* Writes what a serialiser made (st, its status) to path; frees it. */
-static int write_serialized(int st, uint8_t *buf, size_t size, const char *path, hpfc_diag *diag)
+/* The write calls stream the file to disk a section at a time
+ * (write_layout): the serialised file is never held whole. */
+int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *opts_arg,
+                               size_t opts_size, const char *path, hpfc_diag *diag)
 {
+    hpfc_write_options opts;
+    layout L;
+    int st = begin_layout("hpfc_tree_write_file", tree, opts_arg, opts_size, &opts, &L, diag);
+    if (!st && !path)
+        st = diag_set(diag, HPFC_E_ARG, "hpfc_tree_write_file: NULL path");
+    if (st)
+        return st;
+    st = lay_out_tree(tree, &opts, &L, diag);
     if (!st)
-        st = write_atomic(path, buf, size, diag);
-    free(buf);
+        st = write_atomic(path, &L, diag);
+    layout_release(&L);
     return st;
 }
 
-int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
+int hpfc_file_write_file_sized(const hpfc_file *file, const hpfc_write_options *opts_arg,
                                size_t opts_size, const char *path, hpfc_diag *diag)
 {
-    diag_clear(diag);
-    if (!path)
-        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_write_file: NULL path");
-    uint8_t *buf = NULL;
-    size_t size = 0;
-    int st = hpfc_tree_serialize_sized(tree, opts, opts_size, &buf, &size, diag);
-    return write_serialized(st, buf, size, path, diag);
-}
-
-int hpfc_file_write_file_sized(const hpfc_file *file, const hpfc_write_options *opts,
-                               size_t opts_size, const char *path, hpfc_diag *diag)
-{
-    diag_clear(diag);
-    if (!path)
-        return diag_set(diag, HPFC_E_ARG, "hpfc_file_write_file: NULL path");
-    uint8_t *buf = NULL;
-    size_t size = 0;
-    int st = hpfc_file_serialize_sized(file, opts, opts_size, &buf, &size, diag);
-    return write_serialized(st, buf, size, path, diag);
+    hpfc_write_options opts;
+    layout L;
+    int st = begin_layout("hpfc_file_write_file", file, opts_arg, opts_size, &opts, &L, diag);
+    if (!st && !path)
+        st = diag_set(diag, HPFC_E_ARG, "hpfc_file_write_file: NULL path");
+    if (st)
+        return st;
+    lay_out_file(file, &L);
+    return write_atomic(path, &L, diag);
 }

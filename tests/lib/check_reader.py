@@ -17,7 +17,7 @@ import sys
 
 # calls of the build and write groups: none may be in the reader
 WRITER_CALLS = ("hpfc_build", "hpfc_tree_", "hpfc_file_serialize", "hpfc_pfc_parse",
-                "hpfc_file_write_file")
+                "hpfc_file_write_file", "hpfc_file_write_fd")
 
 
 def symbols(args):

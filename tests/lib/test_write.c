@@ -157,6 +157,54 @@ static void test_write_file(void)
     hpfc_tree_free(b);
 }
 
+/* hpfc_file_write_fd into a file that held more bytes than it will (each
+ * 0xa5): exactly the serialised bytes, the rest cut, the padding zeros. */
+static void check_write_fd(const hpfc_file *f, const hpfc_write_options *to, const uint8_t *want,
+                           size_t want_size)
+{
+    FILE *tf = tmpfile();
+    CHECK(tf != NULL);
+    if (!tf)
+        return;
+    size_t old_size = want_size + 4096;
+    uint8_t *junk = malloc(old_size);
+    memset(junk, 0xa5, old_size);
+    CHECK_EQ_INT(fwrite(junk, 1, old_size, tf), old_size);
+    CHECK_EQ_INT(fflush(tf), 0);
+    hpfc_diag d;
+    CHECK_EQ_INT(hpfc_file_write_fd(f, to, fileno(tf), &d), HPFC_OK);
+    struct stat st;
+    CHECK_EQ_INT(fstat(fileno(tf), &st), 0);
+    CHECK_EQ_INT((size_t)st.st_size, want_size);
+    uint8_t *got = malloc(want_size + 1);
+    CHECK_EQ_INT(pread(fileno(tf), got, want_size + 1, 0), (ssize_t)want_size);
+    CHECK(memcmp(got, want, want_size) == 0);
+    free(got);
+    free(junk);
+    fclose(tf);
+}
+
+/* What the descriptor writer refuses: no descriptor, one open for reading
+ * only, a pipe (no size to set): HPFC_E_ARG, then HPFC_E_IO with the
+ * system's reason. */
+static void check_write_fd_refusals(const hpfc_file *f, const char *path)
+{
+    hpfc_diag d;
+    CHECK_EQ_INT(hpfc_file_write_fd(f, NULL, -1, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_file_write_fd(NULL, NULL, 1, &d), HPFC_E_ARG);
+    FILE *ro = fopen(path, "rb");
+    CHECK(ro != NULL);
+    if (ro) {
+        CHECK_EQ_INT(hpfc_file_write_fd(f, NULL, fileno(ro), &d), HPFC_E_IO);
+        CHECK(strstr(d.message, "cannot write") != NULL);
+        fclose(ro);
+    }
+    int p[2];
+    CHECK_EQ_INT(pipe(p), 0);
+    CHECK_EQ_INT(hpfc_file_write_fd(f, NULL, p[1], &d), HPFC_E_IO);
+    close(p[0]), close(p[1]);
+}
+
 /* hpfc_file_serialize of a file serialised from tree t with `from` equals
  * hpfc_tree_serialize of t with `to`, byte for byte: the pools are copied
  * and the sections laid out as the tree writer lays them. */
@@ -175,6 +223,7 @@ static void check_reserialized(const hpfc_tree *t, const hpfc_write_options *fro
         CHECK(got && got_size == want_size && memcmp(got, want, want_size) == 0);
         CHECK_EQ_INT(hpfc_file_write_file(f, to, path, &d), HPFC_OK);
         CHECK(file_equals(path, want, want_size));
+        check_write_fd(f, to, want, want_size);
     }
     hpfc_close(f);
     hpfc_free(src), hpfc_free(want), hpfc_free(got);
@@ -217,6 +266,7 @@ static void test_file_serialize(void)
     CHECK_EQ_INT(hpfc_file_serialize(f, NULL, NULL, &got_size, &d), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_file_write_file(f, NULL, NULL, &d), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_file_write_file(NULL, NULL, path, &d), HPFC_E_ARG);
+    check_write_fd_refusals(f, path);
     hpfc_close(f);
     hpfc_free(plain);
     free(x.start), free(x.link);
