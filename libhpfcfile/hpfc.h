@@ -312,6 +312,24 @@ HPFC_API void hpfc_build_params_init(hpfc_build_params *params, size_t size);
 #define hpfc_build_params_default(params) \
     hpfc_build_params_init((params), sizeof(hpfc_build_params))
 
+/* The domain a build gives a map whose points span the closed box
+ * {xmin, ymin, xmax, ymax}: [x0, x0 + width) x [y0, y0 + height) with
+ * width = root_cols * cols^max_depth (and height likewise) for the
+ * smallest max_depth that leaves a lattice unit of margin on every side,
+ * the map centred. hpfc_build chooses it this way from its graph's points;
+ * a build split into parts computes it once from their boxes (a cheap
+ * pre-pass: the min and max over the parts) so that every part shares one
+ * lattice. A tree's levels are at most max_depth + 1. HPFC_E_ARG for an
+ * empty box or bad params, HPFC_E_EXTENT as hpfc_build. */
+typedef struct hpfc_domain {
+    int64_t x0, y0, width, height;
+    uint32_t max_depth;
+} hpfc_domain;
+HPFC_API int hpfc_build_domain_sized(const int64_t box[4], const hpfc_build_params *params,
+                                     size_t params_size, hpfc_domain *out, hpfc_diag *diag);
+#define hpfc_build_domain(box, params, out, diag) \
+    hpfc_build_domain_sized((box), (params), sizeof(hpfc_build_params), (out), (diag))
+
 typedef struct hpfc_tree hpfc_tree;
 
 /* Validates the graph and builds its hPFC. The graph is not kept. Fields
@@ -452,7 +470,9 @@ HPFC_API int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_o
 
 /* Writes the tree to `path` atomically: a temporary file in the same
  * directory, fsync, rename. On failure no partial file is left and an
- * existing file at `path` is untouched. */
+ * existing file at `path` is untouched. The file is written a section at
+ * a time (a level's pool, a table), never held whole in memory; the face
+ * labels (LABL) still number faces on a serialised copy of the pools. */
 HPFC_API int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
                                         size_t opts_size, const char *path, hpfc_diag *diag);
 #define hpfc_tree_write_file(tree, opts, path, diag) \

@@ -64,40 +64,58 @@ static int reserve(void **p, size_t *cap, size_t need, size_t elem)
 
 /* ---- domain and per-edge refinement depth -------------------------------- */
 
+/* The domain of a map whose points span box (xmin, ymin, xmax, ymax,
+ * closed): the smallest K with a lattice unit of margin on every side, the
+ * map centred in it. */
+static int domain_of_box(const int64_t box[4], const hpfc_build_params *p, hpfc_domain *d,
+                         hpfc_diag *diag)
+{
+    int64_t ex = box[2] - box[0], ey = box[3] - box[1];
+    int64_t W = p->root_cols, H = p->root_rows;
+    uint32_t K = 0;
+    while (W < ex + 2 || H < ey + 2) {
+        if (W > HPFC_LATTICE_MAX / p->cols || H > HPFC_LATTICE_MAX / p->rows)
+            return diag_set(diag, HPFC_E_EXTENT,
+                            "the graph's extent (%lld x %lld lattice units) needs a domain larger than 2^41",
+                            (long long)ex, (long long)ey);
+        W *= p->cols;
+        H *= p->rows;
+        K++;
+    }
+    if (W > HPFC_LATTICE_MAX || H > HPFC_LATTICE_MAX)
+        return diag_set(diag, HPFC_E_EXTENT, "root image too large for the lattice");
+    *d = (hpfc_domain){.x0 = box[0] - (W - ex) / 2,
+                       .y0 = box[1] - (H - ey) / 2,
+                       .width = W,
+                       .height = H,
+                       .max_depth = K};
+    return HPFC_OK;
+}
+
 static int choose_domain(builder *b)
 {
     const hpfc_graph *g = b->g;
-    int64_t xmin = INT64_MAX, ymin = INT64_MAX, xmax = INT64_MIN, ymax = INT64_MIN;
+    int64_t box[4] = {INT64_MAX, INT64_MAX, INT64_MIN, INT64_MIN};
     for (size_t e = 0; e < g->ne; e++)
         for (size_t k = 0; k < graph_edge_point_count(g, e); k++) {
             int64_t x, y;
             graph_edge_point(g, e, k, &x, &y);
-            xmin = x < xmin ? x : xmin, xmax = x > xmax ? x : xmax;
-            ymin = y < ymin ? y : ymin, ymax = y > ymax ? y : ymax;
+            box[0] = x < box[0] ? x : box[0], box[2] = x > box[2] ? x : box[2];
+            box[1] = y < box[1] ? y : box[1], box[3] = y > box[3] ? y : box[3];
         }
-    int64_t ex = xmax - xmin, ey = ymax - ymin;
-    int64_t W = b->p.root_cols, H = b->p.root_rows;
-    uint32_t K = 0;
-    while (W < ex + 2 || H < ey + 2) {
-        if (W > HPFC_LATTICE_MAX / b->p.cols || H > HPFC_LATTICE_MAX / b->p.rows)
-            return diag_set(b->diag, HPFC_E_EXTENT,
-                            "the graph's extent (%lld x %lld lattice units) needs a domain larger than 2^41",
-                            (long long)ex, (long long)ey);
-        W *= b->p.cols;
-        H *= b->p.rows;
-        K++;
-    }
-    if (W > HPFC_LATTICE_MAX || H > HPFC_LATTICE_MAX)
-        return diag_set(b->diag, HPFC_E_EXTENT, "root image too large for the lattice");
-    b->ox = xmin - (W - ex) / 2;
-    b->oy = ymin - (H - ey) / 2;
+    hpfc_domain d;
+    int st = domain_of_box(box, &b->p, &d, b->diag);
+    if (st)
+        return st;
+    b->ox = d.x0;
+    b->oy = d.y0;
     hpfc_tree_info *info = &b->t->info;
-    info->x0 = b->ox;
-    info->y0 = b->oy;
-    info->width = W;
-    info->height = H;
+    info->x0 = d.x0;
+    info->y0 = d.y0;
+    info->width = d.width;
+    info->height = d.height;
     info->unit_exp10 = g->unit_exp10;
-    b->max_depth = K;
+    b->max_depth = d.max_depth;
     return HPFC_OK;
 }
 
@@ -781,6 +799,25 @@ static void free_builder(builder *b)
     free(b->next_list);
     free(b->cur_start);
     free(b->next_start);
+}
+
+int hpfc_build_domain_sized(const int64_t box[4], const hpfc_build_params *params_arg,
+                            size_t params_size, hpfc_domain *out, hpfc_diag *diag)
+{
+    hpfc_build_params full;
+    hpfc_build_params_default(&full);
+    diag_clear(diag);
+    if (!box || !params_arg || !out || sized_in(&full, sizeof full, params_arg, params_size))
+        return diag_set(diag, HPFC_E_ARG, "hpfc_build_domain: NULL or unknown argument");
+    int st = check_params(&full, diag);
+    if (st)
+        return st;
+    if (box[0] > box[2] || box[1] > box[3])
+        return diag_set(diag, HPFC_E_ARG, "hpfc_build_domain: an empty box");
+    for (int k = 0; k < 4; k++)
+        if (box[k] < -HPFC_COORD_MAX || box[k] > HPFC_COORD_MAX)
+            return diag_set(diag, HPFC_E_EXTENT, "a coordinate beyond 2^40 lattice units");
+    return domain_of_box(box, &full, out, diag);
 }
 
 int hpfc_build_sized(const hpfc_graph *g, const hpfc_build_params *params_arg,

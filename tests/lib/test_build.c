@@ -400,6 +400,69 @@ static void compare_with_flat(const hpfc_graph *g, const hpfc_tree *t, const sha
     hpfc_tree_free(flat);
 }
 
+/* hpfc_build_domain on the box of g's edges' points (read through the
+ * public graph calls) gives tree t's domain, and that domain is what its
+ * definition says: root_cols * cols^K wide (rows likewise), a lattice unit
+ * of margin on every side, K the smallest such, the tree no deeper. */
+static void check_domain(const hpfc_graph *g, const hpfc_tree *t, const shape *sh)
+{
+    int64_t box[4] = {INT64_MAX, INT64_MAX, INT64_MIN, INT64_MIN};
+    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
+        uint32_t uv[2];
+        const int64_t *xy;
+        size_t n;
+        hpfc_graph_edge(g, e, &uv[0], &uv[1], &xy, &n);
+        for (size_t k = 0; k < n + 2; k++) {
+            int64_t x, y;
+            if (k < 2)
+                hpfc_graph_vertex(g, uv[k], &x, &y);
+            else
+                x = xy[2 * (k - 2)], y = xy[2 * (k - 2) + 1];
+            box[0] = x < box[0] ? x : box[0], box[2] = x > box[2] ? x : box[2];
+            box[1] = y < box[1] ? y : box[1], box[3] = y > box[3] ? y : box[3];
+        }
+    }
+    hpfc_build_params p;
+    hpfc_build_params_default(&p);
+    p.root_cols = sh->n0, p.root_rows = sh->m0, p.cols = sh->n, p.rows = sh->m;
+    hpfc_domain d;
+    hpfc_diag diag;
+    CHECK_EQ_INT(hpfc_build_domain(box, &p, &d, &diag), HPFC_OK);
+    hpfc_tree_info info;
+    hpfc_tree_get_info(t, &info);
+    CHECK(d.x0 == info.x0 && d.y0 == info.y0 && d.width == info.width && d.height == info.height);
+    CHECK(info.levels <= d.max_depth + 1);
+    int64_t w = sh->n0, h = sh->m0;
+    for (uint32_t k = 0; k < d.max_depth; k++)
+        w *= sh->n, h *= sh->m;
+    CHECK(d.width == w && d.height == h);
+    CHECK(d.x0 < box[0] && d.y0 < box[1] && box[2] < d.x0 + w && box[3] < d.y0 + h);
+    CHECK(d.max_depth == 0 || w / sh->n < box[2] - box[0] + 2 || h / sh->m < box[3] - box[1] + 2);
+}
+
+/* What hpfc_build_domain refuses. */
+static void test_domain_refusals(void)
+{
+    hpfc_build_params p;
+    hpfc_build_params_default(&p);
+    hpfc_domain d;
+    hpfc_diag diag;
+    const int64_t box[4] = {0, 0, 10, 10}, empty[4] = {5, 0, 4, 10},
+                  far[4] = {-HPFC_COORD_MAX - 1, 0, 0, 1},
+                  wide[4] = {-HPFC_COORD_MAX, 0, HPFC_COORD_MAX, 1};
+    CHECK_EQ_INT(hpfc_build_domain(NULL, &p, &d, &diag), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_build_domain(box, NULL, &d, &diag), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_build_domain(box, &p, NULL, &diag), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_build_domain(empty, &p, &d, &diag), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_build_domain(far, &p, &d, &diag), HPFC_E_EXTENT);
+    CHECK_EQ_INT(hpfc_build_domain(wide, &p, &d, &diag), HPFC_E_EXTENT);
+    p.cols = 1;
+    CHECK_EQ_INT(hpfc_build_domain(box, &p, &d, &diag), HPFC_E_ARG);
+    hpfc_build_params_default(&p);
+    CHECK_EQ_INT(hpfc_build_domain(box, &p, &d, &diag), HPFC_OK);
+    CHECK(d.width == 64 && d.height == 64 && d.max_depth == 0 && d.x0 == -27 && d.y0 == -27);
+}
+
 /* Bounds on shape points per leaf: none, the tightest, a small one and the
  * default. */
 static const uint32_t LEAF_BOUNDS[] = {0, 1, 3, HPFC_DEFAULT_MAX_LEAF_POINTS};
@@ -423,6 +486,7 @@ static uint64_t check_graph_all_shapes(const hpfc_graph *g, const char *what, bo
                 fprintf(stderr, "%s with %ux%u/%ux%u, leaf bound %u: %d oracle failures\n", what, sh->n0,
                         sh->m0, sh->n, sh->m, LEAF_BOUNDS[b], fails);
             CHECK_EQ_INT(fails, 0);
+            check_domain(g, t, sh);
             hpfc_tree_info info;
             hpfc_tree_get_info(t, &info);
             refined[b] = info.refined_pixels;
@@ -547,6 +611,7 @@ static void test_progress(void)
 int main(void)
 {
     test_every_symbol();
+    test_domain_refusals();
     test_vertex_on_road();
     test_vertex_on_crossroad();
     test_edge_along_road();
