@@ -333,10 +333,10 @@ static int cut_crossing(hpfc_shapes *s, uint64_t e, uint64_t seg, const rect *bo
 
 /* A leaf's word and labels, read once into w->leaf (w->leaf.rec.word.n
  * crossings, w->leaf.edge their edges). */
-static int load_leaf(hpfc_shapes *s, const hpfc_pixel *leaf)
+static int load_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_at *at)
 {
     shapes_window *w = s->window;
-    return labels_leaf_load_word(s->f, leaf, &w->word, &w->cap_word, &w->leaf);
+    return labels_leaf_load_word(s->f, leaf, at, &w->word, &w->cap_word, &w->leaf);
 }
 
 /* A leaf whose closed box lies in the window: its faces and its crossings'
@@ -345,11 +345,12 @@ static int load_leaf(hpfc_shapes *s, const hpfc_pixel *leaf)
  * edges' sides: every region of the leaf borders an edge piece (the pieces
  * cut the leaf into its regions), and each piece has a region on either
  * side. */
-static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, int border)
+static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_at *at,
+                       int border)
 {
     shapes_window *w = s->window;
     labels_pieces *lp = &w->pieces;
-    int st = labels_leaf_pieces(s->f, leaf, &w->word, &w->cap_word, lp);
+    int st = labels_leaf_pieces(s->f, leaf, at, &w->word, &w->cap_word, lp);
     if (!st && lp->crossings == 0)
         st = add_face(s, lp->face, border);
     for (uint32_t k = 0; k < lp->count && !st && lp->crossings; k++) {
@@ -364,10 +365,11 @@ static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, int border)
 }
 
 /* A leaf the window's border cuts: exactly, on r = its box in the window. */
-static int cut_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const rect *box, const rect *r)
+static int cut_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_at *at,
+                    const rect *box, const rect *r)
 {
     shapes_window *w = s->window;
-    int st = load_leaf(s, leaf);
+    int st = load_leaf(s, leaf, at);
     if (st)
         return st;
     uint32_t n = w->leaf.rec.word.n;
@@ -413,23 +415,24 @@ static int rect_meets(const rect *a, const rect *b)
     return a->x0 <= b->x1 && a->x1 >= b->x0 && a->y0 <= b->y1 && a->y1 >= b->y0;
 }
 
-/* Every leaf under px (of `type`, its closed box `box` meeting the window)
- * whose closed box meets the window. A child's box is its parent's corner
- * plus its cell, as hpfc_pixel_bounds adds them, so only the children that
- * meet the window are read. */
+/* Every leaf under px (of `type`, its closed box `box` meeting the window;
+ * `at` what its parent's walk learnt of it, NULL: nothing) whose closed box
+ * meets the window. A child's box is its parent's corner plus its cell, as
+ * hpfc_pixel_bounds adds them, so only the children that meet the window
+ * are read, from their image's type bits read once (reader_children). */
 static int descend(hpfc_shapes *s, const descent *d, const hpfc_pixel *px, int type,
-                   const rect *box)
+                   const reader_leaf_at *at, const rect *box)
 {
     const rect *win = &d->win;
     if (type == HPFC_PIXEL_WORD) {
         if (rect_within(box, win))
-            return inside_leaf(s, px, !rect_within_interior(box, win));
+            return inside_leaf(s, px, at, !rect_within_interior(box, win));
         rect r = {box->x0 > win->x0 ? box->x0 : win->x0, box->y0 > win->y0 ? box->y0 : win->y0,
                   box->x1 < win->x1 ? box->x1 : win->x1, box->y1 < win->y1 ? box->y1 : win->y1};
-        return cut_leaf(s, px, box, &r);
+        return cut_leaf(s, px, at, box, &r);
     }
-    uint64_t image;
-    int st = reader_child_image(s->f, px, &image);
+    reader_children children;
+    int st = reader_children_begin(s->f, px, &children);
     uint32_t level = px->depth + 1; /* a refined pixel is above the last level */
     int64_t cw = d->cell_w[level], ch = d->cell_h[level];
     for (uint32_t j = 0; j < d->rows && !st; j++)
@@ -442,10 +445,11 @@ static int descend(hpfc_shapes *s, const descent *d, const hpfc_pixel *px, int t
             if (!rect_meets(&cb, win))
                 continue;
             hpfc_pixel child;
+            reader_leaf_at child_at;
             int child_type;
-            st = reader_child(s->f, px, image, i, j, &child, &child_type);
+            st = reader_children_get(s->f, &children, i, j, &child, &child_type, &child_at);
             if (!st)
-                st = descend(s, d, &child, child_type, &cb);
+                st = descend(s, d, &child, child_type, &child_at, &cb);
         }
     return st;
 }
@@ -483,7 +487,7 @@ static int descend_roots(hpfc_shapes *s, const rect *win)
             if (!st)
                 st = hpfc_pixel_type(s->f, &root, &type);
             if (!st && rect_meets(&box, win))
-                st = descend(s, &d, &root, type, &box);
+                st = descend(s, &d, &root, type, NULL, &box);
         }
     return st;
 }

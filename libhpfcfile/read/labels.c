@@ -677,25 +677,26 @@ int labels_leaf_load(const hpfc_file *f, const hpfc_pixel *leaf, const char *sym
 }
 
 /* A leaf's word into *word (grown to fit) and its rank among its level's
- * leaves, from one read of the pool where the layout allows. */
-static int read_leaf_word(const hpfc_file *f, const hpfc_pixel *leaf, char **word, size_t *cap,
-                          size_t *len, uint64_t *rank)
+ * leaves: from `known` (a walk over its image counted them), else from one
+ * read of the pool where the layout allows. */
+static int read_leaf_word(const hpfc_file *f, const hpfc_pixel *leaf, const reader_leaf_at *known,
+                          char **word, size_t *cap, size_t *len, uint64_t *rank)
 {
-    int st = *cap ? reader_leaf_word(f, leaf, *word, *cap, len, rank) : HPFC_E_BUFFER_SMALL;
+    int st = *cap ? reader_leaf_word(f, leaf, known, *word, *cap, len, rank) : HPFC_E_BUFFER_SMALL;
     if (st == HPFC_E_BUFFER_SMALL) { /* rare: the buffer keeps the longest word yet */
-        st = reader_leaf_word(f, leaf, NULL, 0, len, rank);
+        st = reader_leaf_word(f, leaf, known, NULL, 0, len, rank);
         if (!st && array_grow((void **)word, cap, *len < 64 ? 64 : *len + 1, 1))
             st = HPFC_E_NOMEM;
         if (!st)
-            st = reader_leaf_word(f, leaf, *word, *cap, len, rank);
+            st = reader_leaf_word(f, leaf, known, *word, *cap, len, rank);
     }
     if (!st && *rank == UINT64_MAX) /* the paper layout ranks apart */
         st = labels_leaf_rank(f, leaf, rank);
     return st;
 }
 
-int labels_leaf_load_word(const hpfc_file *f, const hpfc_pixel *leaf, char **word, size_t *cap,
-                          labels_leaf *out)
+int labels_leaf_load_word(const hpfc_file *f, const hpfc_pixel *leaf, const reader_leaf_at *known,
+                          char **word, size_t *cap, labels_leaf *out)
 {
     int st;
     const labels_view *v = labels_of(f, word && cap && out, &st);
@@ -704,13 +705,13 @@ int labels_leaf_load_word(const hpfc_file *f, const hpfc_pixel *leaf, char **wor
     labels_word_free(&out->rec.word);
     size_t len = 0;
     uint64_t rank;
-    if (!(st = read_leaf_word(f, leaf, word, cap, &len, &rank)))
+    if (!(st = read_leaf_word(f, leaf, known, word, cap, &len, &rank)))
         st = load_record_ranked(v, leaf, rank, *word, len, &out->rec);
     return st ? st : load_edges(v, out);
 }
 
-int labels_leaf_pieces(const hpfc_file *f, const hpfc_pixel *leaf, char **word, size_t *cap,
-                       labels_pieces *out)
+int labels_leaf_pieces(const hpfc_file *f, const hpfc_pixel *leaf, const reader_leaf_at *known,
+                       char **word, size_t *cap, labels_pieces *out)
 {
     int st;
     const labels_view *v = labels_of(f, word && cap && out, &st);
@@ -718,7 +719,7 @@ int labels_leaf_pieces(const hpfc_file *f, const hpfc_pixel *leaf, char **word, 
         return st;
     size_t len = 0;
     uint64_t rank, off;
-    if ((st = read_leaf_word(f, leaf, word, cap, &len, &rank)))
+    if ((st = read_leaf_word(f, leaf, known, word, cap, &len, &rank)))
         return st;
     if (len > UINT32_MAX / 8)
         return HPFC_E_LIMIT; /* as labels_word_parse */

@@ -12,6 +12,7 @@
 
 #include "format.h"
 #include "hpfc.h"
+#include "reader.h"
 #include "words.h"
 
 #define FORMAT_TAG_LABL "LABL"
@@ -152,8 +153,10 @@ int labels_leaf_load(const hpfc_file *file, const hpfc_pixel *leaf, const char *
                      labels_leaf *out);
 /* The same, the word read here into *word (a buffer of *cap bytes that
  * grows to the longest word yet, for a caller that loads many leaves) and
- * the leaf ranked from the same read of its pool (compact layout). */
-int labels_leaf_load_word(const hpfc_file *file, const hpfc_pixel *leaf, char **word, size_t *cap,
+ * the leaf ranked from the same read of its pool (compact layout), or from
+ * `known` (reader.h: a walk over its image counted both; NULL: none). */
+int labels_leaf_load_word(const hpfc_file *file, const hpfc_pixel *leaf,
+                          const reader_leaf_at *known, char **word, size_t *cap,
                           labels_leaf *out);
 void labels_leaf_free(labels_leaf *l);
 /* What a leaf's record says without its word's grammar: the edge of each
@@ -168,8 +171,8 @@ typedef struct labels_pieces {
     size_t cap;
     uint64_t face;
 } labels_pieces;
-int labels_leaf_pieces(const hpfc_file *file, const hpfc_pixel *leaf, char **word, size_t *cap,
-                       labels_pieces *out);
+int labels_leaf_pieces(const hpfc_file *file, const hpfc_pixel *leaf, const reader_leaf_at *known,
+                       char **word, size_t *cap, labels_pieces *out);
 
 /* The face of stretch `stretch` (< max(word.n, 1)) of a loaded leaf. */
 int labels_leaf_face(const hpfc_file *file, const labels_leaf *l, uint32_t stretch,

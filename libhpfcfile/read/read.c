@@ -201,6 +201,64 @@ int reader_child(const hpfc_file *f, const hpfc_pixel *px, uint64_t image, uint3
     return HPFC_OK;
 }
 
+int reader_children_begin(const hpfc_file *f, const hpfc_pixel *px, reader_children *c)
+{
+    *c = (reader_children){.parent = px};
+    int st = reader_child_image(f, px, &c->image);
+    if (st)
+        return st;
+    const file_level *lv = &f->lv[px->depth + 1]; /* a refined pixel is above the last level */
+    /* compact, the image's type bits in one load (2 bits a pixel, up to 56
+     * at an even bit), and an image of the level: a walk by counts */
+    if (!f->compact || lv->image_pixels > 28 || c->image >= lv->info.images)
+        return HPFC_OK;
+    uint64_t g0 = c->image * lv->image_pixels;
+    pool_pixel base;
+    if ((st = pool_read_pixel(&lv->pool, &lv->compact, g0, &base)))
+        return st;
+    c->counted = true;
+    c->g0 = g0;
+    c->refined = base.refined;
+    c->stabbed = base.stabbed;
+    c->pairs = format_peek(&lv->pool, 2 * g0, 2 * (unsigned)lv->image_pixels);
+    return HPFC_OK;
+}
+
+int reader_children_get(const hpfc_file *f, const reader_children *c, uint32_t i, uint32_t j,
+                        hpfc_pixel *out, int *type, reader_leaf_at *at)
+{
+    *at = (reader_leaf_at){.rank = UINT64_MAX};
+    if (!c->counted)
+        return reader_child(f, c->parent, c->image, i, j, out, type);
+    uint32_t d = c->parent->depth + 1;
+    const file_level *lv = &f->lv[d];
+    if (i >= lv->cols || j >= lv->rows)
+        return HPFC_E_ARG;
+    unsigned p = j * lv->cols + i;
+    uint64_t before = p ? c->pairs & ~(UINT64_MAX >> (2 * p)) : 0;
+    unsigned pair = (unsigned)(c->pairs << (2 * p) >> 62);
+    if (pair == 3)
+        return HPFC_E_CORRUPT; /* refined and stabbed */
+    if (pair == 2 && lv->last)
+        return HPFC_E_CORRUPT;
+    uint64_t refined = c->refined + format_ones(before & 0xAAAAAAAAAAAAAAAAull);
+    uint64_t stabbed = c->stabbed + format_ones(before & 0x5555555555555555ull);
+    copy_path(out, c->parent, d - 1);
+    out->depth = d;
+    out->path[d].image = c->image;
+    out->path[d].i = i;
+    out->path[d].j = j;
+    *type = pair == 2 ? HPFC_PIXEL_REFINED : HPFC_PIXEL_WORD;
+    if (pair != 2) {
+        uint64_t g = c->g0 + p;
+        if (g - refined >= lv->info.word_pixels || (pair == 1 && stabbed >= lv->compact.stabbed))
+            return HPFC_E_CORRUPT; /* damaged block counts */
+        at->rank = g - refined;
+        at->word = pair == 1 ? stabbed : NO_WORD;
+    }
+    return HPFC_OK;
+}
+
 int hpfc_pixel_parent(const hpfc_pixel *px, hpfc_pixel *out)
 {
     if (!px || !out || px->depth >= HPFC_MAX_LEVELS)
@@ -411,12 +469,28 @@ int hpfc_pixel_word(const hpfc_file *f, const hpfc_pixel *px, char *buf, size_t 
     return word_decode_code(&lv->pool, at.slot, lv->word_bits, buf, cap, len);
 }
 
-int reader_leaf_word(const hpfc_file *f, const hpfc_pixel *leaf, char *buf, size_t cap,
-                     size_t *len, uint64_t *rank)
+int reader_leaf_word(const hpfc_file *f, const hpfc_pixel *leaf, const reader_leaf_at *known,
+                     char *buf, size_t cap, size_t *len, uint64_t *rank)
 {
     if (!f || !leaf || !len || !rank || leaf->depth >= f->info.levels)
         return HPFC_E_ARG;
     *rank = UINT64_MAX;
+    if (known && known->rank != UINT64_MAX) { /* reader_children_get counted it */
+        const file_level *lv = &f->lv[leaf->depth];
+        pixel_at at = {.type = HPFC_PIXEL_WORD, .word = known->word};
+        int st;
+        if (known->word == NO_WORD) {
+            st = compact_word(lv, &at, buf, cap, len);
+        } else {
+            uint64_t start, end;
+            st = pool_word_span(&lv->pool, &lv->compact, lv->word_bits, known->word, &start, &end);
+            if (!st)
+                st = pool_decode_word(&lv->pool, start, end, buf, cap, len);
+        }
+        if (!st)
+            *rank = known->rank;
+        return st;
+    }
     if (!f->compact)
         return hpfc_pixel_word(f, leaf, buf, cap, len);
     uint32_t d = leaf->depth;

@@ -43,12 +43,35 @@ int reader_word_at(const hpfc_file *file, uint32_t level, uint64_t image, uint64
 int reader_child_image(const hpfc_file *file, const hpfc_pixel *px, uint64_t *image);
 int reader_child(const hpfc_file *file, const hpfc_pixel *px, uint64_t image, uint32_t i,
                  uint32_t j, hpfc_pixel *out, int *type);
+/* What a walk over an image's children learnt of a word pixel (compact
+ * layout): its rank among its level's leaves and its word's index in the
+ * stream (UINT64_MAX: private); rank UINT64_MAX: nothing. */
+typedef struct reader_leaf_at {
+    uint64_t rank, word;
+} reader_leaf_at;
+
+/* The children of a refined pixel in the compact layout, counted once:
+ * reader_children_begin reads the child image's type bits and the counts
+ * before it, then reader_children_get gives child (i, j)'s path, type and
+ * (a word pixel) its reader_leaf_at without another read of the counts.
+ * Other layouts and images of more than 28 pixels go through reader_child
+ * (the reader_leaf_at empty). px must outlive c. */
+typedef struct reader_children {
+    const hpfc_pixel *parent;
+    uint64_t image, g0, refined, stabbed, pairs;
+    bool counted;
+} reader_children;
+int reader_children_begin(const hpfc_file *file, const hpfc_pixel *px, reader_children *c);
+int reader_children_get(const hpfc_file *file, const reader_children *c, uint32_t i, uint32_t j,
+                        hpfc_pixel *out, int *type, reader_leaf_at *at);
+
 /* A word pixel's word, as hpfc_pixel_word gives it, and in the compact
- * layout its rank among its level's leaves (labels_leaf_rank's) from the
- * same read of its type bits' counts; *rank is UINT64_MAX when not
- * computed (the paper layout). */
-int reader_leaf_word(const hpfc_file *file, const hpfc_pixel *leaf, char *buf, size_t cap,
-                     size_t *len, uint64_t *rank);
+ * layout its rank among its level's leaves (labels_leaf_rank's): from
+ * `known` when a walk over its image counted them (NULL or empty: from one
+ * read of its type bits' counts); *rank is UINT64_MAX when not computed
+ * (the paper layout). */
+int reader_leaf_word(const hpfc_file *file, const hpfc_pixel *leaf, const reader_leaf_at *known,
+                     char *buf, size_t cap, size_t *len, uint64_t *rank);
 /* hpfc_locate, from `near` (NULL: from the root): the levels where the
  * point lies in one of near's ancestors take near's path instead of reading
  * the pools again, so locating next to a known pixel costs the levels below

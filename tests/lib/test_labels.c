@@ -79,16 +79,16 @@ static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t
     size_t want_len = 0, got_len = 0, cap = 0;
     uint64_t got_rank = 0;
     CHECK_EQ_INT(hpfc_pixel_word(p->f, px, want, sizeof want, &want_len), HPFC_OK);
-    CHECK_EQ_INT(reader_leaf_word(p->f, px, got, sizeof got, &got_len, &got_rank), HPFC_OK);
+    CHECK_EQ_INT(reader_leaf_word(p->f, px, NULL, got, sizeof got, &got_len, &got_rank), HPFC_OK);
     CHECK_EQ_INT(got_len, want_len);
     CHECK(memcmp(got, want, want_len) == 0);
     CHECK_EQ_INT(got_rank, p->f->compact ? rank : UINT64_MAX);
     if (want_len > 0) /* one byte short: the length needed */
-        CHECK_EQ_INT(reader_leaf_word(p->f, px, got, want_len - 1, &got_len, &got_rank),
+        CHECK_EQ_INT(reader_leaf_word(p->f, px, NULL, got, want_len - 1, &got_len, &got_rank),
                      HPFC_E_BUFFER_SMALL);
     labels_leaf a = {0}, b = {0};
     CHECK_EQ_INT(labels_leaf_load(p->f, px, want, want_len, &a), HPFC_OK);
-    CHECK_EQ_INT(labels_leaf_load_word(p->f, px, &grown, &cap, &b), HPFC_OK);
+    CHECK_EQ_INT(labels_leaf_load_word(p->f, px, NULL, &grown, &cap, &b), HPFC_OK);
     CHECK_EQ_INT(b.rec.word.n, a.rec.word.n);
     CHECK_EQ_INT(b.rec.off, a.rec.off);
     for (uint32_t k = 0; k < a.rec.word.n && k < b.rec.word.n; k++)
@@ -96,7 +96,7 @@ static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t
     /* the pieces without the grammar: the crossings' edges, each piece
      * once (a stabbing's two crossings share theirs), or the private face */
     labels_pieces lp = {0};
-    CHECK_EQ_INT(labels_leaf_pieces(p->f, px, &grown, &cap, &lp), HPFC_OK);
+    CHECK_EQ_INT(labels_leaf_pieces(p->f, px, NULL, &grown, &cap, &lp), HPFC_OK);
     CHECK_EQ_INT(lp.crossings, a.rec.word.n);
     CHECK_EQ_INT(lp.count, a.rec.word.pieces);
     for (uint32_t k = 0; k < a.rec.word.n; k++)
@@ -126,6 +126,28 @@ static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t
     CHECK_EQ_INT(child.depth, want_child.depth);
     CHECK(memcmp(child.path, want_child.path, (child.depth + 1) * sizeof child.path[0]) == 0);
     CHECK_EQ_INT(reader_child(p->f, &parent, image, UINT32_MAX, j, &child, &type), HPFC_E_ARG);
+    /* the same child from a walk over its image's counts, with its rank and
+     * its word's place (compact images of up to 28 pixels) */
+    reader_children c;
+    reader_leaf_at at;
+    CHECK_EQ_INT(reader_children_begin(p->f, &parent, &c), HPFC_OK);
+    CHECK_EQ_INT(reader_children_get(p->f, &c, i, j, &child, &type, &at), HPFC_OK);
+    CHECK_EQ_INT(type, HPFC_PIXEL_WORD);
+    CHECK(memcmp(child.path, want_child.path, (child.depth + 1) * sizeof child.path[0]) == 0);
+    hpfc_file_info fi; /* px is below the root: its image is cols x rows */
+    hpfc_file_get_info(p->f, &fi);
+    bool counted = p->f->compact && (uint64_t)fi.cols * fi.rows <= 28;
+    CHECK_EQ_INT(at.rank, counted ? rank : UINT64_MAX);
+    if (counted) {
+        int is_private = -1;
+        CHECK_EQ_INT(hpfc_pixel_is_private(p->f, px, &is_private), HPFC_OK);
+        CHECK_EQ_INT(at.word == UINT64_MAX, is_private);
+        size_t len = 0;
+        uint64_t r = 0;
+        CHECK_EQ_INT(reader_leaf_word(p->f, px, &at, got, sizeof got, &len, &r), HPFC_OK);
+        CHECK(len == want_len && memcmp(got, want, len) == 0 && r == rank);
+    }
+    CHECK_EQ_INT(reader_children_get(p->f, &c, i, UINT32_MAX, &child, &type, &at), HPFC_E_ARG);
 }
 
 static void check_ranks(const packed *p)
