@@ -152,25 +152,10 @@ int hpfc_pixel_type(const hpfc_file *f, const hpfc_pixel *px, int *type)
 
 int hpfc_pixel_child(const hpfc_file *f, const hpfc_pixel *px, uint32_t i, uint32_t j, hpfc_pixel *out)
 {
-    pixel_at at, child_at;
-    int st = out ? top_pixel(f, px, &at) : HPFC_E_ARG;
-    if (st)
-        return st;
-    if (at.type != HPFC_PIXEL_REFINED)
-        return HPFC_E_NO_PIXEL;
-    uint32_t d = px->depth; /* < levels - 1: a refined pixel at the last level is corrupt */
-    uint64_t child;
-    st = child_address(f, d, &at, &child);
-    if (!st)
-        st = image_pixel(f, d + 1, child, i, j, &child_at);
-    if (st)
-        return st;
-    copy_path(out, px, d);
-    out->depth = d + 1;
-    out->path[d + 1].image = child;
-    out->path[d + 1].i = i;
-    out->path[d + 1].j = j;
-    return HPFC_OK;
+    uint64_t image;
+    int type;
+    int st = out ? reader_child_image(f, px, &image) : HPFC_E_ARG;
+    return st ? st : reader_child(f, px, image, i, j, out, &type);
 }
 
 int reader_child_image(const hpfc_file *f, const hpfc_pixel *px, uint64_t *image)
@@ -469,6 +454,19 @@ int hpfc_pixel_word(const hpfc_file *f, const hpfc_pixel *px, char *buf, size_t 
     return word_decode_code(&lv->pool, at.slot, lv->word_bits, buf, cap, len);
 }
 
+/* A compact word pixel's word from its index in the level's word stream
+ * (NO_WORD: a private pixel, "++++"). */
+static int indexed_word(const file_level *lv, uint64_t word, char *buf, size_t cap, size_t *len)
+{
+    if (word == NO_WORD) {
+        pixel_at at = {.type = HPFC_PIXEL_WORD, .word = NO_WORD};
+        return compact_word(lv, &at, buf, cap, len);
+    }
+    uint64_t start, end;
+    int st = pool_word_span(&lv->pool, &lv->compact, lv->word_bits, word, &start, &end);
+    return st ? st : pool_decode_word(&lv->pool, start, end, buf, cap, len);
+}
+
 int reader_leaf_word(const hpfc_file *f, const hpfc_pixel *leaf, const reader_leaf_at *known,
                      char *buf, size_t cap, size_t *len, uint64_t *rank)
 {
@@ -476,17 +474,7 @@ int reader_leaf_word(const hpfc_file *f, const hpfc_pixel *leaf, const reader_le
         return HPFC_E_ARG;
     *rank = UINT64_MAX;
     if (known && known->rank != UINT64_MAX) { /* reader_children_get counted it */
-        const file_level *lv = &f->lv[leaf->depth];
-        pixel_at at = {.type = HPFC_PIXEL_WORD, .word = known->word};
-        int st;
-        if (known->word == NO_WORD) {
-            st = compact_word(lv, &at, buf, cap, len);
-        } else {
-            uint64_t start, end;
-            st = pool_word_span(&lv->pool, &lv->compact, lv->word_bits, known->word, &start, &end);
-            if (!st)
-                st = pool_decode_word(&lv->pool, start, end, buf, cap, len);
-        }
+        int st = indexed_word(&f->lv[leaf->depth], known->word, buf, cap, len);
         if (!st)
             *rank = known->rank;
         return st;
@@ -510,15 +498,7 @@ int reader_leaf_word(const hpfc_file *f, const hpfc_pixel *leaf, const reader_le
         return lv->last ? HPFC_E_CORRUPT : HPFC_E_ARG;
     if (g - px.refined >= lv->info.word_pixels)
         return HPFC_E_CORRUPT; /* damaged block counts */
-    pixel_at at = {.type = HPFC_PIXEL_WORD, .slot = g, .word = px.kind == POOL_PRIVATE ? NO_WORD : 0};
-    if (px.kind == POOL_PRIVATE) {
-        st = compact_word(lv, &at, buf, cap, len);
-    } else {
-        uint64_t start, end;
-        st = pool_word_span(&lv->pool, &lv->compact, lv->word_bits, px.stabbed, &start, &end);
-        if (!st)
-            st = pool_decode_word(&lv->pool, start, end, buf, cap, len);
-    }
+    st = indexed_word(lv, px.kind == POOL_PRIVATE ? NO_WORD : px.stabbed, buf, cap, len);
     if (!st)
         *rank = g - px.refined;
     return st;

@@ -920,7 +920,9 @@ static int write_atomic(const char *path, layout *L, hpfc_diag *diag)
 }
 
 /* The write calls stream the file to disk a section at a time
- * (write_layout): the serialised file is never held whole. */
+ * (write_layout): the serialised file is never held whole. The two share
+ * their start and their end (begin_layout, write_atomic) and part, as the
+ * serialize pair does, where the layout comes from: the tree or the file. */
 int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *opts_arg,
                                size_t opts_size, const char *path, hpfc_diag *diag)
 {
