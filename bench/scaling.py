@@ -66,7 +66,7 @@ PACK = [
     ("pack.link.witness", [(None, "face_witnesses")]),
     ("pack.link.topology", [(None, "face_link_run")]),
     ("pack.link.check", [(None, "face_check_create"), (None, "face_check_features")]),
-    ("pack.write", [(None, "hpfc_tree_serialize_sized"), (None, "hpfc_file_serialize_sized"), (None, "atomic_output_write")]),
+    ("pack.write", [(None, "hpfc_tree_serialize_sized"), (None, "hpfc_file_write_fd_sized")]),
 ]
 # the report's CPU seconds of each pack stage (write: what is not linking)
 PACK_REPORT = {"pack.read": "gis_read", "pack.project": "gis_project", "pack.node": "gis_node",
