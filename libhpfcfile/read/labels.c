@@ -755,19 +755,6 @@ int labels_leaf_pieces(const hpfc_file *f, const hpfc_pixel *leaf, const reader_
     return HPFC_OK;
 }
 
-int labels_leaf_regions(const hpfc_file *f, const labels_leaf *l, uint64_t *faces)
-{
-    int st;
-    const labels_view *v = labels_of(f, true, &st);
-    const labels_word *w = &l->rec.word;
-    /* regions are numbered in the order their smallest stretch comes */
-    uint32_t r = 0;
-    for (uint32_t t = 0; !st && r < w->regions && t < stretch_count(w); t++)
-        if (w->n == 0 || w->region[t] == r)
-            st = stretch_face(v, &l->rec, t, &faces[r++]);
-    return st || r == w->regions ? st : HPFC_E_CORRUPT;
-}
-
 int labels_leaf_face(const hpfc_file *f, const labels_leaf *l, uint32_t stretch, uint64_t *face)
 {
     int st;

@@ -178,10 +178,6 @@ int labels_leaf_pieces(const hpfc_file *file, const hpfc_pixel *leaf, const read
 int labels_leaf_face(const hpfc_file *file, const labels_leaf *l, uint32_t stretch,
                      uint64_t *face);
 
-/* The faces of a loaded leaf's regions (l->rec.word.regions of them,
- * into faces), in hpfc_label_leaf_faces's order. */
-int labels_leaf_regions(const hpfc_file *file, const labels_leaf *l, uint64_t *faces);
-
 /* Builds the section's bytes for a tree and its serialised file (whose
  * faces are fc): *out (malloc'ed), *length. */
 int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc, uint8_t **out,
