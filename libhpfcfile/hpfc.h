@@ -340,6 +340,50 @@ HPFC_API int hpfc_build_sized(const hpfc_graph *graph, const hpfc_build_params *
     hpfc_build_sized((graph), (params), sizeof(hpfc_build_params), (out), (diag))
 HPFC_API void hpfc_tree_free(hpfc_tree *tree);
 
+/* A build split into parts, for maps too large for one build: each part
+ * builds the subtrees of some root pixels, and hpfc_tree_merge joins the
+ * parts into the tree hpfc_build gives for the whole map, pixel for pixel
+ * (so every write call writes the same bytes from it). A root pixel's
+ * subtree depends only on the segments that meet it and on the domain, so
+ * a part's graph need only hold the edges that meet its root pixels (more
+ * do no harm), each with its id in the whole map; every point of the
+ * whole map must lie in the domain, as hpfc_build_domain over the whole
+ * map's box gives it (with the same params). Root pixels are numbered
+ * j * root_cols + i, row j = 0 the northern one. */
+typedef struct hpfc_part {
+    hpfc_domain domain;            /* the whole map's (hpfc_build_domain) */
+    const uint32_t *root_pixels;   /* the part's root pixels, ascending */
+    size_t root_pixel_count;
+    /* Per edge of the part's graph, its index in the whole map's graph,
+     * ascending (the part's graph keeps the whole map's order of edges,
+     * which orders a word's crossings). NULL: the part's graph is the
+     * whole map's (and edge_count 0 or its edge count). */
+    const uint32_t *edge_ids;
+    uint64_t edge_count;           /* edges of the whole map */
+} hpfc_part;
+
+/* Builds one part: the subtrees of part->root_pixels. The tree it gives is
+ * only for hpfc_tree_merge (the write calls refuse it with HPFC_E_ARG, and
+ * hpfc_tree_get_pixel another part's root pixel); its info has the whole
+ * map's edge count, the vertices that lie in its root pixels, faces and
+ * components 0. HPFC_E_ARG for a flat build, a domain these params do not
+ * give, root pixels or edge ids out of order or range, a point outside
+ * the domain; then as hpfc_build. */
+HPFC_API int hpfc_build_part_sized(const hpfc_graph *graph, const hpfc_build_params *params,
+                                   size_t params_size, const hpfc_part *part, hpfc_tree **out,
+                                   hpfc_diag *diag);
+#define hpfc_build_part(graph, params, part, out, diag) \
+    hpfc_build_part_sized((graph), (params), sizeof(hpfc_build_params), (part), (out), (diag))
+
+/* Joins parts that cover every root pixel once, built with the same
+ * params and domain, into the whole map's tree (counted: its vertices,
+ * faces and components are the whole map's). The parts are not changed;
+ * free them after. HPFC_E_ARG for no part, a tree that is not a part,
+ * parts of different builds, a root pixel in no part or in two, or
+ * parts whose words leave an edge of the map in none. */
+HPFC_API int hpfc_tree_merge(hpfc_tree *const *parts, size_t count, hpfc_tree **out,
+                             hpfc_diag *diag);
+
 /* Geometry of a tree. The domain is [x0, x0 + width) x [y0, y0 + height) in
  * lattice units; level l has root_cols * cols^l columns of equal width
  * (integers), and rows likewise. Row 0 of an image is its northern row. */

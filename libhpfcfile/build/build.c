@@ -51,6 +51,12 @@ typedef struct builder {
     size_t *cur_start, *next_start;
     size_t next_len, next_cap, next_images_cap;
     uint32_t max_depth;       /* K: pixels of this depth are 1 x 1 */
+    /* A part's build (hpfc_build_part): the root pixels it builds, one bit
+     * each (NULL: all of them), and the whole map's id of each of its
+     * graph's edges (NULL: the graph's own index). */
+    uint8_t *root_selected;
+    const uint32_t *edge_ids;
+    uint64_t edge_count;      /* the whole map's, with edge_ids */
     hpfc_diag *diag;
 } builder;
 
@@ -92,6 +98,19 @@ static int domain_of_box(const int64_t box[4], const hpfc_build_params *p, hpfc_
     return HPFC_OK;
 }
 
+static void set_domain(builder *b, const hpfc_domain *d)
+{
+    b->ox = d->x0;
+    b->oy = d->y0;
+    hpfc_tree_info *info = &b->t->info;
+    info->x0 = d->x0;
+    info->y0 = d->y0;
+    info->width = d->width;
+    info->height = d->height;
+    info->unit_exp10 = b->g->unit_exp10;
+    b->max_depth = d->max_depth;
+}
+
 static int choose_domain(builder *b)
 {
     const hpfc_graph *g = b->g;
@@ -107,15 +126,7 @@ static int choose_domain(builder *b)
     int st = domain_of_box(box, &b->p, &d, b->diag);
     if (st)
         return st;
-    b->ox = d.x0;
-    b->oy = d.y0;
-    hpfc_tree_info *info = &b->t->info;
-    info->x0 = d.x0;
-    info->y0 = d.y0;
-    info->width = d.width;
-    info->height = d.height;
-    info->unit_exp10 = g->unit_exp10;
-    b->max_depth = d.max_depth;
+    set_domain(b, &d);
     return HPFC_OK;
 }
 
@@ -167,7 +178,7 @@ static int make_segments(builder *b)
         n += graph_edge_point_count(g, e) - 1;
     if (n > UINT32_MAX - 1)
         return diag_set(b->diag, HPFC_E_LIMIT, "more than 2^32 - 2 segments");
-    b->segs = malloc(n * sizeof *b->segs);
+    b->segs = malloc((n ? n : 1) * sizeof *b->segs);
     if (!b->segs)
         return HPFC_E_NOMEM;
     b->nsegs = n;
@@ -406,7 +417,7 @@ static int append_word(builder *b, word_scratch *w, tpixel *px)
             component *c = &w->comp[w->cr[k].comp];
             c->seen++;
             *out++ = word_crossing_symbol(c->vertex >= 0, c->seen, c->size);
-            t->cross_edge[t->ncross] = w->cr[k].edge;
+            t->cross_edge[t->ncross] = b->edge_ids ? b->edge_ids[w->cr[k].edge] : w->cr[k].edge;
             if (t->cross_seg)
                 t->cross_seg[t->ncross] = w->cr[k].k;
             t->ncross++;
@@ -615,6 +626,11 @@ static int push_child(builder *b, tlevel *next, int64_t gx, int64_t gy, const ui
     return HPFC_OK;
 }
 
+static bool root_selected(const builder *b, size_t pixel)
+{
+    return !b->root_selected || (b->root_selected[pixel >> 3] >> (pixel & 7) & 1);
+}
+
 static int build_image(builder *b, uint32_t level, size_t image, image_scratch *is,
                        word_scratch *w)
 {
@@ -639,6 +655,10 @@ static int build_image(builder *b, uint32_t level, size_t image, image_scratch *
         int64_t i = (int64_t)(p % lv->cols), j = (int64_t)(p / lv->cols);
         int64_t gx = gx0 + i, gy = gy0 + (lv->rows - 1 - j);
         tpixel *px = &lv->pix[image * per + p];
+        if (level == 0 && !root_selected(b, p)) {
+            *px = (tpixel){0, TPIXEL_ABSENT}; /* another part's */
+            continue;
+        }
         int64_t cell[4] = {gx * lv->cell_w, gy * lv->cell_h, (gx + 1) * lv->cell_w, (gy + 1) * lv->cell_h};
         if (!b->p.flat && (holds_edge(b, lv, level, gx, gy, sub, ns) ||
                            (level < b->max_depth && holds_too_many_points(b, cell, sub, ns)))) {
@@ -820,63 +840,219 @@ int hpfc_build_domain_sized(const int64_t box[4], const hpfc_build_params *param
     return domain_of_box(box, &full, out, diag);
 }
 
+/* The root pixel holding domain-relative point (x, y), scanline index. */
+static size_t root_pixel_of(const builder *b, int64_t x, int64_t y)
+{
+    const tlevel *root = &b->t->levels[0];
+    int64_t i = x / root->cell_w, j = root->rows - 1 - y / root->cell_h;
+    return (size_t)j * root->cols + (size_t)i;
+}
+
+/* A part holds the vertices that lie in its root pixels: each must be in
+ * one of its words, as hpfc_build checks of every vertex. */
+static int count_part_vertices(builder *b)
+{
+    uint64_t held = 0;
+    for (size_t v = 0; v < b->g->nv; v++) {
+        int64_t x = b->g->vxy[2 * v] - b->ox, y = b->g->vxy[2 * v + 1] - b->oy;
+        if (!root_selected(b, root_pixel_of(b, x, y)))
+            continue;
+        if (!b->vertex_seen[v])
+            return internal_error(b, "vertex in no word pixel", 0);
+        held++;
+    }
+    b->t->info.vertices = held;
+    b->t->info.edges = b->edge_ids ? b->edge_count : b->g->ne;
+    b->t->part = true;
+    return HPFC_OK;
+}
+
+static int check_vertices_seen(builder *b)
+{
+    for (size_t v = 0; v < b->g->nv; v++)
+        if (!b->vertex_seen[v])
+            return internal_error(b, "vertex in no word pixel", 0);
+    return HPFC_OK;
+}
+
+/* The build proper, once the builder holds its graph, params and diag:
+ * the domain (the part's, or chosen from the graph), the levels, the
+ * checks and counts at the end. Frees the builder's arrays; on failure the
+ * tree too. */
+static int run_build(builder *b, const hpfc_domain *domain, hpfc_tree **out)
+{
+    const hpfc_graph *g = b->g;
+    int st = HPFC_OK;
+    b->t = calloc(1, sizeof *b->t);
+    b->edge_level = malloc((g->ne ? g->ne : 1) * sizeof *b->edge_level);
+    b->vertex_seen = calloc(g->nv ? g->nv : 1, 1);
+    if (!b->t || !b->edge_level || !b->vertex_seen)
+        st = HPFC_E_NOMEM;
+    if (!st && domain)
+        set_domain(b, domain);
+    else if (!st)
+        st = choose_domain(b);
+    if (!st)
+        st = make_segments(b);
+    if (!st) {
+        compute_edge_levels(b);
+        if (b->p.flat)
+            st = flatten_root(b);
+    }
+    if (!st) {
+        b->t->info.root_cols = b->p.root_cols;
+        b->t->info.root_rows = b->p.root_rows;
+        b->t->info.cols = b->p.cols;
+        b->t->info.rows = b->p.rows;
+        st = tree_init(b, b->max_depth + 1);
+    }
+    if (!st)
+        st = setup_root(b);
+    if (!st)
+        st = build_levels(b);
+    if (!st)
+        st = b->root_selected ? count_part_vertices(b) : check_vertices_seen(b);
+    if (!st && !b->root_selected)
+        st = count_components(b);
+    if (st == HPFC_E_NOMEM)
+        diag_set(b->diag, st, "out of memory");
+    free_builder(b);
+    if (!st && !b->t->cross_seg &&
+        !(b->t->zero_seg = calloc((size_t)b->t->info.max_word_symbols + 1, sizeof *b->t->zero_seg)))
+        st = HPFC_E_NOMEM;
+    if (st) {
+        hpfc_tree_free(b->t);
+        return st;
+    }
+    *out = b->t;
+    return HPFC_OK;
+}
+
 int hpfc_build_sized(const hpfc_graph *g, const hpfc_build_params *params_arg,
                      size_t params_size, hpfc_tree **out, hpfc_diag *diag)
 {
-    hpfc_build_params full, *params = &full;
+    hpfc_build_params full;
     hpfc_build_params_default(&full);
     if (!g || !params_arg || !out || sized_in(&full, sizeof full, params_arg, params_size))
         return HPFC_E_ARG;
     *out = NULL;
-    int st = check_params(params, diag);
+    int st = check_params(&full, diag);
     if (st)
         return st;
     st = hpfc_graph_validate(g, diag);
     if (st)
         return st;
-    builder b = {.g = g, .p = *params, .diag = diag};
-    b.t = calloc(1, sizeof *b.t);
-    b.edge_level = malloc(g->ne * sizeof *b.edge_level);
-    b.vertex_seen = calloc(g->nv, 1);
-    if (!b.t || !b.edge_level || !b.vertex_seen)
-        st = HPFC_E_NOMEM;
-    if (!st)
-        st = choose_domain(&b);
-    if (!st)
-        st = make_segments(&b);
-    if (!st) {
-        compute_edge_levels(&b);
-        if (b.p.flat)
-            st = flatten_root(&b);
+    builder b = {.g = g, .p = full, .diag = diag};
+    return run_build(&b, NULL, out);
+}
+
+/* ---- a part of a split build -------------------------------------------- */
+
+/* The domain must be one hpfc_build_domain gives with these params: its
+ * size root_cols * cols^max_depth (and rows alike), its origin in range. */
+static int check_part_domain(const hpfc_build_params *p, const hpfc_domain *d, hpfc_diag *diag)
+{
+    int64_t W = p->root_cols, H = p->root_rows;
+    for (uint32_t k = 0; k < d->max_depth; k++) {
+        if (W > HPFC_LATTICE_MAX / p->cols || H > HPFC_LATTICE_MAX / p->rows)
+            return diag_set(diag, HPFC_E_ARG, "hpfc_build_part: a domain deeper than the lattice");
+        W *= p->cols;
+        H *= p->rows;
     }
-    if (!st) {
-        b.t->info.root_cols = b.p.root_cols;
-        b.t->info.root_rows = b.p.root_rows;
-        b.t->info.cols = b.p.cols;
-        b.t->info.rows = b.p.rows;
-        st = tree_init(&b, b.max_depth + 1);
-    }
-    if (!st)
-        st = setup_root(&b);
-    if (!st)
-        st = build_levels(&b);
-    for (size_t v = 0; v < g->nv && !st; v++)
-        if (!b.vertex_seen[v])
-            st = internal_error(&b, "vertex in no word pixel", 0);
-    if (!st)
-        st = count_components(&b);
-    if (st == HPFC_E_NOMEM)
-        diag_set(diag, st, "out of memory");
-    free_builder(&b);
-    if (!st && !b.t->cross_seg &&
-        !(b.t->zero_seg = calloc((size_t)b.t->info.max_word_symbols + 1, sizeof *b.t->zero_seg)))
-        st = HPFC_E_NOMEM;
-    if (st) {
-        hpfc_tree_free(b.t);
-        return st;
-    }
-    *out = b.t;
+    if (W != d->width || H != d->height || d->x0 < -HPFC_LATTICE_MAX || d->x0 > HPFC_LATTICE_MAX ||
+        d->y0 < -HPFC_LATTICE_MAX || d->y0 > HPFC_LATTICE_MAX)
+        return diag_set(diag, HPFC_E_ARG,
+                        "hpfc_build_part: the domain is not one hpfc_build_domain gives with these params");
     return HPFC_OK;
+}
+
+/* Every point of the part's graph strictly inside the domain, as the whole
+ * map's points are in the domain hpfc_build_domain gives for their box. */
+static int check_part_points(const hpfc_graph *g, const hpfc_domain *d, hpfc_diag *diag)
+{
+    for (size_t v = 0; v < g->nv; v++) {
+        int64_t x = g->vxy[2 * v], y = g->vxy[2 * v + 1];
+        if (x <= d->x0 || x >= d->x0 + d->width || y <= d->y0 || y >= d->y0 + d->height)
+            return diag_set(diag, HPFC_E_ARG, "hpfc_build_part: vertex %zu lies outside the domain", v);
+    }
+    for (size_t k = 0; k < g->npts; k++) {
+        int64_t x = g->pts[2 * k], y = g->pts[2 * k + 1];
+        if (x <= d->x0 || x >= d->x0 + d->width || y <= d->y0 || y >= d->y0 + d->height)
+            return diag_set(diag, HPFC_E_ARG, "hpfc_build_part: a shape point lies outside the domain");
+    }
+    return HPFC_OK;
+}
+
+/* Root pixels ascending below the root's count; edge ids ascending below
+ * the whole map's edge count (so that the part's graph orders its edges as
+ * the whole map does, which orders crossings in a word). */
+static int check_part_lists(const hpfc_graph *g, const hpfc_build_params *p, const hpfc_part *part,
+                            hpfc_diag *diag)
+{
+    uint64_t roots = (uint64_t)p->root_cols * p->root_rows;
+    if (part->root_pixel_count && !part->root_pixels)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_build_part: NULL root pixels");
+    for (size_t k = 0; k < part->root_pixel_count; k++)
+        if (part->root_pixels[k] >= roots || (k && part->root_pixels[k] <= part->root_pixels[k - 1]))
+            return diag_set(diag, HPFC_E_ARG,
+                            "hpfc_build_part: root pixels must be ascending indices below %llu",
+                            (unsigned long long)roots);
+    if (!part->edge_ids) {
+        if (part->edge_count && part->edge_count != g->ne)
+            return diag_set(diag, HPFC_E_ARG,
+                            "hpfc_build_part: edge_count without edge_ids must be the graph's");
+        return HPFC_OK;
+    }
+    if (part->edge_count > (uint64_t)UINT32_MAX + 1)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_build_part: more than 2^32 edges");
+    for (size_t e = 0; e < g->ne; e++)
+        if (part->edge_ids[e] >= part->edge_count || (e && part->edge_ids[e] <= part->edge_ids[e - 1]))
+            return diag_set(diag, HPFC_E_ARG,
+                            "hpfc_build_part: edge ids must be ascending and below edge_count");
+    return HPFC_OK;
+}
+
+static int select_roots(builder *b, const hpfc_part *part)
+{
+    uint64_t roots = (uint64_t)b->p.root_cols * b->p.root_rows;
+    b->root_selected = calloc((size_t)(roots + 7) / 8, 1);
+    if (!b->root_selected)
+        return HPFC_E_NOMEM;
+    for (size_t k = 0; k < part->root_pixel_count; k++)
+        b->root_selected[part->root_pixels[k] >> 3] |= (uint8_t)(1u << (part->root_pixels[k] & 7));
+    return HPFC_OK;
+}
+
+int hpfc_build_part_sized(const hpfc_graph *g, const hpfc_build_params *params_arg,
+                          size_t params_size, const hpfc_part *part, hpfc_tree **out,
+                          hpfc_diag *diag)
+{
+    hpfc_build_params full;
+    hpfc_build_params_default(&full);
+    diag_clear(diag);
+    if (!g || !params_arg || !part || !out || sized_in(&full, sizeof full, params_arg, params_size))
+        return diag_set(diag, HPFC_E_ARG, "hpfc_build_part: NULL or unknown argument");
+    *out = NULL;
+    int st = check_params(&full, diag);
+    if (!st && full.flat)
+        st = diag_set(diag, HPFC_E_ARG, "hpfc_build_part: a flat rPFC is not built in parts");
+    if (!st)
+        st = check_part_domain(&full, &part->domain, diag);
+    if (!st)
+        st = check_part_lists(g, &full, part, diag);
+    if (!st && (g->ne || g->nv)) /* a part may hold no edge: its pixels are private */
+        st = hpfc_graph_validate(g, diag);
+    if (!st)
+        st = check_part_points(g, &part->domain, diag);
+    if (st)
+        return st;
+    builder b = {.g = g, .p = full, .diag = diag, .edge_ids = part->edge_ids,
+                 .edge_count = part->edge_count};
+    if (select_roots(&b, part))
+        return diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    st = run_build(&b, &part->domain, out);
+    free(b.root_selected);
+    return st;
 }
 
 void hpfc_build_params_init(hpfc_build_params *params, size_t size)
@@ -931,6 +1107,8 @@ int hpfc_tree_get_pixel(const hpfc_tree *t, uint32_t level, size_t image, uint32
     if (image >= lv->nimages || i >= lv->cols || j >= lv->rows)
         return HPFC_E_ARG;
     const tpixel *px = &lv->pix[image * lv->cols * lv->rows + (size_t)j * lv->cols + i];
+    if (px->cross == TPIXEL_ABSENT)
+        return HPFC_E_ARG; /* a part's tree: another part's root pixel */
     int64_t gx = lv->img_gx[image] + i, gy = lv->img_gy[image] + (lv->rows - 1 - j);
     memset(out, 0, sizeof *out);
     out->x0 = t->info.x0 + gx * lv->cell_w;

@@ -3,6 +3,8 @@
 #ifndef HPFC_TREE_H
 #define HPFC_TREE_H
 
+#include <stdbool.h>
+
 #include "graph.h"
 
 /* One pixel, in 16 bytes since a continental map has millions. A word
@@ -19,6 +21,8 @@ typedef struct tpixel {
 #define TPIXEL_COUNT_MAX ((UINT64_C(1) << TPIXEL_COUNT_BITS) - 2)
 #define TPIXEL_CROSS_OFF_MAX ((UINT64_C(1) << (64 - TPIXEL_COUNT_BITS)) - 1)
 #define TPIXEL_REFINED UINT64_MAX
+/* A root pixel that a part's build (hpfc_build_part) leaves to another part. */
+#define TPIXEL_ABSENT (UINT64_MAX - 1)
 
 typedef struct tlevel {
     uint32_t cols, rows;      /* pixels per image at this level */
@@ -40,6 +44,10 @@ struct hpfc_tree {
      * zero_seg, max_word_symbols zeros, stands for any word's. */
     uint32_t *cross_seg, *zero_seg;
     size_t ncross, cap_cross;
+    /* A part of a split build: some root pixels are TPIXEL_ABSENT, the info's
+     * faces and components are unknown (0) and its vertices are those its
+     * words hold. Only hpfc_tree_merge takes it; the writer refuses it. */
+    bool part;
 };
 
 #endif

@@ -24,6 +24,7 @@
 #include "labels.h"
 #include "pool.h"
 #include "sized.h"
+#include "tree.h"
 #include "words.h"
 
 typedef struct layout {
@@ -700,6 +701,8 @@ static int lay_out_tree(const hpfc_tree *tree, const hpfc_write_options *opts, l
     int kind = opts->layout;
     if (kind < HPFC_LAYOUT_DEFAULT || kind > HPFC_LAYOUT_COMPACT)
         return diag_set(diag, HPFC_E_ARG, "unknown layout %d", kind);
+    if (tree->part)
+        return diag_set(diag, HPFC_E_ARG, "a part of a split build: hpfc_tree_merge the parts first");
     L->tree = tree;
     L->compact = kind != HPFC_LAYOUT_PAPER; /* HPFC_LAYOUT_DEFAULT is the compact layout */
     hpfc_tree_get_info(tree, &L->info);

@@ -1,0 +1,357 @@
+/*
+ * Joining the parts of a split build (hpfc_build_part) into the tree that
+ * hpfc_build gives for the whole map.
+ *
+ * The builder appends a level's images in the order of their parents, so
+ * on every level the descendants of one root pixel form one run, in a
+ * part's tree as in the whole map's. Walking the joined tree level by
+ * level, each pixel copied from the part that built its root pixel, meets
+ * the images, words and crossings in the single build's order: the joined
+ * tree is the same tree, array for array.
+ *
+ * The counts a part cannot know come from the joined words: V is the
+ * junctions, E the edges their crossings name (each edge leaves the word
+ * pixels of its ends, so it crosses a road), C the classes of edges that
+ * share a junction, and F = E + 1 + C - V (Euler), as hpfc_build counts
+ * them on the graph.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "tree.h"
+#include "words.h"
+
+/* An image of a part, in the order the joined level holds them. */
+typedef struct source_image {
+    size_t part, image;
+} source_image;
+
+typedef struct merger {
+    hpfc_tree *const *parts;
+    size_t nparts;
+    hpfc_tree *t;
+    source_image *next;       /* the next level's images, in joined order */
+    size_t nnext;
+    uint32_t *edge_parent;    /* union-find over the map's edges */
+    uint8_t *edge_seen;
+    word_parts wp;
+    hpfc_diag *diag;
+} merger;
+
+/* ---- checks ------------------------------------------------------------- */
+
+static bool same_build(const hpfc_tree *a, const hpfc_tree *b)
+{
+    const hpfc_tree_info *x = &a->info, *y = &b->info;
+    return x->root_cols == y->root_cols && x->root_rows == y->root_rows && x->cols == y->cols &&
+           x->rows == y->rows && x->x0 == y->x0 && x->y0 == y->y0 && x->width == y->width &&
+           x->height == y->height && x->unit_exp10 == y->unit_exp10 && x->edges == y->edges &&
+           a->levels_cap == b->levels_cap;
+}
+
+/* owner[p]: the part that built root pixel p, each pixel exactly once. */
+static int find_owners(const merger *m, uint32_t *owner, size_t roots)
+{
+    for (size_t p = 0; p < roots; p++)
+        owner[p] = UINT32_MAX;
+    for (size_t k = 0; k < m->nparts; k++) {
+        const tpixel *pix = m->parts[k]->levels[0].pix;
+        for (size_t p = 0; p < roots; p++) {
+            if (pix[p].cross == TPIXEL_ABSENT)
+                continue;
+            if (owner[p] != UINT32_MAX)
+                return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: root pixel %zu is in parts %u and %zu",
+                                p, owner[p], k);
+            owner[p] = (uint32_t)k;
+        }
+    }
+    for (size_t p = 0; p < roots; p++)
+        if (owner[p] == UINT32_MAX)
+            return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: root pixel %zu is in no part", p);
+    return HPFC_OK;
+}
+
+static int check_parts(const merger *m)
+{
+    if (!m->parts || m->nparts == 0)
+        return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: no part");
+    if (m->nparts > UINT32_MAX - 1)
+        return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: too many parts");
+    for (size_t k = 0; k < m->nparts; k++) {
+        if (!m->parts[k] || !m->parts[k]->part)
+            return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: argument %zu is not a part's tree", k);
+        if (!same_build(m->parts[0], m->parts[k]))
+            return diag_set(m->diag, HPFC_E_ARG,
+                            "hpfc_tree_merge: parts 0 and %zu come from different builds", k);
+    }
+    return HPFC_OK;
+}
+
+/* ---- the joined tree's arrays, sized from the parts -------------------- */
+
+/* Each level's images, the words' symbols and the crossings: the sums of
+ * the parts' (a part holds only its own root pixels' subtrees). */
+static int allocate_tree(merger *m)
+{
+    const hpfc_tree *first = m->parts[0];
+    hpfc_tree *t = m->t;
+    t->info = first->info;
+    t->info.levels = 1;
+    t->info.vertices = t->info.faces = t->info.components = 0;
+    t->info.word_pixels = t->info.refined_pixels = t->info.private_pixels = 0;
+    t->info.max_word_symbols = 0;
+    if (!(t->levels = calloc(first->levels_cap, sizeof *t->levels)))
+        return HPFC_E_NOMEM;
+    t->levels_cap = first->levels_cap;
+    size_t nsyms = 4, ncross = 0;
+    bool segments = false;
+    for (size_t k = 0; k < m->nparts; k++) {
+        nsyms += m->parts[k]->nsyms - 4;
+        ncross += m->parts[k]->ncross;
+        segments |= m->parts[k]->cross_seg != NULL;
+    }
+    t->syms = malloc(nsyms);
+    t->cross_edge = malloc((ncross ? ncross : 1) * sizeof *t->cross_edge);
+    if (segments)
+        t->cross_seg = malloc((ncross ? ncross : 1) * sizeof *t->cross_seg);
+    if (!t->syms || !t->cross_edge || (segments && !t->cross_seg))
+        return HPFC_E_NOMEM;
+    memcpy(t->syms, first->syms, 4); /* every private pixel's "++++" */
+    t->nsyms = 4;
+    t->cap_syms = nsyms;
+    t->cap_cross = ncross;
+    for (uint32_t l = 0; l < t->levels_cap; l++) {
+        tlevel *lv = &t->levels[l];
+        size_t images = l ? 0 : 1;
+        for (size_t k = 0; l && k < m->nparts; k++)
+            images += m->parts[k]->levels[l].nimages;
+        const tlevel *src = &first->levels[l];
+        *lv = (tlevel){.cols = src->cols, .rows = src->rows, .cell_w = src->cell_w,
+                       .cell_h = src->cell_h, .cap = images};
+        for (size_t k = 1; !lv->cols && k < m->nparts; k++) /* a part that reached this level */
+            lv->cols = m->parts[k]->levels[l].cols, lv->rows = m->parts[k]->levels[l].rows,
+            lv->cell_w = m->parts[k]->levels[l].cell_w, lv->cell_h = m->parts[k]->levels[l].cell_h;
+        size_t per = (size_t)lv->cols * lv->rows;
+        if (!images)
+            continue;
+        lv->img_gx = malloc(images * sizeof *lv->img_gx);
+        lv->img_gy = malloc(images * sizeof *lv->img_gy);
+        lv->pix = per && images <= SIZE_MAX / per / sizeof *lv->pix ? malloc(images * per * sizeof *lv->pix)
+                                                                   : NULL;
+        if (!lv->img_gx || !lv->img_gy || !lv->pix)
+            return HPFC_E_NOMEM;
+    }
+    return HPFC_OK;
+}
+
+/* ---- counting V, E and C from the words -------------------------------- */
+
+static uint32_t find_edge(uint32_t *parent, uint32_t e)
+{
+    while (parent[e] != e) {
+        parent[e] = parent[parent[e]];
+        e = parent[e];
+    }
+    return e;
+}
+
+/* The word's junctions are vertices of the map, and the edges of one
+ * junction's crossings meet there. */
+static int count_word(merger *m, const char *sym, uint32_t len, const uint32_t *edge)
+{
+    if (word_parse_symbols(&m->wp, sym, len))
+        return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: a part holds a malformed word");
+    const word_parts *wp = &m->wp;
+    m->t->info.vertices += wp->nvert;
+    for (uint32_t k = 0; k < wp->n; k++) {
+        if (edge[k] >= m->t->info.edges)
+            return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: a part names edge %u of %llu", edge[k],
+                            (unsigned long long)m->t->info.edges);
+        m->edge_seen[edge[k]] = 1;
+        uint32_t c = wp->comp[k];
+        if (wp->comp_vertex[c] == WORD_NONE)
+            continue;
+        uint32_t a = find_edge(m->edge_parent, edge[k]);
+        uint32_t b = find_edge(m->edge_parent, edge[wp->comp_first[c]]);
+        if (a != b)
+            m->edge_parent[a] = b;
+    }
+    return HPFC_OK;
+}
+
+static int count_map(merger *m)
+{
+    hpfc_tree_info *info = &m->t->info;
+    uint64_t components = 0;
+    for (uint64_t e = 0; e < info->edges; e++) {
+        if (!m->edge_seen[e])
+            return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: edge %llu is in no part's words",
+                            (unsigned long long)e);
+        components += find_edge(m->edge_parent, (uint32_t)e) == e;
+    }
+    info->components = components;
+    info->faces = info->edges + 1 + components - info->vertices;
+    return HPFC_OK;
+}
+
+/* ---- copying pixels ----------------------------------------------------- */
+
+static int copy_word(merger *m, const hpfc_tree *src, const tpixel *from, tpixel *to)
+{
+    hpfc_tree *t = m->t;
+    uint64_t n = from->cross & ((UINT64_C(1) << TPIXEL_COUNT_BITS) - 1);
+    t->info.word_pixels++;
+    if (n == 0) {
+        *to = (tpixel){0, (uint64_t)t->ncross << TPIXEL_COUNT_BITS};
+        t->info.private_pixels++;
+        return HPFC_OK;
+    }
+    size_t at = (size_t)(from->cross >> TPIXEL_COUNT_BITS), len = (size_t)n + 4;
+    if (t->nsyms + len > t->cap_syms || t->ncross + n > t->cap_cross)
+        return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: a part's words overrun its arrays");
+    memcpy(t->syms + t->nsyms, src->syms + from->off, len);
+    memcpy(t->cross_edge + t->ncross, src->cross_edge + at, n * sizeof *t->cross_edge);
+    if (t->cross_seg && src->cross_seg)
+        memcpy(t->cross_seg + t->ncross, src->cross_seg + at, n * sizeof *t->cross_seg);
+    else if (t->cross_seg)
+        memset(t->cross_seg + t->ncross, 0, n * sizeof *t->cross_seg);
+    int st = count_word(m, t->syms + t->nsyms, (uint32_t)len, t->cross_edge + t->ncross);
+    *to = (tpixel){t->nsyms, (uint64_t)t->ncross << TPIXEL_COUNT_BITS | n};
+    t->nsyms += len;
+    t->ncross += n;
+    if (len > t->info.max_word_symbols)
+        t->info.max_word_symbols = (uint32_t)len;
+    return st;
+}
+
+/* A refined pixel's child image joins the next level, after those already
+ * there: the order in which the builder appends them. */
+static int copy_pixel(merger *m, size_t part, uint32_t level, const tpixel *from, tpixel *to)
+{
+    if (from->cross != TPIXEL_REFINED)
+        return copy_word(m, m->parts[part], from, to);
+    const tlevel *next = &m->t->levels[level + 1];
+    if (level + 1 >= m->t->levels_cap || m->nnext >= next->cap)
+        return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: a part's child image is out of range");
+    m->next[m->nnext++] = (source_image){part, from->off};
+    *to = (tpixel){m->nnext - 1, TPIXEL_REFINED};
+    m->t->info.refined_pixels++;
+    return HPFC_OK;
+}
+
+static int copy_root(merger *m, const uint32_t *owner)
+{
+    tlevel *lv = &m->t->levels[0];
+    size_t roots = (size_t)lv->cols * lv->rows;
+    lv->img_gx[0] = lv->img_gy[0] = 0;
+    lv->nimages = 1;
+    int st = HPFC_OK;
+    for (size_t p = 0; p < roots && !st; p++)
+        st = copy_pixel(m, owner[p], 0, &m->parts[owner[p]]->levels[0].pix[p], &lv->pix[p]);
+    return st;
+}
+
+/* Level `level` holds the images `cur` names, in that order. */
+static int copy_level(merger *m, uint32_t level, const source_image *cur, size_t ncur)
+{
+    tlevel *lv = &m->t->levels[level];
+    size_t per = (size_t)lv->cols * lv->rows;
+    int st = HPFC_OK;
+    for (size_t im = 0; im < ncur && !st; im++) {
+        const tlevel *src = &m->parts[cur[im].part]->levels[level];
+        if (cur[im].image >= src->nimages)
+            return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: a part's child image is out of range");
+        lv->img_gx[im] = src->img_gx[cur[im].image];
+        lv->img_gy[im] = src->img_gy[cur[im].image];
+        for (size_t p = 0; p < per && !st; p++)
+            st = copy_pixel(m, cur[im].part, level, &src->pix[cur[im].image * per + p], &lv->pix[im * per + p]);
+    }
+    lv->nimages = ncur;
+    return st;
+}
+
+static int copy_levels(merger *m, const uint32_t *owner)
+{
+    hpfc_tree *t = m->t;
+    source_image *cur = NULL;
+    size_t ncur = 0;
+    int st = HPFC_OK;
+    for (uint32_t l = 0; !st && l < t->levels_cap; l++) {
+        size_t cap = l + 1 < t->levels_cap ? t->levels[l + 1].cap : 0;
+        if (!(m->next = malloc((cap ? cap : 1) * sizeof *m->next))) {
+            st = HPFC_E_NOMEM;
+            break;
+        }
+        m->nnext = 0;
+        st = l ? copy_level(m, l, cur, ncur) : copy_root(m, owner);
+        free(cur);
+        cur = m->next, ncur = m->nnext;
+        m->next = NULL;
+        if (!st && ncur == 0) {
+            t->info.levels = l + 1;
+            break;
+        }
+        if (!st && ncur != cap)
+            st = diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: a part holds images no pixel refines");
+    }
+    free(cur);
+    return st;
+}
+
+/* ---- entry point -------------------------------------------------------- */
+
+static int merge_into(merger *m)
+{
+    int st = check_parts(m);
+    if (st)
+        return st;
+    const hpfc_tree_info *first = &m->parts[0]->info;
+    size_t roots = (size_t)first->root_cols * first->root_rows;
+    uint32_t max_symbols = 4;
+    for (size_t k = 0; k < m->nparts; k++)
+        if (m->parts[k]->info.max_word_symbols > max_symbols)
+            max_symbols = m->parts[k]->info.max_word_symbols;
+    uint32_t *owner = malloc(roots * sizeof *owner);
+    m->edge_parent = malloc((first->edges ? first->edges : 1) * sizeof *m->edge_parent);
+    m->edge_seen = calloc(first->edges ? first->edges : 1, 1);
+    if (!owner || !m->edge_parent || !m->edge_seen || word_parts_alloc(&m->wp, max_symbols))
+        st = HPFC_E_NOMEM;
+    for (uint64_t e = 0; !st && e < first->edges; e++)
+        m->edge_parent[e] = (uint32_t)e;
+    if (!st)
+        st = find_owners(m, owner, roots);
+    if (!st)
+        st = allocate_tree(m);
+    if (!st)
+        st = copy_levels(m, owner);
+    if (!st)
+        st = count_map(m);
+    if (!st && !m->t->cross_seg &&
+        !(m->t->zero_seg = calloc((size_t)m->t->info.max_word_symbols + 1, sizeof *m->t->zero_seg)))
+        st = HPFC_E_NOMEM;
+    free(owner);
+    return st;
+}
+
+int hpfc_tree_merge(hpfc_tree *const *parts, size_t count, hpfc_tree **out, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!out)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_merge: NULL argument");
+    *out = NULL;
+    merger m = {.parts = parts, .nparts = count, .diag = diag};
+    if (!(m.t = calloc(1, sizeof *m.t)))
+        return diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    int st = merge_into(&m);
+    free(m.edge_parent);
+    free(m.edge_seen);
+    word_parts_free(&m.wp);
+    if (st == HPFC_E_NOMEM)
+        diag_set(diag, st, "out of memory");
+    if (st) {
+        hpfc_tree_free(m.t);
+        return st;
+    }
+    *out = m.t;
+    return HPFC_OK;
+}

@@ -1,0 +1,454 @@
+/*
+ * A build split into parts (hpfc_build_part, hpfc_tree_merge) against the
+ * single build of the same map: for random sets of root pixels, parts built
+ * from the whole graph or from the edges that meet their pixels alone (with
+ * the vertices renumbered), the joined tree has the single tree's info and
+ * writes the same bytes in both pool layouts, with and without LABL and
+ * GEOM. Then every refusal the header lists.
+ */
+#include <stdbool.h>
+#include <string.h>
+
+#include "check.h"
+#include "gen.h"
+#include "hpfc.h"
+
+typedef struct shape {
+    uint32_t n0, m0, n, m, leaf_points;
+} shape;
+
+static const shape SHAPES[] = {
+    {1, 1, 2, 2, 16}, {4, 3, 2, 2, 16}, {3, 5, 3, 2, 0}, {16, 16, 2, 2, 16}, {7, 7, 4, 4, 1}, {2, 1, 2, 3, 3},
+};
+
+static hpfc_build_params params_of(const shape *sh)
+{
+    hpfc_build_params p;
+    hpfc_build_params_default(&p);
+    p.root_cols = sh->n0, p.root_rows = sh->m0, p.cols = sh->n, p.rows = sh->m;
+    p.max_leaf_points = sh->leaf_points;
+    return p;
+}
+
+static void graph_box(const hpfc_graph *g, int64_t box[4])
+{
+    box[0] = box[1] = INT64_MAX, box[2] = box[3] = INT64_MIN;
+    for (size_t v = 0; v < hpfc_graph_vertex_count(g); v++) {
+        int64_t x, y;
+        hpfc_graph_vertex(g, v, &x, &y);
+        box[0] = x < box[0] ? x : box[0], box[2] = x > box[2] ? x : box[2];
+        box[1] = y < box[1] ? y : box[1], box[3] = y > box[3] ? y : box[3];
+    }
+    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
+        uint32_t u, v;
+        const int64_t *xy;
+        size_t n;
+        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
+        for (size_t k = 0; k < n; k++) {
+            box[0] = xy[2 * k] < box[0] ? xy[2 * k] : box[0], box[2] = xy[2 * k] > box[2] ? xy[2 * k] : box[2];
+            box[1] = xy[2 * k + 1] < box[1] ? xy[2 * k + 1] : box[1];
+            box[3] = xy[2 * k + 1] > box[3] ? xy[2 * k + 1] : box[3];
+        }
+    }
+}
+
+/* ---- a part's graph: the edges whose segments' boxes meet its pixels ---- */
+
+typedef struct subgraph {
+    hpfc_graph *g;
+    uint32_t *edge_ids;
+} subgraph;
+
+/* Does the closed box of segment (a, b) meet root pixel p's closed cell? A
+ * box test keeps more edges than meet the pixel, which a part allows. */
+static bool segment_near_pixel(const int64_t a[2], const int64_t b[2], const hpfc_domain *d,
+                               const hpfc_build_params *p, uint32_t pixel)
+{
+    int64_t cw = d->width / p->root_cols, ch = d->height / p->root_rows;
+    int64_t i = pixel % p->root_cols, j = pixel / p->root_cols, gy = p->root_rows - 1 - j;
+    int64_t x0 = d->x0 + i * cw, y0 = d->y0 + gy * ch;
+    int64_t bx0 = a[0] < b[0] ? a[0] : b[0], bx1 = a[0] < b[0] ? b[0] : a[0];
+    int64_t by0 = a[1] < b[1] ? a[1] : b[1], by1 = a[1] < b[1] ? b[1] : a[1];
+    return bx1 >= x0 && bx0 <= x0 + cw && by1 >= y0 && by0 <= y0 + ch;
+}
+
+static bool edge_near_part(const hpfc_graph *g, size_t e, const hpfc_domain *d, const hpfc_build_params *p,
+                           const uint32_t *pixels, size_t npixels)
+{
+    uint32_t u, v;
+    const int64_t *xy;
+    size_t n;
+    hpfc_graph_edge(g, e, &u, &v, &xy, &n);
+    int64_t prev[2], cur[2];
+    hpfc_graph_vertex(g, u, &prev[0], &prev[1]);
+    for (size_t k = 0; k <= n; k++) {
+        if (k < n)
+            cur[0] = xy[2 * k], cur[1] = xy[2 * k + 1];
+        else
+            hpfc_graph_vertex(g, v, &cur[0], &cur[1]);
+        for (size_t q = 0; q < npixels; q++)
+            if (segment_near_pixel(prev, cur, d, p, pixels[q]))
+                return true;
+        prev[0] = cur[0], prev[1] = cur[1];
+    }
+    return false;
+}
+
+/* The part's edges in the whole map's order; their vertices numbered in
+ * reverse order of the whole map's, which a part must not depend on. */
+static int make_subgraph(const hpfc_graph *g, const hpfc_domain *d, const hpfc_build_params *p,
+                         const uint32_t *pixels, size_t npixels, uint32_t skip_edge, subgraph *out)
+{
+    size_t nv = hpfc_graph_vertex_count(g), ne = hpfc_graph_edge_count(g);
+    uint32_t *vmap = malloc(nv * sizeof *vmap);
+    out->edge_ids = malloc((ne ? ne : 1) * sizeof *out->edge_ids);
+    out->g = NULL;
+    if (!vmap || !out->edge_ids || hpfc_graph_create(&out->g))
+        return HPFC_E_NOMEM;
+    hpfc_graph_set_unit_exp10(out->g, hpfc_graph_unit_exp10(g));
+    uint8_t *keep = calloc(ne ? ne : 1, 1), *used = calloc(nv ? nv : 1, 1);
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t u, v;
+        const int64_t *xy;
+        size_t n;
+        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
+        keep[e] = e != skip_edge && edge_near_part(g, e, d, p, pixels, npixels);
+        if (keep[e])
+            used[u] = used[v] = 1;
+    }
+    uint32_t next = 0;
+    for (size_t k = nv; k-- > 0;)
+        if (used[k]) {
+            int64_t x, y;
+            hpfc_graph_vertex(g, k, &x, &y);
+            hpfc_graph_add_vertex(out->g, x, y, NULL);
+            vmap[k] = next++;
+        }
+    size_t kept = 0;
+    for (size_t e = 0; e < ne; e++)
+        if (keep[e]) {
+            uint32_t u, v;
+            const int64_t *xy;
+            size_t n;
+            hpfc_graph_edge(g, e, &u, &v, &xy, &n);
+            hpfc_graph_add_edge(out->g, vmap[u], vmap[v], xy, n, NULL);
+            out->edge_ids[kept++] = (uint32_t)e;
+        }
+    free(keep);
+    free(used);
+    free(vmap);
+    return HPFC_OK;
+}
+
+/* ---- comparing the joined tree with the single one ---------------------- */
+
+static bool same_info(const hpfc_tree *a, const hpfc_tree *b)
+{
+    hpfc_tree_info x, y;
+    hpfc_tree_get_info(a, &x);
+    hpfc_tree_get_info(b, &y);
+    return x.root_cols == y.root_cols && x.root_rows == y.root_rows && x.cols == y.cols && x.rows == y.rows &&
+           x.levels == y.levels && x.x0 == y.x0 && x.y0 == y.y0 && x.width == y.width &&
+           x.height == y.height && x.unit_exp10 == y.unit_exp10 && x.vertices == y.vertices &&
+           x.edges == y.edges && x.faces == y.faces && x.components == y.components &&
+           x.word_pixels == y.word_pixels && x.refined_pixels == y.refined_pixels &&
+           x.private_pixels == y.private_pixels && x.max_word_symbols == y.max_word_symbols;
+}
+
+static int comparisons;
+
+/* Both trees written alike, in each layout, with and without LABL and
+ * GEOM: the same bytes. */
+static void check_same_bytes(const hpfc_tree *single, const hpfc_tree *joined, const hpfc_graph *g)
+{
+    for (int layout = HPFC_LAYOUT_PAPER; layout <= HPFC_LAYOUT_COMPACT; layout++)
+        for (int extras = 0; extras < 2; extras++) {
+            hpfc_write_options o = {.layout = layout, .face_labels = extras, .geometry = extras ? g : NULL};
+            uint8_t *a = NULL, *b = NULL;
+            size_t na = 0, nb = 0;
+            hpfc_diag d;
+            int sa = hpfc_tree_serialize(single, &o, &a, &na, &d);
+            int sb = hpfc_tree_serialize(joined, &o, &b, &nb, &d);
+            CHECK_EQ_INT(sa, HPFC_OK);
+            CHECK_EQ_INT(sb, HPFC_OK);
+            CHECK(na == nb && a && b && memcmp(a, b, na) == 0);
+            comparisons++;
+            hpfc_free(a);
+            hpfc_free(b);
+        }
+}
+
+/* Deals the root pixels to k parts at random (a part may get none), or in
+ * runs of scanline order when `runs`. */
+static void deal_pixels(gen_rng *rng, uint32_t roots, size_t k, bool runs, uint32_t *owner)
+{
+    for (uint32_t p = 0; p < roots; p++)
+        owner[p] = runs ? (uint32_t)((uint64_t)p * k / roots) : (uint32_t)gen_rng_below(rng, k);
+}
+
+/* Builds k parts of g (from subgraphs when `sub`), joins them in a random
+ * order and returns the joined tree (NULL on failure, checked). */
+static hpfc_tree *build_in_parts(const hpfc_graph *g, const hpfc_build_params *p, const hpfc_domain *d,
+                                 const uint32_t *owner, size_t k, bool sub, gen_rng *rng)
+{
+    uint32_t roots = p->root_cols * p->root_rows;
+    hpfc_tree **parts = calloc(k, sizeof *parts);
+    uint32_t *pixels = malloc(roots * sizeof *pixels);
+    hpfc_tree *joined = NULL;
+    hpfc_diag diag;
+    bool ok = parts && pixels;
+    for (size_t q = 0; ok && q < k; q++) {
+        size_t n = 0;
+        for (uint32_t px = 0; px < roots; px++)
+            if (owner[px] == q)
+                pixels[n++] = px;
+        hpfc_part part = {.domain = *d, .root_pixels = pixels, .root_pixel_count = n};
+        subgraph s = {0};
+        if (sub) {
+            CHECK_EQ_INT(make_subgraph(g, d, p, pixels, n, UINT32_MAX, &s), HPFC_OK);
+            part.edge_ids = s.edge_ids;
+            part.edge_count = hpfc_graph_edge_count(g);
+        }
+        /* a part of no edges still builds its (private) pixels */
+        int st = hpfc_build_part(sub ? s.g : g, p, &part, &parts[q], &diag);
+        if (st)
+            fprintf(stderr, "part %zu of %zu: %s: %s\n", q, k, hpfc_strerror(st), diag.message);
+        CHECK_EQ_INT(st, HPFC_OK);
+        ok = st == HPFC_OK;
+        hpfc_graph_free(s.g);
+        free(s.edge_ids);
+    }
+    for (size_t q = k; ok && q > 1; q--) { /* the order of the parts must not matter */
+        size_t r = (size_t)gen_rng_below(rng, q);
+        hpfc_tree *t = parts[q - 1];
+        parts[q - 1] = parts[r], parts[r] = t;
+    }
+    if (ok) {
+        int st = hpfc_tree_merge(parts, k, &joined, &diag);
+        if (st)
+            fprintf(stderr, "merge of %zu parts: %s: %s\n", k, hpfc_strerror(st), diag.message);
+        CHECK_EQ_INT(st, HPFC_OK);
+    }
+    for (size_t q = 0; parts && q < k; q++)
+        hpfc_tree_free(parts[q]);
+    free(parts);
+    free(pixels);
+    return joined;
+}
+
+static void check_graph(const hpfc_graph *g, const char *what, gen_rng *rng)
+{
+    static const size_t PART_COUNTS[] = {1, 2, 3, 5};
+    for (size_t s = 0; s < sizeof SHAPES / sizeof *SHAPES; s++) {
+        hpfc_build_params p = params_of(&SHAPES[s]);
+        hpfc_tree *single = NULL;
+        hpfc_diag diag;
+        CHECK_EQ_INT(hpfc_build(g, &p, &single, &diag), HPFC_OK);
+        int64_t box[4];
+        graph_box(g, box);
+        hpfc_domain d;
+        CHECK_EQ_INT(hpfc_build_domain(box, &p, &d, &diag), HPFC_OK);
+        uint32_t roots = p.root_cols * p.root_rows;
+        uint32_t *owner = malloc(roots * sizeof *owner);
+        for (size_t c = 0; single && owner && c < sizeof PART_COUNTS / sizeof *PART_COUNTS; c++)
+            for (int mode = 0; mode < 3; mode++) {
+                size_t k = PART_COUNTS[c];
+                deal_pixels(rng, roots, k, mode == 2, owner);
+                hpfc_tree *joined = build_in_parts(g, &p, &d, owner, k, mode != 0, rng);
+                bool same = joined && same_info(single, joined);
+                if (!same)
+                    fprintf(stderr, "%s, shape %zu, %zu parts, mode %d: the joined tree differs\n", what, s,
+                            k, mode);
+                CHECK(same);
+                if (joined)
+                    check_same_bytes(single, joined, g);
+                hpfc_tree_free(joined);
+            }
+        free(owner);
+        hpfc_tree_free(single);
+    }
+}
+
+static void test_generated(void)
+{
+    gen_rng rng;
+    gen_rng_seed(&rng, 32);
+    for (uint64_t seed = 1; seed <= 3; seed++) {
+        hpfc_graph *g = NULL;
+        CHECK_EQ_INT(gen_delaunay(seed, 60 + 40 * seed, 1 << 12, 0.2, &g), HPFC_OK);
+        if (g)
+            check_graph(g, "delaunay", &rng);
+        hpfc_graph_free(g);
+        g = NULL;
+        CHECK_EQ_INT(gen_polyline(seed, 150, 1 << 12, 0.5, &g), HPFC_OK);
+        if (g)
+            check_graph(g, "polyline", &rng);
+        hpfc_graph_free(g);
+    }
+    for (int which = 0; which < GEN_SPECIAL_COUNT; which++) {
+        hpfc_graph *g = NULL;
+        CHECK_EQ_INT(gen_special(which, &g), HPFC_OK);
+        if (g)
+            check_graph(g, gen_special_name(which), &rng);
+        hpfc_graph_free(g);
+    }
+    CHECK(comparisons >= 1000); /* the byte comparisons must not be skipped */
+}
+
+/* ---- refusals ----------------------------------------------------------- */
+
+typedef struct fixture {
+    hpfc_graph *g;
+    hpfc_build_params p;
+    hpfc_domain d;
+    uint32_t all[16], half[2][8]; /* 4 x 4 root pixels: all, west and east halves */
+} fixture;
+
+static bool fixture_init(fixture *f)
+{
+    CHECK_EQ_INT(gen_delaunay(7, 120, 1 << 12, 0.2, &f->g), HPFC_OK);
+    shape sh = {4, 4, 2, 2, 16};
+    f->p = params_of(&sh);
+    int64_t box[4];
+    graph_box(f->g, box);
+    CHECK_EQ_INT(hpfc_build_domain(box, &f->p, &f->d, NULL), HPFC_OK);
+    size_t n[2] = {0, 0};
+    for (uint32_t px = 0; px < 16; px++) {
+        f->all[px] = px;
+        int east = px % 4 >= 2;
+        f->half[east][n[east]++] = px;
+    }
+    return f->g != NULL;
+}
+
+static int part_status(const fixture *f, const hpfc_graph *g, const hpfc_build_params *p, const hpfc_part *part,
+                       hpfc_tree **out)
+{
+    hpfc_diag d;
+    hpfc_tree *t = NULL;
+    int st = hpfc_build_part(g, p, part, &t, &d);
+    (void)f;
+    if (out)
+        *out = t;
+    else
+        hpfc_tree_free(t);
+    return st;
+}
+
+static void test_part_refusals(const fixture *f)
+{
+    hpfc_part part = {.domain = f->d, .root_pixels = f->all, .root_pixel_count = 16};
+    hpfc_build_params flat = f->p;
+    flat.flat = 1;
+    CHECK_EQ_INT(part_status(f, f->g, &flat, &part, NULL), HPFC_E_ARG);
+    hpfc_part wrong = part;
+    wrong.domain.width *= 2; /* not root_cols * cols^max_depth */
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &wrong, NULL), HPFC_E_ARG);
+    wrong = part;
+    wrong.domain.x0 += wrong.domain.width / 2; /* the map's west half outside */
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &wrong, NULL), HPFC_E_ARG);
+    uint32_t unordered[2] = {5, 3}, beyond[1] = {16};
+    wrong = part;
+    wrong.root_pixels = unordered, wrong.root_pixel_count = 2;
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &wrong, NULL), HPFC_E_ARG);
+    wrong.root_pixels = beyond, wrong.root_pixel_count = 1;
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &wrong, NULL), HPFC_E_ARG);
+    size_t ne = hpfc_graph_edge_count(f->g);
+    uint32_t *ids = malloc(ne * sizeof *ids);
+    for (size_t e = 0; e < ne; e++)
+        ids[e] = (uint32_t)e;
+    wrong = part;
+    wrong.edge_ids = ids, wrong.edge_count = ne - 1; /* the last id not below the count */
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &wrong, NULL), HPFC_E_ARG);
+    ids[1] = ids[0]; /* not ascending */
+    wrong.edge_count = ne;
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &wrong, NULL), HPFC_E_ARG);
+    free(ids);
+    wrong = part;
+    wrong.edge_count = ne + 1; /* without ids, the graph's count or 0 */
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &wrong, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(part_status(f, NULL, &f->p, &part, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, NULL, NULL), HPFC_E_ARG);
+    /* a part's tree is not a file */
+    hpfc_tree *t = NULL;
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &part, &t), HPFC_OK);
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    CHECK_EQ_INT(hpfc_tree_serialize(t, NULL, &bytes, &size, NULL), HPFC_E_ARG);
+    CHECK(bytes == NULL);
+    hpfc_tree_free(t);
+    /* another part's root pixel has no pixel here */
+    hpfc_part west = {.domain = f->d, .root_pixels = f->half[0], .root_pixel_count = 8};
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &west, &t), HPFC_OK);
+    hpfc_tree_pixel px;
+    CHECK_EQ_INT(hpfc_tree_get_pixel(t, 0, 0, 3, 0, &px), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_tree_get_pixel(t, 0, 0, 0, 0, &px), HPFC_OK);
+    hpfc_tree_free(t);
+}
+
+static void test_merge_refusals(const fixture *f)
+{
+    hpfc_part west = {.domain = f->d, .root_pixels = f->half[0], .root_pixel_count = 8};
+    hpfc_part east = {.domain = f->d, .root_pixels = f->half[1], .root_pixel_count = 8};
+    hpfc_tree *w = NULL, *e = NULL, *single = NULL, *joined = NULL;
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &west, &w), HPFC_OK);
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &east, &e), HPFC_OK);
+    CHECK_EQ_INT(hpfc_build(f->g, &f->p, &single, NULL), HPFC_OK);
+    hpfc_diag d;
+    hpfc_tree *both[2] = {w, e}, *twice[3] = {w, e, w}, *alone[1] = {w}, *whole[2] = {w, single};
+    CHECK_EQ_INT(hpfc_tree_merge(both, 2, &joined, &d), HPFC_OK);
+    CHECK(joined && same_info(joined, single));
+    hpfc_tree_free(joined);
+    CHECK_EQ_INT(hpfc_tree_merge(both, 0, &joined, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_tree_merge(alone, 1, &joined, &d), HPFC_E_ARG); /* the east half in no part */
+    CHECK(joined == NULL);
+    CHECK_EQ_INT(hpfc_tree_merge(twice, 3, &joined, &d), HPFC_E_ARG); /* the west half twice */
+    CHECK_EQ_INT(hpfc_tree_merge(whole, 2, &joined, &d), HPFC_E_ARG); /* not a part */
+    CHECK_EQ_INT(hpfc_tree_merge(both, 2, NULL, &d), HPFC_E_ARG);
+    /* a part of another build: the same pixels under other image sizes */
+    shape other = {4, 4, 3, 3, 16};
+    hpfc_build_params q = params_of(&other);
+    hpfc_domain d3;
+    int64_t box[4];
+    graph_box(f->g, box);
+    CHECK_EQ_INT(hpfc_build_domain(box, &q, &d3, NULL), HPFC_OK);
+    hpfc_part east3 = {.domain = d3, .root_pixels = f->half[1], .root_pixel_count = 8};
+    hpfc_tree *e3 = NULL;
+    CHECK_EQ_INT(part_status(f, f->g, &q, &east3, &e3), HPFC_OK);
+    hpfc_tree *mixed[2] = {w, e3};
+    CHECK_EQ_INT(hpfc_tree_merge(mixed, 2, &joined, &d), HPFC_E_ARG);
+    hpfc_tree_free(e3);
+    /* an edge left out of every part's graph is in no part's words */
+    subgraph sw, se;
+    CHECK_EQ_INT(make_subgraph(f->g, &f->d, &f->p, f->half[0], 8, 0, &sw), HPFC_OK);
+    CHECK_EQ_INT(make_subgraph(f->g, &f->d, &f->p, f->half[1], 8, 0, &se), HPFC_OK);
+    hpfc_tree *pw = NULL, *pe = NULL;
+    west.edge_ids = sw.edge_ids, east.edge_ids = se.edge_ids;
+    west.edge_count = east.edge_count = hpfc_graph_edge_count(f->g);
+    CHECK_EQ_INT(part_status(f, sw.g, &f->p, &west, &pw), HPFC_OK);
+    CHECK_EQ_INT(part_status(f, se.g, &f->p, &east, &pe), HPFC_OK);
+    hpfc_tree *gap[2] = {pw, pe};
+    CHECK_EQ_INT(hpfc_tree_merge(gap, 2, &joined, &d), HPFC_E_ARG);
+    CHECK(strstr(d.message, "edge 0") != NULL);
+    hpfc_tree_free(pw);
+    hpfc_tree_free(pe);
+    hpfc_graph_free(sw.g);
+    hpfc_graph_free(se.g);
+    free(sw.edge_ids);
+    free(se.edge_ids);
+    hpfc_tree_free(w);
+    hpfc_tree_free(e);
+    hpfc_tree_free(single);
+}
+
+int main(void)
+{
+    test_generated();
+    fixture f = {0};
+    if (fixture_init(&f)) {
+        test_part_refusals(&f);
+        test_merge_refusals(&f);
+    }
+    hpfc_graph_free(f.g);
+    return check_report("test_part");
+}
