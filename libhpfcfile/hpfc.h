@@ -384,6 +384,19 @@ HPFC_API int hpfc_build_part_sized(const hpfc_graph *graph, const hpfc_build_par
 HPFC_API int hpfc_tree_merge(hpfc_tree *const *parts, size_t count, hpfc_tree **out,
                              hpfc_diag *diag);
 
+/* A part's tree on disk (spec/part-format.md), for a merge in another
+ * process: written atomically as hpfc_tree_write_file writes (HPFC_E_ARG
+ * for a tree that is not a part), read back from a path or a buffer (which
+ * the tree does not keep) into the same tree. The reader takes any bytes:
+ * a file that is not one hpfc_build_part's tree can give (its pixels in
+ * the builder's order, words of the grammar, counts that its pixels give)
+ * gets HPFC_E_MAGIC, HPFC_E_VERSION, HPFC_E_CHECKSUM or HPFC_E_CORRUPT,
+ * with the reason in diag. */
+HPFC_API int hpfc_tree_write_part(const hpfc_tree *part, const char *path, hpfc_diag *diag);
+HPFC_API int hpfc_tree_read_part(const char *path, hpfc_tree **out, hpfc_diag *diag);
+HPFC_API int hpfc_tree_read_part_memory(const void *data, size_t size, hpfc_tree **out,
+                                        hpfc_diag *diag);
+
 /* Geometry of a tree. The domain is [x0, x0 + width) x [y0, y0 + height) in
  * lattice units; level l has root_cols * cols^l columns of equal width
  * (integers), and rows likewise. Row 0 of an image is its northern row. */

@@ -22,6 +22,7 @@
 #include "geometry.h"
 #include "graph.h"
 #include "labels.h"
+#include "part_file.h"
 #include "pool.h"
 #include "sized.h"
 #include "tree.h"
@@ -881,11 +882,38 @@ static int sync_dir(const char *dir)
     return err == EINVAL || err == ENOTSUP ? 0 : err;
 }
 
-/* Writes L into the temporary file, syncs and closes it (fd is closed in
- * any case). */
-static int fill_temp(int fd, const char *tmp, layout *L, hpfc_diag *diag)
+/* What fills a new file: a layout (write_layout) or bytes in memory. */
+typedef int (*file_filler)(int fd, const char *name, const void *source, hpfc_diag *diag);
+
+static int fill_layout(int fd, const char *name, const void *source, hpfc_diag *diag)
 {
-    int st = write_layout(L, fd, tmp, diag), err = 0;
+    return write_layout((layout *)source, fd, name, diag);
+}
+
+typedef struct byte_span {
+    const uint8_t *bytes;
+    size_t size;
+} byte_span;
+
+static int fill_bytes(int fd, const char *name, const void *source, hpfc_diag *diag)
+{
+    const byte_span *b = source;
+    for (size_t done = 0; done < b->size;) {
+        ssize_t n = write(fd, b->bytes + done, b->size - done);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return write_error(diag, name, n < 0 ? errno : EIO);
+        done += (size_t)n;
+    }
+    return HPFC_OK;
+}
+
+/* Fills the temporary file, syncs and closes it (fd is closed in any
+ * case). */
+static int fill_temp(int fd, const char *tmp, file_filler fill, const void *source, hpfc_diag *diag)
+{
+    int st = fill(fd, tmp, source, diag), err = 0;
     if (!st && fsync(fd))
         err = errno;
     if (close(fd) && !st && !err)
@@ -893,9 +921,9 @@ static int fill_temp(int fd, const char *tmp, layout *L, hpfc_diag *diag)
     return st ? st : err ? io_error(diag, "write", tmp, err) : HPFC_OK;
 }
 
-/* L written to path through a temporary file beside it, renamed over path
- * once complete and synced. */
-static int write_atomic(const char *path, layout *L, hpfc_diag *diag)
+/* The source written to path by `fill` through a temporary file beside
+ * it, renamed over path once complete and synced. */
+static int write_atomic(const char *path, file_filler fill, const void *source, hpfc_diag *diag)
 {
     char *dir = NULL, *tmp = NULL;
     const char *base;
@@ -909,7 +937,7 @@ static int write_atomic(const char *path, layout *L, hpfc_diag *diag)
     } else if (fd < 0) {
         st = io_error(diag, "create a temporary file in", dir, errno);
     } else {
-        st = fill_temp(fd, tmp, L, diag);
+        st = fill_temp(fd, tmp, fill, source, diag);
         if (!st && rename(tmp, path))
             st = io_error(diag, "replace", path, errno);
         if (st)
@@ -938,7 +966,7 @@ int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *
         return st;
     st = lay_out_tree(tree, &opts, &L, diag);
     if (!st)
-        st = write_atomic(path, &L, diag);
+        st = write_atomic(path, fill_layout, &L, diag);
     layout_release(&L);
     return st;
 }
@@ -954,5 +982,20 @@ int hpfc_file_write_file_sized(const hpfc_file *file, const hpfc_write_options *
     if (st)
         return st;
     lay_out_file(file, &L);
-    return write_atomic(path, &L, diag);
+    return write_atomic(path, fill_layout, &L, diag);
+}
+
+int hpfc_tree_write_part(const hpfc_tree *part, const char *path, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!part || !path)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_write_part: NULL argument");
+    byte_span span = {0};
+    uint8_t *bytes = NULL;
+    int st = part_serialize(part, &bytes, &span.size, diag);
+    span.bytes = bytes;
+    if (!st)
+        st = write_atomic(path, fill_bytes, &span, diag);
+    free(bytes);
+    return st;
 }

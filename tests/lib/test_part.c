@@ -8,9 +8,11 @@
  */
 #include <stdbool.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "gen.h"
+#include "format.h"
 #include "hpfc.h"
 
 typedef struct shape {
@@ -186,10 +188,29 @@ static void deal_pixels(gen_rng *rng, uint32_t roots, size_t k, bool runs, uint3
         owner[p] = runs ? (uint32_t)((uint64_t)p * k / roots) : (uint32_t)gen_rng_below(rng, k);
 }
 
-/* Builds k parts of g (from subgraphs when `sub`), joins them in a random
- * order and returns the joined tree (NULL on failure, checked). */
+static char part_path[64];
+
+/* The part written to a part file and read back, in place of itself. */
+static void through_file(hpfc_tree **part)
+{
+    hpfc_diag d;
+    hpfc_tree *back = NULL;
+    CHECK_EQ_INT(hpfc_tree_write_part(*part, part_path, &d), HPFC_OK);
+    int st = hpfc_tree_read_part(part_path, &back, &d);
+    if (st)
+        fprintf(stderr, "part file read back: %s: %s\n", hpfc_strerror(st), d.message);
+    CHECK_EQ_INT(st, HPFC_OK);
+    if (back) {
+        hpfc_tree_free(*part);
+        *part = back;
+    }
+}
+
+/* Builds k parts of g (from subgraphs when `sub`; through part files when
+ * `files`), joins them in a random order and returns the joined tree (NULL
+ * on failure, checked). */
 static hpfc_tree *build_in_parts(const hpfc_graph *g, const hpfc_build_params *p, const hpfc_domain *d,
-                                 const uint32_t *owner, size_t k, bool sub, gen_rng *rng)
+                                 const uint32_t *owner, size_t k, bool sub, bool files, gen_rng *rng)
 {
     uint32_t roots = p->root_cols * p->root_rows;
     hpfc_tree **parts = calloc(k, sizeof *parts);
@@ -215,6 +236,8 @@ static hpfc_tree *build_in_parts(const hpfc_graph *g, const hpfc_build_params *p
             fprintf(stderr, "part %zu of %zu: %s: %s\n", q, k, hpfc_strerror(st), diag.message);
         CHECK_EQ_INT(st, HPFC_OK);
         ok = st == HPFC_OK;
+        if (ok && files)
+            through_file(&parts[q]);
         hpfc_graph_free(s.g);
         free(s.edge_ids);
     }
@@ -254,7 +277,7 @@ static void check_graph(const hpfc_graph *g, const char *what, gen_rng *rng)
             for (int mode = 0; mode < 3; mode++) {
                 size_t k = PART_COUNTS[c];
                 deal_pixels(rng, roots, k, mode == 2, owner);
-                hpfc_tree *joined = build_in_parts(g, &p, &d, owner, k, mode != 0, rng);
+                hpfc_tree *joined = build_in_parts(g, &p, &d, owner, k, mode != 0, mode == 1, rng);
                 bool same = joined && same_info(single, joined);
                 if (!same)
                     fprintf(stderr, "%s, shape %zu, %zu parts, mode %d: the joined tree differs\n", what, s,
@@ -441,14 +464,119 @@ static void test_merge_refusals(const fixture *f)
     hpfc_tree_free(single);
 }
 
+/* ---- damaged part files ------------------------------------------------- */
+
+static uint8_t *read_all(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    uint8_t *data = NULL;
+    *size = 0;
+    if (f && !fseek(f, 0, SEEK_END)) {
+        long n = ftell(f);
+        rewind(f);
+        data = n > 0 ? malloc((size_t)n) : NULL;
+        if (data && fread(data, 1, (size_t)n, f) == (size_t)n)
+            *size = (size_t)n;
+    }
+    if (f)
+        fclose(f);
+    return data;
+}
+
+static void set_crc(uint8_t *data, size_t size)
+{
+    uint32_t crc = crc32c_update(0, data, size - 4);
+    for (int k = 0; k < 4; k++)
+        data[size - 4 + k] = (uint8_t)(crc >> (8 * k));
+}
+
+/* A damaged part file read, and when it reads, joined and written: an
+ * error code, never a crash (the sanitizers watch). Returns 1 when the
+ * reader refused it. */
+static int try_damaged(const uint8_t *data, size_t size, hpfc_tree *other)
+{
+    hpfc_tree *t = NULL, *joined = NULL;
+    hpfc_diag d;
+    int st = hpfc_tree_read_part_memory(data, size, &t, &d);
+    if (st) {
+        CHECK(t == NULL && d.message[0] != '\0');
+        return 1;
+    }
+    hpfc_tree *both[2] = {t, other};
+    if (hpfc_tree_merge(both, 2, &joined, &d) == HPFC_OK) {
+        uint8_t *bytes = NULL;
+        size_t n = 0;
+        hpfc_write_options o = {.face_labels = 1};
+        if (hpfc_tree_serialize(joined, &o, &bytes, &n, &d) == HPFC_OK)
+            hpfc_free(bytes);
+    }
+    hpfc_tree_free(joined);
+    hpfc_tree_free(t);
+    return 0;
+}
+
+static void test_damaged_part_files(const fixture *f)
+{
+    hpfc_part west = {.domain = f->d, .root_pixels = f->half[0], .root_pixel_count = 8};
+    hpfc_part east = {.domain = f->d, .root_pixels = f->half[1], .root_pixel_count = 8};
+    hpfc_tree *w = NULL, *e = NULL;
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &west, &w), HPFC_OK);
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &east, &e), HPFC_OK);
+    hpfc_diag d;
+    CHECK_EQ_INT(hpfc_tree_write_part(w, part_path, &d), HPFC_OK);
+    size_t size = 0;
+    uint8_t *good = read_all(part_path, &size), *bad = malloc(size ? size : 1);
+    CHECK(good && size > 200);
+    if (!good || !bad || !e) {
+        free(good), free(bad), hpfc_tree_free(w), hpfc_tree_free(e);
+        return;
+    }
+    CHECK_EQ_INT(try_damaged(good, size, e), 0);
+    /* every shorter file, and one longer, is refused */
+    int refused = 0;
+    for (size_t n = 0; n < size; n++)
+        refused += try_damaged(good, n, e);
+    CHECK_EQ_INT(refused, (long long)size);
+    /* a byte flipped anywhere: caught by the CRC; with the CRC set anew,
+     * by the structure where it can tell */
+    refused = 0;
+    int structural = 0;
+    for (size_t k = 0; k < size; k++) {
+        memcpy(bad, good, size);
+        bad[k] ^= (uint8_t)(1u << (k % 8));
+        refused += try_damaged(bad, size, e);
+        if (k < size - 4) {
+            set_crc(bad, size);
+            structural += try_damaged(bad, size, e);
+        }
+    }
+    CHECK_EQ_INT(refused, (long long)size);
+    fprintf(stderr, "damaged part files: %d of %zu flips refused with a valid CRC\n", structural, size - 4);
+    CHECK(structural > (int)(size / 2)); /* the pixels' fields are all checked */
+    /* a tree that is not a part has no part file */
+    hpfc_tree *single = NULL;
+    CHECK_EQ_INT(hpfc_build(f->g, &f->p, &single, NULL), HPFC_OK);
+    CHECK_EQ_INT(hpfc_tree_write_part(single, part_path, &d), HPFC_E_ARG);
+    hpfc_tree_free(single);
+    CHECK_EQ_INT(hpfc_tree_read_part("/nonexistent/part", &single, &d), HPFC_E_IO);
+    CHECK(single == NULL);
+    free(good);
+    free(bad);
+    hpfc_tree_free(w);
+    hpfc_tree_free(e);
+}
+
 int main(void)
 {
+    snprintf(part_path, sizeof part_path, "/tmp/test_part_%ld.part", (long)getpid());
     test_generated();
     fixture f = {0};
     if (fixture_init(&f)) {
         test_part_refusals(&f);
         test_merge_refusals(&f);
+        test_damaged_part_files(&f);
     }
+    remove(part_path);
     hpfc_graph_free(f.g);
     return check_report("test_part");
 }
