@@ -362,6 +362,21 @@ typedef struct hpfc_part {
     uint64_t edge_count;           /* edges of the whole map */
 } hpfc_part;
 
+/* A part's graph from the whole map's: the edges with a segment whose
+ * closed box meets one of part->root_pixels' closed cells (in the domain
+ * part->domain; every edge that meets them, and some that pass near), in
+ * the whole map's order, and their vertices; *edge_ids gets each kept
+ * edge's index in `graph` (ascending; free it with hpfc_free), as
+ * hpfc_build_part takes them. part->edge_ids and edge_count are not read.
+ * HPFC_E_ARG for a root pixel beyond the root or a domain smaller than
+ * it. */
+HPFC_API int hpfc_part_graph_sized(const hpfc_graph *graph, const hpfc_build_params *params,
+                                   size_t params_size, const hpfc_part *part, hpfc_graph **out,
+                                   uint32_t **edge_ids, hpfc_diag *diag);
+#define hpfc_part_graph(graph, params, part, out, edge_ids, diag) \
+    hpfc_part_graph_sized((graph), (params), sizeof(hpfc_build_params), (part), (out), (edge_ids), \
+                          (diag))
+
 /* Builds one part: the subtrees of part->root_pixels. The tree it gives is
  * only for hpfc_tree_merge (the write calls refuse it with HPFC_E_ARG, and
  * hpfc_tree_get_pixel another part's root pixel); its info has the whole

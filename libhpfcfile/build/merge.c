@@ -311,6 +311,14 @@ static int merge_into(merger *m)
     for (size_t k = 0; k < m->nparts; k++)
         if (m->parts[k]->info.max_word_symbols > max_symbols)
             max_symbols = m->parts[k]->info.max_word_symbols;
+    /* every edge crosses a road of some part's pixels: more edges than
+     * crossings cannot be, and would size the union-find for nothing */
+    uint64_t crossings = 0;
+    for (size_t k = 0; k < m->nparts; k++)
+        crossings += m->parts[k]->ncross;
+    if (first->edges > crossings)
+        return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: %llu edges but %llu crossings in all parts",
+                        (unsigned long long)first->edges, (unsigned long long)crossings);
     uint32_t *owner = malloc(roots * sizeof *owner);
     m->edge_parent = malloc((first->edges ? first->edges : 1) * sizeof *m->edge_parent);
     m->edge_seen = calloc(first->edges ? first->edges : 1, 1);

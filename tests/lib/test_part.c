@@ -206,8 +206,8 @@ static void through_file(hpfc_tree **part)
     }
 }
 
-/* Builds k parts of g (from subgraphs when `sub`; through part files when
- * `files`), joins them in a random order and returns the joined tree (NULL
+/* Builds k parts of g (from subgraphs when `sub`: the test's own through
+ * part files when `files`, else hpfc_part_graph's), joins them in a random order and returns the joined tree (NULL
  * on failure, checked). */
 static hpfc_tree *build_in_parts(const hpfc_graph *g, const hpfc_build_params *p, const hpfc_domain *d,
                                  const uint32_t *owner, size_t k, bool sub, bool files, gen_rng *rng)
@@ -225,8 +225,12 @@ static hpfc_tree *build_in_parts(const hpfc_graph *g, const hpfc_build_params *p
                 pixels[n++] = px;
         hpfc_part part = {.domain = *d, .root_pixels = pixels, .root_pixel_count = n};
         subgraph s = {0};
-        if (sub) {
+        if (sub && files) { /* the test's own, its vertices reversed */
             CHECK_EQ_INT(make_subgraph(g, d, p, pixels, n, UINT32_MAX, &s), HPFC_OK);
+        } else if (sub) {
+            CHECK_EQ_INT(hpfc_part_graph(g, p, &part, &s.g, &s.edge_ids, &diag), HPFC_OK);
+        }
+        if (sub) {
             part.edge_ids = s.edge_ids;
             part.edge_count = hpfc_graph_edge_count(g);
         }
@@ -390,6 +394,19 @@ static void test_part_refusals(const fixture *f)
     wrong = part;
     wrong.edge_count = ne + 1; /* without ids, the graph's count or 0 */
     CHECK_EQ_INT(part_status(f, f->g, &f->p, &wrong, NULL), HPFC_E_ARG);
+    hpfc_graph *pg = NULL;
+    uint32_t *pids = NULL;
+    wrong = part;
+    wrong.root_pixels = beyond, wrong.root_pixel_count = 1;
+    CHECK_EQ_INT(hpfc_part_graph(f->g, &f->p, &wrong, &pg, &pids, NULL), HPFC_E_ARG);
+    CHECK(pg == NULL && pids == NULL);
+    CHECK_EQ_INT(hpfc_part_graph(f->g, &f->p, &part, &pg, NULL, NULL), HPFC_E_ARG);
+    /* all root pixels: the whole graph */
+    CHECK_EQ_INT(hpfc_part_graph(f->g, &f->p, &part, &pg, &pids, NULL), HPFC_OK);
+    CHECK(pg && hpfc_graph_edge_count(pg) == ne && hpfc_graph_vertex_count(pg) == hpfc_graph_vertex_count(f->g));
+    CHECK(pids && pids[ne - 1] == ne - 1);
+    hpfc_graph_free(pg);
+    hpfc_free(pids);
     CHECK_EQ_INT(part_status(f, NULL, &f->p, &part, NULL), HPFC_E_ARG);
     CHECK_EQ_INT(part_status(f, f->g, &f->p, NULL, NULL), HPFC_E_ARG);
     /* a part's tree is not a file */
@@ -441,6 +458,20 @@ static void test_merge_refusals(const fixture *f)
     hpfc_tree *mixed[2] = {w, e3};
     CHECK_EQ_INT(hpfc_tree_merge(mixed, 2, &joined, &d), HPFC_E_ARG);
     hpfc_tree_free(e3);
+    /* a map of more edges than its parts' crossings: refused before the
+     * union-find over its edges is sized */
+    size_t ne = hpfc_graph_edge_count(f->g);
+    uint32_t *ids = malloc(ne * sizeof *ids);
+    for (size_t k = 0; k < ne; k++)
+        ids[k] = (uint32_t)k;
+    hpfc_part huge = {.domain = f->d, .root_pixels = f->all, .root_pixel_count = 16, .edge_ids = ids,
+                      .edge_count = (uint64_t)UINT32_MAX + 1};
+    hpfc_tree *h = NULL;
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &huge, &h), HPFC_OK);
+    CHECK_EQ_INT(hpfc_tree_merge(&h, 1, &joined, &d), HPFC_E_ARG);
+    CHECK(strstr(d.message, "crossings") != NULL);
+    hpfc_tree_free(h);
+    free(ids);
     /* an edge left out of every part's graph is in no part's words */
     subgraph sw, se;
     CHECK_EQ_INT(make_subgraph(f->g, &f->d, &f->p, f->half[0], 8, 0, &sw), HPFC_OK);
