@@ -53,6 +53,7 @@ typedef struct pack_args {
     const char *assign_srs, *source_srs; /* -a_srs, -s_srs (as ogr2ogr) */
     int layout; /* HPFC_LAYOUT_*: --layout */
     int link_witness; /* --link witness */
+    uint32_t partitions; /* --partitions: build in parts, one after another */
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -133,6 +134,11 @@ static void print_help(void)
            "                        reads few segments per leaf (default %u; 0: no bound)\n"
            , (unsigned long long)HPFC_DEFAULT_MAX_FLAT_PIXELS, HPFC_DEFAULT_MAX_LEAF_POINTS);
     printf(
+           "  --partitions N        build the tree in N parts (runs of root pixels), one\n"
+           "                        after another, each from the edges near its pixels,\n"
+           "                        then join them: the same file, byte for byte, with\n"
+           "                        the builder's working memory for one part at a time\n"
+           "                        (at most one part a root pixel; not with --flat)\n"
            "  -l, --layer NAME      GIS input: read layer NAME (repeatable; default: all)\n"
            "  -a_srs SRS, -s_srs SRS\n"
            "                        GIS input: INPUT's coordinates are in SRS (EPSG:4326,\n"
@@ -275,6 +281,13 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         p->max_leaf_points = (uint32_t)n;
         return NULL;
     }
+    if (strcmp(name, "--partitions") == 0) {
+        uint64_t n = 0;
+        if (!parse_positive(v, strlen(v), UINT32_MAX, &n))
+            return "a positive integer";
+        a->partitions = (uint32_t)n;
+        return NULL;
+    }
     if (strcmp(name, "--layer") == 0 || strcmp(name, "-l") == 0) {
         if (a->n_layers == sizeof a->layers / sizeof a->layers[0])
             return "at most 64 layers";
@@ -332,7 +345,7 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
                                         "--invalid",  "--wrap-dateline", "--key",
                                         "--fields",   "--output",   "-o",
                                         "-l",         "-a_srs",     "-s_srs",
-                                        "--layout",   "--link"};
+                                        "--layout",   "--link",     "--partitions"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -409,6 +422,10 @@ static int parse_args(int argc, char **argv, pack_args *a)
     }
     if (a->assign_srs && a->source_srs) {
         complain("-a_srs and -s_srs: give one of them");
+        return EXIT_USAGE;
+    }
+    if (a->partitions > 1 && a->params.flat) {
+        complain("--partitions and --flat: a flat grid is built whole");
         return EXIT_USAGE;
     }
     a->to_stdout = strcmp(a->output, "-") == 0;
@@ -895,7 +912,7 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
                                 .geometry = a->no_geometry ? NULL : g};
     pack_write_stats w;
     hpfc_diag diag;
-    int st = pack_write(g, &a->params, &wopts, r->gis ? &r->gis_info : NULL, a->link_witness,
+    int st = pack_write(g, &a->params, a->partitions, &wopts, r->gis ? &r->gis_info : NULL, a->link_witness,
                         a->to_stdout ? NULL : a->output, isatty(2) && !a->quiet, report_tree,
                         r, &w, &diag);
     r->build_t = w.build_t, r->write_t = w.write_t, r->features_t = w.features_t;

@@ -127,7 +127,121 @@ static int write_output(const char *output, const hpfc_file *f, const hpfc_write
     return atomic_output_commit(&o, why) ? output_failed(output, why, diag) : HPFC_OK;
 }
 
-int pack_write(const hpfc_graph *g, const hpfc_build_params *p,
+static int diag_set_message(hpfc_diag *diag, int status, const char *message)
+{
+    snprintf(diag->message, sizeof diag->message, "%s", message);
+    return status;
+}
+
+/* The box of the graph's points, for the domain of a build in parts. */
+static void graph_box(const hpfc_graph *g, int64_t box[4])
+{
+    box[0] = box[1] = INT64_MAX, box[2] = box[3] = INT64_MIN;
+    for (size_t v = 0; v < hpfc_graph_vertex_count(g); v++) {
+        int64_t x, y;
+        hpfc_graph_vertex(g, v, &x, &y);
+        box[0] = x < box[0] ? x : box[0], box[2] = x > box[2] ? x : box[2];
+        box[1] = y < box[1] ? y : box[1], box[3] = y > box[3] ? y : box[3];
+    }
+    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
+        uint32_t u, v;
+        const int64_t *xy;
+        size_t n;
+        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
+        for (size_t k = 0; k < 2 * n; k += 2) {
+            box[0] = xy[k] < box[0] ? xy[k] : box[0], box[2] = xy[k] > box[2] ? xy[k] : box[2];
+            box[1] = xy[k + 1] < box[1] ? xy[k + 1] : box[1];
+            box[3] = xy[k + 1] > box[3] ? xy[k + 1] : box[3];
+        }
+    }
+}
+
+/* Part q of k: a run of root pixels in scanline order (bands of rows). */
+static int build_one_part(const hpfc_graph *g, const hpfc_build_params *p, const hpfc_domain *d,
+                          const uint32_t *pixels, size_t n, hpfc_tree **out, hpfc_diag *diag)
+{
+    hpfc_part part = {.domain = *d, .root_pixels = pixels, .root_pixel_count = n};
+    hpfc_graph *sub = NULL;
+    uint32_t *ids = NULL;
+    int st = hpfc_part_graph(g, p, &part, &sub, &ids, diag);
+    part.edge_ids = ids;
+    part.edge_count = hpfc_graph_edge_count(g);
+    if (!st)
+        st = hpfc_build_part(sub, p, &part, out, diag);
+    hpfc_graph_free(sub);
+    hpfc_free(ids);
+    release_free_memory();
+    return st;
+}
+
+/* A vertex of no edge: in no part's graph, so no part's check sees it. */
+static int has_isolated_vertex(const hpfc_graph *g)
+{
+    size_t nv = hpfc_graph_vertex_count(g);
+    uint8_t *used = calloc(nv ? nv : 1, 1);
+    if (!used)
+        return -1;
+    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
+        uint32_t u, v;
+        const int64_t *xy;
+        size_t n;
+        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
+        used[u] = used[v] = 1;
+    }
+    size_t k = 0;
+    while (k < nv && used[k])
+        k++;
+    free(used);
+    return k < nv;
+}
+
+/* The tree, built whole or in `partitions` parts one after another, each
+ * from the edges near its root pixels, then joined (hpfc_build_part,
+ * hpfc_tree_merge): the same tree, with the builder's working arrays for
+ * one part at a time.
+ *
+ * Validation too goes part by part: every flaw hpfc_graph_validate looks
+ * for but an isolated vertex (two points at one place, a zero-length
+ * segment, a short loop, edges that cross or touch) lies at a point of
+ * some root pixel, whose part holds every edge through it and validates
+ * its graph. So the whole graph's check (64 bytes a point, the one-process
+ * pack's peak on large maps) runs only when a part finds a flaw, to report
+ * it in hpfc_build's very words. */
+static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, uint32_t partitions,
+                      hpfc_tree **out, hpfc_diag *diag)
+{
+    uint64_t roots = (uint64_t)p->root_cols * p->root_rows;
+    if (partitions <= 1 || p->flat || hpfc_graph_edge_count(g) == 0 || has_isolated_vertex(g))
+        return hpfc_build(g, p, out, diag);
+    int64_t box[4];
+    hpfc_domain d;
+    graph_box(g, box);
+    int st = hpfc_build_domain(box, p, &d, diag);
+    size_t k = partitions < roots ? partitions : (size_t)roots;
+    hpfc_tree **parts = st ? NULL : calloc(k, sizeof *parts);
+    uint32_t *pixels = st ? NULL : malloc((size_t)roots * sizeof *pixels);
+    if (!st && (!parts || !pixels))
+        st = diag_set_message(diag, HPFC_E_NOMEM, "out of memory");
+    for (uint64_t px = 0; !st && px < roots; px++)
+        pixels[px] = (uint32_t)px;
+    for (size_t q = 0; !st && q < k; q++) {
+        size_t first = (size_t)(roots * q / k), end = (size_t)(roots * (q + 1) / k);
+        st = build_one_part(g, p, &d, pixels + first, end - first, &parts[q], diag);
+    }
+    if (st && st != HPFC_E_NOMEM) { /* hpfc_build's words for the flaw */
+        int whole = hpfc_graph_validate(g, diag);
+        st = whole ? whole : st;
+    }
+    if (!st)
+        st = hpfc_tree_merge(parts, k, out, diag);
+    for (size_t q = 0; parts && q < k; q++)
+        hpfc_tree_free(parts[q]);
+    free(parts);
+    free(pixels);
+    return st;
+}
+
+int pack_write(const hpfc_graph *g, const hpfc_build_params *p, uint32_t partitions,
                const hpfc_write_options *base, const gis_info *gis, int link_witness,
                const char *output, int progress_on, pack_write_hook hook, void *user, pack_write_stats *r,
                hpfc_diag *diag)
@@ -143,7 +257,7 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p,
     hpfc_tree *t = NULL;
     stage_time t0 = stage_now();
     progress_show(&bar, "building", 0, 0, 1);
-    int st = hpfc_build(g, &params, &t, diag);
+    int st = build_tree(g, &params, partitions, &t, diag);
     progress_end(&bar);
     release_free_memory();
     r->build_t = stage_lap(&t0);

@@ -34,14 +34,15 @@ typedef struct pack_write_stats {
  * before the tree is freed: a status, HPFC_OK to go on. */
 typedef int (*pack_write_hook)(void *user, const hpfc_tree *t, const hpfc_file *f);
 
-/* Builds g with `params` and writes it to `output` (NULL: standard output)
+/* Builds g with `params` (in `partitions` parts one after another when
+ * above 1: the same bytes, hpfc-pack --partitions) and writes it to `output` (NULL: standard output)
  * with `base`'s options (CRS, labels, layout, geometry) and, when `gis` holds
  * features, their FEAT, ATTR and EDGF sections, linked to the faces by the
  * topology or, with `link_witness`, by each face's witness point alone
  * (hpfc-pack --link). `progress_on` draws bars on
  * stderr. HPFC_OK, or a status with diag->message saying why (nothing
  * written). */
-int pack_write(const hpfc_graph *g, const hpfc_build_params *params,
+int pack_write(const hpfc_graph *g, const hpfc_build_params *params, uint32_t partitions,
                const hpfc_write_options *base, const gis_info *gis, int link_witness,
                const char *output, int progress_on, pack_write_hook hook, void *user, pack_write_stats *stats,
                hpfc_diag *diag);

@@ -509,7 +509,8 @@ typedef struct image_scratch {
 static int group_by_pixel(image_scratch *is, size_t pixels)
 {
     if (pixels > 4 * is->ninc + 1024) {
-        qsort(is->inc, is->ninc, sizeof *is->inc, cmp_incidence);
+        if (is->ninc) /* a part's image may hold none, and inc be NULL */
+            qsort(is->inc, is->ninc, sizeof *is->inc, cmp_incidence);
         return HPFC_OK;
     }
     if (reserve((void **)&is->count, &is->cap_count, pixels + 1, sizeof *is->count) ||

@@ -21,6 +21,7 @@ typedef struct shape {
 
 static const shape SHAPES[] = {
     {1, 1, 2, 2, 16}, {4, 3, 2, 2, 16}, {3, 5, 3, 2, 0}, {16, 16, 2, 2, 16}, {7, 7, 4, 4, 1}, {2, 1, 2, 3, 3},
+    {40, 30, 2, 2, 16}, /* a root of over 1,024 pixels: parts of no segment at all */
 };
 
 static hpfc_build_params params_of(const shape *sh)

@@ -1,0 +1,64 @@
+#!/bin/sh
+# hpfc-pack --partitions N (a build in parts, one after another, joined):
+# the same bytes as the single build for every valid .pfc and GIS fixture,
+# under several image sizes, both layouts and both vertex models; the
+# same exit status and message for every invalid .pfc; the option's own
+# refusals. GIS layers noded `partial` or `all` included (noding comes
+# before the parts).
+# shellcheck source=tests/cli/lib.sh
+. "$(dirname "$0")/lib.sh"
+
+# same_bytes WHAT ARGS...: packs with ARGS once whole and once in 2, 7 and
+# 5000 parts (more than root pixels: one a pixel), and compares.
+same_bytes() {
+    what=$1
+    shift
+    run "$PACK" -q "$@" -o "$tmp/whole.hpfc"
+    expect_ok "$what (whole)"
+    for k in 2 7 5000; do
+        run "$PACK" -q --partitions "$k" "$@" -o "$tmp/parts.hpfc"
+        expect_ok "$what ($k parts)"
+        cmp -s "$tmp/whole.hpfc" "$tmp/parts.hpfc" || fail "$what: $k parts give other bytes"
+    done
+}
+
+for pfc in "$TESTS"/data/valid/*.pfc; do
+    name=$(basename "$pfc" .pfc)
+    same_bytes "$name" "$pfc"
+    same_bytes "$name 3x2/3 paper" --root 3x2 --refine 3 --layout paper "$pfc"
+    same_bytes "$name 1/2x4 leaf 1" --root 1 --refine 2x4 --leaf-points 1 "$pfc"
+done
+
+nodings=""
+for gis in "$TESTS"/data/gis/ok/*.geojson "$TESTS"/data/gis/*.geojson; do
+    name=$(basename "$gis" .geojson)
+    same_bytes "$name" --fields all "$gis"
+    same_bytes "$name vertices all 5x4" --fields all --vertices all --root 5x4 "$gis"
+    run "$PACK" --json "$gis" -o "$tmp/whole.hpfc"
+    nodings="$nodings $(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["noding"])' "$tmp/out" 2>/dev/null)"
+done
+case $nodings in
+    *partial* | *all*) ;;
+    *) fail "no GIS fixture was noded (nodings:$nodings): the noded path is untested" ;;
+esac
+
+# an invalid graph: hpfc_build's status and words, whatever the parts
+for pfc in "$TESTS"/data/invalid/*.pfc; do
+    name=$(basename "$pfc" .pfc)
+    run "$PACK" -q "$pfc" -o "$tmp/whole.hpfc"
+    rc_whole=$rc
+    cp "$tmp/err" "$tmp/err_whole"
+    run "$PACK" -q --partitions 4 "$pfc" -o "$tmp/parts.hpfc"
+    [ "$rc" -eq "$rc_whole" ] || fail "$name: exit status $rc in parts, $rc_whole whole"
+    cmp -s "$tmp/err" "$tmp/err_whole" || fail "$name: other words in parts: $(cat "$tmp/err")"
+done
+
+# the option's refusals
+valid=$TESTS/data/valid/loop.pfc
+for bad in 0 -1 x 2x; do
+    run "$PACK" --partitions "$bad" "$valid" -o "$tmp/x.hpfc"
+    expect_error "--partitions $bad" "hpfc-pack: " 2
+done
+run "$PACK" --partitions 2 --flat "$valid" -o "$tmp/x.hpfc"
+expect_error "--partitions with --flat" "hpfc-pack: " 2
+finish
