@@ -11,8 +11,9 @@ PACKAGES="$PACKAGES valgrind"
 # (pip install .), venv (tools/test-python.sh); shapely, pandas, geopandas
 # for geometry, frames and the bench against geopandas.sjoin; pyproj (a
 # dependency of geopandas, named because the geometry tests project with it);
-# fiona, the engine of geopandas.read_file in the GDAL driver's tests.
-PACKAGES="$PACKAGES python3-dev python3-numpy python3-pytest python3-mesonpy python3-venv python3-shapely python3-pandas python3-geopandas python3-pyproj python3-fiona"
+# fiona, the engine of geopandas.read_file in the GDAL driver's tests;
+# distributed (Dask) for hpfc.pack's build in parts on a cluster.
+PACKAGES="$PACKAGES python3-dev python3-numpy python3-pytest python3-mesonpy python3-venv python3-shapely python3-pandas python3-geopandas python3-pyproj python3-fiona python3-distributed"
 missing=""
 for p in $PACKAGES; do
     dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"

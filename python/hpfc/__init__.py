@@ -16,6 +16,7 @@ from . import _hpfc
 from ._hpfc import Pixel
 from ._file import (EAST, NORTH, SOUTH, WEST, File, Location, Locations, open)
 from ._geometry import RingArrays
+from ._pack import pack
 
 library_version = _hpfc.library_version
 strerror = _hpfc.strerror
@@ -25,4 +26,4 @@ LIMIT_ITEMS_DEFAULT = _hpfc.LIMIT_ITEMS_DEFAULT
 
 __all__ = ["Error", "File", "Location", "Locations", "Pixel", "RingArrays", "open", "strerror",
            "library_version", "WEST", "NORTH", "EAST", "SOUTH", "LIMIT_NONE",
-           "LIMIT_POINTS_DEFAULT", "LIMIT_ITEMS_DEFAULT"]
+           "LIMIT_POINTS_DEFAULT", "LIMIT_ITEMS_DEFAULT", "pack"]

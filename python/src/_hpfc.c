@@ -1230,7 +1230,7 @@ PyMODINIT_FUNC PyInit__hpfc(void)
     PyObject *m = PyModule_Create(&module_def);
     if (!m)
         return NULL;
-    if (pyhpfc_shapes_add(m) < 0) {
+    if (pyhpfc_shapes_add(m) < 0 || pyhpfc_pack_add(m) < 0) {
         Py_DECREF(m);
         return NULL;
     }

@@ -31,4 +31,8 @@ extern PyMethodDef pyhpfc_topology_methods[];
  * attribute_rows to the module; -1 with an exception set. */
 int pyhpfc_shapes_add(PyObject *module);
 
+/* pack.c: adds _pack_cut, _pack_part and _pack_merge (hpfc.pack's C
+ * half); -1 with an exception set. */
+int pyhpfc_pack_add(PyObject *module);
+
 #endif
