@@ -46,7 +46,6 @@ struct shapes_window {
     char *word;
     size_t cap_word;
     labels_leaf leaf;       /* a cut leaf's labels, loaded once */
-    labels_pieces pieces;   /* an inside leaf's edges */
     uint64_t *leaf_faces, *seg;
     size_t cap_leaf_faces, cap_seg;
 };
@@ -70,7 +69,6 @@ void shapes_window_free(shapes_window *w)
     free(w->feature_inside);
     free(w->word);
     labels_leaf_free(&w->leaf);
-    free(w->pieces.edge);
     free(w->leaf_faces);
     free(w->seg);
     free(w);
@@ -340,22 +338,23 @@ static int load_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_a
 }
 
 /* A leaf whose closed box lies in the window: its faces and its crossings'
- * edges, from its record's pieces (labels_leaf_pieces: which crossing is
- * on which edge does not matter here). With crossings, the faces are their
- * edges' sides: every region of the leaf borders an edge piece (the pieces
- * cut the leaf into its regions), and each piece has a region on either
- * side. */
+ * edges, from its record alone (labels_leaf_pieces: its word is not read,
+ * which crossing is on which edge does not matter here). With crossings,
+ * the faces are their edges' sides: every region of the leaf borders an
+ * edge piece (the pieces cut the leaf into its regions), and each piece
+ * has a region on either side. */
 static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_at *at,
                        int border)
 {
-    shapes_window *w = s->window;
-    labels_pieces *lp = &w->pieces;
-    int st = labels_leaf_pieces(s->f, leaf, at, &w->word, &w->cap_word, lp);
-    if (!st && lp->crossings == 0)
-        st = add_face(s, lp->face, border);
-    for (uint32_t k = 0; k < lp->count && !st && lp->crossings; k++) {
-        uint64_t e = lp->edge[k];
-        st = add_edge(s, e, border);
+    labels_pieces lp;
+    int st = labels_leaf_pieces(s->f, leaf, at, &lp);
+    if (!st && lp.is_private)
+        st = add_face(s, lp.face, border);
+    for (uint64_t q = 0; !st && q < lp.count && !lp.is_private; q++) {
+        uint64_t e;
+        st = labels_piece_edge(s->f, &lp, q, &e);
+        if (!st)
+            st = add_edge(s, e, border);
         if (!st)
             st = add_face(s, s->left[e], border);
         if (!st && s->right[e] != s->left[e])

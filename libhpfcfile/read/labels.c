@@ -710,49 +710,65 @@ int labels_leaf_load_word(const hpfc_file *f, const hpfc_pixel *leaf, const read
     return st ? st : load_edges(v, out);
 }
 
+/* A leaf's rank among its level's leaves and whether it is private: from
+ * `known` when a walk over its image counted them, else from its pool. */
+static int leaf_rank_kind(const hpfc_file *f, const hpfc_pixel *leaf, const reader_leaf_at *known,
+                          uint64_t *rank, bool *is_private)
+{
+    if (known && known->rank != UINT64_MAX) { /* reader_children_get checked it */
+        *rank = known->rank;
+        *is_private = known->word == UINT64_MAX;
+        return HPFC_OK;
+    }
+    int priv = 0;
+    int st = labels_leaf_rank(f, leaf, rank);
+    if (!st)
+        st = hpfc_pixel_is_private(f, leaf, &priv);
+    *is_private = priv;
+    return st;
+}
+
 int labels_leaf_pieces(const hpfc_file *f, const hpfc_pixel *leaf, const reader_leaf_at *known,
-                       char **word, size_t *cap, labels_pieces *out)
+                       labels_pieces *out)
 {
     int st;
-    const labels_view *v = labels_of(f, word && cap && out, &st);
+    const labels_view *v = labels_of(f, leaf && out, &st);
     if (st)
         return st;
-    size_t len = 0;
-    uint64_t rank, off;
-    if ((st = read_leaf_word(f, leaf, known, word, cap, &len, &rank)))
+    uint64_t rank, off, end = v->label_bits;
+    if ((st = leaf_rank_kind(f, leaf, known, &rank, &out->is_private)))
         return st;
-    if (len > UINT32_MAX / 8)
-        return HPFC_E_LIMIT; /* as labels_word_parse */
-    /* a piece per crossing but a stabbing's second, ']' (number_pieces) */
-    uint32_t crossings = 0, seconds = 0;
-    for (size_t k = 0; k < len; k++)
-        crossings += (*word)[k] != '+', seconds += (*word)[k] == ']';
-    uint32_t pieces = crossings - seconds;
-    uint64_t need = crossings ? (uint64_t)pieces * (v->edge_bits + 1) : v->face_bits;
-    if ((st = record_offset(v, v->first_leaf[leaf->depth] + rank, &off)))
+    uint64_t g = v->first_leaf[leaf->depth] + rank; /* rank < word_pixels: g < leaves */
+    /* the record ends where the next leaf's starts (the last: the stream) */
+    if ((st = record_offset(v, g, &off)) ||
+        (g + 1 < v->leaves && (st = record_offset(v, g + 1, &end))))
         return st;
-    if (off > v->label_bits || need > v->label_bits - off)
+    if (off > end || end > v->label_bits)
         return HPFC_E_CORRUPT;
-    out->crossings = crossings;
-    out->count = pieces;
-    if (!crossings) {
+    uint64_t bits = end - off, unit = (uint64_t)v->edge_bits + 1;
+    out->off = off;
+    if (out->is_private) {
+        if (bits != v->face_bits)
+            return HPFC_E_CORRUPT;
+        out->count = 0;
         out->face = format_get(&v->labels, off, v->face_bits);
         return out->face < v->faces ? HPFC_OK : HPFC_E_CORRUPT;
     }
-    if (pieces > out->cap) {
-        uint64_t *e = realloc(out->edge, pieces * sizeof *e);
-        if (!e)
-            return HPFC_E_NOMEM;
-        out->edge = e;
-        out->cap = pieces;
-    }
-    for (uint32_t q = 0; q < pieces; q++) {
-        uint64_t id = format_get(&v->labels, off + (uint64_t)q * (v->edge_bits + 1), v->edge_bits);
-        if (id >= v->edges)
-            return HPFC_E_CORRUPT;
-        out->edge[q] = id;
-    }
+    if (bits == 0 || bits % unit)
+        return HPFC_E_CORRUPT; /* a stabbed leaf has a piece; pieces are whole */
+    out->count = bits / unit;
     return HPFC_OK;
+}
+
+int labels_piece_edge(const hpfc_file *f, const labels_pieces *p, uint64_t q, uint64_t *edge)
+{
+    int st;
+    const labels_view *v = labels_of(f, p && edge && !p->is_private && q < p->count, &st);
+    if (st)
+        return st;
+    /* off + count * (k_E + 1) <= label_bits: labels_leaf_pieces checked it */
+    *edge = format_get(&v->labels, p->off + q * ((uint64_t)v->edge_bits + 1), v->edge_bits);
+    return *edge < v->edges ? HPFC_OK : HPFC_E_CORRUPT;
 }
 
 int labels_leaf_face(const hpfc_file *f, const labels_leaf *l, uint32_t stretch, uint64_t *face)

@@ -68,11 +68,39 @@ static int cmp_slot(const void *a, const void *b)
     return (x->slot > y->slot) - (x->slot < y->slot);
 }
 
+/* A leaf's pieces (labels_leaf_pieces, `known` as a walk gave it or NULL)
+ * against its labels loaded with its word (`a`): private alike, the face
+ * of a private leaf, else as many pieces as the word has and crossing k's
+ * edge at its piece. */
+static void check_pieces(const packed *p, const hpfc_pixel *px, const reader_leaf_at *known,
+                         const labels_leaf *a)
+{
+    labels_pieces lp = {0};
+    uint64_t e = UINT64_MAX;
+    CHECK_EQ_INT(labels_leaf_pieces(p->f, px, known, &lp), HPFC_OK);
+    CHECK_EQ_INT(lp.is_private, a->rec.word.n == 0);
+    CHECK_EQ_INT(lp.off, a->rec.off);
+    if (a->rec.word.n == 0) {
+        uint64_t face = UINT64_MAX;
+        CHECK_EQ_INT(labels_leaf_face(p->f, a, 0, &face), HPFC_OK);
+        CHECK_EQ_INT(lp.face, face);
+        CHECK_EQ_INT(labels_piece_edge(p->f, &lp, 0, &e), HPFC_E_ARG);
+        return;
+    }
+    CHECK_EQ_INT(lp.count, a->rec.word.pieces);
+    for (uint32_t k = 0; k < a->rec.word.n; k++) {
+        CHECK_EQ_INT(labels_piece_edge(p->f, &lp, a->rec.word.piece[k], &e), HPFC_OK);
+        CHECK_EQ_INT(e, a->edge[k]);
+    }
+    CHECK_EQ_INT(labels_piece_edge(p->f, &lp, lp.count, &e), HPFC_E_ARG);
+}
+
 /* The window's shortcuts against the public calls they stand for: a
  * child read from its parent's image (reader_child), a leaf's word with
  * its rank (reader_leaf_word: the rank only in the compact layout) and
  * its labels loaded with that word (labels_leaf_load_word), and its
- * pieces' edges read without the word's grammar (labels_leaf_pieces). */
+ * pieces' edges read from the record's extent without the word
+ * (labels_leaf_pieces), ranked here or from a walk over its image. */
 static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t rank)
 {
     char want[4096], got[4096], *grown = NULL;
@@ -93,20 +121,9 @@ static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t
     CHECK_EQ_INT(b.rec.off, a.rec.off);
     for (uint32_t k = 0; k < a.rec.word.n && k < b.rec.word.n; k++)
         CHECK_EQ_INT(b.edge[k], a.edge[k]);
-    /* the pieces without the grammar: the crossings' edges, each piece
-     * once (a stabbing's two crossings share theirs), or the private face */
-    labels_pieces lp = {0};
-    CHECK_EQ_INT(labels_leaf_pieces(p->f, px, NULL, &grown, &cap, &lp), HPFC_OK);
-    CHECK_EQ_INT(lp.crossings, a.rec.word.n);
-    CHECK_EQ_INT(lp.count, a.rec.word.pieces);
-    for (uint32_t k = 0; k < a.rec.word.n; k++)
-        CHECK_EQ_INT(lp.edge[a.rec.word.piece[k]], a.edge[k]);
-    if (a.rec.word.n == 0) {
-        uint64_t face = UINT64_MAX;
-        CHECK_EQ_INT(labels_leaf_face(p->f, &a, 0, &face), HPFC_OK);
-        CHECK_EQ_INT(lp.face, face);
-    }
-    free(lp.edge);
+    /* the pieces without the word: the crossings' edges, each piece once
+     * (a stabbing's two crossings share theirs), or the private face */
+    check_pieces(p, px, NULL, &a);
     labels_leaf_free(&a);
     labels_leaf_free(&b);
     free(grown);
@@ -146,6 +163,10 @@ static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t
         uint64_t r = 0;
         CHECK_EQ_INT(reader_leaf_word(p->f, px, &at, got, sizeof got, &len, &r), HPFC_OK);
         CHECK(len == want_len && memcmp(got, want, len) == 0 && r == rank);
+        labels_leaf a2 = {0};
+        CHECK_EQ_INT(labels_leaf_load(p->f, px, want, want_len, &a2), HPFC_OK);
+        check_pieces(p, px, &at, &a2);
+        labels_leaf_free(&a2);
     }
     CHECK_EQ_INT(reader_children_get(p->f, &c, i, UINT32_MAX, &child, &type, &at), HPFC_E_ARG);
 }
