@@ -337,22 +337,18 @@ static int load_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_a
     return labels_leaf_load_word(s->f, leaf, at, &w->word, &w->cap_word, &w->leaf);
 }
 
-/* A leaf whose closed box lies in the window: its faces and its crossings'
- * edges, from its record alone (labels_leaf_pieces: its word is not read,
- * which crossing is on which edge does not matter here). With crossings,
- * the faces are their edges' sides: every region of the leaf borders an
- * edge piece (the pieces cut the leaf into its regions), and each piece
- * has a region on either side. */
-static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_at *at,
-                       int border)
+/* A leaf's faces and edges from its record's pieces: with crossings, the
+ * faces are their edges' sides: every region of the leaf borders an edge
+ * piece (the pieces cut the leaf into its regions), and each piece has a
+ * region on either side. */
+static int add_pieces(hpfc_shapes *s, const labels_pieces *lp, int border)
 {
-    labels_pieces lp;
-    int st = labels_leaf_pieces(s->f, leaf, at, &lp);
-    if (!st && lp.is_private)
-        st = add_face(s, lp.face, border);
-    for (uint64_t q = 0; !st && q < lp.count && !lp.is_private; q++) {
+    if (lp->is_private)
+        return add_face(s, lp->face, border);
+    int st = HPFC_OK;
+    for (uint64_t q = 0; !st && q < lp->count; q++) {
         uint64_t e;
-        st = labels_piece_edge(s->f, &lp, q, &e);
+        st = labels_piece_edge(s->f, lp, q, &e);
         if (!st)
             st = add_edge(s, e, border);
         if (!st)
@@ -361,6 +357,42 @@ static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf
             st = add_face(s, s->right[e], border);
     }
     return st;
+}
+
+/* A leaf whose closed box lies in the window: its faces and its crossings'
+ * edges, from its record alone (labels_leaf_pieces: its word is not read,
+ * which crossing is on which edge does not matter here). */
+static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_at *at,
+                       int border)
+{
+    labels_pieces lp;
+    int st = labels_leaf_pieces(s->f, leaf, at, &lp);
+    return st ? st : add_pieces(s, &lp, border);
+}
+
+/* Every leaf below a refined pixel whose closed box lies in the window's
+ * interior (compact layout): none is a border leaf, so none needs its
+ * box or its path. A scan of the subtree's type bits (reader_scan) gives
+ * them level by level in rank order, so the records of a level's run
+ * follow each other: a private leaf's extent is known, a stabbed one's is
+ * one directory entry. */
+static int inside_subtree(hpfc_shapes *s, const hpfc_pixel *px)
+{
+    reader_scan sc;
+    uint32_t level, prev_level = UINT32_MAX;
+    uint64_t rank, prev_rank = 0, next = UINT64_MAX;
+    bool is_private;
+    int st = reader_scan_begin(s->f, px, &sc);
+    while (!st && !(st = reader_scan_next(s->f, &sc, &level, &rank, &is_private))) {
+        if (level != prev_level || rank != prev_rank + 1)
+            next = UINT64_MAX; /* a new run: its first record from the directory */
+        labels_pieces lp;
+        st = labels_leaf_pieces_ranked(s->f, level, rank, is_private, &next, &lp);
+        if (!st)
+            st = add_pieces(s, &lp, 0);
+        prev_level = level, prev_rank = rank;
+    }
+    return st == HPFC_E_NO_PIXEL ? HPFC_OK : st;
 }
 
 /* A leaf the window's border cuts: exactly, on r = its box in the window. */
@@ -418,7 +450,9 @@ static int rect_meets(const rect *a, const rect *b)
  * `at` what its parent's walk learnt of it, NULL: nothing) whose closed box
  * meets the window. A child's box is its parent's corner plus its cell, as
  * hpfc_pixel_bounds adds them, so only the children that meet the window
- * are read, from their image's type bits read once (reader_children). */
+ * are read, from their image's type bits read once (reader_children). A
+ * refined pixel within the window's interior (compact layout) has only
+ * inside, non-border leaves below it: they are scanned, not descended. */
 static int descend(hpfc_shapes *s, const descent *d, const hpfc_pixel *px, int type,
                    const reader_leaf_at *at, const rect *box)
 {
@@ -430,6 +464,8 @@ static int descend(hpfc_shapes *s, const descent *d, const hpfc_pixel *px, int t
                   box->x1 < win->x1 ? box->x1 : win->x1, box->y1 < win->y1 ? box->y1 : win->y1};
         return cut_leaf(s, px, at, box, &r);
     }
+    if (s->f->compact && rect_within_interior(box, win))
+        return inside_subtree(s, px);
     reader_children children;
     int st = reader_children_begin(s->f, px, &children);
     uint32_t level = px->depth + 1; /* a refined pixel is above the last level */

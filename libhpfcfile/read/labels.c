@@ -728,6 +728,36 @@ static int leaf_rank_kind(const hpfc_file *f, const hpfc_pixel *leaf, const read
     return st;
 }
 
+/* Record [off, end) of a leaf of that kind as its pieces. */
+static int record_pieces(const labels_view *v, bool is_private, uint64_t off, uint64_t end,
+                         labels_pieces *out)
+{
+    if (off > end || end > v->label_bits)
+        return HPFC_E_CORRUPT;
+    uint64_t bits = end - off, unit = (uint64_t)v->edge_bits + 1;
+    out->is_private = is_private;
+    out->off = off;
+    out->count = 0;
+    if (is_private) {
+        if (bits != v->face_bits)
+            return HPFC_E_CORRUPT;
+        out->face = format_get(&v->labels, off, v->face_bits);
+        return out->face < v->faces ? HPFC_OK : HPFC_E_CORRUPT;
+    }
+    if (bits == 0 || bits % unit)
+        return HPFC_E_CORRUPT; /* a stabbed leaf has a piece; pieces are whole */
+    out->count = bits / unit;
+    return HPFC_OK;
+}
+
+/* Where global leaf g's record ends: the next one's offset, the stream's
+ * end after the last leaf. */
+static int record_end(const labels_view *v, uint64_t g, uint64_t *end)
+{
+    *end = v->label_bits;
+    return g + 1 < v->leaves ? record_offset(v, g + 1, end) : HPFC_OK;
+}
+
 int labels_leaf_pieces(const hpfc_file *f, const hpfc_pixel *leaf, const reader_leaf_at *known,
                        labels_pieces *out)
 {
@@ -735,28 +765,36 @@ int labels_leaf_pieces(const hpfc_file *f, const hpfc_pixel *leaf, const reader_
     const labels_view *v = labels_of(f, leaf && out, &st);
     if (st)
         return st;
-    uint64_t rank, off, end = v->label_bits;
-    if ((st = leaf_rank_kind(f, leaf, known, &rank, &out->is_private)))
+    uint64_t rank, off, end;
+    bool is_private;
+    if ((st = leaf_rank_kind(f, leaf, known, &rank, &is_private)))
         return st;
     uint64_t g = v->first_leaf[leaf->depth] + rank; /* rank < word_pixels: g < leaves */
-    /* the record ends where the next leaf's starts (the last: the stream) */
-    if ((st = record_offset(v, g, &off)) ||
-        (g + 1 < v->leaves && (st = record_offset(v, g + 1, &end))))
+    if ((st = record_offset(v, g, &off)) || (st = record_end(v, g, &end)))
         return st;
-    if (off > end || end > v->label_bits)
-        return HPFC_E_CORRUPT;
-    uint64_t bits = end - off, unit = (uint64_t)v->edge_bits + 1;
-    out->off = off;
-    if (out->is_private) {
-        if (bits != v->face_bits)
-            return HPFC_E_CORRUPT;
-        out->count = 0;
-        out->face = format_get(&v->labels, off, v->face_bits);
-        return out->face < v->faces ? HPFC_OK : HPFC_E_CORRUPT;
-    }
-    if (bits == 0 || bits % unit)
-        return HPFC_E_CORRUPT; /* a stabbed leaf has a piece; pieces are whole */
-    out->count = bits / unit;
+    return record_pieces(v, is_private, off, end, out);
+}
+
+int labels_leaf_pieces_ranked(const hpfc_file *f, uint32_t level, uint64_t rank, bool is_private,
+                              uint64_t *next, labels_pieces *out)
+{
+    int st;
+    const labels_view *v = labels_of(f, next && out && f && level < f->info.levels, &st);
+    if (st)
+        return st;
+    if (rank >= v->first_leaf[level + 1] - v->first_leaf[level])
+        return HPFC_E_ARG;
+    uint64_t g = v->first_leaf[level] + rank, off = *next, end;
+    if (off == UINT64_MAX && (st = record_offset(v, g, &off)))
+        return st;
+    /* a private record's extent is k_F; a stabbed one's from the directory */
+    if (is_private)
+        end = off <= v->label_bits ? off + v->face_bits : off;
+    else if ((st = record_end(v, g, &end)))
+        return st;
+    if ((st = record_pieces(v, is_private, off, end, out)))
+        return st;
+    *next = end;
     return HPFC_OK;
 }
 

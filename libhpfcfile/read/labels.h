@@ -179,6 +179,15 @@ typedef struct labels_pieces {
 } labels_pieces;
 int labels_leaf_pieces(const hpfc_file *file, const hpfc_pixel *leaf, const reader_leaf_at *known,
                        labels_pieces *out);
+/* The same for the leaf of `rank` among level `level`'s leaves, of the
+ * kind given (a scan over its image's type bits found both: reader_scan).
+ * *next: where its record starts when the caller knows it (the end of the
+ * record of the level's leaf rank - 1, which this call returned in *next),
+ * UINT64_MAX to read it from the directory; set to where the record ends.
+ * A private leaf's extent is then k_F without a directory read: a run of
+ * leaves costs one directory entry per stabbed leaf. */
+int labels_leaf_pieces_ranked(const hpfc_file *file, uint32_t level, uint64_t rank,
+                              bool is_private, uint64_t *next, labels_pieces *out);
 /* Piece q < p->count's edge id (< the section's edge count, else
  * HPFC_E_CORRUPT). */
 int labels_piece_edge(const hpfc_file *file, const labels_pieces *p, uint64_t q, uint64_t *edge);

@@ -206,6 +206,133 @@ static void check_ranks(const packed *p)
     }
 }
 
+/* A leaf as a subtree scan gives it. */
+typedef struct scan_leaf {
+    uint32_t level;
+    uint64_t rank;
+    bool is_private;
+    hpfc_pixel px; /* found child by child */
+} scan_leaf;
+
+typedef struct scan_list {
+    scan_leaf *at;
+    size_t n, cap;
+} scan_list;
+
+static int cmp_scan_leaf(const void *a, const void *b)
+{
+    const scan_leaf *x = a, *y = b;
+    if (x->level != y->level)
+        return (x->level > y->level) - (x->level < y->level);
+    return (x->rank > y->rank) - (x->rank < y->rank);
+}
+
+/* The leaves below px by hpfc_pixel_child, numbered by hpfc_leaf_number. */
+static void subtree_leaves(const packed *p, const hpfc_pixel *px, scan_list *out)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(p->f, &fi);
+    for (uint32_t j = 0; j < fi.rows; j++)
+        for (uint32_t i = 0; i < fi.cols; i++) {
+            hpfc_pixel c;
+            int type = -1, is_private = -1;
+            CHECK_EQ_INT(hpfc_pixel_child(p->f, px, i, j, &c), HPFC_OK);
+            CHECK_EQ_INT(hpfc_pixel_type(p->f, &c, &type), HPFC_OK);
+            if (type == HPFC_PIXEL_REFINED) {
+                subtree_leaves(p, &c, out);
+                continue;
+            }
+            if (out->n == out->cap) {
+                out->cap = out->cap ? 2 * out->cap : 64;
+                out->at = realloc(out->at, out->cap * sizeof *out->at);
+                CHECK(out->at != NULL);
+            }
+            scan_leaf *l = &out->at[out->n++];
+            l->level = c.depth;
+            l->px = c;
+            CHECK_EQ_INT(hpfc_leaf_number(p->f, &c, &l->rank), HPFC_OK);
+            CHECK_EQ_INT(hpfc_pixel_is_private(p->f, &c, &is_private), HPFC_OK);
+            l->is_private = is_private;
+        }
+}
+
+/* The scan below refined pixel px (reader_scan, compact only) against its
+ * leaves found child by child, in (level, rank) order; and each leaf's
+ * pieces read in the scan's order, chained from record to record
+ * (labels_leaf_pieces_ranked), against labels_leaf_pieces. */
+static void check_scan(const packed *p, const hpfc_pixel *px)
+{
+    reader_scan sc;
+    if (!p->f->compact) {
+        CHECK_EQ_INT(reader_scan_begin(p->f, px, &sc), HPFC_E_ARG);
+        return;
+    }
+    scan_list want = {0};
+    subtree_leaves(p, px, &want);
+    qsort(want.at, want.n, sizeof *want.at, cmp_scan_leaf);
+    CHECK_EQ_INT(reader_scan_begin(p->f, px, &sc), HPFC_OK);
+    scan_leaf got;
+    size_t n = 0;
+    uint64_t next = UINT64_MAX;
+    int st;
+    while (!(st = reader_scan_next(p->f, &sc, &got.level, &got.rank, &got.is_private))) {
+        CHECK(n < want.n);
+        if (n >= want.n)
+            break;
+        const scan_leaf *w = &want.at[n];
+        CHECK(got.level == w->level && got.rank == w->rank && got.is_private == w->is_private);
+        if (n > 0 && want.at[n - 1].level != got.level)
+            next = UINT64_MAX; /* a new level's run */
+        labels_pieces a, b;
+        CHECK_EQ_INT(labels_leaf_pieces_ranked(p->f, got.level, got.rank, got.is_private, &next,
+                                               &a), HPFC_OK);
+        CHECK_EQ_INT(labels_leaf_pieces(p->f, &w->px, NULL, &b), HPFC_OK);
+        CHECK(a.is_private == b.is_private && a.off == b.off && a.count == b.count &&
+              (!a.is_private || a.face == b.face));
+        n++;
+    }
+    CHECK_EQ_INT(st, HPFC_E_NO_PIXEL);
+    CHECK_EQ_INT(n, want.n);
+    free(want.at);
+}
+
+/* check_scan below px and every refined pixel under it. */
+static void check_scans_below(const packed *p, const hpfc_pixel *px)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(p->f, &fi);
+    check_scan(p, px);
+    for (uint32_t j = 0; j < fi.rows; j++)
+        for (uint32_t i = 0; i < fi.cols; i++) {
+            hpfc_pixel c;
+            int type = -1;
+            CHECK_EQ_INT(hpfc_pixel_child(p->f, px, i, j, &c), HPFC_OK);
+            CHECK_EQ_INT(hpfc_pixel_type(p->f, &c, &type), HPFC_OK);
+            if (type == HPFC_PIXEL_REFINED)
+                check_scans_below(p, &c);
+        }
+}
+
+/* Every refined pixel's subtree scan (the window's inside subtrees); a
+ * leaf has none. */
+static void check_scans(const packed *p)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(p->f, &fi);
+    for (uint32_t j = 0; j < fi.root_rows; j++)
+        for (uint32_t i = 0; i < fi.root_cols; i++) {
+            hpfc_pixel root;
+            int type = -1;
+            reader_scan sc;
+            CHECK_EQ_INT(hpfc_pixel_root(p->f, i, j, &root), HPFC_OK);
+            CHECK_EQ_INT(hpfc_pixel_type(p->f, &root, &type), HPFC_OK);
+            if (type == HPFC_PIXEL_REFINED)
+                check_scans_below(p, &root);
+            else
+                CHECK_EQ_INT(reader_scan_begin(p->f, &root, &sc), HPFC_E_ARG);
+        }
+}
+
 /* Faces: every stretch, dart and region against hpfc_faces_build. */
 static void check_leaf_faces(const packed *p, const hpfc_faces *fc, const hpfc_pixel *px,
                              const word_parts *lw)
@@ -302,6 +429,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
     CHECK_EQ_INT(hpfc_file_get_labels(p.f, &li), HPFC_OK);
     CHECK_EQ_INT(li.edges, hpfc_graph_edge_count(g));
     check_ranks(&p);
+    check_scans(&p);
     hpfc_faces *fc = NULL;
     hpfc_walker *w = NULL;
     CHECK_EQ_INT(hpfc_faces_build(p.f, &fc), HPFC_OK);
