@@ -48,6 +48,8 @@ struct shapes_window {
     labels_leaf leaf;       /* a cut leaf's labels, loaded once */
     uint64_t *leaf_faces, *seg;
     size_t cap_leaf_faces, cap_seg;
+    uint64_t *sort_tmp;     /* id_sort's scratch */
+    size_t cap_sort_tmp;
 };
 
 void shapes_window_free(shapes_window *w)
@@ -71,6 +73,7 @@ void shapes_window_free(shapes_window *w)
     labels_leaf_free(&w->leaf);
     free(w->leaf_faces);
     free(w->seg);
+    free(w->sort_tmp);
     free(w);
 }
 
@@ -529,10 +532,13 @@ static int descend_roots(hpfc_shapes *s, const rect *win)
 
 /* ---- the answer -------------------------------------------------------------------- */
 
-static int cmp_id(const void *a, const void *b)
+/* ids[0 .. n) (each below bound) ascending. */
+static int sort_ids(shapes_window *w, uint64_t *ids, size_t n, uint64_t bound)
 {
-    hpfc_id x = *(const hpfc_id *)a, y = *(const hpfc_id *)b;
-    return (x > y) - (x < y);
+    if (array_grow((void **)&w->sort_tmp, &w->cap_sort_tmp, n + 1, sizeof *w->sort_tmp))
+        return HPFC_E_NOMEM;
+    id_sort(ids, w->sort_tmp, n, bound);
+    return HPFC_OK;
 }
 
 /* Edges' and faces' flags (faces after edges: a face is inside when all
@@ -603,8 +609,8 @@ static int find_features(hpfc_shapes *s)
     }
     if (st)
         return st;
-    if (w->nfeature)
-        qsort(w->feature, w->nfeature, sizeof *w->feature, cmp_id);
+    if ((st = sort_ids(w, w->feature, w->nfeature, s->features)))
+        return st;
     if (array_grow((void **)&w->feature_inside, &w->cap_feature_inside, w->nfeature + 1, 1))
         return HPFC_E_NOMEM;
     for (size_t k = 0; k < w->nfeature && !st; k++) {
@@ -644,13 +650,12 @@ int hpfc_shapes_window(hpfc_shapes *s, int64_t x0, int64_t y0, int64_t x1, int64
     if (!st && (x0 < fi.x0 || y0 < fi.y0 || x1 >= fi.x0 + fi.width || y1 >= fi.y0 + fi.height))
         st = add_face(s, 0, 1);
     shapes_window *w = s->window;
-    if (!st) {
-        if (w->nface)
-            qsort(w->face, w->nface, sizeof *w->face, cmp_id);
-        if (w->nedge)
-            qsort(w->edge, w->nedge, sizeof *w->edge, cmp_id);
+    if (!st)
+        st = sort_ids(w, w->face, w->nface, s->faces);
+    if (!st)
+        st = sort_ids(w, w->edge, w->nedge, s->edges);
+    if (!st)
         st = flag_edges_faces(s, &win);
-    }
     if (!st && (what & HPFC_WINDOW_FEATURES))
         st = find_features(s);
     if (st)
