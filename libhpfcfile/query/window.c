@@ -9,7 +9,7 @@
  * (exact segment-rectangle test; the leaf holds few shape points, so the
  * walk from each crossing's segment is short), and then both its faces do;
  * a face that meets R along no such segment covers all of R (R is
- * connected), so the face at R's south-west corner (hpfc_locate_point)
+ * connected), so the face at R's south-west corner (as hpfc_locate_point)
  * completes the set. Every leaf whose closed box meets the window is
  * visited, so a contact on a leaf's border is seen from the leaf that holds
  * the segment.
@@ -31,6 +31,7 @@
 #include "file.h"
 #include "geometry.h"
 #include "labels.h"
+#include "locate_point.h"
 #include "reader.h"
 #include "shapes.h"
 
@@ -46,8 +47,9 @@ struct shapes_window {
     char *word;
     size_t cap_word;
     labels_leaf leaf;       /* a cut leaf's labels, loaded once */
-    uint64_t *leaf_faces, *seg;
-    size_t cap_leaf_faces, cap_seg;
+    uint64_t *seg;
+    size_t cap_seg;
+    locx_scratch loc;       /* the corner's location, its arrays kept across calls */
     uint64_t *sort_tmp;     /* id_sort's scratch */
     size_t cap_sort_tmp;
 };
@@ -71,8 +73,8 @@ void shapes_window_free(shapes_window *w)
     free(w->feature_inside);
     free(w->word);
     labels_leaf_free(&w->leaf);
-    free(w->leaf_faces);
     free(w->seg);
+    locx_scratch_free(&w->loc);
     free(w->sort_tmp);
     free(w);
 }
@@ -159,11 +161,6 @@ static int rect_within(const rect *a, const rect *b)
 static int rect_within_interior(const rect *a, const rect *b)
 {
     return a->x0 > b->x0 && a->y0 > b->y0 && a->x1 < b->x1 && a->y1 < b->y1;
-}
-
-static int sign128(s128 v)
-{
-    return (v > 0) - (v < 0);
 }
 
 /* How many of r's corners lie strictly left of the line a-b (*pos) and
@@ -418,22 +415,14 @@ static int cut_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_at
      * edge's points, and be one of its sides). */
     if (st || through)
         return st;
-    hpfc_point_location loc;
+    /* hpfc_locate_point's answer, its scratch kept across leaves */
+    locx_answer ans;
     size_t count = 0;
-    if (array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, 8, sizeof *w->leaf_faces))
-        return HPFC_E_NOMEM;
-    st = hpfc_locate_point(s->f, r->x0, r->y0, &loc, w->leaf_faces, w->cap_leaf_faces, &count);
-    if (st == HPFC_E_BUFFER_SMALL) {
-        if (array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, count + 1,
-                       sizeof *w->leaf_faces))
-            return HPFC_E_NOMEM;
-        st = hpfc_locate_point(s->f, r->x0, r->y0, &loc, w->leaf_faces, w->cap_leaf_faces,
-                               &count);
-    }
+    st = locx_locate(s->f, r->x0, r->y0, &w->loc, &ans, &count);
     if (st == HPFC_E_NO_PIXEL) /* r's corner on the domain's far border: outside it */
         return add_face(s, 0, 1);
     for (size_t k = 0; k < count && !st; k++)
-        st = add_face(s, w->leaf_faces[k], 1);
+        st = add_face(s, w->loc.around[k], 1);
     return st;
 }
 
