@@ -128,15 +128,22 @@ static int add_face(hpfc_shapes *s, uint64_t face, int border)
     return HPFC_OK;
 }
 
-static int add_edge(hpfc_shapes *s, uint64_t edge, int border)
+/* Edge `edge` met, and its sides with it: they were added with the edge
+ * before, unless the edge is new or newly found in a border leaf. */
+static int add_edge_sides(hpfc_shapes *s, uint64_t edge, int border)
 {
     shapes_window *w = s->window;
     if (edge >= s->edges)
         return HPFC_E_CORRUPT;
+    if (w->edge_mark[edge] == w->gen && (!border || w->edge_border[edge] == w->gen))
+        return HPFC_OK;
     if (border)
         w->edge_border[edge] = w->gen;
-    if (w->edge_mark[edge] == w->gen)
-        return HPFC_OK;
+    int st = add_face(s, s->left[edge], border);
+    if (!st && s->right[edge] != s->left[edge])
+        st = add_face(s, s->right[edge], border);
+    if (st || w->edge_mark[edge] == w->gen)
+        return st;
     w->edge_mark[edge] = w->gen;
     if (w->nface + w->nedge + w->nfeature >= s->max_items)
         return HPFC_E_OVER_LIMIT;
@@ -321,12 +328,7 @@ static int cut_crossing(hpfc_shapes *s, uint64_t e, uint64_t seg, const rect *bo
     if (st || !hit)
         return st;
     *through |= hit == 2;
-    st = add_edge(s, e, 1);
-    if (!st)
-        st = add_face(s, s->left[e], 1);
-    if (!st)
-        st = add_face(s, s->right[e], 1);
-    return st;
+    return add_edge_sides(s, e, 1);
 }
 
 /* A leaf's word and labels, read once into w->leaf (w->leaf.rec.word.n
@@ -350,11 +352,7 @@ static int add_pieces(hpfc_shapes *s, const labels_pieces *lp, int border)
         uint64_t e;
         st = labels_piece_edge(s->f, lp, q, &e);
         if (!st)
-            st = add_edge(s, e, border);
-        if (!st)
-            st = add_face(s, s->left[e], border);
-        if (!st && s->right[e] != s->left[e])
-            st = add_face(s, s->right[e], border);
+            st = add_edge_sides(s, e, border);
     }
     return st;
 }
