@@ -407,7 +407,7 @@ static const labels_view *labels_of(const hpfc_file *f, bool args_ok, int *st)
 }
 
 /* The bit offset of global leaf g's record, from the block directory. */
-static int record_offset(const labels_view *v, uint64_t g, uint64_t *off)
+static inline int record_offset(const labels_view *v, uint64_t g, uint64_t *off)
 {
     uint64_t block = g >> v->block_shift, k = g & ((UINT64_C(1) << v->block_shift) - 1);
     uint64_t at = block * v->block_record_bits; /* < the directory's bits: g < leaves */
