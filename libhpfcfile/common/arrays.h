@@ -3,7 +3,7 @@
  * doubling, with its capacity beside it), the point locators' short
  * sorted id sets (locate_point.c, locate_batch.c), and a sort of items by
  * 32-bit keys (the batch's points in Morton order, the shapes' darts by
- * vertex).
+ * vertex), and of ids below a bound (a window's lists).
  */
 #ifndef HPFC_ARRAYS_H
 #define HPFC_ARRAYS_H
@@ -11,6 +11,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "hpfc.h"
 
@@ -92,6 +93,39 @@ static inline void key_sort(key_item *items, key_item *tmp, size_t n)
         key_item *t = items;
         items = tmp, tmp = t; /* four passes: the result ends in `items` */
     }
+}
+
+/* ids[0 .. n), each below `bound`, sorted ascending, tmp (n ids) as
+ * scratch: insertion sort for a few, else LSD radix a byte a pass, only
+ * the bytes that ids below `bound` can have (a window's lists: thousands
+ * of ids below a few million, three passes where qsort's comparisons cost
+ * ten times more). */
+static inline void id_sort(uint64_t *ids, uint64_t *tmp, size_t n, uint64_t bound)
+{
+    if (n < 64) {
+        for (size_t i = 1; i < n; i++) {
+            uint64_t t = ids[i];
+            size_t j = i;
+            for (; j > 0 && ids[j - 1] > t; j--)
+                ids[j] = ids[j - 1];
+            ids[j] = t;
+        }
+        return;
+    }
+    uint64_t *from = ids, *to = tmp;
+    for (unsigned byte = 0; byte < 8 && (bound - 1) >> (8 * byte); byte++) {
+        size_t count[257] = {0};
+        for (size_t k = 0; k < n; k++)
+            count[(from[k] >> (8 * byte) & 0xFF) + 1]++;
+        for (unsigned b = 0; b < 256; b++)
+            count[b + 1] += count[b];
+        for (size_t k = 0; k < n; k++)
+            to[count[from[k] >> (8 * byte) & 0xFF]++] = from[k];
+        uint64_t *t = from;
+        from = to, to = t;
+    }
+    if (from != ids)
+        memcpy(ids, from, n * sizeof *ids);
 }
 
 #endif

@@ -9,7 +9,7 @@
  * (exact segment-rectangle test; the leaf holds few shape points, so the
  * walk from each crossing's segment is short), and then both its faces do;
  * a face that meets R along no such segment covers all of R (R is
- * connected), so the face at R's south-west corner (hpfc_locate_point)
+ * connected), so the face at R's south-west corner (as hpfc_locate_point)
  * completes the set. Every leaf whose closed box meets the window is
  * visited, so a contact on a leaf's border is seen from the leaf that holds
  * the segment.
@@ -31,6 +31,7 @@
 #include "file.h"
 #include "geometry.h"
 #include "labels.h"
+#include "locate_point.h"
 #include "reader.h"
 #include "shapes.h"
 
@@ -46,9 +47,11 @@ struct shapes_window {
     char *word;
     size_t cap_word;
     labels_leaf leaf;       /* a cut leaf's labels, loaded once */
-    labels_pieces pieces;   /* an inside leaf's edges */
-    uint64_t *leaf_faces, *seg;
-    size_t cap_leaf_faces, cap_seg;
+    uint64_t *seg;
+    size_t cap_seg;
+    locx_scratch loc;       /* the corner's location, its arrays kept across calls */
+    uint64_t *sort_tmp;     /* id_sort's scratch */
+    size_t cap_sort_tmp;
 };
 
 void shapes_window_free(shapes_window *w)
@@ -70,9 +73,9 @@ void shapes_window_free(shapes_window *w)
     free(w->feature_inside);
     free(w->word);
     labels_leaf_free(&w->leaf);
-    free(w->pieces.edge);
-    free(w->leaf_faces);
     free(w->seg);
+    locx_scratch_free(&w->loc);
+    free(w->sort_tmp);
     free(w);
 }
 
@@ -125,15 +128,22 @@ static int add_face(hpfc_shapes *s, uint64_t face, int border)
     return HPFC_OK;
 }
 
-static int add_edge(hpfc_shapes *s, uint64_t edge, int border)
+/* Edge `edge` met, and its sides with it: they were added with the edge
+ * before, unless the edge is new or newly found in a border leaf. */
+static int add_edge_sides(hpfc_shapes *s, uint64_t edge, int border)
 {
     shapes_window *w = s->window;
     if (edge >= s->edges)
         return HPFC_E_CORRUPT;
+    if (w->edge_mark[edge] == w->gen && (!border || w->edge_border[edge] == w->gen))
+        return HPFC_OK;
     if (border)
         w->edge_border[edge] = w->gen;
-    if (w->edge_mark[edge] == w->gen)
-        return HPFC_OK;
+    int st = add_face(s, s->left[edge], border);
+    if (!st && s->right[edge] != s->left[edge])
+        st = add_face(s, s->right[edge], border);
+    if (st || w->edge_mark[edge] == w->gen)
+        return st;
     w->edge_mark[edge] = w->gen;
     if (w->nface + w->nedge + w->nfeature >= s->max_items)
         return HPFC_E_OVER_LIMIT;
@@ -158,11 +168,6 @@ static int rect_within(const rect *a, const rect *b)
 static int rect_within_interior(const rect *a, const rect *b)
 {
     return a->x0 > b->x0 && a->y0 > b->y0 && a->x1 < b->x1 && a->y1 < b->y1;
-}
-
-static int sign128(s128 v)
-{
-    return (v > 0) - (v < 0);
 }
 
 /* How many of r's corners lie strictly left of the line a-b (*pos) and
@@ -323,12 +328,7 @@ static int cut_crossing(hpfc_shapes *s, uint64_t e, uint64_t seg, const rect *bo
     if (st || !hit)
         return st;
     *through |= hit == 2;
-    st = add_edge(s, e, 1);
-    if (!st)
-        st = add_face(s, s->left[e], 1);
-    if (!st)
-        st = add_face(s, s->right[e], 1);
-    return st;
+    return add_edge_sides(s, e, 1);
 }
 
 /* A leaf's word and labels, read once into w->leaf (w->leaf.rec.word.n
@@ -339,29 +339,58 @@ static int load_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_a
     return labels_leaf_load_word(s->f, leaf, at, &w->word, &w->cap_word, &w->leaf);
 }
 
+/* A leaf's faces and edges from its record's pieces: with crossings, the
+ * faces are their edges' sides: every region of the leaf borders an edge
+ * piece (the pieces cut the leaf into its regions), and each piece has a
+ * region on either side. */
+static int add_pieces(hpfc_shapes *s, const labels_pieces *lp, int border)
+{
+    if (lp->is_private)
+        return add_face(s, lp->face, border);
+    int st = HPFC_OK;
+    for (uint64_t q = 0; !st && q < lp->count; q++) {
+        uint64_t e;
+        st = labels_piece_edge(s->f, lp, q, &e);
+        if (!st)
+            st = add_edge_sides(s, e, border);
+    }
+    return st;
+}
+
 /* A leaf whose closed box lies in the window: its faces and its crossings'
- * edges, from its record's pieces (labels_leaf_pieces: which crossing is
- * on which edge does not matter here). With crossings, the faces are their
- * edges' sides: every region of the leaf borders an edge piece (the pieces
- * cut the leaf into its regions), and each piece has a region on either
- * side. */
+ * edges, from its record alone (labels_leaf_pieces: its word is not read,
+ * which crossing is on which edge does not matter here). */
 static int inside_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_at *at,
                        int border)
 {
-    shapes_window *w = s->window;
-    labels_pieces *lp = &w->pieces;
-    int st = labels_leaf_pieces(s->f, leaf, at, &w->word, &w->cap_word, lp);
-    if (!st && lp->crossings == 0)
-        st = add_face(s, lp->face, border);
-    for (uint32_t k = 0; k < lp->count && !st && lp->crossings; k++) {
-        uint64_t e = lp->edge[k];
-        st = add_edge(s, e, border);
+    labels_pieces lp;
+    int st = labels_leaf_pieces(s->f, leaf, at, &lp);
+    return st ? st : add_pieces(s, &lp, border);
+}
+
+/* Every leaf below a refined pixel whose closed box lies in the window's
+ * interior (compact layout): none is a border leaf, so none needs its
+ * box or its path. A scan of the subtree's type bits (reader_scan) gives
+ * them level by level in rank order, so the records of a level's run
+ * follow each other: a private leaf's extent is known, a stabbed one's is
+ * one directory entry. */
+static int inside_subtree(hpfc_shapes *s, const hpfc_pixel *px)
+{
+    reader_scan sc;
+    uint32_t level, prev_level = UINT32_MAX;
+    uint64_t rank, prev_rank = 0, next = UINT64_MAX;
+    bool is_private;
+    int st = reader_scan_begin(s->f, px, &sc);
+    while (!st && !(st = reader_scan_next(s->f, &sc, &level, &rank, &is_private))) {
+        if (level != prev_level || rank != prev_rank + 1)
+            next = UINT64_MAX; /* a new run: its first record from the directory */
+        labels_pieces lp;
+        st = labels_leaf_pieces_ranked(s->f, level, rank, is_private, &next, &lp);
         if (!st)
-            st = add_face(s, s->left[e], border);
-        if (!st && s->right[e] != s->left[e])
-            st = add_face(s, s->right[e], border);
+            st = add_pieces(s, &lp, 0);
+        prev_level = level, prev_rank = rank;
     }
-    return st;
+    return st == HPFC_E_NO_PIXEL ? HPFC_OK : st;
 }
 
 /* A leaf the window's border cuts: exactly, on r = its box in the window. */
@@ -384,22 +413,14 @@ static int cut_leaf(hpfc_shapes *s, const hpfc_pixel *leaf, const reader_leaf_at
      * edge's points, and be one of its sides). */
     if (st || through)
         return st;
-    hpfc_point_location loc;
+    /* hpfc_locate_point's answer, its scratch kept across leaves */
+    locx_answer ans;
     size_t count = 0;
-    if (array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, 8, sizeof *w->leaf_faces))
-        return HPFC_E_NOMEM;
-    st = hpfc_locate_point(s->f, r->x0, r->y0, &loc, w->leaf_faces, w->cap_leaf_faces, &count);
-    if (st == HPFC_E_BUFFER_SMALL) {
-        if (array_grow((void **)&w->leaf_faces, &w->cap_leaf_faces, count + 1,
-                       sizeof *w->leaf_faces))
-            return HPFC_E_NOMEM;
-        st = hpfc_locate_point(s->f, r->x0, r->y0, &loc, w->leaf_faces, w->cap_leaf_faces,
-                               &count);
-    }
+    st = locx_locate(s->f, r->x0, r->y0, &w->loc, &ans, &count);
     if (st == HPFC_E_NO_PIXEL) /* r's corner on the domain's far border: outside it */
         return add_face(s, 0, 1);
     for (size_t k = 0; k < count && !st; k++)
-        st = add_face(s, w->leaf_faces[k], 1);
+        st = add_face(s, w->loc.around[k], 1);
     return st;
 }
 
@@ -419,7 +440,9 @@ static int rect_meets(const rect *a, const rect *b)
  * `at` what its parent's walk learnt of it, NULL: nothing) whose closed box
  * meets the window. A child's box is its parent's corner plus its cell, as
  * hpfc_pixel_bounds adds them, so only the children that meet the window
- * are read, from their image's type bits read once (reader_children). */
+ * are read, from their image's type bits read once (reader_children). A
+ * refined pixel within the window's interior (compact layout) has only
+ * inside, non-border leaves below it: they are scanned, not descended. */
 static int descend(hpfc_shapes *s, const descent *d, const hpfc_pixel *px, int type,
                    const reader_leaf_at *at, const rect *box)
 {
@@ -431,6 +454,8 @@ static int descend(hpfc_shapes *s, const descent *d, const hpfc_pixel *px, int t
                   box->x1 < win->x1 ? box->x1 : win->x1, box->y1 < win->y1 ? box->y1 : win->y1};
         return cut_leaf(s, px, at, box, &r);
     }
+    if (s->f->compact && rect_within_interior(box, win))
+        return inside_subtree(s, px);
     reader_children children;
     int st = reader_children_begin(s->f, px, &children);
     uint32_t level = px->depth + 1; /* a refined pixel is above the last level */
@@ -494,10 +519,13 @@ static int descend_roots(hpfc_shapes *s, const rect *win)
 
 /* ---- the answer -------------------------------------------------------------------- */
 
-static int cmp_id(const void *a, const void *b)
+/* ids[0 .. n) (each below bound) ascending. */
+static int sort_ids(shapes_window *w, uint64_t *ids, size_t n, uint64_t bound)
 {
-    hpfc_id x = *(const hpfc_id *)a, y = *(const hpfc_id *)b;
-    return (x > y) - (x < y);
+    if (array_grow((void **)&w->sort_tmp, &w->cap_sort_tmp, n + 1, sizeof *w->sort_tmp))
+        return HPFC_E_NOMEM;
+    id_sort(ids, w->sort_tmp, n, bound);
+    return HPFC_OK;
 }
 
 /* Edges' and faces' flags (faces after edges: a face is inside when all
@@ -568,8 +596,8 @@ static int find_features(hpfc_shapes *s)
     }
     if (st)
         return st;
-    if (w->nfeature)
-        qsort(w->feature, w->nfeature, sizeof *w->feature, cmp_id);
+    if ((st = sort_ids(w, w->feature, w->nfeature, s->features)))
+        return st;
     if (array_grow((void **)&w->feature_inside, &w->cap_feature_inside, w->nfeature + 1, 1))
         return HPFC_E_NOMEM;
     for (size_t k = 0; k < w->nfeature && !st; k++) {
@@ -609,13 +637,12 @@ int hpfc_shapes_window(hpfc_shapes *s, int64_t x0, int64_t y0, int64_t x1, int64
     if (!st && (x0 < fi.x0 || y0 < fi.y0 || x1 >= fi.x0 + fi.width || y1 >= fi.y0 + fi.height))
         st = add_face(s, 0, 1);
     shapes_window *w = s->window;
-    if (!st) {
-        if (w->nface)
-            qsort(w->face, w->nface, sizeof *w->face, cmp_id);
-        if (w->nedge)
-            qsort(w->edge, w->nedge, sizeof *w->edge, cmp_id);
+    if (!st)
+        st = sort_ids(w, w->face, w->nface, s->faces);
+    if (!st)
+        st = sort_ids(w, w->edge, w->nedge, s->edges);
+    if (!st)
         st = flag_edges_faces(s, &win);
-    }
     if (!st && (what & HPFC_WINDOW_FEATURES))
         st = find_features(s);
     if (st)

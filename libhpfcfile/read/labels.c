@@ -407,7 +407,7 @@ static const labels_view *labels_of(const hpfc_file *f, bool args_ok, int *st)
 }
 
 /* The bit offset of global leaf g's record, from the block directory. */
-static int record_offset(const labels_view *v, uint64_t g, uint64_t *off)
+static inline int record_offset(const labels_view *v, uint64_t g, uint64_t *off)
 {
     uint64_t block = g >> v->block_shift, k = g & ((UINT64_C(1) << v->block_shift) - 1);
     uint64_t at = block * v->block_record_bits; /* < the directory's bits: g < leaves */
@@ -710,49 +710,103 @@ int labels_leaf_load_word(const hpfc_file *f, const hpfc_pixel *leaf, const read
     return st ? st : load_edges(v, out);
 }
 
-int labels_leaf_pieces(const hpfc_file *f, const hpfc_pixel *leaf, const reader_leaf_at *known,
-                       char **word, size_t *cap, labels_pieces *out)
+/* A leaf's rank among its level's leaves and whether it is private: from
+ * `known` when a walk over its image counted them, else from its pool. */
+static int leaf_rank_kind(const hpfc_file *f, const hpfc_pixel *leaf, const reader_leaf_at *known,
+                          uint64_t *rank, bool *is_private)
 {
-    int st;
-    const labels_view *v = labels_of(f, word && cap && out, &st);
-    if (st)
-        return st;
-    size_t len = 0;
-    uint64_t rank, off;
-    if ((st = read_leaf_word(f, leaf, known, word, cap, &len, &rank)))
-        return st;
-    if (len > UINT32_MAX / 8)
-        return HPFC_E_LIMIT; /* as labels_word_parse */
-    /* a piece per crossing but a stabbing's second, ']' (number_pieces) */
-    uint32_t crossings = 0, seconds = 0;
-    for (size_t k = 0; k < len; k++)
-        crossings += (*word)[k] != '+', seconds += (*word)[k] == ']';
-    uint32_t pieces = crossings - seconds;
-    uint64_t need = crossings ? (uint64_t)pieces * (v->edge_bits + 1) : v->face_bits;
-    if ((st = record_offset(v, v->first_leaf[leaf->depth] + rank, &off)))
-        return st;
-    if (off > v->label_bits || need > v->label_bits - off)
+    if (known && known->rank != UINT64_MAX) { /* reader_children_get checked it */
+        *rank = known->rank;
+        *is_private = known->word == UINT64_MAX;
+        return HPFC_OK;
+    }
+    int priv = 0;
+    int st = labels_leaf_rank(f, leaf, rank);
+    if (!st)
+        st = hpfc_pixel_is_private(f, leaf, &priv);
+    *is_private = priv;
+    return st;
+}
+
+/* Record [off, end) of a leaf of that kind as its pieces. */
+static int record_pieces(const labels_view *v, bool is_private, uint64_t off, uint64_t end,
+                         labels_pieces *out)
+{
+    if (off > end || end > v->label_bits)
         return HPFC_E_CORRUPT;
-    out->crossings = crossings;
-    out->count = pieces;
-    if (!crossings) {
+    uint64_t bits = end - off, unit = (uint64_t)v->edge_bits + 1;
+    out->is_private = is_private;
+    out->off = off;
+    out->count = 0;
+    if (is_private) {
+        if (bits != v->face_bits)
+            return HPFC_E_CORRUPT;
         out->face = format_get(&v->labels, off, v->face_bits);
         return out->face < v->faces ? HPFC_OK : HPFC_E_CORRUPT;
     }
-    if (pieces > out->cap) {
-        uint64_t *e = realloc(out->edge, pieces * sizeof *e);
-        if (!e)
-            return HPFC_E_NOMEM;
-        out->edge = e;
-        out->cap = pieces;
-    }
-    for (uint32_t q = 0; q < pieces; q++) {
-        uint64_t id = format_get(&v->labels, off + (uint64_t)q * (v->edge_bits + 1), v->edge_bits);
-        if (id >= v->edges)
-            return HPFC_E_CORRUPT;
-        out->edge[q] = id;
-    }
+    if (bits == 0 || bits % unit)
+        return HPFC_E_CORRUPT; /* a stabbed leaf has a piece; pieces are whole */
+    out->count = bits / unit;
     return HPFC_OK;
+}
+
+/* Where global leaf g's record ends: the next one's offset, the stream's
+ * end after the last leaf. */
+static int record_end(const labels_view *v, uint64_t g, uint64_t *end)
+{
+    *end = v->label_bits;
+    return g + 1 < v->leaves ? record_offset(v, g + 1, end) : HPFC_OK;
+}
+
+int labels_leaf_pieces(const hpfc_file *f, const hpfc_pixel *leaf, const reader_leaf_at *known,
+                       labels_pieces *out)
+{
+    int st;
+    const labels_view *v = labels_of(f, leaf && out, &st);
+    if (st)
+        return st;
+    uint64_t rank, off, end;
+    bool is_private;
+    if ((st = leaf_rank_kind(f, leaf, known, &rank, &is_private)))
+        return st;
+    uint64_t g = v->first_leaf[leaf->depth] + rank; /* rank < word_pixels: g < leaves */
+    if ((st = record_offset(v, g, &off)) || (st = record_end(v, g, &end)))
+        return st;
+    return record_pieces(v, is_private, off, end, out);
+}
+
+int labels_leaf_pieces_ranked(const hpfc_file *f, uint32_t level, uint64_t rank, bool is_private,
+                              uint64_t *next, labels_pieces *out)
+{
+    int st;
+    const labels_view *v = labels_of(f, next && out && f && level < f->info.levels, &st);
+    if (st)
+        return st;
+    if (rank >= v->first_leaf[level + 1] - v->first_leaf[level])
+        return HPFC_E_ARG;
+    uint64_t g = v->first_leaf[level] + rank, off = *next, end;
+    if (off == UINT64_MAX && (st = record_offset(v, g, &off)))
+        return st;
+    /* a private record's extent is k_F; a stabbed one's from the directory */
+    if (is_private)
+        end = off <= v->label_bits ? off + v->face_bits : off;
+    else if ((st = record_end(v, g, &end)))
+        return st;
+    if ((st = record_pieces(v, is_private, off, end, out)))
+        return st;
+    *next = end;
+    return HPFC_OK;
+}
+
+int labels_piece_edge(const hpfc_file *f, const labels_pieces *p, uint64_t q, uint64_t *edge)
+{
+    int st;
+    const labels_view *v = labels_of(f, p && edge && !p->is_private && q < p->count, &st);
+    if (st)
+        return st;
+    /* off + count * (k_E + 1) <= label_bits: labels_leaf_pieces checked it */
+    *edge = format_get(&v->labels, p->off + q * ((uint64_t)v->edge_bits + 1), v->edge_bits);
+    return *edge < v->edges ? HPFC_OK : HPFC_E_CORRUPT;
 }
 
 int labels_leaf_face(const hpfc_file *f, const labels_leaf *l, uint32_t stretch, uint64_t *face)

@@ -159,20 +159,38 @@ int labels_leaf_load_word(const hpfc_file *file, const hpfc_pixel *leaf,
                           const reader_leaf_at *known, char **word, size_t *cap,
                           labels_leaf *out);
 void labels_leaf_free(labels_leaf *l);
-/* What a leaf's record says without its word's grammar: the edge of each
- * piece (a crossing's, one for both crossings of a stabbing) or a private
- * leaf's face. Enough for a caller that wants the set of the leaf's edges
- * and not which crossing lies on which (a window's leaves inside it): the
- * pieces are counted from the symbols, the grammar is not checked. */
+/* What a leaf's record says without its word: the edge of each piece (a
+ * crossing's, one for both crossings of a stabbing) or a private leaf's
+ * face. Enough for a caller that wants the set of the leaf's edges and
+ * not which crossing lies on which (a window's leaves inside it). Records
+ * follow each other with no gap (§6.5.2), so a record's extent is the
+ * next one's offset (the stream's end after the last leaf) and its pieces
+ * are that extent over k_E + 1; whether the leaf is private comes from its
+ * type bits. No word is decoded: the cost is the directory's two entries
+ * (and the leaf's rank, from `known` when a walk over its image counted it).
+ * A record whose extent is not what its kind needs is HPFC_E_CORRUPT; a
+ * stabbed record of any whole number of pieces is taken as it is (its
+ * word would say how many, full verification checks that they agree). */
 typedef struct labels_pieces {
-    uint32_t crossings;   /* the word's crossings; 0: a private leaf, `face` */
-    uint32_t count;       /* its pieces, edge[0 .. count) */
-    uint64_t *edge;       /* grows to the most pieces yet; free() it */
-    size_t cap;
+    bool is_private;      /* then `face`, else `count` pieces */
     uint64_t face;
+    uint64_t count;       /* pieces, read with labels_piece_edge */
+    uint64_t off;         /* the record's bit offset in the label stream */
 } labels_pieces;
 int labels_leaf_pieces(const hpfc_file *file, const hpfc_pixel *leaf, const reader_leaf_at *known,
-                       char **word, size_t *cap, labels_pieces *out);
+                       labels_pieces *out);
+/* The same for the leaf of `rank` among level `level`'s leaves, of the
+ * kind given (a scan over its image's type bits found both: reader_scan).
+ * *next: where its record starts when the caller knows it (the end of the
+ * record of the level's leaf rank - 1, which this call returned in *next),
+ * UINT64_MAX to read it from the directory; set to where the record ends.
+ * A private leaf's extent is then k_F without a directory read: a run of
+ * leaves costs one directory entry per stabbed leaf. */
+int labels_leaf_pieces_ranked(const hpfc_file *file, uint32_t level, uint64_t rank,
+                              bool is_private, uint64_t *next, labels_pieces *out);
+/* Piece q < p->count's edge id (< the section's edge count, else
+ * HPFC_E_CORRUPT). */
+int labels_piece_edge(const hpfc_file *file, const labels_pieces *p, uint64_t q, uint64_t *edge);
 
 /* The face of stretch `stretch` (< max(word.n, 1)) of a loaded leaf. */
 int labels_leaf_face(const hpfc_file *file, const labels_leaf *l, uint32_t stretch,

@@ -244,6 +244,64 @@ int reader_children_get(const hpfc_file *f, const reader_children *c, uint32_t i
     return HPFC_OK;
 }
 
+/* Starts the scan's run at images [first, last) of `level` (first < last):
+ * the refined pixels before it from the block counts. */
+static int scan_run(const hpfc_file *f, reader_scan *sc, uint32_t level, uint64_t first,
+                    uint64_t last)
+{
+    const file_level *lv = &f->lv[level];
+    if (last > lv->info.images)
+        return HPFC_E_CORRUPT; /* more refined pixels above than images here */
+    pool_pixel px;
+    int st = pool_read_pixel(&lv->pool, &lv->compact, first * lv->image_pixels, &px);
+    if (st)
+        return st;
+    sc->level = level;
+    sc->g = first * lv->image_pixels;
+    sc->end = last * lv->image_pixels; /* <= the level's pixels: open checked them */
+    sc->refined = sc->first_refined = px.refined;
+    return HPFC_OK;
+}
+
+int reader_scan_begin(const hpfc_file *f, const hpfc_pixel *px, reader_scan *sc)
+{
+    uint64_t image;
+    int st = f->compact ? reader_child_image(f, px, &image) : HPFC_E_ARG;
+    if (st)
+        return st == HPFC_E_NO_PIXEL ? HPFC_E_ARG : st;
+    return scan_run(f, sc, px->depth + 1, image, image + 1);
+}
+
+int reader_scan_next(const hpfc_file *f, reader_scan *sc, uint32_t *level, uint64_t *rank,
+                     bool *is_private)
+{
+    for (;;) {
+        if (sc->g == sc->end) { /* the run's refined pixels' children, a level down */
+            if (sc->refined == sc->first_refined)
+                return HPFC_E_NO_PIXEL;
+            int st = scan_run(f, sc, sc->level + 1, sc->first_refined, sc->refined);
+            if (st)
+                return st;
+        }
+        const file_level *lv = &f->lv[sc->level];
+        uint64_t g = sc->g++;
+        unsigned pair = (unsigned)(format_window(&lv->pool, 8 * (g / 32)) << (2 * (g % 32)) >> 62);
+        if (pair == 3 || (pair == 2 && lv->last))
+            return HPFC_E_CORRUPT;
+        if (pair == 2) {
+            if (++sc->refined > lv->compact.refined)
+                return HPFC_E_CORRUPT;
+            continue;
+        }
+        if (g - sc->refined >= lv->info.word_pixels)
+            return HPFC_E_CORRUPT; /* damaged block counts */
+        *level = sc->level;
+        *rank = g - sc->refined;
+        *is_private = pair == 0;
+        return HPFC_OK;
+    }
+}
+
 int hpfc_pixel_parent(const hpfc_pixel *px, hpfc_pixel *out)
 {
     if (!px || !out || px->depth >= HPFC_MAX_LEVELS)

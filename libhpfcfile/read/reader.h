@@ -65,6 +65,28 @@ int reader_children_begin(const hpfc_file *file, const hpfc_pixel *px, reader_ch
 int reader_children_get(const hpfc_file *file, const reader_children *c, uint32_t i, uint32_t j,
                         hpfc_pixel *out, int *type, reader_leaf_at *at);
 
+/* Every leaf below a refined pixel, without a path per pixel (compact
+ * layout only; HPFC_E_ARG otherwise). The subtree's pixels at each level
+ * are one run of images: the child images of the refined pixels of the
+ * run above, which are numbered by their refined rank, so consecutive
+ * (§5.3). A scan reads each run's type pairs in pool order and gives its
+ * leaves in that order, level by level: their ranks among their level's
+ * leaves follow each other within a level. O(pixels of the subtree), one
+ * block count read per level. reader_scan_next: HPFC_OK with a leaf,
+ * HPFC_E_NO_PIXEL after the last, HPFC_E_CORRUPT where the type bits
+ * contradict the level table. */
+typedef struct reader_scan {
+    uint32_t level;         /* the run's level */
+    uint64_t g, end;        /* next pixel of the run and its end (level pixel indices) */
+    uint64_t refined;       /* refined pixels of the level before g */
+    uint64_t first_refined; /* ... before the run: the next run's first image */
+} reader_scan;
+int reader_scan_begin(const hpfc_file *file, const hpfc_pixel *px, reader_scan *sc);
+/* The next leaf: its level, its rank among the level's leaves and whether
+ * it is private (else stabbed). */
+int reader_scan_next(const hpfc_file *file, reader_scan *sc, uint32_t *level, uint64_t *rank,
+                     bool *is_private);
+
 /* A word pixel's word, as hpfc_pixel_word gives it, and in the compact
  * layout its rank among its level's leaves (labels_leaf_rank's): from
  * `known` when a walk over its image counted them (NULL or empty: from one

@@ -68,11 +68,39 @@ static int cmp_slot(const void *a, const void *b)
     return (x->slot > y->slot) - (x->slot < y->slot);
 }
 
+/* A leaf's pieces (labels_leaf_pieces, `known` as a walk gave it or NULL)
+ * against its labels loaded with its word (`a`): private alike, the face
+ * of a private leaf, else as many pieces as the word has and crossing k's
+ * edge at its piece. */
+static void check_pieces(const packed *p, const hpfc_pixel *px, const reader_leaf_at *known,
+                         const labels_leaf *a)
+{
+    labels_pieces lp = {0};
+    uint64_t e = UINT64_MAX;
+    CHECK_EQ_INT(labels_leaf_pieces(p->f, px, known, &lp), HPFC_OK);
+    CHECK_EQ_INT(lp.is_private, a->rec.word.n == 0);
+    CHECK_EQ_INT(lp.off, a->rec.off);
+    if (a->rec.word.n == 0) {
+        uint64_t face = UINT64_MAX;
+        CHECK_EQ_INT(labels_leaf_face(p->f, a, 0, &face), HPFC_OK);
+        CHECK_EQ_INT(lp.face, face);
+        CHECK_EQ_INT(labels_piece_edge(p->f, &lp, 0, &e), HPFC_E_ARG);
+        return;
+    }
+    CHECK_EQ_INT(lp.count, a->rec.word.pieces);
+    for (uint32_t k = 0; k < a->rec.word.n; k++) {
+        CHECK_EQ_INT(labels_piece_edge(p->f, &lp, a->rec.word.piece[k], &e), HPFC_OK);
+        CHECK_EQ_INT(e, a->edge[k]);
+    }
+    CHECK_EQ_INT(labels_piece_edge(p->f, &lp, lp.count, &e), HPFC_E_ARG);
+}
+
 /* The window's shortcuts against the public calls they stand for: a
  * child read from its parent's image (reader_child), a leaf's word with
  * its rank (reader_leaf_word: the rank only in the compact layout) and
  * its labels loaded with that word (labels_leaf_load_word), and its
- * pieces' edges read without the word's grammar (labels_leaf_pieces). */
+ * pieces' edges read from the record's extent without the word
+ * (labels_leaf_pieces), ranked here or from a walk over its image. */
 static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t rank)
 {
     char want[4096], got[4096], *grown = NULL;
@@ -93,20 +121,9 @@ static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t
     CHECK_EQ_INT(b.rec.off, a.rec.off);
     for (uint32_t k = 0; k < a.rec.word.n && k < b.rec.word.n; k++)
         CHECK_EQ_INT(b.edge[k], a.edge[k]);
-    /* the pieces without the grammar: the crossings' edges, each piece
-     * once (a stabbing's two crossings share theirs), or the private face */
-    labels_pieces lp = {0};
-    CHECK_EQ_INT(labels_leaf_pieces(p->f, px, NULL, &grown, &cap, &lp), HPFC_OK);
-    CHECK_EQ_INT(lp.crossings, a.rec.word.n);
-    CHECK_EQ_INT(lp.count, a.rec.word.pieces);
-    for (uint32_t k = 0; k < a.rec.word.n; k++)
-        CHECK_EQ_INT(lp.edge[a.rec.word.piece[k]], a.edge[k]);
-    if (a.rec.word.n == 0) {
-        uint64_t face = UINT64_MAX;
-        CHECK_EQ_INT(labels_leaf_face(p->f, &a, 0, &face), HPFC_OK);
-        CHECK_EQ_INT(lp.face, face);
-    }
-    free(lp.edge);
+    /* the pieces without the word: the crossings' edges, each piece once
+     * (a stabbing's two crossings share theirs), or the private face */
+    check_pieces(p, px, NULL, &a);
     labels_leaf_free(&a);
     labels_leaf_free(&b);
     free(grown);
@@ -146,6 +163,10 @@ static void check_leaf_shortcuts(const packed *p, const hpfc_pixel *px, uint64_t
         uint64_t r = 0;
         CHECK_EQ_INT(reader_leaf_word(p->f, px, &at, got, sizeof got, &len, &r), HPFC_OK);
         CHECK(len == want_len && memcmp(got, want, len) == 0 && r == rank);
+        labels_leaf a2 = {0};
+        CHECK_EQ_INT(labels_leaf_load(p->f, px, want, want_len, &a2), HPFC_OK);
+        check_pieces(p, px, &at, &a2);
+        labels_leaf_free(&a2);
     }
     CHECK_EQ_INT(reader_children_get(p->f, &c, i, UINT32_MAX, &child, &type, &at), HPFC_E_ARG);
 }
@@ -183,6 +204,133 @@ static void check_ranks(const packed *p)
             }
         free(sr[l]);
     }
+}
+
+/* A leaf as a subtree scan gives it. */
+typedef struct scan_leaf {
+    uint32_t level;
+    uint64_t rank;
+    bool is_private;
+    hpfc_pixel px; /* found child by child */
+} scan_leaf;
+
+typedef struct scan_list {
+    scan_leaf *at;
+    size_t n, cap;
+} scan_list;
+
+static int cmp_scan_leaf(const void *a, const void *b)
+{
+    const scan_leaf *x = a, *y = b;
+    if (x->level != y->level)
+        return (x->level > y->level) - (x->level < y->level);
+    return (x->rank > y->rank) - (x->rank < y->rank);
+}
+
+/* The leaves below px by hpfc_pixel_child, numbered by hpfc_leaf_number. */
+static void subtree_leaves(const packed *p, const hpfc_pixel *px, scan_list *out)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(p->f, &fi);
+    for (uint32_t j = 0; j < fi.rows; j++)
+        for (uint32_t i = 0; i < fi.cols; i++) {
+            hpfc_pixel c;
+            int type = -1, is_private = -1;
+            CHECK_EQ_INT(hpfc_pixel_child(p->f, px, i, j, &c), HPFC_OK);
+            CHECK_EQ_INT(hpfc_pixel_type(p->f, &c, &type), HPFC_OK);
+            if (type == HPFC_PIXEL_REFINED) {
+                subtree_leaves(p, &c, out);
+                continue;
+            }
+            if (out->n == out->cap) {
+                out->cap = out->cap ? 2 * out->cap : 64;
+                out->at = realloc(out->at, out->cap * sizeof *out->at);
+                CHECK(out->at != NULL);
+            }
+            scan_leaf *l = &out->at[out->n++];
+            l->level = c.depth;
+            l->px = c;
+            CHECK_EQ_INT(hpfc_leaf_number(p->f, &c, &l->rank), HPFC_OK);
+            CHECK_EQ_INT(hpfc_pixel_is_private(p->f, &c, &is_private), HPFC_OK);
+            l->is_private = is_private;
+        }
+}
+
+/* The scan below refined pixel px (reader_scan, compact only) against its
+ * leaves found child by child, in (level, rank) order; and each leaf's
+ * pieces read in the scan's order, chained from record to record
+ * (labels_leaf_pieces_ranked), against labels_leaf_pieces. */
+static void check_scan(const packed *p, const hpfc_pixel *px)
+{
+    reader_scan sc;
+    if (!p->f->compact) {
+        CHECK_EQ_INT(reader_scan_begin(p->f, px, &sc), HPFC_E_ARG);
+        return;
+    }
+    scan_list want = {0};
+    subtree_leaves(p, px, &want);
+    qsort(want.at, want.n, sizeof *want.at, cmp_scan_leaf);
+    CHECK_EQ_INT(reader_scan_begin(p->f, px, &sc), HPFC_OK);
+    scan_leaf got;
+    size_t n = 0;
+    uint64_t next = UINT64_MAX;
+    int st;
+    while (!(st = reader_scan_next(p->f, &sc, &got.level, &got.rank, &got.is_private))) {
+        CHECK(n < want.n);
+        if (n >= want.n)
+            break;
+        const scan_leaf *w = &want.at[n];
+        CHECK(got.level == w->level && got.rank == w->rank && got.is_private == w->is_private);
+        if (n > 0 && want.at[n - 1].level != got.level)
+            next = UINT64_MAX; /* a new level's run */
+        labels_pieces a, b;
+        CHECK_EQ_INT(labels_leaf_pieces_ranked(p->f, got.level, got.rank, got.is_private, &next,
+                                               &a), HPFC_OK);
+        CHECK_EQ_INT(labels_leaf_pieces(p->f, &w->px, NULL, &b), HPFC_OK);
+        CHECK(a.is_private == b.is_private && a.off == b.off && a.count == b.count &&
+              (!a.is_private || a.face == b.face));
+        n++;
+    }
+    CHECK_EQ_INT(st, HPFC_E_NO_PIXEL);
+    CHECK_EQ_INT(n, want.n);
+    free(want.at);
+}
+
+/* check_scan below px and every refined pixel under it. */
+static void check_scans_below(const packed *p, const hpfc_pixel *px)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(p->f, &fi);
+    check_scan(p, px);
+    for (uint32_t j = 0; j < fi.rows; j++)
+        for (uint32_t i = 0; i < fi.cols; i++) {
+            hpfc_pixel c;
+            int type = -1;
+            CHECK_EQ_INT(hpfc_pixel_child(p->f, px, i, j, &c), HPFC_OK);
+            CHECK_EQ_INT(hpfc_pixel_type(p->f, &c, &type), HPFC_OK);
+            if (type == HPFC_PIXEL_REFINED)
+                check_scans_below(p, &c);
+        }
+}
+
+/* Every refined pixel's subtree scan (the window's inside subtrees); a
+ * leaf has none. */
+static void check_scans(const packed *p)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(p->f, &fi);
+    for (uint32_t j = 0; j < fi.root_rows; j++)
+        for (uint32_t i = 0; i < fi.root_cols; i++) {
+            hpfc_pixel root;
+            int type = -1;
+            reader_scan sc;
+            CHECK_EQ_INT(hpfc_pixel_root(p->f, i, j, &root), HPFC_OK);
+            CHECK_EQ_INT(hpfc_pixel_type(p->f, &root, &type), HPFC_OK);
+            if (type == HPFC_PIXEL_REFINED)
+                check_scans_below(p, &root);
+            else
+                CHECK_EQ_INT(reader_scan_begin(p->f, &root, &sc), HPFC_E_ARG);
+        }
 }
 
 /* Faces: every stretch, dart and region against hpfc_faces_build. */
@@ -281,6 +429,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
     CHECK_EQ_INT(hpfc_file_get_labels(p.f, &li), HPFC_OK);
     CHECK_EQ_INT(li.edges, hpfc_graph_edge_count(g));
     check_ranks(&p);
+    check_scans(&p);
     hpfc_faces *fc = NULL;
     hpfc_walker *w = NULL;
     CHECK_EQ_INT(hpfc_faces_build(p.f, &fc), HPFC_OK);
