@@ -122,7 +122,7 @@ static int choose_domain(builder *b)
             box[0] = x < box[0] ? x : box[0], box[2] = x > box[2] ? x : box[2];
             box[1] = y < box[1] ? y : box[1], box[3] = y > box[3] ? y : box[3];
         }
-    hpfc_domain d;
+    hpfc_domain d = {0};
     int st = domain_of_box(box, &b->p, &d, b->diag);
     if (st)
         return st;
