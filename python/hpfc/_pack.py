@@ -19,12 +19,16 @@ directory beside the output), which every worker must see.
 
 First step of issue 32: .pfc input only (GIS layers go through hpfc-pack);
 the client still holds the whole graph while it cuts the parts and the
-joined tree while it writes.
+joined tree while it writes. The graph is validated part by part on the
+workers (every flaw but a vertex of no edge lies in one root pixel, whose
+part holds every edge through it); after a part finds one, the client
+validates the whole graph once to report it as hpfc-pack does.
 """
 import os
 import tempfile
 
 from . import _hpfc
+from ._errors import Error
 
 LAYOUTS = {"compact": 2, "paper": 1}
 
@@ -80,7 +84,13 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
                                 os.path.join(tmp, "part-%d.ids" % k),
                                 os.path.join(tmp, "part-%d.part" % k), plan, params, k, pure=False)
                        for k in range(plan[7])]
-            paths = c.gather(futures)
+            try:
+                paths = c.gather(futures)
+            except Error:
+                # a part found a flaw of the graph, in its own numbering:
+                # the whole graph's check words it as hpfc-pack does
+                _hpfc._pack_check(os.fspath(input))
+                raise
         finally:
             if cluster is not None:
                 c.close()

@@ -11,7 +11,9 @@
  *   _pack_part    (a worker) builds one part from those two files into a
  *                 part file (spec/part-format.md);
  *   _pack_merge   (the client) reads the part files back, joins them and
- *                 writes the .hpfc atomically, GEOM from the .pfc read again.
+ *                 writes the .hpfc atomically, GEOM from the .pfc read again;
+ *   _pack_check   (the client, after a part failed) validates the whole
+ *                 graph to word its flaw as hpfc_build does.
  *
  * A part's inputs come back through the library's hardened readers (the
  * .pfc parser, the part file reader) and hpfc_build_part checks the ids,
@@ -108,6 +110,51 @@ static int write_ids(const uint32_t *ids, size_t n, const char *path)
     return err;
 }
 
+/* A vertex of no edge. The parts validate their own graphs, and every
+ * other flaw hpfc_graph_validate looks for lies in one root pixel, whose
+ * part holds every edge through it (as hpfc-pack --partitions); only a
+ * vertex of no edge is in no part. */
+static int has_isolated_vertex(const hpfc_graph *g)
+{
+    size_t nv = hpfc_graph_vertex_count(g), k = 0;
+    uint8_t *used = calloc(nv ? nv : 1, 1);
+    if (!used)
+        return 1; /* then hpfc_graph_validate says NOMEM itself */
+    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
+        uint32_t u, v;
+        const int64_t *xy;
+        size_t n;
+        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
+        used[u] = used[v] = 1;
+    }
+    while (k < nv && used[k])
+        k++;
+    free(used);
+    return k < nv;
+}
+
+/* _pack_check(pfc) -> None: the whole graph validated, raising its first
+ * flaw in hpfc_build's words (after a part found one). */
+static PyObject *mod_pack_check(PyObject *m, PyObject *arg)
+{
+    (void)m;
+    const char *pfc = PyUnicode_AsUTF8(arg);
+    if (!pfc)
+        return NULL;
+    hpfc_graph *g = NULL;
+    hpfc_diag d = {0};
+    int st;
+    Py_BEGIN_ALLOW_THREADS
+    st = hpfc_pfc_read_file(pfc, &g, &d);
+    if (!st)
+        st = hpfc_graph_validate(g, &d);
+    Py_END_ALLOW_THREADS
+    hpfc_graph_free(g);
+    if (st)
+        return raise_diag(st, &d, pfc);
+    Py_RETURN_NONE;
+}
+
 /* Part k of parts: a run of root pixels in scanline order. */
 static void part_range(uint64_t roots, uint64_t parts, uint64_t k, uint64_t *first, uint64_t *end)
 {
@@ -128,8 +175,8 @@ static PyObject *mod_pack_cut(PyObject *m, PyObject *args)
     hpfc_graph *g = NULL;
     hpfc_diag d = {0};
     int st = hpfc_pfc_read_file(pfc, &g, &d);
-    if (!st)
-        st = hpfc_graph_validate(g, &d); /* once, whole: the parts' checks would word it otherwise */
+    if (!st && has_isolated_vertex(g))
+        st = hpfc_graph_validate(g, &d); /* in no part's graph: found here, in hpfc_build's words */
     int64_t box[4];
     hpfc_domain dom = {0};
     if (!st) {
@@ -307,6 +354,7 @@ static PyMethodDef pack_methods[] = {
     {"_pack_cut", mod_pack_cut, METH_VARARGS, NULL},
     {"_pack_part", mod_pack_part, METH_VARARGS, NULL},
     {"_pack_merge", mod_pack_merge, METH_VARARGS, NULL},
+    {"_pack_check", mod_pack_check, METH_O, NULL},
     {NULL, NULL, 0, NULL}};
 
 int pyhpfc_pack_add(PyObject *module)
