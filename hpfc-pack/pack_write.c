@@ -133,29 +133,6 @@ static int diag_set_message(hpfc_diag *diag, int status, const char *message)
     return status;
 }
 
-/* The box of the graph's points, for the domain of a build in parts. */
-static void graph_box(const hpfc_graph *g, int64_t box[4])
-{
-    box[0] = box[1] = INT64_MAX, box[2] = box[3] = INT64_MIN;
-    for (size_t v = 0; v < hpfc_graph_vertex_count(g); v++) {
-        int64_t x, y;
-        hpfc_graph_vertex(g, v, &x, &y);
-        box[0] = x < box[0] ? x : box[0], box[2] = x > box[2] ? x : box[2];
-        box[1] = y < box[1] ? y : box[1], box[3] = y > box[3] ? y : box[3];
-    }
-    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
-        uint32_t u, v;
-        const int64_t *xy;
-        size_t n;
-        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
-        for (size_t k = 0; k < 2 * n; k += 2) {
-            box[0] = xy[k] < box[0] ? xy[k] : box[0], box[2] = xy[k] > box[2] ? xy[k] : box[2];
-            box[1] = xy[k + 1] < box[1] ? xy[k + 1] : box[1];
-            box[3] = xy[k + 1] > box[3] ? xy[k + 1] : box[3];
-        }
-    }
-}
-
 /* Part q of k: a run of root pixels in scanline order (bands of rows). */
 static int build_one_part(const hpfc_graph *g, const hpfc_build_params *p, const hpfc_domain *d,
                           const uint32_t *pixels, size_t n, hpfc_tree **out, hpfc_diag *diag)
@@ -174,27 +151,6 @@ static int build_one_part(const hpfc_graph *g, const hpfc_build_params *p, const
     return st;
 }
 
-/* A vertex of no edge: in no part's graph, so no part's check sees it. */
-static int has_isolated_vertex(const hpfc_graph *g)
-{
-    size_t nv = hpfc_graph_vertex_count(g);
-    uint8_t *used = calloc(nv ? nv : 1, 1);
-    if (!used)
-        return -1;
-    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
-        uint32_t u, v;
-        const int64_t *xy;
-        size_t n;
-        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
-        used[u] = used[v] = 1;
-    }
-    size_t k = 0;
-    while (k < nv && used[k])
-        k++;
-    free(used);
-    return k < nv;
-}
-
 /* The tree, built whole or in `partitions` parts one after another, each
  * from the edges near its root pixels, then joined (hpfc_build_part,
  * hpfc_tree_merge): the same tree, with the builder's working arrays for
@@ -204,19 +160,20 @@ static int has_isolated_vertex(const hpfc_graph *g)
  * for but an isolated vertex (two points at one place, a zero-length
  * segment, a short loop, edges that cross or touch) lies at a point of
  * some root pixel, whose part holds every edge through it and validates
- * its graph. So the whole graph's check (64 bytes a point, the one-process
+ * its graph (hpfc_graph_check_whole makes the rest). So the whole graph's check (64 bytes a point, the one-process
  * pack's peak on large maps) runs only when a part finds a flaw, to report
  * it in hpfc_build's very words. */
 static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, uint32_t partitions,
                       hpfc_tree **out, hpfc_diag *diag)
 {
     uint64_t roots = (uint64_t)p->root_cols * p->root_rows;
-    if (partitions <= 1 || p->flat || hpfc_graph_edge_count(g) == 0 || has_isolated_vertex(g))
-        return hpfc_build(g, p, out, diag);
+    if (partitions <= 1 || p->flat || hpfc_graph_check_whole(g, NULL))
+        return hpfc_build(g, p, out, diag); /* which words the flaw */
     int64_t box[4];
     hpfc_domain d;
-    graph_box(g, box);
-    int st = hpfc_build_domain(box, p, &d, diag);
+    int st = hpfc_graph_bounds(g, box);
+    if (!st)
+        st = hpfc_build_domain(box, p, &d, diag);
     size_t k = partitions < roots ? partitions : (size_t)roots;
     hpfc_tree **parts = st ? NULL : calloc(k, sizeof *parts);
     uint32_t *pixels = st ? NULL : malloc((size_t)roots * sizeof *pixels);

@@ -275,6 +275,19 @@ HPFC_API uint32_t hpfc_graph_edge_line(const hpfc_graph *graph, size_t index);
  * no two edges crossing or touching except at a shared end vertex. Exact. */
 HPFC_API int hpfc_graph_validate(const hpfc_graph *graph, hpfc_diag *diag);
 
+/* What hpfc_graph_validate checks that the parts of a split build cannot
+ * (hpfc_build_part validates each part's graph, and every other flaw lies
+ * at a point of one root pixel, whose part holds every edge through it):
+ * a graph of no edge, a vertex of no edge. On either, the whole
+ * hpfc_graph_validate runs, so the flaw is reported as hpfc_build reports
+ * it. O(V) memory, where hpfc_graph_validate needs O(points). */
+HPFC_API int hpfc_graph_check_whole(const hpfc_graph *graph, hpfc_diag *diag);
+
+/* The closed box {xmin, ymin, xmax, ymax} of the graph's vertices and
+ * interior points (lattice units): hpfc_build_domain's input for the
+ * whole map. HPFC_E_ARG for NULL, HPFC_E_EMPTY for a graph of no vertex. */
+HPFC_API int hpfc_graph_bounds(const hpfc_graph *graph, int64_t box[4]);
+
 /* ------------------------------------------------------------------------
  * Plain-text .pfc reader (spec/pfc-format.md). Untrusted input is safe.
  * Checks the syntax and the per-record rules; call hpfc_graph_validate()

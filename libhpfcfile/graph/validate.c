@@ -305,3 +305,28 @@ int hpfc_graph_validate(const hpfc_graph *g, hpfc_diag *diag)
         st = check_planarity(g, diag);
     return st;
 }
+
+int hpfc_graph_check_whole(const hpfc_graph *g, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!g)
+        return diag_set(diag, HPFC_E_ARG, "no graph");
+    if (g->ne == 0 || graph_check_isolated(g, NULL))
+        return hpfc_graph_validate(g, diag);
+    return HPFC_OK;
+}
+
+int hpfc_graph_bounds(const hpfc_graph *g, int64_t box[4])
+{
+    if (!g || !box)
+        return HPFC_E_ARG;
+    if (g->nv == 0)
+        return HPFC_E_EMPTY;
+    box[0] = box[1] = INT64_MAX, box[2] = box[3] = INT64_MIN;
+    for (size_t k = 0; k < g->nv + g->npts; k++) {
+        const int64_t *p = k < g->nv ? g->vxy + 2 * k : g->pts + 2 * (k - g->nv);
+        box[0] = p[0] < box[0] ? p[0] : box[0], box[2] = p[0] > box[2] ? p[0] : box[2];
+        box[1] = p[1] < box[1] ? p[1] : box[1], box[3] = p[1] > box[3] ? p[1] : box[3];
+    }
+    return HPFC_OK;
+}

@@ -47,28 +47,6 @@ static hpfc_build_params params_from(unsigned root_cols, unsigned root_rows, uns
     return p;
 }
 
-static void graph_box(const hpfc_graph *g, int64_t box[4])
-{
-    box[0] = box[1] = INT64_MAX, box[2] = box[3] = INT64_MIN;
-    for (size_t v = 0; v < hpfc_graph_vertex_count(g); v++) {
-        int64_t x, y;
-        hpfc_graph_vertex(g, v, &x, &y);
-        box[0] = x < box[0] ? x : box[0], box[2] = x > box[2] ? x : box[2];
-        box[1] = y < box[1] ? y : box[1], box[3] = y > box[3] ? y : box[3];
-    }
-    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
-        uint32_t u, v;
-        const int64_t *xy;
-        size_t n;
-        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
-        for (size_t k = 0; k < 2 * n; k += 2) {
-            box[0] = xy[k] < box[0] ? xy[k] : box[0], box[2] = xy[k] > box[2] ? xy[k] : box[2];
-            box[1] = xy[k + 1] < box[1] ? xy[k + 1] : box[1];
-            box[3] = xy[k + 1] > box[3] ? xy[k + 1] : box[3];
-        }
-    }
-}
-
 /* The graph as .pfc text of lattice integers (unit exponent 0: the reader
  * gets back the same integers, and the caller sets the unit). */
 static int write_pfc(const hpfc_graph *g, const char *path)
@@ -108,29 +86,6 @@ static int write_ids(const uint32_t *ids, size_t n, const char *path)
     if (fclose(f) && !err)
         err = errno ? errno : EIO;
     return err;
-}
-
-/* A vertex of no edge. The parts validate their own graphs, and every
- * other flaw hpfc_graph_validate looks for lies in one root pixel, whose
- * part holds every edge through it (as hpfc-pack --partitions); only a
- * vertex of no edge is in no part. */
-static int has_isolated_vertex(const hpfc_graph *g)
-{
-    size_t nv = hpfc_graph_vertex_count(g), k = 0;
-    uint8_t *used = calloc(nv ? nv : 1, 1);
-    if (!used)
-        return 1; /* then hpfc_graph_validate says NOMEM itself */
-    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
-        uint32_t u, v;
-        const int64_t *xy;
-        size_t n;
-        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
-        used[u] = used[v] = 1;
-    }
-    while (k < nv && used[k])
-        k++;
-    free(used);
-    return k < nv;
 }
 
 /* _pack_check(pfc) -> None: the whole graph validated, raising its first
@@ -175,14 +130,14 @@ static PyObject *mod_pack_cut(PyObject *m, PyObject *args)
     hpfc_graph *g = NULL;
     hpfc_diag d = {0};
     int st = hpfc_pfc_read_file(pfc, &g, &d);
-    if (!st && has_isolated_vertex(g))
-        st = hpfc_graph_validate(g, &d); /* in no part's graph: found here, in hpfc_build's words */
+    if (!st) /* the parts validate their own graphs: what none of them can see */
+        st = hpfc_graph_check_whole(g, &d);
     int64_t box[4];
     hpfc_domain dom = {0};
-    if (!st) {
-        graph_box(g, box);
+    if (!st)
+        st = hpfc_graph_bounds(g, box);
+    if (!st)
         st = hpfc_build_domain(box, &p, &dom, &d);
-    }
     uint64_t roots = (uint64_t)n0 * m0;
     if (!st && (parts < 1 || parts > roots))
         st = HPFC_E_ARG, snprintf(d.message, sizeof d.message, "partitions must be 1 to %llu",

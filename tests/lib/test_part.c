@@ -33,28 +33,6 @@ static hpfc_build_params params_of(const shape *sh)
     return p;
 }
 
-static void graph_box(const hpfc_graph *g, int64_t box[4])
-{
-    box[0] = box[1] = INT64_MAX, box[2] = box[3] = INT64_MIN;
-    for (size_t v = 0; v < hpfc_graph_vertex_count(g); v++) {
-        int64_t x, y;
-        hpfc_graph_vertex(g, v, &x, &y);
-        box[0] = x < box[0] ? x : box[0], box[2] = x > box[2] ? x : box[2];
-        box[1] = y < box[1] ? y : box[1], box[3] = y > box[3] ? y : box[3];
-    }
-    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
-        uint32_t u, v;
-        const int64_t *xy;
-        size_t n;
-        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
-        for (size_t k = 0; k < n; k++) {
-            box[0] = xy[2 * k] < box[0] ? xy[2 * k] : box[0], box[2] = xy[2 * k] > box[2] ? xy[2 * k] : box[2];
-            box[1] = xy[2 * k + 1] < box[1] ? xy[2 * k + 1] : box[1];
-            box[3] = xy[2 * k + 1] > box[3] ? xy[2 * k + 1] : box[3];
-        }
-    }
-}
-
 /* ---- a part's graph: the edges whose segments' boxes meet its pixels ---- */
 
 typedef struct subgraph {
@@ -273,7 +251,7 @@ static void check_graph(const hpfc_graph *g, const char *what, gen_rng *rng)
         hpfc_diag diag;
         CHECK_EQ_INT(hpfc_build(g, &p, &single, &diag), HPFC_OK);
         int64_t box[4];
-        graph_box(g, box);
+        CHECK_EQ_INT(hpfc_graph_bounds(g, box), HPFC_OK);
         hpfc_domain d;
         CHECK_EQ_INT(hpfc_build_domain(box, &p, &d, &diag), HPFC_OK);
         uint32_t roots = p.root_cols * p.root_rows;
@@ -338,7 +316,7 @@ static bool fixture_init(fixture *f)
     shape sh = {4, 4, 2, 2, 16};
     f->p = params_of(&sh);
     int64_t box[4];
-    graph_box(f->g, box);
+    CHECK_EQ_INT(hpfc_graph_bounds(f->g, box), HPFC_OK);
     CHECK_EQ_INT(hpfc_build_domain(box, &f->p, &f->d, NULL), HPFC_OK);
     size_t n[2] = {0, 0};
     for (uint32_t px = 0; px < 16; px++) {
@@ -361,6 +339,37 @@ static int part_status(const fixture *f, const hpfc_graph *g, const hpfc_build_p
     else
         hpfc_tree_free(t);
     return st;
+}
+
+/* The whole-graph calls a split build needs: the box, and the checks no
+ * part can make. */
+static void test_whole_graph_calls(void)
+{
+    hpfc_graph *g = NULL;
+    int64_t box[4];
+    CHECK_EQ_INT(hpfc_graph_create(&g), HPFC_OK);
+    CHECK_EQ_INT(hpfc_graph_bounds(g, box), HPFC_E_EMPTY);
+    CHECK_EQ_INT(hpfc_graph_bounds(NULL, box), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_graph_check_whole(g, NULL), HPFC_E_EMPTY);
+    hpfc_graph_add_vertex(g, 0, 0, NULL);
+    hpfc_graph_add_vertex(g, 10, 5, NULL);
+    hpfc_graph_add_vertex(g, 4, 4, NULL);
+    hpfc_graph_add_vertex(g, 4, -2, NULL);
+    const int64_t bend[2] = {-3, 7};
+    hpfc_graph_add_edge(g, 0, 1, bend, 1, NULL);
+    CHECK_EQ_INT(hpfc_graph_bounds(g, box), HPFC_OK);
+    CHECK(box[0] == -3 && box[1] == -2 && box[2] == 10 && box[3] == 7);
+    hpfc_diag d;
+    CHECK_EQ_INT(hpfc_graph_check_whole(g, &d), HPFC_E_ISOLATED_VERTEX); /* vertices 2 and 3 */
+    CHECK_EQ_INT(hpfc_graph_validate(g, NULL), HPFC_E_ISOLATED_VERTEX);
+    /* a crossing is a part's to find, not the whole graph's check */
+    hpfc_graph_add_edge(g, 2, 3, NULL, 0, NULL);
+    hpfc_graph_add_vertex(g, 0, 2, NULL);
+    hpfc_graph_add_vertex(g, 8, 2, NULL);
+    hpfc_graph_add_edge(g, 4, 5, NULL, 0, NULL); /* crosses 2-3 at (4, 2) */
+    CHECK_EQ_INT(hpfc_graph_check_whole(g, NULL), HPFC_OK);
+    CHECK_EQ_INT(hpfc_graph_validate(g, NULL), HPFC_E_NONPLANAR);
+    hpfc_graph_free(g);
 }
 
 static void test_part_refusals(const fixture *f)
@@ -451,7 +460,7 @@ static void test_merge_refusals(const fixture *f)
     hpfc_build_params q = params_of(&other);
     hpfc_domain d3;
     int64_t box[4];
-    graph_box(f->g, box);
+    CHECK_EQ_INT(hpfc_graph_bounds(f->g, box), HPFC_OK);
     CHECK_EQ_INT(hpfc_build_domain(box, &q, &d3, NULL), HPFC_OK);
     hpfc_part east3 = {.domain = d3, .root_pixels = f->half[1], .root_pixel_count = 8};
     hpfc_tree *e3 = NULL;
@@ -602,6 +611,7 @@ int main(void)
 {
     snprintf(part_path, sizeof part_path, "/tmp/test_part_%ld.part", (long)getpid());
     test_generated();
+    test_whole_graph_calls();
     fixture f = {0};
     if (fixture_init(&f)) {
         test_part_refusals(&f);
