@@ -136,7 +136,7 @@ bool HPFCWriter::Pack()
     wopts.geometry = g;
     pack_write_stats stats;
     hpfc_diag diag;
-    int st = pack_write(g, &params, 0, &wopts, &info, 0, path_.c_str(), 0, nullptr, nullptr,
+    int st = pack_write(g, &params, nullptr, &wopts, &info, 0, path_.c_str(), 0, nullptr, nullptr,
                         &stats, &diag);
     if (st)
         CPLError(CE_Failure, CPLE_AppDefined, "HPFC: %s: %s", path_.c_str(),

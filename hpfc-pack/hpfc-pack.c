@@ -54,6 +54,7 @@ typedef struct pack_args {
     int layout; /* HPFC_LAYOUT_*: --layout */
     int link_witness; /* --link witness */
     uint32_t partitions; /* --partitions: build in parts, one after another */
+    const char *parts_dir; /* --parts-dir: the parts built by other processes */
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -139,6 +140,13 @@ static void print_help(void)
            "                        then join them: the same file, byte for byte, with\n"
            "                        the builder's working memory for one part at a time\n"
            "                        (at most one part a root pixel; not with --flat)\n"
+           "  --parts-dir DIR       with --partitions: the parts are built by other\n"
+           "                        processes (python3 -m hpfc pack on Dask): their\n"
+           "                        graphs are cut into DIR, the plan printed as one\n"
+           "                        JSON line on standard output, then a line on\n"
+           "                        standard input, 'built' or 'failed', says whether\n"
+           "                        every DIR/part-K.part is there to be joined\n"
+           "                        (docs/interfaces.md section 8)\n"
            "  -l, --layer NAME      GIS input: read layer NAME (repeatable; default: all)\n"
            "  -a_srs SRS, -s_srs SRS\n"
            "                        GIS input: INPUT's coordinates are in SRS (EPSG:4326,\n"
@@ -288,6 +296,10 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->partitions = (uint32_t)n;
         return NULL;
     }
+    if (strcmp(name, "--parts-dir") == 0) {
+        a->parts_dir = v;
+        return v[0] ? NULL : "a directory";
+    }
     if (strcmp(name, "--layer") == 0 || strcmp(name, "-l") == 0) {
         if (a->n_layers == sizeof a->layers / sizeof a->layers[0])
             return "at most 64 layers";
@@ -345,7 +357,8 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
                                         "--invalid",  "--wrap-dateline", "--key",
                                         "--fields",   "--output",   "-o",
                                         "-l",         "-a_srs",     "-s_srs",
-                                        "--layout",   "--link",     "--partitions"};
+                                        "--layout",   "--link",     "--partitions",
+                                        "--parts-dir"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -429,6 +442,11 @@ static int parse_args(int argc, char **argv, pack_args *a)
         return EXIT_USAGE;
     }
     a->to_stdout = strcmp(a->output, "-") == 0;
+    if (a->parts_dir && (a->to_stdout || a->partitions < 1 || a->params.flat)) {
+        complain("--parts-dir: with --partitions N, without --flat, and an OUTPUT other than -"
+                 " (standard output carries the plan)");
+        return EXIT_USAGE;
+    }
     return -1;
 }
 
@@ -902,6 +920,37 @@ static int report_tree(void *user, const hpfc_tree *t, const hpfc_file *f)
     return st ? st : read_levels(f, r);
 }
 
+/* --parts-dir (docs/interfaces.md §8): the plan as one JSON line on
+ * standard output, then one line on standard input: "built" when every
+ * part file is in the directory, "failed" when a part's build failed. */
+static int await_parts(void *user, const part_plan *plan, hpfc_diag *diag)
+{
+    (void)user;
+    const hpfc_domain *d = &plan->domain;
+    printf("{\"parts\": %u, \"domain\": [%lld, %lld, %lld, %lld, %u], \"unit_exp10\": %d, "
+           "\"edges\": %llu, \"root\": [%u, %u], \"refine\": [%u, %u], \"leaf_points\": %u}\n",
+           plan->parts, (long long)d->x0, (long long)d->y0, (long long)d->width,
+           (long long)d->height, d->max_depth, (int)plan->unit_exp10,
+           (unsigned long long)plan->edges, plan->root_cols, plan->root_rows, plan->cols,
+           plan->rows, plan->leaf_points);
+    if (fflush(stdout) != 0) {
+        snprintf(diag->message, sizeof diag->message, "cannot write the plan: %s", strerror(errno));
+        return HPFC_E_IO;
+    }
+    char line[16];
+    if (!fgets(line, sizeof line, stdin)) {
+        snprintf(diag->message, sizeof diag->message,
+                 "standard input ended before the parts were built");
+        return HPFC_E_IO;
+    }
+    if (strcmp(line, "built\n") == 0)
+        return HPFC_OK;
+    snprintf(diag->message, sizeof diag->message, "%s",
+             strcmp(line, "failed\n") == 0 ? "a part's build failed"
+                                            : "standard input: 'built' or 'failed' expected");
+    return HPFC_E_IO; /* the parts' builders' failure, not this process's */
+}
+
 /* Builds, checks the serialised bytes, then writes OUTPUT (pack_write.h);
  * 0 or an exit status (the message is printed). */
 static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report *r)
@@ -912,7 +961,8 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
                                 .geometry = a->no_geometry ? NULL : g};
     pack_write_stats w;
     hpfc_diag diag;
-    int st = pack_write(g, &a->params, a->partitions, &wopts, r->gis ? &r->gis_info : NULL, a->link_witness,
+    pack_parts parts = {.count = a->partitions, .dir = a->parts_dir, .await_parts = await_parts};
+    int st = pack_write(g, &a->params, &parts, &wopts, r->gis ? &r->gis_info : NULL, a->link_witness,
                         a->to_stdout ? NULL : a->output, isatty(2) && !a->quiet, report_tree,
                         r, &w, &diag);
     r->build_t = w.build_t, r->write_t = w.write_t, r->features_t = w.features_t;

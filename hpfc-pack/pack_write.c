@@ -151,54 +151,79 @@ static int build_one_part(const hpfc_graph *g, const hpfc_build_params *p, const
     return st;
 }
 
-/* The tree, built whole or in `partitions` parts one after another, each
- * from the edges near its root pixels, then joined (hpfc_build_part,
- * hpfc_tree_merge): the same tree, with the builder's working arrays for
- * one part at a time.
+/* After the parts failed: hpfc_build's words for a flaw of the graph, or
+ * the parts' own failure (out of memory, a file). */
+static int word_part_failure(const hpfc_graph *g, int st, hpfc_diag *diag)
+{
+    if (st == HPFC_E_NOMEM)
+        return st;
+    hpfc_diag whole;
+    int flaw = hpfc_graph_validate(g, &whole);
+    if (flaw)
+        *diag = whole;
+    return flaw ? flaw : st;
+}
+
+/* The parts built by others (pack_parts.await_parts), read back and joined. */
+static int build_parts_elsewhere(const hpfc_graph *g, const hpfc_build_params *p,
+                                 const pack_parts *parts, hpfc_tree **out, hpfc_diag *diag)
+{
+    part_plan plan;
+    int st = part_dir_cut(g, p, parts->count, parts->dir, &plan, diag);
+    if (!st && (st = parts->await_parts(parts->user, &plan, diag)) != HPFC_OK)
+        return word_part_failure(g, st, diag);
+    if (!st && (st = part_dir_merge(parts->dir, NULL, plan.parts, out, diag)) == HPFC_E_ARG)
+        st = HPFC_E_CORRUPT; /* parts that do not belong together: their files' fault */
+    return st;
+}
+
+/* The tree, built whole, or in parts (pack_parts), each from the edges near
+ * its root pixels, then joined (hpfc_build_part, hpfc_tree_merge): the same
+ * tree, with the builder's working arrays for one part at a time.
  *
  * Validation too goes part by part: every flaw hpfc_graph_validate looks
  * for but an isolated vertex (two points at one place, a zero-length
  * segment, a short loop, edges that cross or touch) lies at a point of
  * some root pixel, whose part holds every edge through it and validates
- * its graph (hpfc_graph_check_whole makes the rest). So the whole graph's check (64 bytes a point, the one-process
- * pack's peak on large maps) runs only when a part finds a flaw, to report
- * it in hpfc_build's very words. */
-static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, uint32_t partitions,
+ * its graph (hpfc_graph_check_whole makes the rest). So the whole graph's
+ * check (64 bytes a point, the one-process pack's peak on large maps) runs
+ * only when a part finds a flaw, to report it in hpfc_build's very words. */
+static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts *parts,
                       hpfc_tree **out, hpfc_diag *diag)
 {
+    if (parts->dir)
+        return build_parts_elsewhere(g, p, parts, out, diag);
     uint64_t roots = (uint64_t)p->root_cols * p->root_rows;
-    if (partitions <= 1 || p->flat || hpfc_graph_check_whole(g, NULL))
+    if (parts->count <= 1 || p->flat || hpfc_graph_check_whole(g, NULL))
         return hpfc_build(g, p, out, diag); /* which words the flaw */
     int64_t box[4];
     hpfc_domain d;
     int st = hpfc_graph_bounds(g, box);
     if (!st)
         st = hpfc_build_domain(box, p, &d, diag);
-    size_t k = partitions < roots ? partitions : (size_t)roots;
-    hpfc_tree **parts = st ? NULL : calloc(k, sizeof *parts);
+    size_t k = parts->count < roots ? parts->count : (size_t)roots;
+    hpfc_tree **trees = st ? NULL : calloc(k, sizeof *trees);
     uint32_t *pixels = st ? NULL : malloc((size_t)roots * sizeof *pixels);
-    if (!st && (!parts || !pixels))
+    if (!st && (!trees || !pixels))
         st = diag_set_message(diag, HPFC_E_NOMEM, "out of memory");
     for (uint64_t px = 0; !st && px < roots; px++)
         pixels[px] = (uint32_t)px;
     for (size_t q = 0; !st && q < k; q++) {
         size_t first = (size_t)(roots * q / k), end = (size_t)(roots * (q + 1) / k);
-        st = build_one_part(g, p, &d, pixels + first, end - first, &parts[q], diag);
+        st = build_one_part(g, p, &d, pixels + first, end - first, &trees[q], diag);
     }
-    if (st && st != HPFC_E_NOMEM) { /* hpfc_build's words for the flaw */
-        int whole = hpfc_graph_validate(g, diag);
-        st = whole ? whole : st;
-    }
+    if (st)
+        st = word_part_failure(g, st, diag);
     if (!st)
-        st = hpfc_tree_merge(parts, k, out, diag);
-    for (size_t q = 0; parts && q < k; q++)
-        hpfc_tree_free(parts[q]);
-    free(parts);
+        st = hpfc_tree_merge(trees, k, out, diag);
+    for (size_t q = 0; trees && q < k; q++)
+        hpfc_tree_free(trees[q]);
+    free(trees);
     free(pixels);
     return st;
 }
 
-int pack_write(const hpfc_graph *g, const hpfc_build_params *p, uint32_t partitions,
+int pack_write(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts *parts,
                const hpfc_write_options *base, const gis_info *gis, int link_witness,
                const char *output, int progress_on, pack_write_hook hook, void *user, pack_write_stats *r,
                hpfc_diag *diag)
@@ -214,7 +239,8 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p, uint32_t partiti
     hpfc_tree *t = NULL;
     stage_time t0 = stage_now();
     progress_show(&bar, "building", 0, 0, 1);
-    int st = build_tree(g, &params, partitions, &t, diag);
+    pack_parts whole = {0};
+    int st = build_tree(g, &params, parts ? parts : &whole, &t, diag);
     progress_end(&bar);
     release_free_memory();
     r->build_t = stage_lap(&t0);

@@ -13,6 +13,7 @@
 #include "clock.h"
 #include "gis_input.h"
 #include "hpfc.h"
+#include "part_dir.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -34,15 +35,28 @@ typedef struct pack_write_stats {
  * before the tree is freed: a status, HPFC_OK to go on. */
 typedef int (*pack_write_hook)(void *user, const hpfc_tree *t, const hpfc_file *f);
 
-/* Builds g with `params` (in `partitions` parts one after another when
- * above 1: the same bytes, hpfc-pack --partitions) and writes it to `output` (NULL: standard output)
+/* How the tree is built: whole (count 0 or 1), in `count` parts one after
+ * another here (dir NULL: hpfc-pack --partitions), or in parts that other
+ * processes build (hpfc-pack --parts-dir, docs/interfaces.md §8): the parts'
+ * graphs are cut into `dir`, then `await_parts` is called and returns when
+ * every DIR/part-K.part is there (HPFC_OK), or with a status: then the
+ * whole graph is validated, to word a flaw a part found as hpfc_build
+ * does. Every way gives the same bytes. */
+typedef struct pack_parts {
+    uint32_t count;
+    const char *dir;
+    int (*await_parts)(void *user, const part_plan *plan, hpfc_diag *diag);
+    void *user;
+} pack_parts;
+
+/* Builds g with `params` as `parts` says (NULL: whole) and writes it to `output` (NULL: standard output)
  * with `base`'s options (CRS, labels, layout, geometry) and, when `gis` holds
  * features, their FEAT, ATTR and EDGF sections, linked to the faces by the
  * topology or, with `link_witness`, by each face's witness point alone
  * (hpfc-pack --link). `progress_on` draws bars on
  * stderr. HPFC_OK, or a status with diag->message saying why (nothing
  * written). */
-int pack_write(const hpfc_graph *g, const hpfc_build_params *params, uint32_t partitions,
+int pack_write(const hpfc_graph *g, const hpfc_build_params *params, const pack_parts *parts,
                const hpfc_write_options *base, const gis_info *gis, int link_witness,
                const char *output, int progress_on, pack_write_hook hook, void *user, pack_write_stats *stats,
                hpfc_diag *diag);

@@ -1,12 +1,16 @@
-"""python3 -m hpfc pack INPUT.pfc -o OUTPUT.hpfc [--workers N | --scheduler ADDRESS]
+"""python3 -m hpfc pack INPUT -o OUTPUT.hpfc [--workers N | --scheduler ADDRESS]
 [--partitions N] [--root N|NxM] [--refine N|NxM] [--leaf-points N]
-[--layout compact|paper] [--shared-dir DIR]
+[--layout compact|paper] [--no-labels] [--no-geometry] [--shared-dir DIR]
+[-- HPFC-PACK-OPTION...]
 
-Packs a .pfc graph in parts on Dask (hpfc.pack): a LocalCluster of N
-workers (default 2), or the cluster whose scheduler is at ADDRESS (started
-with `dask scheduler` and `dask worker ADDRESS`, which must see
---shared-dir). The file is hpfc-pack's with the same options. One line on
-stderr and exit status 1 on failure, 2 on a usage error."""
+Packs a map in parts on Dask (hpfc.pack): a LocalCluster of N workers
+(default 2), or the cluster whose scheduler is at ADDRESS (started with
+`dask scheduler` and `dask worker ADDRESS`, which must see --shared-dir).
+INPUT is anything hpfc-pack reads: a .pfc graph is cut here, other inputs
+(GIS layers, Draco meshes) and the hpfc-pack options after `--`
+(-- --fields all --vertices all, ...) go through hpfc-pack --parts-dir ($HPFC_PACK, else
+PATH). The file is hpfc-pack's with the same options. One line on stderr
+and exit status 1 on failure, 2 on a usage error."""
 import argparse
 import sys
 
@@ -24,7 +28,7 @@ def _size(text):
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="python3 -m hpfc", description=__doc__.split("\n\n")[1])
     sub = parser.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("pack", help="pack a .pfc graph in parts on Dask")
+    p = sub.add_parser("pack", help="pack a map in parts on Dask")
     p.add_argument("input")
     p.add_argument("-o", "--output", required=True)
     where = p.add_mutually_exclusive_group()
@@ -35,8 +39,13 @@ def main(argv=None):
     p.add_argument("--refine", type=_size, default=(2, 2))
     p.add_argument("--leaf-points", type=int, default=16)
     p.add_argument("--layout", choices=("compact", "paper"), default="compact")
+    p.add_argument("--no-labels", action="store_true")
+    p.add_argument("--no-geometry", action="store_true")
     p.add_argument("--shared-dir", help="where the parts' files go (default: beside OUTPUT)")
-    args = parser.parse_args(argv)
+    argv = list(sys.argv[1:] if argv is None else argv)
+    cut = argv.index("--") if "--" in argv else len(argv)
+    args = parser.parse_args(argv[:cut])
+    options = argv[cut + 1:]
     client = None
     try:
         if args.scheduler:
@@ -44,7 +53,8 @@ def main(argv=None):
             client = Client(args.scheduler)
         pack(args.input, args.output, client=client, partitions=args.partitions,
              workers=args.workers, root=args.root, refine=args.refine,
-             leaf_points=args.leaf_points, layout=args.layout, shared_dir=args.shared_dir)
+             leaf_points=args.leaf_points, layout=args.layout, labels=not args.no_labels,
+             geometry=not args.no_geometry, shared_dir=args.shared_dir, options=options)
     except (Error, ValueError, OSError) as e:
         print("python3 -m hpfc pack: %s" % e, file=sys.stderr)
         return 1

@@ -1,30 +1,38 @@
-"""hpfc.pack: a .pfc graph packed in parts on a Dask cluster.
+"""hpfc.pack: a map packed in parts on a Dask cluster.
 
 The library builds a map in parts, each a run of root pixels, and joins
 them into the very tree (and file) a single build gives
-(spec/part-format.md, hpfc.h "A build split into parts"). Here the client
-reads the graph once and cuts each part's graph into a shared directory,
-the workers build the parts into part files, and the client joins them and
-writes the file atomically. The output is byte for byte hpfc-pack's with
-the same options.
+(spec/part-format.md, hpfc.h "A build split into parts"). The parts'
+graphs are cut into a shared directory, the workers build the parts into
+part files, and the parts are joined and the file written atomically
+(docs/interfaces.md section 8). The output is byte for byte hpfc-pack's
+with the same options.
 
     import hpfc
     from dask.distributed import Client
     hpfc.pack("streets.pfc", "streets.hpfc", client=Client("tcp://host:8786"),
               partitions=64, shared_dir="/mnt/shared/tmp")
+    hpfc.pack("counties.gpkg", "counties.hpfc", options=["--fields", "all"])
 
 Without a client, a LocalCluster of `workers` processes (default 2) runs
 for the call. The parts' files live in `shared_dir` (default: a temporary
 directory beside the output), which every worker must see.
 
-First step of issue 32: .pfc input only (GIS layers go through hpfc-pack);
-the client still holds the whole graph while it cuts the parts and the
-joined tree while it writes. The graph is validated part by part on the
-workers (every flaw but a vertex of no edge lies in one root pixel, whose
-part holds every edge through it); after a part finds one, the client
-validates the whole graph once to report it as hpfc-pack does.
+A .pfc graph is read, cut and joined in this process. Any other input (GIS
+layers, Draco meshes), or any hpfc-pack `options`, goes through hpfc-pack
+--parts-dir, which reads, nodes and projects the input once, as hpfc-pack
+alone does, cuts the parts for the workers and joins what they built (with
+the features, attributes and edge links of a GIS layer); reading the input
+in parallel is not done yet. The client holds the whole graph while it cuts
+the parts and the joined tree while it writes. The graph is validated part
+by part on the workers (every flaw but a vertex of no edge lies in one root
+pixel, whose part holds every edge through it); after a part finds one,
+the whole graph is validated once to report it as hpfc-pack does.
 """
+import json
 import os
+import shutil
+import subprocess
 import tempfile
 
 from . import _hpfc
@@ -42,22 +50,103 @@ def _sizes(value, least, what):
     return cols, rows
 
 
-def _build_part(part_pfc, part_ids, out, plan, params, k):
-    """One part, on a worker: the part's graph files to its part file."""
-    x0, y0, width, height, depth, unit, edges, parts = plan
-    root_cols, root_rows, cols, rows, leaf_points = params
-    return _hpfc._pack_part(part_pfc, part_ids, out, unit, edges, x0, y0, width, height, depth,
-                            root_cols, root_rows, cols, rows, leaf_points, k, parts)
+def _build_part(directory, plan, k):
+    """One part, on a worker: DIR/part-K.pfc and .ids to DIR/part-K.part."""
+    return _hpfc._pack_part(directory, plan, k)
+
+
+def _is_pfc(path):
+    """What hpfc-pack reads as .pfc: the suffix, or a first record 'pfc'."""
+    if str(path).endswith(".pfc"):
+        return True
+    try:
+        with open(path, "rb") as f:
+            return f.read(4) in (b"pfc ", b"pfc\t", b"pfc\n")
+    except OSError:
+        return False
+
+
+def _build_parts(client, workers, directory, plan):
+    """Every part built on the cluster (a LocalCluster of `workers` for the
+    call when client is None): their part files' paths, or the first
+    hpfc.Error a part raised."""
+    cluster = None
+    if client is None:
+        from dask.distributed import Client, LocalCluster
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=":0")
+    c = client or Client(cluster)
+    try:
+        futures = [c.submit(_build_part, directory, plan, k, pure=False)
+                   for k in range(plan["parts"])]
+        try:
+            return c.gather(futures), None
+        except Error as e:
+            return None, e
+    finally:
+        if cluster is not None:
+            c.close()
+            cluster.close()
+
+
+def _find_hpfc_pack(given):
+    path = given or os.environ.get("HPFC_PACK") or shutil.which("hpfc-pack")
+    if not path:
+        raise FileNotFoundError("hpfc-pack not found (set HPFC_PACK, or put it on PATH): "
+                                "inputs other than .pfc are read by hpfc-pack --parts-dir")
+    return path
+
+
+def _last_line(stream):
+    stream.seek(0)
+    lines = [ln for ln in stream.read().decode("utf-8", "replace").splitlines() if ln.strip()]
+    return lines[-1] if lines else "no message"
+
+
+def _pack_through_tool(tool, args, client, workers, directory):
+    """hpfc-pack --parts-dir as a co-process: it reads and cuts, prints the
+    plan, the cluster builds the parts, and a line on its standard input
+    ('built' or 'failed') lets it join them and write the file."""
+    with tempfile.TemporaryFile() as err:
+        proc = subprocess.Popen([tool, "-q", "--parts-dir", directory] + args,
+                                stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=err)
+        try:
+            line = proc.stdout.readline()
+            if line:
+                _paths, failure = _build_parts(client, workers, directory, json.loads(line))
+                proc.stdin.write(b"failed\n" if failure else b"built\n")
+                proc.stdin.close()
+                proc.stdout.read()
+            rc = proc.wait()
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+        if rc != 0:
+            text = _last_line(err)
+            if text.startswith("hpfc-pack: "):
+                text = text[len("hpfc-pack: "):]
+            raise Error(rc, "hpfc-pack exit status", text)
+
+
+def _size_arg(pair):
+    return "%dx%d" % pair
 
 
 def pack(input, output, *, client=None, partitions=None, workers=2, root=64, refine=2,  # noqa: A002
-         leaf_points=16, layout="compact", labels=True, geometry=True, shared_dir=None):
-    """Packs the .pfc graph `input` into `output` in `partitions` parts (default:
-    four a worker), built on the Dask `client`'s workers (None: a LocalCluster
-    of `workers` processes for this call). Options as hpfc-pack's --root,
-    --refine, --leaf-points, --layout, --no-labels and --no-geometry; the file
-    is the one hpfc-pack writes with them. Raises hpfc.Error (the input, a
-    part) or ValueError (an option)."""
+         leaf_points=16, layout="compact", labels=True, geometry=True, shared_dir=None,
+         options=(), hpfc_pack=None):
+    """Packs `input` into `output` in `partitions` parts (default: four a
+    worker), built on the Dask `client`'s workers (None: a LocalCluster of
+    `workers` processes for this call). Options as hpfc-pack's --root,
+    --refine, --leaf-points, --layout, --no-labels and --no-geometry; any
+    other hpfc-pack option in `options` (["--fields", "all"], ...). The
+    file is the one hpfc-pack writes with the same options.
+
+    A .pfc input without `options` is read here; any other goes through
+    hpfc-pack (`hpfc_pack`, else $HPFC_PACK, else PATH). Raises hpfc.Error
+    (the input, a part; hpfc-pack's exit status and message as code and
+    text), ValueError (an option) or OSError."""
     root_cols, root_rows = _sizes(root, 1, "root")
     cols, rows = _sizes(refine, 2, "refine")
     if layout not in LAYOUTS:
@@ -69,31 +158,26 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
         partitions = 4 * max(1, n)
     partitions = max(1, min(int(partitions), root_cols * root_rows))
     where = shared_dir or os.path.dirname(os.path.abspath(output))
-    params = (root_cols, root_rows, cols, rows, int(leaf_points))
+    options = [str(o) for o in options]
+    tool = None if _is_pfc(input) and not options else _find_hpfc_pack(hpfc_pack)
     with tempfile.TemporaryDirectory(prefix=".hpfc-parts.", dir=where) as tmp:
+        if tool:
+            args = ["--partitions", str(partitions), "--root", _size_arg((root_cols, root_rows)),
+                    "--refine", _size_arg((cols, rows)), "--leaf-points", str(int(leaf_points)),
+                    "--layout", layout]
+            args += [] if labels else ["--no-labels"]
+            args += [] if geometry else ["--no-geometry"]
+            _pack_through_tool(tool, args + options + ["-o", os.fspath(output), "--",
+                               os.fspath(input)], client, workers, tmp)
+            return
         # the input read and cut first: a bad one fails before any cluster starts
-        plan = _hpfc._pack_cut(os.fspath(input), tmp, *params, partitions)
-        cluster = None
-        if client is None:
-            from dask.distributed import Client, LocalCluster
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=":0")
-        try:
-            c = client or Client(cluster)
-            futures = [c.submit(_build_part, os.path.join(tmp, "part-%d.pfc" % k),
-                                os.path.join(tmp, "part-%d.ids" % k),
-                                os.path.join(tmp, "part-%d.part" % k), plan, params, k, pure=False)
-                       for k in range(plan[7])]
-            try:
-                paths = c.gather(futures)
-            except Error:
-                # a part found a flaw of the graph, in its own numbering:
-                # the whole graph's check words it as hpfc-pack does
-                _hpfc._pack_check(os.fspath(input))
-                raise
-        finally:
-            if cluster is not None:
-                c.close()
-                cluster.close()
+        plan = _hpfc._pack_cut(os.fspath(input), tmp, root_cols, root_rows, cols, rows,
+                               int(leaf_points), partitions)
+        paths, failure = _build_parts(client, workers, tmp, plan)
+        if failure:
+            # a part found a flaw of the graph, in its own numbering:
+            # the whole graph's check words it as hpfc-pack does
+            _hpfc._pack_check(os.fspath(input))
+            raise failure
         _hpfc._pack_merge(list(paths), os.fspath(input), os.fspath(output), LAYOUTS[layout],
                           bool(labels), bool(geometry))

@@ -1,11 +1,16 @@
-"""hpfc.pack and python3 -m hpfc pack: a .pfc packed in parts on a Dask
+"""hpfc.pack and python3 -m hpfc pack: a map packed in parts on a Dask
 LocalCluster of two worker processes gives hpfc-pack's very bytes (the
-oracle), for the fixtures and a generated street network, under several
-partitions and options; a worker killed in the middle of the build is
-replaced by Dask and the file is still the same; a failure leaves no
-output and no parts behind. Skipped where dask.distributed is missing
+oracle): .pfc fixtures and a generated street network under several
+partitions and options, GIS layers (noded ones too, with their features
+and attributes) and Draco meshes through hpfc-pack --parts-dir; a worker
+killed in the middle of the build is replaced by Dask and the file is
+still the same; a failure leaves no output and no parts behind. The
+--parts-dir protocol driven by hand: damaged, swapped and foreign part
+files, a failed part and a closed standard input are refused with a
+message and no output. Skipped where dask.distributed is missing
 (Debian: python3-distributed, which tools/install-deps.sh installs)."""
 
+import json
 import math
 import os
 import random
@@ -18,6 +23,8 @@ import time
 import pytest
 
 from conftest import TESTS_DATA
+
+GIS = sorted((TESTS_DATA / "gis" / "ok").glob("*.geojson")) + sorted((TESTS_DATA / "gis").glob("*.geojson"))
 
 distributed = pytest.importorskip("distributed")
 import hpfc  # noqa: E402
@@ -151,3 +158,137 @@ def test_killed_worker(tmp_path, client, pack_tool):
     assert not errors, errors
     assert (tmp_path / "got.hpfc").read_bytes() == want
     assert killed not in client.run(os.getpid).values()
+
+
+@pytest.mark.parametrize("kwargs,options,parts", [
+    ({}, ["--fields", "all"], (2, 7)),
+    ({"root": (5, 4), "layout": "paper"}, ["--fields", "all", "--vertices", "all"], (5,)),
+])
+def test_gis_same_bytes_as_hpfc_pack(tmp_path, client, pack_tool, kwargs, options, parts):
+    """GIS layers go through hpfc-pack --parts-dir: read, noded and
+    projected once, built on the workers, joined with their features."""
+    flags = list(options)
+    if "root" in kwargs:
+        flags += ["--root", "%dx%d" % kwargs["root"], "--layout", kwargs["layout"]]
+    nodings = set()
+    for src in GIS:
+        want = hpfc_pack(pack_tool, src, tmp_path / "want.hpfc", *flags)
+        r = subprocess.run([pack_tool, "--json", *flags, str(src), "-o", "-"], capture_output=True,
+                           check=False)
+        nodings.add(json.loads(r.stderr.decode().splitlines()[-1])["noding"])
+        for k in parts:
+            out = tmp_path / "got.hpfc"
+            hpfc.pack(src, out, client=client, partitions=k, options=options, hpfc_pack=pack_tool,
+                      **kwargs)
+            assert out.read_bytes() == want, (src.name, options, k)
+            out.unlink()
+    assert nodings & {"partial", "all"}, nodings  # the noded path is in the test
+    assert not list(tmp_path.glob(".hpfc-parts.*")), "the parts' directory was left behind"
+
+
+def test_mesh_same_bytes_as_hpfc_pack(tmp_path, client, pack_tool):
+    src = TESTS_DATA / "mesh" / "ok" / "delaunay_q11.drc"
+    want = hpfc_pack(pack_tool, src, tmp_path / "want.hpfc")
+    hpfc.pack(src, tmp_path / "got.hpfc", client=client, partitions=6, hpfc_pack=pack_tool)
+    assert (tmp_path / "got.hpfc").read_bytes() == want
+
+
+def test_gis_failure_is_hpfc_packs(tmp_path, client, pack_tool):
+    """A layer hpfc-pack refuses: the same words, no output, no parts."""
+    refused = 0
+    for src in sorted((TESTS_DATA / "gis" / "bad").glob("*")):
+        r = subprocess.run([pack_tool, "-q", str(src), "-o", str(tmp_path / "x.hpfc")],
+                           capture_output=True, text=True, check=False)
+        if r.returncode == 0:  # refused only with --invalid reject
+            (tmp_path / "x.hpfc").unlink()
+            continue
+        refused += 1
+        with pytest.raises(hpfc.Error) as e:
+            hpfc.pack(src, tmp_path / "out.hpfc", client=client, partitions=3, hpfc_pack=pack_tool)
+        assert e.value.code == r.returncode, src.name
+        assert "hpfc-pack: " + e.value.message == r.stderr.strip().splitlines()[-1], src.name
+    assert refused >= 5, refused
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def drive(pack_tool, src, out, shared, parts, tamper=None, answer=b"built\n"):
+    """hpfc-pack --parts-dir by hand: the plan read, every part built here,
+    `tamper(shared, plan)` applied, `answer` sent. (exit status, stderr)."""
+    proc = subprocess.Popen([pack_tool, "-q", "--partitions", str(parts), "--parts-dir", str(shared),
+                             str(src), "-o", str(out)], stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    plan = json.loads(proc.stdout.readline())
+    for k in range(plan["parts"]):
+        try:
+            hpfc._hpfc._pack_part(str(shared), plan, k)
+        except hpfc.Error:
+            pass  # the graph's flaw, which hpfc-pack words after "failed"
+    if tamper:
+        tamper(shared, plan)
+    _, err = proc.communicate(answer, timeout=120)
+    return proc.returncode, err.decode()
+
+
+def flip_byte(shared, plan):
+    p = shared / "part-1.part"
+    data = bytearray(p.read_bytes())
+    data[len(data) // 2] ^= 0x10
+    p.write_bytes(bytes(data))
+
+
+def swap_parts(shared, plan):
+    a, b = shared / "part-0.part", shared / "part-1.part"
+    tmp = a.read_bytes()
+    a.write_bytes(b.read_bytes())
+    b.write_bytes(tmp)
+
+
+def test_parts_dir_protocol(tmp_path, pack_tool):
+    src = streets(tmp_path / "s.pfc", 14, 5)
+    want = hpfc_pack(pack_tool, src, tmp_path / "want.hpfc")
+    other = streets(tmp_path / "o.pfc", 14, 6)  # another map, the same plan's shape
+    foreign = tmp_path / "foreign"
+    foreign.mkdir()
+    drive(pack_tool, other, tmp_path / "o.hpfc", foreign, 4)
+    (tmp_path / "o.hpfc").unlink()
+
+    def foreign_part(shared, plan):
+        (shared / "part-2.part").write_bytes((foreign / "part-2.part").read_bytes())
+
+    def missing_part(shared, plan):
+        (shared / "part-3.part").unlink()
+
+    out = tmp_path / "out.hpfc"
+    for n, (tamper, answer, words) in enumerate([
+            (flip_byte, b"built\n", "part-1.part: "),
+            (foreign_part, b"built\n", ""),
+            (missing_part, b"built\n", "part-3.part: "),
+            (None, b"failed\n", "a part's build failed"),
+            (None, b"", "standard input ended before the parts were built"),
+            (None, b"done\n", "'built' or 'failed' expected")]):
+        shared = tmp_path / ("shared-%d" % n)
+        shared.mkdir()
+        rc, err = drive(pack_tool, src, out, shared, 4, tamper, answer)
+        assert rc == 1 and err.startswith("hpfc-pack: ") and words in err, (n, err)
+        assert len(err.strip().splitlines()) == 1, err
+        assert not out.exists(), n
+    for n, tamper in enumerate((None, swap_parts)):  # a part file knows its root pixels
+        shared = tmp_path / ("shared-ok-%d" % n)
+        shared.mkdir()
+        assert drive(pack_tool, src, out, shared, 4, tamper) == (0, "")
+        assert out.read_bytes() == want
+        out.unlink()
+
+
+def test_parts_dir_words_a_flaw_as_hpfc_pack(tmp_path, pack_tool):
+    """A crossing only the parts see: after 'failed', hpfc-pack validates
+    the whole graph and says what hpfc-pack alone says."""
+    bad = tmp_path / "crossing.pfc"
+    bad.write_text("pfc 1\nv 0 0\nv 100 100\nv 0 100\nv 100 0\nv 300 300\nv 400 300\ne 0 1\ne 2 3\ne 4 5\n")
+    alone = subprocess.run([pack_tool, "-q", str(bad), "-o", str(tmp_path / "x.hpfc")],
+                           capture_output=True, text=True, check=False)
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    rc, err = drive(pack_tool, bad, tmp_path / "out.hpfc", shared, 4, answer=b"failed\n")
+    assert (rc, err) == (alone.returncode, alone.stderr)
+    assert "cross" in err, err

@@ -61,4 +61,25 @@ for bad in 0 -1 x 2x; do
 done
 run "$PACK" --partitions 2 --flat "$valid" -o "$tmp/x.hpfc"
 expect_error "--partitions with --flat" "hpfc-pack: " 2
+
+# --parts-dir (the parts built by others; python/tests/test_pack.py drives
+# the whole protocol): its refusals, and a plan line before standard input
+# says the parts are not there
+mkdir "$tmp/parts"
+for args in "--parts-dir $tmp/parts" "--partitions 2 --parts-dir $tmp/parts --flat" \
+    "--partitions 2 --parts-dir"; do
+    # shellcheck disable=SC2086 # the words are the options
+    run "$PACK" $args "$valid" -o "$tmp/x.hpfc"
+    expect_error "$args" "hpfc-pack: " 2
+done
+run "$PACK" --partitions 2 --parts-dir "$tmp/parts" "$valid" -o -
+expect_error "--parts-dir with -o -" "hpfc-pack: " 2
+run "$PACK" --partitions 3 --parts-dir "$tmp/parts" "$valid" -o "$tmp/x.hpfc"
+expect_error "--parts-dir, no answer" "hpfc-pack: $valid: standard input ended before the parts were built" 1
+[ ! -e "$tmp/x.hpfc" ] || fail "--parts-dir, no answer: an output was written"
+python3 -c 'import json, sys; p = json.loads(open(sys.argv[1]).readline()); assert p["parts"] == 3, p' "$tmp/out" ||
+    fail "--parts-dir: no plan line on standard output: $(head -c 200 "$tmp/out")"
+[ -s "$tmp/parts/part-0.pfc" ] && [ -e "$tmp/parts/part-2.ids" ] || fail "--parts-dir: the parts' graphs were not cut"
+run "$PACK" --partitions 3 --parts-dir "$tmp/no/such/dir" "$valid" -o "$tmp/x.hpfc"
+expect_error "--parts-dir, no such directory" "hpfc-pack: " 1
 finish

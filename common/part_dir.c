@@ -1,0 +1,242 @@
+/*
+ * part_dir.c: part_dir.h, a split build's shared directory.
+ */
+#include "part_dir.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int diag_say(hpfc_diag *d, int status, const char *what, const char *why)
+{
+    snprintf(d->message, sizeof d->message, "%.200s: %.100s", what, why);
+    d->status = status;
+    return status;
+}
+
+hpfc_build_params part_plan_params(const part_plan *plan)
+{
+    hpfc_build_params p;
+    hpfc_build_params_default(&p);
+    p.root_cols = plan->root_cols, p.root_rows = plan->root_rows;
+    p.cols = plan->cols, p.rows = plan->rows;
+    p.max_leaf_points = plan->leaf_points;
+    return p;
+}
+
+void part_dir_range(const part_plan *plan, uint32_t k, uint64_t *first, uint64_t *end)
+{
+    uint64_t roots = (uint64_t)plan->root_cols * plan->root_rows;
+    *first = roots * k / plan->parts;
+    *end = roots * ((uint64_t)k + 1) / plan->parts;
+}
+
+static void part_path(char *path, size_t size, const char *dir, uint32_t k, const char *ext)
+{
+    snprintf(path, size, "%s/part-%u.%s", dir, k, ext);
+}
+
+/* The graph as .pfc text of lattice integers (unit exponent 0: the reader
+ * gets back the same integers, and the plan carries the unit). 0 or errno. */
+static int write_pfc(const hpfc_graph *g, const char *path)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return errno ? errno : EIO;
+    fputs("pfc 1\n", f);
+    for (size_t v = 0; v < hpfc_graph_vertex_count(g); v++) {
+        int64_t x, y;
+        hpfc_graph_vertex(g, v, &x, &y);
+        fprintf(f, "v %lld %lld\n", (long long)x, (long long)y);
+    }
+    for (size_t e = 0; e < hpfc_graph_edge_count(g); e++) {
+        uint32_t u, v;
+        const int64_t *xy;
+        size_t n;
+        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
+        fprintf(f, "e %u %u", u, v);
+        for (size_t k = 0; k < 2 * n; k++)
+            fprintf(f, " %lld", (long long)xy[k]);
+        fputc('\n', f);
+    }
+    int err = ferror(f) ? EIO : 0;
+    if (fclose(f) && !err)
+        err = errno ? errno : EIO;
+    return err;
+}
+
+static int write_ids(const uint32_t *ids, size_t n, const char *path)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return errno ? errno : EIO;
+    size_t done = n ? fwrite(ids, sizeof *ids, n, f) : 0;
+    int err = done != n || ferror(f) ? EIO : 0;
+    if (fclose(f) && !err)
+        err = errno ? errno : EIO;
+    return err;
+}
+
+/* One part's graph and ids into dir. */
+static int cut_one(const hpfc_graph *g, const hpfc_build_params *p, const part_plan *plan,
+                   const uint32_t *pixels, uint32_t k, const char *dir, hpfc_diag *d)
+{
+    uint64_t first, end;
+    part_dir_range(plan, k, &first, &end);
+    hpfc_part part = {.domain = plan->domain, .root_pixels = pixels + first,
+                      .root_pixel_count = (size_t)(end - first)};
+    hpfc_graph *sub = NULL;
+    uint32_t *ids = NULL;
+    int st = hpfc_part_graph(g, p, &part, &sub, &ids, d);
+    char path[4096];
+    int err = 0;
+    if (!st) {
+        part_path(path, sizeof path, dir, k, "pfc");
+        err = write_pfc(sub, path);
+        if (!err) {
+            part_path(path, sizeof path, dir, k, "ids");
+            err = write_ids(ids, hpfc_graph_edge_count(sub), path);
+        }
+    }
+    if (err)
+        st = diag_say(d, HPFC_E_IO, path, strerror(err));
+    hpfc_graph_free(sub);
+    hpfc_free(ids);
+    return st;
+}
+
+int part_dir_cut(const hpfc_graph *g, const hpfc_build_params *p, uint32_t parts, const char *dir,
+                 part_plan *plan, hpfc_diag *d)
+{
+    memset(d, 0, sizeof *d);
+    uint64_t roots = (uint64_t)p->root_cols * p->root_rows;
+    if (parts < 1 || roots == 0 || roots > UINT32_MAX)
+        return diag_say(d, HPFC_E_ARG, "partitions", "at least 1, on at most 2^32 root pixels");
+    int st = hpfc_graph_check_whole(g, d);
+    int64_t box[4];
+    memset(plan, 0, sizeof *plan);
+    if (!st)
+        st = hpfc_graph_bounds(g, box);
+    if (!st)
+        st = hpfc_build_domain(box, p, &plan->domain, d);
+    if (st)
+        return st;
+    plan->unit_exp10 = hpfc_graph_unit_exp10(g);
+    plan->edges = hpfc_graph_edge_count(g);
+    plan->parts = parts < roots ? parts : (uint32_t)roots;
+    plan->root_cols = p->root_cols, plan->root_rows = p->root_rows;
+    plan->cols = p->cols, plan->rows = p->rows, plan->leaf_points = p->max_leaf_points;
+    uint32_t *pixels = malloc((size_t)roots * sizeof *pixels);
+    if (!pixels)
+        return diag_say(d, HPFC_E_NOMEM, "cutting the parts", "out of memory");
+    for (uint64_t q = 0; q < roots; q++)
+        pixels[q] = (uint32_t)q;
+    for (uint32_t k = 0; !st && k < plan->parts; k++)
+        st = cut_one(g, p, plan, pixels, k, dir, d);
+    free(pixels);
+    return st;
+}
+
+/* The ids file: u32 each, as many as the part's edges (hpfc_build_part
+ * checks their order and range). */
+static int read_ids(const char *path, size_t count, uint32_t **out, hpfc_diag *d)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return diag_say(d, HPFC_E_IO, path, strerror(errno));
+    uint32_t *ids = malloc((count ? count : 1) * sizeof *ids);
+    int st = ids ? HPFC_OK : diag_say(d, HPFC_E_NOMEM, path, "out of memory");
+    if (!st && (fread(ids, sizeof *ids, count, f) != count || fgetc(f) != EOF))
+        st = diag_say(d, HPFC_E_CORRUPT, path, "not one id for each of the part's edges");
+    fclose(f);
+    if (st)
+        free(ids);
+    else
+        *out = ids;
+    return st;
+}
+
+/* A part's graph file, with the plan's unit: a part that no edge comes near
+ * is an empty file (its pixels are private). */
+static int read_part_graph(const char *path, int32_t unit, hpfc_graph **g, hpfc_diag *d)
+{
+    int st = hpfc_pfc_read_file(path, g, d);
+    if (st == HPFC_E_EMPTY)
+        st = hpfc_graph_create(g);
+    else if (st) {
+        char why[sizeof d->message];
+        memcpy(why, d->message, sizeof why);
+        return diag_say(d, st, path, why[0] ? why : hpfc_strerror(st));
+    }
+    if (!st && hpfc_graph_unit_exp10(*g) != 0)
+        return diag_say(d, HPFC_E_CORRUPT, path, "a part's graph has fractions");
+    if (!st)
+        st = hpfc_graph_set_unit_exp10(*g, unit);
+    return st;
+}
+
+int part_dir_build(const char *dir, const part_plan *plan, uint32_t k, hpfc_diag *d)
+{
+    memset(d, 0, sizeof *d);
+    uint64_t roots = (uint64_t)plan->root_cols * plan->root_rows, first, end;
+    if (plan->parts < 1 || k >= plan->parts || plan->parts > roots)
+        return diag_say(d, HPFC_E_ARG, "part", "no such part in the plan");
+    part_dir_range(plan, k, &first, &end);
+    hpfc_build_params p = part_plan_params(plan);
+    hpfc_graph *g = NULL;
+    hpfc_tree *t = NULL;
+    uint32_t *ids = NULL, *pixels = malloc((size_t)(end - first + 1) * sizeof *pixels);
+    int st = pixels ? HPFC_OK : diag_say(d, HPFC_E_NOMEM, "part", "out of memory");
+    for (uint64_t q = first; !st && q < end; q++)
+        pixels[q - first] = (uint32_t)q;
+    char path[4096];
+    part_path(path, sizeof path, dir, k, "pfc");
+    if (!st)
+        st = read_part_graph(path, plan->unit_exp10, &g, d);
+    part_path(path, sizeof path, dir, k, "ids");
+    if (!st)
+        st = read_ids(path, hpfc_graph_edge_count(g), &ids, d);
+    if (!st) {
+        hpfc_part part = {.domain = plan->domain, .root_pixels = pixels,
+                          .root_pixel_count = (size_t)(end - first), .edge_ids = ids,
+                          .edge_count = plan->edges};
+        st = hpfc_build_part(g, &p, &part, &t, d);
+    }
+    part_path(path, sizeof path, dir, k, "part");
+    if (!st)
+        st = hpfc_tree_write_part(t, path, d);
+    hpfc_tree_free(t);
+    hpfc_graph_free(g);
+    free(ids);
+    free(pixels);
+    return st;
+}
+
+int part_dir_merge(const char *dir, const char *const *paths, uint32_t count, hpfc_tree **out,
+                   hpfc_diag *d)
+{
+    memset(d, 0, sizeof *d);
+    hpfc_tree **parts = calloc(count ? count : 1, sizeof *parts);
+    if (!parts)
+        return diag_say(d, HPFC_E_NOMEM, "joining the parts", "out of memory");
+    char path[4096];
+    int st = HPFC_OK;
+    for (uint32_t k = 0; !st && k < count; k++) {
+        if (paths)
+            snprintf(path, sizeof path, "%s", paths[k]);
+        else
+            part_path(path, sizeof path, dir, k, "part");
+        if ((st = hpfc_tree_read_part(path, &parts[k], d)) != HPFC_OK) {
+            char why[sizeof d->message];
+            memcpy(why, d->message, sizeof why);
+            diag_say(d, st, path, why[0] ? why : hpfc_strerror(st));
+        }
+    }
+    if (!st)
+        st = hpfc_tree_merge(parts, count, out, d);
+    for (uint32_t k = 0; k < count; k++) /* the joined tree holds its own copy */
+        hpfc_tree_free(parts[k]);
+    free(parts);
+    return st;
+}
