@@ -212,8 +212,10 @@ static int level_add_image(tlevel *lv, int64_t gx, int64_t gy, size_t *index)
 {
     size_t per = (size_t)lv->cols * lv->rows;
     if (lv->nimages == lv->cap) {
-        /* a large image (the root, or a flat grid) is allocated alone */
-        size_t ncap = lv->cap ? 2 * lv->cap : per > 4096 ? 1 : 16;
+        /* a large image (the root, or a flat grid) is allocated alone: the
+         * default 64x64 root once took room for 16, 1 MB that every part of
+         * a split build held until the join */
+        size_t ncap = lv->cap ? 2 * lv->cap : per >= 256 ? 1 : 16;
         int64_t *ngx = realloc(lv->img_gx, ncap * sizeof *ngx);
         if (!ngx)
             return HPFC_E_NOMEM;
