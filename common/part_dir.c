@@ -79,16 +79,11 @@ static int write_ids(const uint32_t *ids, size_t n, const char *path)
 }
 
 /* One part's graph and ids into dir. */
-static int cut_one(const hpfc_graph *g, const hpfc_build_params *p, const part_plan *plan,
-                   const uint32_t *pixels, uint32_t k, const char *dir, hpfc_diag *d)
+static int cut_one(const hpfc_cut *cut, uint32_t k, const char *dir, hpfc_diag *d)
 {
-    uint64_t first, end;
-    part_dir_range(plan, k, &first, &end);
-    hpfc_part part = {.domain = plan->domain, .root_pixels = pixels + first,
-                      .root_pixel_count = (size_t)(end - first)};
     hpfc_graph *sub = NULL;
     uint32_t *ids = NULL;
-    int st = hpfc_part_graph(g, p, &part, &sub, &ids, d);
+    int st = hpfc_cut_part_graph(cut, k, &sub, &ids, d);
     char path[4096];
     int err = 0;
     if (!st) {
@@ -127,14 +122,21 @@ int part_dir_cut(const hpfc_graph *g, const hpfc_build_params *p, uint32_t parts
     plan->parts = parts < roots ? parts : (uint32_t)roots;
     plan->root_cols = p->root_cols, plan->root_rows = p->root_rows;
     plan->cols = p->cols, plan->rows = p->rows, plan->leaf_points = p->max_leaf_points;
-    uint32_t *pixels = malloc((size_t)roots * sizeof *pixels);
-    if (!pixels)
+    uint32_t *owner = malloc((size_t)roots * sizeof *owner);
+    if (!owner)
         return diag_say(d, HPFC_E_NOMEM, "cutting the parts", "out of memory");
-    for (uint64_t q = 0; q < roots; q++)
-        pixels[q] = (uint32_t)q;
+    for (uint32_t k = 0; k < plan->parts; k++) {
+        uint64_t first, end;
+        part_dir_range(plan, k, &first, &end);
+        for (uint64_t px = first; px < end; px++)
+            owner[px] = k;
+    }
+    hpfc_cut *cut = NULL;
+    st = hpfc_cut_create(g, p, &plan->domain, owner, plan->parts, &cut, d);
+    free(owner);
     for (uint32_t k = 0; !st && k < plan->parts; k++)
-        st = cut_one(g, p, plan, pixels, k, dir, d);
-    free(pixels);
+        st = cut_one(cut, k, dir, d);
+    hpfc_cut_free(cut);
     return st;
 }
 

@@ -133,16 +133,18 @@ static int diag_set_message(hpfc_diag *diag, int status, const char *message)
     return status;
 }
 
-/* Part q of k: a run of root pixels in scanline order (bands of rows). */
-static int build_one_part(const hpfc_graph *g, const hpfc_build_params *p, const hpfc_domain *d,
-                          const uint32_t *pixels, size_t n, hpfc_tree **out, hpfc_diag *diag)
+/* Part q: a run of root pixels in scanline order (bands of rows), its
+ * graph from the cut. */
+static int build_one_part(const hpfc_cut *cut, const hpfc_build_params *p, const hpfc_domain *d,
+                          uint32_t q, const uint32_t *pixels, size_t n, uint64_t edges, hpfc_tree **out,
+                          hpfc_diag *diag)
 {
     hpfc_part part = {.domain = *d, .root_pixels = pixels, .root_pixel_count = n};
     hpfc_graph *sub = NULL;
     uint32_t *ids = NULL;
-    int st = hpfc_part_graph(g, p, &part, &sub, &ids, diag);
+    int st = hpfc_cut_part_graph(cut, q, &sub, &ids, diag);
     part.edge_ids = ids;
-    part.edge_count = hpfc_graph_edge_count(g);
+    part.edge_count = edges;
     if (!st)
         st = hpfc_build_part(sub, p, &part, out, diag);
     hpfc_graph_free(sub);
@@ -204,14 +206,22 @@ static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pac
     size_t k = parts->count < roots ? parts->count : (size_t)roots;
     hpfc_tree **trees = st ? NULL : calloc(k, sizeof *trees);
     uint32_t *pixels = st ? NULL : malloc((size_t)roots * sizeof *pixels);
-    if (!st && (!trees || !pixels))
+    uint32_t *owner = st ? NULL : malloc((size_t)roots * sizeof *owner);
+    hpfc_cut *cut = NULL;
+    if (!st && (!trees || !pixels || !owner))
         st = diag_set_message(diag, HPFC_E_NOMEM, "out of memory");
-    for (uint64_t px = 0; !st && px < roots; px++)
-        pixels[px] = (uint32_t)px;
+    for (size_t q = 0; !st && q < k; q++)
+        for (size_t px = (size_t)(roots * q / k); px < (size_t)(roots * (q + 1) / k); px++)
+            pixels[px] = (uint32_t)px, owner[px] = (uint32_t)q;
+    if (!st)
+        st = hpfc_cut_create(g, p, &d, owner, (uint32_t)k, &cut, diag);
+    free(owner);
     for (size_t q = 0; !st && q < k; q++) {
         size_t first = (size_t)(roots * q / k), end = (size_t)(roots * (q + 1) / k);
-        st = build_one_part(g, p, &d, pixels + first, end - first, &trees[q], diag);
+        st = build_one_part(cut, p, &d, (uint32_t)q, pixels + first, end - first, hpfc_graph_edge_count(g),
+                            &trees[q], diag);
     }
+    hpfc_cut_free(cut);
     if (st)
         st = word_part_failure(g, st, diag);
     if (!st)

@@ -390,6 +390,27 @@ HPFC_API int hpfc_part_graph_sized(const hpfc_graph *graph, const hpfc_build_par
     hpfc_part_graph_sized((graph), (params), sizeof(hpfc_build_params), (part), (out), (edge_ids), \
                           (diag))
 
+/* Every part's graph from one pass over the whole map's segments, where
+ * hpfc_part_graph makes a pass a part: owner[p] is root pixel p's part
+ * (< part_count) or UINT32_MAX for none, over the root_cols * root_rows
+ * root pixels. The cut keeps `graph`, which must outlive it, and each
+ * part's list of edges (O(segments) time, O(the parts' edges) memory);
+ * hpfc_cut_part_graph then gives part k's graph and edge ids, exactly what
+ * hpfc_part_graph gives for the pixels k owns, in time that grows with
+ * that part only. HPFC_E_ARG as hpfc_part_graph, and for an owner >=
+ * part_count. */
+typedef struct hpfc_cut hpfc_cut;
+HPFC_API int hpfc_cut_create_sized(const hpfc_graph *graph, const hpfc_build_params *params,
+                                   size_t params_size, const hpfc_domain *domain,
+                                   const uint32_t *owner, uint32_t part_count, hpfc_cut **out,
+                                   hpfc_diag *diag);
+#define hpfc_cut_create(graph, params, domain, owner, part_count, out, diag) \
+    hpfc_cut_create_sized((graph), (params), sizeof(hpfc_build_params), (domain), (owner), \
+                          (part_count), (out), (diag))
+HPFC_API int hpfc_cut_part_graph(const hpfc_cut *cut, uint32_t part, hpfc_graph **out,
+                                 uint32_t **edge_ids, hpfc_diag *diag);
+HPFC_API void hpfc_cut_free(hpfc_cut *cut);
+
 /* Builds one part: the subtrees of part->root_pixels. The tree it gives is
  * only for hpfc_tree_merge (the write calls refuse it with HPFC_E_ARG, and
  * hpfc_tree_get_pixel another part's root pixel); its info has the whole

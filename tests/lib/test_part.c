@@ -242,6 +242,79 @@ static hpfc_tree *build_in_parts(const hpfc_graph *g, const hpfc_build_params *p
     return joined;
 }
 
+/* Part q's graph from the cut against the oracle: the edges edge_near_part
+ * keeps for q's pixels, in the map's order, with their vertices in the
+ * map's order. */
+static void check_cut_part(const hpfc_graph *g, const hpfc_domain *d, const hpfc_build_params *p,
+                           const uint32_t *owner, uint32_t q, const hpfc_cut *cut)
+{
+    uint32_t roots = p->root_cols * p->root_rows, *pixels = malloc(roots * sizeof *pixels);
+    size_t npx = 0, ne = hpfc_graph_edge_count(g), nv = hpfc_graph_vertex_count(g);
+    for (uint32_t px = 0; pixels && px < roots; px++)
+        if (owner[px] == q)
+            pixels[npx++] = px;
+    hpfc_graph *sub = NULL;
+    uint32_t *ids = NULL;
+    CHECK_EQ_INT(hpfc_cut_part_graph(cut, q, &sub, &ids, NULL), HPFC_OK);
+    uint8_t *used = calloc(nv ? nv : 1, 1);
+    size_t kept = 0, sub_ne = sub ? hpfc_graph_edge_count(sub) : 0;
+    bool same = pixels && used && sub;
+    for (size_t e = 0; same && e < ne; e++) {
+        if (!edge_near_part(g, e, d, p, pixels, npx))
+            continue;
+        uint32_t u, v, su, sv;
+        const int64_t *xy, *sxy;
+        size_t n, sn;
+        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
+        used[u] = used[v] = 1;
+        same = kept < sub_ne && ids[kept] == e;
+        if (same) {
+            hpfc_graph_edge(sub, kept, &su, &sv, &sxy, &sn);
+            same = sn == n && (n == 0 || memcmp(sxy, xy, 2 * n * sizeof *xy) == 0);
+        }
+        kept++;
+    }
+    same = same && kept == sub_ne;
+    size_t sv = 0; /* the vertices: the used ones, in the map's order */
+    for (size_t v = 0; same && v < nv; v++)
+        if (used[v]) {
+            int64_t x, y, sx, sy;
+            hpfc_graph_vertex(g, v, &x, &y);
+            same = sv < hpfc_graph_vertex_count(sub);
+            if (same) {
+                hpfc_graph_vertex(sub, sv, &sx, &sy);
+                same = sx == x && sy == y;
+            }
+            sv++;
+        }
+    same = same && sv == hpfc_graph_vertex_count(sub);
+    if (!same)
+        fprintf(stderr, "the cut's part %u differs from the oracle's\n", q);
+    CHECK(same);
+    hpfc_graph_free(sub);
+    hpfc_free(ids);
+    free(used);
+    free(pixels);
+}
+
+/* The cut of k parts (and with a tenth of the pixels owned by none)
+ * against the oracle, part by part. */
+static void check_cut(const hpfc_graph *g, const hpfc_domain *d, const hpfc_build_params *p, const uint32_t *owner,
+                      size_t k, gen_rng *rng)
+{
+    uint32_t roots = p->root_cols * p->root_rows, *some = malloc(roots * sizeof *some);
+    for (int holes = 0; some && holes < 2; holes++) {
+        for (uint32_t px = 0; px < roots; px++)
+            some[px] = holes && gen_rng_below(rng, 10) == 0 ? UINT32_MAX : owner[px];
+        hpfc_cut *cut = NULL;
+        CHECK_EQ_INT(hpfc_cut_create(g, p, d, some, (uint32_t)k, &cut, NULL), HPFC_OK);
+        for (uint32_t q = 0; cut && q < k; q++)
+            check_cut_part(g, d, p, some, q, cut);
+        hpfc_cut_free(cut);
+    }
+    free(some);
+}
+
 static void check_graph(const hpfc_graph *g, const char *what, gen_rng *rng)
 {
     static const size_t PART_COUNTS[] = {1, 2, 3, 5};
@@ -260,6 +333,8 @@ static void check_graph(const hpfc_graph *g, const char *what, gen_rng *rng)
             for (int mode = 0; mode < 3; mode++) {
                 size_t k = PART_COUNTS[c];
                 deal_pixels(rng, roots, k, mode == 2, owner);
+                if (mode != 1)
+                    check_cut(g, &d, &p, owner, k, rng);
                 hpfc_tree *joined = build_in_parts(g, &p, &d, owner, k, mode != 0, mode == 1, rng);
                 bool same = joined && same_info(single, joined);
                 if (!same)
@@ -419,6 +494,25 @@ static void test_part_refusals(const fixture *f)
     hpfc_free(pids);
     CHECK_EQ_INT(part_status(f, NULL, &f->p, &part, NULL), HPFC_E_ARG);
     CHECK_EQ_INT(part_status(f, f->g, &f->p, NULL, NULL), HPFC_E_ARG);
+    /* the cut: owners beyond the parts, NULLs, a part beyond */
+    uint32_t owner[16] = {0};
+    hpfc_cut *cut = (hpfc_cut *)&owner; /* must be set to NULL on failure */
+    owner[5] = 2;
+    CHECK_EQ_INT(hpfc_cut_create(f->g, &f->p, &f->d, owner, 2, &cut, NULL), HPFC_E_ARG);
+    CHECK(cut == NULL);
+    CHECK_EQ_INT(hpfc_cut_create(NULL, &f->p, &f->d, owner, 3, &cut, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_cut_create(f->g, &f->p, NULL, owner, 3, &cut, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_cut_create(f->g, &f->p, &f->d, NULL, 3, &cut, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_cut_create(f->g, &f->p, &f->d, owner, 3, NULL, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_cut_create(f->g, &f->p, &f->d, owner, 3, &cut, NULL), HPFC_OK);
+    CHECK_EQ_INT(hpfc_cut_part_graph(cut, 3, &pg, &pids, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_cut_part_graph(cut, 1, &pg, &pids, NULL), HPFC_OK); /* a part of no pixel: no edge */
+    CHECK(pg && hpfc_graph_edge_count(pg) == 0 && hpfc_graph_vertex_count(pg) == 0);
+    hpfc_graph_free(pg);
+    hpfc_free(pids);
+    CHECK_EQ_INT(hpfc_cut_part_graph(NULL, 0, &pg, &pids, NULL), HPFC_E_ARG);
+    hpfc_cut_free(cut);
+    hpfc_cut_free(NULL);
     /* a part's tree is not a file */
     hpfc_tree *t = NULL;
     CHECK_EQ_INT(part_status(f, f->g, &f->p, &part, &t), HPFC_OK);
