@@ -1,11 +1,11 @@
 #!/bin/sh
-# The window query on three files of one kind growing a hundredfold, against
+# The window query on four files of one kind growing four hundredfold, against
 # FlatGeobuf's bbox read of the same window (bench/window_series.py,
 # bench/README.md "Window as the file grows"):
 #   sh bench/run-window-series.sh [RUNS]
 # Release build in build-bench/, its Python package and GDAL plugin used
 # from an install into build-bench/stage; the maps are generated, packed and
-# written as FlatGeobuf once into build-bench/window-series/ (about 1 GB).
+# written as FlatGeobuf once into build-bench/window-series/ (about 6 GB).
 set -eu
 cd "$(dirname "$0")/.."
 [ -d build-bench ] || meson setup build-bench --buildtype=release >/dev/null

@@ -1,16 +1,17 @@
 #!/usr/bin/python3
 """The window query as the file grows: the same window, the same answer,
-files from about 1 MB to a hundred times that (bench/README.md, "Window
-as the file grows").
+files from about 1 MB to a few hundred times that (bench/README.md,
+"Window as the file grows").
 
     /usr/bin/python3 bench/window_series.py DIR HPFC_PACK [RUNS]
 
-Three generated continents (bench/gen_continent.py) with cells of one
+Four generated continents (bench/gen_continent.py) with cells of one
 size and one shape-point density, over nested extents centred on 96 W,
 37 N: 40 x 25 cells over a ninth of the conterminous United States' width
-and height, 120 x 75 over a third, 360 x 225 over all of it. The window is
-1 % of the largest extent, centred: it lies in all three maps and holds
-about the same cells in each. Written once into DIR: the GeoJSON, the
+and height, 120 x 75 over a third, 360 x 225 over all of it, 720 x 450
+over twice it (58.6 M shape points). The window is 1 % of the third
+map's extent, centred: it lies in all four maps and holds about the same
+cells in each. Written once into DIR: the GeoJSON, the
 .hpfc (HPFC_PACK, --key id and --projection none, so that its user
 coordinates are the source's degrees and both formats get the same
 rectangle) and the FlatGeobuf (ogr2ogr).
@@ -38,7 +39,8 @@ from osgeo import gdal, ogr
 gdal.UseExceptions()
 W, S, E, N = -125.0, 25.0, -67.0, 49.0
 CX, CY = (W + E) / 2, (S + N) / 2
-SERIES = [("small", 40, 25, 9), ("medium", 120, 75, 3), ("large", 360, 225, 1)]
+SERIES = [("small", 40, 25, 9), ("medium", 120, 75, 3), ("large", 360, 225, 1),
+          ("huge", 720, 450, 0.5)]
 K = 40  # shape points inside each cell side
 WINDOW = (CX - (E - W) * 0.05, CY - (N - S) * 0.05, CX + (E - W) * 0.05, CY + (N - S) * 0.05)
 
@@ -89,7 +91,7 @@ def main():
     runs = int(sys.argv[3]) if len(sys.argv) > 3 else 5
     os.makedirs(dirname, exist_ok=True)
     have_driver = gdal.GetDriverByName("HPFC") is not None
-    print(f"window {['%.3f' % v for v in WINDOW]} (1 % of the largest extent), best of {runs}, "
+    print(f"window {['%.3f' % v for v in WINDOW]} (1 % of the third extent), best of {runs}, "
           "CPU ms")
     print(f"{'file':8s} {'hpfc MB':>8s} {'fgb MB':>7s} {'open+index':>10s} {'window':>8s} "
           f"{'features':>8s} {'faces':>6s} {'edges':>6s} {'fgb bbox':>9s} {'fgb n':>6s} "
