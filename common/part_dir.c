@@ -184,6 +184,8 @@ int part_dir_build(const char *dir, const part_plan *plan, uint32_t k, hpfc_diag
     uint64_t roots = (uint64_t)plan->root_cols * plan->root_rows, first, end;
     if (plan->parts < 1 || k >= plan->parts || plan->parts > roots)
         return diag_say(d, HPFC_E_ARG, "part", "no such part in the plan");
+    if (roots > ((uint64_t)1 << 31)) /* the builder's bound, before the pixels are listed */
+        return diag_say(d, HPFC_E_ARG, "plan", "more root pixels than a build takes");
     part_dir_range(plan, k, &first, &end);
     hpfc_build_params p = part_plan_params(plan);
     hpfc_graph *g = NULL;

@@ -280,6 +280,22 @@ def test_parts_dir_protocol(tmp_path, pack_tool):
         out.unlink()
 
 
+def test_part_refuses_a_bad_plan(tmp_path, pack_tool):
+    """A worker's plan comes from a JSON line: one that does not hold
+    together is an error, never a crash or a huge allocation."""
+    src = streets(tmp_path / "s.pfc", 8, 2)
+    plan = hpfc._hpfc._pack_cut(str(src), str(tmp_path), 4, 4, 2, 2, 16, 3)
+    assert hpfc._hpfc._pack_part(str(tmp_path), plan, 2).endswith("part-2.part")
+    for change in ({"root": [2**32 - 1, 2**32 - 1], "parts": 1}, {"parts": 0}, {"parts": 99},
+                   {"domain": [0, 0, 0, 0, 3]}, {"edges": 0}, {"unit_exp10": 99}):
+        bad = dict(plan, **change)
+        with pytest.raises(hpfc.Error):
+            hpfc._hpfc._pack_part(str(tmp_path), bad, 0)
+    for bad in ({}, {"parts": "x"}, dict(plan, domain=[1, 2])):
+        with pytest.raises((TypeError, ValueError, OverflowError)):
+            hpfc._hpfc._pack_part(str(tmp_path), bad, 0)
+
+
 def test_parts_dir_words_a_flaw_as_hpfc_pack(tmp_path, pack_tool):
     """A crossing only the parts see: after 'failed', hpfc-pack validates
     the whole graph and says what hpfc-pack alone says."""
