@@ -33,6 +33,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 import tempfile
 
 from . import _hpfc
@@ -108,7 +109,9 @@ def _pack_through_tool(tool, args, client, workers, directory):
     plan, the cluster builds the parts, and a line on its standard input
     ('built' or 'failed') lets it join them and write the file."""
     with tempfile.TemporaryFile() as err:
-        proc = subprocess.Popen([tool, "-q", "--parts-dir", directory] + args,
+        # not -q: its notes (a guessed SRS, ...) are passed on; its report,
+        # after the plan on standard output, is read and dropped
+        proc = subprocess.Popen([tool, "--parts-dir", directory] + args,
                                 stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=err)
         try:
             line = proc.stdout.readline()
@@ -127,6 +130,10 @@ def _pack_through_tool(tool, args, client, workers, directory):
             if text.startswith("hpfc-pack: "):
                 text = text[len("hpfc-pack: "):]
             raise Error(rc, "hpfc-pack exit status", text)
+        err.seek(0)
+        warnings = err.read()
+        if warnings:  # what hpfc-pack says of the input (a guessed SRS, ...)
+            sys.stderr.write(warnings.decode("utf-8", "replace"))
 
 
 def _size_arg(pair):

@@ -14,6 +14,7 @@ import json
 import math
 import os
 import random
+import shutil
 import signal
 import subprocess
 import sys
@@ -184,6 +185,32 @@ def test_gis_same_bytes_as_hpfc_pack(tmp_path, client, pack_tool, kwargs, option
             out.unlink()
     assert nodings & {"partial", "all"}, nodings  # the noded path is in the test
     assert not list(tmp_path.glob(".hpfc-parts.*")), "the parts' directory was left behind"
+
+
+def test_gis_notes_passed_on(tmp_path, client, pack_tool, capfd):
+    """hpfc-pack's notes on the input (a guessed SRS, rings noded, ...)
+    reach the caller's standard error, word for word."""
+    # a layer without an SRS, in the longitude/latitude range: hpfc-pack notes WGS 84
+    ogr2ogr = shutil.which("ogr2ogr")
+    if not ogr2ogr:
+        pytest.skip("ogr2ogr (gdal-bin) not installed")
+    bare = tmp_path / "bare.shp"
+    subprocess.run([ogr2ogr, "-f", "ESRI Shapefile", "-nlt", "PROMOTE_TO_MULTI", "-where",
+                    "OGR_GEOMETRY='Polygon' OR OGR_GEOMETRY='MultiPolygon'", str(bare),
+                    str(TESTS_DATA / "gis" / "ok" / "world.geojson")], check=True, capture_output=True)
+    bare.with_suffix(".prj").unlink()
+    noted = 0
+    for src in GIS + [bare]:
+        r = subprocess.run([pack_tool, str(src), "-o", str(tmp_path / "x.hpfc")],
+                           capture_output=True, text=True, check=False)
+        (tmp_path / "x.hpfc").unlink()
+        capfd.readouterr()
+        hpfc.pack(src, tmp_path / "got.hpfc", client=client, partitions=3, hpfc_pack=pack_tool)
+        (tmp_path / "got.hpfc").unlink()
+        notes = [ln for ln in capfd.readouterr().err.splitlines() if ln.startswith("hpfc-pack: ")]
+        assert notes == r.stderr.splitlines(), src.name
+        noted += bool(notes)
+    assert noted >= 1  # a fixture with a note is in the test
 
 
 def test_mesh_same_bytes_as_hpfc_pack(tmp_path, client, pack_tool):
