@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "arrays.h"
 #include "graph.h"
 #include "sized.h"
 
@@ -41,27 +42,21 @@ static int64_t clamp(int64_t v, int64_t lo, int64_t hi)
     return v < lo ? lo : v > hi ? hi : v;
 }
 
-/* A (part, edge) pair, grown as edges are met. */
+/* The (part, edge) pairs, grown as edges are met. */
+typedef struct pair {
+    uint32_t part, edge;
+} pair;
+
 typedef struct pairs {
-    uint32_t *part, *edge;
+    pair *v;
     size_t n, cap;
 } pairs;
 
 static int pairs_add(pairs *ps, uint32_t part, uint32_t e)
 {
-    if (ps->n == ps->cap) {
-        size_t ncap = ps->cap ? 2 * ps->cap : 1024;
-        uint32_t *np = realloc(ps->part, ncap * sizeof *np);
-        if (!np)
-            return HPFC_E_NOMEM;
-        ps->part = np;
-        uint32_t *ne = realloc(ps->edge, ncap * sizeof *ne);
-        if (!ne)
-            return HPFC_E_NOMEM;
-        ps->edge = ne;
-        ps->cap = ncap;
-    }
-    ps->part[ps->n] = part, ps->edge[ps->n++] = e;
+    if (array_reserve((void **)&ps->v, &ps->cap, ps->n + 1, sizeof *ps->v, 1024))
+        return HPFC_E_NOMEM;
+    ps->v[ps->n++] = (pair){part, e};
     return HPFC_OK;
 }
 
@@ -109,7 +104,7 @@ static int group_pairs(const pairs *ps, hpfc_cut *c)
     if (!c->start || !c->edge)
         return HPFC_E_NOMEM;
     for (size_t k = 0; k < ps->n; k++)
-        c->start[ps->part[k] + 1]++;
+        c->start[ps->v[k].part + 1]++;
     for (uint32_t q = 0; q < c->parts; q++)
         c->start[q + 1] += c->start[q];
     uint32_t *next = malloc(((size_t)c->parts ? c->parts : 1) * sizeof *next);
@@ -117,7 +112,7 @@ static int group_pairs(const pairs *ps, hpfc_cut *c)
         return HPFC_E_NOMEM;
     memcpy(next, c->start, (size_t)c->parts * sizeof *next);
     for (size_t k = 0; k < ps->n; k++)
-        c->edge[next[ps->part[k]]++] = ps->edge[k];
+        c->edge[next[ps->v[k].part]++] = ps->v[k].edge;
     free(next);
     return HPFC_OK;
 }
@@ -166,8 +161,7 @@ int hpfc_cut_create_sized(const hpfc_graph *g, const hpfc_build_params *params_a
         st = group_pairs(&ps, c);
     }
     free(seen);
-    free(ps.part);
-    free(ps.edge);
+    free(ps.v);
     if (st) {
         hpfc_cut_free(c);
         return diag_set(diag, st, "out of memory");
