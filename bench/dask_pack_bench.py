@@ -23,7 +23,8 @@ def main():
     hpfc.pack(src, out, client=c, partitions=n, shared_dir="/tmp", options=sys.argv[4:])
     wall = time.perf_counter() - t0
     # the only child waited for so far: hpfc-pack, when it ran (not the nannies)
-    tool_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+    ran_tool = not src.endswith(".pfc") or len(sys.argv) > 4
+    tool_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024 if ran_tool else float("nan")
     peaks = c.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
     client_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print("wall %.2f s, client peak %.0f MB, hpfc-pack peak %.0f MB, worker peaks %s MB"
