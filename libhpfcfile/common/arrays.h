@@ -44,10 +44,8 @@ static inline int array_grow(void **p, size_t *cap, size_t n, size_t size)
     return array_reserve(p, cap, n, size, 16);
 }
 
-/* Sorts v[0 .. n) ascending and drops repeats; returns the new length.
- * The lists are a leaf's faces or their features: a handful, so insertion
- * sort. */
-static inline size_t scratch_sort_unique(uint64_t *v, size_t n)
+/* Insertion sort of v[0 .. n) ascending: for the short lists below. */
+static inline void insertion_sort_u64(uint64_t *v, size_t n)
 {
     for (size_t i = 1; i < n; i++) {
         uint64_t t = v[i];
@@ -56,6 +54,14 @@ static inline size_t scratch_sort_unique(uint64_t *v, size_t n)
             v[j] = v[j - 1];
         v[j] = t;
     }
+}
+
+/* Sorts v[0 .. n) ascending and drops repeats; returns the new length.
+ * The lists are a leaf's faces or their features: a handful, so insertion
+ * sort. */
+static inline size_t scratch_sort_unique(uint64_t *v, size_t n)
+{
+    insertion_sort_u64(v, n);
     size_t u = 0;
     for (size_t i = 0; i < n; i++)
         if (u == 0 || v[u - 1] != v[i])
@@ -103,13 +109,7 @@ static inline void key_sort(key_item *items, key_item *tmp, size_t n)
 static inline void id_sort(uint64_t *ids, uint64_t *tmp, size_t n, uint64_t bound)
 {
     if (n < 64) {
-        for (size_t i = 1; i < n; i++) {
-            uint64_t t = ids[i];
-            size_t j = i;
-            for (; j > 0 && ids[j - 1] > t; j--)
-                ids[j] = ids[j - 1];
-            ids[j] = t;
-        }
+        insertion_sort_u64(ids, n);
         return;
     }
     uint64_t *from = ids, *to = tmp;
