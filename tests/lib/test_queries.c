@@ -517,22 +517,13 @@ static void run_map(const char *name, const hpfc_graph *g, uint32_t n0, uint32_t
     hpfc_build_params_default(&bp);
     bp.root_cols = bp.root_rows = n0;
     bp.cols = bp.rows = refine;
-    hpfc_tree *tree = NULL;
     uint8_t *buf = NULL, *buf2 = NULL;
     size_t size, size2;
-    hpfc_write_options o = {.face_labels = 1, .geometry = g};
     hpfc_file *f = NULL;
-    int st = hpfc_build(g, &bp, &tree, NULL);
-    if (!st)
-        st = check_tree_serialize(tree, &o, &buf, &size, NULL);
-    if (!st)
-        st = hpfc_open_memory(buf, size, 0, &f);
+    int st = check_labelled_file(g, &bp, &buf, &size, &f);
     CHECK_EQ_INT(st, HPFC_OK);
-    if (st) {
-        hpfc_tree_free(tree);
-        hpfc_free(buf);
+    if (st)
         return;
-    }
     hpfc_faces *fc;
     CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
     uint64_t nf = hpfc_faces_face_count(fc);
@@ -617,7 +608,6 @@ static void run_map(const char *name, const hpfc_graph *g, uint32_t n0, uint32_t
     hpfc_close(f);
     hpfc_free(buf2);
     hpfc_free(buf);
-    hpfc_tree_free(tree);
     free(w.fstart), free(w.flinks), free(w.estart), free(w.elinks);
 }
 

@@ -253,22 +253,13 @@ static void run_map(const char *name, const hpfc_graph *g, uint32_t n0, uint64_t
     hpfc_build_params bp;
     hpfc_build_params_default(&bp);
     bp.root_cols = bp.root_rows = n0;
-    hpfc_tree *tree = NULL;
     uint8_t *buf = NULL, *buf2 = NULL;
     size_t size, size2;
-    hpfc_write_options o = {.face_labels = 1, .geometry = g};
     hpfc_file *f = NULL;
-    int st = hpfc_build(g, &bp, &tree, NULL);
-    if (!st)
-        st = check_tree_serialize(tree, &o, &buf, &size, NULL);
-    if (!st)
-        st = hpfc_open_memory(buf, size, 0, &f);
+    int st = check_labelled_file(g, &bp, &buf, &size, &f);
     CHECK_EQ_INT(st, HPFC_OK);
-    if (st) {
-        hpfc_tree_free(tree);
-        hpfc_free(buf);
+    if (st)
         return;
-    }
     /* random features: faces (FEAT) and edges (EDGF) */
     hpfc_faces *fc;
     CHECK_EQ_INT(hpfc_faces_build(f, &fc), HPFC_OK);
@@ -354,7 +345,6 @@ static void run_map(const char *name, const hpfc_graph *g, uint32_t n0, uint64_t
     hpfc_close(f);
     hpfc_free(buf2);
     hpfc_free(buf);
-    hpfc_tree_free(tree);
     free(fstart), free(flinks), free(estart), free(elinks);
 }
 
@@ -384,16 +374,10 @@ static void check_damage(const hpfc_graph *g, uint32_t n0, long *answered)
     hpfc_build_params bp;
     hpfc_build_params_default(&bp);
     bp.root_cols = bp.root_rows = n0;
-    hpfc_tree *tree = NULL;
     uint8_t *buf = NULL;
     size_t size = 0;
-    hpfc_write_options o = {.face_labels = 1, .geometry = g};
     hpfc_file *f = NULL;
-    int st = hpfc_build(g, &bp, &tree, NULL);
-    if (!st)
-        st = check_tree_serialize(tree, &o, &buf, &size, NULL);
-    if (!st)
-        st = hpfc_open_memory(buf, size, 0, &f);
+    int st = check_labelled_file(g, &bp, &buf, &size, &f);
     CHECK_EQ_INT(st, HPFC_OK);
     hpfc_file_info fi;
     if (!st)
@@ -440,7 +424,6 @@ static void check_damage(const hpfc_graph *g, uint32_t n0, long *answered)
     free(copy);
     hpfc_close(f);
     hpfc_free(buf);
-    hpfc_tree_free(tree);
 }
 
 int main(void)

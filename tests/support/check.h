@@ -62,6 +62,27 @@ static inline int check_tree_serialize(const hpfc_tree *t, const hpfc_write_opti
     return hpfc_tree_serialize(t, &o, out, out_size, diag);
 }
 
+/* g built with bp, serialised with LABL and GEOM in the layout under test
+ * and opened from the bytes: HPFC_OK with *buf, *size and *f for the
+ * caller to free (hpfc_close, hpfc_free), or the first failing status,
+ * nothing left to free. */
+static inline int check_labelled_file(const hpfc_graph *g, const hpfc_build_params *bp, uint8_t **buf,
+                                      size_t *size, hpfc_file **f)
+{
+    hpfc_tree *tree = NULL;
+    hpfc_write_options o = {.face_labels = 1, .geometry = g};
+    *buf = NULL, *f = NULL;
+    int st = hpfc_build(g, bp, &tree, NULL);
+    if (!st)
+        st = check_tree_serialize(tree, &o, buf, size, NULL);
+    hpfc_tree_free(tree);
+    if (!st && (st = hpfc_open_memory(*buf, *size, 0, f)) != HPFC_OK) {
+        hpfc_free(*buf);
+        *buf = NULL;
+    }
+    return st;
+}
+
 static inline int check_report(const char *name)
 {
     printf("%s: %ld checks, %d failed\n", name, check_count, check_failures);
