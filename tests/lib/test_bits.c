@@ -4,6 +4,7 @@
  * the word code table, and the pool and address sizes of the paper's Fig. 7
  * worked by hand. No file is written.
  */
+#include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
@@ -32,6 +33,20 @@ static void test_crc32c(void)
         for (size_t n = 0; n + at <= sizeof buf; n += 1 + n / 5)
             CHECK_EQ_INT(crc32c_update(0x1234567u, buf + at, n),
                          crc32c_update_sliced(0x1234567u, buf + at, n));
+    /* long runs, where the instruction goes three blocks at a time and
+     * joins them: past one, two and many 24 KiB steps, from every offset
+     * mod 8 and with tails of every kind */
+    enum { BIG = 200000 };
+    uint8_t *big = malloc(BIG);
+    CHECK(big != NULL);
+    for (size_t k = 0; big && k < BIG; k++)
+        big[k] = (uint8_t)(k * 2654435761u >> 13);
+    static const size_t lengths[] = {24575, 24576, 24577, 49151, 49152, 49160, 73735, 199990};
+    for (size_t at = 0; big && at < 9; at++)
+        for (size_t q = 0; q < sizeof lengths / sizeof *lengths; q++)
+            CHECK_EQ_INT(crc32c_update(0xfeedbeefu, big + at, lengths[q]),
+                         crc32c_update_sliced(0xfeedbeefu, big + at, lengths[q]));
+    free(big);
     printf("crc32c: %s\n", crc32c_hardware() ? "crc32 instruction and table agree" : "table only");
 }
 
