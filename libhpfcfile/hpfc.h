@@ -1289,6 +1289,12 @@ HPFC_API int hpfc_geometry_key_points(hpfc_walker *w, uint64_t dart_key, int64_t
 HPFC_API void hpfc_user_point(const hpfc_file *file, int64_t x, int64_t y, double *ux,
                               double *uy);
 
+/* The same for n lattice points at once (xy[2k], xy[2k + 1] to
+ * uv[2k], uv[2k + 1]): the values hpfc_user_point gives, without a call
+ * per point. uv may be the same memory as xy (int64 and double are both
+ * 8 bytes). */
+HPFC_API void hpfc_user_points(const hpfc_file *file, const int64_t *xy, size_t n, double *uv);
+
 /* Polygons as rings of lattice points. Polygon p is rings
  * [polygon_ring[p], polygon_ring[p + 1]): its outer ring, then its holes.
  * Rings [polygon_ring[polygon_count], ring_count) are holes that no outer

@@ -146,6 +146,34 @@ void hpfc_user_point(const hpfc_file *f, int64_t x, int64_t y, double *ux, doubl
     *uy = scaled(y, f->info.unit_exp10);
 }
 
+/* An export converts every shape point: the common exponents (|e| <= 22,
+ * one exact power of ten) take one division or multiplication per
+ * coordinate in a loop the compiler can keep in registers; the others go
+ * through scaled(), whose result this equals in every case. */
+void hpfc_user_points(const hpfc_file *f, const int64_t *xy, size_t n, double *uv)
+{
+    int32_t e = f->info.unit_exp10;
+    if (e < -22 || e > 22) {
+        for (size_t k = 0; k < 2 * n; k++) {
+            int64_t v = xy[k];
+            uv[k] = scaled(v, e);
+        }
+        return;
+    }
+    double p = scaled(1, e < 0 ? -e : e);
+    if (e < 0) {
+        for (size_t k = 0; k < 2 * n; k++) {
+            int64_t v = xy[k];
+            uv[k] = (double)v / p;
+        }
+    } else {
+        for (size_t k = 0; k < 2 * n; k++) {
+            int64_t v = xy[k];
+            uv[k] = (double)v * p;
+        }
+    }
+}
+
 /* ---- the index ------------------------------------------------------------------- */
 
 /* Frees the hpfc_shapes object's arrays, then the object.
@@ -217,13 +245,19 @@ static int index_edges(hpfc_shapes *s)
         return HPFC_E_NOMEM;
     }
     int st = geom_points(f, GEOM_VX, 0, s->vertices, s->vxy);
+    /* each edge's faces as hpfc_geometry_edge_faces reads them (GEOM's
+     * orientation bit picks which of LABL's two sides is the right one),
+     * without its checks per call: the counts agree (hpfc_shapes_create) */
+    const labels_view *lv = &f->labels;
+    const unsigned fb = lv->face_bits;
     for (uint64_t e0 = 0, m; e0 < E && !st; e0 += m) {
         m = E - e0 < CHUNK ? E - e0 : CHUNK;
         st = geom_edges(f, e0, m, rec);
         for (uint64_t k = 0; k < m && !st; k++) {
-            uint64_t e = e0 + k, l, r;
-            if ((st = hpfc_geometry_edge_faces(f, e, &l, &r)))
-                break;
+            uint64_t e = e0 + k;
+            unsigned rgt = (unsigned)format_get(&f->geom.orient, e, 1);
+            uint64_t r = format_get(&lv->sides, (2 * e + rgt) * fb, fb);
+            uint64_t l = format_get(&lv->sides, (2 * e + !rgt) * fb, fb);
             if (l >= s->faces || r >= s->faces) {
                 st = HPFC_E_CORRUPT;
                 break;
@@ -365,6 +399,11 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
     s->max_points = HPFC_LIMIT_POINTS_DEFAULT;
     s->max_items = HPFC_LIMIT_ITEMS_DEFAULT;
     s->vertices = gi->vertices, s->edges = gi->edges, s->faces = li->faces, s->points = gi->points;
+    const hpfc_file_info *fi = &f->info;
+    s->domain_in_limit = fi->x0 >= -COORD_LIMIT && fi->x0 <= COORD_LIMIT &&
+                         fi->y0 >= -COORD_LIMIT && fi->y0 <= COORD_LIMIT && fi->width >= 0 &&
+                         fi->height >= 0 && fi->width <= COORD_LIMIT - fi->x0 &&
+                         fi->height <= COORD_LIMIT - fi->y0;
     st = index_edges(s);
     if (!st)
         st = index_features(s);
@@ -486,7 +525,9 @@ static int load_edge(hpfc_shapes *s, uint64_t e, size_t *at)
     memcpy(p, s->vxy + 2 * (size_t)s->eu[e], 2 * sizeof *p);
     memcpy(p + 2 * (n - 1), s->vxy + 2 * (size_t)s->ev[e], 2 * sizeof *p);
     int st = geom_points(s->f, GEOM_PX, s->first[e], n - 2, p + 2);
-    for (uint64_t k = 0; k < n && !st; k++)
+    /* GEOM's points lie in the domain (geom_points checks): within the
+     * limit when the domain is */
+    for (uint64_t k = 0; k < n && !st && !s->domain_in_limit; k++)
         if (!coord_ok(p[2 * k], p[2 * k + 1]))
             st = HPFC_E_CORRUPT;
     if (!st) {
@@ -620,10 +661,14 @@ static int add_points(hpfc_shapes *s, size_t at, uint64_t n, int rev, uint64_t f
         return HPFC_E_NOMEM;
     const int64_t *src = s->ept + 2 * at;
     int64_t *dst = s->txy + 2 * s->ntxy;
-    for (uint64_t j = from; j < to; j++, dst += 2) {
-        uint64_t k = rev ? n - 1 - j : j;
-        dst[0] = src[2 * k];
-        dst[1] = src[2 * k + 1];
+    if (!rev) {
+        memcpy(dst, src + 2 * from, 2 * (to - from) * sizeof *dst);
+    } else {
+        for (uint64_t j = from; j < to; j++, dst += 2) {
+            uint64_t k = n - 1 - j;
+            dst[0] = src[2 * k];
+            dst[1] = src[2 * k + 1];
+        }
     }
     s->ntxy += to - from;
     return HPFC_OK;

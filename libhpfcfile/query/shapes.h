@@ -45,6 +45,7 @@ typedef struct tring {
 struct hpfc_shapes {
     const hpfc_file *f;
     uint64_t vertices, edges, faces, points;
+    int domain_in_limit;        /* every lattice point of the domain passes coord_ok */
     uint32_t *eu, *ev;
     uint64_t *left, *right;
     uint64_t *first;            /* edge e's shape points: [first[e], first[e + 1]) */
