@@ -30,8 +30,9 @@ typedef struct ogr_shapes {
     mapproj_plan *plan;         /* back to lon/lat; NULL: user coordinates */
     OGRSpatialReferenceH srs;   /* the output's, NULL: none */
     char srs_name[160];         /* "EPSG:4326", a name, or "none" */
-    double *x, *y;              /* scratch: one ring in output coordinates */
-    size_t cap;
+    double *xy;                 /* scratch: one ring in output coordinates, pairs
+                                 * (2 cap), then its x and its y (cap each) */
+    size_t cap;                 /* points */
     uint64_t polygons, rings, points, lines; /* made so far */
     uint64_t skipped_holes;     /* rings of the unbounded face's, left out */
     char why[600];              /* the last failure */
@@ -48,6 +49,10 @@ void ogr_shapes_release(ogr_shapes *o);
 
 /* A lattice point in output coordinates; 0 or 1 with o->why set. */
 int ogr_shapes_point(ogr_shapes *o, int64_t x, int64_t y, double *ox, double *oy);
+/* n lattice points (pairs in xy) in output coordinates (pairs in out, which
+ * may be xy itself): the same values as ogr_shapes_point, a batch at a
+ * time; 0 or 1 with o->why set. */
+int ogr_shapes_points(ogr_shapes *o, const int64_t *xy, size_t n, double *out);
 
 /* Polygon k of an answer (its outer ring and holes), all its polygons as a
  * multipolygon, its rings as a multi line string; NULL with o->why set. */

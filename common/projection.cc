@@ -223,6 +223,45 @@ extern "C" int mapproj_inverse(const mapproj_plan *p, double x, double y, double
     return std::isfinite(*lon) && std::isfinite(*lat) ? 0 : -1;
 }
 
+static void put_back_on_the_globe(double *lon, double *lat)
+{
+    if (*lon > 180.0)
+        *lon = *lon <= 180.0 + 1e-6 ? 180.0 : *lon - 360.0;
+    else if (*lon < -180.0)
+        *lon = *lon >= -180.0 - 1e-6 ? -180.0 : *lon + 360.0;
+    *lat = *lat > 90.0 ? 90.0 : *lat < -90.0 ? -90.0 : *lat;
+}
+
+// The equirectangular inverse of mapproj_inverse in a loop of its own: the
+// world layers' projection, and per point the cost of an export.
+static size_t eqc_inverse_points(const mapproj_plan *p, double *xy, size_t n)
+{
+    const double deg = M_PI / 180.0, unit = p->a * deg;
+    for (size_t k = 0; k < n; k++) {
+        double x = xy[2 * k] - p->x_0, y = xy[2 * k + 1] - p->y_0 + p->y0;
+        double lon = x / unit + p->lon0, lat = y / unit;
+        if (!std::isfinite(lon) || !std::isfinite(lat))
+            return k;
+        put_back_on_the_globe(&lon, &lat);
+        xy[2 * k] = lon, xy[2 * k + 1] = lat;
+    }
+    return n;
+}
+
+extern "C" size_t mapproj_inverse_points(const mapproj_plan *p, double *xy, size_t n)
+{
+    if (p->kind == MAPPROJ_EQC)
+        return eqc_inverse_points(p, xy, n);
+    for (size_t k = 0; k < n; k++) {
+        double lon, lat;
+        if (mapproj_inverse(p, xy[2 * k], xy[2 * k + 1], &lon, &lat) != 0)
+            return k;
+        put_back_on_the_globe(&lon, &lat);
+        xy[2 * k] = lon, xy[2 * k + 1] = lat;
+    }
+    return n;
+}
+
 extern "C" const char *mapproj_describe(const mapproj_plan *p)
 {
     return p->text.c_str();

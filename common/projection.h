@@ -57,6 +57,14 @@ int mapproj_forward(const mapproj_plan *plan, double lon, double lat, double *x,
  * -1 when the result is not finite. */
 int mapproj_inverse(const mapproj_plan *plan, double x, double y, double *lon, double *lat);
 
+/* n points (x, y), interleaved in xy, back to (lon, lat) degrees in
+ * place, as every reader writes them out: a point that comes back a
+ * rounding step past the antimeridian or a pole (half a lattice unit:
+ * under 1e-6 degrees for any lattice hpfc-pack chooses) is put back on it,
+ * not on the map's far side. Returns n, or the index of the first point
+ * that does not project back (those before it are converted). */
+size_t mapproj_inverse_points(const mapproj_plan *plan, double *xy, size_t n);
+
 /* "+proj=tmerc +lat_0=... +lon_0=... +k=1 +x_0=0 +y_0=0 +ellps=WGS84
  * +units=m +no_defs", owned by the plan. */
 const char *mapproj_describe(const mapproj_plan *plan);

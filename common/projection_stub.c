@@ -33,6 +33,13 @@ int mapproj_inverse(const mapproj_plan *plan, double x, double y, double *lon, d
     return -1;
 }
 
+size_t mapproj_inverse_points(const mapproj_plan *plan, double *xy, size_t n)
+{
+    (void)plan;
+    (void)xy;
+    return n ? 0 : n;
+}
+
 void mapproj_free(mapproj_plan *plan)
 {
     (void)plan;

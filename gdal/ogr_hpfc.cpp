@@ -17,7 +17,6 @@
 #include <limits>
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include <cpl_conv.h>
@@ -92,10 +91,15 @@ class HPFCLayer final : public OGRLayer
         int64_t fid;
     };
     std::vector<Member> members_;                   /* source: its features, file order */
-    std::unordered_map<int64_t, size_t> by_fid_;    /* source: fid -> members_ index */
+    /* source: members_ indices by ascending fid, where the fids are not
+     * already ascending in file order (they are for a 1.2 writer's single
+     * layer: positions in the source layer) */
+    std::vector<size_t> by_fid_;
     uint64_t cursor_ = 0;
     bool windowed_ = false;                         /* iterate over hits_ */
+    bool window_built_ = false;                     /* hits_ answer the current filter */
     std::vector<uint64_t> hits_;                    /* members_ indices or face/edge ids */
+    const Member *FindFid(int64_t fid) const;
 };
 
 class HPFCDataset final : public GDALDataset
@@ -222,8 +226,10 @@ bool HPFCDataset::Load(GDALOpenInfo *info)
         return false;
     }
     g_ready_ = true;
-    if (g_.srs)
-        srs_ = OGRSpatialReference::FromHandle(OSRClone(g_.srs));
+    if (g_.srs) { /* shared, not copied: a copy costs PROJ a second object */
+        srs_ = OGRSpatialReference::FromHandle(g_.srs);
+        srs_->Reference();
+    }
     SetDescription(path);
 
     st = hpfc_file_get_features(file_, &features_);
@@ -415,9 +421,30 @@ HPFCLayer::~HPFCLayer()
 
 void HPFCLayer::IndexMembers()
 {
-    by_fid_.reserve(members_.size());
+    bool ascending = true;
+    for (size_t k = 1; ascending && k < members_.size(); k++)
+        ascending = members_[k - 1].fid < members_[k].fid;
+    if (ascending)
+        return;
+    by_fid_.resize(members_.size());
     for (size_t k = 0; k < members_.size(); k++)
-        by_fid_.emplace(members_[k].fid, k); /* a repeated fid: its first feature */
+        by_fid_[k] = k;
+    /* stable: of a repeated fid, its first feature comes first */
+    std::stable_sort(by_fid_.begin(), by_fid_.end(),
+                     [&](size_t a, size_t b) { return members_[a].fid < members_[b].fid; });
+}
+
+/* The member with this fid (the first in file order of a repeated one). */
+const HPFCLayer::Member *HPFCLayer::FindFid(int64_t fid) const
+{
+    if (by_fid_.empty()) {
+        auto it = std::lower_bound(members_.begin(), members_.end(), fid,
+                                   [](const Member &m, int64_t f) { return m.fid < f; });
+        return it != members_.end() && it->fid == fid ? &*it : nullptr;
+    }
+    auto it = std::lower_bound(by_fid_.begin(), by_fid_.end(), fid,
+                               [&](size_t k, int64_t f) { return members_[k].fid < f; });
+    return it != by_fid_.end() && members_[*it].fid == fid ? &members_[*it] : nullptr;
 }
 
 static void add_field(OGRFeatureDefn *defn, const char *name, OGRFieldType t, int *index)
@@ -482,12 +509,14 @@ uint64_t HPFCLayer::Count() const
 void HPFCLayer::ResetReading()
 {
     cursor_ = 0;
-    windowed_ = false;
+    windowed_ = m_poFilterGeom != nullptr;
+    if (!windowed_ || window_built_)
+        return; /* the same filter's hits again (GDAL resets a read more than once) */
     hits_.clear();
-    if (m_poFilterGeom && !BuildWindow()) {
-        windowed_ = true; /* after an error: nothing */
-        hits_.clear();
-    }
+    if (BuildWindow())
+        window_built_ = true;
+    else
+        hits_.clear(); /* after an error: nothing, and the next reset tries again */
 }
 
 /* The candidates of the spatial filter: what the tree's window query
@@ -495,7 +524,6 @@ void HPFCLayer::ResetReading()
 bool HPFCLayer::BuildWindow()
 {
     int64_t x0, y0, x1, y1;
-    windowed_ = true;
     if (!ds_->Window(m_sFilterEnvelope, &x0, &y0, &x1, &y1))
         return true; /* the filter misses the map */
     unsigned what = kind_ == LayerKind::Source  ? HPFC_WINDOW_FEATURES
@@ -528,8 +556,10 @@ bool HPFCLayer::BuildWindow()
 
 void HPFCLayer::SetSpatialFilter(OGRGeometry *geom)
 {
-    if (InstallFilter(geom))
+    if (InstallFilter(geom)) {
+        window_built_ = false;
         ResetReading();
+    }
 }
 
 /* A feature list "fid fid ..." of a face's features into `field`. */
@@ -643,8 +673,8 @@ OGRFeature *HPFCLayer::GetNextFeature()
 OGRFeature *HPFCLayer::GetFeature(GIntBig fid)
 {
     if (kind_ == LayerKind::Source) {
-        auto it = by_fid_.find(fid);
-        return it == by_fid_.end() ? nullptr : Build(members_[it->second].feature, fid);
+        const Member *m = FindFid(fid);
+        return m ? Build(m->feature, fid) : nullptr;
     }
     if (fid < (kind_ == LayerKind::Faces ? 1 : 0) ||
         static_cast<uint64_t>(fid) >= Count() + (kind_ == LayerKind::Faces))

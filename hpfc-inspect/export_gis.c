@@ -319,30 +319,24 @@ static int wkb_head(exporter *x, uint32_t type, size_t count)
 /* The points of ring (or line) r of an answer in output coordinates. */
 static int wkb_points(exporter *x, const hpfc_polygons *p, size_t r)
 {
-    if (wkb_room(x, 16 * (p->ring_point[r + 1] - p->ring_point[r])))
+    size_t a = p->ring_point[r], n = p->ring_point[r + 1] - a;
+    if (wkb_room(x, 16 * n))
         return 1;
-    for (size_t k = p->ring_point[r]; k < p->ring_point[r + 1]; k++) {
-        double xy[2];
-        hpfc_user_point(x->f, p->xy[2 * k], p->xy[2 * k + 1], &xy[0], &xy[1]);
-        if (x->plan) {
-            double lon, lat;
-            if (mapproj_inverse(x->plan, xy[0], xy[1], &lon, &lat) != 0)
-                return fail(x, "point (%.17g, %.17g) cannot be projected back", xy[0], xy[1]);
-            /* A point on the antimeridian or a pole may come back a rounding
-             * step past it (half a lattice unit: under 1e-6 degrees for any
-             * lattice hpfc-pack chooses): it is put back on it, not on the
-             * map's far side. */
-            if (lon > 180.0)
-                lon = lon <= 180.0 + 1e-6 ? 180.0 : lon - 360.0;
-            else if (lon < -180.0)
-                lon = lon >= -180.0 - 1e-6 ? -180.0 : lon + 360.0;
-            lat = lat > 90.0 ? 90.0 : lat < -90.0 ? -90.0 : lat;
-            xy[0] = lon, xy[1] = lat;
-        }
-        memcpy(x->wkb + x->wkb_len, xy, sizeof xy);
-        x->wkb_len += sizeof xy;
+    /* WKB's points are (x, y) doubles in the machine's order (wkb_head
+     * wrote it), at no particular alignment: converted a run at a time */
+    enum { RUN = 256 };
+    double uv[2 * RUN];
+    for (size_t k = 0; k < n; k += RUN) {
+        size_t m = n - k < RUN ? n - k : RUN;
+        hpfc_user_points(x->f, p->xy + 2 * (a + k), m, uv);
+        size_t done = x->plan ? mapproj_inverse_points(x->plan, uv, m) : m;
+        if (done < m)
+            return fail(x, "point (%.17g, %.17g) cannot be projected back", uv[2 * done],
+                        uv[2 * done + 1]);
+        memcpy(x->wkb + x->wkb_len + 16 * k, uv, 16 * m);
     }
-    x->points += p->ring_point[r + 1] - p->ring_point[r];
+    x->wkb_len += 16 * n;
+    x->points += n;
     return 0;
 }
 

@@ -219,21 +219,6 @@ static int shapes_plan(ShapesObject *self)
     return 0;
 }
 
-/* Lattice point k to lon/lat as hpfc-inspect --export writes it: user
- * coordinates through the inverse projection, a point a rounding step past
- * the antimeridian or a pole put back on it. -1 when it does not project. */
-static int to_lonlat(const mapproj_plan *plan, double ux, double uy, double *lon, double *lat)
-{
-    if (mapproj_inverse(plan, ux, uy, lon, lat) != 0)
-        return -1;
-    if (*lon > 180.0)
-        *lon = *lon <= 180.0 + 1e-6 ? 180.0 : *lon - 360.0;
-    else if (*lon < -180.0)
-        *lon = *lon >= -180.0 - 1e-6 ? -180.0 : *lon + 360.0;
-    *lat = *lat > 90.0 ? 90.0 : *lat < -90.0 ? -90.0 : *lat;
-    return 0;
-}
-
 /* _to_user(xy, out, lonlat): lattice points (int64 pairs) to user
  * coordinates (hpfc_user_point: lattice x 10^unit_exp10, correctly
  * rounded) or, with lonlat, to degrees through the file's projection;
@@ -274,11 +259,14 @@ static PyObject *Shapes_to_user(ShapesObject *self, PyObject *args)
     self->busy = 1;
     (*busy)++;
     Py_BEGIN_ALLOW_THREADS
-    for (size_t k = 0; k < n; k++) {
-        hpfc_user_point(self->f, xy[2 * k], xy[2 * k + 1], &uv[2 * k], &uv[2 * k + 1]);
-        if (plan && to_lonlat(plan, uv[2 * k], uv[2 * k + 1], &uv[2 * k], &uv[2 * k + 1]) &&
-            bad == SIZE_MAX)
-            bad = k;
+    /* as hpfc-inspect --export writes them (mapproj_inverse_points); a
+     * point that does not project back is reported, the rest converted */
+    hpfc_user_points(self->f, xy, n, uv);
+    for (size_t k = 0; plan && k < n;) {
+        size_t done = k + mapproj_inverse_points(plan, uv + 2 * k, n - k);
+        if (done < n && bad == SIZE_MAX)
+            bad = done;
+        k = done + 1;
     }
     Py_END_ALLOW_THREADS
     (*busy)--;
