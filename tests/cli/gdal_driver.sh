@@ -111,5 +111,10 @@ grep -q "VERTICES=some" "$tmp/err" || fail "VERTICES=some: no message: $(cat "$t
 run ogr2ogr -f HPFC "$tmp/no/such/dir.hpfc" "$tmp/src.gpkg"
 [ "$rc" -ne 0 ] && grep -q "no such folder" "$tmp/err" || fail "a missing folder: $rc $(cat "$tmp/err")"
 
+# where FEAT lies in counties.hpfc: the oracle rewrites its fids out of
+# file order (as a 1.1 writer's source FIDs may be) to look them up
+"$INSPECT_BIN" "$tmp/counties.hpfc" | awk '$1 == "FEAT" { print $2 }' >"$tmp/counties.feat"
+[ -s "$tmp/counties.feat" ] || fail "no FEAT section listed for counties.hpfc"
+
 "$py" "$TESTS/cli/gdal_oracle.py" "$tmp" || fail "gdal_oracle.py"
 finish

@@ -13,6 +13,7 @@ import json
 import os
 import random
 import re
+import struct
 import subprocess
 import sys
 
@@ -241,6 +242,44 @@ for m, n in (("counties", "counties_ne"), ("world", "countries_world"), ("sample
     want = sum(g.intersects(box(*bb)) for g in geoms)
     if len(sub) != want or want == 0:
         fail(f"{m}: geopandas bbox= read {len(sub)} rows, GEOS says {want}")
+
+# ---- fids out of file order: GetFeature finds each, a repeated fid its first ----
+# FEAT's records are rewritten in place (spec 6.2.1: a 32-byte header, 8 bytes a
+# layer, then 24 bytes a feature, its i64 fid first), descending and with one
+# fid twice; the file is opened without the section checksums it no longer
+# matches (the header's still holds).
+with open(path("counties.hpfc"), "rb") as f:
+    data = bytearray(f.read())
+feat = int(open(path("counties.feat")).read())
+count, _, _, layers = struct.unpack_from("<4I", data, feat)
+records = feat + 32 + 8 * layers
+new_fids = [7 * (count - k) + 3 for k in range(count)]
+new_fids[count // 2 + 1] = new_fids[count // 2]  # repeated: the first in file order wins
+for k, fid in enumerate(new_fids):
+    struct.pack_into("<q", data, records + 24 * k, fid)
+with open(path("shuffled.hpfc"), "wb") as f:
+    f.write(data)
+ds = open_hpfc("shuffled.hpfc", open_options=["VERIFY_CHECKSUMS=NO"])
+layer = ds.GetLayer(0)
+order = [(f.GetFID(), f.items()) for f in layer]
+if [fid for fid, _ in order] != new_fids:
+    fail("shuffled fids: the sequential read does not give the rewritten fids in file order")
+first = {}
+for fid, items in order:
+    first.setdefault(fid, items)
+for fid in random.Random(11).sample(sorted(first), min(200, len(first))) + [new_fids[count // 2]]:
+    f = layer.GetFeature(fid)
+    if f is None or f.GetFID() != fid or f.items() != first[fid]:
+        fail(f"shuffled fids: GetFeature({fid}) is not the first feature with that fid")
+        break
+for fid in (0, 1, new_fids[0] + 1, new_fids[-1] - 1, 4):
+    try:
+        f = layer.GetFeature(fid)
+    except RuntimeError:
+        f = None
+    if f is not None:
+        fail(f"shuffled fids: GetFeature({fid}) found a feature where none has that fid")
+ds = None
 
 # ---- damaged files: an error, never a crash ----
 src = open(path("counties.hpfc"), "rb").read()
