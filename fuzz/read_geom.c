@@ -4,7 +4,9 @@
  *
  * The input is an .hpfc file followed by command bytes (input.h), opened
  * with HPFC_OPEN_SKIP_CHECKSUM so mutated sections and pools reach the
- * geometry code. Without commands: the first 512 vertices and edges
+ * geometry code. Without commands: hpfc_geometry_bounds (on a small map
+ * whose every point reads, equal to the box of them all), the first 512
+ * vertices and edges
  * through every accessor (every point of an edge, at most 64, and one
  * past), every crossing of the first 512 leaves, 16 located points, then
  * (files of at most 4096 leaves) hpfc_geometry_verify. With commands: any
@@ -144,8 +146,52 @@ static void verify(geo *z)
     }
 }
 
+/* hpfc_geometry_bounds: known statuses; an answer inside the domain, and,
+ * on a small map whose every vertex and edge point reads, the box of them
+ * all (it reads only blocks whose bases and widths allow a wider box, so
+ * mutated directories test its pruning against every value). */
+static void probe_bounds(geo *z)
+{
+    int64_t box[4];
+    int st = hpfc_geometry_bounds(z->f, box);
+    check_status(st);
+    FUZZ_CHECK(st != HPFC_E_ARG && st != HPFC_E_NO_SECTION);
+    if (st != HPFC_OK)
+        return;
+    FUZZ_CHECK(in_domain(z, box[0], box[1]) && in_domain(z, box[2], box[3]));
+    FUZZ_CHECK(box[0] <= box[2] && box[1] <= box[3]);
+    if (z->gi.vertices + z->gi.points > 65536)
+        return;
+    int64_t want[4] = {INT64_MAX, INT64_MAX, INT64_MIN, INT64_MIN};
+    uint64_t seen = 0;
+    for (uint64_t v = 0; v < z->gi.vertices; v++) {
+        int64_t x, y;
+        if (hpfc_geometry_vertex(z->f, v, &x, &y) != HPFC_OK)
+            return;
+        want[0] = x < want[0] ? x : want[0], want[1] = y < want[1] ? y : want[1];
+        want[2] = x > want[2] ? x : want[2], want[3] = y > want[3] ? y : want[3];
+    }
+    for (uint64_t e = 0; e < z->gi.edges; e++) {
+        uint64_t u, v, n;
+        if (hpfc_geometry_edge(z->f, e, &u, &v, &n) != HPFC_OK)
+            return;
+        for (uint64_t k = 1; k + 1 < n; k++, seen++) {
+            int64_t x, y;
+            if (hpfc_geometry_edge_point(z->f, e, k, &x, &y) != HPFC_OK)
+                return;
+            want[0] = x < want[0] ? x : want[0], want[1] = y < want[1] ? y : want[1];
+            want[2] = x > want[2] ? x : want[2], want[3] = y > want[3] ? y : want[3];
+        }
+    }
+    /* every shape point belongs to one edge: reached them all, the boxes agree */
+    if (seen == z->gi.points)
+        FUZZ_CHECK(box[0] == want[0] && box[1] == want[1] && box[2] == want[2] &&
+                   box[3] == want[3]);
+}
+
 static void explore(geo *z)
 {
+    probe_bounds(z);
     for (uint64_t v = 0; v < z->gi.vertices && v < FUZZ_ITEMS && spend(z); v++)
         probe_vertex(z, v);
     probe_vertex(z, z->gi.vertices);
@@ -242,6 +288,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             FUZZ_CHECK(hpfc_geometry_vertex(f, 0, &x, &y) == HPFC_E_NO_SECTION);
             FUZZ_CHECK(hpfc_geometry_edge(f, 0, &a, &b, &c) == HPFC_E_NO_SECTION);
             FUZZ_CHECK(hpfc_geometry_verify(f, &rep) == HPFC_E_NO_SECTION);
+            int64_t box[4];
+            FUZZ_CHECK(hpfc_geometry_bounds(f, box) == HPFC_E_NO_SECTION);
         }
         hpfc_close(f);
     }

@@ -127,6 +127,7 @@ class HPFCDataset final : public GDALDataset
     OGREnvelope extent_;
 
     bool Extent(OGREnvelope *env);
+    bool ExtentFromBounds(OGREnvelope *env);
     bool Window(const OGREnvelope &env, int64_t *x0, int64_t *y0, int64_t *x1, int64_t *y1);
 
   private:
@@ -293,11 +294,45 @@ bool HPFCDataset::Load(GDALOpenInfo *info)
     return true;
 }
 
-/* The map's extent in output coordinates, from every point of GEOM (each
- * layer's features lie within it): computed once, O(points), on first
- * asking, and kept. */
+/* The extent from GEOM's box of every lattice point (hpfc_geometry_bounds,
+ * a few of its blocks read) where the output coordinates are a
+ * non-decreasing function of each lattice coordinate: user coordinates,
+ * or longitude and latitude back from the equirectangular projection as
+ * long as no point wraps across the antimeridian (the box's corners are
+ * then every point's bounds). False where that does not hold. */
+bool HPFCDataset::ExtentFromBounds(OGREnvelope *env)
+{
+    if (g_.plan && mapproj_plan_kind(g_.plan) != MAPPROJ_EQC)
+        return false;
+    int64_t box[4];
+    if (hpfc_geometry_bounds(file_, box) != HPFC_OK)
+        return false;
+    const int64_t corners[4] = {box[0], box[1], box[2], box[3]};
+    double user[4], out[4];
+    hpfc_user_points(file_, corners, 2, user);
+    if (g_.plan) {
+        /* the raw longitudes of the box's sides: inside [-180, 180] up to
+         * the rounding step the put-back rule allows, no point wraps */
+        double lon[2], lat[2];
+        if (mapproj_inverse(g_.plan, user[0], user[1], &lon[0], &lat[0]) != 0 ||
+            mapproj_inverse(g_.plan, user[2], user[3], &lon[1], &lat[1]) != 0 ||
+            lon[0] < -180.0 - 1e-6 || lon[1] > 180.0 + 1e-6)
+            return false;
+    }
+    if (ogr_shapes_points(&g_, corners, 2, out))
+        return false;
+    env->MinX = out[0], env->MinY = out[1], env->MaxX = out[2], env->MaxY = out[3];
+    return env->MinX <= env->MaxX && env->MinY <= env->MaxY;
+}
+
+/* The map's extent in output coordinates (each layer's features lie
+ * within it): from GEOM's box where that gives it exactly, else from every
+ * point of GEOM, O(points); computed once, on first asking, and kept. */
 bool HPFCDataset::Extent(OGREnvelope *env)
 {
+    if (!extent_done_ && ExtentFromBounds(&extent_)) {
+        extent_done_ = extent_ok_ = true;
+    }
     if (!extent_done_) {
         extent_done_ = true;
         OGREnvelope e;

@@ -1187,6 +1187,14 @@ HPFC_API int hpfc_file_get_geometry_sized(const hpfc_file *file, hpfc_geometry_i
     hpfc_file_get_geometry_sized((file), (out), sizeof(hpfc_geometry_info))
 HPFC_API int hpfc_geometry_vertex(const hpfc_file *file, hpfc_id vertex, int64_t *x,
                                   int64_t *y);
+/* The smallest box holding every vertex and every shape point, in lattice
+ * coordinates (box: x0, y0, x1, y1, corners included). Exact, yet without
+ * reading every point: each block of GEOM's columns stores its base (at
+ * most its values) and width (its values at most base + 2^width - 1), so
+ * only the blocks whose bounds could still widen the box are read; for
+ * files whose bases are their blocks' minima (spec §6.6 "Writers"), a
+ * few blocks a side. O(points) at worst. */
+HPFC_API int hpfc_geometry_bounds(const hpfc_file *file, int64_t box[4]);
 /* Edge `edge` runs from vertex *u to vertex *v through *point_count points,
  * its ends included (2 for a straight edge). */
 HPFC_API int hpfc_geometry_edge(const hpfc_file *file, hpfc_id edge, hpfc_id *u, hpfc_id *v,

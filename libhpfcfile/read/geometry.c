@@ -6,6 +6,7 @@
  * its own edge), so that a damaged section gives HPFC_E_CORRUPT, never a
  * read outside the section or a point outside the map.
  */
+#include <stdlib.h>
 #include <string.h>
 
 #include "file.h"
@@ -298,6 +299,99 @@ int hpfc_geometry_vertex(const hpfc_file *file, uint64_t vertex, int64_t *x, int
     if (vertex >= v->vertices)
         return HPFC_E_ARG;
     return point_at(file, v, GEOM_VX, vertex, x, y);
+}
+
+/* ---- bounds ------------------------------------------------------------------- */
+
+/* (geom_column_span) A block's values lie in [base, base + 2^width - 1],
+ * so a block is read only when that range could still move the answer. The
+ * block with the lowest floor is read first (and the one with the highest
+ * ceiling), which for a writer whose bases are the blocks' minima settles
+ * the minimum at once. */
+typedef struct column_span {
+    const geom_column *c;
+    uint64_t blocks, size;
+    uint64_t *scratch;
+} column_span;
+
+static uint64_t block_ceiling(const column_block *b)
+{
+    if (b->width >= 64)
+        return UINT64_MAX;
+    uint64_t most = (UINT64_C(1) << b->width) - 1;
+    return b->base > UINT64_MAX - most ? UINT64_MAX : b->base + most;
+}
+
+/* Reads block k's values and widens [*lo, *hi] by them. */
+static int span_read_block(const column_span *s, uint64_t k, uint64_t *lo, uint64_t *hi)
+{
+    uint64_t first = k * s->size, n = s->c->count - first < s->size ? s->c->count - first : s->size;
+    int st = geom_column_run(s->c, first, n, s->scratch, 1);
+    for (uint64_t i = 0; i < n && !st; i++) {
+        *lo = s->scratch[i] < *lo ? s->scratch[i] : *lo;
+        *hi = s->scratch[i] > *hi ? s->scratch[i] : *hi;
+    }
+    return st;
+}
+
+int geom_column_span(const geom_column *c, uint64_t *lo, uint64_t *hi)
+{
+    *lo = UINT64_MAX, *hi = 0;
+    if (c->count == 0)
+        return HPFC_OK;
+    column_span s = {.c = c, .size = UINT64_C(1) << c->shift}; /* shift checked at open */
+    s.blocks = (c->count - 1) / s.size + 1;
+    uint64_t most = s.size < c->count ? s.size : c->count; /* values a block read gives */
+    if (most > SIZE_MAX / sizeof *s.scratch ||
+        !(s.scratch = malloc((size_t)most * sizeof *s.scratch)))
+        return HPFC_E_NOMEM;
+    /* the lowest floor and the highest ceiling: read those blocks first */
+    uint64_t k_lo = 0, k_hi = 0, floor_min = UINT64_MAX, ceil_max = 0;
+    for (uint64_t k = 0; k < s.blocks; k++) {
+        column_block b = block_entry(c, k);
+        uint64_t ceil = block_ceiling(&b);
+        if (b.base < floor_min)
+            floor_min = b.base, k_lo = k;
+        if (ceil > ceil_max || k == 0)
+            ceil_max = ceil, k_hi = k;
+    }
+    int st = span_read_block(&s, k_lo, lo, hi);
+    if (!st && k_hi != k_lo)
+        st = span_read_block(&s, k_hi, lo, hi);
+    /* then any block that could still hold a smaller or a larger value */
+    for (uint64_t k = 0; k < s.blocks && !st; k++) {
+        column_block b = block_entry(c, k);
+        if (k != k_lo && k != k_hi && (b.base < *lo || block_ceiling(&b) > *hi))
+            st = span_read_block(&s, k, lo, hi);
+    }
+    free(s.scratch);
+    return st;
+}
+
+int hpfc_geometry_bounds(const hpfc_file *file, int64_t box[4])
+{
+    const geom_view *v;
+    int st = geometry_of(file, box != NULL, &v);
+    if (st)
+        return st;
+    uint64_t lo[4], hi[4]; /* VX, VY, PX, PY */
+    static const int column[4] = {GEOM_VX, GEOM_VY, GEOM_PX, GEOM_PY};
+    for (int k = 0; k < 4 && !st; k++)
+        st = geom_column_span(&v->col[column[k]], &lo[k], &hi[k]);
+    if (st)
+        return st;
+    if (v->vertices == 0 || lo[0] > hi[0] || lo[1] > hi[1])
+        return HPFC_E_CORRUPT; /* a map has vertices (the builder refuses an edgeless graph) */
+    uint64_t x0 = lo[0], y0 = lo[1], x1 = hi[0], y1 = hi[1];
+    if (lo[2] <= hi[2]) {
+        x0 = lo[2] < x0 ? lo[2] : x0, x1 = hi[2] > x1 ? hi[2] : x1;
+        y0 = lo[3] < y0 ? lo[3] : y0, y1 = hi[3] > y1 ? hi[3] : y1;
+    }
+    if (x1 >= v->width || y1 >= v->height)
+        return HPFC_E_CORRUPT; /* as every point read: inside the domain */
+    box[0] = file->info.x0 + (int64_t)x0, box[1] = file->info.y0 + (int64_t)y0;
+    box[2] = file->info.x0 + (int64_t)x1, box[3] = file->info.y0 + (int64_t)y1;
+    return HPFC_OK;
 }
 
 /* Checks an edge's record read from the columns, its shape points ending

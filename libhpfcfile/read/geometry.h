@@ -122,6 +122,11 @@ int geom_column_get(const geom_column *c, uint64_t i, uint64_t *value);
  * geom_column_get, or when the run passes the column's end. */
 int geom_column_run(const geom_column *c, uint64_t i, uint64_t n, uint64_t *out, size_t stride);
 
+/* The smallest and largest value of a column, exact, reading only the
+ * blocks whose stored bounds could still change them (*lo > *hi for an
+ * empty column). HPFC_E_CORRUPT as geom_column_run; HPFC_E_NOMEM. */
+int geom_column_span(const geom_column *c, uint64_t *lo, uint64_t *hi);
+
 /* An edge's end vertices and its shape points [first, first + n). */
 typedef struct geom_edge {
     uint64_t u, v, first, n;

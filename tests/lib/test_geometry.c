@@ -113,6 +113,30 @@ static void check_points(const hpfc_file *f, const hpfc_graph *g)
         CHECK_EQ_INT(hpfc_geometry_edge_point(f, e, ni + 2, &x, &y), HPFC_E_ARG);
     }
     CHECK_EQ_INT(gi.points, npts);
+    /* the box of every vertex and shape point, against the graph's */
+    int64_t want[4] = {INT64_MAX, INT64_MAX, INT64_MIN, INT64_MIN}, box[4] = {0, 0, 0, 0};
+    for (size_t k = 0; k < nv; k++) {
+        int64_t gx, gy;
+        hpfc_graph_vertex(g, k, &gx, &gy);
+        want[0] = gx < want[0] ? gx : want[0], want[1] = gy < want[1] ? gy : want[1];
+        want[2] = gx > want[2] ? gx : want[2], want[3] = gy > want[3] ? gy : want[3];
+    }
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t gu, gv;
+        const int64_t *xy;
+        size_t ni;
+        hpfc_graph_edge(g, e, &gu, &gv, &xy, &ni);
+        for (size_t k = 0; k < ni; k++) {
+            want[0] = xy[2 * k] < want[0] ? xy[2 * k] : want[0];
+            want[1] = xy[2 * k + 1] < want[1] ? xy[2 * k + 1] : want[1];
+            want[2] = xy[2 * k] > want[2] ? xy[2 * k] : want[2];
+            want[3] = xy[2 * k + 1] > want[3] ? xy[2 * k + 1] : want[3];
+        }
+    }
+    CHECK_EQ_INT(hpfc_geometry_bounds(f, box), HPFC_OK);
+    for (int k = 0; k < 4; k++)
+        CHECK_EQ_INT(box[k], want[k]);
+    CHECK_EQ_INT(hpfc_geometry_bounds(f, NULL), HPFC_E_ARG);
     uint64_t u, v, c;
     CHECK_EQ_INT(hpfc_geometry_edge(f, ne, &u, &v, &c), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_geometry_edge_point(f, ne, 0, &x, &y), HPFC_E_ARG);
@@ -259,6 +283,8 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
         int64_t x, y;
         CHECK_EQ_INT(hpfc_file_get_geometry(p.f0, &gi), HPFC_E_NO_SECTION);
         CHECK_EQ_INT(hpfc_geometry_vertex(p.f0, 0, &x, &y), HPFC_E_NO_SECTION);
+        int64_t box[4];
+        CHECK_EQ_INT(hpfc_geometry_bounds(p.f0, box), HPFC_E_NO_SECTION);
         check_points(p.f, g);
         check_crossings(&p, g);
         hpfc_geometry_report rep;
@@ -411,10 +437,55 @@ static void check_column_entries(void)
     }
 }
 
+/* geom_column_span against every value read, on columns whose bases are
+ * not their blocks' minima (hpfc's writer makes them minima; another
+ * writer, or damage, need not): random bases, widths and values, so that
+ * the smallest and largest values sit in blocks other than those with the
+ * lowest floor and the highest ceiling. */
+static void check_column_span(void)
+{
+    uint64_t r = 0x2545f4914f6cdd1du;
+    for (int trial = 0; trial < 200; trial++) {
+        enum { BLOCKS = 40, SHIFT = 2, OB = 16, BB = 16, ENTRY = OB + BB + GEOM_WIDTH_BITS };
+        const uint32_t ob = OB, bb = BB, entry = ENTRY;
+        uint8_t dir[(BLOCKS * ENTRY + 7) / 8 + 8] = {0}, payload[BLOCKS * 4 * 2 + 8] = {0};
+        uint64_t count = (uint64_t)(BLOCKS - 1) * 4 + 1 + trial % 4, off = 0, lo = UINT64_MAX, hi = 0;
+        for (uint64_t b = 0; b * 4 < count; b++) {
+            r ^= r << 13, r ^= r >> 7, r ^= r << 17;
+            unsigned width = (unsigned)(r % 9);
+            uint64_t base = (r >> 8) % 1000;
+            format_put(dir, b * entry, ob, off);
+            format_put(dir, b * entry + ob, bb, base);
+            format_put(dir, b * entry + ob + bb, GEOM_WIDTH_BITS, width);
+            for (uint64_t i = b * 4; i < count && i < b * 4 + 4; i++) {
+                r ^= r << 13, r ^= r >> 7, r ^= r << 17;
+                uint64_t delta = width ? (r >> 11) & ((UINT64_C(1) << width) - 1) : 0;
+                format_put(payload, off, width, delta);
+                off += width;
+                lo = base + delta < lo ? base + delta : lo;
+                hi = base + delta > hi ? base + delta : hi;
+            }
+        }
+        geom_column c = {.count = count, .shift = SHIFT, .offset_bits = ob, .base_bits = bb,
+                         .entry_bits = entry,
+                         .dir = {dir, (uint64_t)BLOCKS * entry, sizeof dir},
+                         .payload = {payload, off, sizeof payload}};
+        uint64_t got_lo = 0, got_hi = 0;
+        CHECK_EQ_INT(geom_column_span(&c, &got_lo, &got_hi), HPFC_OK);
+        CHECK_EQ_INT(got_lo, lo);
+        CHECK_EQ_INT(got_hi, hi);
+    }
+    geom_column empty = {.count = 0, .shift = 2};
+    uint64_t lo, hi;
+    CHECK_EQ_INT(geom_column_span(&empty, &lo, &hi), HPFC_OK);
+    CHECK(lo > hi);
+}
+
 int main(void)
 {
     check_use_test_layout();
     check_column_entries();
+    check_column_span();
     check_wrong_graph();
     check_worked_example();
     for (int which = 0; which < GEN_SPECIAL_COUNT; which++) {
