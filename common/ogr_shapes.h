@@ -49,9 +49,9 @@ void ogr_shapes_release(ogr_shapes *o);
 
 /* A lattice point in output coordinates; 0 or 1 with o->why set. */
 int ogr_shapes_point(ogr_shapes *o, int64_t x, int64_t y, double *ox, double *oy);
-/* n lattice points (pairs in xy) in output coordinates (pairs in out, which
- * may be xy itself): the same values as ogr_shapes_point, a batch at a
- * time; 0 or 1 with o->why set. */
+/* n lattice points (pairs in xy) in output coordinates (pairs in out, an
+ * array apart): the same values as ogr_shapes_point, a batch at a time;
+ * 0 or 1 with o->why set. */
 int ogr_shapes_points(ogr_shapes *o, const int64_t *xy, size_t n, double *out);
 
 /* Polygon k of an answer (its outer ring and holes), all its polygons as a

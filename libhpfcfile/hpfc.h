@@ -1298,9 +1298,8 @@ HPFC_API void hpfc_user_point(const hpfc_file *file, int64_t x, int64_t y, doubl
                               double *uy);
 
 /* The same for n lattice points at once (xy[2k], xy[2k + 1] to
- * uv[2k], uv[2k + 1]): the values hpfc_user_point gives, without a call
- * per point. uv may be the same memory as xy (int64 and double are both
- * 8 bytes). */
+ * uv[2k], uv[2k + 1]; two arrays that do not overlap): the values
+ * hpfc_user_point gives, without a call per point. */
 HPFC_API void hpfc_user_points(const hpfc_file *file, const int64_t *xy, size_t n, double *uv);
 
 /* Polygons as rings of lattice points. Polygon p is rings
