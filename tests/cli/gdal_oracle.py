@@ -50,6 +50,14 @@ def features(layer):
     return out
 
 
+def get_feature(layer, fid):
+    """layer.GetFeature(fid), None where GDAL raises for a missing fid."""
+    try:
+        return layer.GetFeature(fid)
+    except RuntimeError:
+        return None
+
+
 def open_hpfc(name, **kw):
     return gdal.OpenEx(path(name), gdal.OF_VECTOR, allowed_drivers=["HPFC"], **kw)
 
@@ -139,11 +147,7 @@ for m in MAPS:
                 fail(f"{m}/{n}: GetFeature({fid}) differs from the sequential read")
                 break
         for fid in (max(seq) + 1, -5):
-            try:
-                f = layer.GetFeature(fid)
-            except RuntimeError:
-                f = None
-            if f is not None:
+            if get_feature(layer, fid) is not None:
                 fail(f"{m}/{n}: GetFeature({fid}) found a feature")
         x0, x1, y0, y1 = layer.GetExtent()
         env = unary_union([shapely.wkb.loads(w) for _, w in seq.values() if w]).bounds
@@ -273,11 +277,7 @@ for fid in random.Random(11).sample(sorted(first), min(200, len(first))) + [new_
         fail(f"shuffled fids: GetFeature({fid}) is not the first feature with that fid")
         break
 for fid in (0, 1, new_fids[0] + 1, new_fids[-1] - 1, 4):
-    try:
-        f = layer.GetFeature(fid)
-    except RuntimeError:
-        f = None
-    if f is not None:
+    if get_feature(layer, fid) is not None:
         fail(f"shuffled fids: GetFeature({fid}) found a feature where none has that fid")
 ds = None
 
