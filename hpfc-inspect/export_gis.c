@@ -224,8 +224,10 @@ static int write_feature(exporter *x, OGRLayerH layer, const columns *c, uint32_
     return r;
 }
 
-/* Every feature, layer by layer (FEAT's layers, with their names). */
-static int write_features(exporter *x)
+/* Every feature, layer by layer (FEAT's layers, with their names).
+ * write_features and write_faces stay out of line: each is a stage that
+ * bench/scaling.py's smoke counts by its calls in a profile. */
+__attribute__((noinline)) static int write_features(exporter *x)
 {
     hpfc_features_info fi;
     int st = hpfc_file_get_features(x->f, &fi);
@@ -271,7 +273,7 @@ static int write_features(exporter *x)
 
 /* Every bounded face as its polygon (the unbounded face has no outer ring),
  * with its id and its features' fids and keys. */
-static int write_faces(exporter *x)
+__attribute__((noinline)) static int write_faces(exporter *x)
 {
     OGRLayerH layer = create_layer(x, "faces", wkbPolygon);
     if (!layer)
