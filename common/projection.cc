@@ -194,10 +194,18 @@ extern "C" int mapproj_forward(const mapproj_plan *p, double lon, double lat, do
     return std::isfinite(*x) && std::isfinite(*y) ? 0 : -1;
 }
 
+// The equirectangular inverse of (x, y) already moved to the projection's
+// origin: mapproj_inverse's and mapproj_inverse_points' one formula.
+static void eqc_back(const mapproj_plan *p, double x, double y, double *lon, double *lat)
+{
+    const double unit = p->a * (M_PI / 180.0);
+    *lon = x / unit + p->lon0;
+    *lat = y / unit;
+}
+
 extern "C" int mapproj_inverse(const mapproj_plan *p, double x, double y, double *lon,
                                double *lat)
 {
-    const double deg = M_PI / 180.0;
     x -= p->x_0;
     y -= p->y_0;
     y += p->y0;
@@ -216,8 +224,7 @@ extern "C" int mapproj_inverse(const mapproj_plan *p, double x, double y, double
         p->aea->Reverse(p->lon0, x, y, *lat, *lon);
         break;
     default:
-        *lon = x / (p->a * deg) + p->lon0;
-        *lat = y / (p->a * deg);
+        eqc_back(p, x, y, lon, lat);
         break;
     }
     return std::isfinite(*lon) && std::isfinite(*lat) ? 0 : -1;
@@ -232,14 +239,14 @@ static void put_back_on_the_globe(double *lon, double *lat)
     *lat = *lat > 90.0 ? 90.0 : *lat < -90.0 ? -90.0 : *lat;
 }
 
-// The equirectangular inverse of mapproj_inverse in a loop of its own: the
-// world layers' projection, and per point the cost of an export.
+// mapproj_inverse's equirectangular case in a loop of its own, without a
+// call and a switch a point: the world layers' projection, whose inverse
+// an export runs on every point.
 static size_t eqc_inverse_points(const mapproj_plan *p, double *xy, size_t n)
 {
-    const double deg = M_PI / 180.0, unit = p->a * deg;
     for (size_t k = 0; k < n; k++) {
-        double x = xy[2 * k] - p->x_0, y = xy[2 * k + 1] - p->y_0 + p->y0;
-        double lon = x / unit + p->lon0, lat = y / unit;
+        double lon, lat;
+        eqc_back(p, xy[2 * k] - p->x_0, xy[2 * k + 1] - p->y_0 + p->y0, &lon, &lat);
         if (!std::isfinite(lon) || !std::isfinite(lat))
             return k;
         put_back_on_the_globe(&lon, &lat);

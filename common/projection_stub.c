@@ -37,7 +37,8 @@ size_t mapproj_inverse_points(const mapproj_plan *plan, double *xy, size_t n)
 {
     (void)plan;
     (void)xy;
-    return n ? 0 : n;
+    (void)n;
+    return 0; /* not one point projects back */
 }
 
 void mapproj_free(mapproj_plan *plan)
