@@ -21,6 +21,13 @@
  * range, flagged 0 or 1, the unbounded face never inside, and an empty
  * rectangle is HPFC_E_ARG.
  *
+ * The SHIX section (format 1.3, the stored inverse tables the shapes read
+ * instead of inverting LABL, FEAT and EDGF): hpfc_index_verify gives OK,
+ * CORRUPT with a message, or NO_SECTION; when it accepts the section, the
+ * same file with the section hidden (its tag renamed: the shapes then
+ * invert the sections themselves) gives the same statuses and the same
+ * points for the first faces and features.
+ *
  * The Python package's ragged arrays (python/src/ragged.c) are built from
  * the same answers, one array per run: every face, feature, feature's
  * lines, edge and dart key probed is appended to it, and the arrays must
@@ -365,6 +372,79 @@ static void run_commands(shp *z, fuzz_bytes *in)
     }
 }
 
+/* A copy of `file` whose SHIX directory entry is renamed to an unknown
+ * unflagged tag (readers ignore it), the metadata checksum left stale
+ * (opened with HPFC_OPEN_SKIP_CHECKSUM); NULL without SHIX. */
+static uint8_t *hide_index(const hpfc_file *f, const uint8_t *file, size_t size)
+{
+    hpfc_section_info si;
+    uint32_t header = (uint32_t)file[12] | (uint32_t)file[13] << 8 | (uint32_t)file[14] << 16 |
+                      (uint32_t)file[15] << 24;
+    uint32_t levels = (uint32_t)file[40] | (uint32_t)file[41] << 8;
+    for (uint32_t k = 0; hpfc_file_get_section(f, k, &si) == HPFC_OK; k++)
+        if (memcmp(si.tag, "SHIX", 4) == 0) {
+            uint8_t *copy = malloc(size);
+            if (!copy)
+                return NULL;
+            memcpy(copy, file, size);
+            memcpy(copy + header + 64 * (size_t)levels + 32 * (size_t)k, "shix", 4);
+            return copy;
+        }
+    return NULL;
+}
+
+/* The same answer twice: statuses, then counts and points. */
+static void same_answer(int sa, const hpfc_polygons *a, int sb, const hpfc_polygons *b)
+{
+    FUZZ_CHECK(sa == sb);
+    if (sa != HPFC_OK)
+        return;
+    FUZZ_CHECK(a->point_count == b->point_count && a->ring_count == b->ring_count &&
+               a->polygon_count == b->polygon_count);
+    FUZZ_CHECK(memcmp(a->xy, b->xy, 2 * a->point_count * sizeof *a->xy) == 0);
+}
+
+/* hpfc_index_verify's verdict, and a verified SHIX against the tables
+ * the shapes compute without it. */
+static void check_index(const hpfc_file *f, hpfc_shapes *s, const uint8_t *file, size_t size)
+{
+    hpfc_index_report rep;
+    int st = hpfc_index_verify(f, &rep);
+    FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_NO_SECTION || st == HPFC_E_NOMEM ||
+               (st == HPFC_E_CORRUPT && rep.message[0]));
+    uint8_t *hidden = st == HPFC_OK ? hide_index(f, file, size) : NULL;
+    hpfc_file *g = NULL;
+    hpfc_shapes *t = NULL;
+    if (hidden && hpfc_open_memory(hidden, size, HPFC_OPEN_SKIP_CHECKSUM, &g) == HPFC_OK &&
+        hpfc_shapes_create(g, &t) == HPFC_OK) {
+        hpfc_features_info fi;
+        uint32_t features = hpfc_file_get_features(f, &fi) == HPFC_OK ? fi.features : 0;
+        for (uint64_t face = 0; face < hpfc_shapes_face_count(s) && face < 64; face++) {
+            hpfc_polygons a, b;
+            int sa = hpfc_shapes_face_polygons(s, face, &a);
+            hpfc_polygons keep = a;
+            size_t n = sa == HPFC_OK ? 2 * a.point_count : 0;
+            int64_t *xy = n ? malloc(n * sizeof *xy) : NULL;
+            if (n && !xy)
+                continue;
+            if (n)
+                memcpy(xy, a.xy, n * sizeof *xy);
+            keep.xy = xy;
+            same_answer(sa, &keep, hpfc_shapes_face_polygons(t, face, &b), &b);
+            free(xy);
+        }
+        for (uint32_t k = 0; k < features && k < 64; k++) {
+            size_t na = 0, nb = 0;
+            int sa = hpfc_shapes_feature_faces(s, k, NULL, 0, &na);
+            int sb = hpfc_shapes_feature_faces(t, k, NULL, 0, &nb);
+            FUZZ_CHECK(sa == sb && (sa || na == nb));
+        }
+    }
+    hpfc_shapes_free(t);
+    hpfc_close(g);
+    free(hidden);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     uint8_t *file;
@@ -387,8 +467,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             hpfc_features_info fi;
             z.have_features = hpfc_file_get_features(f, &fi) == HPFC_OK;
             z.features = z.have_features ? fi.features : 0;
-            if (fuzz_empty(&cmds))
+            if (fuzz_empty(&cmds)) {
+                check_index(f, z.s, file, file_size);
                 explore(&z);
+            }
             else
                 run_commands(&z, &cmds);
         }

@@ -799,6 +799,21 @@ static void check_geometry(verifier *v, uint64_t vertices, uint64_t edges)
     r->geometry = r->problem_count == before ? CHECK_OK : CHECK_FAILED;
 }
 
+/* The SHIX section (1.3) against LABL, FEAT and EDGF (hpfc_index_verify). */
+static void check_index(verifier *v)
+{
+    verify_report *r = v->r;
+    hpfc_index_report rep;
+    int st = hpfc_index_verify(v->f, &rep);
+    if (st == HPFC_E_NO_SECTION)
+        return;
+    if (st == HPFC_E_CORRUPT)
+        problem(r, "index: %s", rep.message);
+    else if (st)
+        problem(r, "index: %s", hpfc_strerror(st));
+    r->index = st ? CHECK_FAILED : CHECK_OK;
+}
+
 /* The ATTR and EDGF sections (1.2) against FEAT and the map: one row per
  * feature, one entry per edge, every value and link readable. */
 static void check_attr_edgf(verifier *v, uint32_t features, uint64_t edges)
@@ -853,6 +868,7 @@ static int check_topology(verifier *v)
         check_features(v, tp.nfaces);
         check_labels(v, tp.faces);
         check_geometry(v, tp.m.nv, tp.m.nd / 2);
+        check_index(v);
         hpfc_features_info fi;
         if (hpfc_file_get_features(v->f, &fi) == HPFC_OK) {
             size_t before = v->r->problem_count;
@@ -935,7 +951,7 @@ static void report_init(verify_report *r)
 {
     memset(r, 0, sizeof *r);
     r->format = r->checksums = r->structure = r->roads = r->topology = CHECK_SKIPPED;
-    r->euler = r->loops_ok = r->features = r->labels = r->geometry = CHECK_SKIPPED;
+    r->euler = r->loops_ok = r->features = r->labels = r->geometry = r->index = CHECK_SKIPPED;
 }
 
 int verify_bytes(const input_bytes *b, unsigned flags, verify_report *r)
@@ -1022,6 +1038,8 @@ void verify_print_text(FILE *out, const char *path, const verify_report *r)
         fprintf(out, "labels          LABL section: %s\n", state_word(r->labels));
     if (r->geometry != CHECK_SKIPPED)
         fprintf(out, "geometry        GEOM section: %s\n", state_word(r->geometry));
+    if (r->index != CHECK_SKIPPED)
+        fprintf(out, "index           SHIX section: %s\n", state_word(r->index));
     fprintf(out, "time            %.3f s\n", r->seconds);
     if (r->problem_count == 0) {
         fprintf(out, "verdict         valid\n");
@@ -1056,6 +1074,8 @@ void verify_print_json(FILE *out, const char *path, const verify_report *r)
         jsonw_string(&w, "labels", state_json(r->labels));
     if (r->geometry != CHECK_SKIPPED) /* only files with a GEOM section */
         jsonw_string(&w, "geometry", state_json(r->geometry));
+    if (r->index != CHECK_SKIPPED) /* only files with a SHIX section */
+        jsonw_string(&w, "index", state_json(r->index));
     jsonw_object_end(&w);
     if (r->format == CHECK_OK) {
         jsonw_u64(&w, "levels", r->levels);

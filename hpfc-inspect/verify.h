@@ -39,6 +39,7 @@ typedef struct verify_report {
     int features;   /* the FEAT section: its face count, every entry readable */
     int labels;     /* the LABL section: every stored label equals the recomputed one */
     int geometry;   /* the GEOM section: planar, in its leaves, on its roads (§6.6.6) */
+    int index;      /* the SHIX section: the inverse of LABL, FEAT and EDGF (§6.8.4) */
 
     uint16_t format_major, format_minor;
     uint32_t levels;

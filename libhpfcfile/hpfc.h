@@ -204,7 +204,7 @@ HPFC_API unsigned hpfc_version_number(void);
  * another major), whatever its minor, and hpfc_file_info says which
  * version a file has. */
 #define HPFC_FORMAT_MAJOR 1
-#define HPFC_FORMAT_MINOR 2
+#define HPFC_FORMAT_MINOR 3
 
 /* Frees a buffer the library allocated and handed over (the serialised
  * files of hpfc_tree_serialize and hpfc_file_serialize). Always use it
@@ -1113,6 +1113,19 @@ typedef struct hpfc_labels_report {
 HPFC_API int hpfc_labels_verify(const hpfc_file *file, const hpfc_faces *faces,
                                 hpfc_labels_report *report);
 
+/* The SHIX section (format 1.3, spec §6.8: each face's edges, each
+ * feature's faces and edges, which hpfc_shapes reads instead of inverting
+ * LABL, FEAT and EDGF at create) against the sections it inverts
+ * (hpfc-inspect --verify): its counts and tables are the ones the writer
+ * derives, row for row. HPFC_OK; HPFC_E_CORRUPT with report->message
+ * naming the first disagreement; HPFC_E_NO_SECTION without SHIX. O(file);
+ * allocates nothing. */
+typedef struct hpfc_index_report {
+    uint64_t rows_checked;
+    char message[240];
+} hpfc_index_report;
+HPFC_API int hpfc_index_verify(const hpfc_file *file, hpfc_index_report *report);
+
 /* ------------------------------------------------------------------------
  * Attributes (spec/hpfc-format.md §6.3, the ATTR section): typed columns,
  * one row per feature of the FEAT section, each value read in O(1) from
@@ -1319,11 +1332,15 @@ typedef struct hpfc_polygons {
 
 /* The index over a file's geometry that the region calls need: each
  * edge's ends and faces, each face's edges, each feature's faces and edges.
- * Built once in O(edges + faces + links); 40 bytes an edge, 16 a face, 8 a
- * feature link, 24 a vertex. The answers live in the object until its next
- * call: one per thread. Statuses: HPFC_E_NO_SECTION without GEOM or LABL,
- * HPFC_E_CORRUPT when the sections disagree (an edge's face past the face
- * count, GEOM's edge count not LABL's) or claim more edges, vertices, faces
+ * The last three are read in place from the file's SHIX section (format
+ * 1.3, spec §6.8), each row checked as it is read; a file without it (1.2)
+ * has them inverted from LABL, FEAT and EDGF here. Built once in O(edges)
+ * (plus O(faces + links) without SHIX); 40 bytes an edge and 24 a vertex
+ * (plus 16 a face and 8 a feature link without SHIX). The answers live in
+ * the object until its next call: one per thread. Statuses:
+ * HPFC_E_NO_SECTION without GEOM or LABL, HPFC_E_CORRUPT when the sections
+ * disagree (an edge's face past the face count, GEOM's edge count not
+ * LABL's, SHIX's counts not theirs) or claim more edges, vertices, faces
  * or shape points than their bits can hold (checked before any allocation),
  * HPFC_E_LIMIT past 2^32 - 1 vertices, edges or faces, HPFC_E_NOMEM. Safe
  * on untrusted files: every answer is bounded by the file's size. */

@@ -2,7 +2,7 @@
  * format.h: the .hpfc binary format (spec/hpfc-format.md) as the writer
  * and the reader see it: the format version it writes is FORMAT_MAJOR.
  * FORMAT_MINOR below, hpfc.h's HPFC_FORMAT_MAJOR and HPFC_FORMAT_MINOR
- * (1.2), not the library's own (hpfc_version.h, from meson's project
+ * (1.3), not the library's own (hpfc_version.h, from meson's project
  * version). Internal to the library (and its tests).
  *
  * - Every field of the header, the level table and the section directory is
@@ -29,7 +29,7 @@
 
 enum {
     FORMAT_MAJOR = HPFC_FORMAT_MAJOR,
-    FORMAT_MINOR = HPFC_FORMAT_MINOR, /* 1.1: FEAT; 1.2: LABL, ATTR, EDGF, GEOM, the compact pool */
+    FORMAT_MINOR = HPFC_FORMAT_MINOR, /* 1.1: FEAT; 1.2: LABL, ATTR, EDGF, GEOM, the compact pool; 1.3: SHIX */
     FORMAT_HEADER_SIZE = 128,       /* header_size written by this library */
     FORMAT_LEVEL_ENTRY_SIZE = 64,
     FORMAT_SECTION_ENTRY_SIZE = 32,
@@ -45,6 +45,7 @@ enum {
 #define FORMAT_TAG_FEAT "FEAT"
 #define FORMAT_TAG_ATTR "ATTR"
 #define FORMAT_TAG_EDGF "EDGF"
+#define FORMAT_TAG_SHIX "SHIX"
 
 #define FORMAT_MAX_ROOT_PIXELS ((uint64_t)1 << 31)  /* n0 * m0 */
 #define FORMAT_MAX_IMAGE_PIXELS ((uint64_t)1 << 20) /* n * m */
@@ -161,6 +162,20 @@ FORMAT_FIELD(edgf, edge_count, 0, 4, uint32_t)
 FORMAT_FIELD(edgf, link_count, 4, 4, uint32_t)
 FORMAT_FIELD(edgf, feature_count, 8, 4, uint32_t)
 FORMAT_FIELD(edgf, reserved, 12, 4, uint32_t)
+
+/* SHIX section (spec/hpfc-format.md §6.8): a 32-byte header, then the
+ * faces' edges and, as `tables` says, the features' faces and the
+ * features' edges, each an index of rows + 1 u32 offsets and its u32
+ * links (read/shix.c). */
+enum { SHIX_HEADER_SIZE = 32, SHIX_FEATURE_FACES = 0x1, SHIX_FEATURE_EDGES = 0x2 };
+FORMAT_FIELD(shix, face_count, 0, 4, uint32_t)
+FORMAT_FIELD(shix, edge_count, 4, 4, uint32_t)
+FORMAT_FIELD(shix, feature_count, 8, 4, uint32_t)
+FORMAT_FIELD(shix, tables, 12, 4, uint32_t)
+FORMAT_FIELD(shix, face_links, 16, 4, uint32_t)
+FORMAT_FIELD(shix, feature_face_links, 20, 4, uint32_t)
+FORMAT_FIELD(shix, feature_edge_links, 24, 4, uint32_t)
+FORMAT_FIELD(shix, reserved, 28, 4, uint32_t)
 
 /* FEAT section header (32 bytes; spec/hpfc-format.md §6.2). */
 enum { FEAT_HEADER_SIZE = 32, FEAT_LAYER_SIZE = 8, FEAT_FEATURE_SIZE = 24 };

@@ -137,9 +137,14 @@ static int face_has(const hpfc_shapes *s, uint64_t face, hpfc_id g, int *has)
     return st;
 }
 
-static int has_faces(const hpfc_shapes *s, hpfc_id g)
+/* Whether feature g has faces into *has: HPFC_E_CORRUPT for a damaged
+ * row of SHIX. */
+static int has_faces(const hpfc_shapes *s, hpfc_id g, int *has)
 {
-    return s->feat_start && s->feat_start[g + 1] > s->feat_start[g];
+    uint64_t a = 0, b = 0;
+    int st = shapes_has_rows(s, FEATURE_FACES) ? shapes_row(s, FEATURE_FACES, g, &a, &b) : HPFC_OK;
+    *has = b > a;
+    return st;
 }
 
 /* Adds B(e) to the set: the features of exactly one of e's faces, the
@@ -173,9 +178,10 @@ static int add_edge_border(hpfc_shapes *s, uint64_t e)
         for (uint32_t j = 0; j < n && !st; j++) {
             if ((st = hpfc_edge_feature_id(s->f, e, j, &g)))
                 return st;
+            int faced;
             if (g >= s->features)
                 return HPFC_E_CORRUPT;
-            if (!has_faces(s, g))
+            if (!(st = has_faces(s, g, &faced)) && !faced)
                 st = fset_add(t, g);
         }
     }
@@ -234,15 +240,22 @@ int shapes_feature_border(hpfc_shapes *s, hpfc_id feature, uint32_t **edges, siz
                           size_t *cap)
 {
     *n = 0;
-    if (has_faces(s, feature)) {
+    int faced, st = has_faces(s, feature, &faced);
+    if (st)
+        return st;
+    if (faced) {
         uint32_t m = shapes_next_mark(s);
-        uint64_t a = s->feat_start[feature], b = s->feat_start[feature + 1];
+        uint64_t a, b;
+        shapes_row(s, FEATURE_FACES, feature, &a, &b); /* read by has_faces */
         for (uint64_t k = a; k < b; k++)
-            s->face_mark[s->feat_face[k]] = m;
+            s->face_mark[shapes_item(s, FEATURE_FACES, k)] = m;
         for (uint64_t k = a; k < b; k++) {
-            uint32_t face = s->feat_face[k];
-            for (uint64_t j = s->face_start[face]; j < s->face_start[face + 1]; j++) {
-                uint32_t e = s->face_edge[j];
+            uint32_t face = shapes_item(s, FEATURE_FACES, k);
+            uint64_t fa, fb;
+            if ((st = shapes_row(s, FACE_EDGES, face, &fa, &fb)))
+                return st;
+            for (uint64_t j = fa; j < fb; j++) {
+                uint32_t e = shapes_item(s, FACE_EDGES, j);
                 int in_left = s->face_mark[s->left[e]] == m;
                 /* once per edge: from its side inside the feature */
                 if (shapes_on_border(s, s->face_mark, m, e) &&
@@ -256,11 +269,13 @@ int shapes_feature_border(hpfc_shapes *s, hpfc_id feature, uint32_t **edges, siz
         if (*n)
             qsort(*edges, *n, sizeof **edges, cmp_u32);
     } else if (s->have_edge_features) {
-        uint64_t a = s->fe_start[feature], b = s->fe_start[feature + 1];
+        uint64_t a, b;
+        if ((st = shapes_row(s, FEATURE_EDGES, feature, &a, &b)))
+            return st;
         if (array_grow((void **)edges, cap, (size_t)(b - a) + 1, sizeof **edges))
             return HPFC_E_NOMEM;
         for (uint64_t k = a; k < b; k++)
-            (*edges)[(*n)++] = s->fe_edge[k];
+            (*edges)[(*n)++] = shapes_item(s, FEATURE_EDGES, k);
     }
     return HPFC_OK;
 }

@@ -189,12 +189,11 @@ void hpfc_shapes_free(hpfc_shapes *s)
     free(s->right);
     free(s->first);
     free(s->vxy);
-    free(s->face_start);
-    free(s->face_edge);
-    free(s->feat_start);
-    free(s->feat_face);
-    free(s->fe_start);
-    free(s->fe_edge);
+    for (int t = 0; t < SHAPES_TABLES; t++) {
+        free(s->rows[t].start);
+        free(s->rows[t].item);
+    }
+    free(s->row_copy);
     free(s->face_mark);
     free(s->face_local);
     free(s->vmark);
@@ -223,9 +222,37 @@ uint64_t hpfc_shapes_face_count(const hpfc_shapes *s)
     return s ? s->faces : 0;
 }
 
+/* Each face's edges, in memory: a file without SHIX's (an edge with one
+ * face on both sides bounds nothing and is left out). */
+static int build_face_edges(hpfc_shapes *s)
+{
+    shapes_rows *r = &s->rows[FACE_EDGES];
+    uint64_t *start = r->start = calloc(s->faces + 2, sizeof *r->start);
+    if (!start)
+        return HPFC_E_NOMEM;
+    for (uint64_t e = 0; e < s->edges; e++)
+        if (s->left[e] != s->right[e])
+            start[s->left[e] + 1]++, start[s->right[e] + 1]++;
+    for (uint64_t k = 0; k < s->faces; k++)
+        start[k + 1] += start[k];
+    r->item = malloc((start[s->faces] + 1) * sizeof *r->item);
+    uint64_t *fill = malloc((s->faces + 1) * sizeof *fill);
+    if (!r->item || !fill) {
+        free(fill);
+        return HPFC_E_NOMEM;
+    }
+    memcpy(fill, start, s->faces * sizeof *fill);
+    for (uint64_t e = 0; e < s->edges; e++)
+        if (s->left[e] != s->right[e]) {
+            r->item[fill[s->left[e]]++] = (uint32_t)e;
+            r->item[fill[s->right[e]]++] = (uint32_t)e;
+        }
+    free(fill);
+    return HPFC_OK;
+}
+
 /* Each edge's ends, shape points and faces, each vertex's coordinates
- * (GEOM's columns read in runs); each face's edges (an edge with one face
- * on both sides bounds nothing and is left out). */
+ * (GEOM's columns read in runs). */
 static int index_edges(hpfc_shapes *s)
 {
     const hpfc_file *f = s->f;
@@ -238,9 +265,7 @@ static int index_edges(hpfc_shapes *s)
     s->right = malloc((E + 1) * sizeof *s->right);
     s->first = malloc((E + 1) * sizeof *s->first);
     s->vxy = malloc((2 * s->vertices + 2) * sizeof *s->vxy);
-    s->face_start = calloc(s->faces + 2, sizeof *s->face_start);
-    if (!rec || !s->eu || !s->ev || !s->left || !s->right || !s->first || !s->vxy ||
-        !s->face_start) {
+    if (!rec || !s->eu || !s->ev || !s->left || !s->right || !s->first || !s->vxy) {
         free(rec);
         return HPFC_E_NOMEM;
     }
@@ -265,37 +290,22 @@ static int index_edges(hpfc_shapes *s)
             s->eu[e] = (uint32_t)rec[k].u, s->ev[e] = (uint32_t)rec[k].v;
             s->first[e] = rec[k].first;
             s->left[e] = l, s->right[e] = r;
-            if (l != r)
-                s->face_start[l + 1]++, s->face_start[r + 1]++;
         }
     }
     free(rec);
     if (st)
         return st;
     s->first[E] = s->points; /* geom_edges checked that the edges' points follow each other */
-    for (uint64_t k = 0; k < s->faces; k++)
-        s->face_start[k + 1] += s->face_start[k];
-    s->face_edge = malloc((s->face_start[s->faces] + 1) * sizeof *s->face_edge);
-    uint64_t *fill = malloc((s->faces + 1) * sizeof *fill);
-    if (!s->face_edge || !fill) {
-        free(fill);
-        return HPFC_E_NOMEM;
-    }
-    memcpy(fill, s->face_start, s->faces * sizeof *fill);
-    for (uint64_t e = 0; e < E; e++)
-        if (s->left[e] != s->right[e]) {
-            s->face_edge[fill[s->left[e]]++] = (uint32_t)e;
-            s->face_edge[fill[s->right[e]]++] = (uint32_t)e;
-        }
-    free(fill);
     return HPFC_OK;
 }
 
 /* The links of rows [0, rows) (faces or edges) inverted: for each feature,
  * the rows that link it, in increasing order. */
 static int invert_links(const feature_links *t, uint64_t rows, uint32_t features,
-                        uint64_t **start_out, uint32_t **items_out)
+                        shapes_rows *out)
 {
+    uint64_t **start_out = &out->start;
+    uint32_t **items_out = &out->item;
     uint64_t *start = calloc((size_t)features + 2, sizeof *start);
     if (!start)
         return HPFC_E_NOMEM;
@@ -337,11 +347,33 @@ static int invert_links(const feature_links *t, uint64_t rows, uint32_t features
     return st;
 }
 
-/* FEAT's faces of each feature and EDGF's edges, where the file has them. */
+/* Table t read in place from SHIX when the section holds it (bit
+ * `table`, 0 for the faces' edges, which it always holds): *mapped true.
+ * A SHIX whose counts are not the map's is HPFC_E_CORRUPT: a writer
+ * derives it from the same LABL, FEAT and EDGF (spec §6.8.3). */
+static int map_table(hpfc_shapes *s, enum shapes_table t, uint32_t table, bool *mapped)
+{
+    const shix_view *x = &s->f->shix;
+    *mapped = false;
+    if (!x->present || (table && !(x->tables & table)))
+        return HPFC_OK;
+    if (x->faces != s->faces || x->edges != s->edges || (table && x->features != s->features))
+        return HPFC_E_CORRUPT;
+    const shix_table *src = t == FACE_EDGES      ? &x->face_edges
+                               : t == FEATURE_FACES ? &x->feature_faces
+                                                    : &x->feature_edges;
+    s->rows[t].mapped = *src;
+    *mapped = true;
+    return HPFC_OK;
+}
+
+/* FEAT's faces of each feature and EDGF's edges, where the file has them:
+ * from SHIX, or FEAT and EDGF inverted. */
 static int index_features(hpfc_shapes *s)
 {
     hpfc_features_info fi;
     feature_links links;
+    bool mapped;
     int st = hpfc_file_get_features(s->f, &fi);
     if (st == HPFC_E_NO_SECTION)
         return HPFC_OK;
@@ -351,10 +383,14 @@ static int index_features(hpfc_shapes *s)
         return st;
     s->have_features = 1;
     s->features = fi.features;
+    s->face_links = links;
     /* a FEAT table numbered against other faces is not to be used (§6.2.2) */
     uint64_t faces = fi.faces == s->faces ? s->faces : 0;
     s->face_features = faces != 0;
-    if ((st = invert_links(&links, faces, fi.features, &s->feat_start, &s->feat_face)))
+    st = faces ? map_table(s, FEATURE_FACES, SHIX_FEATURE_FACES, &mapped) : HPFC_OK;
+    if (!st && (!faces || !mapped))
+        st = invert_links(&links, faces, fi.features, &s->rows[FEATURE_FACES]);
+    if (st)
         return st;
     st = attrs_edge_links(s->f, true, &links);
     if (st == HPFC_E_NO_SECTION)
@@ -364,7 +400,31 @@ static int index_features(hpfc_shapes *s)
     if (links.rows != s->edges)
         return HPFC_E_CORRUPT;
     s->have_edge_features = 1;
-    return invert_links(&links, links.rows, fi.features, &s->fe_start, &s->fe_edge);
+    s->edge_links = links;
+    if ((st = map_table(s, FEATURE_EDGES, SHIX_FEATURE_EDGES, &mapped)) || mapped)
+        return st;
+    return invert_links(&links, links.rows, fi.features, &s->rows[FEATURE_EDGES]);
+}
+
+/* Row `row` of table t as an array (a mapped row copied out). */
+static int row_array(hpfc_shapes *s, enum shapes_table t, uint64_t row, const uint32_t **items,
+                     size_t *n)
+{
+    uint64_t a, b;
+    int st = shapes_row(s, t, row, &a, &b);
+    if (st)
+        return st;
+    *n = (size_t)(b - a);
+    if (!s->rows[t].mapped.bits.base) {
+        *items = s->rows[t].item + a;
+        return HPFC_OK;
+    }
+    if ((st = array_grow((void **)&s->row_copy, &s->cap_row_copy, *n + 1, sizeof *s->row_copy)))
+        return st;
+    for (size_t k = 0; k < *n; k++)
+        s->row_copy[k] = shapes_item(s, t, a + k);
+    *items = s->row_copy;
+    return HPFC_OK;
 }
 
 int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
@@ -404,7 +464,12 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
                          fi->y0 >= -COORD_LIMIT && fi->y0 <= COORD_LIMIT && fi->width >= 0 &&
                          fi->height >= 0 && fi->width <= COORD_LIMIT - fi->x0 &&
                          fi->height <= COORD_LIMIT - fi->y0;
+    bool mapped = false;
     st = index_edges(s);
+    if (!st)
+        st = map_table(s, FACE_EDGES, 0, &mapped);
+    if (!st && !mapped)
+        st = build_face_edges(s);
     if (!st)
         st = index_features(s);
     if (!st) {
@@ -423,13 +488,9 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
     return HPFC_OK;
 }
 
-/* The section a per-feature call reads: FEAT (the feature's faces) or EDGF
- * (its edges). */
-enum feature_section { FEATURE_FACES, FEATURE_EDGES };
-
 /* What every per-feature call checks first: s and its output given, the
  * section it reads present, `feature` one of the map's. */
-static int check_feature_call(const hpfc_shapes *s, const void *out, enum feature_section need,
+static int check_feature_call(const hpfc_shapes *s, const void *out, enum shapes_table need,
                               hpfc_id feature)
 {
     if (!s || !out)
@@ -445,14 +506,16 @@ int hpfc_shapes_feature_faces(const hpfc_shapes *s, hpfc_id feature, hpfc_id *fa
     int st = check_feature_call(s, count, FEATURE_FACES, feature);
     if (st)
         return st;
-    uint64_t a = s->feat_start[feature], n = s->feat_start[feature + 1] - a;
-    *count = (size_t)n;
+    uint64_t a, b;
+    if ((st = shapes_row(s, FEATURE_FACES, feature, &a, &b)))
+        return st;
+    *count = (size_t)(b - a);
     if (!faces)
         return HPFC_OK;
-    if (cap < n)
+    if (cap < b - a)
         return HPFC_E_BUFFER_SMALL;
-    for (uint64_t k = 0; k < n; k++)
-        faces[k] = s->feat_face[a + k];
+    for (uint64_t k = a; k < b; k++)
+        faces[k - a] = shapes_item(s, FEATURE_FACES, k);
     return HPFC_OK;
 }
 
@@ -1035,9 +1098,12 @@ int hpfc_shapes_face_polygons(hpfc_shapes *s, hpfc_id face, hpfc_polygons *out)
         return HPFC_E_ARG;
     reset(s);
     s->face_local[face] = 0;
+    uint64_t a = 0, b = 0;
     int st = parts_init(s, 1);
-    for (uint64_t k = s->face_start[face]; k < s->face_start[face + 1] && !st; k++) {
-        uint32_t e = s->face_edge[k];
+    if (!st)
+        st = shapes_row(s, FACE_EDGES, face, &a, &b);
+    for (uint64_t k = a; !st && k < b; k++) {
+        uint32_t e = shapes_item(s, FACE_EDGES, k);
         /* the face on the left: u -> v when it is the left face */
         st = add_dart(s, e, s->left[e] != face, face);
     }
@@ -1059,8 +1125,10 @@ static int region_polygons(hpfc_shapes *s, const uint32_t *faces, size_t n, hpfc
     int st = parts_init(s, n);
     for (size_t k = 0; k < n && !st; k++) {
         uint32_t face = faces[k];
-        for (uint64_t j = s->face_start[face]; j < s->face_start[face + 1] && !st; j++) {
-            uint32_t e = s->face_edge[j];
+        uint64_t a, b;
+        st = shapes_row(s, FACE_EDGES, face, &a, &b);
+        for (uint64_t j = a; !st && j < b; j++) {
+            uint32_t e = shapes_item(s, FACE_EDGES, j);
             int in_left = s->face_mark[s->left[e]] == m, in_right = s->face_mark[s->right[e]] == m;
             if (in_left && in_right)
                 parts_join(s, s->left[e], s->right[e]);
@@ -1077,8 +1145,11 @@ int hpfc_shapes_feature_polygons(hpfc_shapes *s, hpfc_id feature, hpfc_polygons 
     int st = check_feature_call(s, out, FEATURE_FACES, feature);
     if (st)
         return st;
-    uint64_t a = s->feat_start[feature], b = s->feat_start[feature + 1];
-    return region_polygons(s, s->feat_face + a, (size_t)(b - a), out);
+    const uint32_t *faces;
+    size_t n;
+    if ((st = row_array(s, FEATURE_FACES, feature, &faces, &n)))
+        return st;
+    return region_polygons(s, faces, n, out);
 }
 
 /* ---- lines --------------------------------------------------------------------------- */
@@ -1241,8 +1312,11 @@ int hpfc_shapes_feature_polylines(hpfc_shapes *s, hpfc_id feature, hpfc_polygons
     int st = check_feature_call(s, out, FEATURE_EDGES, feature);
     if (st)
         return st;
-    return join_lines(s, s->fe_edge + s->fe_start[feature],
-                      (size_t)(s->fe_start[feature + 1] - s->fe_start[feature]), out);
+    const uint32_t *edges;
+    size_t n;
+    if ((st = row_array(s, FEATURE_EDGES, feature, &edges, &n)))
+        return st;
+    return join_lines(s, edges, n, out);
 }
 
 /* ---- sets of features ------------------------------------------------------------- */
@@ -1262,18 +1336,25 @@ int hpfc_shapes_features_polygons(hpfc_shapes *s, const hpfc_id *features, size_
         return HPFC_E_NO_SECTION;
     size_t nf = 0;
     for (size_t k = 0; k < n; k++) {
+        uint64_t a, b;
         if (features[k] >= s->features)
             return HPFC_E_ARG;
-        nf += (size_t)(s->feat_start[features[k] + 1] - s->feat_start[features[k]]);
+        int st = shapes_row(s, FEATURE_FACES, features[k], &a, &b);
+        if (st)
+            return st;
+        nf += (size_t)(b - a);
     }
     /* the set's faces, each once (features may share faces, ids repeat) */
     uint32_t *faces = malloc((nf + 1) * sizeof *faces);
     if (!faces)
         return HPFC_E_NOMEM;
     nf = 0;
-    for (size_t k = 0; k < n; k++)
-        for (uint64_t j = s->feat_start[features[k]]; j < s->feat_start[features[k] + 1]; j++)
-            faces[nf++] = s->feat_face[j];
+    for (size_t k = 0; k < n; k++) {
+        uint64_t a, b;
+        shapes_row(s, FEATURE_FACES, features[k], &a, &b); /* read above */
+        for (uint64_t j = a; j < b; j++)
+            faces[nf++] = shapes_item(s, FEATURE_FACES, j);
+    }
     if (nf)
         qsort(faces, nf, sizeof *faces, cmp_u32);
     size_t u = 0;

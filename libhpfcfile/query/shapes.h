@@ -16,7 +16,9 @@
 #include <string.h>
 
 #include "arrays.h"
+#include "feature_links.h"
 #include "hpfc.h"
+#include "shix.h"
 
 __extension__ typedef __int128 s128;
 
@@ -42,6 +44,19 @@ typedef struct tring {
     size_t owner;     /* holes: the outer ring's index, SIZE_MAX: none */
 } tring;
 
+/* The index's three inverse tables. */
+enum shapes_table { FACE_EDGES, FEATURE_FACES, FEATURE_EDGES, SHAPES_TABLES };
+
+/* One of them: built in memory at create (start: rows + 1 offsets, and
+ * item), or read in place from the file's SHIX section (spec §6.8; mapped
+ * .bits.base non-NULL), each row checked as it is read (shix_row).
+ * Neither: the file has not the section the table inverts. */
+typedef struct shapes_rows {
+    uint64_t *start;
+    uint32_t *item;
+    shix_table mapped;
+} shapes_rows;
+
 struct hpfc_shapes {
     const hpfc_file *f;
     uint64_t vertices, edges, faces, points;
@@ -50,15 +65,16 @@ struct hpfc_shapes {
     uint64_t *left, *right;
     uint64_t *first;            /* edge e's shape points: [first[e], first[e + 1]) */
     int64_t *vxy;               /* the vertices' coordinates (pairs) */
-    uint64_t *face_start;       /* faces + 1 */
-    uint32_t *face_edge;
+    /* each face's edges (an edge with one face on both sides bounds
+     * nothing and is in no row), each feature's faces (FEAT) and edges
+     * (EDGF): shapes_row and shapes_item read them */
+    shapes_rows rows[SHAPES_TABLES];
+    feature_links face_links, edge_links; /* FEAT's and EDGF's, for the mapped rows' checks */
+    uint32_t *row_copy;         /* a mapped row copied out, for callers that take an array */
+    size_t cap_row_copy;
     int have_features, have_edge_features;
     int face_features;          /* FEAT numbers this map's faces: face -> features reads */
     uint32_t features;
-    uint64_t *feat_start;       /* features + 1 */
-    uint32_t *feat_face;
-    uint64_t *fe_start;         /* features + 1 (EDGF) */
-    uint32_t *fe_edge;
     uint32_t *face_mark, mark;  /* face_mark[f] == mark: f is in the region */
     uint32_t *face_local;       /* f's index among the region's faces */
     uint32_t *vmark, *vpos, vgen;
@@ -126,6 +142,35 @@ static inline uint32_t shapes_next_mark(hpfc_shapes *s)
         s->mark = 1;
     }
     return s->mark;
+}
+
+/* Whether table t is there to read (its section is in the file). */
+static inline int shapes_has_rows(const hpfc_shapes *s, enum shapes_table t)
+{
+    return s->rows[t].start || s->rows[t].mapped.bits.base;
+}
+
+/* Row `row` of table t as items [*a, *b) (shapes_item), row below the
+ * table's rows: HPFC_OK, or HPFC_E_CORRUPT for a damaged mapped row. */
+static inline int shapes_row(const hpfc_shapes *s, enum shapes_table t, uint64_t row, uint64_t *a,
+                             uint64_t *b)
+{
+    const shapes_rows *r = &s->rows[t];
+    if (r->mapped.bits.base) {
+        shix_inverse of = {.left = s->left, .right = s->right};
+        if (t != FACE_EDGES)
+            of = (shix_inverse){.links = t == FEATURE_FACES ? &s->face_links : &s->edge_links};
+        return shix_row(&r->mapped, row, &of, a, b);
+    }
+    *a = r->start[row], *b = r->start[row + 1];
+    return HPFC_OK;
+}
+
+/* Item j of table t, j in a row shapes_row gave. */
+static inline uint32_t shapes_item(const hpfc_shapes *s, enum shapes_table t, uint64_t j)
+{
+    const shapes_rows *r = &s->rows[t];
+    return r->mapped.bits.base ? shix_id(&r->mapped, j) : r->item[j];
 }
 
 /* Whether a feature covers exactly one side of edge e (it is on the

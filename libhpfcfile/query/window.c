@@ -546,11 +546,12 @@ static int flag_edges_faces(hpfc_shapes *s, const rect *win)
         w->edge_inside[k] = w->edge_in[e] = (uint8_t)inside;
     }
     for (size_t k = 0; k < w->nface && !st; k++) {
-        uint64_t f = w->face[k];
+        uint64_t f = w->face[k], a = 0, b = 0;
         inside = f != 0;
-        for (uint64_t j = s->face_start[f];
-             w->face_border[f] == w->gen && j < s->face_start[f + 1] && inside && !st; j++)
-            st = edge_inside(s, s->face_edge[j], win, &inside);
+        if (w->face_border[f] == w->gen && inside)
+            st = shapes_row(s, FACE_EDGES, f, &a, &b);
+        for (uint64_t j = a; j < b && inside && !st; j++)
+            st = edge_inside(s, shapes_item(s, FACE_EDGES, j), win, &inside);
         w->face_inside[k] = w->face_in[f] = (uint8_t)inside;
     }
     return st;
@@ -603,14 +604,18 @@ static int find_features(hpfc_shapes *s)
     for (size_t k = 0; k < w->nfeature && !st; k++) {
         hpfc_id ftr = w->feature[k];
         int inside = 1;
-        for (uint64_t j = s->feat_start ? s->feat_start[ftr] : 0;
-             s->feat_start && j < s->feat_start[ftr + 1] && inside; j++) {
-            uint32_t f = s->feat_face[j];
+        uint64_t a = 0, b = 0;
+        if (shapes_has_rows(s, FEATURE_FACES))
+            st = shapes_row(s, FEATURE_FACES, ftr, &a, &b);
+        for (uint64_t j = a; j < b && inside && !st; j++) {
+            uint32_t f = shapes_item(s, FEATURE_FACES, j);
             inside = w->face_mark[f] == w->gen && w->face_in[f];
         }
-        for (uint64_t j = s->fe_start ? s->fe_start[ftr] : 0;
-             s->fe_start && j < s->fe_start[ftr + 1] && inside; j++) {
-            uint32_t e = s->fe_edge[j];
+        a = b = 0;
+        if (shapes_has_rows(s, FEATURE_EDGES) && inside && !st)
+            st = shapes_row(s, FEATURE_EDGES, ftr, &a, &b);
+        for (uint64_t j = a; j < b && inside && !st; j++) {
+            uint32_t e = shapes_item(s, FEATURE_EDGES, j);
             inside = w->edge_mark[e] == w->gen && w->edge_in[e];
         }
         w->feature_inside[k] = (uint8_t)inside;

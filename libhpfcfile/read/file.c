@@ -335,7 +335,7 @@ static int check_section_entry(const hpfc_file *f, const uint8_t *e, span *out)
         return HPFC_E_SECTION;
     bool known = tag_is(e, FORMAT_TAG_POOL) || tag_is(e, FORMAT_TAG_CRS) || tag_is(e, FORMAT_TAG_FEAT) ||
                  tag_is(e, FORMAT_TAG_LABL) || tag_is(e, FORMAT_TAG_ATTR) || tag_is(e, FORMAT_TAG_EDGF) ||
-                 tag_is(e, FORMAT_TAG_GEOM);
+                 tag_is(e, FORMAT_TAG_GEOM) || tag_is(e, FORMAT_TAG_SHIX);
     if (!known && (flags & FORMAT_SECTION_REQUIRED))
         return HPFC_E_INCOMPATIBLE;
     *out = (span){offset, offset + length, (uint32_t)le_load(e + sec_OFF_tag, sec_SIZE_tag)};
@@ -418,10 +418,10 @@ static int read_checked(hpfc_file *f, const uint8_t *entry, int (*check)(const u
 
 /* The sections this library reads, by tag: where read_directory finds
  * their entries (at most one each, check_section_set refuses a repeat). */
-enum { SEC_POOL, SEC_CRS, SEC_FEAT, SEC_LABL, SEC_ATTR, SEC_EDGF, SEC_GEOM, KNOWN_SECTIONS };
+enum { SEC_POOL, SEC_CRS, SEC_FEAT, SEC_LABL, SEC_ATTR, SEC_EDGF, SEC_GEOM, SEC_SHIX, KNOWN_SECTIONS };
 static const char *const known_tags[KNOWN_SECTIONS] = {
-    FORMAT_TAG_POOL, FORMAT_TAG_CRS, FORMAT_TAG_FEAT, FORMAT_TAG_LABL,
-    FORMAT_TAG_ATTR, FORMAT_TAG_EDGF, FORMAT_TAG_GEOM,
+    FORMAT_TAG_POOL, FORMAT_TAG_CRS,  FORMAT_TAG_FEAT, FORMAT_TAG_LABL,
+    FORMAT_TAG_ATTR, FORMAT_TAG_EDGF, FORMAT_TAG_GEOM, FORMAT_TAG_SHIX,
 };
 
 /* Records entry e in `known` if its tag is one this library reads. */
@@ -462,6 +462,9 @@ static int read_directory(hpfc_file *f)
         st = read_checked(f, known[SEC_EDGF], edgf_section_check, &f->edgf);
     if (!st && known[SEC_GEOM])
         st = read_geom(f, known[SEC_GEOM]);
+    if (!st && known[SEC_SHIX])
+        st = shix_open(&f->shix, f->data + sec_get_offset(known[SEC_SHIX]),
+                       sec_get_length(known[SEC_SHIX]));
     if (!st)
         st = check_pools_in_section(f, known[SEC_POOL]);
     return st;

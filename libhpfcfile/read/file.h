@@ -25,6 +25,7 @@
 #include "geometry.h"
 #include "hpfc.h"
 #include "labels.h"
+#include "shix.h"
 #include "pool.h"
 
 /* One level as navigation needs it, derived at open. */
@@ -61,6 +62,7 @@ struct hpfc_file {
     labels_view labels;     /* the LABL section (labels.present: the file has one) */
     const uint8_t *attr, *edgf;
     geom_view geom;         /* the GEOM section (geom.present: the file has one) */
+    shix_view shix;         /* the SHIX section (shix.present: the file has one) */
 };
 
 /* The file has exact geometry: GEOM and LABL (open checked that their edge

@@ -1,7 +1,9 @@
 /*
  * The .hpfc writer (spec/hpfc-format.md): lays an in-memory tree out as
  * header, level table, section directory, then the POOL section (every
- * level's pool, level 0 first) and the optional CRS and FEAT sections.
+ * level's pool, level 0 first) and the optional sections: CRS, FEAT,
+ * ATTR, EDGF, LABL, GEOM, and SHIX, which the writer derives from LABL,
+ * FEAT and EDGF.
  *
  * The tree is read through the public hpfc_tree_* accessors only, in three
  * passes: count (n_w, n_@, k_w and each image's refined pixels), size (k_@
@@ -24,6 +26,7 @@
 #include "labels.h"
 #include "part_file.h"
 #include "pool.h"
+#include "shix.h"
 #include "sized.h"
 #include "tree.h"
 #include "words.h"
@@ -50,6 +53,9 @@ typedef struct layout {
     const hpfc_attr_table *attributes;
     const hpfc_edge_feature_table *edge_features;
     uint64_t attr_offset, attr_length, edgf_offset, edgf_length;
+    /* SHIX (§6.8), made from LABL, FEAT and EDGF when there is a LABL */
+    uint8_t *shix;
+    uint64_t shix_offset, shix_length;
     /* the compact layout (pool.h): per level, its stabbed words, their
      * stream's bits and longest code, and the geometry from them */
     bool compact;
@@ -72,6 +78,7 @@ static void layout_free(layout *L)
 {
     for (uint32_t l = 0; l < HPFC_MAX_LEVELS; l++)
         free(L->image_off[l]);
+    free(L->shix);
 }
 
 /* ---- pass 1: counts ------------------------------------------------------ */
@@ -194,6 +201,39 @@ static int measure_tables(layout *L, hpfc_diag *diag)
     return st;
 }
 
+/* LABL's view as a reader opens it: the source file's, or the section
+ * just made for the tree, read against the levels laid out. */
+static int labels_of(const layout *L, labels_view *v)
+{
+    if (L->source) {
+        *v = L->source->labels;
+        return HPFC_OK;
+    }
+    labels_levels lv = {.levels = L->info.levels};
+    for (uint32_t l = 0; l < L->info.levels; l++) {
+        lv.word_pixels[l] = L->lv[l].word_pixels;
+        lv.units[l] = l ? L->lv[l].images : (uint64_t)L->info.root_cols * L->info.root_rows;
+    }
+    return labels_open(v, L->labl, L->labl_length, &lv);
+}
+
+/* The SHIX section of a layout with LABL (§6.8.3), after FEAT and EDGF
+ * were checked (measure_tables). A table of 2^32 links or more cannot be
+ * stored: the file is then written without the section, which readers
+ * rebuild in memory, as for a file of 1.2. */
+static int make_index(layout *L, hpfc_diag *diag)
+{
+    labels_view v;
+    if (labels_of(L, &v))
+        return diag_set(diag, HPFC_E_ARG, "shape index: the labels do not read back");
+    int st = shix_build(&v, L->features, L->edge_features, &L->shix, &L->shix_length, diag);
+    if (st == HPFC_E_LIMIT) {
+        diag_clear(diag);
+        return HPFC_OK;
+    }
+    return st;
+}
+
 /* A section of `length` bytes placed after the file so far, at the next
  * 8-byte boundary: returns its offset; *file_size becomes its end. */
 static uint64_t append_section(uint64_t *file_size, uint64_t length)
@@ -205,14 +245,18 @@ static uint64_t append_section(uint64_t *file_size, uint64_t length)
 
 /* Header, level table and directory, then the POOL section (pools on 8-byte
  * boundaries, the section ending with the last pool's last byte), then CRS,
- * FEAT, ATTR, EDGF, LABL and GEOM, each present one on an 8-byte boundary. */
+ * FEAT, ATTR, EDGF, LABL, GEOM and SHIX, each present one on an 8-byte
+ * boundary. */
 static int place_sections(layout *L, hpfc_diag *diag)
 {
     int st = measure_tables(L, diag);
+    if (!st && L->labl && !L->shix)
+        st = make_index(L, diag);
     if (st)
         return st;
     L->section_count = 1 + (L->crs != NULL) + (L->features != NULL) + (L->attributes != NULL) +
-                       (L->edge_features != NULL) + (L->labl != NULL) + (L->geom != NULL);
+                       (L->edge_features != NULL) + (L->labl != NULL) + (L->geom != NULL) +
+                       (L->shix != NULL);
     L->meta_size = FORMAT_HEADER_SIZE + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * L->info.levels +
                    (uint64_t)FORMAT_SECTION_ENTRY_SIZE * L->section_count;
     L->pool_section = format_align8(L->meta_size);
@@ -240,6 +284,8 @@ static int place_sections(layout *L, hpfc_diag *diag)
         L->labl_offset = append_section(&L->file_size, L->labl_length);
     if (L->geom)
         L->geom_offset = append_section(&L->file_size, L->geom_length);
+    if (L->shix)
+        L->shix_offset = append_section(&L->file_size, L->shix_length);
     if (L->file_size > FORMAT_MAX_FILE_SIZE)
         return diag_set(diag, HPFC_E_LIMIT, "the file would exceed the format's 2^41 bytes");
 #if SIZE_MAX < UINT64_MAX
@@ -497,7 +543,8 @@ static int emit_to(const layout *L, sink *k)
             pool_crc = crc_zeros(pool_crc, L->pool_offset[l + 1] - L->pool_offset[l] -
                                                format_pool_bytes(L->lv[l].pool_bits));
     }
-    uint32_t crs_crc = 0, feat_crc = 0, attr_crc = 0, edgf_crc = 0, labl_crc = 0, geom_crc = 0;
+    uint32_t crs_crc = 0, feat_crc = 0, attr_crc = 0, edgf_crc = 0, labl_crc = 0, geom_crc = 0,
+             shix_crc = 0;
     if (L->crs)
         crs_crc = sink_put(k, L->crs_offset, (const uint8_t *)L->crs, L->crs_length, 0, 0);
     if (L->features)
@@ -511,6 +558,8 @@ static int emit_to(const layout *L, sink *k)
         labl_crc = sink_put(k, L->labl_offset, L->labl, L->labl_length, 0, 0);
     if (L->geom)
         geom_crc = sink_put(k, L->geom_offset, L->geom, L->geom_length, 0, 0);
+    if (L->shix)
+        shix_crc = sink_put(k, L->shix_offset, L->shix, L->shix_length, 0, 0);
     uint8_t *meta = sink_room(k, 0, L->meta_size, &nomem);
     if (!meta || nomem) {
         if (meta && !k->file)
@@ -537,7 +586,10 @@ static int emit_to(const layout *L, sink *k)
         emit_section(meta, next++, FORMAT_TAG_LABL, 0, L->labl_offset, L->labl_length, labl_crc,
                      levels);
     if (L->geom)
-        emit_section(meta, next, FORMAT_TAG_GEOM, 0, L->geom_offset, L->geom_length, geom_crc,
+        emit_section(meta, next++, FORMAT_TAG_GEOM, 0, L->geom_offset, L->geom_length, geom_crc,
+                     levels);
+    if (L->shix)
+        emit_section(meta, next, FORMAT_TAG_SHIX, 0, L->shix_offset, L->shix_length, shix_crc,
                      levels);
     hdr_set_meta_crc32c(meta, format_meta_crc(meta, L->meta_size));
     sink_put(k, 0, meta, L->meta_size, 1, 0);
@@ -800,7 +852,9 @@ int hpfc_file_serialize_sized(const hpfc_file *file, const hpfc_write_options *o
     if (st)
         return st;
     lay_out_file(file, &L);
-    return serialize_layout(&L, out, out_size, diag);
+    st = serialize_layout(&L, out, out_size, diag);
+    layout_release(&L);
+    return st;
 }
 
 int hpfc_file_write_fd_sized(const hpfc_file *file, const hpfc_write_options *opts_arg,
@@ -814,7 +868,9 @@ int hpfc_file_write_fd_sized(const hpfc_file *file, const hpfc_write_options *op
     if (st)
         return st;
     lay_out_file(file, &L);
-    return write_layout(&L, fd, NULL, diag);
+    st = write_layout(&L, fd, NULL, diag);
+    layout_release(&L);
+    return st;
 }
 
 /* ---- atomic file output ------------------------------------------------------ */
@@ -982,7 +1038,9 @@ int hpfc_file_write_file_sized(const hpfc_file *file, const hpfc_write_options *
     if (st)
         return st;
     lay_out_file(file, &L);
-    return write_atomic(path, fill_layout, &L, diag);
+    st = write_atomic(path, fill_layout, &L, diag);
+    layout_release(&L);
+    return st;
 }
 
 int hpfc_tree_write_part(const hpfc_tree *part, const char *path, hpfc_diag *diag)

@@ -41,15 +41,15 @@ for f in "$TESTS"/data/invalid/*.hpfc; do
     done
 done
 
-# The format 1.2 fixtures (compact pool, LABL, GEOM; the GIS one also CRS,
+# The format 1.3 fixtures (compact pool, LABL, GEOM, SHIX; the GIS one also CRS,
 # FEAT, ATTR, EDGF) are hpfc-pack's own bytes: packing their sources again
 # with the same options must give the same files, so a writer that changes
 # the format fails here until the fixtures are regenerated with a
 # spec/CHANGELOG.md entry. Every valid fixture also passes --verify and
 # --export-graph (export_graph.sh) and the views (inspect_views.sh).
-for spec in "two_components_hole_1_2.hpfc valid/two_components_hole.pfc" \
-    "polyline_decimals_1_2.hpfc valid/polyline_decimals.pfc" \
-    "borders_1_2.hpfc gis/ok/duplicate_borders.geojson --key i --fields all"; do
+for spec in "two_components_hole_1_3.hpfc valid/two_components_hole.pfc" \
+    "polyline_decimals_1_3.hpfc valid/polyline_decimals.pfc" \
+    "borders_1_3.hpfc gis/ok/duplicate_borders.geojson --key i --fields all"; do
     set -- $spec
     name=$1 src=$2
     shift 2

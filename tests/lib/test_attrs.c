@@ -266,7 +266,7 @@ static void test_sections(void)
     if (f) {
         hpfc_file_info fi;
         hpfc_file_get_info(f, &fi);
-        CHECK_EQ_INT(fi.format_minor, 2);
+        CHECK_EQ_INT(fi.format_minor, HPFC_FORMAT_MINOR);
         CHECK_EQ_INT(hpfc_file_check_checksums(f, NULL), HPFC_OK);
         check_read_back(f, &x);
         /* a copy through hpfc_file_serialize keeps them */

@@ -504,7 +504,7 @@ static void check_worked_example(void)
     for (uint32_t k = 0; p.f && hpfc_file_get_section(p.f, k, &si) == HPFC_OK; k++)
         if (memcmp(si.tag, "LABL", 4) == 0) {
             found = true;
-            CHECK_EQ_INT(si.offset, 272);
+            CHECK_EQ_INT(si.offset, 304);
             CHECK_EQ_INT(si.length, sizeof want);
             CHECK(si.length == sizeof want && memcmp(p.with + si.offset, want, sizeof want) == 0);
         }

@@ -304,7 +304,7 @@ static void check_file_info(const walk *w, const uint8_t *buf, size_t size, cons
     hpfc_file_get_info(w->f, &fi);
     const hpfc_tree_info *ti = &w->info;
     CHECK_EQ_INT(fi.format_major, 1);
-    CHECK_EQ_INT(fi.format_minor, 2);
+    CHECK_EQ_INT(fi.format_minor, HPFC_FORMAT_MINOR);
     CHECK(fi.root_cols == ti->root_cols && fi.root_rows == ti->root_rows && fi.cols == ti->cols &&
           fi.rows == ti->rows && fi.levels == ti->levels);
     CHECK(fi.x0 == ti->x0 && fi.y0 == ti->y0 && fi.width == ti->width && fi.height == ti->height);

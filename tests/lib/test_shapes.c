@@ -29,8 +29,10 @@
 #include <string.h>
 
 #include "check.h"
+#include "format.h"
 #include "gen.h"
 #include "hpfc.h"
+#include "shix.h"
 
 __extension__ typedef __int128 s128;
 
@@ -518,9 +520,122 @@ static void check_lines(const char *what, const hpfc_polygons *p, const uint8_t 
 
 /* ---- one file ------------------------------------------------------------------- */
 
+/* A copy of the file (size bytes) whose SHIX section a reader no longer
+ * knows: its tag renamed to an unknown unflagged one, which readers
+ * ignore, so the shapes invert LABL, FEAT and EDGF themselves as for a
+ * file of 1.2. NULL when the file has no SHIX. */
+static uint8_t *without_index(const uint8_t *buf, size_t size)
+{
+    uint8_t *copy = malloc(size);
+    memcpy(copy, buf, size);
+    uint64_t dir = hdr_get_header_size(copy) + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * hdr_get_levels(copy);
+    for (uint32_t k = 0; k < hdr_get_section_count(copy); k++) {
+        uint8_t *e = copy + dir + (uint64_t)FORMAT_SECTION_ENTRY_SIZE * k;
+        if (memcmp(e, FORMAT_TAG_SHIX, 4) == 0) {
+            memcpy(e, "shix", 4);
+            hdr_set_meta_crc32c(copy, format_meta_crc(copy, hdr_get_meta_size(copy)));
+            return copy;
+        }
+    }
+    free(copy);
+    return NULL;
+}
+
+/* Writes the low k bits of v at bit offset off, MSB first, over what was
+ * there. */
+static void put_bits(uint8_t *p, uint64_t off, unsigned k, uint64_t v)
+{
+    for (unsigned i = 0; i < k; i++, off++) {
+        uint8_t bit = (uint8_t)(0x80u >> (off & 7));
+        if (v >> (k - 1 - i) & 1)
+            p[off >> 3] |= bit;
+        else
+            p[off >> 3] &= (uint8_t)~bit;
+    }
+}
+
+/* A place in the face table (link *at) and an edge id (*id) to put there
+ * that keeps the row ascending but does not bound the row's face: a
+ * damage only the inverse check (S46) sees. */
+static int wrong_edge(const uint8_t *buf, size_t size, const shix_table *t, uint64_t *at,
+                      uint64_t *id)
+{
+    hpfc_file *f = NULL;
+    int found = 0;
+    if (hpfc_open_memory(buf, size, 0, &f))
+        return 0;
+    for (uint64_t row = 0, j = 0; row < t->rows && !found; row++) {
+        uint64_t end = format_get(&t->bits, (row + 1) * t->offset_bits, t->offset_bits);
+        for (j = format_get(&t->bits, row * t->offset_bits, t->offset_bits); j + 1 < end; j++) {
+            uint64_t c = (uint64_t)shix_id(t, j) + 1, l, r;
+            if (c < shix_id(t, j + 1) && !hpfc_geometry_edge_faces(f, c, &l, &r) &&
+                (l == r || (l != row && r != row))) {
+                *at = j + 1, *id = c, found = 1;
+                break;
+            }
+        }
+    }
+    hpfc_close(f);
+    return found;
+}
+
+/* The file's SHIX against its sections (hpfc_index_verify), then damaged:
+ * an edge of a face's row swapped for one that does not bound the face
+ * (the access check refuses it), and a face row emptied into its
+ * neighbour (rows that still read but miss links: only verification sees
+ * it). The shapes' answers on the damaged copies: known statuses only. */
+static void check_index(const uint8_t *buf, size_t size)
+{
+    hpfc_file *f = NULL;
+    hpfc_index_report rep;
+    CHECK_EQ_INT(hpfc_open_memory(buf, size, 0, &f), HPFC_OK);
+    CHECK_EQ_INT(hpfc_index_verify(f, &rep), HPFC_OK);
+    hpfc_section_info si = {0};
+    int found = 0;
+    for (uint32_t k = 0; f && hpfc_file_get_section(f, k, &si) == HPFC_OK && !found; k++)
+        found = memcmp(si.tag, FORMAT_TAG_SHIX, 4) == 0;
+    CHECK(found);
+    hpfc_close(f);
+    if (!found)
+        return;
+    shix_view v;
+    CHECK_EQ_INT(shix_open(&v, buf + si.offset, si.length), HPFC_OK);
+    const shix_table *t = &v.face_edges;
+    for (int damage = 0; damage < 2 && t->links > 0 && v.faces > 1; damage++) {
+        uint8_t *copy = malloc(size);
+        memcpy(copy, buf, size);
+        uint8_t *table = copy + (t->bits.base - buf);
+        if (damage == 0) { /* an edge of a face's row: one that does not bound it */
+            uint64_t at = 0, id = 0;
+            if (!wrong_edge(buf, size, t, &at, &id)) {
+                free(copy);
+                continue;
+            }
+            put_bits(table, t->links_at + at * t->id_bits, t->id_bits, id);
+        } else { /* face 0's row given to face 1: face 0 has no edges */
+            put_bits(table, t->offset_bits, t->offset_bits, 0);
+        }
+        CHECK_EQ_INT(hpfc_open_memory(copy, size, HPFC_OPEN_SKIP_CHECKSUM, &f), HPFC_OK);
+        int st = f ? hpfc_index_verify(f, &rep) : HPFC_E_ARG;
+        CHECK_EQ_INT(st, HPFC_E_CORRUPT);
+        hpfc_shapes *s = NULL;
+        if (f && hpfc_shapes_create(f, &s) == HPFC_OK) {
+            for (uint64_t face = 0; face < v.faces; face++) {
+                hpfc_polygons poly;
+                st = hpfc_shapes_face_polygons(s, face, &poly);
+                CHECK(st == HPFC_OK || st == HPFC_E_CORRUPT);
+            }
+            hpfc_shapes_free(s);
+        }
+        hpfc_close(f);
+        free(copy);
+    }
+}
+
 typedef struct packed {
     hpfc_tree *tree;
     uint8_t *buf, *buf2;
+    size_t size;
     hpfc_file *f;
 } packed;
 
@@ -532,13 +647,12 @@ static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, packed *
     bp.root_cols = bp.root_rows = n0;
     bp.cols = bp.rows = n;
     bp.flat = flat;
-    size_t size;
     hpfc_write_options o = {.face_labels = 1, .geometry = g};
     int st = hpfc_build(g, &bp, &p->tree, NULL);
     if (!st)
-        st = check_tree_serialize(p->tree, &o, &p->buf, &size, NULL);
+        st = check_tree_serialize(p->tree, &o, &p->buf, &p->size, NULL);
     if (!st)
-        st = hpfc_open_memory(p->buf, size, 0, &p->f);
+        st = hpfc_open_memory(p->buf, p->size, 0, &p->f);
     return st;
 }
 
@@ -644,6 +758,115 @@ static uint64_t *walk_faces(const hpfc_file *f, const oracle *o)
 }
 
 /* Every face against the oracle; then random features. */
+/* Each face's polygons against the oracle's walks. */
+static void check_faces(const char *name, hpfc_shapes *s, const oracle *o, const uint64_t *wf,
+                        const s128 *face_area)
+{
+    uint64_t nf = hpfc_shapes_face_count(s);
+    /* per face: its darts with it on the left, bridges left out */
+    for (uint64_t face = 0; face < nf; face++) {
+        segs want = {0};
+        for (uint32_t d = 0; d < o->nd; d++)
+            if (wf[o->walk[d ^ 1]] == face && o->walk[d] != o->walk[d ^ 1] &&
+                wf[o->walk[d]] != face)
+                segs_of_dart(&want, d); /* face on the right of the twin: on d's left */
+        hpfc_polygons poly;
+        char what[160];
+        snprintf(what, sizeof what, "%s face %llu", name, (unsigned long long)face);
+        int st = hpfc_shapes_face_polygons(s, face, &poly);
+        CHECK_EQ_INT(st, HPFC_OK);
+        if (!st)
+            check_answer(what, &poly, &want, face_area[face], face == 0 ? 0 : want.n ? 1 : -1);
+        free(want.s);
+    }
+    CHECK_EQ_INT(hpfc_shapes_face_polygons(s, nf, &(hpfc_polygons){0}), HPFC_E_ARG);
+}
+
+/* The features' polygons and lines against the oracle, k's faces those
+ * with member[k * nf + face], its lines the edges with on_edge[k * ne + e]. */
+static void check_features(const char *name, hpfc_shapes *s, const oracle *o, const uint64_t *wf,
+                           const s128 *face_area, const uint8_t *member, const uint8_t *on_edge,
+                           uint32_t nfeat, size_t ne)
+{
+    uint64_t nf = hpfc_shapes_face_count(s);
+    for (uint32_t k = 0; k < nfeat; k++) {
+        segs want = {0};
+        s128 area = 0;
+        for (uint64_t face = 0; face < nf; face++)
+            if (member[k * nf + face])
+                area += face_area[face];
+        for (uint32_t d = 0; d < o->nd; d++) {
+            uint64_t left = wf[o->walk[d ^ 1]], right = wf[o->walk[d]];
+            if (member[k * nf + left] && !member[k * nf + right])
+                segs_of_dart(&want, d);
+        }
+        hpfc_polygons poly;
+        char what[160];
+        snprintf(what, sizeof what, "%s feature %u", name, k);
+        int st = hpfc_shapes_feature_polygons(s, k, &poly);
+        CHECK_EQ_INT(st, HPFC_OK);
+        if (!st)
+            check_answer(what, &poly, &want, area, -1);
+        free(want.s);
+        snprintf(what, sizeof what, "%s lines of feature %u", name, k);
+        st = hpfc_shapes_feature_polylines(s, k, &poly);
+        CHECK_EQ_INT(st, HPFC_OK);
+        if (!st)
+            check_lines(what, &poly, on_edge + k * ne);
+    }
+}
+
+/* The shapes of the file at buf (size bytes) as `check` reads them, with
+ * its SHIX section and with the section hidden (the tables inverted in
+ * memory, as for a 1.2 file). */
+typedef void (*shapes_check)(const char *name, hpfc_shapes *s, const void *ctx);
+
+static void both_ways(const char *name, const uint8_t *buf, size_t size, shapes_check check,
+                      const void *ctx)
+{
+    uint8_t *hidden = without_index(buf, size);
+    CHECK(hidden != NULL);
+    for (int way = 0; way < 2; way++) {
+        const uint8_t *bytes = way ? hidden : buf;
+        hpfc_file *f = NULL;
+        hpfc_shapes *s = NULL;
+        if (!bytes)
+            continue;
+        int st = hpfc_open_memory(bytes, size, 0, &f);
+        if (!st)
+            st = hpfc_shapes_create(f, &s);
+        CHECK_EQ_INT(st, HPFC_OK);
+        char what[128];
+        snprintf(what, sizeof what, "%s%s", name, way ? " (no SHIX)" : "");
+        if (!st)
+            check(what, s, ctx);
+        hpfc_shapes_free(s);
+        hpfc_close(f);
+    }
+    free(hidden);
+}
+
+typedef struct shapes_ctx {
+    const oracle *o;
+    const uint64_t *wf;
+    const s128 *face_area;
+    const uint8_t *member, *on_edge;
+    uint32_t nfeat;
+    size_t ne;
+} shapes_ctx;
+
+static void faces_way(const char *name, hpfc_shapes *s, const void *ctx)
+{
+    const shapes_ctx *c = ctx;
+    check_faces(name, s, c->o, c->wf, c->face_area);
+}
+
+static void features_way(const char *name, hpfc_shapes *s, const void *ctx)
+{
+    const shapes_ctx *c = ctx;
+    check_features(name, s, c->o, c->wf, c->face_area, c->member, c->on_edge, c->nfeat, c->ne);
+}
+
 static void check_file(const char *name, const packed *p, uint64_t seed)
 {
     oracle o;
@@ -657,29 +880,15 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
         return;
     }
     uint64_t nf = hpfc_shapes_face_count(s);
+    hpfc_shapes_free(s);
     uint64_t *wf = walk_faces(p->f, &o);
     s128 *face_area = calloc(nf + 1, sizeof *face_area);
     for (size_t w = 0; w < o.nwalks; w++)
         if (wf[w] < nf)
             face_area[wf[w]] -= o.walk_area2[w]; /* walks have the face on the right */
-    /* per face: its darts with it on the left, bridges left out */
-    for (uint64_t face = 0; face < nf; face++) {
-        segs want = {0};
-        for (uint32_t d = 0; d < o.nd; d++)
-            if (wf[o.walk[d ^ 1]] == face && o.walk[d] != o.walk[d ^ 1] &&
-                wf[o.walk[d]] != face)
-                segs_of_dart(&want, d); /* face on the right of the twin: on d's left */
-        hpfc_polygons poly;
-        char what[160];
-        snprintf(what, sizeof what, "%s face %llu", name, (unsigned long long)face);
-        st = hpfc_shapes_face_polygons(s, face, &poly);
-        CHECK_EQ_INT(st, HPFC_OK);
-        if (!st)
-            check_answer(what, &poly, &want, face_area[face], face == 0 ? 0 : want.n ? 1 : -1);
-        free(want.s);
-    }
-    CHECK_EQ_INT(hpfc_shapes_face_polygons(s, nf, &(hpfc_polygons){0}), HPFC_E_ARG);
-    hpfc_shapes_free(s);
+    shapes_ctx ctx = {.o = &o, .wf = wf, .face_area = face_area};
+    both_ways(name, p->buf, p->size, faces_way, &ctx);
+    check_index(p->buf, p->size);
 
     /* features: three, each a random set of bounded faces */
     enum { NFEAT = 3 };
@@ -722,43 +931,13 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
     hpfc_write_options wo = {.features = &ft, .face_labels = 1, .edge_features = &eft};
     uint8_t *buf = NULL;
     size_t size;
-    hpfc_file *f2 = NULL;
     st = hpfc_file_serialize(p->f, &wo, &buf, &size, NULL);
-    if (!st)
-        st = hpfc_open_memory(buf, size, 0, &f2);
     CHECK_EQ_INT(st, HPFC_OK);
-    if (!st)
-        st = hpfc_shapes_create(f2, &s);
-    CHECK_EQ_INT(st, HPFC_OK);
-    for (uint32_t k = 0; k < NFEAT && !st; k++) {
-        segs want = {0};
-        s128 area = 0;
-        for (uint64_t face = 0; face < nf; face++)
-            if (member[k * nf + face])
-                area += face_area[face];
-        for (uint32_t d = 0; d < o.nd; d++) {
-            uint64_t left = wf[o.walk[d ^ 1]], right = wf[o.walk[d]];
-            if (member[k * nf + left] && !member[k * nf + right])
-                segs_of_dart(&want, d);
-        }
-        hpfc_polygons poly;
-        char what[160];
-        snprintf(what, sizeof what, "%s feature %u", name, k);
-        st = hpfc_shapes_feature_polygons(s, k, &poly);
-        CHECK_EQ_INT(st, HPFC_OK);
-        if (!st)
-            check_answer(what, &poly, &want, area, -1);
-        free(want.s);
-        snprintf(what, sizeof what, "%s lines of feature %u", name, k);
-        st = hpfc_shapes_feature_polylines(s, k, &poly);
-        CHECK_EQ_INT(st, HPFC_OK);
-        if (!st)
-            check_lines(what, &poly, on_edge + k * ne);
-        st = 0;
+    if (!st) {
+        ctx.member = member, ctx.on_edge = on_edge, ctx.nfeat = NFEAT, ctx.ne = ne;
+        both_ways(name, buf, size, features_way, &ctx);
+        check_index(buf, size);
     }
-    if (f2)
-        hpfc_shapes_free(s);
-    hpfc_close(f2);
     hpfc_free(buf);
     free(start);
     free(links);

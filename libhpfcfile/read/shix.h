@@ -1,0 +1,78 @@
+/*
+ * shix.h: the SHIX section (spec/hpfc-format.md §6.8, format 1.3), the
+ * shape index: each face's edges, each feature's faces and each feature's
+ * edges, the three inverse tables hpfc_shapes needs, stored so that a
+ * file's shapes open without a pass over the map. Each table is an index
+ * of rows + 1 offsets, then its links (ids), both bit-packed MSB-first at
+ * the widths their counts give. shix.c checks the section at open, reads
+ * and checks a row, and builds the section for the writer; query/shapes.c
+ * reads it. Internal to the library.
+ */
+#ifndef HPFC_SHIX_H
+#define HPFC_SHIX_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "diag.h"
+#include "feature_links.h"
+#include "format.h"
+#include "hpfc.h"
+#include "labels.h"
+
+/* One table as open found it (§6.8.1): `rows` rows, `links` ids each
+ * below `bound`; offsets of offset_bits bits from bit 0 of `bits`, the ids
+ * of id_bits bits from bit links_at. */
+typedef struct shix_table {
+    format_bits bits;
+    uint32_t rows, links, bound;
+    unsigned offset_bits, id_bits;
+    uint64_t links_at;
+} shix_table;
+
+/* A SHIX section as open found it. A table the section does not hold has
+ * rows == 0 and bits.base NULL. */
+typedef struct shix_view {
+    bool present;
+    uint32_t faces, edges, features, tables;
+    shix_table face_edges, feature_faces, feature_edges;
+} shix_view;
+
+/* Checks a SHIX section's header and exact length (spec §8.1 S45) and
+ * fills v: HPFC_E_SECTION for a section that does not hold what its
+ * header says. The counts are compared with LABL, FEAT and EDGF where the
+ * tables are used (hpfc_shapes_create), not here. */
+int shix_open(shix_view *v, const uint8_t *section, uint64_t length);
+
+/* Id j of a table (j < links, the caller's check). */
+static inline uint32_t shix_id(const shix_table *t, uint64_t j)
+{
+    return (uint32_t)format_get(&t->bits, t->links_at + j * t->id_bits, t->id_bits);
+}
+
+/* What a row of a table inverts, to check each of its ids against: the
+ * edges' faces (left, right in memory, or else LABL's sides; the face
+ * table), or FEAT's or EDGF's links (links; the feature tables). */
+typedef struct shix_inverse {
+    const uint64_t *left, *right;
+    const labels_view *labels;
+    const feature_links *links;
+} shix_inverse;
+
+/* Row `row` (< t->rows, the caller's check) of a table as ids [*a, *b)
+ * (spec §8.5 S46): HPFC_E_CORRUPT unless its offsets do not decrease and
+ * lie in the links and its ids ascend strictly, each below the bound and
+ * each the inverse of a link of `of`. O(the row and the links it checks). */
+int shix_row(const shix_table *t, uint64_t row, const shix_inverse *of, uint64_t *a,
+             uint64_t *b);
+
+/* The SHIX section of a map with LABL view `labels` (its sides give each
+ * face's edges), FEAT table `features` and EDGF table `edges` (either
+ * NULL), as the writer stores it (spec §6.8.3), into *out (*length bytes,
+ * free()). HPFC_E_LIMIT (the diagnostic cleared) for a table of 2^32
+ * links or more, which the section cannot hold. */
+int shix_build(const labels_view *labels, const hpfc_feature_table *features,
+               const hpfc_edge_feature_table *edges, uint8_t **out, uint64_t *length,
+               hpfc_diag *diag);
+
+#endif
