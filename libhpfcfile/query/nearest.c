@@ -263,7 +263,11 @@ static int leaf_crossing(hpfc_shapes *s, const hpfc_pixel *leaf, uint32_t k, con
         st = hpfc_geometry_crossing_segment(s->f, leaf, k, &seg);
     if (st)
         return st;
-    if (e >= s->edges || seg + 1 >= shapes_edge_points(s, e))
+    if (e >= s->edges)
+        return HPFC_E_CORRUPT;
+    if ((st = shapes_need_edge(s, e)))
+        return st;
+    if (seg + 1 >= shapes_edge_points(s, e))
         return HPFC_E_CORRUPT;
     int64_t a[2], b[2], first[2];
     if ((st = read_point(s, e, seg, a)))

@@ -73,6 +73,9 @@ static int topo_begin(hpfc_shapes *s)
 {
     if (s->topo)
         return HPFC_OK;
+    int st = shapes_read_all(s); /* every vertex's edges */
+    if (st)
+        return st;
     shapes_topo *t = s->topo = calloc(1, sizeof *t);
     if (!t)
         return HPFC_E_NOMEM;
@@ -139,7 +142,7 @@ static int face_has(const hpfc_shapes *s, uint64_t face, hpfc_id g, int *has)
 
 /* Whether feature g has faces into *has: HPFC_E_CORRUPT for a damaged
  * row of SHIX. */
-static int has_faces(const hpfc_shapes *s, hpfc_id g, int *has)
+static int has_faces(hpfc_shapes *s, hpfc_id g, int *has)
 {
     uint64_t a = 0, b = 0;
     int st = shapes_has_rows(s, FEATURE_FACES) ? shapes_row(s, FEATURE_FACES, g, &a, &b) : HPFC_OK;
@@ -152,8 +155,8 @@ static int has_faces(const hpfc_shapes *s, hpfc_id g, int *has)
 static int add_edge_border(hpfc_shapes *s, uint64_t e)
 {
     shapes_topo *t = s->topo;
-    int st = HPFC_OK;
-    if (s->face_features && s->left[e] != s->right[e]) {
+    int st = shapes_need_edge(s, e);
+    if (!st && s->face_features && s->left[e] != s->right[e]) {
         for (int side = 0; side < 2 && !st; side++) {
             uint64_t face = side ? s->right[e] : s->left[e], other = side ? s->left[e] : s->right[e];
             uint32_t n;
@@ -216,11 +219,14 @@ static int cmp_u32(const void *pa, const void *pb)
 static int edge_length(hpfc_shapes *s, uint64_t e, double *len)
 {
     shapes_topo *t = s->topo;
+    int st = shapes_need_edge(s, e);
+    if (st)
+        return st;
     if (t->length[e] < 0) {
         double sum = 0;
         int64_t px = 0, py = 0, x, y;
         for (uint64_t k = 0; k < shapes_edge_points(s, e); k++) {
-            int st = hpfc_geometry_edge_point(s->f, e, k, &x, &y);
+            st = hpfc_geometry_edge_point(s->f, e, k, &x, &y);
             if (st)
                 return st;
             if (k)

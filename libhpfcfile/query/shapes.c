@@ -188,7 +188,10 @@ void hpfc_shapes_free(hpfc_shapes *s)
     free(s->left);
     free(s->right);
     free(s->first);
+    free(s->end);
     free(s->vxy);
+    free(s->edge_read);
+    free(s->vertex_read);
     for (int t = 0; t < SHAPES_TABLES; t++) {
         free(s->rows[t].start);
         free(s->rows[t].item);
@@ -226,6 +229,9 @@ uint64_t hpfc_shapes_face_count(const hpfc_shapes *s)
  * face on both sides bounds nothing and is left out). */
 static int build_face_edges(hpfc_shapes *s)
 {
+    int st = shapes_read_all(s);
+    if (st)
+        return st;
     shapes_rows *r = &s->rows[FACE_EDGES];
     uint64_t *start = r->start = calloc(s->faces + 2, sizeof *r->start);
     if (!start)
@@ -251,51 +257,23 @@ static int build_face_edges(hpfc_shapes *s)
     return HPFC_OK;
 }
 
-/* Each edge's ends, shape points and faces, each vertex's coordinates
- * (GEOM's columns read in runs). */
+/* Room for each edge's record and each vertex's coordinates, read a
+ * chunk at a time on first use (shapes_edges.c); untouched until then. */
 static int index_edges(hpfc_shapes *s)
 {
-    const hpfc_file *f = s->f;
-    uint64_t E = s->edges;
-    enum { CHUNK = 1024 };
-    geom_edge *rec = malloc(CHUNK * sizeof *rec);
-    s->eu = malloc((E + 1) * sizeof *s->eu);
-    s->ev = malloc((E + 1) * sizeof *s->ev);
-    s->left = malloc((E + 1) * sizeof *s->left);
-    s->right = malloc((E + 1) * sizeof *s->right);
-    s->first = malloc((E + 1) * sizeof *s->first);
-    s->vxy = malloc((2 * s->vertices + 2) * sizeof *s->vxy);
-    if (!rec || !s->eu || !s->ev || !s->left || !s->right || !s->first || !s->vxy) {
-        free(rec);
+    uint64_t E = s->edges, chunks = (E >> SHAPES_CHUNK_SHIFT) + 1;
+    s->eu = calloc(E + 1, sizeof *s->eu);
+    s->ev = calloc(E + 1, sizeof *s->ev);
+    s->left = calloc(E + 1, sizeof *s->left);
+    s->right = calloc(E + 1, sizeof *s->right);
+    s->first = calloc(E + 1, sizeof *s->first);
+    s->end = calloc(E + 1, sizeof *s->end);
+    s->vxy = calloc(2 * s->vertices + 2, sizeof *s->vxy);
+    s->edge_read = calloc(chunks, 1);
+    s->vertex_read = calloc((s->vertices >> SHAPES_CHUNK_SHIFT) + 1, 1);
+    if (!s->eu || !s->ev || !s->left || !s->right || !s->first || !s->end || !s->vxy ||
+        !s->edge_read || !s->vertex_read)
         return HPFC_E_NOMEM;
-    }
-    int st = geom_points(f, GEOM_VX, 0, s->vertices, s->vxy);
-    /* each edge's faces as hpfc_geometry_edge_faces reads them (GEOM's
-     * orientation bit picks which of LABL's two sides is the right one),
-     * without its checks per call: the counts agree (hpfc_shapes_create) */
-    const labels_view *lv = &f->labels;
-    const unsigned fb = lv->face_bits;
-    for (uint64_t e0 = 0, m; e0 < E && !st; e0 += m) {
-        m = E - e0 < CHUNK ? E - e0 : CHUNK;
-        st = geom_edges(f, e0, m, rec);
-        for (uint64_t k = 0; k < m && !st; k++) {
-            uint64_t e = e0 + k;
-            unsigned rgt = (unsigned)format_get(&f->geom.orient, e, 1);
-            uint64_t r = format_get(&lv->sides, (2 * e + rgt) * fb, fb);
-            uint64_t l = format_get(&lv->sides, (2 * e + !rgt) * fb, fb);
-            if (l >= s->faces || r >= s->faces) {
-                st = HPFC_E_CORRUPT;
-                break;
-            }
-            s->eu[e] = (uint32_t)rec[k].u, s->ev[e] = (uint32_t)rec[k].v;
-            s->first[e] = rec[k].first;
-            s->left[e] = l, s->right[e] = r;
-        }
-    }
-    free(rec);
-    if (st)
-        return st;
-    s->first[E] = s->points; /* geom_edges checked that the edges' points follow each other */
     return HPFC_OK;
 }
 
@@ -507,7 +485,8 @@ int hpfc_shapes_feature_faces(const hpfc_shapes *s, hpfc_id feature, hpfc_id *fa
     if (st)
         return st;
     uint64_t a, b;
-    if ((st = shapes_row(s, FEATURE_FACES, feature, &a, &b)))
+    /* a faces row reads no edge: the object stays as it was */
+    if ((st = shapes_row((hpfc_shapes *)s, FEATURE_FACES, feature, &a, &b)))
         return st;
     *count = (size_t)(b - a);
     if (!faces)
@@ -581,13 +560,16 @@ static void parts_join(hpfc_shapes *s, uint64_t f, uint64_t g)
  * first. */
 static int load_edge(hpfc_shapes *s, uint64_t e, size_t *at)
 {
+    int st = shapes_need_edge(s, e);
+    if (st)
+        return st;
     uint64_t n = shapes_edge_points(s, e);
     if (array_grow((void **)&s->ept, &s->cap_ept, 2 * (s->nept + n), sizeof *s->ept))
         return HPFC_E_NOMEM;
     int64_t *p = s->ept + 2 * s->nept;
     memcpy(p, s->vxy + 2 * (size_t)s->eu[e], 2 * sizeof *p);
     memcpy(p + 2 * (n - 1), s->vxy + 2 * (size_t)s->ev[e], 2 * sizeof *p);
-    int st = geom_points(s->f, GEOM_PX, s->first[e], n - 2, p + 2);
+    st = geom_points(s->f, GEOM_PX, s->first[e], n - 2, p + 2);
     /* GEOM's points lie in the domain (geom_points checks): within the
      * limit when the domain is */
     for (uint64_t k = 0; k < n && !st && !s->domain_in_limit; k++)
@@ -606,6 +588,9 @@ static int add_dart(hpfc_shapes *s, uint64_t e, int reversed, uint64_t face)
 {
     /* the points this edge will bring to the answer, counted before the
      * tracing reads them */
+    int st = shapes_need_edge(s, e);
+    if (st)
+        return st;
     if (shapes_take_points(s, shapes_edge_points(s, e)))
         return HPFC_E_OVER_LIMIT;
     if (array_grow((void **)&s->darts, &s->cap_darts, s->ndarts + 1, sizeof *s->darts))
@@ -614,7 +599,7 @@ static int add_dart(hpfc_shapes *s, uint64_t e, int reversed, uint64_t face)
     memset(d, 0, sizeof *d);
     d->code = e << 1 | (uint64_t)reversed;
     d->face = (uint32_t)face;
-    int st = load_edge(s, e, &d->pts);
+    st = load_edge(s, e, &d->pts);
     if (st)
         return st;
     uint64_t n = shapes_edge_points(s, e);
@@ -1410,7 +1395,7 @@ int hpfc_shapes_mesh(hpfc_shapes *s, const uint32_t *group, size_t n, unsigned s
         return HPFC_E_ARG;
     uint32_t *gl = NULL, *gr = NULL, *kept = NULL;
     size_t nl = 0, nr = 0, cap_l = 0, cap_r = 0, nk = 0, cap_k = 0;
-    int st = HPFC_OK;
+    int st = shapes_read_all(s); /* every edge's faces */
     for (uint64_t e = 0; e < s->edges && s->face_features && !st; e++) {
         if (s->left[e] == s->right[e])
             continue;

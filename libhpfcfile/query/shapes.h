@@ -17,6 +17,7 @@
 
 #include "arrays.h"
 #include "feature_links.h"
+#include "file.h"
 #include "hpfc.h"
 #include "shix.h"
 
@@ -57,14 +58,23 @@ typedef struct shapes_rows {
     shix_table mapped;
 } shapes_rows;
 
+/* Edges and vertices are read a chunk at a time, on first use
+ * (shapes_edges.c): a query pays for the edges it meets. */
+enum { SHAPES_CHUNK_SHIFT = 6, SHAPES_CHUNK = 1 << SHAPES_CHUNK_SHIFT };
+
 struct hpfc_shapes {
     const hpfc_file *f;
     uint64_t vertices, edges, faces, points;
     int domain_in_limit;        /* every lattice point of the domain passes coord_ok */
+    /* each edge's ends, faces and shape points ([first[e], end[e])), each
+     * vertex's coordinates (pairs): valid for the edges and vertices of a
+     * chunk read (edge_read, vertex_read; shapes_need_edge) */
     uint32_t *eu, *ev;
     uint64_t *left, *right;
-    uint64_t *first;            /* edge e's shape points: [first[e], first[e + 1]) */
-    int64_t *vxy;               /* the vertices' coordinates (pairs) */
+    uint64_t *first, *end;
+    int64_t *vxy;
+    uint8_t *edge_read, *vertex_read;
+    int all_read;               /* every edge's chunk read (shapes_read_all) */
     /* each face's edges (an edge with one face on both sides bounds
      * nothing and is in no row), each feature's faces (FEAT) and edges
      * (EDGF): shapes_row and shapes_item read them */
@@ -144,26 +154,27 @@ static inline uint32_t shapes_next_mark(hpfc_shapes *s)
     return s->mark;
 }
 
+/* Reads chunk `chunk` of the edges (with their vertices' chunks) or of
+ * the vertices; every edge's chunk. HPFC_E_CORRUPT as GEOM's and LABL's
+ * reads; the chunk then stays unread. shapes_edges.c. */
+int shapes_read_edges(hpfc_shapes *s, uint64_t chunk);
+int shapes_read_vertices(hpfc_shapes *s, uint64_t chunk);
+int shapes_read_all(hpfc_shapes *s);
+
+/* Edge e's record and its vertices' coordinates read (e below the
+ * edges: the caller's check). Every path that takes an edge id from the
+ * file or the caller passes here (or through shapes_row) before it reads
+ * eu, ev, left, right, first, end or vxy. */
+static inline int shapes_need_edge(hpfc_shapes *s, uint64_t e)
+{
+    return s->edge_read[e >> SHAPES_CHUNK_SHIFT] ? HPFC_OK
+                                                 : shapes_read_edges(s, e >> SHAPES_CHUNK_SHIFT);
+}
+
 /* Whether table t is there to read (its section is in the file). */
 static inline int shapes_has_rows(const hpfc_shapes *s, enum shapes_table t)
 {
     return s->rows[t].start || s->rows[t].mapped.bits.base;
-}
-
-/* Row `row` of table t as items [*a, *b) (shapes_item), row below the
- * table's rows: HPFC_OK, or HPFC_E_CORRUPT for a damaged mapped row. */
-static inline int shapes_row(const hpfc_shapes *s, enum shapes_table t, uint64_t row, uint64_t *a,
-                             uint64_t *b)
-{
-    const shapes_rows *r = &s->rows[t];
-    if (r->mapped.bits.base) {
-        shix_inverse of = {.left = s->left, .right = s->right};
-        if (t != FACE_EDGES)
-            of = (shix_inverse){.links = t == FEATURE_FACES ? &s->face_links : &s->edge_links};
-        return shix_row(&r->mapped, row, &of, a, b);
-    }
-    *a = r->start[row], *b = r->start[row + 1];
-    return HPFC_OK;
 }
 
 /* Item j of table t, j in a row shapes_row gave. */
@@ -172,6 +183,30 @@ static inline uint32_t shapes_item(const hpfc_shapes *s, enum shapes_table t, ui
     const shapes_rows *r = &s->rows[t];
     return r->mapped.bits.base ? shix_id(&r->mapped, j) : r->item[j];
 }
+
+/* Row `row` of table t as items [*a, *b) (shapes_item), row below the
+ * table's rows, the edges of an edge table read (shapes_need_edge):
+ * HPFC_OK, or HPFC_E_CORRUPT for a damaged mapped row or edge. */
+static inline int shapes_row(hpfc_shapes *s, enum shapes_table t, uint64_t row, uint64_t *a,
+                             uint64_t *b)
+{
+    const shapes_rows *r = &s->rows[t];
+    int st = HPFC_OK;
+    if (r->mapped.bits.base) {
+        /* the face table's ids against LABL's sides, not the edges'
+         * records, which may not be read yet */
+        shix_inverse of = {.labels = &s->f->labels};
+        if (t != FACE_EDGES)
+            of = (shix_inverse){.links = t == FEATURE_FACES ? &s->face_links : &s->edge_links};
+        st = shix_row(&r->mapped, row, &of, a, b);
+    } else {
+        *a = r->start[row], *b = r->start[row + 1];
+    }
+    for (uint64_t j = *a; t != FEATURE_FACES && j < *b && !st; j++)
+        st = shapes_need_edge(s, shapes_item(s, t, j));
+    return st;
+}
+
 
 /* Whether a feature covers exactly one side of edge e (it is on the
  * feature's border): mark[] stamps the feature's faces with m. */
@@ -193,7 +228,7 @@ int shapes_segment_meets(const int64_t a[2], const int64_t b[2], const int64_t b
 /* Edge e's points: u, its shape points, v. */
 static inline uint64_t shapes_edge_points(const hpfc_shapes *s, uint64_t e)
 {
-    return s->first[e + 1] - s->first[e] + 2;
+    return s->end[e] - s->first[e] + 2;
 }
 
 /* Points [from, from + n) of edge e (point 0 is u, the last v) into xy

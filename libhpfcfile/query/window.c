@@ -137,9 +137,12 @@ static int add_edge_sides(hpfc_shapes *s, uint64_t edge, int border)
         return HPFC_E_CORRUPT;
     if (w->edge_mark[edge] == w->gen && (!border || w->edge_border[edge] == w->gen))
         return HPFC_OK;
+    int st = shapes_need_edge(s, edge);
+    if (st)
+        return st;
     if (border)
         w->edge_border[edge] = w->gen;
-    int st = add_face(s, s->left[edge], border);
+    st = add_face(s, s->left[edge], border);
     if (!st && s->right[edge] != s->left[edge])
         st = add_face(s, s->right[edge], border);
     if (st || w->edge_mark[edge] == w->gen)
@@ -217,6 +220,10 @@ int shapes_segment_meets(const int64_t a[2], const int64_t b[2], const int64_t b
 int shapes_edge_point_run(const hpfc_shapes *s, uint64_t e, uint64_t from, uint64_t n,
                           int64_t *xy)
 {
+    /* reading the edge's record on first use changes no answer */
+    int st = shapes_need_edge((hpfc_shapes *)s, e);
+    if (st)
+        return st;
     uint64_t last = shapes_edge_points(s, e) - 1, end = from + n;
     if (n == 0)
         return HPFC_OK;
@@ -229,7 +236,7 @@ int shapes_edge_point_run(const hpfc_shapes *s, uint64_t e, uint64_t from, uint6
     }
     uint64_t inner = end < last ? end : last; /* shape points: 1 .. last - 1 */
     if (k < inner) {
-        int st = geom_points(s->f, GEOM_PX, s->first[e] + k - 1, inner - k, xy);
+        st = geom_points(s->f, GEOM_PX, s->first[e] + k - 1, inner - k, xy);
         if (st)
             return st;
         xy += 2 * (inner - k), k = inner;
@@ -248,13 +255,15 @@ int shapes_edge_box(hpfc_shapes *s, uint64_t edge, const int64_t **box)
             s->edge_box[e][0] = 1, s->edge_box[e][2] = 0; /* not computed */
     }
     int64_t *b = s->edge_box[edge];
+    int st = shapes_need_edge(s, edge);
+    if (st)
+        return st;
     if (b[0] > b[2]) { /* read a run of points at a time */
         enum { RUN = 128 };
         int64_t xy[2 * RUN], lo[2] = {INT64_MAX, INT64_MAX}, hi[2] = {INT64_MIN, INT64_MIN};
         for (uint64_t k0 = 0, n = shapes_edge_points(s, edge), m; k0 < n; k0 += m) {
             m = n - k0 < RUN ? n - k0 : RUN;
-            int st = shapes_edge_point_run(s, edge, k0, m, xy);
-            if (st)
+            if ((st = shapes_edge_point_run(s, edge, k0, m, xy)))
                 return st;
             for (uint64_t k = 0; k < 2 * m; k++) {
                 lo[k & 1] = xy[k] < lo[k & 1] ? xy[k] : lo[k & 1];
@@ -319,10 +328,14 @@ static int walk_segments(hpfc_shapes *s, uint64_t e, uint64_t seg, int forward, 
 static int cut_crossing(hpfc_shapes *s, uint64_t e, uint64_t seg, const rect *box, const rect *r,
                         int *through)
 {
-    if (e >= s->edges || seg + 1 >= shapes_edge_points(s, e))
+    if (e >= s->edges)
         return HPFC_E_CORRUPT;
-    int hit = 0;
-    int st = walk_segments(s, e, seg, 1, box, r, &hit);
+    int hit = 0, st = shapes_need_edge(s, e);
+    if (st)
+        return st;
+    if (seg + 1 >= shapes_edge_points(s, e))
+        return HPFC_E_CORRUPT;
+    st = walk_segments(s, e, seg, 1, box, r, &hit);
     if (!st && !hit)
         st = walk_segments(s, e, seg, 0, box, r, &hit);
     if (st || !hit)
