@@ -571,13 +571,14 @@ bool HPFCLayer::BuildWindow()
         return false;
     }
     if (kind_ == LayerKind::Source) {
-        /* members_ is in ascending feature order, as the hits are */
-        size_t m = 0;
+        /* members_ is in ascending feature order, as the hits are: each
+         * hit found from the last by binary search, O(hits log members) */
+        auto m = members_.begin();
         for (size_t k = 0; k < h.feature_count; k++) {
-            while (m < members_.size() && members_[m].feature < h.feature[k])
-                m++;
-            if (m < members_.size() && members_[m].feature == h.feature[k])
-                hits_.push_back(m);
+            m = std::lower_bound(m, members_.end(), h.feature[k],
+                                 [](const Member &a, hpfc_id f) { return a.feature < f; });
+            if (m != members_.end() && m->feature == h.feature[k])
+                hits_.push_back(static_cast<size_t>(m - members_.begin()));
         }
     } else if (kind_ == LayerKind::Faces) {
         for (size_t k = 0; k < h.face_count; k++)
