@@ -37,12 +37,10 @@ import hpfc
 from osgeo import gdal, ogr
 
 gdal.UseExceptions()
-W, S, E, N = -125.0, 25.0, -67.0, 49.0
-CX, CY = (W + E) / 2, (S + N) / 2
+from series_window import CX, CY, E, N, S, W, WINDOW  # noqa: E402  (bench/ is on the path)
 SERIES = [("small", 40, 25, 9), ("medium", 120, 75, 3), ("large", 360, 225, 1),
           ("huge", 720, 450, 0.5)]
 K = 40  # shape points inside each cell side
-WINDOW = (CX - (E - W) * 0.05, CY - (N - S) * 0.05, CX + (E - W) * 0.05, CY + (N - S) * 0.05)
 
 
 def cpu_best(fn, runs):
