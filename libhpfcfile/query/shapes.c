@@ -1320,10 +1320,11 @@ int hpfc_shapes_features_polygons(hpfc_shapes *s, const hpfc_id *features, size_
     if (!s->have_features)
         return HPFC_E_NO_SECTION;
     size_t nf = 0;
-    for (size_t k = 0; k < n; k++) {
-        uint64_t a, b;
+    for (size_t k = 0; k < n; k++) /* the caller's ids first, then the file's rows */
         if (features[k] >= s->features)
             return HPFC_E_ARG;
+    for (size_t k = 0; k < n; k++) {
+        uint64_t a, b;
         int st = shapes_row(s, FEATURE_FACES, features[k], &a, &b);
         if (st)
             return st;
