@@ -190,6 +190,27 @@ class GeometryMixin:
         None without one."""
         return _hpfc.geometry_info(self)
 
+    def bounds(self, coords="user"):
+        """The exact box (xmin, ymin, xmax, ymax) of every vertex and shape
+        point, None without a GEOM section. Read from GEOM's block
+        directories (hpfc_geometry_bounds), a few blocks, not the points.
+        coords "lattice" (integers) or "user"; "source" when that is the
+        user plane. Longitude and latitude are not monotone in the
+        projected plane in general (a ring across the antimeridian): take
+        the box of the geometries there."""
+        box = _hpfc.geometry_bounds(self)
+        if box is None:
+            return None
+        mode = self._shapes()._mode(coords)
+        if mode == "lattice":
+            return box
+        if mode != "user":
+            raise ValueError("bounds: coords 'lattice' or 'user' (the box of longitudes and "
+                             "latitudes needs the points: the geometries' total bounds)")
+        out = np.empty(4)
+        self._shapes()._to_user(np.array(box, dtype=np.int64), out, False)
+        return tuple(float(v) for v in out)
+
     def _shapes(self):
         index = self.__dict__.get("_shapes_index")
         if index is None:

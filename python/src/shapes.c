@@ -463,6 +463,26 @@ static PyObject *mod_geometry_info(PyObject *m, PyObject *file)
                          "section_bytes", (unsigned long long)gi.section_bytes);
 }
 
+/* geometry_bounds(file) -> (xmin, ymin, xmax, ymax), lattice coordinates
+ * of every vertex and shape point (hpfc_geometry_bounds: GEOM's block
+ * directories, not the points); None without a GEOM section. */
+static PyObject *mod_geometry_bounds(PyObject *m, PyObject *file)
+{
+    (void)m;
+    int *busy;
+    const hpfc_file *f = pyhpfc_file_of(file, &busy);
+    if (!f)
+        return NULL;
+    int64_t box[4];
+    int st = hpfc_geometry_bounds(f, box);
+    if (st == HPFC_E_NO_SECTION)
+        Py_RETURN_NONE;
+    if (st)
+        return pyhpfc_raise(st, "geometry bounds");
+    return Py_BuildValue("(LLLL)", (long long)box[0], (long long)box[1], (long long)box[2],
+                         (long long)box[3]);
+}
+
 /* attribute_columns(file) -> [(name, type)], [] without an ATTR section. */
 static PyObject *mod_attribute_columns(PyObject *m, PyObject *file)
 {
@@ -548,6 +568,7 @@ fail:
 
 static PyMethodDef shapes_module_methods[] = {
     {"geometry_info", mod_geometry_info, METH_O, NULL},
+    {"geometry_bounds", mod_geometry_bounds, METH_O, NULL},
     {"attribute_columns", mod_attribute_columns, METH_O, NULL},
     {"attribute_rows", mod_attribute_rows, METH_O, NULL},
     {NULL, NULL, 0, NULL}};

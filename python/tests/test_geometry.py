@@ -87,6 +87,25 @@ def pfc_case(request, packed):
     return packed(request.param, source), source
 
 
+def test_bounds_are_the_box_of_every_input_point(pfc_case, counties):
+    path, source = pfc_case
+    verts, edges = read_pfc(source)
+    pts = verts + [p for e in edges for p in e]
+    want = (min(p[0] for p in pts), min(p[1] for p in pts), max(p[0] for p in pts),
+            max(p[1] for p in pts))
+    with hpfc.open(path) as f:
+        assert f.bounds("lattice") == want
+        assert f.bounds() == tuple(float(v) for v in f.bounds("user"))
+    with hpfc.open(counties[0]) as f:  # user coordinates: the box of every edge's points
+        xy = f.edge_arrays().coords("user")
+        got = f.bounds()
+        assert got == (xy[:, 0].min(), xy[:, 1].min(), xy[:, 0].max(), xy[:, 1].max())
+        with pytest.raises(ValueError):
+            f.bounds("lonlat")
+    with hpfc.open(TESTS_DATA / "valid" / "loop_quadtree.hpfc") as f:  # no GEOM section
+        assert f.bounds() is None
+
+
 @needs_shapely
 def test_faces_equal_polygonized_input(pfc_case):
     path, source = pfc_case
