@@ -183,24 +183,25 @@ void hpfc_shapes_free(hpfc_shapes *s)
 {
     if (!s)
         return;
-    free(s->eu);
-    free(s->ev);
-    free(s->left);
-    free(s->right);
-    free(s->first);
-    free(s->end);
-    free(s->vxy);
-    free(s->edge_read);
-    free(s->vertex_read);
+    size_t E = (size_t)s->edges + 1, V = (size_t)s->vertices + 1, F = (size_t)s->faces + 1;
+    shapes_zeroed_free(s->eu, E, sizeof *s->eu);
+    shapes_zeroed_free(s->ev, E, sizeof *s->ev);
+    shapes_zeroed_free(s->left, E, sizeof *s->left);
+    shapes_zeroed_free(s->right, E, sizeof *s->right);
+    shapes_zeroed_free(s->first, E, sizeof *s->first);
+    shapes_zeroed_free(s->end, E, sizeof *s->end);
+    shapes_zeroed_free(s->vxy, 2 * V, sizeof *s->vxy);
+    shapes_zeroed_free(s->edge_read, (E >> SHAPES_CHUNK_SHIFT) + 1, 1);
+    shapes_zeroed_free(s->vertex_read, (V >> SHAPES_CHUNK_SHIFT) + 1, 1);
+    shapes_zeroed_free(s->face_mark, F, sizeof *s->face_mark);
+    shapes_zeroed_free(s->face_local, F, sizeof *s->face_local);
+    shapes_zeroed_free(s->vmark, V, sizeof *s->vmark);
+    shapes_zeroed_free(s->vpos, V, sizeof *s->vpos);
     for (int t = 0; t < SHAPES_TABLES; t++) {
         free(s->rows[t].start);
         free(s->rows[t].item);
     }
     free(s->row_copy);
-    free(s->face_mark);
-    free(s->face_local);
-    free(s->vmark);
-    free(s->vpos);
     free(s->darts);
     free(s->dsorted);
     free(s->dkeys);
@@ -213,8 +214,8 @@ void hpfc_shapes_free(hpfc_shapes *s)
     free(s->xy);
     free(s->ring_point);
     free(s->polygon_ring);
-    free(s->edge_box);
-    shapes_window_free(s->window);
+    shapes_zeroed_free(s->edge_box, (size_t)s->edges + 1, sizeof *s->edge_box);
+    shapes_window_free(s, s->window);
     shapes_topo_free(s->topo);
     shapes_near_free(s->near);
     free(s);
@@ -261,16 +262,16 @@ static int build_face_edges(hpfc_shapes *s)
  * chunk at a time on first use (shapes_edges.c); untouched until then. */
 static int index_edges(hpfc_shapes *s)
 {
-    uint64_t E = s->edges, chunks = (E >> SHAPES_CHUNK_SHIFT) + 1;
-    s->eu = calloc(E + 1, sizeof *s->eu);
-    s->ev = calloc(E + 1, sizeof *s->ev);
-    s->left = calloc(E + 1, sizeof *s->left);
-    s->right = calloc(E + 1, sizeof *s->right);
-    s->first = calloc(E + 1, sizeof *s->first);
-    s->end = calloc(E + 1, sizeof *s->end);
-    s->vxy = calloc(2 * s->vertices + 2, sizeof *s->vxy);
-    s->edge_read = calloc(chunks, 1);
-    s->vertex_read = calloc((s->vertices >> SHAPES_CHUNK_SHIFT) + 1, 1);
+    size_t E = (size_t)s->edges + 1, V = (size_t)s->vertices + 1;
+    s->eu = shapes_zeroed(E, sizeof *s->eu);
+    s->ev = shapes_zeroed(E, sizeof *s->ev);
+    s->left = shapes_zeroed(E, sizeof *s->left);
+    s->right = shapes_zeroed(E, sizeof *s->right);
+    s->first = shapes_zeroed(E, sizeof *s->first);
+    s->end = shapes_zeroed(E, sizeof *s->end);
+    s->vxy = shapes_zeroed(2 * V, sizeof *s->vxy);
+    s->edge_read = shapes_zeroed((E >> SHAPES_CHUNK_SHIFT) + 1, 1);
+    s->vertex_read = shapes_zeroed((V >> SHAPES_CHUNK_SHIFT) + 1, 1);
     if (!s->eu || !s->ev || !s->left || !s->right || !s->first || !s->end || !s->vxy ||
         !s->edge_read || !s->vertex_read)
         return HPFC_E_NOMEM;
@@ -451,10 +452,10 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
     if (!st)
         st = index_features(s);
     if (!st) {
-        s->face_mark = calloc(s->faces + 1, sizeof *s->face_mark);
-        s->face_local = calloc(s->faces + 1, sizeof *s->face_local);
-        s->vmark = calloc(s->vertices + 1, sizeof *s->vmark);
-        s->vpos = calloc(s->vertices + 1, sizeof *s->vpos);
+        s->face_mark = shapes_zeroed(s->faces + 1, sizeof *s->face_mark);
+        s->face_local = shapes_zeroed(s->faces + 1, sizeof *s->face_local);
+        s->vmark = shapes_zeroed(s->vertices + 1, sizeof *s->vmark);
+        s->vpos = shapes_zeroed(s->vertices + 1, sizeof *s->vpos);
         if (!s->face_mark || !s->face_local || !s->vmark || !s->vpos)
             st = HPFC_E_NOMEM;
     }

@@ -113,14 +113,14 @@ struct hpfc_shapes {
      * current call has gathered so far */
     uint64_t max_points, max_items, call_points;
     /* the spatial queries' state, made on first use */
-    int64_t (*edge_box)[4];     /* per edge; x0 > x1 until computed */
+    int64_t (*edge_box)[4];     /* per edge; all zero until computed */
     struct shapes_window *window;
     struct shapes_topo *topo;       /* neighbours.c */
     struct shapes_near *near;       /* nearest.c */
 };
 
 typedef struct shapes_window shapes_window;
-void shapes_window_free(shapes_window *w);
+void shapes_window_free(const hpfc_shapes *s, shapes_window *w);
 typedef struct shapes_topo shapes_topo;
 void shapes_topo_free(shapes_topo *t);
 typedef struct shapes_near shapes_near;
@@ -153,6 +153,13 @@ static inline uint32_t shapes_next_mark(hpfc_shapes *s)
     }
     return s->mark;
 }
+
+/* count zeroed elements of `size` bytes that cost nothing until touched
+ * (large ones are fresh pages), and their release with the same count and
+ * size: the per-edge, per-vertex and per-face arrays, so that creating the
+ * object is O(1) however large the map. shapes_edges.c. */
+void *shapes_zeroed(size_t count, size_t size);
+void shapes_zeroed_free(void *p, size_t count, size_t size);
 
 /* Reads chunk `chunk` of the edges (with their vertices' chunks) or of
  * the vertices; every edge's chunk. HPFC_E_CORRUPT as GEOM's and LABL's

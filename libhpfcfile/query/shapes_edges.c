@@ -7,8 +7,63 @@
  * time; a chunk that does not read (a damaged GEOM or LABL) stays unread
  * and every query that needs it answers the same error.
  */
+#define _DEFAULT_SOURCE /* MAP_ANONYMOUS, beside the build's _POSIX_C_SOURCE */
+#include <stdlib.h>
+#include <sys/mman.h>
+
 #include "file.h"
 #include "shapes.h"
+
+/* From a page on, zeroed arrays are fresh anonymous pages: calloc may
+ * take a large block from the heap (glibc does once a free has raised
+ * its mmap threshold, as in any GDAL process) and clear it, O(size). A
+ * dozen arrays a shapes object, so the system calls stay few. */
+enum { ZEROED_PAGES = 1 << 12 };
+
+/* Under AddressSanitizer every array stays a heap block, with its
+ * redzones: the tests and fuzzers see an overrun of a large map too. */
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SHAPES_UNDER_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define SHAPES_UNDER_ASAN 1
+#endif
+
+#if defined(MAP_ANONYMOUS) && !defined(SHAPES_UNDER_ASAN)
+#define SHAPES_MAP_ANON MAP_ANONYMOUS
+#elif defined(MAP_ANON) && !defined(SHAPES_UNDER_ASAN)
+#define SHAPES_MAP_ANON MAP_ANON
+#endif
+
+void *shapes_zeroed(size_t count, size_t size)
+{
+    if (size && count > SIZE_MAX / size)
+        return NULL;
+#ifdef SHAPES_MAP_ANON
+    if (count * size >= ZEROED_PAGES) {
+        void *p = mmap(NULL, count * size, PROT_READ | PROT_WRITE, MAP_PRIVATE | SHAPES_MAP_ANON,
+                       -1, 0);
+        return p == MAP_FAILED ? NULL : p;
+    }
+#endif
+    return calloc(count, size);
+}
+
+void shapes_zeroed_free(void *p, size_t count, size_t size)
+{
+    (void)count, (void)size; /* without anonymous pages, every array is calloc's */
+    if (!p)
+        return;
+#ifdef SHAPES_MAP_ANON
+    if (count * size >= ZEROED_PAGES) {
+        munmap(p, count * size);
+        return;
+    }
+#endif
+    free(p);
+}
 
 int shapes_read_vertices(hpfc_shapes *s, uint64_t chunk)
 {

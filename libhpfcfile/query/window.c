@@ -54,17 +54,18 @@ struct shapes_window {
     size_t cap_sort_tmp;
 };
 
-void shapes_window_free(shapes_window *w)
+void shapes_window_free(const hpfc_shapes *s, shapes_window *w)
 {
     if (!w)
         return;
-    free(w->face_mark);
-    free(w->edge_mark);
-    free(w->feature_mark);
-    free(w->face_border);
-    free(w->edge_border);
-    free(w->face_in);
-    free(w->edge_in);
+    size_t F = (size_t)s->faces + 1, E = (size_t)s->edges + 1;
+    shapes_zeroed_free(w->face_mark, F, sizeof *w->face_mark);
+    shapes_zeroed_free(w->edge_mark, E, sizeof *w->edge_mark);
+    shapes_zeroed_free(w->feature_mark, (size_t)s->features + 1, sizeof *w->feature_mark);
+    shapes_zeroed_free(w->face_border, F, sizeof *w->face_border);
+    shapes_zeroed_free(w->edge_border, E, sizeof *w->edge_border);
+    shapes_zeroed_free(w->face_in, F, 1);
+    shapes_zeroed_free(w->edge_in, E, 1);
     free(w->face);
     free(w->edge);
     free(w->feature);
@@ -86,13 +87,14 @@ static int window_begin(hpfc_shapes *s)
     if (!w) {
         if (!(w = s->window = calloc(1, sizeof *w)))
             return HPFC_E_NOMEM;
-        w->face_mark = calloc(s->faces + 1, sizeof *w->face_mark);
-        w->edge_mark = calloc(s->edges + 1, sizeof *w->edge_mark);
-        w->feature_mark = calloc((size_t)s->features + 1, sizeof *w->feature_mark);
-        w->face_border = calloc(s->faces + 1, sizeof *w->face_border);
-        w->edge_border = calloc(s->edges + 1, sizeof *w->edge_border);
-        w->face_in = calloc(s->faces + 1, 1);
-        w->edge_in = calloc(s->edges + 1, 1);
+        /* pages touched as the windows meet faces and edges */
+        w->face_mark = shapes_zeroed(s->faces + 1, sizeof *w->face_mark);
+        w->edge_mark = shapes_zeroed(s->edges + 1, sizeof *w->edge_mark);
+        w->feature_mark = shapes_zeroed((size_t)s->features + 1, sizeof *w->feature_mark);
+        w->face_border = shapes_zeroed(s->faces + 1, sizeof *w->face_border);
+        w->edge_border = shapes_zeroed(s->edges + 1, sizeof *w->edge_border);
+        w->face_in = shapes_zeroed(s->faces + 1, 1);
+        w->edge_in = shapes_zeroed(s->edges + 1, 1);
         if (!w->face_mark || !w->edge_mark || !w->feature_mark || !w->face_border ||
             !w->edge_border || !w->face_in || !w->edge_in)
             return HPFC_E_NOMEM;
@@ -248,17 +250,14 @@ int shapes_edge_point_run(const hpfc_shapes *s, uint64_t e, uint64_t from, uint6
 
 int shapes_edge_box(hpfc_shapes *s, uint64_t edge, const int64_t **box)
 {
-    if (!s->edge_box) {
-        if (!(s->edge_box = malloc((s->edges + 1) * sizeof *s->edge_box)))
-            return HPFC_E_NOMEM;
-        for (uint64_t e = 0; e < s->edges; e++)
-            s->edge_box[e][0] = 1, s->edge_box[e][2] = 0; /* not computed */
-    }
+    if (!s->edge_box && !(s->edge_box = shapes_zeroed(s->edges + 1, sizeof *s->edge_box)))
+        return HPFC_E_NOMEM;
     int64_t *b = s->edge_box[edge];
     int st = shapes_need_edge(s, edge);
     if (st)
         return st;
-    if (b[0] > b[2]) { /* read a run of points at a time */
+    /* all zero: not computed (an edge's points are not all one point) */
+    if (!b[0] && !b[1] && !b[2] && !b[3]) { /* read a run of points at a time */
         enum { RUN = 128 };
         int64_t xy[2 * RUN], lo[2] = {INT64_MAX, INT64_MAX}, hi[2] = {INT64_MIN, INT64_MIN};
         for (uint64_t k0 = 0, n = shapes_edge_points(s, edge), m; k0 < n; k0 += m) {
