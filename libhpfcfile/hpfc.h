@@ -1335,12 +1335,13 @@ typedef struct hpfc_polygons {
  * The last three are read in place from the file's SHIX section (format
  * 1.3, spec §6.8), each row checked as it is read, and each edge's record
  * and vertex's coordinates are read on first use, 64 at a time: with SHIX
- * the object is made in O(1) (address space for 48 bytes an edge and 16 a
- * vertex, touched as queries read them) and a query pays for the edges it
- * meets. A file without SHIX (1.2) has the tables inverted from LABL, FEAT
- * and EDGF here, in O(edges + faces + links), 16 bytes a face and 8 a
- * feature link more. The answers live in
- * the object until its next call: one per thread. Statuses:
+ * the object is made in O(1) (address space for 40 bytes an edge, 24 a
+ * vertex and 8 a face, touched as queries read them; fresh pages, not
+ * cleared) and a query pays for the edges it meets. A file without SHIX
+ * (1.2) has the tables inverted from LABL, FEAT and EDGF here, in
+ * O(edges + faces + links), 16 bytes a face and 8 a feature link more.
+ * The answers live in the object until its next call: one per thread.
+ * Statuses:
  * HPFC_E_NO_SECTION without GEOM or LABL, HPFC_E_CORRUPT when the sections
  * disagree (an edge's face past the face count, GEOM's edge count not
  * LABL's, SHIX's counts not theirs) or claim more edges, vertices, faces
