@@ -479,9 +479,14 @@ static void check_graph(const hpfc_graph *g)
 }
 
 /* spec/hpfc-format.md §6.5.7: the triangle with a dead end of §9, root
- * 2 x 2, refined 2 x 2: the LABL section's 84 bytes as printed there. */
+ * 2 x 2, refined 2 x 2: the LABL section's 84 bytes as printed there, and
+ * §6.8.5: the SHIX section's 40 bytes after it (the file 432 bytes). */
 static void check_worked_example(void)
 {
+    static const uint8_t want_shix[40] = {
+        0x02, 0, 0, 0, 0x04, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+        0x06, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+        0x0f, 0x0c, 0x30, 0, 0, 0, 0, 0};
     static const uint8_t want[84] = {
         0x02, 0, 0, 0, 0, 0, 0, 0, 0x04, 0, 0, 0, 0, 0, 0, 0,
         0x04, 0, 0, 0, 0, 0, 0, 0, 0x1b, 0, 0, 0, 0, 0, 0, 0,
@@ -507,6 +512,11 @@ static void check_worked_example(void)
             CHECK_EQ_INT(si.offset, 304);
             CHECK_EQ_INT(si.length, sizeof want);
             CHECK(si.length == sizeof want && memcmp(p.with + si.offset, want, sizeof want) == 0);
+        } else if (memcmp(si.tag, "SHIX", 4) == 0) {
+            CHECK_EQ_INT(si.offset, 392);
+            CHECK(si.length == sizeof want_shix &&
+                  memcmp(p.with + si.offset, want_shix, sizeof want_shix) == 0);
+            CHECK_EQ_INT(si.offset + si.length, 432);
         }
     CHECK(found);
     unpack(&p);
