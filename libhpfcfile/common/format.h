@@ -165,8 +165,8 @@ FORMAT_FIELD(edgf, reserved, 12, 4, uint32_t)
 
 /* SHIX section (spec/hpfc-format.md §6.8): a 32-byte header, then the
  * faces' edges and, as `tables` says, the features' faces and the
- * features' edges, each an index of rows + 1 u32 offsets and its u32
- * links (read/shix.c). */
+ * features' edges, each an index of rows + 1 offsets and its links,
+ * bit-packed at the widths the counts give (read/shix.c). */
 enum { SHIX_HEADER_SIZE = 32, SHIX_FEATURE_FACES = 0x1, SHIX_FEATURE_EDGES = 0x2 };
 FORMAT_FIELD(shix, face_count, 0, 4, uint32_t)
 FORMAT_FIELD(shix, edge_count, 4, 4, uint32_t)
