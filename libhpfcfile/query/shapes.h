@@ -214,7 +214,6 @@ static inline int shapes_row(hpfc_shapes *s, enum shapes_table t, uint64_t row, 
     return st;
 }
 
-
 /* Whether a feature covers exactly one side of edge e (it is on the
  * feature's border): mark[] stamps the feature's faces with m. */
 static inline int shapes_on_border(const hpfc_shapes *s, const uint32_t *mark, uint32_t m,

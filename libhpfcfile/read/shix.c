@@ -107,16 +107,12 @@ static bool is_inverse(const shix_inverse *of, uint64_t row, uint32_t v)
 {
     if (of->links)
         return links_hold(of->links, v, (uint32_t)row);
-    uint64_t l, r;
-    if (of->left) {
-        l = of->left[v], r = of->right[v];
-    } else { /* LABL's sides: which is which does not matter here */
-        const labels_view *lv = of->labels;
-        if (v >= lv->edges)
-            return false;
-        l = format_get(&lv->sides, 2 * (uint64_t)v * lv->face_bits, lv->face_bits);
-        r = format_get(&lv->sides, (2 * (uint64_t)v + 1) * lv->face_bits, lv->face_bits);
-    }
+    /* LABL's two sides of edge v: which is which does not matter here */
+    const labels_view *lv = of->labels;
+    if (v >= lv->edges)
+        return false;
+    uint64_t l = format_get(&lv->sides, 2 * (uint64_t)v * lv->face_bits, lv->face_bits);
+    uint64_t r = format_get(&lv->sides, (2 * (uint64_t)v + 1) * lv->face_bits, lv->face_bits);
     return l != r && (l == row || r == row);
 }
 

@@ -50,11 +50,10 @@ static inline uint32_t shix_id(const shix_table *t, uint64_t j)
     return (uint32_t)format_get(&t->bits, t->links_at + j * t->id_bits, t->id_bits);
 }
 
-/* What a row of a table inverts, to check each of its ids against: the
- * edges' faces (left, right in memory, or else LABL's sides; the face
- * table), or FEAT's or EDGF's links (links; the feature tables). */
+/* What a row of a table inverts, to check each of its ids against:
+ * LABL's sides (labels; the face table), or FEAT's or EDGF's links
+ * (links; the feature tables). */
 typedef struct shix_inverse {
-    const uint64_t *left, *right;
     const labels_view *labels;
     const feature_links *links;
 } shix_inverse;
