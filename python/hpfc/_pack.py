@@ -83,6 +83,11 @@ def _build_parts(client, workers, directory, plan):
         try:
             return c.gather(futures), None
         except Error as e:
+            # gather raises at the first failed part while the others run
+            # on, writing into the directory the caller removes next: all
+            # of them done (or failed) first
+            from dask.distributed import wait
+            wait(futures)
             return None, e
     finally:
         if cluster is not None:
