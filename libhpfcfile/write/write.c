@@ -220,14 +220,16 @@ static int labels_of(const layout *L, labels_view *v)
 /* The SHIX section of a layout with LABL (§6.8.3), after FEAT and EDGF
  * were checked (measure_tables). A table of 2^32 links or more cannot be
  * stored: the file is then written without the section, which readers
- * rebuild in memory, as for a file of 1.2. */
+ * rebuild in memory, as for a file of 1.2. So is a file copied from one
+ * whose LABL names a face past its count (hpfc_file_serialize copies what
+ * it was given; its readers meet the same damage as the source's). */
 static int make_index(layout *L, hpfc_diag *diag)
 {
     labels_view v;
     if (labels_of(L, &v))
         return diag_set(diag, HPFC_E_ARG, "shape index: the labels do not read back");
     int st = shix_build(&v, L->features, L->edge_features, &L->shix, &L->shix_length, diag);
-    if (st == HPFC_E_LIMIT) {
+    if (st == HPFC_E_LIMIT || (st == HPFC_E_ARG && L->source)) {
         diag_clear(diag);
         return HPFC_OK;
     }
