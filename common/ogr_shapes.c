@@ -361,24 +361,18 @@ OGRGeometryH ogr_shapes_edge_geometry(ogr_shapes *o, hpfc_id edge)
     return g;
 }
 
-OGRwkbGeometryType ogr_shapes_layer_type(ogr_shapes *o, uint32_t layer)
+int ogr_shapes_layer_types(ogr_shapes *o, OGRwkbGeometryType *types, uint32_t layers)
 {
-    hpfc_features_info fi;
-    if (hpfc_file_get_features(o->f, &fi))
-        return wkbUnknown;
-    int polys = 0, others = 0;
-    for (uint32_t k = 0; k < fi.features; k++) {
-        hpfc_feature ft;
-        size_t faces = 0;
-        if (hpfc_file_get_feature(o->f, k, &ft) || ft.layer != layer)
-            continue;
-        hpfc_shapes_feature_faces(o->shapes, k, NULL, 0, &faces);
-        if (faces)
-            polys = 1;
-        else
-            others = 1;
-    }
-    return polys && others ? wkbUnknown : polys ? wkbMultiPolygon : wkbMultiLineString;
+    uint8_t *kinds = malloc(layers ? layers : 1);
+    if (!kinds)
+        return fail(o, "out of memory");
+    int st = hpfc_shapes_layer_kinds(o->shapes, kinds, layers);
+    for (uint32_t l = 0; !st && l < layers; l++)
+        types[l] = kinds[l] == (HPFC_KIND_POLYGONS | HPFC_KIND_LINES) ? wkbUnknown
+                   : kinds[l] == HPFC_KIND_POLYGONS                  ? wkbMultiPolygon
+                                                                      : wkbMultiLineString;
+    free(kinds);
+    return st ? fail(o, "feature layers: %s", hpfc_strerror(st)) : 0;
 }
 
 /* ---- fields ------------------------------------------------------------------------ */

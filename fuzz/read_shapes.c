@@ -19,7 +19,9 @@
  * (exact signed area), lines at least two points; a dart's polyline has
  * the count the count query gives; a window's lists are ascending ids in
  * range, flagged 0 or 1, the unbounded face never inside, and an empty
- * rectangle is HPFC_E_ARG.
+ * rectangle is HPFC_E_ARG; each layer's kinds (hpfc_shapes_layer_kinds)
+ * are those of its features' records and face counts read one by one
+ * where these all read.
  *
  * The SHIX section (format 1.3, the stored inverse tables the shapes read
  * instead of inverting LABL, FEAT and EDGF): hpfc_index_verify gives OK,
@@ -311,8 +313,39 @@ static void explore_windows(shp *z)
     probe_window(z, cx, cy, cx - 1, cy);
 }
 
+/* hpfc_shapes_layer_kinds against each feature's record and faces read
+ * one by one: the same kinds where those all read, and CORRUPT only where
+ * a feature's record does not. */
+static void probe_layer_kinds(shp *z)
+{
+    hpfc_features_info fi;
+    if (!z->have_features || z->features > FUZZ_ITEMS ||
+        hpfc_file_get_features(z->f, &fi) != HPFC_OK || fi.layers > 64)
+        return;
+    uint8_t want[64] = {0}, got[64];
+    int records_ok = 1, rows_ok = 1;
+    for (uint32_t k = 0; k < z->features; k++) {
+        hpfc_feature ft;
+        size_t n = 0;
+        if (hpfc_file_get_feature(z->f, k, &ft) != HPFC_OK) {
+            records_ok = 0;
+            continue;
+        }
+        if (hpfc_shapes_feature_faces(z->s, k, NULL, 0, &n) != HPFC_OK)
+            rows_ok = 0;
+        want[ft.layer] |= n ? HPFC_KIND_POLYGONS : HPFC_KIND_LINES;
+    }
+    int st = hpfc_shapes_layer_kinds(z->s, got, fi.layers);
+    check_status(st);
+    FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_CORRUPT);
+    FUZZ_CHECK(st == HPFC_OK || !records_ok);
+    if (st == HPFC_OK && records_ok && rows_ok)
+        FUZZ_CHECK(memcmp(got, want, fi.layers) == 0);
+}
+
 static void explore(shp *z)
 {
+    probe_layer_kinds(z);
     for (uint64_t face = 0; face < z->faces && face < FUZZ_ITEMS; face++)
         probe_face(z, face);
     probe_face(z, z->faces);

@@ -70,11 +70,15 @@ class HPFCLayer final : public OGRLayer
     bool Init(); /* fields; false after a CPLError */
     void AddMember(hpfc_id feature, int64_t fid) { members_.push_back({feature, fid}); }
     void IndexMembers();
+    /* a file's one source layer: its members are the file's features in
+     * order, known without a pass over them */
+    void TakeAllFeatures() { all_ = true; }
 
   private:
-    OGRFeature *Build(uint64_t id, int64_t fid);
+    OGRFeature *Build(uint64_t id);
     bool BuildWindow();
     uint64_t Count() const;
+    bool ListAllMembers();
 
     HPFCDataset *ds_;
     LayerKind kind_;
@@ -91,6 +95,8 @@ class HPFCLayer final : public OGRLayer
         int64_t fid;
     };
     std::vector<Member> members_;                   /* source: its features, file order */
+    bool all_ = false;           /* source: every feature, members_ filled on first GetFeature */
+    bool members_listed_ = false; /* all_: members_ and by_fid_ filled */
     /* source: members_ indices by ascending fid, where the fids are not
      * already ascending in file order (they are for a 1.2 writer's single
      * layer: positions in the source layer) */
@@ -241,8 +247,14 @@ bool HPFCDataset::Load(GDALOpenInfo *info)
     have_features_ = st == HPFC_OK;
     std::vector<std::string> names;
     if (have_features_) {
-        /* each layer's members and geometry type, in one pass over FEAT */
-        std::vector<int> polys(features_.layers), lines(features_.layers);
+        /* each layer's geometry type from its features' row lengths and,
+         * with several layers, each layer's members in one pass over FEAT;
+         * one layer's members are all the features, known without one */
+        std::vector<OGRwkbGeometryType> types(features_.layers);
+        if (ogr_shapes_layer_types(&g_, types.data(), features_.layers)) {
+            CPLError(CE_Failure, CPLE_OpenFailed, "HPFC: %s: %s", path, g_.why);
+            return false;
+        }
         for (uint32_t l = 0; l < features_.layers; l++) {
             const char *name;
             size_t len;
@@ -254,27 +266,20 @@ bool HPFCDataset::Load(GDALOpenInfo *info)
         }
         for (uint32_t l = 0; l < features_.layers; l++)
             layers_.emplace_back(new HPFCLayer(this, LayerKind::Source, l, names[l], wkbUnknown));
-        for (uint32_t k = 0; k < features_.features; k++) {
+        for (uint32_t k = 0; features_.layers > 1 && k < features_.features; k++) {
             hpfc_feature ft;
-            size_t faces = 0;
-            if ((st = hpfc_file_get_feature(file_, k, &ft)) ||
-                (st = hpfc_shapes_feature_faces(shapes_, k, nullptr, 0, &faces))) {
+            if ((st = hpfc_file_get_feature(file_, k, &ft))) {
                 status_error("feature", st);
                 return false;
             }
-            if (ft.layer >= features_.layers) {
-                status_error("feature", HPFC_E_CORRUPT);
-                return false;
-            }
             layers_[ft.layer]->AddMember(k, ft.fid);
-            (faces ? polys : lines)[ft.layer] = 1;
         }
         for (uint32_t l = 0; l < features_.layers; l++) {
-            OGRwkbGeometryType t = polys[l] && lines[l] ? wkbUnknown
-                                   : polys[l]           ? wkbMultiPolygon
-                                                        : wkbMultiLineString;
-            layers_[l]->GetLayerDefn()->SetGeomType(t);
-            layers_[l]->IndexMembers();
+            layers_[l]->GetLayerDefn()->SetGeomType(types[l]);
+            if (features_.layers == 1)
+                layers_[l]->TakeAllFeatures();
+            else
+                layers_[l]->IndexMembers();
         }
     }
     /* the topology's layers keep their names unless a source layer has taken them */
@@ -469,6 +474,30 @@ void HPFCLayer::IndexMembers()
                      [&](size_t a, size_t b) { return members_[a].fid < members_[b].fid; });
 }
 
+/* The one source layer's members, each feature's fid read: on the first
+ * GetFeature, so that opening the file makes no pass over its features.
+ * False after a CPLError. */
+bool HPFCLayer::ListAllMembers()
+{
+    if (!all_ || members_listed_)
+        return true;
+    std::vector<Member> members;
+    members.reserve(ds_->features_.features);
+    for (uint32_t k = 0; k < ds_->features_.features; k++) {
+        hpfc_feature ft;
+        int st = hpfc_file_get_feature(ds_->file_, k, &ft);
+        if (st) {
+            status_error("feature", st);
+            return false;
+        }
+        members.push_back({k, ft.fid});
+    }
+    members_.swap(members);
+    IndexMembers();
+    members_listed_ = true;
+    return true;
+}
+
 /* The member with this fid (the first in file order of a repeated one). */
 const HPFCLayer::Member *HPFCLayer::FindFid(int64_t fid) const
 {
@@ -533,7 +562,7 @@ bool HPFCLayer::Init()
 uint64_t HPFCLayer::Count() const
 {
     if (kind_ == LayerKind::Source)
-        return members_.size();
+        return all_ ? ds_->features_.features : members_.size();
     if (kind_ == LayerKind::Faces) {
         uint64_t n = hpfc_shapes_face_count(ds_->shapes_);
         return n ? n - 1 : 0;
@@ -570,7 +599,9 @@ bool HPFCLayer::BuildWindow()
         status_error("spatial filter", st);
         return false;
     }
-    if (kind_ == LayerKind::Source) {
+    if (kind_ == LayerKind::Source && all_) {
+        hits_.assign(h.feature, h.feature + h.feature_count);
+    } else if (kind_ == LayerKind::Source) {
         /* members_ is in ascending feature order, as the hits are: each
          * hit found from the last by binary search, O(hits log members) */
         auto m = members_.begin();
@@ -604,7 +635,7 @@ static bool face_fids(HPFCDataset *ds, OGRFeature *f, hpfc_id face, int field)
     return ogr_shapes_face_features(&ds->g_, OGRFeature::ToHandle(f), face, -1, field, -1) == 0;
 }
 
-OGRFeature *HPFCLayer::Build(uint64_t id, int64_t fid)
+OGRFeature *HPFCLayer::Build(uint64_t id)
 {
     ogr_shapes *g = &ds_->g_;
     auto f = std::make_unique<OGRFeature>(defn_);
@@ -661,7 +692,6 @@ OGRFeature *HPFCLayer::Build(uint64_t id, int64_t fid)
         }
         f->SetFID(static_cast<GIntBig>(id));
     }
-    (void)fid;
     if (!ok) {
         if (geom)
             OGR_G_DestroyGeometry(geom);
@@ -680,7 +710,6 @@ OGRFeature *HPFCLayer::GetNextFeature()
 {
     for (;;) {
         uint64_t id;
-        int64_t fid = 0;
         if (windowed_) {
             if (cursor_ >= hits_.size())
                 return nullptr;
@@ -690,13 +719,11 @@ OGRFeature *HPFCLayer::GetNextFeature()
                 return nullptr;
             id = cursor_++;
         }
-        if (kind_ == LayerKind::Source) {
-            fid = members_[id].fid;
-            id = members_[id].feature;
-        } else if (kind_ == LayerKind::Faces && !windowed_) {
+        if (kind_ == LayerKind::Source && !all_)
+            id = members_[id].feature; /* else the feature itself */
+        else if (kind_ == LayerKind::Faces && !windowed_)
             id++; /* the unbounded face has no polygon */
-        }
-        OGRFeature *f = Build(id, fid);
+        OGRFeature *f = Build(id);
         if (!f)
             return nullptr;
         if (FilterGeometry(f->GetGeometryRef()) &&
@@ -709,13 +736,15 @@ OGRFeature *HPFCLayer::GetNextFeature()
 OGRFeature *HPFCLayer::GetFeature(GIntBig fid)
 {
     if (kind_ == LayerKind::Source) {
+        if (!ListAllMembers())
+            return nullptr;
         const Member *m = FindFid(fid);
-        return m ? Build(m->feature, fid) : nullptr;
+        return m ? Build(m->feature) : nullptr;
     }
     if (fid < (kind_ == LayerKind::Faces ? 1 : 0) ||
         static_cast<uint64_t>(fid) >= Count() + (kind_ == LayerKind::Faces))
         return nullptr;
-    return Build(static_cast<uint64_t>(fid), fid);
+    return Build(static_cast<uint64_t>(fid));
 }
 
 GIntBig HPFCLayer::GetFeatureCount(int force)

@@ -236,16 +236,26 @@ __attribute__((noinline)) static int write_features(exporter *x)
                        "faces");
     if (st)
         return fail(x, "features: %s", hpfc_strerror(st));
+    OGRwkbGeometryType *types = malloc((fi.layers ? fi.layers : 1) * sizeof *types);
+    if (!types)
+        return fail(x, "out of memory");
+    if (ogr_shapes_layer_types(&x->g, types, fi.layers)) {
+        free(types);
+        return fail(x, "%s", x->g.why);
+    }
     for (uint32_t l = 0; l < fi.layers; l++) {
         const char *name;
         size_t len;
-        if ((st = hpfc_layer_name(x->f, l, &name, &len)))
+        if ((st = hpfc_layer_name(x->f, l, &name, &len))) {
+            free(types);
             return fail(x, "layer %u: %s", l, hpfc_strerror(st));
+        }
         char *lname = dup_n(name, len);
-        if (!lname)
+        if (!lname) {
+            free(types);
             return fail(x, "out of memory");
-        OGRLayerH layer = create_layer(x, lname[0] ? lname : "features",
-                                       ogr_shapes_layer_type(&x->g, l));
+        }
+        OGRLayerH layer = create_layer(x, lname[0] ? lname : "features", types[l]);
         free(lname);
         columns c;
         int r = !layer || make_fields(x, layer, &c);
@@ -263,9 +273,12 @@ __attribute__((noinline)) static int write_features(exporter *x)
             r = fail(x, "cannot commit layer %u: %s", l, gdal_reason("refused"));
         if (layer)
             ogr_shapes_fields_free(c.fields, c.count);
-        if (r)
+        if (r) {
+            free(types);
             return 1;
+        }
     }
+    free(types);
     return 0;
 }
 

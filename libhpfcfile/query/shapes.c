@@ -499,6 +499,44 @@ int hpfc_shapes_feature_faces(const hpfc_shapes *s, hpfc_id feature, hpfc_id *fa
     return HPFC_OK;
 }
 
+/* Whether feature `row`'s row of the faces table is not empty, from its
+ * offsets alone (shapes_row checks the row when it is read). */
+static int covers_faces(const hpfc_shapes *s, uint64_t row)
+{
+    const shapes_rows *r = &s->rows[FEATURE_FACES];
+    if (r->mapped.bits.base)
+        return shix_offset(&r->mapped, row + 1) > shix_offset(&r->mapped, row);
+    return r->start[row + 1] > r->start[row];
+}
+
+int hpfc_shapes_layer_kinds(const hpfc_shapes *s, uint8_t *kinds, size_t layer_count)
+{
+    int st = check_feature_call(s, kinds, FEATURE_FACES, 0);
+    if (st == HPFC_E_ARG && s && kinds && s->have_features)
+        st = HPFC_OK; /* no feature: every layer empty */
+    if (st)
+        return st;
+    hpfc_features_info fi;
+    if ((st = hpfc_file_get_features(s->f, &fi)))
+        return st;
+    if (layer_count != fi.layers)
+        return HPFC_E_ARG;
+    memset(kinds, 0, layer_count);
+    /* the layers a chunk at a time: one layer needs none read (S8 holds
+     * every feature's below 1, checked when a feature is read); none
+     * makes every feature's a layer past them */
+    enum { CHUNK = 256 };
+    uint32_t layer[CHUNK] = {0};
+    for (uint32_t k = 0; k < s->features; k += CHUNK) {
+        uint32_t n = s->features - k < CHUNK ? s->features - k : CHUNK;
+        if (fi.layers != 1 && (st = features_layers(s->f, k, n, layer)))
+            return st;
+        for (uint32_t j = 0; j < n; j++)
+            kinds[layer[j]] |= covers_faces(s, k + j) ? HPFC_KIND_POLYGONS : HPFC_KIND_LINES;
+    }
+    return HPFC_OK;
+}
+
 /* ---- exact predicates -------------------------------------------------------------- */
 
 /* 0 for directions in [0, pi), 1 in [pi, 2 pi), counter-clockwise from +x. */

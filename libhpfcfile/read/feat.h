@@ -18,6 +18,11 @@ void feat_section_emit(const hpfc_feature_table *t, uint8_t *out);
  * the strings. HPFC_E_SECTION otherwise. O(1): the tables are checked at
  * each access. */
 int feat_section_check(const uint8_t *section, uint64_t length);
+/* The layers of features [first, first + count) into layer[], one pass
+ * over their records with no per-feature call (the GDAL driver types each
+ * layer at open): HPFC_E_ARG past the features, HPFC_E_CORRUPT for a layer
+ * past the layer table (S8), HPFC_E_NO_SECTION without FEAT. */
+int features_layers(const hpfc_file *file, uint32_t first, uint32_t count, uint32_t *layer);
 /* FEAT's face links (feature_links.h), for hpfc_face_feature* and the
  * shapes' index: HPFC_E_ARG when !out_ok, HPFC_E_NO_SECTION without FEAT. */
 int features_face_links(const hpfc_file *file, bool out_ok, feature_links *links);

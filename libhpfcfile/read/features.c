@@ -246,6 +246,24 @@ int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name, si
  * feature_links.h reads them for faces here and for edges in attrs.c;
  * what stays twice (this, attrs.c's attrs_edge_links and their two accessors)
  * is each section's own part: finding its links in its own layout. */
+int features_layers(const hpfc_file *file, uint32_t first, uint32_t count, uint32_t *layer)
+{
+    const uint8_t *s;
+    int st = section_of(file, layer != NULL || count == 0, &s);
+    if (st)
+        return st;
+    if ((uint64_t)first + count > feat_get_feature_count(s))
+        return HPFC_E_ARG;
+    const uint8_t *e = s + section_parts(s).features + (size_t)first * FEAT_FEATURE_SIZE;
+    uint32_t layers = feat_get_layer_count(s);
+    for (uint32_t k = 0; k < count; k++, e += FEAT_FEATURE_SIZE) {
+        layer[k] = featf_get_layer(e);
+        if (layer[k] >= layers)
+            return HPFC_E_CORRUPT;
+    }
+    return HPFC_OK;
+}
+
 int features_face_links(const hpfc_file *file, bool out_ok, feature_links *links)
 {
     const uint8_t *s;

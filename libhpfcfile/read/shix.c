@@ -119,8 +119,7 @@ static bool is_inverse(const shix_inverse *of, uint64_t row, uint32_t v)
 int shix_row(const shix_table *t, uint64_t row, const shix_inverse *of, uint64_t *a,
              uint64_t *b)
 {
-    uint64_t first = format_get(&t->bits, row * t->offset_bits, t->offset_bits);
-    uint64_t end = format_get(&t->bits, (row + 1) * t->offset_bits, t->offset_bits);
+    uint64_t first = shix_offset(t, row), end = shix_offset(t, row + 1);
     if (first > end || end > t->links)
         return HPFC_E_CORRUPT;
     uint32_t prev = 0;

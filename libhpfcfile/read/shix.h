@@ -50,6 +50,13 @@ static inline uint32_t shix_id(const shix_table *t, uint64_t j)
     return (uint32_t)format_get(&t->bits, t->links_at + j * t->id_bits, t->id_bits);
 }
 
+/* Offset `row` of a table's index (row <= rows, the caller's check),
+ * unchecked: shix_row checks a row's two before it is read. */
+static inline uint64_t shix_offset(const shix_table *t, uint64_t row)
+{
+    return format_get(&t->bits, row * t->offset_bits, t->offset_bits);
+}
+
 /* What a row of a table inverts, to check each of its ids against:
  * LABL's sides (labels; the face table), or FEAT's or EDGF's links
  * (links; the feature tables). */

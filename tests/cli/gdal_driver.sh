@@ -50,8 +50,17 @@ run "$PACK" --key name --fields all "$GIS/countries_world.geojson" -o "$tmp/worl
 expect_ok "pack countries"
 run "$PACK" --key i --fields all "$GIS/ok/lines_crossing.geojson" -o "$tmp/lines.hpfc"
 expect_ok "pack lines"
+# two layers of one file: counties as polygons, their borders as lines
+run ogr2ogr -f GPKG "$tmp/two.gpkg" "$GIS/counties_ne.geojson" -nln polys
+expect_gdal "two.gpkg polys"
+run ogr2ogr -f GPKG -update "$tmp/two.gpkg" "$GIS/counties_ne.geojson" -nln borders \
+    -dialect sqlite -sql "SELECT name, ST_Multi(ST_Boundary(geometry)) AS geometry FROM counties_ne" \
+    -nlt MULTILINESTRING
+expect_gdal "two.gpkg borders"
+run "$PACK" --key name --fields all "$tmp/two.gpkg" -o "$tmp/two.hpfc"
+expect_ok "pack two layers"
 
-for m in sample counties world lines; do
+for m in sample counties world lines two; do
     run ogrinfo -ro -al -so "$tmp/$m.hpfc"
     expect_ok "ogrinfo -al -so $m"
     grep -q "using driver \`HPFC' successful" "$tmp/out" || fail "$m: not opened by HPFC"

@@ -62,14 +62,17 @@ def open_hpfc(name, **kw):
     return gdal.OpenEx(path(name), gdal.OF_VECTOR, allowed_drivers=["HPFC"], **kw)
 
 
-MAPS = ["sample", "counties", "world", "lines"]
-SOURCE = {"counties": "counties_ne", "world": "countries_world", "lines": "lines_crossing"}
+MAPS = ["sample", "counties", "world", "lines", "two"]
+# each map's source layers; "two" is counties and their borders as lines,
+# two layers of one GeoPackage (each layer typed on its own)
+SOURCE = {"counties": ["counties_ne"], "world": ["countries_world"], "lines": ["lines_crossing"],
+          "two": ["polys", "borders"]}
 
 # ---- the layers, their fields and their features, against hpfc-inspect --export ----
 for m in MAPS:
     ds = open_hpfc(m + ".hpfc")
     names = [ds.GetLayer(i).GetName() for i in range(ds.GetLayerCount())]
-    want = ([SOURCE[m]] if m in SOURCE else []) + ["faces", "edges"]
+    want = SOURCE.get(m, []) + ["faces", "edges"]
     if names != want:
         fail(f"{m}: layers {names}, expected {want}")
         continue
@@ -79,7 +82,7 @@ for m in MAPS:
             fail(f"{m}: ogrinfo -so does not show layer {n}")
     if m in SOURCE:
         ref = gdal.OpenEx(path(m + ".export.gpkg"), gdal.OF_VECTOR)
-        for n in [SOURCE[m]]:
+        for n in SOURCE[m]:
             a, b = ds.GetLayerByName(n), ref.GetLayerByName(n)
             da, db = a.GetLayerDefn(), b.GetLayerDefn()
             fa = [(da.GetFieldDefn(i).GetName(), da.GetFieldDefn(i).GetType()) for i in range(da.GetFieldCount())]
@@ -89,6 +92,14 @@ for m in MAPS:
             if a.GetSpatialRef() is None or not a.GetSpatialRef().IsSame(b.GetSpatialRef()):
                 fail(f"{m}/{n}: SRS differs from --export's")
             xa, xb = features(a), features(b)
+            # the layer's type against its features' geometries as read
+            kinds = {ogr.CreateGeometryFromWkb(w).GetGeometryType() for _, w in xa.values() if w}
+            want_type = (ogr.wkbMultiPolygon if kinds == {ogr.wkbMultiPolygon} else
+                         ogr.wkbMultiLineString if kinds <= {ogr.wkbMultiLineString} else
+                         ogr.wkbUnknown)
+            if a.GetGeomType() != want_type:
+                fail(f"{m}/{n}: geometry type {ogr.GeometryTypeToName(a.GetGeomType())}, "
+                     f"its features hold {sorted(ogr.GeometryTypeToName(k) for k in kinds)}")
             if xa != xb:
                 diff = [k for k in set(xa) | set(xb) if xa.get(k) != xb.get(k)]
                 fail(f"{m}/{n}: {len(diff)} features differ from --export's (fids {sorted(diff)[:5]})")

@@ -853,6 +853,8 @@ typedef struct shapes_ctx {
     const uint8_t *member, *on_edge;
     uint32_t nfeat;
     size_t ne;
+    const uint32_t *layer; /* each feature's */
+    uint32_t nlayer;
 } shapes_ctx;
 
 static void faces_way(const char *name, hpfc_shapes *s, const void *ctx)
@@ -861,10 +863,33 @@ static void faces_way(const char *name, hpfc_shapes *s, const void *ctx)
     check_faces(name, s, c->o, c->wf, c->face_area);
 }
 
+/* hpfc_shapes_layer_kinds against the features' faces in the input. */
+static void check_layer_kinds(const char *name, hpfc_shapes *s, const shapes_ctx *c)
+{
+    uint64_t nf = hpfc_shapes_face_count(s);
+    uint8_t want[8] = {0}, got[8];
+    for (uint32_t k = 0; k < c->nfeat; k++) {
+        int polygon = 0;
+        for (uint64_t face = 0; face < nf; face++)
+            polygon |= c->member[k * nf + face];
+        want[c->layer[k]] |= polygon ? HPFC_KIND_POLYGONS : HPFC_KIND_LINES;
+    }
+    memset(got, 0xee, sizeof got);
+    CHECK_EQ_INT(hpfc_shapes_layer_kinds(s, got, c->nlayer), HPFC_OK);
+    for (uint32_t l = 0; l < c->nlayer; l++)
+        if (got[l] != want[l]) {
+            CHECK(0);
+            fprintf(stderr, "%s: layer %u holds kinds %d, want %d\n", name, l, got[l], want[l]);
+        }
+    CHECK_EQ_INT(hpfc_shapes_layer_kinds(s, got, c->nlayer + 1), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_shapes_layer_kinds(s, NULL, c->nlayer), HPFC_E_ARG);
+}
+
 static void features_way(const char *name, hpfc_shapes *s, const void *ctx)
 {
     const shapes_ctx *c = ctx;
     check_features(name, s, c->o, c->wf, c->face_area, c->member, c->on_edge, c->nfeat, c->ne);
+    check_layer_kinds(name, s, c);
 }
 
 static void check_file(const char *name, const packed *p, uint64_t seed)
@@ -890,8 +915,9 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
     both_ways(name, p->buf, p->size, faces_way, &ctx);
     check_index(p->buf, p->size);
 
-    /* features: three, each a random set of bounded faces */
-    enum { NFEAT = 3 };
+    /* features: three, each a random set of bounded faces, and a fourth
+     * with lines only, in three layers */
+    enum { NFEAT = 4, NLAYER = 3 };
     uint32_t *start = calloc(nf + 1, sizeof *start), *links = malloc(NFEAT * nf * sizeof *links);
     uint8_t *member = calloc(NFEAT * nf + 1, 1);
     gen_rng rng;
@@ -899,18 +925,18 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
     uint32_t nl = 0;
     for (uint64_t face = 0; face < nf; face++) {
         start[face] = nl;
-        for (uint32_t k = 0; k < NFEAT && face > 0; k++)
+        for (uint32_t k = 0; k < NFEAT - 1 && face > 0; k++)
             if (gen_rng_below(&rng, 3) == 0 || (k == 0 && face % 2)) {
                 links[nl++] = k;
                 member[k * nf + face] = 1;
             }
     }
     start[nf] = nl;
-    int64_t fid[NFEAT] = {0, 1, 2};
-    uint32_t layer[NFEAT] = {0, 0, 0};
-    const char *lname[1] = {"random"};
+    int64_t fid[NFEAT] = {0, 1, 2, 3};
+    uint32_t layer[NFEAT] = {0, 1, 1, 2};
+    const char *lname[NLAYER] = {"random", "more", "lines"};
     hpfc_feature_table ft = {.feature_count = NFEAT, .fid = fid, .layer = layer,
-                             .layer_count = 1, .layer_name = lname, .face_count = (uint32_t)nf,
+                             .layer_count = NLAYER, .layer_name = lname, .face_count = (uint32_t)nf,
                              .face_start = start, .face_feature = links};
     /* and each feature's lines: a random set of edges (EDGF) */
     size_t ne = hpfc_graph_edge_count(G);
@@ -935,6 +961,7 @@ static void check_file(const char *name, const packed *p, uint64_t seed)
     CHECK_EQ_INT(st, HPFC_OK);
     if (!st) {
         ctx.member = member, ctx.on_edge = on_edge, ctx.nfeat = NFEAT, ctx.ne = ne;
+        ctx.layer = layer, ctx.nlayer = NLAYER;
         both_ways(name, buf, size, features_way, &ctx);
         check_index(buf, size);
     }
