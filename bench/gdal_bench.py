@@ -87,4 +87,5 @@ gp = ("import fiona, geopandas, sys; fiona.supported_drivers['HPFC'] = 'r'; "
 compare("geopandas.read_file, world-atlas countries-10m (254 multipolygons), python3 -c with imports",
         [("from countries.hpfc", ["/usr/bin/python3", "-c", gp, path("countries.hpfc")]),
          ("from countries.fgb", ["/usr/bin/python3", "-c", gp, path("countries.fgb")]),
+         ("from countries_srs.fgb (EPSG:4326)", ["/usr/bin/python3", "-c", gp, path("countries_srs.fgb")]),
          ("python3 -c 'import fiona, geopandas' alone", ["/usr/bin/python3", "-c", "import fiona, geopandas"])])

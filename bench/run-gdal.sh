@@ -5,7 +5,8 @@
 #   ogr2ogr -f GPKG of us-atlas counties-10m,
 #   ogrinfo -spat over a window holding about 1 % of the counties, against
 #   a full read of the layer and against FlatGeobuf's indexed bbox read,
-#   geopandas.read_file of world-atlas countries-10m.
+#   geopandas.read_file of world-atlas countries-10m (against FlatGeobuf
+#   with and without the SRS the .hpfc carries).
 #   sh bench/run-gdal.sh [NODE_MODULES [RUNS]]
 # NODE_MODULES holds us-atlas and world-atlas (default
 # build-bench/npm/node_modules: `cd build-bench/npm && npm install us-atlas
@@ -32,4 +33,6 @@ pack counties "$nm/us-atlas/counties-10m.json" counties
 [ -s "$dir/counties_srs.fgb" ] || ogr2ogr -f FlatGeobuf -a_srs EPSG:4326 "$dir/counties_srs.fgb" \
     "$nm/us-atlas/counties-10m.json" counties
 pack countries "$nm/world-atlas/countries-10m.json" countries
+[ -s "$dir/countries_srs.fgb" ] || ogr2ogr -f FlatGeobuf -a_srs EPSG:4326 "$dir/countries_srs.fgb" \
+    "$nm/world-atlas/countries-10m.json" countries
 /usr/bin/python3 bench/gdal_bench.py "$dir" "${2:-7}"

@@ -434,12 +434,17 @@ static int near_begin(hpfc_shapes *s, const int64_t p[2])
 {
     shapes_near *n = s->near;
     if (!n) {
-        if (!(n = s->near = calloc(1, sizeof *n)))
+        /* made whole or not at all: a search after a failed one finds
+         * either none or both arrays */
+        if (!(n = calloc(1, sizeof *n)))
             return HPFC_E_NOMEM;
         n->mark = calloc(s->edges + 1, sizeof *n->mark);
         n->edist = malloc((s->edges + 1) * sizeof *n->edist);
-        if (!n->mark || !n->edist)
+        if (!n->mark || !n->edist) {
+            shapes_near_free(n);
             return HPFC_E_NOMEM;
+        }
+        s->near = n;
     }
     hpfc_file_info fi;
     hpfc_level_info lv;

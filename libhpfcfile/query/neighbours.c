@@ -76,7 +76,9 @@ static int topo_begin(hpfc_shapes *s)
     int st = shapes_read_all(s); /* every vertex's edges */
     if (st)
         return st;
-    shapes_topo *t = s->topo = calloc(1, sizeof *t);
+    /* made whole or not at all: a query after a failed one finds either
+     * none or the whole vertex index */
+    shapes_topo *t = calloc(1, sizeof *t);
     if (!t)
         return HPFC_E_NOMEM;
     uint64_t V = s->vertices, E = s->edges;
@@ -85,8 +87,12 @@ static int topo_begin(hpfc_shapes *s)
     t->length = malloc((E + 1) * sizeof *t->length);
     t->vmark = calloc(V + 1, sizeof *t->vmark);
     t->fmark = calloc((size_t)s->features + 1, sizeof *t->fmark);
-    if (!t->vstart || !t->vedge || !t->length || !t->vmark || !t->fmark)
+    uint64_t *fill = malloc((V + 1) * sizeof *fill);
+    if (!t->vstart || !t->vedge || !t->length || !t->vmark || !t->fmark || !fill) {
+        free(fill);
+        shapes_topo_free(t);
         return HPFC_E_NOMEM;
+    }
     for (uint64_t e = 0; e < E; e++) {
         t->vstart[s->eu[e] + 1]++;
         t->vstart[s->ev[e] + 1]++;
@@ -94,15 +100,13 @@ static int topo_begin(hpfc_shapes *s)
     }
     for (uint64_t v = 0; v < V; v++)
         t->vstart[v + 1] += t->vstart[v];
-    uint64_t *fill = malloc((V + 1) * sizeof *fill);
-    if (!fill)
-        return HPFC_E_NOMEM;
     memcpy(fill, t->vstart, V * sizeof *fill);
     for (uint64_t e = 0; e < E; e++) {
         t->vedge[fill[s->eu[e]]++] = (uint32_t)e;
         t->vedge[fill[s->ev[e]]++] = (uint32_t)e;
     }
     free(fill);
+    s->topo = t;
     return HPFC_OK;
 }
 

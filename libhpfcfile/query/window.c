@@ -80,25 +80,35 @@ void shapes_window_free(const hpfc_shapes *s, shapes_window *w)
     free(w);
 }
 
+/* The window's marks, made whole or not at all: a query after a failed
+ * one finds either none or every array. */
+static shapes_window *window_new(const hpfc_shapes *s)
+{
+    shapes_window *w = calloc(1, sizeof *w);
+    if (!w)
+        return NULL;
+    /* pages touched as the windows meet faces and edges */
+    w->face_mark = shapes_zeroed(s->faces + 1, sizeof *w->face_mark);
+    w->edge_mark = shapes_zeroed(s->edges + 1, sizeof *w->edge_mark);
+    w->feature_mark = shapes_zeroed((size_t)s->features + 1, sizeof *w->feature_mark);
+    w->face_border = shapes_zeroed(s->faces + 1, sizeof *w->face_border);
+    w->edge_border = shapes_zeroed(s->edges + 1, sizeof *w->edge_border);
+    w->face_in = shapes_zeroed(s->faces + 1, 1);
+    w->edge_in = shapes_zeroed(s->edges + 1, 1);
+    if (!w->face_mark || !w->edge_mark || !w->feature_mark || !w->face_border ||
+        !w->edge_border || !w->face_in || !w->edge_in) {
+        shapes_window_free(s, w);
+        return NULL;
+    }
+    return w;
+}
+
 /* The marks, once per shapes object; a new generation per query. */
 static int window_begin(hpfc_shapes *s)
 {
     shapes_window *w = s->window;
-    if (!w) {
-        if (!(w = s->window = calloc(1, sizeof *w)))
-            return HPFC_E_NOMEM;
-        /* pages touched as the windows meet faces and edges */
-        w->face_mark = shapes_zeroed(s->faces + 1, sizeof *w->face_mark);
-        w->edge_mark = shapes_zeroed(s->edges + 1, sizeof *w->edge_mark);
-        w->feature_mark = shapes_zeroed((size_t)s->features + 1, sizeof *w->feature_mark);
-        w->face_border = shapes_zeroed(s->faces + 1, sizeof *w->face_border);
-        w->edge_border = shapes_zeroed(s->edges + 1, sizeof *w->edge_border);
-        w->face_in = shapes_zeroed(s->faces + 1, 1);
-        w->edge_in = shapes_zeroed(s->edges + 1, 1);
-        if (!w->face_mark || !w->edge_mark || !w->feature_mark || !w->face_border ||
-            !w->edge_border || !w->face_in || !w->edge_in)
-            return HPFC_E_NOMEM;
-    }
+    if (!w && !(w = s->window = window_new(s)))
+        return HPFC_E_NOMEM;
     if (++w->gen == 0) { /* the stamps wrapped: forget them all */
         memset(w->face_mark, 0, (s->faces + 1) * sizeof *w->face_mark);
         memset(w->edge_mark, 0, (s->edges + 1) * sizeof *w->edge_mark);
