@@ -16,7 +16,8 @@
  *     first use).
  * Besides the shapes queries: the walker's darts and its cache, numbering
  * the faces, verifying LABL, SHIX and GEOM, point location and writing
- * the file again; and parsing, building and writing a .pfc.
+ * the file again; and parsing, building and writing a .pfc, and a build
+ * in two parts joined (the same bytes as the whole build).
  * The oracle is the same query on an object that never failed, compared
  * through a hash of every byte of the answer (ids, flags, points,
  * lengths) and its status.
@@ -27,7 +28,9 @@
 #include <string.h>
 
 #include "check.h"
+#include "gen.h"
 #include "hpfc.h"
+#include "hpfc_batch.h"
 
 /* ---- the allocation wrappers ------------------------------------------------------ */
 
@@ -353,6 +356,24 @@ static int q_file(const map *m, ctx *c, uint64_t *h)
             if (!st)
                 *h = mix(mix_u64(*h, (uint64_t)loc.on_boundary), found, n * sizeof *found);
         }
+    /* enough points for the batch's Morton order (and its fallback) */
+    enum { NB = 100 };
+    int64_t bx[NB], by[NB], face[NB], feature[NB];
+    uint32_t face_count[NB], feature_count[NB];
+    uint8_t flags[NB], depth[NB];
+    for (int k = 0; k < NB; k++) {
+        bx[k] = m->box[0] + (m->box[2] - m->box[0]) * ((k * 37) % NB) / NB;
+        by[k] = m->box[1] + (m->box[3] - m->box[1]) * ((k * 61) % NB) / NB;
+    }
+    hpfc_locate_out lo = {.face = face, .face_count = face_count, .feature = feature,
+                          .feature_count = feature_count, .flags = flags, .depth = depth};
+    if (took(h, st = hpfc_locate_batch(m->f, NULL, NB, bx, by, NULL, &lo, NULL)))
+        return st;
+    if (!st) {
+        *h = mix(mix(*h, face, sizeof face), feature, sizeof feature);
+        *h = mix(mix(*h, face_count, sizeof face_count), feature_count, sizeof feature_count);
+        *h = mix(mix(*h, flags, sizeof flags), depth, sizeof depth);
+    }
     uint8_t *out = NULL;
     size_t size = 0;
     if (took(h, st = hpfc_file_serialize(m->f, NULL, &out, &size, NULL)))
@@ -539,6 +560,92 @@ static void campaign_build(const char *name, int layout)
     printf("%s build and write (layout %d): %ld allocations failed in turn\n", name, layout, n);
 }
 
+/* A generated map built in two parts (the west and east halves of a 4 x
+ * 4 root) from one cut, joined and written: the bytes hashed, or 0 with
+ * the status in *status. */
+static uint64_t build_parts_once(const hpfc_graph *g, const hpfc_build_params *p, int *status)
+{
+    int64_t box[4];
+    hpfc_domain d;
+    uint32_t owner[16], pixels[2][8], n[2] = {0, 0};
+    for (uint32_t px = 0; px < 16; px++) {
+        owner[px] = px % 4 >= 2;
+        pixels[owner[px]][n[owner[px]]++] = px;
+    }
+    hpfc_cut *cut = NULL;
+    hpfc_tree *parts[2] = {NULL, NULL}, *joined = NULL;
+    uint8_t *out = NULL;
+    size_t size = 0;
+    int st = hpfc_graph_bounds(g, box);
+    if (!st)
+        st = hpfc_build_domain(box, p, &d, NULL);
+    if (!st)
+        st = hpfc_cut_create(g, p, &d, owner, 2, &cut, NULL);
+    for (uint32_t k = 0; k < 2 && !st; k++) {
+        hpfc_graph *pg = NULL;
+        uint32_t *ids = NULL;
+        st = hpfc_cut_part_graph(cut, k, &pg, &ids, NULL);
+        hpfc_part part = {.domain = d, .root_pixels = pixels[k], .root_pixel_count = n[k],
+                          .edge_ids = ids, .edge_count = hpfc_graph_edge_count(g)};
+        if (!st)
+            st = hpfc_build_part(pg, p, &part, &parts[k], NULL);
+        hpfc_graph_free(pg);
+        hpfc_free(ids);
+    }
+    if (!st)
+        st = hpfc_tree_merge(parts, 2, &joined, NULL);
+    hpfc_write_options o = {.face_labels = 1, .geometry = g, .layout = HPFC_LAYOUT_COMPACT};
+    if (!st)
+        st = hpfc_tree_serialize(joined, &o, &out, &size, NULL);
+    uint64_t h = st ? 0 : mix(UINT64_C(0xcbf29ce484222325), out, size);
+    hpfc_free(out);
+    hpfc_tree_free(joined);
+    hpfc_tree_free(parts[0]);
+    hpfc_tree_free(parts[1]);
+    hpfc_cut_free(cut);
+    *status = st;
+    return h;
+}
+
+/* The build in parts with its n-th allocation failing: HPFC_E_NOMEM and
+ * nothing kept, or the bytes of the whole build. */
+static void campaign_parts(void)
+{
+    hpfc_graph *g = NULL;
+    CHECK_EQ_INT(gen_delaunay(7, 60, 1 << 12, 0.2, &g), HPFC_OK);
+    if (!g)
+        return;
+    hpfc_build_params p;
+    hpfc_build_params_default(&p);
+    p.root_cols = p.root_rows = 4, p.cols = p.rows = 2, p.max_leaf_points = 16;
+    hpfc_tree *whole = NULL;
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    hpfc_write_options o = {.face_labels = 1, .geometry = g, .layout = HPFC_LAYOUT_COMPACT};
+    CHECK_EQ_INT(hpfc_build(g, &p, &whole, NULL), HPFC_OK);
+    CHECK_EQ_INT(hpfc_tree_serialize(whole, &o, &bytes, &size, NULL), HPFC_OK);
+    uint64_t want = mix(UINT64_C(0xcbf29ce484222325), bytes, size);
+    hpfc_free(bytes);
+    hpfc_tree_free(whole);
+    int st;
+    CHECK(build_parts_once(g, &p, &st) == want);
+    long n;
+    for (n = 0; n < 1000000; n++) {
+        fail_at(n);
+        uint64_t h = build_parts_once(g, &p, &st);
+        fail_none();
+        CHECK(st == HPFC_OK || st == HPFC_E_NOMEM);
+        if (!st && h != want) {
+            CHECK(0);
+            fprintf(stderr, "parts: allocation %ld failing changes the bytes\n", n);
+        }
+        if (!fired)
+            break;
+    }
+    printf("generated map in two parts: %ld allocations failed in turn\n", n);
+    hpfc_graph_free(g);
+}
+
 static int load(map *m, const char *name)
 {
     const char *root = getenv("HPFC_TEST_DATA");
@@ -600,5 +707,6 @@ int main(void)
     campaign_build("two_components_hole.pfc", HPFC_LAYOUT_PAPER);
     campaign_build("two_components_hole.pfc", HPFC_LAYOUT_COMPACT);
     campaign_build("polyline_decimals.pfc", HPFC_LAYOUT_COMPACT);
+    campaign_parts();
     return check_report("oom");
 }
