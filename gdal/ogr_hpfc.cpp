@@ -641,6 +641,9 @@ OGRFeature *HPFCLayer::Build(uint64_t id)
     auto f = std::make_unique<OGRFeature>(defn_);
     OGRGeometryH geom = nullptr;
     bool ok = true;
+    /* an ignored geometry (SetIgnoredFields) is not assembled, the bulk of
+     * a feature's cost, unless the spatial filter must test it */
+    const bool want_geom = !defn_->IsGeometryIgnored() || m_poFilterGeom != nullptr;
     if (kind_ == LayerKind::Source) {
         hpfc_feature feat;
         int st = hpfc_file_get_feature(ds_->file_, id, &feat);
@@ -648,13 +651,13 @@ OGRFeature *HPFCLayer::Build(uint64_t id)
             status_error("feature", st);
             return nullptr;
         }
-        ok = ogr_shapes_feature_geometry(g, id, &geom) == 0 &&
+        ok = (!want_geom || ogr_shapes_feature_geometry(g, id, &geom) == 0) &&
              ogr_shapes_fill(g, OGRFeature::ToHandle(f.get()), 0, fields_, field_count_, id,
                              &feat) == 0;
         f->SetFID(feat.fid);
     } else if (kind_ == LayerKind::Faces) {
-        geom = ogr_shapes_face_geometry(g, id);
-        ok = geom && (!ds_->have_features_ ||
+        geom = want_geom ? ogr_shapes_face_geometry(g, id) : nullptr;
+        ok = (geom || !want_geom) && (!ds_->have_features_ ||
                       ogr_shapes_face_features(g, OGRFeature::ToHandle(f.get()), id,
                                                count_field_, fids_field_, keys_field_) == 0);
         f->SetFID(static_cast<GIntBig>(id));
@@ -665,8 +668,8 @@ OGRFeature *HPFCLayer::Build(uint64_t id)
             status_error("edge", st);
             return nullptr;
         }
-        geom = ogr_shapes_edge_geometry(g, id);
-        ok = geom != nullptr;
+        geom = want_geom ? ogr_shapes_edge_geometry(g, id) : nullptr;
+        ok = geom != nullptr || !want_geom;
         f->SetField(left_face_, static_cast<GIntBig>(left));
         f->SetField(right_face_, static_cast<GIntBig>(right));
         if (ok && ds_->have_features_)
@@ -703,6 +706,9 @@ OGRFeature *HPFCLayer::Build(uint64_t id)
         og->assignSpatialReference(ds_->srs_);
         f->SetGeometryDirectly(og);
     }
+    for (int i = 0; i < defn_->GetFieldCount(); i++)
+        if (defn_->GetFieldDefn(i)->IsIgnored())
+            f->UnsetField(i);
     return f.release();
 }
 
@@ -727,24 +733,35 @@ OGRFeature *HPFCLayer::GetNextFeature()
         if (!f)
             return nullptr;
         if (FilterGeometry(f->GetGeometryRef()) &&
-            (!m_poAttrQuery || m_poAttrQuery->Evaluate(f)))
+            (!m_poAttrQuery || m_poAttrQuery->Evaluate(f))) {
+            if (defn_->IsGeometryIgnored())
+                f->SetGeometryDirectly(nullptr); /* built for the filter only */
             return f;
+        }
         delete f;
     }
 }
 
 OGRFeature *HPFCLayer::GetFeature(GIntBig fid)
 {
+    uint64_t id;
     if (kind_ == LayerKind::Source) {
         if (!ListAllMembers())
             return nullptr;
         const Member *m = FindFid(fid);
-        return m ? Build(m->feature) : nullptr;
-    }
-    if (fid < (kind_ == LayerKind::Faces ? 1 : 0) ||
-        static_cast<uint64_t>(fid) >= Count() + (kind_ == LayerKind::Faces))
+        if (!m)
+            return nullptr;
+        id = m->feature;
+    } else if (fid < (kind_ == LayerKind::Faces ? 1 : 0) ||
+               static_cast<uint64_t>(fid) >= Count() + (kind_ == LayerKind::Faces)) {
         return nullptr;
-    return Build(static_cast<uint64_t>(fid));
+    } else {
+        id = static_cast<uint64_t>(fid);
+    }
+    OGRFeature *f = Build(id);
+    if (f && defn_->IsGeometryIgnored())
+        f->SetGeometryDirectly(nullptr); /* built only when a spatial filter is set */
+    return f;
 }
 
 GIntBig HPFCLayer::GetFeatureCount(int force)
@@ -765,7 +782,8 @@ OGRErr HPFCLayer::GetExtent(OGREnvelope *env, int force)
 int HPFCLayer::TestCapability(const char *cap)
 {
     if (EQUAL(cap, OLCRandomRead) || EQUAL(cap, OLCFastGetExtent) ||
-        EQUAL(cap, OLCFastSpatialFilter) || EQUAL(cap, OLCStringsAsUTF8))
+        EQUAL(cap, OLCFastSpatialFilter) || EQUAL(cap, OLCStringsAsUTF8) ||
+        EQUAL(cap, OLCIgnoreFields))
         return TRUE;
     if (EQUAL(cap, OLCFastFeatureCount))
         return !m_poFilterGeom && !m_poAttrQuery;

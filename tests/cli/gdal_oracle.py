@@ -192,6 +192,39 @@ for m in MAPS:
                 fail(f"{m}/{n}: window {(ax, ay, bx, by)} trial {trial}: {len(got)} features, "
                      f"GEOS says {len(want)} (missing {sorted(want - got)[:5]}, extra {sorted(got - want)[:5]})")
                 break
+
+        # ---- ignored fields: no geometry, or a field unset, the rest as read ----
+        names = [layer.GetLayerDefn().GetFieldDefn(i).GetName()
+                 for i in range(layer.GetLayerDefn().GetFieldCount())]
+        for ignored in (["OGR_GEOMETRY"], names[:1]):
+            if not ignored or layer.SetIgnoredFields(ignored) != 0:
+                if ignored:
+                    fail(f"{m}/{n}: SetIgnoredFields({ignored}) refused")
+                continue
+            part = features(layer)
+            def without(it):
+                return {k: v for k, v in it.items() if k not in ignored}
+            drop_geom = ignored == ["OGR_GEOMETRY"]
+            if sorted(part) != sorted(seq) or any(
+                    without(part[k][0]) != without(seq[k][0]) or
+                    part[k][1] != (None if drop_geom else seq[k][1]) or
+                    any(part[k][0].get(x) is not None for x in ignored) for k in part):
+                fail(f"{m}/{n}: with {ignored} ignored the features differ from the full read")
+            if drop_geom and seq:
+                fid = next(iter(seq))
+                f = layer.GetFeature(fid)
+                if f is None or f.GetGeometryRef() is not None:
+                    fail(f"{m}/{n}: GetFeature({fid}) with the geometry ignored")
+                # a spatial filter still tests each feature's geometry, then drops it
+                ax, ay = ex0 + 0.3 * w, ey0 + 0.3 * h
+                want = {fid for fid, s in shapes.items() if s.intersects(box(ax, ay, ax + 0.2 * w, ay + 0.2 * h))}
+                layer.SetSpatialFilterRect(ax, ay, ax + 0.2 * w, ay + 0.2 * h)
+                got = features(layer)
+                layer.SetSpatialFilter(None)
+                if set(got) != want or any(g is not None for _, g in got.values()):
+                    fail(f"{m}/{n}: a window with the geometry ignored gives {len(got)} features, "
+                         f"GEOS says {len(want)}")
+            layer.SetIgnoredFields([])
     # ---- ogr2ogr's GPKG and GeoJSON hold the same features ----
     gp = gdal.OpenEx(path(m + ".gpkg"), gdal.OF_VECTOR)
     for i in range(ds.GetLayerCount()):
