@@ -56,6 +56,8 @@ class HPFCLayer final : public OGRLayer
         return geom_field == 0 ? GetExtent(env, force) : OGRERR_FAILURE;
     }
     void SetSpatialFilter(OGRGeometry *geom) override;
+    OGRErr SetAttributeFilter(const char *where) override;
+    OGRErr SetNextByIndex(GIntBig index) override;
     void SetSpatialFilter(int geom_field, OGRGeometry *geom) override
     {
         if (geom_field == 0)
@@ -75,7 +77,8 @@ class HPFCLayer final : public OGRLayer
     void TakeAllFeatures() { all_ = true; }
 
   private:
-    OGRFeature *Build(uint64_t id);
+    OGRFeature *Build(uint64_t id, bool with_geometry);
+    bool AttachGeometry(OGRFeature *f, uint64_t id);
     bool BuildWindow();
     uint64_t Count() const;
     bool ListAllMembers();
@@ -103,6 +106,7 @@ class HPFCLayer final : public OGRLayer
     std::vector<size_t> by_fid_;
     uint64_t cursor_ = 0;
     bool windowed_ = false;                         /* iterate over hits_ */
+    bool attr_reads_geometry_ = false;              /* the attribute filter names OGR_GEOM* */
     bool window_built_ = false;                     /* hits_ answer the current filter */
     std::vector<uint64_t> hits_;                    /* members_ indices or face/edge ids */
     const Member *FindFid(int64_t fid) const;
@@ -635,15 +639,37 @@ static bool face_fids(HPFCDataset *ds, OGRFeature *f, hpfc_id face, int field)
     return ogr_shapes_face_features(&ds->g_, OGRFeature::ToHandle(f), face, -1, field, -1) == 0;
 }
 
-OGRFeature *HPFCLayer::Build(uint64_t id)
+/* Feature, face or edge `id`'s geometry attached to f (a feature with
+ * none gets none); false after a CPLError. */
+bool HPFCLayer::AttachGeometry(OGRFeature *f, uint64_t id)
+{
+    ogr_shapes *g = &ds_->g_;
+    OGRGeometryH geom = nullptr;
+    bool ok;
+    if (kind_ == LayerKind::Source)
+        ok = ogr_shapes_feature_geometry(g, id, &geom) == 0;
+    else
+        ok = (geom = kind_ == LayerKind::Faces ? ogr_shapes_face_geometry(g, id)
+                                               : ogr_shapes_edge_geometry(g, id)) != nullptr;
+    if (!ok) {
+        CPLError(CE_Failure, CPLE_AppDefined, "HPFC: %s", g->why);
+        return false;
+    }
+    if (geom) {
+        OGRGeometry *og = OGRGeometry::FromHandle(geom);
+        og->assignSpatialReference(ds_->srs_);
+        f->SetGeometryDirectly(og);
+    }
+    return true;
+}
+
+/* Feature, face or edge `id` with its fields (those not ignored) and, when
+ * asked, its geometry; nullptr after a CPLError. */
+OGRFeature *HPFCLayer::Build(uint64_t id, bool with_geometry)
 {
     ogr_shapes *g = &ds_->g_;
     auto f = std::make_unique<OGRFeature>(defn_);
-    OGRGeometryH geom = nullptr;
     bool ok = true;
-    /* an ignored geometry (SetIgnoredFields) is not assembled, the bulk of
-     * a feature's cost, unless the spatial filter must test it */
-    const bool want_geom = !defn_->IsGeometryIgnored() || m_poFilterGeom != nullptr;
     if (kind_ == LayerKind::Source) {
         hpfc_feature feat;
         int st = hpfc_file_get_feature(ds_->file_, id, &feat);
@@ -651,15 +677,13 @@ OGRFeature *HPFCLayer::Build(uint64_t id)
             status_error("feature", st);
             return nullptr;
         }
-        ok = (!want_geom || ogr_shapes_feature_geometry(g, id, &geom) == 0) &&
-             ogr_shapes_fill(g, OGRFeature::ToHandle(f.get()), 0, fields_, field_count_, id,
+        ok = ogr_shapes_fill(g, OGRFeature::ToHandle(f.get()), 0, fields_, field_count_, id,
                              &feat) == 0;
         f->SetFID(feat.fid);
     } else if (kind_ == LayerKind::Faces) {
-        geom = want_geom ? ogr_shapes_face_geometry(g, id) : nullptr;
-        ok = (geom || !want_geom) && (!ds_->have_features_ ||
-                      ogr_shapes_face_features(g, OGRFeature::ToHandle(f.get()), id,
-                                               count_field_, fids_field_, keys_field_) == 0);
+        ok = !ds_->have_features_ ||
+             ogr_shapes_face_features(g, OGRFeature::ToHandle(f.get()), id, count_field_,
+                                      fids_field_, keys_field_) == 0;
         f->SetFID(static_cast<GIntBig>(id));
     } else {
         hpfc_id left, right;
@@ -668,52 +692,65 @@ OGRFeature *HPFCLayer::Build(uint64_t id)
             status_error("edge", st);
             return nullptr;
         }
-        geom = want_geom ? ogr_shapes_edge_geometry(g, id) : nullptr;
-        ok = geom != nullptr || !want_geom;
         f->SetField(left_face_, static_cast<GIntBig>(left));
         f->SetField(right_face_, static_cast<GIntBig>(right));
-        if (ok && ds_->have_features_)
+        if (ds_->have_features_)
             ok = face_fids(ds_, f.get(), left, left_fids_) &&
                  face_fids(ds_, f.get(), right, right_fids_);
         if (ok && line_fids_ >= 0) {
             uint32_t n = 0;
-            std::string s;
+            std::string text;
             st = hpfc_edge_feature_count(ds_->file_, id, &n);
             for (uint32_t k = 0; !st && k < n; k++) {
                 hpfc_id index;
                 hpfc_feature feat;
                 if (!(st = hpfc_edge_feature_id(ds_->file_, id, k, &index)) &&
                     !(st = hpfc_file_get_feature(ds_->file_, index, &feat)))
-                    s += (s.empty() ? "" : " ") + std::to_string(feat.fid);
+                    text += (text.empty() ? "" : " ") + std::to_string(feat.fid);
             }
             if (st) {
-                OGR_G_DestroyGeometry(geom);
                 status_error("edge features", st);
                 return nullptr;
             }
-            f->SetField(line_fids_, s.c_str());
+            f->SetField(line_fids_, text.c_str());
         }
         f->SetFID(static_cast<GIntBig>(id));
     }
     if (!ok) {
-        if (geom)
-            OGR_G_DestroyGeometry(geom);
         CPLError(CE_Failure, CPLE_AppDefined, "HPFC: %s", g->why);
         return nullptr;
-    }
-    if (geom) {
-        OGRGeometry *og = OGRGeometry::FromHandle(geom);
-        og->assignSpatialReference(ds_->srs_);
-        f->SetGeometryDirectly(og);
     }
     for (int i = 0; i < defn_->GetFieldCount(); i++)
         if (defn_->GetFieldDefn(i)->IsIgnored())
             f->UnsetField(i);
+    if (with_geometry && !AttachGeometry(f.get(), id))
+        return nullptr;
     return f.release();
+}
+
+/* The attribute filter's fields: whether it reads the geometry
+ * (OGR_GEOMETRY, OGR_GEOM_AREA, OGR_GEOM_WKT). Without, it is evaluated
+ * before the geometry is assembled. */
+OGRErr HPFCLayer::SetAttributeFilter(const char *where)
+{
+    OGRErr err = OGRLayer::SetAttributeFilter(where);
+    attr_reads_geometry_ = false;
+    if (m_poAttrQuery) {
+        char **used = m_poAttrQuery->GetUsedFields();
+        for (char **u = used; u && *u; u++)
+            attr_reads_geometry_ = attr_reads_geometry_ || STARTS_WITH_CI(*u, "OGR_GEOM");
+        CSLDestroy(used);
+    }
+    return err;
 }
 
 OGRFeature *HPFCLayer::GetNextFeature()
 {
+    /* the geometry is assembled (the bulk of a feature's cost) only for
+     * candidates that pass an attribute filter that does not read it, and
+     * only when it is not ignored or the spatial filter must test it */
+    const bool want_geometry = !defn_->IsGeometryIgnored() || m_poFilterGeom != nullptr;
+    const bool attributes_first = m_poAttrQuery && !attr_reads_geometry_;
     for (;;) {
         uint64_t id;
         if (windowed_) {
@@ -729,17 +766,32 @@ OGRFeature *HPFCLayer::GetNextFeature()
             id = members_[id].feature; /* else the feature itself */
         else if (kind_ == LayerKind::Faces && !windowed_)
             id++; /* the unbounded face has no polygon */
-        OGRFeature *f = Build(id);
+        std::unique_ptr<OGRFeature> f(Build(id, want_geometry && !attributes_first));
         if (!f)
             return nullptr;
-        if (FilterGeometry(f->GetGeometryRef()) &&
-            (!m_poAttrQuery || m_poAttrQuery->Evaluate(f))) {
-            if (defn_->IsGeometryIgnored())
-                f->SetGeometryDirectly(nullptr); /* built for the filter only */
-            return f;
-        }
-        delete f;
+        if (attributes_first && !m_poAttrQuery->Evaluate(f.get()))
+            continue;
+        if (attributes_first && want_geometry && !AttachGeometry(f.get(), id))
+            return nullptr;
+        if (!FilterGeometry(f->GetGeometryRef()) ||
+            (m_poAttrQuery && !attributes_first && !m_poAttrQuery->Evaluate(f.get())))
+            continue;
+        if (defn_->IsGeometryIgnored())
+            f->SetGeometryDirectly(nullptr); /* built for the spatial filter only */
+        return f.release();
     }
+}
+
+/* Without filters the cursor moves there in O(1); with them, as OGR does
+ * (index counts the features the filters pass). */
+OGRErr HPFCLayer::SetNextByIndex(GIntBig index)
+{
+    if (m_poFilterGeom || m_poAttrQuery)
+        return OGRLayer::SetNextByIndex(index);
+    if (index < 0 || static_cast<uint64_t>(index) >= Count())
+        return OGRERR_FAILURE;
+    cursor_ = static_cast<uint64_t>(index);
+    return OGRERR_NONE;
 }
 
 OGRFeature *HPFCLayer::GetFeature(GIntBig fid)
@@ -758,10 +810,7 @@ OGRFeature *HPFCLayer::GetFeature(GIntBig fid)
     } else {
         id = static_cast<uint64_t>(fid);
     }
-    OGRFeature *f = Build(id);
-    if (f && defn_->IsGeometryIgnored())
-        f->SetGeometryDirectly(nullptr); /* built only when a spatial filter is set */
-    return f;
+    return Build(id, !defn_->IsGeometryIgnored());
 }
 
 GIntBig HPFCLayer::GetFeatureCount(int force)
@@ -785,7 +834,7 @@ int HPFCLayer::TestCapability(const char *cap)
         EQUAL(cap, OLCFastSpatialFilter) || EQUAL(cap, OLCStringsAsUTF8) ||
         EQUAL(cap, OLCIgnoreFields))
         return TRUE;
-    if (EQUAL(cap, OLCFastFeatureCount))
+    if (EQUAL(cap, OLCFastFeatureCount) || EQUAL(cap, OLCFastSetNextByIndex))
         return !m_poFilterGeom && !m_poAttrQuery;
     return FALSE;
 }

@@ -255,6 +255,54 @@ want = sorted(fid for fid, (_, w) in allf.items() if shapely.wkb.loads(w).inters
 if spat != want or not want:
     fail(f"ogrinfo -spat: {spat}, expected {want}")
 
+# ---- attribute filters through osgeo: alone, on the geometry, with a window ----
+def filtered(layer, where, rect=None):
+    layer.SetAttributeFilter(where)
+    if rect:
+        layer.SetSpatialFilterRect(*rect)
+    got = features(layer)
+    layer.SetAttributeFilter(None)
+    layer.SetSpatialFilter(None)
+    return got
+
+
+got = filtered(layer, "name LIKE 'New%' OR fips LIKE '48%'")
+want = {k: v for k, v in allf.items() if v[0]["name"].startswith("New") or str(v[0].get("fips")).startswith("48")}
+if got != want or not want:
+    fail(f"SetAttributeFilter: {len(got)} features, expected {len(want)} (or their fields or shapes differ)")
+areas = sorted(shapely.wkb.loads(w).area for _, w in allf.values())
+cut = (areas[len(areas) // 2] + areas[len(areas) // 2 + 1]) / 2
+got = filtered(layer, f"OGR_GEOM_AREA > {cut!r}")
+want = {k: v for k, v in allf.items() if shapely.wkb.loads(v[1]).area > cut}
+if got != want or not want:
+    fail(f"SetAttributeFilter on OGR_GEOM_AREA: {len(got)} features, expected {len(want)}")
+ex = unary_union([shapely.wkb.loads(w) for _, w in allf.values()]).bounds
+rect = (ex[0] + 0.2 * (ex[2] - ex[0]), ex[1] + 0.2 * (ex[3] - ex[1]),
+        ex[0] + 0.7 * (ex[2] - ex[0]), ex[1] + 0.7 * (ex[3] - ex[1]))
+got = filtered(layer, "fips LIKE '24%'", rect)  # digits: no question of case
+want = {k: v for k, v in allf.items()
+        if str(v[0]["fips"]).startswith("24") and shapely.wkb.loads(v[1]).intersects(box(*rect))}
+if got != want or not want:
+    fail(f"attribute filter and window: {len(got)} features, expected {len(want)}")
+# ---- SetNextByIndex: the index-th feature of the read, filtered or not ----
+order = list(allf)
+for i in (0, 1, len(order) // 2, len(order) - 1):
+    layer.ResetReading()
+    if layer.SetNextByIndex(i) != 0 or layer.GetNextFeature().GetFID() != order[i]:
+        fail(f"SetNextByIndex({i}) does not give the {i}-th feature")
+try:
+    past = layer.SetNextByIndex(len(order))
+except RuntimeError:
+    past = 1  # refused: raised under gdal.UseExceptions()
+if past == 0 and layer.GetNextFeature() is not None:
+    fail("SetNextByIndex past the end gives a feature")
+layer.SetAttributeFilter("name LIKE 'New%'")
+subset = [k for k in order if allf[k][0]["name"].startswith("New")]
+layer.ResetReading()
+if layer.SetNextByIndex(2) != 0 or layer.GetNextFeature().GetFID() != subset[2]:
+    fail("SetNextByIndex with an attribute filter does not count the filtered features")
+layer.SetAttributeFilter(None)
+
 # ---- packed again from the driver's GPKG: the same features, same shapes ----
 back_ds = open_hpfc("back.hpfc")  # the dataset outlives its layer (Python's GDAL)
 back = back_ds.GetLayerByName("counties_ne")
