@@ -14,6 +14,7 @@
 #include "attrs.h"
 #include "feat.h"
 #include "file.h"
+#include "inverse.h"
 #include "ring_index.h"
 #include "sized.h"
 #include "shapes.h"
@@ -231,30 +232,31 @@ uint64_t hpfc_shapes_face_count(const hpfc_shapes *s)
 static int build_face_edges(hpfc_shapes *s)
 {
     int st = shapes_read_all(s);
-    if (st)
-        return st;
-    shapes_rows *r = &s->rows[FACE_EDGES];
-    uint64_t *start = r->start = calloc(s->faces + 2, sizeof *r->start);
-    if (!start)
-        return HPFC_E_NOMEM;
-    for (uint64_t e = 0; e < s->edges; e++)
-        if (s->left[e] != s->right[e])
-            start[s->left[e] + 1]++, start[s->right[e] + 1]++;
-    for (uint64_t k = 0; k < s->faces; k++)
-        start[k + 1] += start[k];
-    r->item = malloc((start[s->faces] + 1) * sizeof *r->item);
-    uint64_t *fill = malloc((s->faces + 1) * sizeof *fill);
-    if (!r->item || !fill) {
-        free(fill);
-        return HPFC_E_NOMEM;
-    }
-    memcpy(fill, start, s->faces * sizeof *fill);
-    for (uint64_t e = 0; e < s->edges; e++)
-        if (s->left[e] != s->right[e]) {
-            r->item[fill[s->left[e]]++] = (uint32_t)e;
-            r->item[fill[s->right[e]]++] = (uint32_t)e;
+    inverse_table t = {0};
+    if (!st)
+        st = inverse_begin(&t, s->faces);
+    for (int pass = 0; pass < 2 && !st; pass++) {
+        for (uint64_t e = 0; e < s->edges; e++) {
+            if (s->left[e] == s->right[e])
+                continue;
+            if (pass == 0) {
+                inverse_count(&t, s->left[e]);
+                inverse_count(&t, s->right[e]);
+            } else {
+                inverse_put(&t, s->left[e], (uint32_t)e);
+                inverse_put(&t, s->right[e], (uint32_t)e);
+            }
         }
-    free(fill);
+        if (pass == 0)
+            st = inverse_room(&t, UINT64_MAX);
+    }
+    if (st) {
+        inverse_free(&t);
+        return st;
+    }
+    inverse_done(&t);
+    s->rows[FACE_EDGES].start = t.start;
+    s->rows[FACE_EDGES].item = t.item;
     return HPFC_OK;
 }
 
@@ -283,47 +285,35 @@ static int index_edges(hpfc_shapes *s)
 static int invert_links(const feature_links *t, uint64_t rows, uint32_t features,
                         shapes_rows *out)
 {
-    uint64_t **start_out = &out->start;
-    uint32_t **items_out = &out->item;
-    uint64_t *start = calloc((size_t)features + 2, sizeof *start);
-    if (!start)
-        return HPFC_E_NOMEM;
-    *start_out = start;
-    int st = HPFC_OK;
+    inverse_table inv;
+    int st = inverse_begin(&inv, features);
+    /* the links read straight from the section: a row's run at a time */
+    const uint8_t *link = t->index + 4 * ((size_t)t->rows + 1);
     for (int pass = 0; pass < 2 && !st; pass++) {
-        uint64_t *fill = NULL;
-        if (pass == 1) {
-            for (uint32_t k = 0; k < features; k++)
-                start[k + 1] += start[k];
-            *items_out = malloc((start[features] + 1) * sizeof **items_out);
-            fill = malloc(((size_t)features + 1) * sizeof *fill);
-            if (!*items_out || !fill) {
-                free(fill);
-                return HPFC_E_NOMEM;
-            }
-            memcpy(fill, start, (size_t)features * sizeof *fill);
-        }
-        /* the links read straight from the section: a row's run at a time */
-        const uint8_t *link = t->index + 4 * ((size_t)t->rows + 1);
         for (uint64_t o = 0; o < rows && !st; o++) {
             uint32_t first, end;
-            if ((st = feature_links_row(t, o, &first, &end)))
-                break;
-            for (uint32_t i = first; i < end; i++) {
+            st = feature_links_row(t, o, &first, &end);
+            for (uint32_t i = first; i < end && !st; i++) {
                 uint32_t ft = (uint32_t)le_load(link + 4 * (size_t)i, 4);
-                if (ft >= features || ft >= t->features) {
+                if (ft >= features || ft >= t->features)
                     st = HPFC_E_CORRUPT;
-                    break;
-                }
-                if (pass == 0)
-                    start[ft + 1]++;
+                else if (pass == 0)
+                    inverse_count(&inv, ft);
                 else
-                    (*items_out)[fill[ft]++] = (uint32_t)o;
+                    inverse_put(&inv, ft, (uint32_t)o);
             }
         }
-        free(fill);
+        if (!st && pass == 0)
+            st = inverse_room(&inv, UINT64_MAX);
     }
-    return st;
+    if (st) {
+        inverse_free(&inv);
+        return st;
+    }
+    inverse_done(&inv);
+    out->start = inv.start;
+    out->item = inv.item;
+    return HPFC_OK;
 }
 
 /* Table t read in place from SHIX when the section holds it (bit

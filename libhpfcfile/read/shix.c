@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "inverse.h"
 #include "shix.h"
 
 /* Bits to write x: 0 for 0. */
@@ -135,110 +136,72 @@ int shix_row(const shix_table *t, uint64_t row, const shix_inverse *of, uint64_t
 
 /* ---- the writer's build ------------------------------------------------------------ */
 
-/* A table being built: rows + 1 offsets and the links. */
-typedef struct built_table {
-    uint32_t rows;
-    uint32_t *start, *link;
-} built_table;
-
-static void built_free(built_table *t)
-{
-    free(t->start);
-    free(t->link);
-}
-
-/* Room for `rows` rows whose counts are in start[1 .. rows] (start[0] 0):
- * the counts made offsets, the links allocated. HPFC_E_LIMIT when the
- * links would pass 2^32 - 1, which the u32 fields cannot say. */
-static int built_alloc(built_table *t)
-{
-    uint64_t sum = 0;
-    for (uint32_t r = 0; r < t->rows; r++) {
-        sum += t->start[r + 1];
-        if (sum >= UINT32_MAX)
-            return HPFC_E_LIMIT;
-        t->start[r + 1] = (uint32_t)sum;
-    }
-    t->link = malloc((sum + 1) * sizeof *t->link);
-    return t->link ? HPFC_OK : HPFC_E_NOMEM;
-}
+/* The writer's tables hold fewer than 2^32 links: the header's u32 fields
+ * say how many. */
+#define SHIX_MOST_LINKS (UINT32_MAX - 1)
 
 /* The rows of (start, item), `rows` of them, inverted: for each of
  * `targets` targets, the rows that link it, ascending (rows are visited
  * in order). The links were checked below `targets` by the writer's
  * check of FEAT and EDGF. */
 static int invert(uint32_t rows, const uint32_t *start, const uint32_t *item, uint32_t targets,
-                  built_table *out)
+                  inverse_table *out)
 {
-    *out = (built_table){.rows = targets, .start = calloc((size_t)targets + 2, sizeof(uint32_t))};
-    if (!out->start)
-        return HPFC_E_NOMEM;
-    for (uint32_t i = 0; i < start[rows]; i++)
-        out->start[item[i] + 1]++;
-    int st = built_alloc(out);
-    uint32_t *fill = st ? NULL : malloc(((size_t)targets + 1) * sizeof *fill);
-    if (!st && !fill)
-        st = HPFC_E_NOMEM;
+    int st = inverse_begin(out, targets);
     if (st)
         return st;
-    memcpy(fill, out->start, (size_t)targets * sizeof *fill);
+    for (uint32_t i = 0; i < start[rows]; i++)
+        inverse_count(out, item[i]);
+    if ((st = inverse_room(out, SHIX_MOST_LINKS)))
+        return st;
     for (uint32_t r = 0; r < rows; r++)
         for (uint32_t i = start[r]; i < start[r + 1]; i++)
-            out->link[fill[item[i]]++] = r;
-    free(fill);
+            inverse_put(out, item[i], r);
+    inverse_done(out);
     return HPFC_OK;
 }
 
 /* Each face's edges from LABL's sides: an edge with two different faces
  * is in both faces' rows, one with the same face on both sides in none
- * (it bounds nothing). */
-static int face_edges(const labels_view *lv, built_table *out)
+ * (it bounds nothing). HPFC_E_ARG for a side past the faces. */
+static int face_edges(const labels_view *lv, inverse_table *out)
 {
-    uint32_t faces = (uint32_t)lv->faces, fb = lv->face_bits;
-    *out = (built_table){.rows = faces, .start = calloc((size_t)faces + 2, sizeof(uint32_t))};
-    if (!out->start)
-        return HPFC_E_NOMEM;
-    for (int pass = 0; pass < 2; pass++) {
-        uint32_t *fill = NULL;
-        if (pass == 1) {
-            int st = built_alloc(out);
-            if (!st && !(fill = malloc(((size_t)faces + 1) * sizeof *fill)))
-                st = HPFC_E_NOMEM;
-            if (st)
-                return st;
-            memcpy(fill, out->start, (size_t)faces * sizeof *fill);
-        }
+    uint64_t faces = lv->faces;
+    unsigned fb = lv->face_bits;
+    int st = inverse_begin(out, faces);
+    for (int pass = 0; pass < 2 && !st; pass++) {
         for (uint64_t e = 0; e < lv->edges; e++) {
             uint64_t a = format_get(&lv->sides, 2 * e * fb, fb);
             uint64_t b = format_get(&lv->sides, (2 * e + 1) * fb, fb);
-            if (a >= faces || b >= faces) {
-                free(fill);
+            if (a >= faces || b >= faces)
                 return HPFC_E_ARG;
-            }
             if (a == b)
                 continue;
             if (pass == 0) {
-                out->start[a + 1]++, out->start[b + 1]++;
+                inverse_count(out, a);
+                inverse_count(out, b);
             } else {
-                out->link[fill[a]++] = (uint32_t)e;
-                out->link[fill[b]++] = (uint32_t)e;
+                inverse_put(out, a, (uint32_t)e);
+                inverse_put(out, b, (uint32_t)e);
             }
         }
-        free(fill);
+        if (pass == 0)
+            st = inverse_room(out, SHIX_MOST_LINKS);
     }
-    return HPFC_OK;
+    inverse_done(out);
+    return st;
 }
 
 /* A built table's bits at *at (zeroed), its ids below `bound`; *at moves
  * past it. */
-static void put_table(uint8_t **at, const built_table *b, uint32_t bound)
+static void put_table(uint8_t **at, const inverse_table *b, uint32_t bound)
 {
     shix_table t;
-    table_shape(&t, b->rows, b->start[b->rows], bound);
+    table_shape(&t, (uint32_t)b->rows, (uint32_t)b->start[b->rows], bound);
     for (uint64_t r = 0; r <= b->rows; r++)
         format_put(*at, r * t.offset_bits, t.offset_bits, b->start[r]);
     for (uint64_t i = 0; i < t.links; i++)
-        format_put(*at, t.links_at + i * t.id_bits, t.id_bits, b->link[i]);
+        format_put(*at, t.links_at + i * t.id_bits, t.id_bits, b->item[i]);
     *at += table_bytes(&t);
 }
 
@@ -257,7 +220,7 @@ int shix_build(const labels_view *labels, const hpfc_feature_table *features,
     uint64_t edge_room = labels->edge_bits ? labels->label_bits / labels->edge_bits + 1 : 1;
     if (labels->edges > edge_room || labels->faces > labels->edges + 1)
         return diag_set(diag, HPFC_E_ARG, "shape index: LABL's counts are not its bytes'");
-    built_table fe = {0}, ff = {0}, fx = {0};
+    inverse_table fe = {0}, ff = {0}, fx = {0};
     uint32_t tables = 0, nfeat = features ? features->feature_count : 0;
     uint32_t nedges = (uint32_t)labels->edges;
     int st = face_edges(labels, &fe);
@@ -273,13 +236,13 @@ int shix_build(const labels_view *labels, const hpfc_feature_table *features,
     uint8_t header[SHIX_HEADER_SIZE] = {0}, *s = NULL;
     uint64_t n = 0;
     if (!st) {
-        shix_set_face_count(header, fe.rows);
+        shix_set_face_count(header, (uint32_t)fe.rows);
         shix_set_edge_count(header, nedges);
         shix_set_feature_count(header, nfeat);
         shix_set_tables(header, tables);
-        shix_set_face_links(header, fe.start[fe.rows]);
-        shix_set_feature_face_links(header, ff.start ? ff.start[nfeat] : 0);
-        shix_set_feature_edge_links(header, fx.start ? fx.start[nfeat] : 0);
+        shix_set_face_links(header, (uint32_t)fe.start[fe.rows]);
+        shix_set_feature_face_links(header, ff.start ? (uint32_t)ff.start[nfeat] : 0);
+        shix_set_feature_edge_links(header, fx.start ? (uint32_t)fx.start[nfeat] : 0);
         shix_view v;
         n = layout(header, &v);
         if (!(s = calloc(1, (size_t)n)))
@@ -290,15 +253,15 @@ int shix_build(const labels_view *labels, const hpfc_feature_table *features,
         uint8_t *at = s + SHIX_HEADER_SIZE;
         put_table(&at, &fe, nedges);
         if (ff.start)
-            put_table(&at, &ff, fe.rows);
+            put_table(&at, &ff, (uint32_t)fe.rows);
         if (fx.start)
             put_table(&at, &fx, nedges);
         *out = s;
         *length = n;
     }
-    built_free(&fe);
-    built_free(&ff);
-    built_free(&fx);
+    inverse_free(&fe);
+    inverse_free(&ff);
+    inverse_free(&fx);
     if (st == HPFC_E_LIMIT)
         return diag_set(diag, st, "shape index: a table of 2^32 links or more");
     if (st == HPFC_E_ARG)

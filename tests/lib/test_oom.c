@@ -502,6 +502,19 @@ static void campaign_open(const map *m)
     printf("%s open and create: %ld allocations failed in turn\n", m->name, n);
 }
 
+/* Tree t, built from g, written with its labels and geometry: the bytes
+ * hashed, or 0 with the status in *st. */
+static uint64_t tree_hash(const hpfc_tree *t, const hpfc_graph *g, int layout, int *st)
+{
+    uint8_t *out = NULL;
+    size_t size = 0;
+    hpfc_write_options o = {.face_labels = 1, .geometry = g, .layout = layout};
+    *st = hpfc_tree_serialize(t, &o, &out, &size, NULL);
+    uint64_t h = *st ? 0 : mix(UINT64_C(0xcbf29ce484222325), out, size);
+    hpfc_free(out);
+    return h;
+}
+
 /* A .pfc text parsed, built and written with its labels and geometry
  * (the builder and the writer): the file's bytes hashed, or 0 with the
  * status in *status. */
@@ -509,18 +522,14 @@ static uint64_t build_once(const char *text, size_t len, int layout, int *status
 {
     hpfc_graph *g = NULL;
     hpfc_tree *t = NULL;
-    uint8_t *out = NULL;
-    size_t size = 0;
+    uint64_t h = 0;
     hpfc_build_params bp;
     hpfc_build_params_default(&bp);
     int st = hpfc_pfc_parse(text, len, &g, NULL);
     if (!st)
         st = hpfc_build(g, &bp, &t, NULL);
-    hpfc_write_options o = {.face_labels = 1, .geometry = g, .layout = layout};
     if (!st)
-        st = hpfc_tree_serialize(t, &o, &out, &size, NULL);
-    uint64_t h = st ? 0 : mix(UINT64_C(0xcbf29ce484222325), out, size);
-    hpfc_free(out);
+        h = tree_hash(t, g, layout, &st);
     hpfc_tree_free(t);
     hpfc_graph_free(g);
     *status = st;
@@ -574,8 +583,7 @@ static uint64_t build_parts_once(const hpfc_graph *g, const hpfc_build_params *p
     }
     hpfc_cut *cut = NULL;
     hpfc_tree *parts[2] = {NULL, NULL}, *joined = NULL;
-    uint8_t *out = NULL;
-    size_t size = 0;
+    uint64_t h = 0;
     int st = hpfc_graph_bounds(g, box);
     if (!st)
         st = hpfc_build_domain(box, p, &d, NULL);
@@ -594,11 +602,8 @@ static uint64_t build_parts_once(const hpfc_graph *g, const hpfc_build_params *p
     }
     if (!st)
         st = hpfc_tree_merge(parts, 2, &joined, NULL);
-    hpfc_write_options o = {.face_labels = 1, .geometry = g, .layout = HPFC_LAYOUT_COMPACT};
     if (!st)
-        st = hpfc_tree_serialize(joined, &o, &out, &size, NULL);
-    uint64_t h = st ? 0 : mix(UINT64_C(0xcbf29ce484222325), out, size);
-    hpfc_free(out);
+        h = tree_hash(joined, g, HPFC_LAYOUT_COMPACT, &st);
     hpfc_tree_free(joined);
     hpfc_tree_free(parts[0]);
     hpfc_tree_free(parts[1]);
@@ -619,15 +624,11 @@ static void campaign_parts(void)
     hpfc_build_params_default(&p);
     p.root_cols = p.root_rows = 4, p.cols = p.rows = 2, p.max_leaf_points = 16;
     hpfc_tree *whole = NULL;
-    uint8_t *bytes = NULL;
-    size_t size = 0;
-    hpfc_write_options o = {.face_labels = 1, .geometry = g, .layout = HPFC_LAYOUT_COMPACT};
-    CHECK_EQ_INT(hpfc_build(g, &p, &whole, NULL), HPFC_OK);
-    CHECK_EQ_INT(hpfc_tree_serialize(whole, &o, &bytes, &size, NULL), HPFC_OK);
-    uint64_t want = mix(UINT64_C(0xcbf29ce484222325), bytes, size);
-    hpfc_free(bytes);
-    hpfc_tree_free(whole);
     int st;
+    CHECK_EQ_INT(hpfc_build(g, &p, &whole, NULL), HPFC_OK);
+    uint64_t want = tree_hash(whole, g, HPFC_LAYOUT_COMPACT, &st);
+    CHECK_EQ_INT(st, HPFC_OK);
+    hpfc_tree_free(whole);
     CHECK(build_parts_once(g, &p, &st) == want);
     long n;
     for (n = 0; n < 1000000; n++) {
