@@ -361,12 +361,13 @@ OGRGeometryH ogr_shapes_edge_geometry(ogr_shapes *o, hpfc_id edge)
     return g;
 }
 
-int ogr_shapes_layer_types(ogr_shapes *o, OGRwkbGeometryType *types, uint32_t layers)
+int ogr_shapes_layer_types(ogr_shapes *o, OGRwkbGeometryType *types, uint64_t *counts,
+                           uint32_t layers)
 {
     uint8_t *kinds = malloc(layers ? layers : 1);
     if (!kinds)
         return fail(o, "out of memory");
-    int st = hpfc_shapes_layer_kinds(o->shapes, kinds, layers);
+    int st = hpfc_shapes_layer_kinds(o->shapes, kinds, counts, layers);
     for (uint32_t l = 0; !st && l < layers; l++)
         types[l] = kinds[l] == (HPFC_KIND_POLYGONS | HPFC_KIND_LINES) ? wkbUnknown
                    : kinds[l] == HPFC_KIND_POLYGONS                  ? wkbMultiPolygon

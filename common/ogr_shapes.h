@@ -71,10 +71,12 @@ OGRGeometryH ogr_shapes_edge_geometry(ogr_shapes *o, hpfc_id edge);
 
 /* Each source layer's geometry type, types[l] for the `layers` layers of
  * FEAT: multipolygons when all its features cover faces, multi line
- * strings when none does (or it has none), else unknown. One pass over the
- * features' row lengths (hpfc_shapes_layer_kinds), not their faces.
- * 0, or 1 with o->why set. */
-int ogr_shapes_layer_types(ogr_shapes *o, OGRwkbGeometryType *types, uint32_t layers);
+ * strings when none does (or it has none), else unknown; and counts[l]
+ * its features (counts may be NULL). One pass over the features' row
+ * lengths (hpfc_shapes_layer_kinds), not their faces. 0, or 1 with
+ * o->why set. */
+int ogr_shapes_layer_types(ogr_shapes *o, OGRwkbGeometryType *types, uint64_t *counts,
+                           uint32_t layers);
 
 /* The fields of a feature: what each OGR field holds. */
 enum { OGR_SHAPES_FID = -2, OGR_SHAPES_KEY = -1 }; /* else an ATTR column */

@@ -323,6 +323,7 @@ static void probe_layer_kinds(shp *z)
         hpfc_file_get_features(z->f, &fi) != HPFC_OK || fi.layers > 64)
         return;
     uint8_t want[64] = {0}, got[64];
+    uint64_t want_count[64] = {0}, count[64];
     int records_ok = 1, rows_ok = 1;
     for (uint32_t k = 0; k < z->features; k++) {
         hpfc_feature ft;
@@ -334,13 +335,16 @@ static void probe_layer_kinds(shp *z)
         if (hpfc_shapes_feature_faces(z->s, k, NULL, 0, &n) != HPFC_OK)
             rows_ok = 0;
         want[ft.layer] |= n ? HPFC_KIND_POLYGONS : HPFC_KIND_LINES;
+        want_count[ft.layer]++;
     }
-    int st = hpfc_shapes_layer_kinds(z->s, got, fi.layers);
+    int st = hpfc_shapes_layer_kinds(z->s, got, count, fi.layers);
     check_status(st);
     FUZZ_CHECK(st == HPFC_OK || st == HPFC_E_CORRUPT);
     FUZZ_CHECK(st == HPFC_OK || !records_ok);
     if (st == HPFC_OK && records_ok && rows_ok)
         FUZZ_CHECK(memcmp(got, want, fi.layers) == 0);
+    if (st == HPFC_OK && records_ok)
+        FUZZ_CHECK(memcmp(count, want_count, fi.layers * sizeof *count) == 0);
 }
 
 static void explore(shp *z)

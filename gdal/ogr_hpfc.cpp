@@ -70,18 +70,18 @@ class HPFCLayer final : public OGRLayer
     const char *GetFIDColumn() override { return fid_column_.c_str(); }
 
     bool Init(); /* fields; false after a CPLError */
+    /* a source layer's feature count, and whether it holds every feature
+     * of the file (one source layer): known at open, before its members */
+    void SetCount(uint64_t count, bool all) { count_ = count, all_ = all; }
     void AddMember(hpfc_id feature, int64_t fid) { members_.push_back({feature, fid}); }
     void IndexMembers();
-    /* a file's one source layer: its members are the file's features in
-     * order, known without a pass over them */
-    void TakeAllFeatures() { all_ = true; }
+    void ForgetMembers() { members_.clear(), by_fid_.clear(); }
 
   private:
     OGRFeature *Build(uint64_t id, bool with_geometry);
     bool AttachGeometry(OGRFeature *f, uint64_t id);
     bool BuildWindow();
     uint64_t Count() const;
-    bool ListAllMembers();
 
     HPFCDataset *ds_;
     LayerKind kind_;
@@ -97,9 +97,12 @@ class HPFCLayer final : public OGRLayer
         hpfc_id feature;
         int64_t fid;
     };
-    std::vector<Member> members_;                   /* source: its features, file order */
-    bool all_ = false;           /* source: every feature, members_ filled on first GetFeature */
-    bool members_listed_ = false; /* all_: members_ and by_fid_ filled */
+    /* source: its features in file order, listed on first need
+     * (HPFCDataset::ListMembers); with all_ a feature's member index is
+     * its id, and only GetFeature needs the list (for the fids) */
+    std::vector<Member> members_;
+    uint64_t count_ = 0;
+    bool all_ = false;
     /* source: members_ indices by ascending fid, where the fids are not
      * already ascending in file order (they are for a 1.2 writer's single
      * layer: positions in the source layer) */
@@ -138,9 +141,11 @@ class HPFCDataset final : public GDALDataset
 
     bool Extent(OGREnvelope *env);
     bool ExtentFromBounds(OGREnvelope *env);
+    bool ListMembers();
     bool Window(const OGREnvelope &env, int64_t *x0, int64_t *y0, int64_t *x1, int64_t *y1);
 
   private:
+    bool members_listed_ = false; /* every source layer's members_ filled */
     GByte *buffer_ = nullptr; /* a /vsi file read whole; else the library maps it */
     std::vector<std::unique_ptr<HPFCLayer>> layers_;
     bool Load(GDALOpenInfo *info);
@@ -251,11 +256,12 @@ bool HPFCDataset::Load(GDALOpenInfo *info)
     have_features_ = st == HPFC_OK;
     std::vector<std::string> names;
     if (have_features_) {
-        /* each layer's geometry type from its features' row lengths and,
-         * with several layers, each layer's members in one pass over FEAT;
-         * one layer's members are all the features, known without one */
+        /* each layer's geometry type and count from its features' row
+         * lengths and layers; no feature is read until a layer's members
+         * are needed */
         std::vector<OGRwkbGeometryType> types(features_.layers);
-        if (ogr_shapes_layer_types(&g_, types.data(), features_.layers)) {
+        std::vector<uint64_t> counts(features_.layers);
+        if (ogr_shapes_layer_types(&g_, types.data(), counts.data(), features_.layers)) {
             CPLError(CE_Failure, CPLE_OpenFailed, "HPFC: %s: %s", path, g_.why);
             return false;
         }
@@ -270,20 +276,9 @@ bool HPFCDataset::Load(GDALOpenInfo *info)
         }
         for (uint32_t l = 0; l < features_.layers; l++)
             layers_.emplace_back(new HPFCLayer(this, LayerKind::Source, l, names[l], wkbUnknown));
-        for (uint32_t k = 0; features_.layers > 1 && k < features_.features; k++) {
-            hpfc_feature ft;
-            if ((st = hpfc_file_get_feature(file_, k, &ft))) {
-                status_error("feature", st);
-                return false;
-            }
-            layers_[ft.layer]->AddMember(k, ft.fid);
-        }
         for (uint32_t l = 0; l < features_.layers; l++) {
             layers_[l]->GetLayerDefn()->SetGeomType(types[l]);
-            if (features_.layers == 1)
-                layers_[l]->TakeAllFeatures();
-            else
-                layers_[l]->IndexMembers();
+            layers_[l]->SetCount(counts[l], features_.layers == 1);
         }
     }
     /* the topology's layers keep their names unless a source layer has taken them */
@@ -478,26 +473,27 @@ void HPFCLayer::IndexMembers()
                      [&](size_t a, size_t b) { return members_[a].fid < members_[b].fid; });
 }
 
-/* The one source layer's members, each feature's fid read: on the first
- * GetFeature, so that opening the file makes no pass over its features.
- * False after a CPLError. */
-bool HPFCLayer::ListAllMembers()
+/* Every source layer's members, each feature's layer and fid read once:
+ * on the first read that needs them (a layer of a file of several, or a
+ * GetFeature), so that opening the file reads no feature. False after a
+ * CPLError, the lists left empty. */
+bool HPFCDataset::ListMembers()
 {
-    if (!all_ || members_listed_)
+    if (members_listed_ || !have_features_)
         return true;
-    std::vector<Member> members;
-    members.reserve(ds_->features_.features);
-    for (uint32_t k = 0; k < ds_->features_.features; k++) {
+    for (uint32_t k = 0; k < features_.features; k++) {
         hpfc_feature ft;
-        int st = hpfc_file_get_feature(ds_->file_, k, &ft);
+        int st = hpfc_file_get_feature(file_, k, &ft);
         if (st) {
             status_error("feature", st);
+            for (uint32_t l = 0; l < features_.layers; l++)
+                layers_[l]->ForgetMembers();
             return false;
         }
-        members.push_back({k, ft.fid});
+        layers_[ft.layer]->AddMember(k, ft.fid);
     }
-    members_.swap(members);
-    IndexMembers();
+    for (uint32_t l = 0; l < features_.layers; l++)
+        layers_[l]->IndexMembers();
     members_listed_ = true;
     return true;
 }
@@ -566,7 +562,7 @@ bool HPFCLayer::Init()
 uint64_t HPFCLayer::Count() const
 {
     if (kind_ == LayerKind::Source)
-        return all_ ? ds_->features_.features : members_.size();
+        return count_;
     if (kind_ == LayerKind::Faces) {
         uint64_t n = hpfc_shapes_face_count(ds_->shapes_);
         return n ? n - 1 : 0;
@@ -603,6 +599,8 @@ bool HPFCLayer::BuildWindow()
         status_error("spatial filter", st);
         return false;
     }
+    if (kind_ == LayerKind::Source && !all_ && !ds_->ListMembers())
+        return false;
     if (kind_ == LayerKind::Source && all_) {
         hits_.assign(h.feature, h.feature + h.feature_count);
     } else if (kind_ == LayerKind::Source) {
@@ -751,6 +749,8 @@ OGRFeature *HPFCLayer::GetNextFeature()
      * only when it is not ignored or the spatial filter must test it */
     const bool want_geometry = !defn_->IsGeometryIgnored() || m_poFilterGeom != nullptr;
     const bool attributes_first = m_poAttrQuery && !attr_reads_geometry_;
+    if (kind_ == LayerKind::Source && !all_ && !ds_->ListMembers())
+        return nullptr;
     for (;;) {
         uint64_t id;
         if (windowed_) {
@@ -762,8 +762,11 @@ OGRFeature *HPFCLayer::GetNextFeature()
                 return nullptr;
             id = cursor_++;
         }
-        if (kind_ == LayerKind::Source && !all_)
+        if (kind_ == LayerKind::Source && !all_) {
+            if (id >= members_.size()) /* the counts at open agree; a guard */
+                return nullptr;
             id = members_[id].feature; /* else the feature itself */
+        }
         else if (kind_ == LayerKind::Faces && !windowed_)
             id++; /* the unbounded face has no polygon */
         std::unique_ptr<OGRFeature> f(Build(id, want_geometry && !attributes_first));
@@ -798,7 +801,7 @@ OGRFeature *HPFCLayer::GetFeature(GIntBig fid)
 {
     uint64_t id;
     if (kind_ == LayerKind::Source) {
-        if (!ListAllMembers())
+        if (!ds_->ListMembers())
             return nullptr;
         const Member *m = FindFid(fid);
         if (!m)

@@ -239,7 +239,7 @@ __attribute__((noinline)) static int write_features(exporter *x)
     OGRwkbGeometryType *types = malloc((fi.layers ? fi.layers : 1) * sizeof *types);
     if (!types)
         return fail(x, "out of memory");
-    if (ogr_shapes_layer_types(&x->g, types, fi.layers)) {
+    if (ogr_shapes_layer_types(&x->g, types, NULL, fi.layers)) {
         free(types);
         return fail(x, "%s", x->g.why);
     }

@@ -1416,12 +1416,13 @@ HPFC_API int hpfc_shapes_feature_polylines(hpfc_shapes *shapes, hpfc_id feature,
 HPFC_API int hpfc_shapes_feature_faces(const hpfc_shapes *shapes, hpfc_id feature,
                                        hpfc_id *faces, size_t cap, size_t *count);
 
-/* What each FEAT layer holds, for a reader that types a layer before it
- * reads its features (a GIS driver's geometry type): kinds[l] gets
- * HPFC_KIND_POLYGONS when a feature of layer l covers a face and
- * HPFC_KIND_LINES when one covers none (a line feature, or a polygon the
- * lattice collapsed), 0 for an empty layer; layer_count is FEAT's layer
- * count (hpfc_features_info.layers), else HPFC_E_ARG. One pass over the
+/* What each FEAT layer holds, for a reader that types and counts a layer
+ * before it reads its features (a GIS driver's geometry type and feature
+ * count): kinds[l] gets HPFC_KIND_POLYGONS when a feature of layer l
+ * covers a face and HPFC_KIND_LINES when one covers none (a line feature,
+ * or a polygon the lattice collapsed), 0 for an empty layer; counts[l]
+ * (counts may be NULL) its features; layer_count is FEAT's layer count
+ * (hpfc_features_info.layers), else HPFC_E_ARG. One pass over the
  * features' layers (none with one layer) and the offsets of their rows,
  * not over their faces: the faces a row lists are checked when it is read
  * (hpfc_shapes_feature_faces, HPFC_E_CORRUPT for a damaged row), so on a
@@ -1429,7 +1430,7 @@ HPFC_API int hpfc_shapes_feature_faces(const hpfc_shapes *shapes, hpfc_id featur
  * without FEAT; HPFC_E_CORRUPT for a feature's layer past the layers. */
 enum { HPFC_KIND_POLYGONS = 1, HPFC_KIND_LINES = 2 };
 HPFC_API int hpfc_shapes_layer_kinds(const hpfc_shapes *shapes, uint8_t *kinds,
-                                     size_t layer_count);
+                                     uint64_t *counts, size_t layer_count);
 
 /* ------------------------------------------------------------------------
  * Windows: what of the map meets a rectangle (needs GEOM and LABL; FEAT or

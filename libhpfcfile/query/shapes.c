@@ -499,7 +499,8 @@ static int covers_faces(const hpfc_shapes *s, uint64_t row)
     return r->start[row + 1] > r->start[row];
 }
 
-int hpfc_shapes_layer_kinds(const hpfc_shapes *s, uint8_t *kinds, size_t layer_count)
+int hpfc_shapes_layer_kinds(const hpfc_shapes *s, uint8_t *kinds, uint64_t *counts,
+                            size_t layer_count)
 {
     int st = check_feature_call(s, kinds, FEATURE_FACES, 0);
     if (st == HPFC_E_ARG && s && kinds && s->have_features)
@@ -512,6 +513,8 @@ int hpfc_shapes_layer_kinds(const hpfc_shapes *s, uint8_t *kinds, size_t layer_c
     if (layer_count != fi.layers)
         return HPFC_E_ARG;
     memset(kinds, 0, layer_count);
+    if (counts)
+        memset(counts, 0, layer_count * sizeof *counts);
     /* the layers a chunk at a time: one layer needs none read (S8 holds
      * every feature's below 1, checked when a feature is read); none
      * makes every feature's a layer past them */
@@ -521,8 +524,11 @@ int hpfc_shapes_layer_kinds(const hpfc_shapes *s, uint8_t *kinds, size_t layer_c
         uint32_t n = s->features - k < CHUNK ? s->features - k : CHUNK;
         if (fi.layers != 1 && (st = features_layers(s->f, k, n, layer)))
             return st;
-        for (uint32_t j = 0; j < n; j++)
+        for (uint32_t j = 0; j < n; j++) {
             kinds[layer[j]] |= covers_faces(s, k + j) ? HPFC_KIND_POLYGONS : HPFC_KIND_LINES;
+            if (counts)
+                counts[layer[j]]++;
+        }
     }
     return HPFC_OK;
 }

@@ -154,11 +154,12 @@ static int q_features(const map *m, ctx *c, uint64_t *h)
 {
     hpfc_shapes *s = c->s;
     uint8_t kinds[16];
-    int st = hpfc_shapes_layer_kinds(s, kinds, m->layers);
+    uint64_t counts[16];
+    int st = hpfc_shapes_layer_kinds(s, kinds, counts, m->layers);
     if (took(h, st))
         return st;
     if (!st)
-        *h = mix(*h, kinds, m->layers);
+        *h = mix(mix(*h, kinds, m->layers), counts, m->layers * sizeof *counts);
     for (uint32_t k = 0; k < m->features; k++) {
         hpfc_polygons p;
         hpfc_id faces[256];

@@ -868,21 +868,29 @@ static void check_layer_kinds(const char *name, hpfc_shapes *s, const shapes_ctx
 {
     uint64_t nf = hpfc_shapes_face_count(s);
     uint8_t want[8] = {0}, got[8];
+    uint64_t want_count[8] = {0}, count[8];
     for (uint32_t k = 0; k < c->nfeat; k++) {
         int polygon = 0;
         for (uint64_t face = 0; face < nf; face++)
             polygon |= c->member[k * nf + face];
         want[c->layer[k]] |= polygon ? HPFC_KIND_POLYGONS : HPFC_KIND_LINES;
+        want_count[c->layer[k]]++;
     }
     memset(got, 0xee, sizeof got);
-    CHECK_EQ_INT(hpfc_shapes_layer_kinds(s, got, c->nlayer), HPFC_OK);
+    memset(count, 0xee, sizeof count);
+    CHECK_EQ_INT(hpfc_shapes_layer_kinds(s, got, count, c->nlayer), HPFC_OK);
     for (uint32_t l = 0; l < c->nlayer; l++)
-        if (got[l] != want[l]) {
+        if (got[l] != want[l] || count[l] != want_count[l]) {
             CHECK(0);
-            fprintf(stderr, "%s: layer %u holds kinds %d, want %d\n", name, l, got[l], want[l]);
+            fprintf(stderr, "%s: layer %u holds kinds %d of %llu features, want %d of %llu\n",
+                    name, l, got[l], (unsigned long long)count[l], want[l],
+                    (unsigned long long)want_count[l]);
         }
-    CHECK_EQ_INT(hpfc_shapes_layer_kinds(s, got, c->nlayer + 1), HPFC_E_ARG);
-    CHECK_EQ_INT(hpfc_shapes_layer_kinds(s, NULL, c->nlayer), HPFC_E_ARG);
+    memset(got, 0xee, sizeof got);
+    CHECK_EQ_INT(hpfc_shapes_layer_kinds(s, got, NULL, c->nlayer), HPFC_OK);
+    CHECK(memcmp(got, want, c->nlayer) == 0);
+    CHECK_EQ_INT(hpfc_shapes_layer_kinds(s, got, count, c->nlayer + 1), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_shapes_layer_kinds(s, NULL, count, c->nlayer), HPFC_E_ARG);
 }
 
 static void features_way(const char *name, hpfc_shapes *s, const void *ctx)
