@@ -208,9 +208,12 @@ static int copy_edges(const hpfc_graph *g, const uint32_t *list, size_t n, hpfc_
     for (size_t k = 0; k < nv && !st; k++)
         st = hpfc_graph_add_vertex(out, g->vxy[2 * (size_t)verts[k]], g->vxy[2 * (size_t)verts[k] + 1], NULL);
     for (size_t k = 0; k < n && !st; k++) {
-        uint32_t e = list[k];
-        st = hpfc_graph_add_edge(out, vertex_rank(verts, nv, g->eu[e]), vertex_rank(verts, nv, g->ev[e]),
-                                 g->pts + 2 * g->eoff[e], g->eoff[e + 1] - g->eoff[e], NULL);
+        uint32_t u, v;
+        const int64_t *interior; /* through the accessor: a graph of straight edges has no pts */
+        size_t n_interior;
+        hpfc_graph_edge(g, list[k], &u, &v, &interior, &n_interior);
+        st = hpfc_graph_add_edge(out, vertex_rank(verts, nv, u), vertex_rank(verts, nv, v), interior,
+                                 n_interior, NULL);
     }
     free(verts);
     return st;
