@@ -408,13 +408,11 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
     if (gi->edges != li->edges)
         return HPFC_E_CORRUPT;
     /* Counts a corrupt file may invent, bounded by what a valid one pays
-     * for, before anything is allocated or walked: LABL stores an edge id
-     * of edge_bits for every crossing and every edge has crossings; no
-     * vertex is isolated (V <= 2E); Euler's formula with at most V
-     * components gives F <= E + 1; and GEOM spends at least a bit on each
-     * shape point (consecutive points differ). */
-    uint64_t edge_room = li->edge_bits ? li->label_bits / li->edge_bits + 1 : 1;
-    if (gi->edges > edge_room || gi->vertices > 2 * gi->edges || li->faces > gi->edges + 1 ||
+     * for, before anything is allocated or walked: LABL's edges and faces
+     * (labels_counts_paid; GEOM's edges are LABL's); no vertex is isolated
+     * (V <= 2E); and GEOM spends at least a bit on each shape point
+     * (consecutive points differ). */
+    if (!labels_counts_paid(li) || gi->vertices > 2 * gi->edges ||
         gi->points / 8 > gi->section_length)
         return HPFC_E_CORRUPT;
     if (gi->vertices >= UINT32_MAX || gi->edges >= UINT32_MAX || li->faces >= UINT32_MAX ||

@@ -59,6 +59,17 @@ typedef struct labels_view {
     uint64_t section_length;
 } labels_view;
 
+/* Whether LABL's edge and face counts are ones its bytes pay for, to hold
+ * them to before anything is sized by them (a damaged header may claim
+ * billions): every edge has crossings, each storing an edge id of
+ * edge_bits, and Euler's formula with at most V components gives
+ * F <= E + 1. */
+static inline bool labels_counts_paid(const labels_view *v)
+{
+    uint64_t edge_room = v->edge_bits ? v->label_bits / v->edge_bits + 1 : 1;
+    return v->edges <= edge_room && v->faces <= v->edges + 1;
+}
+
 /* What labels_open needs of the level table: per level its leaves
  * (word_pixels) and its units (root records at level 0, images below). */
 typedef struct labels_levels {

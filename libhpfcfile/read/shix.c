@@ -214,11 +214,9 @@ int shix_build(const labels_view *labels, const hpfc_feature_table *features,
     if (labels->faces >= UINT32_MAX || labels->edges >= UINT32_MAX)
         return diag_set(diag, HPFC_E_LIMIT, "shape index: over 2^32 - 2 faces or edges");
     /* a LABL copied from a damaged file may claim counts its bytes do not
-     * pay for: the bounds hpfc_shapes_create holds them to (an edge id of
-     * edge_bits for every edge's crossings; F <= E + 1), before anything
-     * is allocated */
-    uint64_t edge_room = labels->edge_bits ? labels->label_bits / labels->edge_bits + 1 : 1;
-    if (labels->edges > edge_room || labels->faces > labels->edges + 1)
+     * pay for: held to the bounds hpfc_shapes_create holds them to, before
+     * anything is allocated */
+    if (!labels_counts_paid(labels))
         return diag_set(diag, HPFC_E_ARG, "shape index: LABL's counts are not its bytes'");
     inverse_table fe = {0}, ff = {0}, fx = {0};
     uint32_t tables = 0, nfeat = features ? features->feature_count : 0;
