@@ -500,13 +500,13 @@ static int covers_faces(const hpfc_shapes *s, uint64_t row)
 int hpfc_shapes_layer_kinds(const hpfc_shapes *s, uint8_t *kinds, uint64_t *counts,
                             size_t layer_count)
 {
-    int st = check_feature_call(s, kinds, FEATURE_FACES, 0);
-    if (st == HPFC_E_ARG && s && kinds && s->have_features)
-        st = HPFC_OK; /* no feature: every layer empty */
-    if (st)
-        return st;
+    if (!s || !kinds)
+        return HPFC_E_ARG;
+    if (!s->have_features)
+        return HPFC_E_NO_SECTION;
     hpfc_features_info fi;
-    if ((st = hpfc_file_get_features(s->f, &fi)))
+    int st = hpfc_file_get_features(s->f, &fi);
+    if (st)
         return st;
     if (layer_count != fi.layers)
         return HPFC_E_ARG;

@@ -242,10 +242,6 @@ int hpfc_layer_name(const hpfc_file *file, uint32_t layer, const char **name, si
     return HPFC_OK;
 }
 
-/* FEAT's face index and links, for an accessor: as section_of answers.
- * feature_links.h reads them for faces here and for edges in attrs.c;
- * what stays twice (this, attrs.c's attrs_edge_links and their two accessors)
- * is each section's own part: finding its links in its own layout. */
 int features_layers(const hpfc_file *file, uint32_t first, uint32_t count, uint32_t *layer)
 {
     const uint8_t *s;
@@ -264,6 +260,10 @@ int features_layers(const hpfc_file *file, uint32_t first, uint32_t count, uint3
     return HPFC_OK;
 }
 
+/* FEAT's face index and links, for an accessor: as section_of answers.
+ * feature_links.h reads them for faces here and for edges in attrs.c;
+ * what stays twice (this, attrs.c's attrs_edge_links and their two accessors)
+ * is each section's own part: finding its links in its own layout. */
 int features_face_links(const hpfc_file *file, bool out_ok, feature_links *links)
 {
     const uint8_t *s;
