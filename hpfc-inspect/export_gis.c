@@ -224,7 +224,42 @@ static int write_feature(exporter *x, OGRLayerH layer, const columns *c, uint32_
     return r;
 }
 
-/* Every feature, layer by layer (FEAT's layers, with their names).
+/* Layer l's features (FEAT's layer l, with its name) as an output layer
+ * of geometry type `type`: 0, or 1 after fail(). */
+static int write_layer(exporter *x, const hpfc_features_info *fi, uint32_t l,
+                       OGRwkbGeometryType type)
+{
+    const char *name;
+    size_t len;
+    int st = hpfc_layer_name(x->f, l, &name, &len);
+    if (st)
+        return fail(x, "layer %u: %s", l, hpfc_strerror(st));
+    char *lname = dup_n(name, len);
+    if (!lname)
+        return fail(x, "out of memory");
+    OGRLayerH layer = create_layer(x, lname[0] ? lname : "features", type);
+    free(lname);
+    columns c;
+    int r = !layer || make_fields(x, layer, &c);
+    /* one transaction a layer (GeoPackage: a commit per feature otherwise);
+     * drivers without transactions write as they go */
+    int tx = layer && !r && OGR_L_StartTransaction(layer) == OGRERR_NONE;
+    for (uint32_t k = 0; k < fi->features && !r; k++) {
+        hpfc_feature feat;
+        if ((st = hpfc_file_get_feature(x->f, k, &feat)))
+            r = fail(x, "feature %u: %s", k, hpfc_strerror(st));
+        else if (feat.layer == l)
+            r = write_feature(x, layer, &c, k, &feat);
+    }
+    if (tx && !r && OGR_L_CommitTransaction(layer) != OGRERR_NONE)
+        r = fail(x, "cannot commit layer %u: %s", l, gdal_reason("refused"));
+    if (layer)
+        ogr_shapes_fields_free(c.fields, c.count);
+    return r ? 1 : 0;
+}
+
+/* Every feature, layer by layer, each layer typed from its features' row
+ * lengths (one pass for all layers).
  * write_features and write_faces stay out of line: each is a stage that
  * bench/scaling.py's smoke counts by its calls in a profile. */
 __attribute__((noinline)) static int write_features(exporter *x)
@@ -239,47 +274,11 @@ __attribute__((noinline)) static int write_features(exporter *x)
     OGRwkbGeometryType *types = malloc((fi.layers ? fi.layers : 1) * sizeof *types);
     if (!types)
         return fail(x, "out of memory");
-    if (ogr_shapes_layer_types(&x->g, types, NULL, fi.layers)) {
-        free(types);
-        return fail(x, "%s", x->g.why);
-    }
-    for (uint32_t l = 0; l < fi.layers; l++) {
-        const char *name;
-        size_t len;
-        if ((st = hpfc_layer_name(x->f, l, &name, &len))) {
-            free(types);
-            return fail(x, "layer %u: %s", l, hpfc_strerror(st));
-        }
-        char *lname = dup_n(name, len);
-        if (!lname) {
-            free(types);
-            return fail(x, "out of memory");
-        }
-        OGRLayerH layer = create_layer(x, lname[0] ? lname : "features", types[l]);
-        free(lname);
-        columns c;
-        int r = !layer || make_fields(x, layer, &c);
-        /* one transaction a layer (GeoPackage: a commit per feature otherwise);
-         * drivers without transactions write as they go */
-        int tx = layer && !r && OGR_L_StartTransaction(layer) == OGRERR_NONE;
-        for (uint32_t k = 0; k < fi.features && !r; k++) {
-            hpfc_feature feat;
-            if ((st = hpfc_file_get_feature(x->f, k, &feat)))
-                r = fail(x, "feature %u: %s", k, hpfc_strerror(st));
-            else if (feat.layer == l)
-                r = write_feature(x, layer, &c, k, &feat);
-        }
-        if (tx && !r && OGR_L_CommitTransaction(layer) != OGRERR_NONE)
-            r = fail(x, "cannot commit layer %u: %s", l, gdal_reason("refused"));
-        if (layer)
-            ogr_shapes_fields_free(c.fields, c.count);
-        if (r) {
-            free(types);
-            return 1;
-        }
-    }
+    int r = ogr_shapes_layer_types(&x->g, types, NULL, fi.layers) ? fail(x, "%s", x->g.why) : 0;
+    for (uint32_t l = 0; l < fi.layers && !r; l++)
+        r = write_layer(x, &fi, l, types[l]);
     free(types);
-    return 0;
+    return r;
 }
 
 /* ---- faces ------------------------------------------------------------------------- */
