@@ -7,6 +7,10 @@
 #include <GeographicLib/LambertConformalConic.hpp>
 #include <GeographicLib/TransverseMercator.hpp>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -239,19 +243,72 @@ static void put_back_on_the_globe(double *lon, double *lat)
     *lat = *lat > 90.0 ? 90.0 : *lat < -90.0 ? -90.0 : *lat;
 }
 
+// One point of mapproj_inverse's equirectangular case; false when it is not
+// finite (xy[2k] and xy[2k + 1] then left as they were).
+static bool eqc_inverse_point(const mapproj_plan *p, double *xy)
+{
+    double lon, lat;
+    eqc_back(p, xy[0] - p->x_0, xy[1] - p->y_0 + p->y0, &lon, &lat);
+    if (!std::isfinite(lon) || !std::isfinite(lat))
+        return false;
+    put_back_on_the_globe(&lon, &lat);
+    xy[0] = lon, xy[1] = lat;
+    return true;
+}
+
+#ifdef __SSE2__
+// eqc_back on one point as a pair of lanes, x low and y high, each lane
+// with exactly its scalar operations (an addition of zero would turn -0
+// into +0): x - x_0, y - y_0 + y0, both / unit, lon0 added to x alone.
+static __m128d eqc_back_pair(__m128d v, __m128d origin, __m128d y0, __m128d unit, __m128d lon0)
+{
+    v = _mm_sub_pd(v, origin);
+    v = _mm_move_sd(_mm_add_pd(v, y0), v);  // y0 added to the high lane only
+    v = _mm_div_pd(v, unit);
+    return _mm_move_sd(v, _mm_add_pd(v, lon0));  // lon0 added to the low lane only
+}
+#endif
+
 // mapproj_inverse's equirectangular case in a loop of its own, without a
 // call and a switch a point: the world layers' projection, whose inverse
-// an export runs on every point.
+// an export or the GDAL driver runs on every point. Blocks of points are
+// computed two coordinates to an instruction into a buffer and stored as
+// they are when every result is finite and on the globe (|lon| <= 180,
+// |lat| <= 90), as nearly all are; a block with any other goes point by
+// point, put back on the globe or stopped at its first non-finite point
+// as the scalar loop did. The results are the scalar loop's bit for bit:
+// the same operations, each correctly rounded, lane by lane.
 static size_t eqc_inverse_points(const mapproj_plan *p, double *xy, size_t n)
 {
-    for (size_t k = 0; k < n; k++) {
-        double lon, lat;
-        eqc_back(p, xy[2 * k] - p->x_0, xy[2 * k + 1] - p->y_0 + p->y0, &lon, &lat);
-        if (!std::isfinite(lon) || !std::isfinite(lat))
-            return k;
-        put_back_on_the_globe(&lon, &lat);
-        xy[2 * k] = lon, xy[2 * k + 1] = lat;
+    size_t k = 0;
+#ifdef __SSE2__
+    enum { BLOCK = 64 };
+    const double unit = p->a * (M_PI / 180.0);
+    const __m128d origin = _mm_set_pd(p->y_0, p->x_0), y0 = _mm_set_pd(p->y0, 0.0),
+                  units = _mm_set1_pd(unit), lon0 = _mm_set_pd(0.0, p->lon0),
+                  globe = _mm_set_pd(90.0, 180.0), sign = _mm_set1_pd(-0.0);
+    double out[2 * BLOCK];
+    for (; k + BLOCK <= n; k += BLOCK) {
+        double *in = xy + 2 * k;
+        __m128d off = _mm_setzero_pd();
+        for (size_t j = 0; j < BLOCK; j++) {
+            __m128d r = eqc_back_pair(_mm_loadu_pd(in + 2 * j), origin, y0, units, lon0);
+            // !(|r| <= bound): past the globe, infinite or NaN
+            off = _mm_or_pd(off, _mm_cmpnle_pd(_mm_andnot_pd(sign, r), globe));
+            _mm_storeu_pd(out + 2 * j, r);
+        }
+        if (!_mm_movemask_pd(off)) {
+            std::memcpy(in, out, sizeof out);
+            continue;
+        }
+        for (size_t j = 0; j < BLOCK; j++)
+            if (!eqc_inverse_point(p, in + 2 * j))
+                return k + j;
     }
+#endif
+    for (; k < n; k++)
+        if (!eqc_inverse_point(p, xy + 2 * k))
+            return k;
     return n;
 }
 

@@ -147,31 +147,61 @@ void hpfc_user_point(const hpfc_file *f, int64_t x, int64_t y, double *ux, doubl
     *uy = scaled(y, f->info.unit_exp10);
 }
 
+/* (double)v for |v| < 2^51 without the conversion instruction, which x86-64
+ * has only for one value at a time: v added to the bits of 2^52 + 2^51
+ * gives the double 2^52 + 2^51 + v (ulp 1 in that binade), and subtracting
+ * 2^52 + 2^51 leaves v exactly. The adds and subtractions go four or eight
+ * to an instruction, and so do the divisions after them. */
+#define SMALL_BIAS_BITS UINT64_C(0x4338000000000000)
+#define SMALL_BIAS 6755399441055744.0
+
+static double small_to_double(int64_t v)
+{
+    uint64_t bits = (uint64_t)v + SMALL_BIAS_BITS;
+    double d;
+    memcpy(&d, &bits, sizeof d);
+    return d - SMALL_BIAS;
+}
+
+/* Whether every value is in (-2^51, 2^51): small_to_double's range. A
+ * pass of its own, branch-free, so that both loops vectorise. */
+static int all_small(const int64_t *v, size_t count)
+{
+    uint64_t out = 0;
+    for (size_t k = 0; k < count; k++)
+        out |= ((uint64_t)v[k] + (UINT64_C(1) << 51)) >> 52;
+    return out == 0;
+}
+
 /* An export converts every shape point: the common exponents (|e| <= 22,
  * one exact power of ten) take one division or multiplication per
- * coordinate in a loop the compiler can keep in registers; the others go
- * through scaled(), whose result this equals in every case. */
+ * coordinate, several to an instruction when every coordinate is below
+ * 2^51 (lattice points are); the others go through scaled(), whose result
+ * this equals in every case: each path converts v exactly (or as the
+ * conversion instruction rounds it, past 2^53) and rounds once. */
 void hpfc_user_points(const hpfc_file *f, const int64_t *xy, size_t n, double *uv)
 {
     int32_t e = f->info.unit_exp10;
+    size_t count = 2 * n;
     if (e < -22 || e > 22) {
-        for (size_t k = 0; k < 2 * n; k++) {
-            int64_t v = xy[k];
-            uv[k] = scaled(v, e);
-        }
+        for (size_t k = 0; k < count; k++)
+            uv[k] = scaled(xy[k], e);
         return;
     }
     double p = scaled(1, e < 0 ? -e : e);
-    if (e < 0) {
-        for (size_t k = 0; k < 2 * n; k++) {
-            int64_t v = xy[k];
-            uv[k] = (double)v / p;
-        }
+    if (all_small(xy, count)) {
+        if (e < 0)
+            for (size_t k = 0; k < count; k++)
+                uv[k] = small_to_double(xy[k]) / p;
+        else
+            for (size_t k = 0; k < count; k++)
+                uv[k] = small_to_double(xy[k]) * p;
+    } else if (e < 0) {
+        for (size_t k = 0; k < count; k++)
+            uv[k] = (double)xy[k] / p;
     } else {
-        for (size_t k = 0; k < 2 * n; k++) {
-            int64_t v = xy[k];
-            uv[k] = (double)v * p;
-        }
+        for (size_t k = 0; k < count; k++)
+            uv[k] = (double)xy[k] * p;
     }
 }
 

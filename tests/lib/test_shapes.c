@@ -1069,25 +1069,59 @@ static void run_pinches(void)
     hpfc_graph_free(g);
 }
 
+/* n points of xy through hpfc_user_points, each against hpfc_user_point
+ * bit for bit; the first `oracle` values also against libc's correctly
+ * rounded reading of "vEe". Returns the number of disagreements. */
+static size_t user_points_bad(const hpfc_file *f, const int64_t *xy, size_t n, double *uv,
+                              size_t oracle, int32_t e)
+{
+    hpfc_user_points(f, xy, n, uv);
+    size_t bad = 0;
+    for (size_t k = 0; k < 2 * n; k += 2) {
+        double ux, uy;
+        hpfc_user_point(f, xy[k], xy[k + 1], &ux, &uy);
+        bad += memcmp(&ux, &uv[k], sizeof ux) || memcmp(&uy, &uv[k + 1], sizeof uy);
+        if (k < oracle && e >= -22 && e <= 22) {
+            char text[64];
+            snprintf(text, sizeof text, "%lldE%d", (long long)xy[k], (int)e);
+            double want = strtod(text, NULL);
+            bad += memcmp(&want, &uv[k], sizeof want) != 0;
+        }
+    }
+    return bad;
+}
+
 /* hpfc_user_points against hpfc_user_point, bit for bit, over the whole
- * exponent range (the batch has its own path for |e| <= 22), and against
- * libc's correctly rounded decimal reading of "vEe" where one rounding is
- * all there is (|v| < 2^53, |e| <= 22). */
+ * exponent range (the batch has its own paths for |e| <= 22: one for
+ * coordinates all in (-2^51, 2^51), as lattice points are, one for any),
+ * and against libc's correctly rounded decimal reading of "vEe" where one
+ * rounding is all there is (|v| < 2^53, |e| <= 22). */
 static void run_user_points(void)
 {
     static const int32_t exps[] = {-30, -23, -22, -21, -7, -1, 0, 1, 5, 21, 22, 23, 30};
     static const int64_t tri[] = {0, 0, 1000, 0, 0, 1000};
     static const uint32_t tri_e[] = {0, 1, 1, 2, 2, 0};
     enum { N = 4096 };
+    /* values: [0, N) below 2^50 with the edges of the short path's range,
+     * [N, 3N/2) below 2^53 beginning with the first values past, then
+     * up to 2^62 */
+    static const int64_t edges[] = {-4, -1, 0, 1, 3, INT64_C(2251799813685247),
+                                    -INT64_C(2251799813685248), -INT64_C(2251799813685247)};
     int64_t *xy = malloc(2 * N * sizeof *xy);
     double *uv = malloc(2 * N * sizeof *uv);
     CHECK(xy && uv);
     uint64_t r = 0x9e3779b97f4a7c15u;
     for (size_t k = 0; xy && k < 2 * N; k++) {
         r ^= r << 13, r ^= r >> 7, r ^= r << 17;
-        int bits = k < N ? 53 : 62; /* within one rounding, then lattice-wide */
+        int bits = k < N ? 50 : k < 3 * N / 2 ? 53 : 62;
         int64_t v = (int64_t)(r >> (64 - bits)) - (INT64_C(1) << (bits - 1));
-        xy[k] = k < 8 ? (int64_t)k - 4 : v;
+        xy[k] = k < 8 ? edges[k] : v;
+    }
+    if (xy) {
+        xy[N] = INT64_C(2251799813685249); /* 2^51 + 1, 2^51: the first two past */
+        xy[N + 1] = INT64_C(2251799813685248);
+        xy[N + 2] = -INT64_C(2251799813685249);
+        xy[N + 3] = 0;
     }
     for (size_t q = 0; xy && uv && q < sizeof exps / sizeof *exps; q++) {
         hpfc_graph *g = graph_of(tri, 3, tri_e, 3);
@@ -1096,21 +1130,12 @@ static void run_user_points(void)
         int st = pack(g, 4, 2, 0, &p);
         CHECK_EQ_INT(st, HPFC_OK);
         if (!st) {
-            hpfc_user_points(p.f, xy, N, uv);
-            size_t bad = 0, bad_oracle = 0;
-            for (size_t k = 0; k < 2 * N; k += 2) {
-                double ux, uy;
-                hpfc_user_point(p.f, xy[k], xy[k + 1], &ux, &uy);
-                bad += memcmp(&ux, &uv[k], sizeof ux) || memcmp(&uy, &uv[k + 1], sizeof uy);
-                if (k < N && exps[q] >= -22 && exps[q] <= 22) {
-                    char text[64];
-                    snprintf(text, sizeof text, "%lldE%d", (long long)xy[k], (int)exps[q]);
-                    double want = strtod(text, NULL);
-                    bad_oracle += memcmp(&want, &uv[k], sizeof want) != 0;
-                }
-            }
-            CHECK_EQ_INT(bad, 0);
-            CHECK_EQ_INT(bad_oracle, 0);
+            /* the short path (every value below 2^51), then the whole array */
+            CHECK_EQ_INT(user_points_bad(p.f, xy, N / 2, uv, N, exps[q]), 0);
+            CHECK_EQ_INT(user_points_bad(p.f, xy + N, 1, uv, 2, exps[q]), 0);
+            CHECK_EQ_INT(user_points_bad(p.f, xy + N + 2, 1, uv, 2, exps[q]), 0);
+            CHECK_EQ_INT(user_points_bad(p.f, xy + N, N / 2, uv, N / 2, exps[q]), 0);
+            CHECK_EQ_INT(user_points_bad(p.f, xy, N, uv, 3 * N / 2, exps[q]), 0);
         }
         unpack(&p);
         hpfc_graph_free(g);
