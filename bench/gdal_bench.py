@@ -1,11 +1,13 @@
 """Times the GDAL driver against FlatGeobuf (bench/run-gdal.sh).
 
 Usage: gdal_bench.py DIR RUNS. DIR holds counties.{hpfc,fgb} and
-countries.{hpfc,fgb}. Each case runs RUNS times, the formats interleaved;
+countries.{hpfc,fgb}. Each case runs RUNS times, the formats interleaved
+(in a new order each run);
 prints wall and CPU (user + system of the child) medians and their ratio.
 """
 
 import os
+import random
 import resource
 import statistics
 import subprocess
@@ -31,8 +33,14 @@ def timed(cmd):
 def compare(title, cases):
     """cases: [(label, argv or callable)], run interleaved RUNS times."""
     times = {label: [] for label, _ in cases}
-    for _ in range(RUNS):
-        for label, cmd in cases:
+    for r in range(RUNS):
+        # a new order each run (seeded: the same on every machine): a case
+        # run after a full read is some 10 % slower whatever its format
+        # (caches and clocks the heavy process left), so no case may
+        # always come after the same one
+        order = list(cases)
+        random.Random(r).shuffle(order)
+        for label, cmd in order:
             times[label].append(timed(cmd))
     print(title)
     base = None
@@ -89,3 +97,41 @@ compare("geopandas.read_file, world-atlas countries-10m (254 multipolygons), pyt
          ("from countries.fgb", ["/usr/bin/python3", "-c", gp, path("countries.fgb")]),
          ("from countries_srs.fgb (EPSG:4326)", ["/usr/bin/python3", "-c", gp, path("countries_srs.fgb")]),
          ("python3 -c 'import fiona, geopandas' alone", ["/usr/bin/python3", "-c", "import fiona, geopandas"])])
+
+# The same reads inside one interpreter, imports and GDAL's start paid once:
+# what a notebook or a server that reads many files sees, and the read's
+# own ratio, which the process figures above dilute with the imports.
+IN_PROCESS = r"""
+import statistics, sys, time
+import fiona, geopandas
+from osgeo import ogr
+fiona.supported_drivers['HPFC'] = 'r'
+runs, files = int(sys.argv[1]), sys.argv[2:]
+
+def ogr_read(p):
+    ds = ogr.Open(p)
+    for f in ds.GetLayer(0):
+        f.GetGeometryRef()
+
+def gpd_read(p):
+    assert len(geopandas.read_file(p, engine='fiona')) > 200
+
+for name, fn in (('OGR full read (osgeo.ogr)', ogr_read), ('geopandas.read_file', gpd_read)):
+    times = {p: [] for p in files}
+    for p in files:
+        fn(p)  # warm: the file's pages and the driver's first use
+    for _ in range(runs):
+        for p in files:
+            t0 = time.perf_counter()
+            fn(p)
+            times[p].append(time.perf_counter() - t0)
+    base = statistics.median(times[files[0]])
+    print(name)
+    for p in files:
+        m = statistics.median(times[p])
+        print(f"  {p.split('/')[-1]:44s} {m * 1000:8.1f} ms  ({m / base:.2f}x the first)")
+"""
+print("world-atlas countries-10m in one process, medians of", 3 * RUNS, "interleaved reads")
+sys.stdout.flush()
+subprocess.run(["/usr/bin/python3", "-c", IN_PROCESS, str(3 * RUNS), path("countries.hpfc"),
+                path("countries_srs.fgb")], check=True)

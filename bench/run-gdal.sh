@@ -6,7 +6,8 @@
 #   ogrinfo -spat over a window holding about 1 % of the counties, against
 #   a full read of the layer and against FlatGeobuf's indexed bbox read,
 #   geopandas.read_file of world-atlas countries-10m (against FlatGeobuf
-#   with and without the SRS the .hpfc carries).
+#   with and without the SRS the .hpfc carries), as whole processes and
+#   then in one interpreter (the read alone, imports paid once).
 #   sh bench/run-gdal.sh [NODE_MODULES [RUNS]]
 # NODE_MODULES holds us-atlas and world-atlas (default
 # build-bench/npm/node_modules: `cd build-bench/npm && npm install us-atlas
