@@ -325,16 +325,18 @@ static void make_table(const gis_features *fs, face_link *fl, gis_feature_table 
 }
 
 int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
-                             const leaf_crossings *lc, const hpfc_file *file, int witness,
-                             gis_feature_table *out, char *err, size_t err_len)
+                             const leaf_crossings *lc, const hpfc_file *file,
+                             const hpfc_faces *given, int witness, gis_feature_table *out,
+                             char *err, size_t err_len)
 {
     memset(out, 0, sizeof *out);
     out->method_witness = witness != 0;
-    hpfc_faces *faces = NULL;
+    hpfc_faces *built = NULL;
     face_witness *w = NULL;
     face_link fl = {0};
     stage_time t = stage_now();
-    int st = hpfc_faces_build(file, &faces);
+    int st = given ? HPFC_OK : hpfc_faces_build(file, &built);
+    const hpfc_faces *faces = given ? given : built;
     out->faces_t = stage_lap(&t);
     uint64_t n = faces ? hpfc_faces_face_count(faces) : 0;
     if (!st && n >= UINT32_MAX)
@@ -346,7 +348,7 @@ int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
     out->witness_t = stage_lap(&t);
     if (!st)
         st = face_link_run(&fl, fs, graph, lc, file, faces);
-    hpfc_faces_free(faces); /* the walk needs the faces' ids only */
+    hpfc_faces_free(built); /* the walk needs the faces' ids only */
     out->topology_t = stage_lap(&t);
     if (!st)
         st = check_faces(fs, w, &fl, !out->method_witness, out);

@@ -91,13 +91,16 @@ void gis_feature_table_free(gis_feature_table *t);
 
 /* The linking step of a pack: numbers the faces of the open map `file`
  * (built from `graph`; lc: its crossings, taken from the tree before it was
- * freed), links them and the edges to the features and makes the table.
+ * freed), or takes `faces` when the caller has them (the writer's, bound
+ * to `file`: hpfc_faces_attach), links them and the edges to the features
+ * and makes the table.
  * `witness` 0 links from the topology, every face then confirmed by the
  * exact check (hpfc-pack's default); 1 answers every face by its witness
  * point alone (hpfc-pack --link witness, a cross-check the tests compare
  * with the default). 0, or 1 with a message in err. */
 int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
-                             const leaf_crossings *lc, const hpfc_file *file, int witness,
-                             gis_feature_table *out, char *err, size_t err_len);
+                             const leaf_crossings *lc, const hpfc_file *file,
+                             const hpfc_faces *faces, int witness, gis_feature_table *out,
+                             char *err, size_t err_len);
 
 #endif

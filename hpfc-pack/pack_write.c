@@ -26,8 +26,8 @@
  * faces' flood fill is where a pack's memory peaks. 0, or 1 with a message
  * in err. */
 static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
-                         const gis_info *gis, int witness, pack_write_stats *r,
-                         gis_feature_table *ft, char *err, size_t err_len)
+                         const hpfc_faces *faces, const gis_info *gis, int witness,
+                         pack_write_stats *r, gis_feature_table *ft, char *err, size_t err_len)
 {
     stage_time t0 = stage_now();
     leaf_crossings lc;
@@ -39,7 +39,7 @@ static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
                  hpfc_strerror(st));
         return 1;
     }
-    st = gis_features_link_method(gis->polygons, g, &lc, f, witness, ft, err, err_len);
+    st = gis_features_link_method(gis->polygons, g, &lc, f, faces, witness, ft, err, err_len);
     leaf_crossings_free(&lc);
     if (!st) {
         r->features = ft->polygon_features;
@@ -261,16 +261,23 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts
     uint8_t *bytes = NULL;
     size_t size = 0;
     hpfc_file *f = NULL;
+    /* the faces LABL is numbered with, kept for the linking, which would
+     * otherwise number them again on the file (seconds on a large layer) */
+    hpfc_faces *faces = NULL;
+    int linking = gis && gis_features_count(gis->polygons) > 0;
+    wopts.faces_out = linking && wopts.face_labels ? &faces : NULL;
     if ((st = hpfc_tree_serialize(t, &wopts, &bytes, &size, diag)) == HPFC_OK &&
         ((st = hpfc_open_memory(bytes, size, 0, &f)) != HPFC_OK ||
+         (faces && (st = hpfc_faces_attach(faces, f)) != HPFC_OK) ||
          (hook && (st = hook(user, t, f)) != HPFC_OK)))
         snprintf(diag->message, sizeof diag->message,
                  "internal error: the serialised file does not read back (%s)",
                  hpfc_strerror(st));
+    wopts.faces_out = NULL; /* the final write copies the file: no faces to hand out */
     hpfc_attr_table attrs;
     hpfc_edge_feature_table edge_features;
-    if (!st && gis && gis_features_count(gis->polygons) > 0) {
-        st = link_features(g, &t, f, gis, link_witness, r, &ft, diag->message,
+    if (!st && linking) {
+        st = link_features(g, &t, f, faces, gis, link_witness, r, &ft, diag->message,
                            sizeof diag->message);
         wopts.features = &ft.table;
         /* the features' attributes (ATTR) and the edges' features (EDGF) */
@@ -285,6 +292,7 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts
         if (!st && ft.edge_start)
             wopts.edge_features = &edge_features;
     }
+    hpfc_faces_free(faces);
     hpfc_tree_free(t);
     if (!st) /* the pools as serialised, with the FEAT section when there is one */
         st = write_output(output, f, &wopts, r, diag);

@@ -556,6 +556,15 @@ typedef struct hpfc_write_options {
      * none. hpfc_file_serialize ignores it and keeps the source file's
      * GEOM section, which stays true since its pools are copied. */
     const hpfc_graph *geometry;
+    /* With face_labels, from the tree calls (hpfc_tree_serialize,
+     * hpfc_tree_write_file): when not NULL, receives the faces the LABL
+     * section was numbered with, the answers hpfc_faces_build gives on the
+     * file written, so that a caller who opens that file and needs them
+     * does not number them again (on a continental map, seconds).
+     * They answer HPFC_E_ARG until hpfc_faces_attach binds them to the
+     * opened file; the caller frees them with hpfc_faces_free. NULL after
+     * every other call and on any error. */
+    struct hpfc_faces **faces_out;
 } hpfc_write_options;
 
 /* Every write call takes its options (NULL: all defaults) with their size
@@ -999,6 +1008,12 @@ HPFC_API int hpfc_faces_key_face(const hpfc_faces *faces, hpfc_walker *w, uint64
 /* The face holding a private pixel (HPFC_E_ARG if px is not private). */
 HPFC_API int hpfc_faces_pixel_face(const hpfc_faces *faces, const hpfc_pixel *px,
                                    hpfc_id *face);
+/* Binds faces a write handed out (hpfc_write_options.faces_out) to the
+ * file it wrote, opened: HPFC_E_ARG when they are bound already or when
+ * the file's levels or pools are not those they were numbered on (each
+ * level's counts, widths and pool size, and its pool's CRC-32C, read here:
+ * O(the pools)). */
+HPFC_API int hpfc_faces_attach(hpfc_faces *faces, const hpfc_file *file);
 
 /* ------------------------------------------------------------------------
  * Source features (spec/hpfc-format.md §6.2, the FEAT section): which

@@ -19,6 +19,7 @@
  *     so each leaf only looks at the neighbour that spans its side.
  * The classes are the faces.
  */
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -112,11 +113,22 @@ typedef struct leaf_table {
     uint64_t unit[HPFC_MAX_LEVELS];      /* bits per entry: a root record, k_w below */
 } leaf_table;
 
+/* What a file's pools must be for faces numbered on another copy to hold
+ * on it: every level's counts, widths and pool size, and its pool's bytes
+ * (by their CRC-32C). The grid and the layout follow from these. */
+typedef struct pools_print {
+    uint32_t levels;
+    bool compact;
+    hpfc_level_info level[HPFC_MAX_LEVELS]; /* pool_offset left 0 */
+    uint32_t crc[HPFC_MAX_LEVELS];
+} pools_print;
+
 struct hpfc_faces {
-    const hpfc_file *file;
+    const hpfc_file *file; /* NULL while detached (faces_detach) */
     leaf_table leaves;
     node_array parent;
     uint64_t nodes, count;
+    pools_print print; /* set while detached */
 };
 
 /* Sizes the table from the level table, for a file of `leaves` leaves. A
@@ -155,6 +167,10 @@ static int leaf_table_init(leaf_table *t, const hpfc_file *f, uint64_t leaves)
 static uint64_t *leaf_entry(const hpfc_faces *fc, const hpfc_pixel *px, int *st)
 {
     uint64_t slot;
+    if (!fc->file) { /* detached: no file to read the pixel in */
+        *st = HPFC_E_ARG;
+        return NULL;
+    }
     if ((*st = reader_leaf_slot_bit(fc->file, px, &slot)))
         return NULL;
     const leaf_table *t = &fc->leaves;
@@ -427,7 +443,7 @@ int hpfc_faces_pixel_face(const hpfc_faces *fc, const hpfc_pixel *px, uint64_t *
 {
     int is_private = 0;
     uint64_t base;
-    if (!fc || !px || !face)
+    if (!fc || !fc->file || !px || !face)
         return HPFC_E_ARG;
     int st = hpfc_pixel_is_private(fc->file, px, &is_private);
     if (!st && !is_private)
@@ -437,6 +453,81 @@ int hpfc_faces_pixel_face(const hpfc_faces *fc, const hpfc_pixel *px, uint64_t *
     if (!st)
         *face = node_get(&fc->parent, base);
     return st;
+}
+
+/* ---- handed out by a write, bound to the file written ---------------------------- */
+
+/* The print of f's pools; false when a pool lies outside the file (a
+ * corrupt level table that open let through cannot, but the CRC must not
+ * read past the bytes). */
+static bool print_pools(const hpfc_file *f, pools_print *p)
+{
+    memset(p, 0, sizeof *p);
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    p->levels = info.levels;
+    p->compact = f->compact;
+    for (uint32_t l = 0; l < info.levels; l++) {
+        hpfc_level_info lv = {0};
+        hpfc_file_get_level(f, l, &lv);
+        uint64_t bytes = format_pool_bytes(lv.pool_bits);
+        if (lv.pool_offset > f->size || bytes > f->size - lv.pool_offset)
+            return false;
+        p->crc[l] = crc32c_update(0, f->data + lv.pool_offset, (size_t)bytes);
+        p->level[l] = (hpfc_level_info){.word_pixels = lv.word_pixels,
+                                        .refined_pixels = lv.refined_pixels,
+                                        .images = lv.images,
+                                        .word_bits = lv.word_bits,
+                                        .address_bits = lv.address_bits,
+                                        .pool_bits = lv.pool_bits,
+                                        .cell_w = lv.cell_w,
+                                        .cell_h = lv.cell_h};
+    }
+    return true;
+}
+
+static bool same_level(const hpfc_level_info *a, const hpfc_level_info *b)
+{
+    return a->word_pixels == b->word_pixels && a->refined_pixels == b->refined_pixels &&
+           a->images == b->images && a->word_bits == b->word_bits &&
+           a->address_bits == b->address_bits && a->pool_bits == b->pool_bits &&
+           a->cell_w == b->cell_w && a->cell_h == b->cell_h;
+}
+
+static bool same_pools(const pools_print *a, const pools_print *b)
+{
+    if (a->levels != b->levels || a->compact != b->compact)
+        return false;
+    for (uint32_t l = 0; l < a->levels; l++)
+        if (!same_level(&a->level[l], &b->level[l]) || a->crc[l] != b->crc[l])
+            return false;
+    return true;
+}
+
+int faces_detach(hpfc_faces *fc)
+{
+    if (!print_pools(fc->file, &fc->print))
+        return HPFC_E_CORRUPT;
+    fc->file = NULL;
+    return HPFC_OK;
+}
+
+int hpfc_faces_attach(hpfc_faces *fc, const hpfc_file *file)
+{
+    if (!fc || !file || fc->file)
+        return HPFC_E_ARG;
+    pools_print p;
+    if (!print_pools(file, &p) || !same_pools(&p, &fc->print))
+        return HPFC_E_ARG;
+    /* the leaves' entries are relative to their level's pool: only where
+     * the pools start moves */
+    for (uint32_t l = 0; l < p.levels; l++) {
+        hpfc_level_info lv;
+        hpfc_file_get_level(file, l, &lv);
+        fc->leaves.pool_bit[l] = lv.pool_offset * 8;
+    }
+    fc->file = file;
+    return HPFC_OK;
 }
 
 /* ---- for the LABL writer (labels.h) ---------------------------------------------- */

@@ -24,4 +24,10 @@ int faces_leaf_nodes(const hpfc_faces *fc, uint32_t level, uint64_t bit, uint64_
                      uint64_t *crossings);
 uint64_t faces_node_face(const hpfc_faces *fc, uint64_t node);
 
+/* Unbinds fc from its file, keeping a print of the file's pools for
+ * hpfc_faces_attach: the writer hands out the faces it numbered LABL with
+ * on a copy of the pools it then frees. HPFC_E_CORRUPT for a pool outside
+ * the file. */
+int faces_detach(hpfc_faces *fc);
+
 #endif

@@ -23,6 +23,7 @@
 #include "format.h"
 #include "geometry.h"
 #include "graph.h"
+#include "faces.h"
 #include "labels.h"
 #include "part_file.h"
 #include "pool.h"
@@ -53,6 +54,8 @@ typedef struct layout {
     const hpfc_attr_table *attributes;
     const hpfc_edge_feature_table *edge_features;
     uint64_t attr_offset, attr_length, edgf_offset, edgf_length;
+    /* where make_labels hands out the faces it numbered (faces_out), or NULL */
+    hpfc_faces **faces_out;
     /* SHIX (§6.8), made from LABL, FEAT and EDGF when there is a LABL */
     uint8_t *shix;
     uint64_t shix_offset, shix_length;
@@ -677,6 +680,12 @@ static int make_labels(layout *L, hpfc_diag *diag)
         diag_set(diag, st, "labels: numbering the faces failed");
     if (!st)
         st = labels_build(L->tree, f, fc, &labl, &length, diag);
+    /* the faces answer for every copy of these pools: the caller may have
+     * them, bound to the file it opens (hpfc_faces_attach) */
+    if (!st && L->faces_out && !(st = faces_detach(fc))) {
+        *L->faces_out = fc;
+        fc = NULL;
+    }
     hpfc_faces_free(fc);
     hpfc_close(f);
     free(bytes);
@@ -729,7 +738,10 @@ static int begin_layout(const char *who, const void *source, const hpfc_write_op
     *L = (layout){.crs = opts->crs,
                   .features = opts->features,
                   .attributes = opts->attributes,
-                  .edge_features = opts->edge_features};
+                  .edge_features = opts->edge_features,
+                  .faces_out = opts->faces_out};
+    if (opts->faces_out)
+        *opts->faces_out = NULL;
     return HPFC_OK;
 }
 
@@ -773,9 +785,14 @@ static int lay_out_tree(const hpfc_tree *tree, const hpfc_write_options *opts, l
     return st;
 }
 
-/* What lay_out_tree made (an open file's layout only points into it). */
-static void layout_release(layout *L)
+/* What lay_out_tree made (an open file's layout only points into it),
+ * and the faces handed out when the call that made them fails after. */
+static void layout_release(layout *L, int status)
 {
+    if (status && L->faces_out) {
+        hpfc_faces_free(*L->faces_out);
+        *L->faces_out = NULL;
+    }
     if (L->tree) {
         free((void *)L->labl);
         free((void *)L->geom);
@@ -839,7 +856,7 @@ int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *o
     st = lay_out_tree(tree, &opts, &L, diag);
     if (!st)
         st = serialize_layout(&L, out, out_size, diag);
-    layout_release(&L);
+    layout_release(&L, st);
     return st;
 }
 
@@ -855,7 +872,7 @@ int hpfc_file_serialize_sized(const hpfc_file *file, const hpfc_write_options *o
         return st;
     lay_out_file(file, &L);
     st = serialize_layout(&L, out, out_size, diag);
-    layout_release(&L);
+    layout_release(&L, st);
     return st;
 }
 
@@ -871,7 +888,7 @@ int hpfc_file_write_fd_sized(const hpfc_file *file, const hpfc_write_options *op
         return st;
     lay_out_file(file, &L);
     st = write_layout(&L, fd, NULL, diag);
-    layout_release(&L);
+    layout_release(&L, st);
     return st;
 }
 
@@ -1025,7 +1042,7 @@ int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *
     st = lay_out_tree(tree, &opts, &L, diag);
     if (!st)
         st = write_atomic(path, fill_layout, &L, diag);
-    layout_release(&L);
+    layout_release(&L, st);
     return st;
 }
 
@@ -1041,7 +1058,7 @@ int hpfc_file_write_file_sized(const hpfc_file *file, const hpfc_write_options *
         return st;
     lay_out_file(file, &L);
     st = write_atomic(path, fill_layout, &L, diag);
-    layout_release(&L);
+    layout_release(&L, st);
     return st;
 }
 

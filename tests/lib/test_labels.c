@@ -25,6 +25,7 @@ typedef struct packed {
     uint8_t *with, *without;
     hpfc_file *f, *f0;
     hpfc_tree *tree;
+    hpfc_faces *handed; /* the faces the write of `with` handed out (faces_out) */
 } packed;
 
 static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, packed *p)
@@ -36,7 +37,7 @@ static int pack(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat, packed *
     bp.cols = bp.rows = n;
     bp.flat = flat;
     size_t s1, s0;
-    hpfc_write_options o = {.face_labels = 1};
+    hpfc_write_options o = {.face_labels = 1, .faces_out = &p->handed};
     int st = hpfc_build(g, &bp, &p->tree, NULL);
     if (!st)
         st = check_tree_serialize(p->tree, &o, &p->with, &s1, NULL);
@@ -56,6 +57,7 @@ static void unpack(packed *p)
     hpfc_free(p->with);
     hpfc_free(p->without);
     hpfc_tree_free(p->tree);
+    hpfc_faces_free(p->handed);
 }
 
 typedef struct slot_rank {
@@ -341,9 +343,11 @@ static void check_leaf_faces(const packed *p, const hpfc_faces *fc, const hpfc_p
     uint64_t regions[512];
     CHECK_EQ_INT(hpfc_label_leaf_faces(p->f, px, NULL, 0, &count), HPFC_OK);
     if (lw->n == 0) {
-        uint64_t want = 0, got = 1;
+        uint64_t want = 0, got = 1, handed = 2;
         CHECK_EQ_INT(count, 1);
         CHECK_EQ_INT(hpfc_faces_pixel_face(fc, px, &want), HPFC_OK);
+        CHECK_EQ_INT(hpfc_faces_pixel_face(p->handed, px, &handed), HPFC_OK);
+        CHECK_EQ_INT(handed, want);
         CHECK_EQ_INT(hpfc_label_stretch_face(p->f, px, 0, &got), HPFC_OK);
         CHECK_EQ_INT(got, want);
         CHECK_EQ_INT(hpfc_label_stretch_face(p->f, px, 1, &got), HPFC_E_ARG);
@@ -361,8 +365,10 @@ static void check_leaf_faces(const packed *p, const hpfc_faces *fc, const hpfc_p
     }
     for (uint32_t k = 0; k < lw->n; k++) {
         hpfc_dart d = {.pixel = *px, .crossing = k};
-        uint64_t want = 0, got = 1, stretch = 2;
+        uint64_t want = 0, got = 1, stretch = 2, handed = 3;
         CHECK_EQ_INT(hpfc_faces_dart_face(fc, &d, &want), HPFC_OK);
+        CHECK_EQ_INT(hpfc_faces_dart_face(p->handed, &d, &handed), HPFC_OK);
+        CHECK_EQ_INT(handed, want);
         CHECK_EQ_INT(hpfc_label_dart_face(p->f, &d, &got), HPFC_OK);
         CHECK_EQ_INT(got, want);
         CHECK_EQ_INT(hpfc_label_stretch_face(p->f, px, (k + 1) % lw->n, &stretch), HPFC_OK);
@@ -415,6 +421,72 @@ static void check_leaf_edges(const packed *p, hpfc_walker *w, const hpfc_pixel *
     }
 }
 
+/* The faces the write handed out: the count at once, nothing else until
+ * bound to the file written (then every answer hpfc_faces_build's, which
+ * check_leaf_faces compares), bound once only. */
+static void check_handed_faces(const packed *p, hpfc_faces *fc)
+{
+    CHECK(p->handed != NULL);
+    if (!p->handed)
+        return;
+    CHECK_EQ_INT(hpfc_faces_face_count(p->handed), hpfc_faces_face_count(fc));
+    hpfc_pixel px;
+    uint64_t face;
+    CHECK_EQ_INT(hpfc_leaf_first(p->f, &px), HPFC_OK);
+    hpfc_dart d = {.pixel = px, .crossing = 0};
+    CHECK_EQ_INT(hpfc_faces_pixel_face(p->handed, &px, &face), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_faces_dart_face(p->handed, &d, &face), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_faces_attach(p->handed, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_faces_attach(NULL, p->f), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_faces_attach(p->handed, p->f), HPFC_OK);
+    CHECK_EQ_INT(hpfc_faces_attach(p->handed, p->f), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_faces_attach(fc, p->f), HPFC_E_ARG); /* bound from the start */
+}
+
+/* Faces handed out for one file are refused by another: a map with other
+ * pools, and the same file with one pool byte changed; no faces are handed
+ * out without LABL, nor by the calls that copy an open file. */
+static void check_attach_refused(const hpfc_graph *g)
+{
+    packed a, b;
+    CHECK_EQ_INT(pack(g, 4, 2, 0, &a), HPFC_OK);
+    CHECK_EQ_INT(pack(g, 3, 3, 0, &b), HPFC_OK);
+    if (a.f && b.f && a.handed) {
+        CHECK_EQ_INT(hpfc_faces_attach(a.handed, b.f), HPFC_E_ARG);
+        /* a byte of the deepest level's pool changed in a copy */
+        hpfc_file_info fi;
+        hpfc_level_info lv;
+        hpfc_file_get_info(a.f, &fi);
+        hpfc_file_get_level(a.f, fi.levels - 1, &lv);
+        size_t size = a.f->size;
+        uint8_t *copy = malloc(size);
+        hpfc_file *changed = NULL;
+        CHECK(copy != NULL);
+        if (copy) {
+            memcpy(copy, a.with, size);
+            copy[lv.pool_offset + (lv.pool_bits / 8) / 2] ^= 0x10;
+            if (hpfc_open_memory(copy, size, 0, &changed) == HPFC_OK)
+                CHECK_EQ_INT(hpfc_faces_attach(a.handed, changed), HPFC_E_ARG);
+            hpfc_close(changed);
+            free(copy);
+        }
+        CHECK_EQ_INT(hpfc_faces_attach(a.handed, a.f0), HPFC_OK); /* the same pools, no LABL */
+    }
+    hpfc_faces *out = (hpfc_faces *)&out; /* not NULL: the calls must clear it */
+    uint8_t *bytes = NULL;
+    size_t n = 0;
+    hpfc_write_options none = {.faces_out = &out};
+    CHECK_EQ_INT(check_tree_serialize(a.tree, &none, &bytes, &n, NULL), HPFC_OK);
+    CHECK(out == NULL);
+    hpfc_free(bytes);
+    out = (hpfc_faces *)&out;
+    CHECK_EQ_INT(hpfc_file_serialize(a.f, &none, &bytes, &n, NULL), HPFC_OK);
+    CHECK(out == NULL);
+    hpfc_free(bytes);
+    unpack(&a);
+    unpack(&b);
+}
+
 static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
 {
     packed p;
@@ -435,6 +507,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
     CHECK_EQ_INT(hpfc_faces_build(p.f, &fc), HPFC_OK);
     CHECK_EQ_INT(hpfc_walker_create(p.f, &w), HPFC_OK);
     CHECK_EQ_INT(li.faces, hpfc_faces_face_count(fc));
+    check_handed_faces(&p, fc);
     uint64_t *darts_of_edge = calloc(hpfc_graph_edge_count(g), sizeof *darts_of_edge);
     hpfc_pixel px;
     for (st = hpfc_leaf_first(p.f, &px); !st; st = hpfc_leaf_next(p.f, &px)) {
@@ -471,6 +544,7 @@ static void check_map(const hpfc_graph *g, uint32_t n0, uint32_t n, int flat)
 
 static void check_graph(const hpfc_graph *g)
 {
+    check_attach_refused(g);
     check_map(g, 1, 2, 0);
     check_map(g, 4, 2, 0);
     check_map(g, 3, 3, 0);
