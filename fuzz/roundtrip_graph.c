@@ -11,7 +11,8 @@
  *               up to 24 candidate edges with up to 3 interior points, each
  *               kept only if hpfc_graph_validate still accepts the graph;
  *   then        the build parameters: root 1..6 x 1..6, refinement 2..8 x
- *               2..8, sometimes a flat grid; the unit exponent; a CRS or not.
+ *               2..8, sometimes a flat grid; the unit exponent; a CRS or not;
+ *               the pool layout; LABL or not.
  *
  * Oracle (any failure aborts): a graph the validator accepts builds (or hits
  * a documented limit: LIMIT, TOO_MANY_PIXELS, or EXTENT when the domain
@@ -24,7 +25,9 @@
  * with origin(next(d)) = origin(twin(d)), prev inverts next; each input
  * vertex is located in a leaf, and every leaf holds as many vertices, of the
  * same degrees, as the input puts there; the face builder finds F faces and
- * gives every dart of a boundary loop the same face.
+ * gives every dart of a boundary loop the same face; with LABL, the faces
+ * the write hands out (faces_out) bind to the file read back and give
+ * every dart and private leaf the face builder's face.
  */
 #include "export.h"
 #include "gen.h"
@@ -238,7 +241,10 @@ static int cmp_placed(const void *a, const void *b)
     return (x->degree > y->degree) - (x->degree < y->degree);
 }
 
-static void check_map(const hpfc_file *f, const hpfc_graph *g, const graph_facts *gf, uint64_t faces_expected)
+/* handed: the faces the write handed out (faces_out), bound to f, or NULL;
+ * each of their answers must be hpfc_faces_build's. */
+static void check_map(const hpfc_file *f, const hpfc_graph *g, const graph_facts *gf,
+                      uint64_t faces_expected, const hpfc_faces *handed)
 {
     exported_map m;
     FUZZ_CHECK(export_map(f, &m) == HPFC_OK);
@@ -290,6 +296,9 @@ static void check_map(const hpfc_file *f, const hpfc_graph *g, const graph_facts
                            hpfc_dart_key(f, &back) == hpfc_dart_key(f, &d));
                 FUZZ_CHECK(hpfc_faces_dart_face(faces, &d, &face[nd]) == HPFC_OK);
                 FUZZ_CHECK(face[nd] < faces_expected);
+                uint64_t same;
+                FUZZ_CHECK(!handed || (hpfc_faces_dart_face(handed, &d, &same) == HPFC_OK &&
+                                       same == face[nd]));
             }
         }
         int is_private;
@@ -298,6 +307,9 @@ static void check_map(const hpfc_file *f, const hpfc_graph *g, const graph_facts
             uint64_t pf;
             FUZZ_CHECK(count == 0);
             FUZZ_CHECK(hpfc_faces_pixel_face(faces, &px, &pf) == HPFC_OK && pf < faces_expected);
+            uint64_t same;
+            FUZZ_CHECK(!handed ||
+                       (hpfc_faces_pixel_face(handed, &px, &same) == HPFC_OK && same == pf));
         }
     }
     FUZZ_CHECK(st == HPFC_E_NO_PIXEL && nv == m.nv && nd == m.nd);
@@ -360,13 +372,20 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     const char *crs = flags & 8 ? "EPSG:32631" : NULL;
     /* flags bit 4: the compact pool layout (spec §5.3), whose reader the
      * same oracle then checks against the tree */
+    /* flags bit 5: LABL, its faces handed out and bound to the file read
+     * back (hpfc-pack's linking takes them so) */
+    hpfc_faces *handed = NULL;
     hpfc_write_options opts = {.crs = crs,
-                               .layout = flags & 16 ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER};
+                               .layout = flags & 16 ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER,
+                               .face_labels = (flags & 32) != 0,
+                               .faces_out = &handed};
     uint8_t *buf = NULL;
     size_t len = 0;
     FUZZ_CHECK(hpfc_tree_serialize(t, &opts, &buf, &len, NULL) == HPFC_OK);
+    FUZZ_CHECK((handed != NULL) == ((flags & 32) != 0));
     hpfc_file *f = NULL;
     FUZZ_CHECK(hpfc_open_memory(buf, len, 0, &f) == HPFC_OK);
+    FUZZ_CHECK(!handed || hpfc_faces_attach(handed, f) == HPFC_OK);
     FUZZ_CHECK(hpfc_file_check_checksums(f, NULL) == HPFC_OK);
     hpfc_file_info fi;
     hpfc_file_get_info(f, &fi);
@@ -374,7 +393,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(crs ? fi.crs && fi.crs_len == strlen(crs) && memcmp(fi.crs, crs, fi.crs_len) == 0
                    : fi.crs == NULL);
     compare_tree(t, f);
-    check_map(f, g, &gf, faces_expected);
+    check_map(f, g, &gf, faces_expected, handed);
+    hpfc_faces_free(handed);
 
     hpfc_close(f);
     hpfc_free(buf);
