@@ -150,8 +150,9 @@ void hpfc_user_point(const hpfc_file *f, int64_t x, int64_t y, double *ux, doubl
 /* (double)v for |v| < 2^51 without the conversion instruction, which x86-64
  * has only for one value at a time: v added to the bits of 2^52 + 2^51
  * gives the double 2^52 + 2^51 + v (ulp 1 in that binade), and subtracting
- * 2^52 + 2^51 leaves v exactly. The adds and subtractions go four or eight
- * to an instruction, and so do the divisions after them. */
+ * 2^52 + 2^51 leaves v exactly. The adds and subtractions go two or more
+ * to an instruction (as wide as the target's vectors), and so do the
+ * divisions after them. */
 #define SMALL_BIAS_BITS UINT64_C(0x4338000000000000)
 #define SMALL_BIAS 6755399441055744.0
 

@@ -18,12 +18,12 @@
 #include <unistd.h>
 
 #include "attrs.h"
+#include "faces.h"
 #include "feat.h"
 #include "file.h"
 #include "format.h"
 #include "geometry.h"
 #include "graph.h"
-#include "faces.h"
 #include "labels.h"
 #include "part_file.h"
 #include "pool.h"
@@ -682,9 +682,11 @@ static int make_labels(layout *L, hpfc_diag *diag)
         st = labels_build(L->tree, f, fc, &labl, &length, diag);
     /* the faces answer for every copy of these pools: the caller may have
      * them, bound to the file it opens (hpfc_faces_attach) */
-    if (!st && L->faces_out && !(st = faces_detach(fc))) {
-        *L->faces_out = fc;
-        fc = NULL;
+    if (!st && L->faces_out) {
+        if ((st = faces_detach(fc)))
+            diag_set(diag, st, "labels: the serialised pools lie outside their file");
+        else
+            *L->faces_out = fc, fc = NULL;
     }
     hpfc_faces_free(fc);
     hpfc_close(f);
