@@ -474,14 +474,8 @@ static bool print_pools(const hpfc_file *f, pools_print *p)
         if (lv.pool_offset > f->size || bytes > f->size - lv.pool_offset)
             return false;
         p->crc[l] = crc32c_update(0, f->data + lv.pool_offset, (size_t)bytes);
-        p->level[l] = (hpfc_level_info){.word_pixels = lv.word_pixels,
-                                        .refined_pixels = lv.refined_pixels,
-                                        .images = lv.images,
-                                        .word_bits = lv.word_bits,
-                                        .address_bits = lv.address_bits,
-                                        .pool_bits = lv.pool_bits,
-                                        .cell_w = lv.cell_w,
-                                        .cell_h = lv.cell_h};
+        p->level[l] = lv;
+        p->level[l].pool_offset = 0; /* where the pool lies may differ */
     }
     return true;
 }
