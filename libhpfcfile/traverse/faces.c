@@ -259,21 +259,31 @@ static void unite_inside(node_array *parent, const word_parts *lw, uint64_t base
 /* A crossing seen from both sides of its road is one pair of sidewalks
  * across it: P's out_k with Q's in_m, and Q's out_m with P's in_k. The leaf
  * whose road is W or N identifies the pair (Algorithm 1, topo_cross_road)
- * and makes both unions; its neighbour, whose road is E or S, skips it. */
+ * and makes both unions; its neighbour, whose road is E or S, skips it.
+ * When one leaf Q spans P's side (most roads of a continental map), the
+ * road's later crossings are Q's previous ones, without locating Q again
+ * or counting the leaves along its side: the same answers. */
 static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
 {
     const word_parts *lw = &w->p_word;
-    for (uint32_t k = 0; k < lw->road_off[HPFC_EAST]; k++) {
+    for (int road = HPFC_WEST; road <= HPFC_NORTH; road++) {
         hpfc_pixel q;
-        uint32_t mk;
-        uint64_t qbase;
-        int st = topo_cross_road(w, p, true, lw, k, &q, &w->q_word, &mk);
-        if (!st)
-            st = node_base(fc, &q, &qbase);
-        if (st)
-            return st;
-        unite(&fc->parent, out_node(base, lw->n, k), in_node(qbase, mk));
-        unite(&fc->parent, out_node(qbase, w->q_word.n, mk), in_node(base, k));
+        uint32_t mk = 0;
+        uint64_t qbase = 0;
+        bool spans = false;
+        for (uint32_t k = lw->road_off[road]; k < lw->road_off[road + 1]; k++) {
+            if (spans) {
+                mk--; /* rank one less: at least the leaves' sum, never below Q's road */
+            } else {
+                int st = topo_cross_road_spans(w, p, true, lw, k, &q, &w->q_word, &mk, &spans);
+                if (!st)
+                    st = node_base(fc, &q, &qbase);
+                if (st)
+                    return st;
+            }
+            unite(&fc->parent, out_node(base, lw->n, k), in_node(qbase, mk));
+            unite(&fc->parent, out_node(qbase, w->q_word.n, mk), in_node(base, k));
+        }
     }
     return HPFC_OK;
 }

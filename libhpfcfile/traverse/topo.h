@@ -438,6 +438,14 @@ int topo_locate_on_road(const hpfc_file *f, const hpfc_pixel *near, const road_b
  * pixel by mistake the answers must not depend on how it was found. */
 int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const word_parts *lw,
                     uint32_t k, hpfc_pixel *q, word_parts *qlw, uint32_t *m);
+/* topo_cross_road, and *spans: Q spans P's whole side (Algorithm 1's first
+ * case). Then every crossing of P's road meets that same Q, and the
+ * crossing after k on the road is Q's crossing *m - 1: a caller going
+ * through a road's crossings in order needs this call for its first only
+ * (the faces' flood fill does). */
+int topo_cross_road_spans(hpfc_walker *w, const hpfc_pixel *p, bool p_located,
+                          const word_parts *lw, uint32_t k, hpfc_pixel *q, word_parts *qlw,
+                          uint32_t *m, bool *spans);
 /* How many crossings a word pixel has on a road: topo_road_count, or the
  * walker cache's answer (topo_links.c). */
 typedef topo_result (*topo_road_counter)(hpfc_walker *w, const hpfc_pixel *px, int road,

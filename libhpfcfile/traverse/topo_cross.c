@@ -98,10 +98,13 @@ topo_result topo_crossings_after(hpfc_walker *w, const hpfc_pixel *near, const r
 }
 
 /* Crossing k of word pixel P (parsed in lw), seen from the other side of its
- * road: the word pixel Q (parsed into qlw) and Q's crossing *m. */
-int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const word_parts *lw,
-                    uint32_t k, hpfc_pixel *q, word_parts *qlw, uint32_t *m)
+ * road: the word pixel Q (parsed into qlw) and Q's crossing *m; *spans: Q
+ * spans P's whole side (case (a) of Algorithm 1). */
+int topo_cross_road_spans(hpfc_walker *w, const hpfc_pixel *p, bool p_located,
+                          const word_parts *lw, uint32_t k, hpfc_pixel *q, word_parts *qlw,
+                          uint32_t *m, bool *spans)
 {
+    *spans = false;
     const hpfc_file *f = w->file;
     int road = word_road_of_crossing(lw->road_off, k);
     int opposite = road_opposite(road);
@@ -134,6 +137,7 @@ int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const w
         if (rank >= qlw->road_off[opposite + 1] - qlw->road_off[opposite])
             return HPFC_E_CORRUPT;
         *m = qlw->road_off[opposite] + (uint32_t)rank;
+        *spans = true;
         return HPFC_OK;
     }
     /* Smaller leaves across: walk them in their own clockwise order along
@@ -159,4 +163,11 @@ int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const w
         t = up ? qhi : qlo - 1;
     }
     return HPFC_E_CORRUPT;
+}
+
+int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const word_parts *lw,
+                    uint32_t k, hpfc_pixel *q, word_parts *qlw, uint32_t *m)
+{
+    bool spans;
+    return topo_cross_road_spans(w, p, p_located, lw, k, q, qlw, m, &spans);
 }
