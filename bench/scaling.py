@@ -62,15 +62,19 @@ PACK = [
     ("pack.graph", [(None, "segment_graph_make")]),
     ("pack.build", [(None, "hpfc_build_sized")]),
     ("pack.link", [(None, "leaf_crossings_collect"), (None, "gis_features_link_method")]),
-    ("pack.link.faces", [("gis_features_link_method", "hpfc_faces_build")]),
+    # the faces are numbered once, for LABL, and the linking takes them
+    # (hpfc_write_options.faces_out): part of pack.write, from any caller
+    # (the writer's own functions are inlined into each other)
+    ("pack.faces", [(None, "hpfc_faces_build")]),
     ("pack.link.witness", [(None, "face_witnesses")]),
     ("pack.link.topology", [(None, "face_link_run")]),
     ("pack.link.check", [(None, "face_check_create"), (None, "face_check_features")]),
     ("pack.write", [(None, "hpfc_tree_serialize_sized"), (None, "hpfc_file_write_fd_sized")]),
 ]
-# the report's CPU seconds of each pack stage (write: what is not linking)
+# the report's CPU seconds of each pack stage (write: what is not linking;
+# the faces' numbering is in it and has no figure of its own in the report)
 PACK_REPORT = {"pack.read": "gis_read", "pack.project": "gis_project", "pack.node": "gis_node",
-               "pack.graph": "gis_graph", "pack.build": "build", "pack.link.faces": "link_faces",
+               "pack.graph": "gis_graph", "pack.build": "build",
                "pack.link.witness": "link_witness", "pack.link.topology": "link_topology",
                "pack.link.check": "link_check", "pack.link": "features"}
 CALLS = [
