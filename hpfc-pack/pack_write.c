@@ -21,10 +21,11 @@
 #include "progress.h"
 
 /* Links the faces of the serialised file to the GIS features that
- * cover it, for the FEAT section. The witnesses need the crossings'
- * segments from the tree, taken first; then the tree is freed, since the
- * faces' flood fill is where a pack's memory peaks. 0, or 1 with a message
- * in err. */
+ * cover it, for the FEAT section, with the faces the writer numbered for
+ * LABL (NULL without LABL: numbered here). The witnesses need the
+ * crossings' segments from the tree, taken first; then the tree is freed
+ * before the linking's own arrays (and, without LABL, the faces' flood
+ * fill) are made. 0, or 1 with a message in err. */
 static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
                          const hpfc_faces *faces, const gis_info *gis, int witness,
                          pack_write_stats *r, gis_feature_table *ft, char *err, size_t err_len)
