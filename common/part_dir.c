@@ -221,26 +221,20 @@ int part_dir_merge(const char *dir, const char *const *paths, uint32_t count, hp
                    hpfc_diag *d)
 {
     memset(d, 0, sizeof *d);
-    hpfc_tree **parts = calloc(count ? count : 1, sizeof *parts);
-    if (!parts)
+    char (*named)[4096] = paths ? NULL : calloc(count ? count : 1, sizeof *named);
+    const char **list = paths ? NULL : calloc(count ? count : 1, sizeof *list);
+    if (!paths && (!named || !list)) {
+        free(named);
+        free(list);
         return diag_say(d, HPFC_E_NOMEM, "joining the parts", "out of memory");
-    char path[4096];
-    int st = HPFC_OK;
-    for (uint32_t k = 0; !st && k < count; k++) {
-        if (paths)
-            snprintf(path, sizeof path, "%s", paths[k]);
-        else
-            part_path(path, sizeof path, dir, k, "part");
-        if ((st = hpfc_tree_read_part(path, &parts[k], d)) != HPFC_OK) {
-            char why[sizeof d->message];
-            memcpy(why, d->message, sizeof why);
-            diag_say(d, st, path, why[0] ? why : hpfc_strerror(st));
-        }
     }
-    if (!st)
-        st = hpfc_tree_merge(parts, count, out, d);
-    for (uint32_t k = 0; k < count; k++) /* the joined tree holds its own copy */
-        hpfc_tree_free(parts[k]);
-    free(parts);
+    for (uint32_t k = 0; !paths && k < count; k++) {
+        part_path(named[k], sizeof named[k], dir, k, "part");
+        list[k] = named[k];
+    }
+    /* the library's message already names the file at fault */
+    int st = hpfc_tree_merge_files(paths ? paths : list, count, out, d);
+    free(named);
+    free(list);
     return st;
 }

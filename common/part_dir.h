@@ -53,9 +53,10 @@ int part_dir_cut(const hpfc_graph *g, const hpfc_build_params *p, uint32_t parts
 /* Builds part k from dir's part-K.pfc and part-K.ids into part-K.part. */
 int part_dir_build(const char *dir, const part_plan *plan, uint32_t k, hpfc_diag *diag);
 
-/* Reads the `count` part files (paths[k], or dir's part-K.part when paths
- * is NULL) and joins them (hpfc_tree_merge). A file's fault is said as
- * "PATH: why" in diag. */
+/* Joins the `count` part files (paths[k], or dir's part-K.part when paths
+ * is NULL) where they lie (hpfc_tree_merge_files: the joined tree reads
+ * them from their mappings until it is freed, so they must stay unchanged
+ * until then). A file's fault is said as "PATH: why" in diag. */
 int part_dir_merge(const char *dir, const char *const *paths, uint32_t count, hpfc_tree **out,
                    hpfc_diag *diag);
 

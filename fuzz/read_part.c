@@ -7,7 +7,10 @@
  * the structure. Then hpfc_tree_read_part_memory; when it accepts, the
  * tree's pixels through hpfc_tree_get_pixel, the file written again
  * (part_serialize), the part merged alone (which succeeds only when it
- * holds every root pixel) and the merged tree serialised with LABL.
+ * holds every root pixel) and the merged tree serialised with LABL. Every
+ * input is also written to a file and joined from there by
+ * hpfc_tree_merge_files (the part read in place from its mapping, the
+ * joined tree a view over it).
  *
  * Oracle: the reader's statuses only (magic, version, corrupt, memory), and a diagnostic with every failure; an
  * accepted file is canonical: written again it gives the input's bytes
@@ -15,8 +18,13 @@
  * ignores can differ); its pixels are words of the grammar's symbols with
  * edges below the map's count, or refined pixels whose child is an image
  * of the next level; a merge of the part alone succeeds exactly when no
- * root pixel is another part's.
+ * root pixel is another part's; the file merge gives the status of the
+ * read, or else of the copying merge, and its view serialises to the
+ * copying merge's bytes (both layouts), or fails where that one fails.
  */
+#include <fcntl.h>
+#include <unistd.h>
+
 #include "format.h"
 #include "input.h"
 #include "part_file.h"
@@ -65,24 +73,81 @@ static void check_pixels(const hpfc_tree *t, const hpfc_tree_info *info)
     }
 }
 
-static void merge_alone(hpfc_tree *t, const hpfc_tree_info *info)
+/* The joined tree serialised with LABL in `layout`: its status, *bytes
+ * (hpfc_free) when it succeeds. */
+static int serialize(const hpfc_tree *joined, int layout, uint8_t **bytes, size_t *size)
 {
-    hpfc_tree *joined = NULL;
     hpfc_diag d;
-    int st = hpfc_tree_merge(&t, 1, &joined, &d);
+    hpfc_write_options o = {.face_labels = 1, .layout = layout};
+    int st = hpfc_tree_serialize(joined, &o, bytes, size, &d);
+    fuzz_check_diag(&d, st); /* a map of hostile words may fail to number its faces */
+    return st;
+}
+
+/* The input as a part file on disk, for hpfc_tree_merge_files: one file
+ * for the process (unlinked at once, named through /proc), rewritten for
+ * each input. */
+static const char *part_path(const uint8_t *data, size_t size)
+{
+    static char path[64];
+    static int fd = -1;
+    if (fd < 0) {
+        char name[64];
+        snprintf(name, sizeof name, "/tmp/fuzz-read-part-%ld.part", (long)getpid());
+        if ((fd = open(name, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600)) < 0)
+            return NULL;
+        unlink(name);
+        snprintf(path, sizeof path, "/proc/self/fd/%d", fd);
+    }
+    if (ftruncate(fd, 0) != 0 || pwrite(fd, data, size, 0) != (ssize_t)size)
+        return NULL;
+    return path;
+}
+
+/* The part joined alone from its file: the read's status (read_st), or
+ * else the copying merge's (merge_st), and then the copying merge's bytes
+ * (`joined`'s) in both layouts. */
+static void merge_file_alone(const uint8_t *data, size_t size, int read_st, int merge_st,
+                             const hpfc_tree *joined)
+{
+    const char *path = part_path(data, size);
+    if (!path)
+        return;
+    hpfc_tree *view = NULL;
+    hpfc_diag d;
+    int st = hpfc_tree_merge_files(&path, 1, &view, &d);
+    fuzz_check_diag(&d, st);
+    FUZZ_CHECK((st == HPFC_OK) == (view != NULL));
+    if (st != HPFC_E_NOMEM)
+        FUZZ_CHECK(st == (read_st ? read_st : merge_st) ||
+                   (read_st == HPFC_E_NOMEM || merge_st == HPFC_E_NOMEM));
+    if (st || !joined) {
+        hpfc_tree_free(view);
+        return;
+    }
+    for (int layout = HPFC_LAYOUT_PAPER; layout <= HPFC_LAYOUT_COMPACT; layout++) {
+        uint8_t *a = NULL, *b = NULL;
+        size_t na = 0, nb = 0;
+        int sa = serialize(joined, layout, &a, &na), sb = serialize(view, layout, &b, &nb);
+        if (sa != HPFC_E_NOMEM && sb != HPFC_E_NOMEM)
+            FUZZ_CHECK(sa == sb && na == nb && (sa || memcmp(a, b, na) == 0));
+        hpfc_free(a);
+        hpfc_free(b);
+    }
+    hpfc_tree_free(view);
+}
+
+/* The part merged alone (hpfc_tree_merge): its status, *joined the tree
+ * when it succeeds. */
+static int merge_alone(hpfc_tree *t, const hpfc_tree_info *info, hpfc_tree **joined)
+{
+    hpfc_diag d;
+    int st = hpfc_tree_merge(&t, 1, joined, &d);
     fuzz_check_diag(&d, st);
     FUZZ_CHECK(fuzz_known_status(st));
     if (has_other_parts_pixel(t, info))
         FUZZ_CHECK(st == HPFC_E_ARG);
-    if (st)
-        return;
-    uint8_t *bytes = NULL;
-    size_t size = 0;
-    hpfc_write_options o = {.face_labels = 1};
-    st = hpfc_tree_serialize(joined, &o, &bytes, &size, &d);
-    fuzz_check_diag(&d, st); /* a map of hostile words may fail to number its faces */
-    hpfc_free(bytes);
-    hpfc_tree_free(joined);
+    return st;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -99,6 +164,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fuzz_check_diag(&d, st);
     FUZZ_CHECK(read_status(st));
     FUZZ_CHECK((st == HPFC_OK) == (t != NULL));
+    hpfc_tree *joined = NULL;
+    int merge_st = HPFC_E_ARG;
     if (!st) {
         hpfc_tree_info info;
         hpfc_tree_get_info(t, &info);
@@ -108,8 +175,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         FUZZ_CHECK(part_serialize(t, &again, &again_size, &d) == HPFC_OK);
         FUZZ_CHECK(again_size == size && memcmp(again, copy, size) == 0);
         free(again);
-        merge_alone(t, &info);
+        merge_st = merge_alone(t, &info, &joined);
     }
+    merge_file_alone(copy, size, st, merge_st, joined);
+    hpfc_tree_free(joined);
     hpfc_tree_free(t);
     free(copy);
     return 0;

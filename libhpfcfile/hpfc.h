@@ -446,6 +446,22 @@ HPFC_API int hpfc_tree_read_part(const char *path, hpfc_tree **out, hpfc_diag *d
 HPFC_API int hpfc_tree_read_part_memory(const void *data, size_t size, hpfc_tree **out,
                                         hpfc_diag *diag);
 
+/* Joins the part files at paths[0 .. count) (hpfc_tree_write_part) into the
+ * whole map's tree, as hpfc_tree_merge joins their trees, without copying
+ * them: each file is mapped read-only and checked as hpfc_tree_read_part
+ * checks it, and the joined tree reads its pixels, words and crossings from
+ * the mappings, which it keeps until hpfc_tree_free. What it holds besides
+ * is a table of runs per level (a run per stretch of root pixels one part
+ * owns in a row) and, while it counts the map's components, a union-find
+ * over the edges (5 bytes an edge): a merge's memory is the parts' borders
+ * and the writer's, the pixels staying in the files (the page cache). Every
+ * write call takes the tree and writes the bytes hpfc_tree_merge's would
+ * give. Errors as hpfc_tree_read_part (the message names the part's path)
+ * and hpfc_tree_merge; HPFC_E_ARG for no path. The files must not change
+ * while the tree lives. */
+HPFC_API int hpfc_tree_merge_files(const char *const *paths, size_t count, hpfc_tree **out,
+                                   hpfc_diag *diag);
+
 /* Geometry of a tree. The domain is [x0, x0 + width) x [y0, y0 + height) in
  * lattice units; level l has root_cols * cols^l columns of equal width
  * (integers), and rows likewise. Row 0 of an image is its northern row. */

@@ -1077,16 +1077,20 @@ void hpfc_tree_free(hpfc_tree *t)
 {
     if (!t)
         return;
-    for (uint32_t l = 0; l < t->levels_cap; l++) {
+    tree_view_free(t->view);
+    for (uint32_t l = 0; l < t->levels_cap && !t->backing; l++) {
         free(t->levels[l].img_gx);
         free(t->levels[l].img_gy);
         free(t->levels[l].pix);
     }
     free(t->levels);
-    free(t->syms);
-    free(t->cross_edge);
-    free(t->cross_seg);
+    if (!t->backing) {
+        free(t->syms);
+        free(t->cross_edge);
+        free(t->cross_seg);
+    }
     free(t->zero_seg);
+    part_backing_release(t->backing, t->backing_size, t->backing_mapped);
     free(t);
 }
 
@@ -1109,10 +1113,16 @@ int hpfc_tree_get_pixel(const hpfc_tree *t, uint32_t level, size_t image, uint32
     const tlevel *lv = &t->levels[level];
     if (image >= lv->nimages || i >= lv->cols || j >= lv->rows)
         return HPFC_E_ARG;
-    const tpixel *px = &lv->pix[image * lv->cols * lv->rows + (size_t)j * lv->cols + i];
+    const hpfc_tree *src = t; /* the tree whose arrays hold the pixel: t, or a part of its view */
+    size_t p = (size_t)j * lv->cols + i;
+    int64_t child_delta = 0;
+    if (t->view)
+        tree_view_locate(t->view, level, image, p, &src, &image, &child_delta);
+    const tlevel *slv = &src->levels[level];
+    const tpixel *px = &slv->pix[image * lv->cols * lv->rows + p];
     if (px->cross == TPIXEL_ABSENT)
         return HPFC_E_ARG; /* a part's tree: another part's root pixel */
-    int64_t gx = lv->img_gx[image] + i, gy = lv->img_gy[image] + (lv->rows - 1 - j);
+    int64_t gx = slv->img_gx[image] + i, gy = slv->img_gy[image] + (lv->rows - 1 - j);
     memset(out, 0, sizeof *out);
     out->x0 = t->info.x0 + gx * lv->cell_w;
     out->y0 = t->info.y0 + gy * lv->cell_h;
@@ -1120,14 +1130,15 @@ int hpfc_tree_get_pixel(const hpfc_tree *t, uint32_t level, size_t image, uint32
     out->y1 = out->y0 + lv->cell_h;
     if (px->cross == TPIXEL_REFINED) {
         out->type = HPFC_PIXEL_REFINED;
-        out->child = (uint32_t)px->off;
+        out->child = (uint32_t)((int64_t)px->off + child_delta);
         return HPFC_OK;
     }
     uint64_t cross_off = px->cross >> TPIXEL_COUNT_BITS;
     out->type = HPFC_PIXEL_WORD;
-    out->word = t->syms + px->off;
+    out->word = src->syms + px->off;
     out->word_len = (uint32_t)(px->cross & ((UINT64_C(1) << TPIXEL_COUNT_BITS) - 1)) + 4;
-    out->cross_edge = t->cross_edge + cross_off;
-    out->cross_segment = t->cross_seg ? t->cross_seg + cross_off : t->zero_seg;
+    out->cross_edge = src->cross_edge + cross_off;
+    /* a joined view's zero_seg is as long as the longest word of all parts */
+    out->cross_segment = src->cross_seg ? src->cross_seg + cross_off : t->zero_seg;
     return HPFC_OK;
 }

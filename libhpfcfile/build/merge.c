@@ -363,3 +363,291 @@ int hpfc_tree_merge(hpfc_tree *const *parts, size_t count, hpfc_tree **out, hpfc
     *out = m.t;
     return HPFC_OK;
 }
+
+/* ---- joining part files without copying them ---------------------------
+ *
+ * hpfc_tree_merge_files reads each part in place (part_read.c: its arrays
+ * are its mapped file) and joins them as a view: the joined tree holds the
+ * levels' sizes and, per level, the runs of images that come from one part
+ * in a row (one per band of root pixels a part owns, so as many as the
+ * parts' borders cross rows), and hpfc_tree_get_pixel reads each pixel
+ * from its part, its child renumbered by its run's delta. The counts that
+ * need every word (V, C, F) are made in one pass over the parts' words, as
+ * hpfc_tree_merge makes them; its union-find over the map's edges is the
+ * only memory that grows with the map (5 bytes an edge).
+ */
+
+typedef struct view_run {
+    uint64_t first;      /* the run's first image on the joined level */
+    uint64_t part_first; /* the same image on its part's level */
+    uint64_t count;
+    int64_t child_delta; /* a refined pixel's joined child: its part's + this */
+    uint32_t part;
+} view_run;
+
+struct tree_view {
+    hpfc_tree **parts;   /* read in place; the view frees them */
+    size_t nparts;
+    uint32_t *owner;     /* the part of each root pixel */
+    int64_t *root_delta; /* each refined root pixel's child delta */
+    view_run *runs[HPFC_MAX_LEVELS]; /* levels >= 1, in joined order */
+    size_t nruns[HPFC_MAX_LEVELS], cap[HPFC_MAX_LEVELS];
+};
+
+void tree_view_locate(const tree_view *v, uint32_t level, size_t image, size_t p,
+                      const hpfc_tree **src, size_t *src_image, int64_t *child_delta)
+{
+    if (level == 0) {
+        *src = v->parts[v->owner[p]];
+        *src_image = 0;
+        *child_delta = v->root_delta[p];
+        return;
+    }
+    const view_run *r = v->runs[level];
+    size_t lo = 0, hi = v->nruns[level];
+    while (hi - lo > 1) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (r[mid].first <= image)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    *src = v->parts[r[lo].part];
+    *src_image = (size_t)(r[lo].part_first + (image - r[lo].first));
+    *child_delta = r[lo].child_delta;
+}
+
+void tree_view_free(tree_view *v)
+{
+    if (!v)
+        return;
+    for (size_t k = 0; k < v->nparts; k++)
+        hpfc_tree_free(v->parts[k]);
+    for (uint32_t l = 0; l < HPFC_MAX_LEVELS; l++)
+        free(v->runs[l]);
+    free(v->parts);
+    free(v->owner);
+    free(v->root_delta);
+    free(v);
+}
+
+/* Image `part_image` of `part` is the next image of joined level `level`:
+ * it extends the level's last run, or starts one. */
+static int view_append(tree_view *v, uint32_t level, uint32_t part, uint64_t part_image)
+{
+    size_t n = v->nruns[level];
+    view_run *last = n ? &v->runs[level][n - 1] : NULL;
+    if (last && last->part == part && last->part_first + last->count == part_image) {
+        last->count++;
+        return HPFC_OK;
+    }
+    uint64_t first = last ? last->first + last->count : 0; /* before the table moves */
+    if (n == v->cap[level]) {
+        size_t cap = n ? 2 * n : 16;
+        view_run *grown = realloc(v->runs[level], cap * sizeof *grown);
+        if (!grown)
+            return HPFC_E_NOMEM;
+        v->runs[level] = grown, v->cap[level] = cap;
+    }
+    v->runs[level][n] = (view_run){first, part_image, 1, 0, part};
+    v->nruns[level]++;
+    return HPFC_OK;
+}
+
+/* A word of a part: counted for V and C as hpfc_tree_merge counts it. */
+static int view_word(merger *m, const hpfc_tree *part, const tpixel *px)
+{
+    uint64_t n = px->cross & ((UINT64_C(1) << TPIXEL_COUNT_BITS) - 1);
+    if (n == 0)
+        return HPFC_OK;
+    return count_word(m, part->syms + px->off, (uint32_t)n + 4,
+                      part->cross_edge + (px->cross >> TPIXEL_COUNT_BITS));
+}
+
+/* The root image: each pixel from its owner, its child numbered in the
+ * joined order; the children's runs start level 1. */
+static int view_root(merger *m, tree_view *v, size_t roots)
+{
+    uint64_t joined = 0;
+    int st = HPFC_OK;
+    for (size_t p = 0; p < roots && !st; p++) {
+        const hpfc_tree *part = v->parts[v->owner[p]];
+        const tpixel *px = &part->levels[0].pix[p];
+        if (px->cross != TPIXEL_REFINED) {
+            st = view_word(m, part, px);
+            continue;
+        }
+        v->root_delta[p] = (int64_t)joined - (int64_t)px->off;
+        st = view_append(v, 1, v->owner[p], px->off);
+        joined++;
+    }
+    return st;
+}
+
+/* Level l's runs give level l + 1's: each run's refined pixels, in order,
+ * have their part's next children, which are the joined level's next. */
+static int view_level(merger *m, tree_view *v, uint32_t l)
+{
+    const tlevel *shape = &m->t->levels[l];
+    size_t per = (size_t)shape->cols * shape->rows;
+    uint64_t joined = 0;
+    int st = HPFC_OK;
+    for (size_t r = 0; r < v->nruns[l] && !st; r++) {
+        view_run *run = &v->runs[l][r];
+        const hpfc_tree *part = v->parts[run->part];
+        const tlevel *lv = &part->levels[l];
+        bool first_child = true;
+        if (run->part_first + run->count > lv->nimages)
+            return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge_files: a part's child image is out of range");
+        for (uint64_t im = run->part_first; im < run->part_first + run->count && !st; im++)
+            for (size_t p = 0; p < per && !st; p++) {
+                const tpixel *px = &lv->pix[im * per + p];
+                if (px->cross != TPIXEL_REFINED) {
+                    st = view_word(m, part, px);
+                    continue;
+                }
+                int64_t delta = (int64_t)joined - (int64_t)px->off;
+                if (first_child)
+                    run->child_delta = delta, first_child = false;
+                else if (delta != run->child_delta) /* the parts' order makes it constant */
+                    return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge_files: a part's children out of order");
+                if (l + 1 >= m->t->levels_cap)
+                    return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge_files: a part refines its deepest level");
+                st = view_append(v, l + 1, run->part, px->off);
+                joined++;
+            }
+    }
+    return st;
+}
+
+/* The joined levels' sizes: the parts' shapes, the runs' image counts. */
+static int view_shape(merger *m)
+{
+    hpfc_tree *t = m->t;
+    const hpfc_tree *first = m->parts[0];
+    t->info = first->info;
+    t->info.vertices = t->info.faces = t->info.components = 0;
+    t->info.word_pixels = t->info.refined_pixels = t->info.private_pixels = 0;
+    t->info.max_word_symbols = 0;
+    for (size_t k = 0; k < m->nparts; k++) {
+        const hpfc_tree_info *i = &m->parts[k]->info;
+        t->info.word_pixels += i->word_pixels;
+        t->info.refined_pixels += i->refined_pixels;
+        t->info.private_pixels += i->private_pixels;
+        if (i->max_word_symbols > t->info.max_word_symbols)
+            t->info.max_word_symbols = i->max_word_symbols;
+    }
+    if (!(t->levels = calloc(first->levels_cap, sizeof *t->levels)))
+        return HPFC_E_NOMEM;
+    t->levels_cap = first->levels_cap;
+    t->info.levels = 1;
+    for (uint32_t l = 0; l < t->levels_cap; l++) {
+        const tlevel *s = &first->levels[l];
+        t->levels[l] = (tlevel){.cols = s->cols, .rows = s->rows, .cell_w = s->cell_w, .cell_h = s->cell_h};
+    }
+    t->levels[0].nimages = 1;
+    return HPFC_OK;
+}
+
+/* Every level's runs, then the image counts they give, which must be all
+ * of the parts' images. */
+static int view_levels(merger *m, tree_view *v, size_t roots)
+{
+    int st = view_root(m, v, roots);
+    for (uint32_t l = 1; !st && l < m->t->levels_cap && v->nruns[l]; l++) {
+        st = view_level(m, v, l);
+        const view_run *last = &v->runs[l][v->nruns[l] - 1];
+        m->t->levels[l].nimages = m->t->levels[l].cap = (size_t)(last->first + last->count);
+        m->t->info.levels = l + 1;
+        uint64_t all = 0;
+        for (size_t k = 0; k < m->nparts; k++)
+            all += m->parts[k]->levels[l].nimages;
+        if (!st && all != last->first + last->count)
+            st = diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge_files: a part holds images no pixel refines");
+    }
+    return st;
+}
+
+static int merge_view(merger *m, tree_view *v)
+{
+    int st = check_parts(m);
+    if (st)
+        return st;
+    const hpfc_tree_info *first = &m->parts[0]->info;
+    size_t roots = (size_t)first->root_cols * first->root_rows;
+    uint64_t crossings = 0;
+    uint32_t max_symbols = 4;
+    for (size_t k = 0; k < m->nparts; k++) {
+        crossings += m->parts[k]->ncross;
+        if (m->parts[k]->info.max_word_symbols > max_symbols)
+            max_symbols = m->parts[k]->info.max_word_symbols;
+    }
+    if (first->edges > crossings)
+        return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge_files: %llu edges but %llu crossings in all parts",
+                        (unsigned long long)first->edges, (unsigned long long)crossings);
+    v->owner = malloc(roots * sizeof *v->owner);
+    v->root_delta = calloc(roots, sizeof *v->root_delta);
+    m->edge_parent = malloc((first->edges ? first->edges : 1) * sizeof *m->edge_parent);
+    m->edge_seen = calloc(first->edges ? first->edges : 1, 1);
+    if (!v->owner || !v->root_delta || !m->edge_parent || !m->edge_seen ||
+        word_parts_alloc(&m->wp, max_symbols))
+        return HPFC_E_NOMEM;
+    for (uint64_t e = 0; e < first->edges; e++)
+        m->edge_parent[e] = (uint32_t)e;
+    if ((st = find_owners(m, v->owner, roots)) || (st = view_shape(m)) ||
+        (st = view_levels(m, v, roots)) || (st = count_map(m)))
+        return st;
+    if (!(m->t->zero_seg = calloc((size_t)m->t->info.max_word_symbols + 1, sizeof *m->t->zero_seg)))
+        return HPFC_E_NOMEM;
+    return HPFC_OK;
+}
+
+/* Part k at `path`, read in place; a refusal names the path. */
+static int read_part_file(const char *path, hpfc_tree **out, hpfc_diag *diag)
+{
+    int st = path ? hpfc_tree_read_part(path, out, diag)
+                  : diag_set(diag, HPFC_E_ARG, "hpfc_tree_merge_files: NULL path");
+    if (st && path && diag) {
+        char why[sizeof diag->message];
+        memcpy(why, diag->message, sizeof why);
+        diag_set(diag, st, "%s: %s", path, why[0] ? why : hpfc_strerror(st));
+    }
+    return st;
+}
+
+int hpfc_tree_merge_files(const char *const *paths, size_t count, hpfc_tree **out, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!out || (!paths && count))
+        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_merge_files: NULL argument");
+    *out = NULL;
+    if (count == 0)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_merge_files: no part");
+    tree_view *v = calloc(1, sizeof *v);
+    hpfc_tree *t = calloc(1, sizeof *t);
+    if (v)
+        v->parts = calloc(count, sizeof *v->parts);
+    if (!v || !t || !v->parts) {
+        tree_view_free(v);
+        free(t);
+        return diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    }
+    t->view = v; /* hpfc_tree_free(t) frees the view and its parts */
+    int st = HPFC_OK;
+    for (size_t k = 0; k < count && !st; k++, v->nparts++)
+        st = read_part_file(paths[k], &v->parts[k], diag);
+    merger m = {.parts = v->parts, .nparts = count, .t = t, .diag = diag};
+    if (!st)
+        st = merge_view(&m, v);
+    free(m.edge_parent);
+    free(m.edge_seen);
+    word_parts_free(&m.wp);
+    if (st == HPFC_E_NOMEM)
+        diag_set(diag, st, "out of memory");
+    if (st) {
+        hpfc_tree_free(t);
+        return st;
+    }
+    *out = t;
+    return HPFC_OK;
+}

@@ -11,11 +11,19 @@
 #include "format.h"
 
 #define PART_MAGIC "hpfcPART"
-#define PART_VERSION 1
+#define PART_VERSION 2
 #define PART_HEADER_SIZE 144
 #define PART_LEVEL_ENTRY_SIZE 8   /* a level's image count */
 #define PART_PIXEL_SIZE 16        /* two u64: off, cross (tree.h's tpixel) */
 #define PART_CRC_SIZE 4
+/* The symbols are followed by zeros up to a multiple of 8 bytes (version 2),
+ * so that every array of a part file lies aligned in a mapping of it and a
+ * reader can point into it (part_read.c) instead of copying. */
+#define PART_SYMBOLS_ALIGN 8
+static inline uint64_t part_symbols_padding(uint64_t symbols)
+{
+    return (PART_SYMBOLS_ALIGN - symbols % PART_SYMBOLS_ALIGN) % PART_SYMBOLS_ALIGN;
+}
 
 enum { part_OFF_magic = 0, part_SIZE_magic = 8 };
 FORMAT_FIELD(part, version, 8, 4, uint32_t)

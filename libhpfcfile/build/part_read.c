@@ -11,19 +11,29 @@
  * grammar with the crossings it claims, edges below the map's count), so
  * that hpfc_tree_merge and the writer can take the tree as one the builder
  * made. HPFC_E_CORRUPT (with the reason in diag) for anything else.
+ *
+ * The tree is read in place: its arrays point into the file's bytes (a
+ * read-only mapping of the file, or the reader's one copy of a caller's
+ * buffer), whose version 2 layout puts every array on its alignment. A
+ * part costs its file's size once, never a second copy, and a merge of
+ * mapped parts (hpfc_tree_merge_files) reads them from the page cache.
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "part_file.h"
 #include "tree.h"
 #include "words.h"
 
 typedef struct part_reader {
-    const uint8_t *data;
+    uint8_t *data;                /* the tree's backing: aligned to 8 */
     size_t size;
     hpfc_tree *t;
     uint32_t level_count;
@@ -120,15 +130,22 @@ static int check_sizes(part_reader *r)
         r->nimages[l] = n;
     }
     uint64_t nsyms = r->t->nsyms, ncross = r->t->ncross, per_cross = r->segments ? 8 : 4;
-    if (nsyms < 4 || nsyms > room || ncross > (room - nsyms) / per_cross ||
-        room - nsyms != ncross * per_cross || ncross > TPIXEL_CROSS_OFF_MAX)
+    uint64_t pad = part_symbols_padding(nsyms);
+    if (nsyms < 4 || nsyms > room || pad > room - nsyms ||
+        ncross > (room - nsyms - pad) / per_cross || room - nsyms - pad != ncross * per_cross ||
+        ncross > TPIXEL_CROSS_OFF_MAX)
         return corrupt(r, "its symbols and crossings do not fill it");
+    const uint8_t *zeros = r->data + (r->size - PART_CRC_SIZE) - ncross * per_cross - pad;
+    for (uint64_t k = 0; k < pad; k++)
+        if (zeros[k])
+            return corrupt(r, "padding after its symbols that is not zeros");
     return HPFC_OK;
 }
 
-/* ---- the tree's arrays -------------------------------------------------- */
+/* ---- the tree's arrays, in the file ------------------------------------- */
 
-static int allocate(part_reader *r)
+/* The levels' sizes; their arrays are pointed at by point_level. */
+static int shape_levels(part_reader *r)
 {
     hpfc_tree *t = r->t;
     if (!(t->levels = calloc(r->level_count, sizeof *t->levels)))
@@ -136,45 +153,64 @@ static int allocate(part_reader *r)
     t->levels_cap = r->level_count;
     for (uint32_t l = 0; l < r->level_count; l++) {
         tlevel *lv = &t->levels[l];
-        size_t per = pixels_per_image(&t->info, l), n = (size_t)r->nimages[l];
         lv->cols = l ? t->info.cols : t->info.root_cols;
         lv->rows = l ? t->info.rows : t->info.root_rows;
         lv->cell_w = l ? t->levels[l - 1].cell_w / t->info.cols : t->info.width / t->info.root_cols;
         lv->cell_h = l ? t->levels[l - 1].cell_h / t->info.rows : t->info.height / t->info.root_rows;
-        if (!n)
-            continue;
-        lv->img_gx = malloc(n * sizeof *lv->img_gx);
-        lv->img_gy = malloc(n * sizeof *lv->img_gy);
-        lv->pix = malloc(n * per * sizeof *lv->pix);
-        if (!lv->img_gx || !lv->img_gy || !lv->pix)
-            return HPFC_E_NOMEM;
-        lv->cap = n;
     }
-    size_t nsyms = (size_t)t->nsyms, ncross = (size_t)t->ncross;
-    t->syms = malloc(nsyms);
-    t->cross_edge = malloc((ncross ? ncross : 1) * sizeof *t->cross_edge);
-    if (!t->syms || !t->cross_edge)
-        return HPFC_E_NOMEM;
-    t->cap_syms = nsyms;
-    t->cap_cross = ncross;
     return HPFC_OK;
 }
 
-static const uint8_t *load_u32s(uint32_t *v, const uint8_t *at, size_t n)
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+#define PART_HOST_BIG_ENDIAN 1
+/* The file is little-endian: on a big-endian host its integers are turned
+ * in place (the backing is the reader's own copy there, never a mapping). */
+static void swap_in_place(uint8_t *at, size_t count, size_t width)
 {
-    for (size_t k = 0; k < n; k++, at += 4)
-        v[k] = (uint32_t)le_load(at, 4);
-    return at;
+    for (size_t k = 0; k < count; k++, at += width) {
+        uint64_t v = le_load(at, (unsigned)width);
+        uint32_t w = (uint32_t)v;
+        if (width == 8)
+            memcpy(at, &v, 8);
+        else
+            memcpy(at, &w, 4);
+    }
+}
+#else
+#define PART_HOST_BIG_ENDIAN 0
+static void swap_in_place(uint8_t *at, size_t count, size_t width)
+{
+    (void)at, (void)count, (void)width;
+}
+#endif
+
+/* Level l's images and pixels are the file's bytes at `at` (8-aligned, in
+ * the host's order); returns the bytes after. The tree never writes them. */
+static uint8_t *point_level(part_reader *r, uint32_t l, uint8_t *at)
+{
+    tlevel *lv = &r->t->levels[l];
+    size_t n = (size_t)r->nimages[l], pixels = n * pixels_per_image(&r->t->info, l);
+    swap_in_place(at, 2 * n + 2 * pixels, 8);
+    lv->img_gx = (int64_t *)(void *)at;
+    lv->img_gy = (int64_t *)(void *)(at + 8 * n);
+    lv->pix = (tpixel *)(void *)(at + 16 * n);
+    lv->nimages = lv->cap = n;
+    return at + 16 * n + PART_PIXEL_SIZE * pixels;
 }
 
-/* The symbols and crossings after the levels, into the tree. */
-static void load_words(part_reader *r, const uint8_t *at)
+/* The symbols and crossings after the levels (the crossings 8-aligned
+ * after the symbols' padding). */
+static void point_words(part_reader *r, uint8_t *at)
 {
     hpfc_tree *t = r->t;
-    memcpy(t->syms, at, (size_t)t->nsyms);
-    at = load_u32s(t->cross_edge, at + t->nsyms, (size_t)t->ncross);
-    if (t->cross_seg)
-        load_u32s(t->cross_seg, at, (size_t)t->ncross);
+    t->syms = (char *)at;
+    at += t->nsyms + part_symbols_padding(t->nsyms);
+    swap_in_place(at, (size_t)t->ncross * (r->segments ? 2 : 1), 4);
+    t->cross_edge = (uint32_t *)(void *)at;
+    if (r->segments)
+        t->cross_seg = (uint32_t *)(void *)(at + 4 * t->ncross);
+    t->cap_syms = (size_t)t->nsyms;
+    t->cap_cross = (size_t)t->ncross;
 }
 
 /* ---- the pixels, in the builder's order --------------------------------- */
@@ -236,21 +272,6 @@ static int check_pixel(part_reader *r, uint32_t l, size_t image, size_t p, uint6
     return check_refined(r, l, px, gx, gy, next_child);
 }
 
-/* Copies level l's images and pixels from `at`, returns the bytes after. */
-static const uint8_t *load_level(part_reader *r, uint32_t l, const uint8_t *at)
-{
-    tlevel *lv = &r->t->levels[l];
-    size_t n = (size_t)r->nimages[l], pixels = n * pixels_per_image(&r->t->info, l);
-    for (size_t k = 0; k < n; k++, at += 8)
-        lv->img_gx[k] = (int64_t)le_load(at, 8);
-    for (size_t k = 0; k < n; k++, at += 8)
-        lv->img_gy[k] = (int64_t)le_load(at, 8);
-    for (size_t k = 0; k < pixels; k++, at += PART_PIXEL_SIZE)
-        lv->pix[k] = (tpixel){le_load(at, 8), le_load(at + 8, 8)};
-    lv->nimages = n;
-    return at;
-}
-
 static int check_levels(part_reader *r)
 {
     const hpfc_tree *t = r->t;
@@ -298,34 +319,61 @@ static void take_info(part_reader *r)
     t->ncross = part_get_crossings(h);
 }
 
-static int read_part(part_reader *r)
+/* Reads the part in r->data (r->size bytes, the backing the tree will own:
+ * hpfc_tree_free releases it, whatever this returns). */
+static int read_part(part_reader *r, bool mapped)
 {
+    if (!(r->t = calloc(1, sizeof *r->t))) {
+        part_backing_release(r->data, r->size, mapped);
+        return HPFC_E_NOMEM;
+    }
+    r->t->backing = r->data;
+    r->t->backing_size = r->size;
+    r->t->backing_mapped = mapped;
     int st = read_header(r);
     if (st)
         return st;
-    if (!(r->t = calloc(1, sizeof *r->t)))
-        return HPFC_E_NOMEM;
     take_info(r);
     r->segments = part_get_has_segments(r->data) == 1;
     if ((st = check_sizes(r)))
         return st;
-    if (r->segments &&
-        !(r->t->cross_seg = malloc((r->t->ncross ? (size_t)r->t->ncross : 1) * sizeof *r->t->cross_seg)))
-        return HPFC_E_NOMEM;
     uint32_t longest = r->t->info.max_word_symbols;
     if (longest > r->t->nsyms)
         return corrupt(r, "a longest word longer than its symbols");
-    if ((st = allocate(r)) || (st = word_parts_alloc(&r->wp, longest > 4 ? longest - 4 : 1)))
+    if ((st = shape_levels(r)) || (st = word_parts_alloc(&r->wp, longest > 4 ? longest - 4 : 1)))
         return st;
-    const uint8_t *at = r->data + PART_HEADER_SIZE + (size_t)PART_LEVEL_ENTRY_SIZE * r->level_count;
+    uint8_t *at = r->data + PART_HEADER_SIZE + (size_t)PART_LEVEL_ENTRY_SIZE * r->level_count;
     for (uint32_t l = 0; l < r->t->info.levels; l++)
-        at = load_level(r, l, at);
-    load_words(r, at);
+        at = point_level(r, l, at);
+    point_words(r, at);
     if ((st = check_levels(r)))
         return st;
     if (!r->t->cross_seg &&
         !(r->t->zero_seg = calloc((size_t)r->t->info.max_word_symbols + 1, sizeof *r->t->zero_seg)))
         return HPFC_E_NOMEM;
+    return HPFC_OK;
+}
+
+void part_backing_release(void *backing, size_t size, bool mapped)
+{
+    if (backing && mapped)
+        munmap(backing, size);
+    else
+        free(backing);
+}
+
+/* Reads the part whose bytes are r->data (see read_part) into *out. */
+static int read_into(part_reader *r, bool mapped, hpfc_tree **out, hpfc_diag *diag)
+{
+    int st = read_part(r, mapped);
+    word_parts_free(&r->wp);
+    if (st == HPFC_E_NOMEM)
+        diag_set(diag, st, "out of memory");
+    if (st) {
+        hpfc_tree_free(r->t);
+        return st;
+    }
+    *out = r->t;
     return HPFC_OK;
 }
 
@@ -335,17 +383,31 @@ int hpfc_tree_read_part_memory(const void *data, size_t size, hpfc_tree **out, h
     if (!data || !out)
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_read_part_memory: NULL argument");
     *out = NULL;
-    part_reader r = {.data = data, .size = size, .syms_at = 4, .diag = diag}; /* after the "++++" */
-    int st = read_part(&r);
-    word_parts_free(&r.wp);
-    if (st == HPFC_E_NOMEM)
-        diag_set(diag, st, "out of memory");
-    if (st) {
-        hpfc_tree_free(r.t);
-        return st;
+    /* the tree's one copy, aligned as malloc aligns, which it points into */
+    uint8_t *copy = malloc(size ? size : 1);
+    if (!copy)
+        return diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    memcpy(copy, data, size);
+    part_reader r = {.data = copy, .size = size, .syms_at = 4, .diag = diag}; /* after the "++++" */
+    return read_into(&r, false, out, diag);
+}
+
+/* The whole of the open file fd (`size` bytes) into a buffer of its own. */
+static uint8_t *read_whole(int fd, size_t size)
+{
+    uint8_t *data = malloc(size ? size : 1);
+    size_t got = 0;
+    while (data && got < size) {
+        ssize_t n = read(fd, data + got, size - got);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0) {
+            free(data);
+            return NULL;
+        }
+        got += (size_t)n;
     }
-    *out = r.t;
-    return HPFC_OK;
+    return data;
 }
 
 int hpfc_tree_read_part(const char *path, hpfc_tree **out, hpfc_diag *diag)
@@ -354,33 +416,27 @@ int hpfc_tree_read_part(const char *path, hpfc_tree **out, hpfc_diag *diag)
     if (!path || !out)
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_read_part: NULL argument");
     *out = NULL;
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
         return diag_set(diag, HPFC_E_IO, "cannot open %s: %s", path, strerror(errno));
-    uint8_t *data = NULL;
-    size_t size = 0, cap = 0;
-    int st = HPFC_OK;
-    for (;;) {
-        if (size == cap) {
-            size_t ncap = cap ? 2 * cap : 1 << 16;
-            uint8_t *nd = ncap > cap ? realloc(data, ncap) : NULL;
-            if (!nd) {
-                st = diag_set(diag, HPFC_E_NOMEM, "out of memory reading %s", path);
-                break;
-            }
-            data = nd, cap = ncap;
-        }
-        size_t n = fread(data + size, 1, cap - size, f);
-        size += n;
-        if (n == 0) {
-            if (ferror(f))
-                st = diag_set(diag, HPFC_E_IO, "cannot read %s", path);
-            break;
-        }
+    struct stat sb;
+    if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode) || (uint64_t)sb.st_size > SIZE_MAX) {
+        close(fd);
+        return diag_set(diag, HPFC_E_IO, "cannot read %s: not a regular file", path);
     }
-    fclose(f);
-    if (!st)
-        st = hpfc_tree_read_part_memory(data, size, out, diag);
-    free(data);
-    return st;
+    size_t size = (size_t)sb.st_size;
+    uint8_t *data = NULL;
+    bool mapped = !PART_HOST_BIG_ENDIAN && size > 0;
+    if (mapped) { /* read-only: the tree never writes its arrays */
+        void *map = mmap(NULL, size, PROT_READ, MAP_PRIVATE, fd, 0);
+        data = map == MAP_FAILED ? NULL : map;
+    } else {
+        data = read_whole(fd, size);
+    }
+    int err = errno;
+    close(fd);
+    if (!data)
+        return diag_set(diag, HPFC_E_IO, "cannot read %s: %s", path, strerror(err));
+    part_reader r = {.data = data, .size = size, .syms_at = 4, .diag = diag};
+    return read_into(&r, mapped, out, diag);
 }

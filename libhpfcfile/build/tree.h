@@ -24,6 +24,8 @@ typedef struct tpixel {
 /* A root pixel that a part's build (hpfc_build_part) leaves to another part. */
 #define TPIXEL_ABSENT (UINT64_MAX - 1)
 
+typedef struct tree_view tree_view; /* merge.c */
+
 typedef struct tlevel {
     uint32_t cols, rows;      /* pixels per image at this level */
     int64_t cell_w, cell_h;   /* pixel size (lattice units) */
@@ -48,6 +50,25 @@ struct hpfc_tree {
      * faces and components are unknown (0) and its vertices are those its
      * words hold. Only hpfc_tree_merge takes it; the writer refuses it. */
     bool part;
+    /* A part read in place (part_read.c): its arrays point into `backing`,
+     * a mapping of its part file (backing_mapped) or a buffer of its own,
+     * and are freed with it, not one by one. */
+    void *backing;
+    size_t backing_size;
+    bool backing_mapped;
+    /* A tree joined from parts read in place (hpfc_tree_merge_files): no
+     * arrays of its own but its levels' sizes; its pixels are its parts',
+     * found through the view. NULL for every other tree. */
+    tree_view *view;
 };
+
+/* Where pixel p of image `image` of level `level` of a joined view lies:
+ * *src the part, *src_image its image there, *child_delta what to add to a
+ * refined pixel's child (merge.c). The arguments are in range. */
+void tree_view_locate(const tree_view *v, uint32_t level, size_t image, size_t p,
+                      const hpfc_tree **src, size_t *src_image, int64_t *child_delta);
+void tree_view_free(tree_view *v);
+/* Releases a part's backing: unmapped, or freed (part_read.c). */
+void part_backing_release(void *backing, size_t size, bool mapped);
 
 #endif

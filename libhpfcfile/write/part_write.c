@@ -19,7 +19,7 @@ static uint64_t part_size(const hpfc_tree *t)
     uint64_t size = PART_HEADER_SIZE + (uint64_t)PART_LEVEL_ENTRY_SIZE * t->levels_cap;
     for (uint32_t l = 0; l < t->info.levels; l++)
         size += (uint64_t)t->levels[l].nimages * (16 + PART_PIXEL_SIZE * pixels_per_image(t, l));
-    size += t->nsyms + (uint64_t)t->ncross * (t->cross_seg ? 8 : 4);
+    size += t->nsyms + part_symbols_padding(t->nsyms) + (uint64_t)t->ncross * (t->cross_seg ? 8 : 4);
     return size + PART_CRC_SIZE;
 }
 
@@ -88,7 +88,7 @@ int part_serialize(const hpfc_tree *t, uint8_t **out, size_t *out_size, hpfc_dia
     for (uint32_t l = 0; l < t->info.levels; l++)
         at = put_level(t, l, at);
     memcpy(at, t->syms, t->nsyms);
-    at = put_u32s(at + t->nsyms, t->cross_edge, t->ncross);
+    at = put_u32s(at + t->nsyms + part_symbols_padding(t->nsyms), t->cross_edge, t->ncross); /* calloc'd: the padding is zeros */
     if (t->cross_seg)
         at = put_u32s(at, t->cross_seg, t->ncross);
     le_store(at, 4, crc32c_update(0, bytes, (size_t)(at - bytes)));

@@ -185,12 +185,60 @@ static void through_file(hpfc_tree **part)
     }
 }
 
-/* Builds k parts of g (from subgraphs when `sub`: the test's own through
- * part files when `files`, else hpfc_part_graph's), joins them in a random order and returns the joined tree (NULL
- * on failure, checked). */
-static hpfc_tree *build_in_parts(const hpfc_graph *g, const hpfc_build_params *p, const hpfc_domain *d,
-                                 const uint32_t *owner, size_t k, bool sub, bool files, gen_rng *rng)
+/* Part q's own file, for the joins from files. */
+static void part_file_path(char *path, size_t size, size_t q)
 {
+    if (snprintf(path, size, "%s.%zu", part_path, q) >= (int)size)
+        path[0] = '\0'; /* never: part_path is short */
+}
+
+/* The parts written to files, freed, and joined from the files in a
+ * random order (hpfc_tree_merge_files). The files are removed before the
+ * joined tree is returned: its mappings keep them. */
+static hpfc_tree *join_files(hpfc_tree **parts, size_t k, gen_rng *rng)
+{
+    char (*paths)[80] = calloc(k, sizeof *paths);
+    const char **order = calloc(k, sizeof *order);
+    hpfc_tree *joined = NULL;
+    hpfc_diag diag;
+    for (size_t q = 0; paths && order && q < k; q++) {
+        part_file_path(paths[q], sizeof paths[q], q);
+        CHECK_EQ_INT(hpfc_tree_write_part(parts[q], paths[q], &diag), HPFC_OK);
+        hpfc_tree_free(parts[q]);
+        parts[q] = NULL;
+        order[q] = paths[q];
+    }
+    for (size_t q = k; paths && order && q > 1; q--) {
+        size_t r = (size_t)gen_rng_below(rng, q);
+        const char *t = order[q - 1];
+        order[q - 1] = order[r], order[r] = t;
+    }
+    if (paths && order) {
+        int st = hpfc_tree_merge_files(order, k, &joined, &diag);
+        if (st)
+            fprintf(stderr, "merge of %zu part files: %s: %s\n", k, hpfc_strerror(st), diag.message);
+        CHECK_EQ_INT(st, HPFC_OK);
+        for (size_t q = 0; q < k; q++)
+            remove(paths[q]);
+    }
+    free(paths);
+    free(order);
+    return joined;
+}
+
+/* How build_in_parts joins its parts. */
+enum join_way { JOIN_TREES, JOIN_READ_BACK, JOIN_FILES };
+
+/* Builds k parts of g (from subgraphs when `sub`: the test's own when the
+ * parts go through files, else hpfc_part_graph's), joins them in a random
+ * order (`way`: their trees, their trees read back from part files, or
+ * the part files themselves) and returns the joined tree (NULL on
+ * failure, checked). */
+static hpfc_tree *build_in_parts(const hpfc_graph *g, const hpfc_build_params *p, const hpfc_domain *d,
+                                 const uint32_t *owner, size_t k, bool sub, enum join_way way,
+                                 gen_rng *rng)
+{
+    bool files = way != JOIN_TREES;
     uint32_t roots = p->root_cols * p->root_rows;
     hpfc_tree **parts = calloc(k, sizeof *parts);
     uint32_t *pixels = malloc(roots * sizeof *pixels);
@@ -219,7 +267,7 @@ static hpfc_tree *build_in_parts(const hpfc_graph *g, const hpfc_build_params *p
             fprintf(stderr, "part %zu of %zu: %s: %s\n", q, k, hpfc_strerror(st), diag.message);
         CHECK_EQ_INT(st, HPFC_OK);
         ok = st == HPFC_OK;
-        if (ok && files)
+        if (ok && way == JOIN_READ_BACK)
             through_file(&parts[q]);
         hpfc_graph_free(s.g);
         free(s.edge_ids);
@@ -229,7 +277,9 @@ static hpfc_tree *build_in_parts(const hpfc_graph *g, const hpfc_build_params *p
         hpfc_tree *t = parts[q - 1];
         parts[q - 1] = parts[r], parts[r] = t;
     }
-    if (ok) {
+    if (ok && way == JOIN_FILES) {
+        joined = join_files(parts, k, rng);
+    } else if (ok) {
         int st = hpfc_tree_merge(parts, k, &joined, &diag);
         if (st)
             fprintf(stderr, "merge of %zu parts: %s: %s\n", k, hpfc_strerror(st), diag.message);
@@ -330,12 +380,15 @@ static void check_graph(const hpfc_graph *g, const char *what, gen_rng *rng)
         uint32_t roots = p.root_cols * p.root_rows;
         uint32_t *owner = malloc(roots * sizeof *owner);
         for (size_t c = 0; single && owner && c < sizeof PART_COUNTS / sizeof *PART_COUNTS; c++)
-            for (int mode = 0; mode < 3; mode++) {
+            for (int mode = 0; mode < 4; mode++) {
+                /* 0: whole graph, trees; 1: own subgraphs, read back; 2:
+                 * runs of pixels, cut subgraphs; 3: own subgraphs, files */
                 size_t k = PART_COUNTS[c];
                 deal_pixels(rng, roots, k, mode == 2, owner);
-                if (mode != 1)
+                if (mode == 0 || mode == 2)
                     check_cut(g, &d, &p, owner, k, rng);
-                hpfc_tree *joined = build_in_parts(g, &p, &d, owner, k, mode != 0, mode == 1, rng);
+                enum join_way way = mode == 1 ? JOIN_READ_BACK : mode == 3 ? JOIN_FILES : JOIN_TREES;
+                hpfc_tree *joined = build_in_parts(g, &p, &d, owner, k, mode != 0, way, rng);
                 bool same = joined && same_info(single, joined);
                 if (!same)
                     fprintf(stderr, "%s, shape %zu, %zu parts, mode %d: the joined tree differs\n", what, s,
@@ -701,6 +754,82 @@ static void test_damaged_part_files(const fixture *f)
     hpfc_tree_free(e);
 }
 
+/* The status of joining the files at paths[0 .. n), and whether its
+ * message names `named` (NULL: not asked). */
+static int merge_files_status(const char *const *paths, size_t n, const char *named, bool *names)
+{
+    hpfc_tree *joined = NULL;
+    hpfc_diag d;
+    int st = hpfc_tree_merge_files(paths, n, &joined, &d);
+    CHECK((st == HPFC_OK) == (joined != NULL));
+    if (names)
+        *names = named && strstr(d.message, named) != NULL;
+    hpfc_tree_free(joined);
+    return st;
+}
+
+/* hpfc_tree_merge_files: the halves' files joined give hpfc_tree_merge's
+ * bytes; a part twice, a part missing, a damaged or absent file and no
+ * file are refused, a file's refusal naming it. */
+static void test_merge_files(const fixture *f)
+{
+    hpfc_part west = {.domain = f->d, .root_pixels = f->half[0], .root_pixel_count = 8};
+    hpfc_part east = {.domain = f->d, .root_pixels = f->half[1], .root_pixel_count = 8};
+    hpfc_tree *halves[2] = {NULL, NULL}, *joined = NULL, *view = NULL;
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &west, &halves[0]), HPFC_OK);
+    CHECK_EQ_INT(part_status(f, f->g, &f->p, &east, &halves[1]), HPFC_OK);
+    char wpath[80], epath[80], bad_path[80];
+    part_file_path(wpath, sizeof wpath, 0);
+    part_file_path(epath, sizeof epath, 1);
+    part_file_path(bad_path, sizeof bad_path, 2);
+    hpfc_diag d;
+    CHECK_EQ_INT(hpfc_tree_write_part(halves[0], wpath, &d), HPFC_OK);
+    CHECK_EQ_INT(hpfc_tree_write_part(halves[1], epath, &d), HPFC_OK);
+    CHECK_EQ_INT(hpfc_tree_merge(halves, 2, &joined, &d), HPFC_OK);
+    const char *both[2] = {epath, wpath};
+    CHECK_EQ_INT(hpfc_tree_merge_files(both, 2, &view, &d), HPFC_OK);
+    if (joined && view)
+        check_same_bytes(joined, view, f->g);
+    hpfc_tree_free(view);
+    /* refusals */
+    bool names = false;
+    const char *alone[1] = {wpath}, *twice[3] = {wpath, epath, wpath};
+    CHECK_EQ_INT(merge_files_status(alone, 1, NULL, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(merge_files_status(twice, 3, NULL, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(merge_files_status(both, 0, NULL, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(merge_files_status(NULL, 2, NULL, NULL), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_tree_merge_files(both, 2, NULL, &d), HPFC_E_ARG);
+    const char *absent[2] = {wpath, "/nonexistent/east.part"};
+    CHECK_EQ_INT(merge_files_status(absent, 2, "/nonexistent/east.part", &names), HPFC_E_IO);
+    CHECK(names);
+    size_t size = 0;
+    uint8_t *bytes = read_all(epath, &size);
+    const char *damaged[2] = {wpath, bad_path};
+    for (int how = 0; bytes && size > 200 && how < 3; how++) {
+        FILE *out = fopen(bad_path, "wb");
+        CHECK(out != NULL);
+        if (!out)
+            break;
+        uint8_t saved = bytes[size / 2];
+        if (how == 1)
+            bytes[size / 2] ^= 0x10; /* a pixel's byte, the CRC left: refused by the CRC */
+        size_t n = how == 2 ? 10 : size; /* a stub that is no part file */
+        CHECK(fwrite(bytes, 1, n, out) == n);
+        fclose(out);
+        bytes[size / 2] = saved;
+        int want = how == 0 ? HPFC_OK : how == 1 ? HPFC_E_CHECKSUM : HPFC_E_MAGIC;
+        CHECK_EQ_INT(merge_files_status(damaged, 2, bad_path, &names), want);
+        CHECK(how == 0 || names);
+    }
+    free(bytes);
+    remove(wpath);
+    remove(epath);
+    remove(bad_path);
+    hpfc_tree_free(joined);
+    hpfc_tree_free(halves[0]);
+    hpfc_tree_free(halves[1]);
+}
+
 int main(void)
 {
     snprintf(part_path, sizeof part_path, "/tmp/test_part_%ld.part", (long)getpid());
@@ -711,6 +840,7 @@ int main(void)
         test_part_refusals(&f);
         test_merge_refusals(&f);
         test_damaged_part_files(&f);
+        test_merge_files(&f);
     }
     remove(part_path);
     hpfc_graph_free(f.g);
