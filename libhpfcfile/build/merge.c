@@ -377,60 +377,6 @@ int hpfc_tree_merge(hpfc_tree *const *parts, size_t count, hpfc_tree **out, hpfc
  * only memory that grows with the map (5 bytes an edge).
  */
 
-typedef struct view_run {
-    uint64_t first;      /* the run's first image on the joined level */
-    uint64_t part_first; /* the same image on its part's level */
-    uint64_t count;
-    int64_t child_delta; /* a refined pixel's joined child: its part's + this */
-    uint32_t part;
-} view_run;
-
-struct tree_view {
-    hpfc_tree **parts;   /* read in place; the view frees them */
-    size_t nparts;
-    uint32_t *owner;     /* the part of each root pixel */
-    int64_t *root_delta; /* each refined root pixel's child delta */
-    view_run *runs[HPFC_MAX_LEVELS]; /* levels >= 1, in joined order */
-    size_t nruns[HPFC_MAX_LEVELS], cap[HPFC_MAX_LEVELS];
-};
-
-void tree_view_locate(const tree_view *v, uint32_t level, size_t image, size_t p,
-                      const hpfc_tree **src, size_t *src_image, int64_t *child_delta)
-{
-    if (level == 0) {
-        *src = v->parts[v->owner[p]];
-        *src_image = 0;
-        *child_delta = v->root_delta[p];
-        return;
-    }
-    const view_run *r = v->runs[level];
-    size_t lo = 0, hi = v->nruns[level];
-    while (hi - lo > 1) {
-        size_t mid = lo + (hi - lo) / 2;
-        if (r[mid].first <= image)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    *src = v->parts[r[lo].part];
-    *src_image = (size_t)(r[lo].part_first + (image - r[lo].first));
-    *child_delta = r[lo].child_delta;
-}
-
-void tree_view_free(tree_view *v)
-{
-    if (!v)
-        return;
-    for (size_t k = 0; k < v->nparts; k++)
-        hpfc_tree_free(v->parts[k]);
-    for (uint32_t l = 0; l < HPFC_MAX_LEVELS; l++)
-        free(v->runs[l]);
-    free(v->parts);
-    free(v->owner);
-    free(v->root_delta);
-    free(v);
-}
-
 /* Image `part_image` of `part` is the next image of joined level `level`:
  * it extends the level's last run, or starts one. */
 static int view_append(tree_view *v, uint32_t level, uint32_t part, uint64_t part_image)

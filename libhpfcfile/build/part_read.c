@@ -354,14 +354,6 @@ static int read_part(part_reader *r, bool mapped)
     return HPFC_OK;
 }
 
-void part_backing_release(void *backing, size_t size, bool mapped)
-{
-    if (backing && mapped)
-        munmap(backing, size);
-    else
-        free(backing);
-}
-
 /* Reads the part whose bytes are r->data (see read_part) into *out. */
 static int read_into(part_reader *r, bool mapped, hpfc_tree **out, hpfc_diag *diag)
 {

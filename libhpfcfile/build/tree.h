@@ -24,7 +24,8 @@ typedef struct tpixel {
 /* A root pixel that a part's build (hpfc_build_part) leaves to another part. */
 #define TPIXEL_ABSENT (UINT64_MAX - 1)
 
-typedef struct tree_view tree_view; /* merge.c */
+
+typedef struct tree_view tree_view;
 
 typedef struct tlevel {
     uint32_t cols, rows;      /* pixels per image at this level */
@@ -62,13 +63,32 @@ struct hpfc_tree {
     tree_view *view;
 };
 
+/* A tree joined from parts read in place (hpfc_tree_merge_files, merge.c):
+ * its levels' images come in runs, each a stretch of one part's images. */
+typedef struct view_run {
+    uint64_t first;      /* the run's first image on the joined level */
+    uint64_t part_first; /* the same image on its part's level */
+    uint64_t count;
+    int64_t child_delta; /* a refined pixel's joined child: its part's + this */
+    uint32_t part;
+} view_run;
+
+struct tree_view {
+    hpfc_tree **parts;   /* read in place; the view frees them */
+    size_t nparts;
+    uint32_t *owner;     /* the part of each root pixel */
+    int64_t *root_delta; /* each refined root pixel's child delta */
+    view_run *runs[HPFC_MAX_LEVELS]; /* levels >= 1, in joined order */
+    size_t nruns[HPFC_MAX_LEVELS], cap[HPFC_MAX_LEVELS];
+};
+
 /* Where pixel p of image `image` of level `level` of a joined view lies:
  * *src the part, *src_image its image there, *child_delta what to add to a
- * refined pixel's child (merge.c). The arguments are in range. */
+ * refined pixel's child (tree.c). The arguments are in range. */
 void tree_view_locate(const tree_view *v, uint32_t level, size_t image, size_t p,
                       const hpfc_tree **src, size_t *src_image, int64_t *child_delta);
 void tree_view_free(tree_view *v);
-/* Releases a part's backing: unmapped, or freed (part_read.c). */
+/* Releases a part's backing: unmapped, or freed (tree.c). */
 void part_backing_release(void *backing, size_t size, bool mapped);
 
 #endif
