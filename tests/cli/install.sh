@@ -49,23 +49,28 @@ extra=$(find "$tmp/dest" -type f -name 'bench_*' -o -type f -name 'replay_*' -o 
     -o -type f -name 'test_*' -o -type f -name 'gen-*')
 [ -n "$extra" ] && fail "installed: $extra"
 [ -n "$(find "$tmp/dest$libdir" -name 'libhpfcfile.so*')" ] || fail "libhpfcfile not in $libdir"
-# the GDAL plugin, where built: in LIBDIR/gdalplugins with a RUNPATH to the
-# library, and found there by GDAL_DRIVER_PATH (the library from DESTDIR,
-# as the installed prefix would give it)
+# the GDAL plugin, where built: in LIBDIR/gdalplugins, the library linked
+# into it (no libhpfcfile or GeographicLib to find at load, no RUNPATH), only
+# GDAL's entry points exported, and found there by GDAL_DRIVER_PATH alone
 if [ -f "$build/gdal/ogr_HPFC.so" ]; then
     plugin=$tmp/dest$libdir/gdalplugins/ogr_HPFC.so
     if [ ! -f "$plugin" ]; then
         fail "ogr_HPFC.so not installed in $libdir/gdalplugins"
     else
         if command -v readelf >/dev/null; then
-            readelf -d "$plugin" | grep -E "RUNPATH|RPATH" | grep -qF "$libdir" ||
-                fail "ogr_HPFC.so: no RUNPATH to $libdir"
+            needed=$(readelf -d "$plugin" | grep NEEDED)
+            case $needed in
+            *libhpfcfile* | *GeographicLib*) fail "ogr_HPFC.so needs a library linked into it: $needed" ;;
+            esac
+            exported=$(readelf -W --dyn-syms "$plugin" | awk '$7 != "UND" && $5 == "GLOBAL" && $4 == "FUNC" {print $8}' |
+                sort | tr '\n' ' ')
+            [ "$exported" = "GDALRegisterMe RegisterOGRHPFC " ] ||
+                fail "ogr_HPFC.so exports more than GDAL's entry points: $exported"
         fi
         # (a sanitized plugin loads only into a process with the runtime
         # preloaded: tests/cli/gdal_driver.sh covers that build)
         if command -v ogrinfo >/dev/null && ! ldd "$plugin" 2>/dev/null | grep -q 'libasan\|libubsan'; then
-            run env GDAL_DRIVER_PATH="$tmp/dest$libdir/gdalplugins" LD_LIBRARY_PATH="$tmp/dest$libdir" \
-                ogrinfo --formats
+            run env GDAL_DRIVER_PATH="$tmp/dest$libdir/gdalplugins" ogrinfo --formats
             grep -q "HPFC -vector-" "$tmp/out" || fail "the installed plugin is not found: $(cat "$tmp/err")"
         fi
     fi
