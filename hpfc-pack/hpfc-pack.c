@@ -136,9 +136,10 @@ static void print_help(void)
            , (unsigned long long)HPFC_DEFAULT_MAX_FLAT_PIXELS, HPFC_DEFAULT_MAX_LEAF_POINTS);
     printf(
            "  --partitions N        build the tree in N parts (runs of root pixels), one\n"
-           "                        after another, each from the edges near its pixels,\n"
-           "                        then join them: the same file, byte for byte, with\n"
-           "                        the builder's working memory for one part at a time\n"
+           "                        after another, each from the edges near its pixels\n"
+           "                        and kept in a file beside the output until they are\n"
+           "                        joined: the same file, byte for byte, with the\n"
+           "                        builder's working memory for one part at a time\n"
            "                        (at most one part a root pixel; not with --flat)\n"
            "  --parts-dir DIR       with --partitions: the parts are built by other\n"
            "                        processes (python3 -m hpfc pack on Dask): their\n"

@@ -5,10 +5,12 @@
 #include "pack_write.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -180,9 +182,82 @@ static int build_parts_elsewhere(const hpfc_graph *g, const hpfc_build_params *p
     return st;
 }
 
+/* The folder of a build's part files: beside the output, whose file
+ * system takes what is written there (where /tmp may be memory), or under
+ * $TMPDIR for the standard output. */
+typedef struct part_folder {
+    char dir[4096];
+    char **paths;
+    size_t count;
+} part_folder;
+
+static int part_folder_open(part_folder *pf, const char *output, size_t count, hpfc_diag *diag)
+{
+    memset(pf, 0, sizeof *pf);
+    const char *tmp = getenv("TMPDIR");
+    int n = output ? snprintf(pf->dir, sizeof pf->dir, "%s.parts-XXXXXX", output)
+                   : snprintf(pf->dir, sizeof pf->dir, "%s/hpfc-parts-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    if (n < 0 || (size_t)n >= sizeof pf->dir)
+        return diag_set_message(diag, HPFC_E_IO, "the output's name is too long for its parts' folder");
+    if (!mkdtemp(pf->dir)) {
+        char why[sizeof diag->message];
+        snprintf(why, sizeof why, "cannot make a folder for the parts beside the output (%s): %s",
+                 pf->dir, strerror(errno));
+        pf->dir[0] = '\0';
+        return diag_set_message(diag, HPFC_E_IO, why);
+    }
+    if (!(pf->paths = calloc(count, sizeof *pf->paths)))
+        return diag_set_message(diag, HPFC_E_NOMEM, "out of memory");
+    for (size_t q = 0; q < count; q++) {
+        size_t len = strlen(pf->dir) + 32;
+        if (!(pf->paths[q] = malloc(len)))
+            return diag_set_message(diag, HPFC_E_NOMEM, "out of memory");
+        snprintf(pf->paths[q], len, "%s/part-%zu.part", pf->dir, q);
+        pf->count = q + 1;
+    }
+    return HPFC_OK;
+}
+
+/* A part's file in the parts' folder: created, written, closed; not synced
+ * (it lives as long as the build). */
+static int write_part(const hpfc_tree *part, const char *path, hpfc_diag *diag)
+{
+    int fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (fd < 0) {
+        char why[sizeof diag->message];
+        snprintf(why, sizeof why, "cannot create %s: %s", path, strerror(errno));
+        return diag_set_message(diag, HPFC_E_IO, why);
+    }
+    int st = hpfc_tree_write_part_fd(part, fd, diag);
+    if (close(fd) != 0 && !st) {
+        char why[sizeof diag->message];
+        snprintf(why, sizeof why, "cannot write %s: %s", path, strerror(errno));
+        st = diag_set_message(diag, HPFC_E_IO, why);
+    }
+    return st;
+}
+
+/* Removes the part files and their folder. A tree joined from them keeps
+ * reading them through its mappings: their room on disk goes when it is
+ * freed. */
+static void part_folder_close(part_folder *pf)
+{
+    for (size_t q = 0; q < pf->count; q++) {
+        remove(pf->paths[q]);
+        free(pf->paths[q]);
+    }
+    free(pf->paths);
+    if (pf->dir[0])
+        rmdir(pf->dir);
+    memset(pf, 0, sizeof *pf);
+}
+
 /* The tree, built whole, or in parts (pack_parts), each from the edges near
- * its root pixels, then joined (hpfc_build_part, hpfc_tree_merge): the same
- * tree, with the builder's working arrays for one part at a time.
+ * its root pixels, written to a part file and freed, then joined where the
+ * files lie (hpfc_build_part, hpfc_tree_merge_files): the same tree, with
+ * the builder's working arrays and tree for one part at a time, and the
+ * joined tree's pixels in the files (the page cache) rather than in the
+ * process.
  *
  * Validation too goes part by part: every flaw hpfc_graph_validate looks
  * for but an isolated vertex (two points at one place, a zero-length
@@ -192,7 +267,7 @@ static int build_parts_elsewhere(const hpfc_graph *g, const hpfc_build_params *p
  * check (64 bytes a point, the one-process pack's peak on large maps) runs
  * only when a part finds a flaw, to report it in hpfc_build's very words. */
 static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts *parts,
-                      hpfc_tree **out, hpfc_diag *diag)
+                      const char *output, hpfc_tree **out, hpfc_diag *diag)
 {
     if (parts->dir)
         return build_parts_elsewhere(g, p, parts, out, diag);
@@ -205,12 +280,14 @@ static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pac
     if (!st)
         st = hpfc_build_domain(box, p, &d, diag);
     size_t k = parts->count < roots ? parts->count : (size_t)roots;
-    hpfc_tree **trees = st ? NULL : calloc(k, sizeof *trees);
     uint32_t *pixels = st ? NULL : malloc((size_t)roots * sizeof *pixels);
     uint32_t *owner = st ? NULL : malloc((size_t)roots * sizeof *owner);
     hpfc_cut *cut = NULL;
-    if (!st && (!trees || !pixels || !owner))
+    part_folder pf = {0};
+    if (!st && (!pixels || !owner))
         st = diag_set_message(diag, HPFC_E_NOMEM, "out of memory");
+    if (!st)
+        st = part_folder_open(&pf, output, k, diag);
     for (size_t q = 0; !st && q < k; q++)
         for (size_t px = (size_t)(roots * q / k); px < (size_t)(roots * (q + 1) / k); px++)
             pixels[px] = (uint32_t)px, owner[px] = (uint32_t)q;
@@ -219,17 +296,19 @@ static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pac
     free(owner);
     for (size_t q = 0; !st && q < k; q++) {
         size_t first = (size_t)(roots * q / k), end = (size_t)(roots * (q + 1) / k);
+        hpfc_tree *part = NULL;
         st = build_one_part(cut, p, &d, (uint32_t)q, pixels + first, end - first, hpfc_graph_edge_count(g),
-                            &trees[q], diag);
+                            &part, diag);
+        if (!st)
+            st = write_part(part, pf.paths[q], diag); /* HPFC_E_IO: the disk's fault */
+        hpfc_tree_free(part);
     }
     hpfc_cut_free(cut);
-    if (st)
+    if (st && st != HPFC_E_IO)
         st = word_part_failure(g, st, diag);
     if (!st)
-        st = hpfc_tree_merge(trees, k, out, diag);
-    for (size_t q = 0; trees && q < k; q++)
-        hpfc_tree_free(trees[q]);
-    free(trees);
+        st = hpfc_tree_merge_files((const char *const *)pf.paths, k, out, diag);
+    part_folder_close(&pf);
     free(pixels);
     return st;
 }
@@ -251,7 +330,7 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts
     stage_time t0 = stage_now();
     progress_show(&bar, "building", 0, 0, 1);
     pack_parts whole = {0};
-    int st = build_tree(g, &params, parts ? parts : &whole, &t, diag);
+    int st = build_tree(g, &params, parts ? parts : &whole, output, &t, diag);
     progress_end(&bar);
     release_free_memory();
     r->build_t = stage_lap(&t0);

@@ -442,6 +442,12 @@ HPFC_API int hpfc_tree_merge(hpfc_tree *const *parts, size_t count, hpfc_tree **
  * gets HPFC_E_MAGIC, HPFC_E_VERSION, HPFC_E_CHECKSUM or HPFC_E_CORRUPT,
  * with the reason in diag. */
 HPFC_API int hpfc_tree_write_part(const hpfc_tree *part, const char *path, hpfc_diag *diag);
+/* The same part file written from the start of `fd`, an open regular file
+ * the caller owns (truncated to the part's size, neither synced nor
+ * closed): for parts that live as long as one build, which need no
+ * durable rename. HPFC_E_IO (with the system's reason) when a write
+ * fails. */
+HPFC_API int hpfc_tree_write_part_fd(const hpfc_tree *part, int fd, hpfc_diag *diag);
 HPFC_API int hpfc_tree_read_part(const char *path, hpfc_tree **out, hpfc_diag *diag);
 HPFC_API int hpfc_tree_read_part_memory(const void *data, size_t size, hpfc_tree **out,
                                         hpfc_diag *diag);

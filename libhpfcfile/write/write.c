@@ -1064,6 +1064,23 @@ int hpfc_file_write_file_sized(const hpfc_file *file, const hpfc_write_options *
     return st;
 }
 
+int hpfc_tree_write_part_fd(const hpfc_tree *part, int fd, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!part || fd < 0)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_tree_write_part_fd: NULL argument or no file descriptor");
+    byte_span span = {0};
+    uint8_t *bytes = NULL;
+    int st = part_serialize(part, &bytes, &span.size, diag);
+    span.bytes = bytes;
+    if (!st && (lseek(fd, 0, SEEK_SET) < 0 || ftruncate(fd, 0) != 0))
+        st = write_error(diag, NULL, errno);
+    if (!st)
+        st = fill_bytes(fd, NULL, &span, diag);
+    free(bytes);
+    return st;
+}
+
 int hpfc_tree_write_part(const hpfc_tree *part, const char *path, hpfc_diag *diag)
 {
     diag_clear(diag);
