@@ -267,7 +267,7 @@ static void part_folder_close(part_folder *pf)
  * check (64 bytes a point, the one-process pack's peak on large maps) runs
  * only when a part finds a flaw, to report it in hpfc_build's very words. */
 static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts *parts,
-                      const char *output, hpfc_tree **out, hpfc_diag *diag)
+                      const char *output, progress *bar, hpfc_tree **out, hpfc_diag *diag)
 {
     if (parts->dir)
         return build_parts_elsewhere(g, p, parts, out, diag);
@@ -294,11 +294,17 @@ static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pac
     if (!st)
         st = hpfc_cut_create(g, p, &d, owner, (uint32_t)k, &cut, diag);
     free(owner);
+    /* one bar for the parts, not one a level of each */
+    hpfc_build_params quiet = *p;
+    quiet.progress = NULL;
     for (size_t q = 0; !st && q < k; q++) {
         size_t first = (size_t)(roots * q / k), end = (size_t)(roots * (q + 1) / k);
         hpfc_tree *part = NULL;
-        st = build_one_part(cut, p, &d, (uint32_t)q, pixels + first, end - first, hpfc_graph_edge_count(g),
-                            &part, diag);
+        char stage[32];
+        snprintf(stage, sizeof stage, "part %zu/%zu", q + 1, k);
+        progress_show(bar, stage, (double)q, (double)k, 1);
+        st = build_one_part(cut, &quiet, &d, (uint32_t)q, pixels + first, end - first,
+                            hpfc_graph_edge_count(g), &part, diag);
         if (!st)
             st = write_part(part, pf.paths[q], diag); /* HPFC_E_IO: the disk's fault */
         hpfc_tree_free(part);
@@ -306,8 +312,10 @@ static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pac
     hpfc_cut_free(cut);
     if (st && st != HPFC_E_IO)
         st = word_part_failure(g, st, diag);
-    if (!st)
+    if (!st) {
+        progress_show(bar, "joining", 0, 0, 1);
         st = hpfc_tree_merge_files((const char *const *)pf.paths, k, out, diag);
+    }
     part_folder_close(&pf);
     free(pixels);
     return st;
@@ -330,7 +338,7 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts
     stage_time t0 = stage_now();
     progress_show(&bar, "building", 0, 0, 1);
     pack_parts whole = {0};
-    int st = build_tree(g, &params, parts ? parts : &whole, output, &t, diag);
+    int st = build_tree(g, &params, parts ? parts : &whole, output, &bar, &t, diag);
     progress_end(&bar);
     release_free_memory();
     r->build_t = stage_lap(&t0);

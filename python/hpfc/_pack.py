@@ -67,6 +67,33 @@ def _is_pfc(path):
         return False
 
 
+def _progress(stage, done=None, total=None):
+    """hpfc-pack's bar, on standard error when it is a terminal:
+    "hpfc: STAGE [####......]  40%", or the stage alone; None clears it."""
+    if not sys.stderr.isatty():
+        return
+    if stage is None:
+        sys.stderr.write("\r\033[K")
+    elif total:
+        n = int(30 * done / total)
+        sys.stderr.write("\rhpfc: %-10s [%s] %3d%%\033[K" % (stage, "#" * n + "." * (30 - n),
+                                                            100 * done // total))
+    else:
+        sys.stderr.write("\rhpfc: %-10s ...\033[K" % stage)
+    sys.stderr.flush()
+
+
+def _await_parts(futures):
+    """Draws the parts done until every one is (or failed)."""
+    if not sys.stderr.isatty():
+        return
+    from dask.distributed import as_completed
+    _progress("parts", 0, len(futures))
+    for done, _ in enumerate(as_completed(futures), 1):
+        _progress("parts", done, len(futures))
+    _progress(None)
+
+
 def _build_parts(client, workers, directory, plan):
     """Every part built on the cluster (a LocalCluster of `workers` for the
     call when client is None): their part files' paths, or the first
@@ -80,6 +107,7 @@ def _build_parts(client, workers, directory, plan):
     try:
         futures = [c.submit(_build_part, directory, plan, k, pure=False)
                    for k in range(plan["parts"])]
+        _await_parts(futures)
         try:
             return c.gather(futures), None
         except Error as e:
@@ -124,8 +152,11 @@ def _pack_through_tool(tool, args, client, workers, directory):
                 _paths, failure = _build_parts(client, workers, directory, json.loads(line))
                 proc.stdin.write(b"failed\n" if failure else b"built\n")
                 proc.stdin.close()
+                if not failure:
+                    _progress("joining")
                 proc.stdout.read()
             rc = proc.wait()
+            _progress(None)
         finally:
             if proc.poll() is None:
                 proc.kill()
@@ -191,5 +222,9 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
             # the whole graph's check words it as hpfc-pack does
             _hpfc._pack_check(os.fspath(input))
             raise failure
-        _hpfc._pack_merge(list(paths), os.fspath(input), os.fspath(output), LAYOUTS[layout],
-                          bool(labels), bool(geometry))
+        _progress("joining")
+        try:
+            _hpfc._pack_merge(list(paths), os.fspath(input), os.fspath(output), LAYOUTS[layout],
+                              bool(labels), bool(geometry))
+        finally:
+            _progress(None)
