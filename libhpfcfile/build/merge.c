@@ -300,32 +300,46 @@ static int copy_levels(merger *m, const uint32_t *owner)
 
 /* ---- entry point -------------------------------------------------------- */
 
-static int merge_into(merger *m)
+/* What both merges (`who`) do first: the parts checked against each other,
+ * the word parser sized for their longest word, and the union-find over
+ * the map's edges made, refusing more edges than the parts' crossings
+ * (every edge crosses a road of some part's pixels: more cannot be, and
+ * would size the union-find for nothing). *roots: the root pixels. */
+static int begin_merge(merger *m, const char *who, size_t *roots)
 {
     int st = check_parts(m);
     if (st)
         return st;
     const hpfc_tree_info *first = &m->parts[0]->info;
-    size_t roots = (size_t)first->root_cols * first->root_rows;
+    *roots = (size_t)first->root_cols * first->root_rows;
+    uint64_t crossings = 0;
     uint32_t max_symbols = 4;
-    for (size_t k = 0; k < m->nparts; k++)
+    for (size_t k = 0; k < m->nparts; k++) {
+        crossings += m->parts[k]->ncross;
         if (m->parts[k]->info.max_word_symbols > max_symbols)
             max_symbols = m->parts[k]->info.max_word_symbols;
-    /* every edge crosses a road of some part's pixels: more edges than
-     * crossings cannot be, and would size the union-find for nothing */
-    uint64_t crossings = 0;
-    for (size_t k = 0; k < m->nparts; k++)
-        crossings += m->parts[k]->ncross;
+    }
     if (first->edges > crossings)
-        return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: %llu edges but %llu crossings in all parts",
+        return diag_set(m->diag, HPFC_E_ARG, "%s: %llu edges but %llu crossings in all parts", who,
                         (unsigned long long)first->edges, (unsigned long long)crossings);
-    uint32_t *owner = malloc(roots * sizeof *owner);
     m->edge_parent = malloc((first->edges ? first->edges : 1) * sizeof *m->edge_parent);
     m->edge_seen = calloc(first->edges ? first->edges : 1, 1);
-    if (!owner || !m->edge_parent || !m->edge_seen || word_parts_alloc(&m->wp, max_symbols))
-        st = HPFC_E_NOMEM;
-    for (uint64_t e = 0; !st && e < first->edges; e++)
+    if (!m->edge_parent || !m->edge_seen || word_parts_alloc(&m->wp, max_symbols))
+        return HPFC_E_NOMEM;
+    for (uint64_t e = 0; e < first->edges; e++)
         m->edge_parent[e] = (uint32_t)e;
+    return HPFC_OK;
+}
+
+static int merge_into(merger *m)
+{
+    size_t roots = 0;
+    int st = begin_merge(m, "hpfc_tree_merge", &roots);
+    if (st)
+        return st;
+    uint32_t *owner = malloc(roots * sizeof *owner);
+    if (!owner)
+        st = HPFC_E_NOMEM;
     if (!st)
         st = find_owners(m, owner, roots);
     if (!st)
@@ -341,6 +355,23 @@ static int merge_into(merger *m)
     return st;
 }
 
+/* What both merges do last: their working arrays freed, and the joined
+ * tree handed out, or freed with the status `st`. */
+static int end_merge(merger *m, int st, hpfc_tree **out)
+{
+    free(m->edge_parent);
+    free(m->edge_seen);
+    word_parts_free(&m->wp);
+    if (st == HPFC_E_NOMEM)
+        diag_set(m->diag, st, "out of memory");
+    if (st) {
+        hpfc_tree_free(m->t);
+        return st;
+    }
+    *out = m->t;
+    return HPFC_OK;
+}
+
 int hpfc_tree_merge(hpfc_tree *const *parts, size_t count, hpfc_tree **out, hpfc_diag *diag)
 {
     diag_clear(diag);
@@ -350,18 +381,7 @@ int hpfc_tree_merge(hpfc_tree *const *parts, size_t count, hpfc_tree **out, hpfc
     merger m = {.parts = parts, .nparts = count, .diag = diag};
     if (!(m.t = calloc(1, sizeof *m.t)))
         return diag_set(diag, HPFC_E_NOMEM, "out of memory");
-    int st = merge_into(&m);
-    free(m.edge_parent);
-    free(m.edge_seen);
-    word_parts_free(&m.wp);
-    if (st == HPFC_E_NOMEM)
-        diag_set(diag, st, "out of memory");
-    if (st) {
-        hpfc_tree_free(m.t);
-        return st;
-    }
-    *out = m.t;
-    return HPFC_OK;
+    return end_merge(&m, merge_into(&m), out);
 }
 
 /* ---- joining part files without copying them ---------------------------
@@ -516,30 +536,14 @@ static int view_levels(merger *m, tree_view *v, size_t roots)
 
 static int merge_view(merger *m, tree_view *v)
 {
-    int st = check_parts(m);
+    size_t roots = 0;
+    int st = begin_merge(m, "hpfc_tree_merge_files", &roots);
     if (st)
         return st;
-    const hpfc_tree_info *first = &m->parts[0]->info;
-    size_t roots = (size_t)first->root_cols * first->root_rows;
-    uint64_t crossings = 0;
-    uint32_t max_symbols = 4;
-    for (size_t k = 0; k < m->nparts; k++) {
-        crossings += m->parts[k]->ncross;
-        if (m->parts[k]->info.max_word_symbols > max_symbols)
-            max_symbols = m->parts[k]->info.max_word_symbols;
-    }
-    if (first->edges > crossings)
-        return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge_files: %llu edges but %llu crossings in all parts",
-                        (unsigned long long)first->edges, (unsigned long long)crossings);
     v->owner = malloc(roots * sizeof *v->owner);
     v->root_delta = calloc(roots, sizeof *v->root_delta);
-    m->edge_parent = malloc((first->edges ? first->edges : 1) * sizeof *m->edge_parent);
-    m->edge_seen = calloc(first->edges ? first->edges : 1, 1);
-    if (!v->owner || !v->root_delta || !m->edge_parent || !m->edge_seen ||
-        word_parts_alloc(&m->wp, max_symbols))
+    if (!v->owner || !v->root_delta)
         return HPFC_E_NOMEM;
-    for (uint64_t e = 0; e < first->edges; e++)
-        m->edge_parent[e] = (uint32_t)e;
     if ((st = find_owners(m, v->owner, roots)) || (st = view_shape(m)) ||
         (st = view_levels(m, v, roots)) || (st = count_map(m)))
         return st;
@@ -583,17 +587,5 @@ int hpfc_tree_merge_files(const char *const *paths, size_t count, hpfc_tree **ou
     for (size_t k = 0; k < count && !st; k++, v->nparts++)
         st = read_part_file(paths[k], &v->parts[k], diag);
     merger m = {.parts = v->parts, .nparts = count, .t = t, .diag = diag};
-    if (!st)
-        st = merge_view(&m, v);
-    free(m.edge_parent);
-    free(m.edge_seen);
-    word_parts_free(&m.wp);
-    if (st == HPFC_E_NOMEM)
-        diag_set(diag, st, "out of memory");
-    if (st) {
-        hpfc_tree_free(t);
-        return st;
-    }
-    *out = t;
-    return HPFC_OK;
+    return end_merge(&m, st ? st : merge_view(&m, v), out);
 }
