@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "arrays.h"
 #include "tree.h"
 #include "words.h"
 
@@ -408,13 +409,10 @@ static int view_append(tree_view *v, uint32_t level, uint32_t part, uint64_t par
         return HPFC_OK;
     }
     uint64_t first = last ? last->first + last->count : 0; /* before the table moves */
-    if (n == v->cap[level]) {
-        size_t cap = n ? 2 * n : 16;
-        view_run *grown = realloc(v->runs[level], cap * sizeof *grown);
-        if (!grown)
-            return HPFC_E_NOMEM;
-        v->runs[level] = grown, v->cap[level] = cap;
-    }
+    void *runs = v->runs[level];
+    if (array_grow(&runs, &v->cap[level], n + 1, sizeof *v->runs[level]))
+        return HPFC_E_NOMEM;
+    v->runs[level] = runs;
     v->runs[level][n] = (view_run){first, part_image, 1, 0, part};
     v->nruns[level]++;
     return HPFC_OK;
