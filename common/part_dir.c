@@ -221,7 +221,9 @@ int part_dir_merge(const char *dir, const char *const *paths, uint32_t count, hp
                    hpfc_diag *d)
 {
     memset(d, 0, sizeof *d);
-    char (*named)[4096] = paths ? NULL : calloc(count ? count : 1, sizeof *named);
+    /* dir's names, each as long as it needs ("DIR/part-K.part") */
+    size_t each = paths ? 0 : strlen(dir) + 32;
+    char *named = paths ? NULL : malloc((count ? count : 1) * each);
     const char **list = paths ? NULL : calloc(count ? count : 1, sizeof *list);
     if (!paths && (!named || !list)) {
         free(named);
@@ -229,8 +231,8 @@ int part_dir_merge(const char *dir, const char *const *paths, uint32_t count, hp
         return diag_say(d, HPFC_E_NOMEM, "joining the parts", "out of memory");
     }
     for (uint32_t k = 0; !paths && k < count; k++) {
-        part_path(named[k], sizeof named[k], dir, k, "part");
-        list[k] = named[k];
+        part_path(named + k * each, each, dir, k, "part");
+        list[k] = named + k * each;
     }
     /* the library's message already names the file at fault */
     int st = hpfc_tree_merge_files(paths ? paths : list, count, out, d);
