@@ -487,6 +487,50 @@ uint32_t crc32c_update(uint32_t crc, const void *data, size_t length)
     return crc32c_update_sliced(crc, data, length);
 }
 
+/* Combining (the method of zlib's crc32_combine): appending n zero bytes
+ * to a message multiplies its raw CRC by x^(8n) modulo the polynomial,
+ * a linear map over GF(2) applied here as 32x32 bit matrices, squared for
+ * each bit of n. The pre- and post-inversions cancel in the sum. */
+static uint32_t gf2_times(const uint32_t *matrix, uint32_t vector)
+{
+    uint32_t sum = 0;
+    for (; vector; vector >>= 1, matrix++)
+        if (vector & 1)
+            sum ^= *matrix;
+    return sum;
+}
+
+static void gf2_square(uint32_t *square, const uint32_t *matrix)
+{
+    for (int n = 0; n < 32; n++)
+        square[n] = gf2_times(matrix, matrix[n]);
+}
+
+uint32_t crc32c_combine(uint32_t crc_a, uint32_t crc_b, uint64_t length_b)
+{
+    uint32_t even[32], odd[32]; /* x^(2^k) zero bits, alternately */
+    if (length_b == 0)
+        return crc_a;
+    odd[0] = 0x82F63B78u; /* one zero bit */
+    for (int n = 1; n < 32; n++)
+        odd[n] = UINT32_C(1) << (n - 1);
+    gf2_square(even, odd); /* two zero bits */
+    gf2_square(odd, even); /* four */
+    for (;;) {
+        gf2_square(even, odd); /* a byte, then 4, 16, ... bytes */
+        if (length_b & 1)
+            crc_a = gf2_times(even, crc_a);
+        if (!(length_b >>= 1))
+            break;
+        gf2_square(odd, even);
+        if (length_b & 1)
+            crc_a = gf2_times(odd, crc_a);
+        if (!(length_b >>= 1))
+            break;
+    }
+    return crc_a ^ crc_b;
+}
+
 uint32_t format_meta_crc(const uint8_t *file, uint64_t meta_size)
 {
     static const uint8_t zero[hdr_SIZE_meta_crc32c];

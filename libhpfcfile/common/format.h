@@ -215,6 +215,9 @@ uint32_t crc32c_update(uint32_t crc, const void *data, size_t length);
  * whether crc32c_update uses the CPU's crc32 instruction here. */
 uint32_t crc32c_update_sliced(uint32_t crc, const void *data, size_t length);
 int crc32c_hardware(void);
+/* The CRC-32C of A followed by B, from crc_a, crc_b and B's length: a
+ * section written in pieces out of order gets its checksum from theirs. */
+uint32_t crc32c_combine(uint32_t crc_a, uint32_t crc_b, uint64_t length_b);
 
 /* The header checksum: CRC-32C of [0, meta_size) with the meta_crc32c field
  * taken as zero. meta_size >= FORMAT_HEADER_SIZE. */

@@ -157,9 +157,4 @@ int geom_edge_points(const hpfc_file *file, uint64_t edge, int64_t *xy);
 int geom_leaf_segments(const hpfc_file *file, const hpfc_pixel *leaf, uint32_t n,
                        uint64_t *segment);
 
-/* Builds the section's bytes from the graph the tree was built from:
- * *out (malloc'ed), *length. HPFC_E_ARG when the graph is not the tree's. */
-int geometry_build(const hpfc_tree *tree, const hpfc_graph *graph, uint8_t **out,
-                   uint64_t *length, hpfc_diag *diag);
-
 #endif

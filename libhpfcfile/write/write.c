@@ -23,6 +23,7 @@
 #include "file.h"
 #include "format.h"
 #include "geometry.h"
+#include "geometry_write.h"
 #include "graph.h"
 #include "labels.h"
 #include "part_file.h"
@@ -46,7 +47,8 @@ typedef struct layout {
     uint64_t feat_offset, feat_length;
     const uint8_t *labl;     /* the LABL section's bytes, NULL for none */
     uint64_t labl_offset, labl_length;
-    const uint8_t *geom;     /* the GEOM section's bytes, NULL for none */
+    const uint8_t *geom;     /* the GEOM section's bytes (an open file's), or */
+    geom_writer *geom_plan;  /* the plan it is streamed from (a tree's), NULL for none */
     uint64_t geom_offset, geom_length;
     const char *crs;
     const hpfc_feature_table *features;
@@ -75,6 +77,11 @@ static uint32_t image_cols(const layout *L, uint32_t level)
 static uint32_t image_rows(const layout *L, uint32_t level)
 {
     return level ? L->info.rows : L->info.root_rows;
+}
+
+static bool has_geom(const layout *L)
+{
+    return L->geom || L->geom_plan;
 }
 
 static void layout_free(layout *L)
@@ -260,7 +267,7 @@ static int place_sections(layout *L, hpfc_diag *diag)
     if (st)
         return st;
     L->section_count = 1 + (L->crs != NULL) + (L->features != NULL) + (L->attributes != NULL) +
-                       (L->edge_features != NULL) + (L->labl != NULL) + (L->geom != NULL) +
+                       (L->edge_features != NULL) + (L->labl != NULL) + has_geom(L) +
                        (L->shix != NULL);
     L->meta_size = FORMAT_HEADER_SIZE + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * L->info.levels +
                    (uint64_t)FORMAT_SECTION_ENTRY_SIZE * L->section_count;
@@ -287,7 +294,7 @@ static int place_sections(layout *L, hpfc_diag *diag)
         L->edgf_offset = append_section(&L->file_size, L->edgf_length);
     if (L->labl)
         L->labl_offset = append_section(&L->file_size, L->labl_length);
-    if (L->geom)
+    if (has_geom(L))
         L->geom_offset = append_section(&L->file_size, L->geom_length);
     if (L->shix)
         L->shix_offset = append_section(&L->file_size, L->shix_length);
@@ -477,6 +484,17 @@ static uint32_t sink_put(sink *k, uint64_t offset, const uint8_t *bytes, uint64_
     return crc;
 }
 
+/* The sink as a stream's target (stream.h): sections streamed out a
+ * buffer at a time. */
+static void sink_stream_put(void *ctx, uint64_t offset, const uint8_t *bytes, uint64_t length)
+{
+    sink *k = ctx;
+    if (k->file)
+        memcpy(k->file + offset, bytes, (size_t)length);
+    else
+        sink_pwrite(k, offset, bytes, length);
+}
+
 /* The CRC-32C of `n` zero bytes after `crc`: the padding between pools. */
 static uint32_t crc_zeros(uint32_t crc, uint64_t n)
 {
@@ -538,7 +556,7 @@ static void edgf_emit(const void *t, uint8_t *out)
 /* Every section in file order, then the metadata (header, level table,
  * directory) with their CRCs, into k. HPFC_E_NOMEM when a section's room
  * could not be had; a write error stays in k->err. */
-static int emit_to(const layout *L, sink *k)
+static int emit_to(const layout *L, sink *k, hpfc_diag *diag)
 {
     int nomem = 0;
     uint32_t pool_crc = 0;
@@ -563,13 +581,17 @@ static int emit_to(const layout *L, sink *k)
         labl_crc = sink_put(k, L->labl_offset, L->labl, L->labl_length, 0, 0);
     if (L->geom)
         geom_crc = sink_put(k, L->geom_offset, L->geom, L->geom_length, 0, 0);
+    int st = HPFC_OK;
+    if (L->geom_plan)
+        st = geometry_emit(L->geom_plan, (stream_target){sink_stream_put, k}, L->geom_offset,
+                           &geom_crc, diag);
     if (L->shix)
         shix_crc = sink_put(k, L->shix_offset, L->shix, L->shix_length, 0, 0);
-    uint8_t *meta = sink_room(k, 0, L->meta_size, &nomem);
+    uint8_t *meta = st ? NULL : sink_room(k, 0, L->meta_size, &nomem);
     if (!meta || nomem) {
         if (meta && !k->file)
             free(meta);
-        return HPFC_E_NOMEM;
+        return st ? st : diag_set(diag, HPFC_E_NOMEM, "out of memory");
     }
     emit_header(L, meta);
     emit_level_table(L, meta);
@@ -590,7 +612,7 @@ static int emit_to(const layout *L, sink *k)
     if (L->labl)
         emit_section(meta, next++, FORMAT_TAG_LABL, 0, L->labl_offset, L->labl_length, labl_crc,
                      levels);
-    if (L->geom)
+    if (has_geom(L))
         emit_section(meta, next++, FORMAT_TAG_GEOM, 0, L->geom_offset, L->geom_length, geom_crc,
                      levels);
     if (L->shix)
@@ -629,8 +651,8 @@ static int serialize_layout(layout *L, uint8_t **out, size_t *out_size, hpfc_dia
         st = diag_set(diag, HPFC_E_NOMEM, "out of memory for a %llu-byte file",
                       (unsigned long long)L->file_size);
     sink k = {.file = file, .fd = -1};
-    if (!st && (st = emit_to(L, &k)))
-        diag_set(diag, st, "out of memory");
+    if (!st)
+        st = emit_to(L, &k, diag);
     if (!st) {
         *out = file;
         *out_size = (size_t)L->file_size;
@@ -659,8 +681,8 @@ static int write_layout(layout *L, int fd, const char *name, hpfc_diag *diag)
     if (ftruncate(fd, 0) != 0 || ftruncate(fd, (off_t)L->file_size) != 0)
         return write_error(diag, name, errno);
     sink k = {.fd = fd};
-    if ((st = emit_to(L, &k)))
-        return diag_set(diag, st, "out of memory");
+    if ((st = emit_to(L, &k, diag)))
+        return st;
     return k.err ? write_error(diag, name, k.err) : HPFC_OK;
 }
 
@@ -699,17 +721,10 @@ static int make_labels(layout *L, hpfc_diag *diag)
 }
 
 /* The GEOM section of the tree laid out in L, from the graph it was built
- * from (spec §6.6). */
+ * from (spec §6.6): planned here, streamed out with the other sections. */
 static int make_geometry(layout *L, const hpfc_graph *graph, hpfc_diag *diag)
 {
-    uint8_t *geom = NULL;
-    uint64_t length = 0;
-    int st = geometry_build(L->tree, graph, &geom, &length, diag);
-    if (!st) {
-        L->geom = geom;
-        L->geom_length = length;
-    }
-    return st;
+    return geometry_plan(L->tree, graph, &L->geom_plan, &L->geom_length, diag);
 }
 
 /* The caller's options of `size` bytes over the defaults (all zero), into
@@ -797,7 +812,7 @@ static void layout_release(layout *L, int status)
     }
     if (L->tree) {
         free((void *)L->labl);
-        free((void *)L->geom);
+        geometry_writer_free(L->geom_plan);
     }
     layout_free(L);
 }

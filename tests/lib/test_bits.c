@@ -27,6 +27,11 @@ static void test_crc32c(void)
     for (size_t k = 0; k < sizeof buf; k++)
         bytewise = crc32c_update(bytewise, buf + k, 1);
     CHECK_EQ_INT(bytewise, whole);
+    /* pieces checked apart, then combined: every cut, both pieces empty */
+    for (size_t cut = 0; cut <= sizeof buf; cut += 1 + cut / 3)
+        CHECK_EQ_INT(crc32c_combine(crc32c_update(0, buf, cut), crc32c_update(0, buf + cut, sizeof buf - cut),
+                                    sizeof buf - cut),
+                     whole);
     /* the table and the instruction (where this CPU has it) agree at every
      * length and alignment */
     for (size_t at = 0; at < 9; at++)

@@ -12,12 +12,18 @@
  *     when it enters;
  *   - hpfc_geometry_verify accepts every map written;
  *   - ids out of range, a file without the section, and the section kept
- *     by hpfc_file_serialize.
+ *     by hpfc_file_serialize;
+ *   - a section larger than the writer's stream buffers: written to a file
+ *     (streamed) and to memory, the same bytes, and each of the graph's
+ *     columns cut into the blocks a naive search over every block size
+ *     finds smallest.
  * On generated straight and polyline graphs and the special graphs, under
  * several image sizes, flat and deep, on both pool layouts.
  */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "gen.h"
@@ -481,8 +487,136 @@ static void check_column_span(void)
     CHECK(lo > hi);
 }
 
+/* Bits of column values[0..n) cut into blocks of 2^s (spec §6.6.3): a
+ * directory entry per block, the values less their block's minimum at the
+ * block's width. The writer's own choice is made in one pass over all
+ * sizes; this measures each size apart. */
+static uint64_t naive_column_bits(const uint64_t *values, uint64_t n, uint32_t s, uint32_t *ob,
+                                  uint32_t *bb, uint64_t *payload)
+{
+    uint64_t B = UINT64_C(1) << s, blocks = 0, last_start = 0, max_base = 0;
+    *payload = 0;
+    for (uint64_t b = 0; b < n; b += B, blocks++) {
+        uint64_t lo = UINT64_MAX, hi = 0;
+        for (uint64_t i = b; i < n && i < b + B; i++) {
+            lo = values[i] < lo ? values[i] : lo;
+            hi = values[i] > hi ? values[i] : hi;
+        }
+        max_base = lo > max_base ? lo : max_base;
+        last_start = *payload;
+        uint64_t span = hi - lo;
+        uint32_t w = span ? (uint32_t)(64 - __builtin_clzll(span)) : 0;
+        *payload += (n - b < B ? n - b : B) * w;
+    }
+    *ob = last_start ? (uint32_t)(64 - __builtin_clzll(last_start)) : 0;
+    *bb = max_base ? (uint32_t)(64 - __builtin_clzll(max_base)) : 0;
+    return blocks * (*ob + *bb + GEOM_WIDTH_BITS) + *payload;
+}
+
+/* Column c of the graph's GEOM columns (VX .. PY), from the graph. */
+static uint64_t *graph_column(const hpfc_graph *g, const hpfc_file_info *fi, int c, uint64_t *n)
+{
+    size_t nv = hpfc_graph_vertex_count(g), ne = hpfc_graph_edge_count(g), np = 0;
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t u, w;
+        const int64_t *xy;
+        size_t ni;
+        hpfc_graph_edge(g, e, &u, &w, &xy, &ni);
+        np += ni;
+    }
+    *n = c <= GEOM_VY ? nv : c <= GEOM_EPOINT ? ne : np;
+    uint64_t *v = malloc((*n ? *n : 1) * sizeof *v), k = 0;
+    for (size_t i = 0; v && c <= GEOM_VY && i < nv; i++) {
+        int64_t x, y;
+        hpfc_graph_vertex(g, i, &x, &y);
+        v[k++] = (uint64_t)(c == GEOM_VX ? x - fi->x0 : y - fi->y0);
+    }
+    for (size_t e = 0, before = 0; v && c > GEOM_VY && e < ne; e++) {
+        uint32_t u, w;
+        const int64_t *xy;
+        size_t ni;
+        hpfc_graph_edge(g, e, &u, &w, &xy, &ni);
+        if (c == GEOM_EU || c == GEOM_EV || c == GEOM_EPOINT)
+            v[k++] = c == GEOM_EU ? u : c == GEOM_EV ? w : before;
+        for (size_t q = 0; c >= GEOM_PX && q < ni; q++)
+            v[k++] = (uint64_t)(c == GEOM_PX ? xy[2 * q] - fi->x0 : xy[2 * q + 1] - fi->y0);
+        before += ni;
+    }
+    return v;
+}
+
+/* A map whose GEOM outgrows the writer's stream buffers (64 KiB): written
+ * to a file, where the section is streamed, and serialised, the same
+ * bytes; read back equal to the graph; its graph columns blocked as the
+ * naive search says. */
+static void check_streamed(void)
+{
+    hpfc_graph *g = NULL;
+    CHECK_EQ_INT(gen_polyline(11, 120000, 2000, 0.5, &g), HPFC_OK);
+    hpfc_build_params bp;
+    hpfc_build_params_default(&bp);
+    hpfc_tree *tree = NULL;
+    CHECK_EQ_INT(hpfc_build(g, &bp, &tree, NULL), HPFC_OK);
+    hpfc_write_options o = {.face_labels = 1, .geometry = g};
+    uint8_t *mem = NULL, *disk = NULL;
+    size_t size = 0, disk_size = 0;
+    char path[] = "/tmp/hpfc-geom-XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0);
+    if (fd >= 0)
+        close(fd);
+    CHECK_EQ_INT(check_tree_serialize(tree, &o, &mem, &size, NULL), HPFC_OK);
+    o.layout = check_layout;
+    CHECK_EQ_INT(hpfc_tree_write_file(tree, &o, path, NULL), HPFC_OK);
+    FILE *in = fopen(path, "rb");
+    CHECK(in != NULL);
+    if (in && (disk = malloc(size + 1)))
+        disk_size = fread(disk, 1, size + 1, in);
+    if (in)
+        fclose(in);
+    unlink(path);
+    CHECK_EQ_INT(disk_size, size);
+    CHECK(mem && disk && disk_size == size && memcmp(mem, disk, size) == 0);
+    hpfc_file *f = NULL;
+    CHECK_EQ_INT(hpfc_open_memory(disk, disk_size, 0, &f), HPFC_OK);
+    hpfc_section_info si = {0};
+    uint32_t k = 0;
+    while (f && hpfc_file_get_section(f, k, &si) == HPFC_OK && memcmp(si.tag, "GEOM", 4) != 0)
+        k++;
+    CHECK(f && memcmp(si.tag, "GEOM", 4) == 0);
+    if (f && memcmp(si.tag, "GEOM", 4) == 0) {
+        CHECK(si.length > 4 * 65536); /* several buffers a column */
+        check_points(f, g);
+        hpfc_file_info fi;
+        hpfc_file_get_info(f, &fi);
+        for (int c = GEOM_VX; c <= GEOM_PY; c++) {
+            uint64_t n = 0, best = UINT64_MAX, payload = 0, best_payload = 0;
+            uint64_t *v = graph_column(g, &fi, c, &n);
+            uint32_t best_s = 0, ob = 0, bb = 0, best_ob = 0, best_bb = 0;
+            CHECK(v != NULL);
+            for (uint32_t s = 0; v && s <= 12; s++) {
+                uint64_t bits = naive_column_bits(v, n, s, &ob, &bb, &payload);
+                if (bits < best)
+                    best = bits, best_s = s, best_ob = ob, best_bb = bb, best_payload = payload;
+            }
+            const uint8_t *d = disk + si.offset + GEOM_HEADER_SIZE + (size_t)c * GEOM_COLUMN_SIZE;
+            CHECK_EQ_INT(geomc_get_block_shift(d), best_s);
+            CHECK_EQ_INT(geomc_get_offset_bits(d), best_ob);
+            CHECK_EQ_INT(geomc_get_base_bits(d), best_bb);
+            CHECK_EQ_INT(geomc_get_payload_bits(d), best_payload);
+            free(v);
+        }
+    }
+    hpfc_close(f);
+    free(disk);
+    hpfc_free(mem);
+    hpfc_tree_free(tree);
+    hpfc_graph_free(g);
+}
+
 int main(void)
 {
+    check_streamed();
     check_use_test_layout();
     check_column_entries();
     check_column_span();
