@@ -17,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -491,6 +492,48 @@ static int read_all(const char *path, char **out, size_t *out_len)
     return 0;
 }
 
+/* The input's bytes. A regular file (standard input too, when it is one)
+ * is mapped read-only: its pages are the page cache's, which the kernel
+ * may drop and read again, so a large map's text (the parser reads it
+ * twice) does not sit in the process's own memory beside the graph it
+ * becomes. Anything else (a pipe) is read whole. */
+typedef struct input_bytes {
+    char *text;
+    size_t len;
+    int mapped;
+} input_bytes;
+
+static int input_map(const char *path, input_bytes *in)
+{
+    *in = (input_bytes){0};
+    int is_stdin = strcmp(path, "-") == 0;
+    int fd = is_stdin ? STDIN_FILENO : open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return errno ? errno : EIO;
+    struct stat sb;
+    if (fstat(fd, &sb) == 0 && S_ISREG(sb.st_mode) && sb.st_size > 0 &&
+        (uintmax_t)sb.st_size <= SIZE_MAX) {
+        size_t size = (size_t)sb.st_size;
+        void *p = mmap(NULL, size, PROT_READ, MAP_PRIVATE, fd, 0);
+        if (p != MAP_FAILED) {
+            posix_madvise(p, size, POSIX_MADV_SEQUENTIAL);
+            *in = (input_bytes){.text = p, .len = size, .mapped = 1};
+        }
+    }
+    if (!is_stdin)
+        close(fd);
+    return in->mapped ? 0 : read_all(path, &in->text, &in->len);
+}
+
+static void input_release(input_bytes *in)
+{
+    if (in->mapped)
+        munmap(in->text, in->len);
+    else
+        free(in->text);
+    *in = (input_bytes){0};
+}
+
 static int has_suffix(const char *s, const char *suffix)
 {
     size_t n = strlen(s), m = strlen(suffix);
@@ -576,27 +619,26 @@ static int read_graph(const pack_args *a, hpfc_graph **g, pack_report *r)
 {
     if (is_gis_input(a->input))
         return read_gis(a, g, r);
-    char *text;
-    size_t len;
-    int err = read_all(a->input, &text, &len);
+    input_bytes in;
+    int err = input_map(a->input, &in);
     if (err) {
         complain("%s: %s", a->input, strerror(err));
         return EXIT_FAIL;
     }
-    if (draco_has_magic(text, len) || has_suffix(a->input, ".drc")) {
-        int status = read_draco(a, text, len, g, r);
-        free(text);
+    if (draco_has_magic(in.text, in.len) || has_suffix(a->input, ".drc")) {
+        int status = read_draco(a, in.text, in.len, g, r);
+        input_release(&in);
         return status;
     }
-    if (!has_suffix(a->input, ".pfc") && !looks_like_pfc(text, len)) {
-        free(text);
+    if (!has_suffix(a->input, ".pfc") && !looks_like_pfc(in.text, in.len)) {
+        input_release(&in);
         complain("%s: unsupported input format (standard input takes .pfc or Draco data)",
                  a->input);
         return EXIT_USAGE;
     }
     hpfc_diag diag = {0};
-    int st = hpfc_pfc_parse(text, len, g, &diag);
-    free(text);
+    int st = hpfc_pfc_parse(in.text, in.len, g, &diag);
+    input_release(&in);
     if (st) {
         complain("%s: %s", a->input, diag_text(&diag, st));
         return EXIT_FAIL;

@@ -25,6 +25,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "graph.h"
 
@@ -738,11 +741,32 @@ static int read_stream(FILE *f, char **buf, size_t *len)
     return HPFC_OK;
 }
 
+/* A regular file's text mapped read-only (*map set, for munmap): its pages
+ * are the page cache's, which the kernel may drop and read again, so a
+ * large map's text (read twice, by pass 1 and pass 2) does not sit in the
+ * process's own memory beside the graph it becomes. NULL *map otherwise:
+ * a pipe, an empty file, or a mapping refused; the caller reads it. */
+static void map_text(FILE *f, char **map, size_t *len)
+{
+    struct stat sb;
+    *map = NULL;
+    int fd = fileno(f);
+    if (fd < 0 || fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode) || sb.st_size <= 0 ||
+        (uintmax_t)sb.st_size > SIZE_MAX)
+        return;
+    void *p = mmap(NULL, (size_t)sb.st_size, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (p == MAP_FAILED)
+        return;
+    posix_madvise(p, (size_t)sb.st_size, POSIX_MADV_SEQUENTIAL);
+    *map = p;
+    *len = (size_t)sb.st_size;
+}
+
 int hpfc_pfc_read_file(const char *path, hpfc_graph **out, hpfc_diag *diag)
 {
-    char *text = NULL;
+    char *text = NULL, *map = NULL;
     size_t len = 0;
-    int st;
+    int st = HPFC_OK;
     diag_clear(diag);
     if (out)
         *out = NULL;
@@ -752,8 +776,10 @@ int hpfc_pfc_read_file(const char *path, hpfc_graph **out, hpfc_diag *diag)
     FILE *f = fopen(path, "rb");
     if (!f)
         return diag_set(diag, HPFC_E_IO, "cannot open %s: %s", path, strerror(errno));
+    map_text(f, &map, &len);
     errno = 0;
-    st = read_stream(f, &text, &len);
+    if (!map)
+        st = read_stream(f, &text, &len);
     int read_errno = errno;
     fclose(f);
     if (st == HPFC_E_NOMEM)
@@ -761,7 +787,9 @@ int hpfc_pfc_read_file(const char *path, hpfc_graph **out, hpfc_diag *diag)
     if (st)
         return diag_set(diag, st, "cannot read %s: %s", path,
                         strerror(read_errno ? read_errno : EIO));
-    st = hpfc_pfc_parse(text, len, out, diag);
+    st = hpfc_pfc_parse(map ? map : text, len, out, diag);
+    if (map)
+        munmap(map, len);
     free(text);
     return st;
 }
