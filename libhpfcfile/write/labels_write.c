@@ -19,24 +19,70 @@
 #include "file.h"
 #include "labels.h"
 
-/* What pass 1 learns: each leaf's record offset, each level's samples. */
+/* Block sizes 2^0 .. 2^(DIR_SHIFTS - 1) leaves for the directory. */
+enum { DIR_SHIFTS = 11 };
+
+/* What pass 1 learns: the records' bits, the largest offset inside a block
+ * at each block size, each level's samples and each edge's two faces.
+ * Pass 2 lays the records and the directory out from the same running
+ * offset, so no leaf's offset is kept. */
 typedef struct label_plan {
     uint64_t leaves, label_bits;
-    uint64_t *offset;                      /* leaves + 1 record offsets */
+    uint64_t at;                           /* the running record offset */
+    uint64_t block_at[DIR_SHIFTS], most[DIR_SHIFTS];
     uint64_t *samples[HPFC_MAX_LEVELS];
     uint32_t rank_bits[HPFC_MAX_LEVELS];
     uint32_t face_bits, edge_bits, sample_shift;
     uint64_t faces, edges;
-    uint64_t *sides;                       /* per edge: its two faces, UINT64_MAX unseen */
+    /* per edge its two faces, face_bits each, as the section stores them
+     * (0 for an edge with no crossing), and whether it was met */
+    uint8_t *sides, *seen;
+    /* pass 2: the directory being written */
+    uint8_t *dir;
+    uint32_t shift, block_bits, offset_bits;
+    uint64_t block_record_bits, dir_block_at; /* the current block's first offset */
     labels_levels lv;
 } label_plan;
 
 static void plan_free(label_plan *p)
 {
-    free(p->offset);
     free(p->sides);
+    free(p->seen);
     for (uint32_t l = 0; l < HPFC_MAX_LEVELS; l++)
         free(p->samples[l]);
+}
+
+/* Pass 1: leaf g's record starts at `at`; at every block size, how far
+ * into its block. */
+static void measure_blocks(label_plan *p, uint64_t g, uint64_t at)
+{
+    for (uint32_t b = 0; b < DIR_SHIFTS; b++) {
+        uint64_t B = UINT64_C(1) << b;
+        if ((g & (B - 1)) == 0)
+            p->block_at[b] = at;
+        else if (at - p->block_at[b] > p->most[b])
+            p->most[b] = at - p->block_at[b];
+    }
+}
+
+/* Pass 2: leaf g's directory entry, its record starting at `at`: a
+ * block's first leaf gets the offset, the others the distance from it. */
+static void put_directory_entry(label_plan *p, uint64_t g, uint64_t at)
+{
+    uint64_t k = g & ((UINT64_C(1) << p->shift) - 1), rec = (g >> p->shift) * p->block_record_bits;
+    if (k == 0) {
+        format_put(p->dir, rec, p->block_bits, at);
+        p->dir_block_at = at;
+    } else {
+        format_put(p->dir, rec + p->block_bits + (k - 1) * p->offset_bits, p->offset_bits,
+                   at - p->dir_block_at);
+    }
+}
+
+static uint64_t side_get(const label_plan *p, uint64_t e, int which)
+{
+    format_bits b = {p->sides, 2 * p->edges * p->face_bits, format_pool_bytes(2 * p->edges * p->face_bits)};
+    return format_get(&b, (2 * e + (uint64_t)which) * p->face_bits, p->face_bits);
 }
 
 /* One leaf, visited in leaf order: pass 1 (out NULL) records its offset,
@@ -65,11 +111,15 @@ static int visit_leaf(leaf_visit *lv, uint32_t level, uint64_t slot, const hpfc_
         labels_word_free(&w);
         return st;
     }
-    uint64_t at = p->offset[g];
-    if (!lv->out)
-        p->offset[g + 1] = at + labels_record_bits(&w, p->face_bits, p->edge_bits);
-    else if (w.n == 0)
-        format_put(lv->out, at, p->face_bits, faces_node_face(lv->fc, base));
+    uint64_t at = p->at;
+    p->at = at + labels_record_bits(&w, p->face_bits, p->edge_bits);
+    if (!lv->out) {
+        measure_blocks(p, g, at);
+    } else {
+        put_directory_entry(p, g, at);
+        if (w.n == 0)
+            format_put(lv->out, at, p->face_bits, faces_node_face(lv->fc, base));
+    }
     /* Each piece from its first crossing c: the face on the right of out_c
      * (stretch c + 1) and of in_c (stretch c), the two sides of its edge.
      * Pass 1 records an edge's sides where it first comes; pass 2 writes
@@ -80,16 +130,19 @@ static int visit_leaf(leaf_visit *lv, uint32_t level, uint64_t slot, const hpfc_
         uint64_t e = px->cross_edge[c];
         uint64_t right = faces_node_face(lv->fc, base + (c + 1) % w.n);
         uint64_t left = faces_node_face(lv->fc, base + c);
-        uint64_t *side = &p->sides[2 * e];
         if (e >= p->edges) {
             st = diag_set(diag, HPFC_E_ARG, "labels: a crossing of edge %llu, of %llu edges",
                           (unsigned long long)e, (unsigned long long)p->edges);
             break;
         }
         if (!lv->out) {
-            if (side[0] == UINT64_MAX)
-                side[0] = right, side[1] = left;
+            if (!(p->seen[e >> 3] & (1u << (e & 7)))) {
+                p->seen[e >> 3] |= (uint8_t)(1u << (e & 7));
+                format_put(p->sides, 2 * e * p->face_bits, p->face_bits, right);
+                format_put(p->sides, (2 * e + 1) * p->face_bits, p->face_bits, left);
+            }
         } else {
+            uint64_t side[2] = {side_get(p, e, 0), side_get(p, e, 1)};
             uint32_t bit = side[0] != side[1] && right != side[0];
             if (right != side[bit] || left != side[!bit]) {
                 st = diag_set(diag, HPFC_E_ARG, "labels: edge %llu has more than two faces",
@@ -172,13 +225,9 @@ static void choose_blocks(const label_plan *p, uint32_t *shift, uint32_t *block_
 {
     uint64_t best = UINT64_MAX;
     *block_bits = bits_for(p->label_bits);
-    for (uint32_t b = 0; b <= 10; b++) {
-        uint64_t B = UINT64_C(1) << b, most = 0;
-        for (uint64_t g = 0; g < p->leaves; g++) {
-            uint64_t rel = p->offset[g] - p->offset[g & ~(B - 1)];
-            most = rel > most ? rel : most;
-        }
-        uint32_t wr = bits_for(most);
+    for (uint32_t b = 0; b < DIR_SHIFTS; b++) {
+        uint64_t B = UINT64_C(1) << b;
+        uint32_t wr = bits_for(p->most[b]);
         uint64_t blocks = (p->leaves + B - 1) / B;
         uint64_t size = blocks * (*block_bits + (B - 1) * wr);
         if (size < best) {
@@ -186,20 +235,6 @@ static void choose_blocks(const label_plan *p, uint32_t *shift, uint32_t *block_
             *shift = b;
             *offset_bits = wr;
         }
-    }
-}
-
-static void put_directory(const label_plan *p, uint8_t *dir, uint32_t shift, uint32_t block_bits,
-                          uint32_t offset_bits, uint64_t record_bits)
-{
-    uint64_t B = UINT64_C(1) << shift;
-    for (uint64_t g = 0; g < p->leaves; g++) {
-        uint64_t block = g >> shift, k = g & (B - 1), at = block * record_bits;
-        if (k == 0)
-            format_put(dir, at, block_bits, p->offset[g]);
-        else
-            format_put(dir, at + block_bits + (k - 1) * offset_bits, offset_bits,
-                       p->offset[g] - p->offset[g - k]);
     }
 }
 
@@ -229,10 +264,10 @@ static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file
         if (!(p->samples[l] = calloc(samples ? samples : 1, sizeof *p->samples[l])))
             return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
     }
-    if (!(p->offset = calloc(p->leaves + 1, sizeof *p->offset)) ||
-        p->edges > SIZE_MAX / 16 || !(p->sides = malloc(p->edges * 16)))
+    uint64_t side_bytes = format_pool_bytes(2 * p->edges * p->face_bits);
+    if (p->edges > SIZE_MAX / 128 || !(p->sides = calloc(1, side_bytes ? (size_t)side_bytes : 1)) ||
+        !(p->seen = calloc(1, (size_t)format_pool_bytes(p->edges))))
         return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
-    memset(p->sides, 0xFF, p->edges * 16);
     return HPFC_OK;
 }
 
@@ -250,7 +285,7 @@ int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces 
     uint32_t shift = 0, block_bits = 0, offset_bits = 0;
     uint8_t *sec = NULL;
     if (!st) {
-        p.label_bits = p.offset[p.leaves];
+        p.label_bits = p.at;
         choose_blocks(&p, &shift, &block_bits, &offset_bits);
         if (!labels_compute_layout(&p.lv, p.rank_bits, p.leaves, shift, block_bits, offset_bits,
                                    p.sample_shift, p.edges, p.face_bits, p.label_bits, &lay) ||
@@ -262,6 +297,10 @@ int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces 
     if (!st) {
         v.out = sec + lay.labels_at;
         v.next = 0;
+        p.at = 0;
+        p.dir = sec + lay.dir_at;
+        p.shift = shift, p.block_bits = block_bits, p.offset_bits = offset_bits;
+        p.block_record_bits = lay.block_record_bits;
         st = visit_all(&v, tree, file, diag);
     }
     if (!st) {
@@ -283,10 +322,8 @@ int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces 
                 format_put(sec + lay.rank_at, lay.rank_start[l] + k * p.rank_bits[l],
                            p.rank_bits[l], p.samples[l][k]);
         }
-        put_directory(&p, sec + lay.dir_at, shift, block_bits, offset_bits, lay.block_record_bits);
-        for (uint64_t k = 0; k < 2 * p.edges; k++) /* an edge with no crossing: faces 0 */
-            format_put(sec + lay.sides_at, k * p.face_bits, p.face_bits,
-                       p.sides[k] == UINT64_MAX ? 0 : p.sides[k]);
+        /* already in the section's bit layout; an edge with no crossing: faces 0 */
+        memcpy(sec + lay.sides_at, p.sides, (size_t)format_pool_bytes(2 * p.edges * p.face_bits));
         *out = sec;
         *length = lay.length;
         sec = NULL;
