@@ -163,6 +163,14 @@ int atomic_output_open(atomic_output *o, const char *path, char *why)
     return 0;
 }
 
+const char *atomic_output_read_path(const atomic_output *o, char *buf, size_t cap)
+{
+    if (o->tmp)
+        return o->tmp;
+    snprintf(buf, cap, "/proc/self/fd/%d", o->fd);
+    return buf;
+}
+
 FILE *atomic_output_stream(atomic_output *o)
 {
     if (!o->fp && o->fd >= 0)

@@ -53,6 +53,11 @@ int atomic_output_open(atomic_output *o, const char *path, char *why);
  * when out of memory). */
 FILE *atomic_output_stream(atomic_output *o);
 
+/* A path that opens the temporary file (written so far) for reading:
+ * its name, or, when it has none yet (O_TMPFILE), its descriptor under
+ * /proc/self/fd, formatted into buf. */
+const char *atomic_output_read_path(const atomic_output *o, char *buf, size_t cap);
+
 /* Makes the temporary file OUT: flush, fsync, rename, fsync of the
  * directory. 0, or 1 with why[] filled and the temporary file removed. o
  * is released either way. */

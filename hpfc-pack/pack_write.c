@@ -130,6 +130,38 @@ static int write_output(const char *output, const hpfc_file *f, const hpfc_write
     return atomic_output_commit(&o, why) ? output_failed(output, why, diag) : HPFC_OK;
 }
 
+/* The tree written straight to OUTPUT's temporary file, a section at a
+ * time (hpfc_tree_write_fd: GEOM streamed, pools one at a time), then
+ * opened from there for the read-back check and the report (`hook`), and
+ * renamed to OUTPUT. For a file OUTPUT when nothing is added after the
+ * tree (no features to link): the file is never held in memory, where
+ * the path through hpfc_tree_serialize holds all of it while it writes. */
+static int write_tree_direct(const hpfc_tree *t, const hpfc_write_options *wopts,
+                             const char *output, pack_write_hook hook, void *user,
+                             pack_write_stats *r, hpfc_diag *diag)
+{
+    char why[ATOMIC_WHY];
+    atomic_output o;
+    if (atomic_output_open(&o, output, why))
+        return output_failed(output, why, diag);
+    hpfc_file *f = NULL;
+    struct stat sb;
+    char proc_path[40];
+    const char *written = atomic_output_read_path(&o, proc_path, sizeof proc_path);
+    int st = hpfc_tree_write_fd(t, wopts, o.fd, diag);
+    if (!st && fstat(o.fd, &sb) == 0)
+        r->file_bytes = (uint64_t)sb.st_size;
+    if (!st && ((st = hpfc_open(written, 0, &f)) != HPFC_OK || (hook && (st = hook(user, t, f)) != HPFC_OK)))
+        snprintf(diag->message, sizeof diag->message,
+                 "internal error: the file written does not read back (%s)", hpfc_strerror(st));
+    hpfc_close(f);
+    if (st) { /* "cannot write: reason", after the OUTPUT the caller prints */
+        atomic_output_discard(&o);
+        return st;
+    }
+    return atomic_output_commit(&o, why) ? output_failed(output, why, diag) : HPFC_OK;
+}
+
 static int diag_set_message(hpfc_diag *diag, int status, const char *message)
 {
     snprintf(diag->message, sizeof diag->message, "%s", message);
@@ -346,13 +378,19 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts
         r->build_failed = 1;
         return st;
     }
+    int linking = gis && gis_features_count(gis->polygons) > 0;
+    if (output && !linking) {
+        st = write_tree_direct(t, &wopts, output, hook, user, r, diag);
+        hpfc_tree_free(t);
+        r->write_t = stage_lap(&t0);
+        return st;
+    }
     uint8_t *bytes = NULL;
     size_t size = 0;
     hpfc_file *f = NULL;
     /* the faces LABL is numbered with, kept for the linking, which would
      * otherwise number them again on the file (seconds on a large layer) */
     hpfc_faces *faces = NULL;
-    int linking = gis && gis_features_count(gis->polygons) > 0;
     wopts.faces_out = linking && wopts.face_labels ? &faces : NULL;
     if ((st = hpfc_tree_serialize(t, &wopts, &bytes, &size, diag)) == HPFC_OK &&
         ((st = hpfc_open_memory(bytes, size, 0, &f)) != HPFC_OK ||

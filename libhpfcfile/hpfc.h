@@ -614,6 +614,15 @@ HPFC_API int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_
                                         size_t opts_size, const char *path, hpfc_diag *diag);
 #define hpfc_tree_write_file(tree, opts, path, diag) \
     hpfc_tree_write_file_sized((tree), (opts), sizeof(hpfc_write_options), (path), (diag))
+/* The same, written from the start of `fd`, an open regular file the
+ * caller owns (a tool with its own way of replacing its output): set to
+ * the file's size, then written a section at a time at known offsets, as
+ * hpfc_file_write_fd writes; fd is neither synced nor closed. HPFC_E_IO
+ * (with the system's reason in diag) when a write fails. */
+HPFC_API int hpfc_tree_write_fd_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
+                                      size_t opts_size, int fd, hpfc_diag *diag);
+#define hpfc_tree_write_fd(tree, opts, fd, diag) \
+    hpfc_tree_write_fd_sized((tree), (opts), sizeof(hpfc_write_options), (fd), (diag))
 
 /* ------------------------------------------------------------------------
  * Reading .hpfc files: a zero-copy reader over a memory-mapped file or a

@@ -1063,6 +1063,23 @@ int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *
     return st;
 }
 
+int hpfc_tree_write_fd_sized(const hpfc_tree *tree, const hpfc_write_options *opts_arg,
+                             size_t opts_size, int fd, hpfc_diag *diag)
+{
+    hpfc_write_options opts;
+    layout L;
+    int st = begin_layout("hpfc_tree_write_fd", tree, opts_arg, opts_size, &opts, &L, diag);
+    if (!st && fd < 0)
+        st = diag_set(diag, HPFC_E_ARG, "hpfc_tree_write_fd: no file descriptor");
+    if (st)
+        return st;
+    st = lay_out_tree(tree, &opts, &L, diag);
+    if (!st)
+        st = write_layout(&L, fd, NULL, diag);
+    layout_release(&L, st);
+    return st;
+}
+
 int hpfc_file_write_file_sized(const hpfc_file *file, const hpfc_write_options *opts_arg,
                                size_t opts_size, const char *path, hpfc_diag *diag)
 {

@@ -157,10 +157,11 @@ static void test_write_file(void)
     hpfc_tree_free(b);
 }
 
-/* hpfc_file_write_fd into a file that held more bytes than it will (each
- * 0xa5): exactly the serialised bytes, the rest cut, the padding zeros. */
-static void check_write_fd(const hpfc_file *f, const hpfc_write_options *to, const uint8_t *want,
-                           size_t want_size)
+/* hpfc_file_write_fd of f, or hpfc_tree_write_fd of t when f is NULL,
+ * into a file that held more bytes than it will (each 0xa5): exactly the
+ * serialised bytes, the rest cut, the padding zeros. */
+static void check_write_fd(const hpfc_file *f, const hpfc_tree *t, const hpfc_write_options *to,
+                           const uint8_t *want, size_t want_size)
 {
     FILE *tf = tmpfile();
     CHECK(tf != NULL);
@@ -172,7 +173,13 @@ static void check_write_fd(const hpfc_file *f, const hpfc_write_options *to, con
     CHECK_EQ_INT(fwrite(junk, 1, old_size, tf), old_size);
     CHECK_EQ_INT(fflush(tf), 0);
     hpfc_diag d;
-    CHECK_EQ_INT(hpfc_file_write_fd(f, to, fileno(tf), &d), HPFC_OK);
+    hpfc_write_options in_layout = *to; /* the layout under test, as check_tree_serialize */
+    if (in_layout.layout == HPFC_LAYOUT_DEFAULT)
+        in_layout.layout = check_layout;
+    if (f)
+        CHECK_EQ_INT(hpfc_file_write_fd(f, to, fileno(tf), &d), HPFC_OK);
+    else
+        CHECK_EQ_INT(hpfc_tree_write_fd(t, &in_layout, fileno(tf), &d), HPFC_OK);
     struct stat st;
     CHECK_EQ_INT(fstat(fileno(tf), &st), 0);
     CHECK_EQ_INT((size_t)st.st_size, want_size);
@@ -187,21 +194,26 @@ static void check_write_fd(const hpfc_file *f, const hpfc_write_options *to, con
 /* What the descriptor writer refuses: no descriptor, one open for reading
  * only, a pipe (no size to set): HPFC_E_ARG, then HPFC_E_IO with the
  * system's reason. */
-static void check_write_fd_refusals(const hpfc_file *f, const char *path)
+static void check_write_fd_refusals(const hpfc_file *f, const hpfc_tree *t, const char *path)
 {
     hpfc_diag d;
     CHECK_EQ_INT(hpfc_file_write_fd(f, NULL, -1, &d), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_file_write_fd(NULL, NULL, 1, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_tree_write_fd(t, NULL, -1, &d), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_tree_write_fd(NULL, NULL, 1, &d), HPFC_E_ARG);
     FILE *ro = fopen(path, "rb");
     CHECK(ro != NULL);
     if (ro) {
         CHECK_EQ_INT(hpfc_file_write_fd(f, NULL, fileno(ro), &d), HPFC_E_IO);
+        CHECK(strstr(d.message, "cannot write") != NULL);
+        CHECK_EQ_INT(hpfc_tree_write_fd(t, NULL, fileno(ro), &d), HPFC_E_IO);
         CHECK(strstr(d.message, "cannot write") != NULL);
         fclose(ro);
     }
     int p[2];
     CHECK_EQ_INT(pipe(p), 0);
     CHECK_EQ_INT(hpfc_file_write_fd(f, NULL, p[1], &d), HPFC_E_IO);
+    CHECK_EQ_INT(hpfc_tree_write_fd(t, NULL, p[1], &d), HPFC_E_IO);
     close(p[0]), close(p[1]);
 }
 
@@ -223,8 +235,9 @@ static void check_reserialized(const hpfc_tree *t, const hpfc_write_options *fro
         CHECK(got && got_size == want_size && memcmp(got, want, want_size) == 0);
         CHECK_EQ_INT(hpfc_file_write_file(f, to, path, &d), HPFC_OK);
         CHECK(file_equals(path, want, want_size));
-        check_write_fd(f, to, want, want_size);
+        check_write_fd(f, NULL, to, want, want_size);
     }
+    check_write_fd(NULL, t, to, want, want_size);
     hpfc_close(f);
     hpfc_free(src), hpfc_free(want), hpfc_free(got);
 }
@@ -266,7 +279,7 @@ static void test_file_serialize(void)
     CHECK_EQ_INT(hpfc_file_serialize(f, NULL, NULL, &got_size, &d), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_file_write_file(f, NULL, NULL, &d), HPFC_E_ARG);
     CHECK_EQ_INT(hpfc_file_write_file(NULL, NULL, path, &d), HPFC_E_ARG);
-    check_write_fd_refusals(f, path);
+    check_write_fd_refusals(f, t, path);
     hpfc_close(f);
     hpfc_free(plain);
     free(x.start), free(x.link);
