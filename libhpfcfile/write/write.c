@@ -893,14 +893,40 @@ int hpfc_file_serialize_sized(const hpfc_file *file, const hpfc_write_options *o
     return st;
 }
 
+/* The write_fd calls' start (they mirror the serialize pair): begin_layout,
+ * and the descriptor checked. */
+static int begin_write_fd(const char *who, const void *source, const hpfc_write_options *opts_arg,
+                          size_t opts_size, int fd, hpfc_write_options *opts, layout *L,
+                          hpfc_diag *diag)
+{
+    int st = begin_layout(who, source, opts_arg, opts_size, opts, L, diag);
+    if (!st && fd < 0)
+        st = diag_set(diag, HPFC_E_ARG, "%s: no file descriptor", who);
+    return st;
+}
+
+int hpfc_tree_write_fd_sized(const hpfc_tree *tree, const hpfc_write_options *opts_arg,
+                             size_t opts_size, int fd, hpfc_diag *diag)
+{
+    hpfc_write_options opts;
+    layout L;
+    int st = begin_write_fd("hpfc_tree_write_fd", tree, opts_arg, opts_size, fd, &opts, &L, diag);
+    if (st)
+        return st;
+    st = lay_out_tree(tree, &opts, &L, diag);
+    if (!st)
+        st = write_layout(&L, fd, NULL, diag);
+    layout_release(&L, st);
+    return st;
+}
+
+/* Starts as hpfc_tree_write_fd does (see there); the pools are copied. */
 int hpfc_file_write_fd_sized(const hpfc_file *file, const hpfc_write_options *opts_arg,
                              size_t opts_size, int fd, hpfc_diag *diag)
 {
     hpfc_write_options opts;
     layout L;
-    int st = begin_layout("hpfc_file_write_fd", file, opts_arg, opts_size, &opts, &L, diag);
-    if (!st && fd < 0)
-        st = diag_set(diag, HPFC_E_ARG, "hpfc_file_write_fd: no file descriptor");
+    int st = begin_write_fd("hpfc_file_write_fd", file, opts_arg, opts_size, fd, &opts, &L, diag);
     if (st)
         return st;
     lay_out_file(file, &L);
@@ -1059,23 +1085,6 @@ int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *
     st = lay_out_tree(tree, &opts, &L, diag);
     if (!st)
         st = write_atomic(path, fill_layout, &L, diag);
-    layout_release(&L, st);
-    return st;
-}
-
-int hpfc_tree_write_fd_sized(const hpfc_tree *tree, const hpfc_write_options *opts_arg,
-                             size_t opts_size, int fd, hpfc_diag *diag)
-{
-    hpfc_write_options opts;
-    layout L;
-    int st = begin_layout("hpfc_tree_write_fd", tree, opts_arg, opts_size, &opts, &L, diag);
-    if (!st && fd < 0)
-        st = diag_set(diag, HPFC_E_ARG, "hpfc_tree_write_fd: no file descriptor");
-    if (st)
-        return st;
-    st = lay_out_tree(tree, &opts, &L, diag);
-    if (!st)
-        st = write_layout(&L, fd, NULL, diag);
     layout_release(&L, st);
     return st;
 }
