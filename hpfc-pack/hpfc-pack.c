@@ -454,13 +454,10 @@ static int parse_args(int argc, char **argv, pack_args *a)
 
 /* ---- input --------------------------------------------------------------- */
 
-/* Reads a whole file (or standard input for "-"); reads in chunks so that
- * pipes work too. */
-static int read_all(const char *path, char **out, size_t *out_len)
+/* Reads the rest of an open stream; reads in chunks so that pipes work
+ * too. */
+static int read_all(FILE *f, char **out, size_t *out_len)
 {
-    FILE *f = strcmp(path, "-") == 0 ? stdin : fopen(path, "rb");
-    if (!f)
-        return errno ? errno : EIO;
     size_t len = 0, cap = 1 << 16;
     char *buf = malloc(cap);
     int err = buf ? 0 : ENOMEM;
@@ -481,8 +478,6 @@ static int read_all(const char *path, char **out, size_t *out_len)
             break;
         }
     }
-    if (f != stdin)
-        fclose(f);
     if (err) {
         free(buf);
         return err;
@@ -507,12 +502,14 @@ static int input_map(const char *path, input_bytes *in)
 {
     *in = (input_bytes){0};
     int is_stdin = strcmp(path, "-") == 0;
-    int fd = is_stdin ? STDIN_FILENO : open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0)
+    FILE *f = is_stdin ? stdin : fopen(path, "rb");
+    if (!f)
         return errno ? errno : EIO;
+    int fd = fileno(f);
     struct stat sb;
-    if (fstat(fd, &sb) == 0 && S_ISREG(sb.st_mode) && sb.st_size > 0 &&
-        (uintmax_t)sb.st_size <= SIZE_MAX) {
+    /* standard input only from its start: a caller may have read some */
+    if (fd >= 0 && fstat(fd, &sb) == 0 && S_ISREG(sb.st_mode) && sb.st_size > 0 &&
+        (uintmax_t)sb.st_size <= SIZE_MAX && (!is_stdin || lseek(fd, 0, SEEK_CUR) == 0)) {
         size_t size = (size_t)sb.st_size;
         void *p = mmap(NULL, size, PROT_READ, MAP_PRIVATE, fd, 0);
         if (p != MAP_FAILED) {
@@ -520,9 +517,10 @@ static int input_map(const char *path, input_bytes *in)
             *in = (input_bytes){.text = p, .len = size, .mapped = 1};
         }
     }
+    int err = in->mapped ? 0 : read_all(f, &in->text, &in->len);
     if (!is_stdin)
-        close(fd);
-    return in->mapped ? 0 : read_all(path, &in->text, &in->len);
+        fclose(f);
+    return err;
 }
 
 static void input_release(input_bytes *in)

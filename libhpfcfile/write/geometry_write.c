@@ -17,8 +17,8 @@
  * and the emission (geometry_emit) streams each column's directory and
  * payload to the file as its blocks fill (stream.h). The tree's columns
  * are read off a walk of the tree in each pass rather than kept: they
- * have a value per leaf and per crossing, about as many as the section
- * has bits.
+ * have a value per leaf and per crossing, 8 bytes each when kept, several
+ * times what the section stores for them.
  */
 #include <stdlib.h>
 #include <string.h>

@@ -553,9 +553,10 @@ static void edgf_emit(const void *t, uint8_t *out)
     edgf_section_emit(t, out);
 }
 
-/* Every section in file order, then the metadata (header, level table,
- * directory) with their CRCs, into k. HPFC_E_NOMEM when a section's room
- * could not be had; a write error stays in k->err. */
+/* Every section in file order (GEOM streamed from its plan), then the
+ * metadata (header, level table, directory) with their CRCs, into k.
+ * HPFC_E_NOMEM when a section's room or a stream's buffer could not be
+ * had, with diag set; a write error stays in k->err. */
 static int emit_to(const layout *L, sink *k, hpfc_diag *diag)
 {
     int nomem = 0;
