@@ -6,6 +6,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -166,6 +167,48 @@ static int diag_set_message(hpfc_diag *diag, int status, const char *message)
 {
     snprintf(diag->message, sizeof diag->message, "%s", message);
     return status;
+}
+
+/* The tree written to a scratch file beside OUTPUT (`OUT.tree-XXXXXX`, or
+ * under $TMPDIR for standard output) and opened (mapped) from there: the
+ * mapping keeps the bytes, in the page cache rather than in the process,
+ * until hpfc_close. The features are linked on it, and the final file
+ * (with FEAT) is copied from it. The name is removed as soon as the file
+ * is created when /proc/self/fd can reopen it (so that a killed run
+ * leaves nothing), else once it is open; a file size limit fails the
+ * write (EFBIG), as atomic_output arranges, rather than killing the
+ * process. */
+static int tree_to_scratch(const hpfc_tree *t, const hpfc_write_options *wopts,
+                           const char *output, hpfc_file **f, hpfc_diag *diag)
+{
+    char path[4200], proc_path[40];
+    const char *tmp = getenv("TMPDIR");
+    int n = output ? snprintf(path, sizeof path, "%s.tree-XXXXXX", output)
+                   : snprintf(path, sizeof path, "%s/hpfc-tree-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    if (n < 0 || (size_t)n >= sizeof path)
+        return diag_set_message(diag, HPFC_E_IO, "the output's name is too long for a scratch file");
+    signal(SIGXFSZ, SIG_IGN);
+    int fd = mkstemp(path);
+    if (fd < 0) {
+        char why[sizeof diag->message];
+        snprintf(why, sizeof why, "cannot make a scratch file beside the output (%.200s): %s", path,
+                 strerror(errno));
+        return diag_set_message(diag, HPFC_E_IO, why);
+    }
+    const char *reopen = path;
+    if (access("/proc/self/fd", X_OK) == 0) {
+        snprintf(proc_path, sizeof proc_path, "/proc/self/fd/%d", fd);
+        unlink(path);
+        reopen = proc_path;
+    }
+    int st = hpfc_tree_write_fd(t, wopts, fd, diag);
+    if (!st && (st = hpfc_open(reopen, 0, f)) != HPFC_OK)
+        snprintf(diag->message, sizeof diag->message,
+                 "internal error: the file written does not read back (%s)", hpfc_strerror(st));
+    if (reopen == path)
+        unlink(path);
+    close(fd);
+    return st;
 }
 
 /* Part q: a run of root pixels in scanline order (bands of rows), its
@@ -385,20 +428,16 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts
         r->write_t = stage_lap(&t0);
         return st;
     }
-    uint8_t *bytes = NULL;
-    size_t size = 0;
     hpfc_file *f = NULL;
     /* the faces LABL is numbered with, kept for the linking, which would
      * otherwise number them again on the file (seconds on a large layer) */
     hpfc_faces *faces = NULL;
     wopts.faces_out = linking && wopts.face_labels ? &faces : NULL;
-    if ((st = hpfc_tree_serialize(t, &wopts, &bytes, &size, diag)) == HPFC_OK &&
-        ((st = hpfc_open_memory(bytes, size, 0, &f)) != HPFC_OK ||
-         (faces && (st = hpfc_faces_attach(faces, f)) != HPFC_OK) ||
+    if ((st = tree_to_scratch(t, &wopts, output, &f, diag)) == HPFC_OK &&
+        ((faces && (st = hpfc_faces_attach(faces, f)) != HPFC_OK) ||
          (hook && (st = hook(user, t, f)) != HPFC_OK)))
         snprintf(diag->message, sizeof diag->message,
-                 "internal error: the serialised file does not read back (%s)",
-                 hpfc_strerror(st));
+                 "internal error: the file written does not read back (%s)", hpfc_strerror(st));
     wopts.faces_out = NULL; /* the final write copies the file: no faces to hand out */
     hpfc_attr_table attrs;
     hpfc_edge_feature_table edge_features;
@@ -424,7 +463,6 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts
         st = write_output(output, f, &wopts, r, diag);
     r->write_t = stage_lap(&t0);
     hpfc_close(f);
-    hpfc_free(bytes);
     gis_feature_table_free(&ft);
     return st;
 }
