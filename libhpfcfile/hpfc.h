@@ -295,6 +295,10 @@ HPFC_API int hpfc_graph_bounds(const hpfc_graph *graph, int64_t box[4]);
  * ------------------------------------------------------------------------ */
 HPFC_API int hpfc_pfc_parse(const char *text, size_t length,
                             hpfc_graph **out, hpfc_diag *diag);
+/* The same from a file: a regular file is mapped while it is parsed (its
+ * text stays in the page cache, not in the process), anything else read
+ * into memory. As with hpfc_open, do not truncate the file while it is
+ * being read. */
 HPFC_API int hpfc_pfc_read_file(const char *path, hpfc_graph **out,
                                 hpfc_diag *diag);
 
