@@ -69,8 +69,8 @@ PACK = [
     ("pack.link.witness", [(None, "face_witnesses")]),
     ("pack.link.topology", [(None, "face_link_run")]),
     ("pack.link.check", [(None, "face_check_create"), (None, "face_check_features")]),
-    ("pack.write", [(None, "hpfc_tree_serialize_sized"), (None, "hpfc_file_write_fd_sized"),
-                    (None, "hpfc_tree_write_fd_sized")]),
+    # the tree to a mapped scratch file, then the final file copied from it
+    ("pack.write", [(None, "hpfc_tree_write_fd_sized"), (None, "hpfc_file_write_fd_sized")]),
 ]
 # the report's CPU seconds of each pack stage (write: what is not linking;
 # the faces' numbering is in it and has no figure of its own in the report)
