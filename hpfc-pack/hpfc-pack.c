@@ -13,6 +13,10 @@
  */
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -157,7 +161,8 @@ static void print_help(void)
            "                        chooses the projection itself). Without either, a\n"
            "                        layer with no SRS whose coordinates all lie in the\n"
            "                        longitude/latitude range is taken as WGS 84, said on\n"
-           "                        stderr and in the report (TopoJSON has no SRS)\n"           "  --projection P        GIS input: auto (default), none (keep coordinates),\n"
+           "                        stderr and in the report (TopoJSON has no SRS)\n"
+           "  --projection P        GIS input: auto (default), none (keep coordinates),\n"
            "                        tm, lcc, aea (central meridian at the data's median\n"
            "                        longitude, across the antimeridian too) or eqc\n"
            "  --vertices all|junctions\n"
@@ -586,6 +591,23 @@ static int read_draco(const pack_args *a, const char *bytes, size_t len, hpfc_gr
     return st == 0 ? 0 : st == DRACO_E_NOT_BUILT ? EXIT_USAGE : EXIT_FAIL;
 }
 
+/* GDAL's GeoJSON reader parses every feature into a tree of small json-c
+ * objects and frees it before the next. With glibc's default trim
+ * threshold the freed top of the heap goes back to the kernel after each
+ * large feature and comes back as page faults for the next one: on
+ * countries-land-1m that churn was a third of the read, and GDAL's read
+ * is the pack's peak. So a GIS pack keeps its heap: the build then reuses
+ * what GDAL freed instead of faulting in fresh pages (returning it after
+ * the read cost the build as much again). The build's end still gives
+ * the free heap back (release_free_memory in pack_write.c). Measured in
+ * bench/README.md, "The heap kept while GDAL reads". */
+static void keep_heap(void)
+{
+#if defined(__GLIBC__)
+    mallopt(M_TRIM_THRESHOLD, INT_MAX);
+#endif
+}
+
 /* Reads a GDAL dataset; 0 or an exit status (the message is printed). */
 static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
 {
@@ -602,6 +624,7 @@ static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
                        .source_srs = a->source_srs};
     char err[1024];
     r->gis = 1;
+    keep_heap();
     int st = gis_read_graph(a->input, &opt, g, &r->gis_info, err, sizeof err);
     if (st)
         complain("%s: %s", a->input, err);
