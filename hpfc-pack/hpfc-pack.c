@@ -37,6 +37,9 @@
 #include "progress.h"
 
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
+/* --jobs: threads are cheap to ask for and dear to start by the thousand */
+#define MAX_JOBS 1024
+#define MAX_JOBS_TEXT "1024"
 
 typedef struct pack_args {
     const char *input, *output;
@@ -59,6 +62,7 @@ typedef struct pack_args {
     int layout; /* HPFC_LAYOUT_*: --layout */
     int link_witness; /* --link witness */
     uint32_t partitions; /* --partitions: build in parts, one after another */
+    uint32_t jobs;       /* --jobs: that many parts at once, in threads (0: not given) */
     const char *parts_dir; /* --parts-dir: the parts built by other processes */
 } pack_args;
 
@@ -146,6 +150,10 @@ static void print_help(void)
            "                        joined: the same file, byte for byte, with the\n"
            "                        builder's working memory for one part at a time\n"
            "                        (at most one part a root pixel; not with --flat)\n"
+           "  -j, --jobs N          build N parts at a time, in threads (N cores: about\n"
+           "                        N times the builder's speed and memory); without\n"
+           "                        --partitions, the tree is built in N parts (not with\n"
+           "                        --flat or --parts-dir; default: one part at a time)\n"
            "  --parts-dir DIR       with --partitions: the parts are built by other\n"
            "                        processes (python3 -m hpfc pack on Dask): their\n"
            "                        graphs are cut into DIR, the plan printed as one\n"
@@ -153,6 +161,8 @@ static void print_help(void)
            "                        standard input, 'built' or 'failed', says whether\n"
            "                        every DIR/part-K.part is there to be joined\n"
            "                        (docs/interfaces.md section 8)\n"
+           );
+    printf(
            "  -l, --layer NAME      GIS input: read layer NAME (repeatable; default: all)\n"
            "  -a_srs SRS, -s_srs SRS\n"
            "                        GIS input: INPUT's coordinates are in SRS (EPSG:4326,\n"
@@ -303,6 +313,13 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->partitions = (uint32_t)n;
         return NULL;
     }
+    if (strcmp(name, "--jobs") == 0 || strcmp(name, "-j") == 0) {
+        uint64_t n = 0;
+        if (!parse_positive(v, strlen(v), MAX_JOBS, &n))
+            return "a positive integer, at most " MAX_JOBS_TEXT;
+        a->jobs = (uint32_t)n;
+        return NULL;
+    }
     if (strcmp(name, "--parts-dir") == 0) {
         a->parts_dir = v;
         return v[0] ? NULL : "a directory";
@@ -365,7 +382,7 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
                                         "--fields",   "--output",   "-o",
                                         "-l",         "-a_srs",     "-s_srs",
                                         "--layout",   "--link",     "--partitions",
-                                        "--parts-dir"};
+                                        "--parts-dir", "--jobs",   "-j"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -444,6 +461,12 @@ static int parse_args(int argc, char **argv, pack_args *a)
         complain("-a_srs and -s_srs: give one of them");
         return EXIT_USAGE;
     }
+    if (a->jobs > 1 && (a->params.flat || a->parts_dir)) {
+        complain("--jobs: not with --flat (built whole) or --parts-dir (built elsewhere)");
+        return EXIT_USAGE;
+    }
+    if (a->jobs > 1 && a->partitions == 0)
+        a->partitions = a->jobs;
     if (a->partitions > 1 && a->params.flat) {
         complain("--partitions and --flat: a flat grid is built whole");
         return EXIT_USAGE;
@@ -1025,7 +1048,8 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
                                 .geometry = a->no_geometry ? NULL : g};
     pack_write_stats w;
     hpfc_diag diag;
-    pack_parts parts = {.count = a->partitions, .dir = a->parts_dir, .await_parts = await_parts};
+    pack_parts parts = {.count = a->partitions, .jobs = a->jobs, .dir = a->parts_dir,
+                        .await_parts = await_parts};
     int st = pack_write(g, &a->params, &parts, &wopts, r->gis ? &r->gis_info : NULL, a->link_witness,
                         a->to_stdout ? NULL : a->output, isatty(2) && !a->quiet, report_tree,
                         r, &w, &diag);

@@ -6,7 +6,9 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <signal.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -327,12 +329,90 @@ static void part_folder_close(part_folder *pf)
     memset(pf, 0, sizeof *pf);
 }
 
+/* The parts of one build, handed out to `jobs` threads (pack_parts.jobs):
+ * each takes the next part, builds it, writes its file and frees it. The
+ * failure kept is the one of the lowest part, so that a run reports what
+ * a run one part after another would have (the builder's own flaws are
+ * worded again from the whole graph after: word_part_failure). */
+typedef struct part_queue {
+    const hpfc_cut *cut;
+    const hpfc_build_params *params; /* without a progress callback */
+    const hpfc_domain *domain;
+    const uint32_t *pixels; /* every root pixel in part order: part q's run is [q*roots/k, (q+1)*roots/k) */
+    uint64_t roots, edges;
+    size_t parts;
+    const part_folder *files;
+    progress *bar;
+    pthread_mutex_t lock; /* guards what follows */
+    size_t next, done;
+    size_t failed_part; /* parts when none failed */
+    int status;
+    hpfc_diag diag;
+} part_queue;
+
+static int build_and_write_part(part_queue *pq, size_t q, hpfc_diag *diag)
+{
+    size_t first = (size_t)(pq->roots * q / pq->parts), end = (size_t)(pq->roots * (q + 1) / pq->parts);
+    hpfc_tree *part = NULL;
+    int st = build_one_part(pq->cut, pq->params, pq->domain, (uint32_t)q, pq->pixels + first,
+                            end - first, pq->edges, &part, diag);
+    if (!st)
+        st = write_part(part, pq->files->paths[q], diag); /* HPFC_E_IO: the disk's fault */
+    hpfc_tree_free(part);
+    return st;
+}
+
+static void *part_worker(void *arg)
+{
+    part_queue *pq = arg;
+    for (;;) {
+        pthread_mutex_lock(&pq->lock);
+        /* parts go out in order, so after a failure no later part starts; the
+         * earlier ones, already running, finish (one may fail first) */
+        bool stop = pq->next >= pq->parts || pq->next > pq->failed_part;
+        size_t q = stop ? 0 : pq->next++;
+        pthread_mutex_unlock(&pq->lock);
+        if (stop)
+            return NULL;
+        hpfc_diag diag = {0};
+        int st = build_and_write_part(pq, q, &diag);
+        pthread_mutex_lock(&pq->lock);
+        if (st && q < pq->failed_part)
+            pq->failed_part = q, pq->status = st, pq->diag = diag;
+        pq->done++;
+        progress_show(pq->bar, "parts", (double)pq->done, (double)pq->parts, 1);
+        pthread_mutex_unlock(&pq->lock);
+    }
+}
+
+/* Runs the queue on `jobs` threads, the calling one among them; a thread
+ * that cannot be started leaves its share to the others. */
+static int run_part_queue(part_queue *pq, uint32_t jobs, hpfc_diag *diag)
+{
+    pq->failed_part = pq->parts;
+    if (pthread_mutex_init(&pq->lock, NULL) != 0)
+        return diag_set_message(diag, HPFC_E_NOMEM, "cannot make a lock for the parts' threads");
+    size_t extra = jobs > pq->parts ? pq->parts - 1 : jobs - 1, started = 0;
+    pthread_t *threads = extra ? calloc(extra, sizeof *threads) : NULL;
+    for (size_t j = 0; threads && j < extra; j++, started++)
+        if (pthread_create(&threads[j], NULL, part_worker, pq) != 0)
+            break;
+    part_worker(pq);
+    for (size_t j = 0; j < started; j++)
+        pthread_join(threads[j], NULL);
+    free(threads);
+    pthread_mutex_destroy(&pq->lock);
+    if (pq->status)
+        *diag = pq->diag;
+    return pq->status;
+}
+
 /* The tree, built whole, or in parts (pack_parts), each from the edges near
  * its root pixels, written to a part file and freed, then joined where the
  * files lie (hpfc_build_part, hpfc_tree_merge_files): the same tree, with
- * the builder's working arrays and tree for one part at a time, and the
- * joined tree's pixels in the files (the page cache) rather than in the
- * process.
+ * the builder's working arrays and tree for `jobs` parts at a time, and
+ * the joined tree's pixels in the files (the page cache) rather than in
+ * the process.
  *
  * Validation too goes part by part: every flaw hpfc_graph_validate looks
  * for but an isolated vertex (two points at one place, a zero-length
@@ -372,17 +452,11 @@ static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pac
     /* one bar for the parts, not one a level of each */
     hpfc_build_params quiet = *p;
     quiet.progress = NULL;
-    for (size_t q = 0; !st && q < k; q++) {
-        size_t first = (size_t)(roots * q / k), end = (size_t)(roots * (q + 1) / k);
-        hpfc_tree *part = NULL;
-        char stage[32];
-        snprintf(stage, sizeof stage, "part %zu/%zu", q + 1, k);
-        progress_show(bar, stage, (double)q, (double)k, 1);
-        st = build_one_part(cut, &quiet, &d, (uint32_t)q, pixels + first, end - first,
-                            hpfc_graph_edge_count(g), &part, diag);
-        if (!st)
-            st = write_part(part, pf.paths[q], diag); /* HPFC_E_IO: the disk's fault */
-        hpfc_tree_free(part);
+    part_queue pq = {.cut = cut, .params = &quiet, .domain = &d, .pixels = pixels, .roots = roots,
+                     .edges = hpfc_graph_edge_count(g), .parts = k, .files = &pf, .bar = bar};
+    if (!st) {
+        progress_show(bar, "parts", 0, (double)k, 1);
+        st = run_part_queue(&pq, parts->jobs ? parts->jobs : 1, diag);
     }
     hpfc_cut_free(cut);
     if (st && st != HPFC_E_IO)

@@ -36,7 +36,8 @@ typedef struct pack_write_stats {
 typedef int (*pack_write_hook)(void *user, const hpfc_tree *t, const hpfc_file *f);
 
 /* How the tree is built: whole (count 0 or 1), in `count` parts one after
- * another here (dir NULL: hpfc-pack --partitions), or in parts that other
+ * another here, or `jobs` at a time in threads (dir NULL: hpfc-pack
+ * --partitions and --jobs), or in parts that other
  * processes build (hpfc-pack --parts-dir, docs/interfaces.md §8): the parts'
  * graphs are cut into `dir`, then `await_parts` is called and returns when
  * every DIR/part-K.part is there (HPFC_OK), or with a status: then the
@@ -44,6 +45,7 @@ typedef int (*pack_write_hook)(void *user, const hpfc_tree *t, const hpfc_file *
  * does. Every way gives the same bytes. */
 typedef struct pack_parts {
     uint32_t count;
+    uint32_t jobs; /* parts built at once here, in threads (0 or 1: one after another) */
     const char *dir;
     int (*await_parts)(void *user, const part_plan *plan, hpfc_diag *diag);
     void *user;

@@ -23,14 +23,32 @@ fi
 # Many readers at once under ThreadSanitizer: tests/lib/test_threads.c (8
 # threads on one file, each query against one thread's answer) built with
 # clang -fsanitize=thread, that program alone (what it links: the library
-# and the test generator), so the step costs about a minute. Any report
-# fails it. Skipped without clang.
+# and the test generator), so the step costs about a minute. Then
+# hpfc-pack's parts built on 4 threads (--jobs): the shipped sample, whose
+# bytes must be the whole build's, and a graph whose edges cross, refused
+# in the whole build's words. Any report fails it. Skipped without clang.
+tsan_pack() {
+    pack=build-tsan/hpfc-pack/hpfc-pack
+    t=$(mktemp -d)
+    TSAN_OPTIONS=halt_on_error=1:exitcode=66 $pack -q data/delaunay-4000.pfc -o "$t/whole.hpfc" &&
+        TSAN_OPTIONS=halt_on_error=1:exitcode=66 $pack -q --partitions 16 --jobs 4 \
+            data/delaunay-4000.pfc -o "$t/jobs.hpfc" &&
+        cmp "$t/whole.hpfc" "$t/jobs.hpfc" &&
+        { TSAN_OPTIONS=halt_on_error=1:exitcode=66 $pack -q tests/data/invalid/nonplanar_crossing.pfc \
+            -o "$t/bad.hpfc" 2>"$t/whole.err"; [ $? -eq 1 ]; } &&
+        { TSAN_OPTIONS=halt_on_error=1:exitcode=66 $pack -q --partitions 8 --jobs 4 --root 4 \
+            tests/data/invalid/nonplanar_crossing.pfc -o "$t/bad.hpfc" 2>"$t/jobs.err"; [ $? -eq 1 ]; } &&
+        cmp "$t/whole.err" "$t/jobs.err"
+    tsan_status=$?
+    rm -rf "$t"
+    return $tsan_status
+}
 if command -v clang >/dev/null 2>&1; then
     rm -rf build-tsan
     if CC=clang CXX=clang++ meson setup build-tsan -Db_sanitize=thread -Db_lundef=false \
             -Dgis=disabled -Dcairo=disabled -Dpython=disabled -Dwerror=true >/dev/null &&
-        ninja -C build-tsan tests/test_threads >/dev/null &&
-        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_threads; then
+        ninja -C build-tsan tests/test_threads hpfc-pack/hpfc-pack >/dev/null &&
+        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_threads && tsan_pack; then
         echo "tsan: OK"
     else
         echo "tsan: FAILED"

@@ -1,5 +1,6 @@
 #!/bin/sh
-# hpfc-pack --partitions N (a build in parts, one after another, joined):
+# hpfc-pack --partitions N (a build in parts, one after another or --jobs
+# at a time in threads, joined):
 # the same bytes as the single build for every valid .pfc and GIS fixture,
 # under several image sizes, both layouts and both vertex models; the
 # same exit status and message for every invalid .pfc; the option's own
@@ -9,17 +10,22 @@
 . "$(dirname "$0")/lib.sh"
 
 # same_bytes WHAT ARGS...: packs with ARGS once whole and once in 2, 7 and
-# 5000 parts (more than root pixels: one a pixel), and compares.
+# 5000 parts (more than root pixels: one a pixel), then 7 parts on 3
+# threads and --jobs 2 alone (2 parts, 2 threads), and compares.
 same_bytes() {
     what=$1
     shift
     run "$PACK" -q "$@" -o "$tmp/whole.hpfc"
     expect_ok "$what (whole)"
-    for k in 2 7 5000; do
-        run "$PACK" -q --partitions "$k" "$@" -o "$tmp/parts.hpfc"
+    for k in 2 7 5000 "7 --jobs 3"; do
+        # shellcheck disable=SC2086 # k may carry --jobs
+        run "$PACK" -q --partitions $k "$@" -o "$tmp/parts.hpfc"
         expect_ok "$what ($k parts)"
         cmp -s "$tmp/whole.hpfc" "$tmp/parts.hpfc" || fail "$what: $k parts give other bytes"
     done
+    run "$PACK" -q --jobs 2 "$@" -o "$tmp/parts.hpfc"
+    expect_ok "$what (--jobs 2)"
+    cmp -s "$tmp/whole.hpfc" "$tmp/parts.hpfc" || fail "$what: --jobs 2 gives other bytes"
 }
 
 for pfc in "$TESTS"/data/valid/*.pfc; do
@@ -48,9 +54,13 @@ for pfc in "$TESTS"/data/invalid/*.pfc; do
     run "$PACK" -q "$pfc" -o "$tmp/whole.hpfc"
     rc_whole=$rc
     cp "$tmp/err" "$tmp/err_whole"
-    run "$PACK" -q --partitions 4 "$pfc" -o "$tmp/parts.hpfc"
-    [ "$rc" -eq "$rc_whole" ] || fail "$name: exit status $rc in parts, $rc_whole whole"
-    cmp -s "$tmp/err" "$tmp/err_whole" || fail "$name: other words in parts: $(cat "$tmp/err")"
+    for jobs in 1 3; do
+        rm -f "$tmp/parts.hpfc"
+        run "$PACK" -q --partitions 4 --jobs $jobs "$pfc" -o "$tmp/parts.hpfc"
+        [ "$rc" -eq "$rc_whole" ] || fail "$name: exit status $rc in parts ($jobs at once), $rc_whole whole"
+        cmp -s "$tmp/err" "$tmp/err_whole" || fail "$name: other words in parts ($jobs at once): $(cat "$tmp/err")"
+        [ "$rc" -eq 0 ] || [ ! -e "$tmp/parts.hpfc" ] || fail "$name: a failed pack left an output"
+    done
 done
 
 # the option's refusals
@@ -61,6 +71,15 @@ for bad in 0 -1 x 2x; do
 done
 run "$PACK" --partitions 2 --flat "$valid" -o "$tmp/x.hpfc"
 expect_error "--partitions with --flat" "hpfc-pack: " 2
+for bad in 0 -1 x 1025; do
+    run "$PACK" --jobs "$bad" "$valid" -o "$tmp/x.hpfc"
+    expect_error "--jobs $bad" "hpfc-pack: --jobs: invalid value" 2
+done
+run "$PACK" -j 2 --flat "$valid" -o "$tmp/x.hpfc"
+expect_error "--jobs with --flat" "hpfc-pack: --jobs: not with --flat" 2
+run "$PACK" --partitions 2 --jobs 2 --parts-dir "$tmp" "$valid" -o "$tmp/x.hpfc"
+expect_error "--jobs with --parts-dir" "hpfc-pack: --jobs: not with" 2
+[ ! -e "$tmp/x.hpfc" ] || fail "a refused option left an output"
 
 # --parts-dir (the parts built by others; python/tests/test_pack.py drives
 # the whole protocol): its refusals, and a plan line before standard input
