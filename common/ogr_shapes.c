@@ -197,6 +197,13 @@ int ogr_shapes_point(ogr_shapes *o, int64_t x, int64_t y, double *ox, double *oy
     return 0;
 }
 
+/* Points converted a chunk at a time: through a pairs buffer that stays in
+ * the cache, so a ring costs its x and y arrays and no pairs array as
+ * large (16 bytes a point fewer touched; pages first touched are what a
+ * large feature's read pays most for). */
+enum { CHUNK_POINTS = 1024 };
+
+/* o->xy: x[cap], y[cap], then the chunk's pairs. */
 static int reserve(ogr_shapes *o, size_t n)
 {
     if (n <= o->cap)
@@ -206,30 +213,40 @@ static int reserve(ogr_shapes *o, size_t n)
         c *= 2;
     if (c > SIZE_MAX / (4 * sizeof *o->xy))
         return fail(o, "out of memory");
-    double *nxy = realloc(o->xy, c * 4 * sizeof *nxy);
-    if (!nxy)
-        return fail(o, "out of memory");
-    o->xy = nxy;
-    o->cap = c;
+    /* nothing in it is kept across calls: free, then allocate, no copy */
+    free(o->xy);
+    o->xy = malloc((2 * c + 2 * CHUNK_POINTS) * sizeof *o->xy);
+    o->cap = o->xy ? c : 0;
+    return o->xy ? 0 : fail(o, "out of memory");
+}
+
+/* n lattice points (pairs) into o's x and y arrays, in output coordinates. */
+static int convert_points(ogr_shapes *o, const int64_t *xy, size_t n)
+{
+    double *x = o->xy, *y = x + o->cap, *pairs = y + o->cap;
+    for (size_t at = 0; at < n; at += CHUNK_POINTS) {
+        size_t m = n - at < CHUNK_POINTS ? n - at : CHUNK_POINTS;
+        if (ogr_shapes_points(o, xy + 2 * at, m, pairs))
+            return 1;
+        for (size_t k = 0; k < m; k++)
+            x[at + k] = pairs[2 * k], y[at + k] = pairs[2 * k + 1];
+    }
     return 0;
 }
 
-/* n points (pairs in o->xy) as the points of g: split into an x and a y
- * array first, since OGR copies those in one loop but sets strided
- * points one call each (four times the instructions). */
+/* The first n points of o's x and y arrays as the points of g: OGR copies
+ * an x and a y array in one loop, but sets strided points one call each
+ * (four times the instructions). */
 static void set_points(ogr_shapes *o, OGRGeometryH g, size_t n)
 {
-    double *x = o->xy + 2 * o->cap, *y = x + o->cap;
-    for (size_t k = 0; k < n; k++)
-        x[k] = o->xy[2 * k], y[k] = o->xy[2 * k + 1];
-    OGR_G_SetPoints(g, (int)n, x, sizeof(double), y, sizeof(double), NULL, 0);
+    OGR_G_SetPoints(g, (int)n, o->xy, sizeof(double), o->xy + o->cap, sizeof(double), NULL, 0);
 }
 
 /* The points [a, b) of an answer as a new curve of type t. */
 static OGRGeometryH curve(ogr_shapes *o, const hpfc_polygons *p, size_t r, OGRwkbGeometryType t)
 {
     size_t a = p->ring_point[r], b = p->ring_point[r + 1];
-    if (reserve(o, b - a + 1) || ogr_shapes_points(o, p->xy + 2 * a, b - a, o->xy))
+    if (reserve(o, b - a + 1) || convert_points(o, p->xy + 2 * a, b - a))
         return NULL;
     o->points += b - a;
     OGRGeometryH g = OGR_G_CreateGeometry(t);
@@ -348,7 +365,7 @@ OGRGeometryH ogr_shapes_edge_geometry(ogr_shapes *o, hpfc_id edge)
             fail(o, "edge %llu: %s", (unsigned long long)edge, hpfc_strerror(st));
             return NULL;
         }
-        if (ogr_shapes_point(o, x, y, &o->xy[2 * k], &o->xy[2 * k + 1]))
+        if (ogr_shapes_point(o, x, y, &o->xy[k], &o->xy[o->cap + k]))
             return NULL;
     }
     o->points += n;

@@ -427,6 +427,26 @@ static int row_array(hpfc_shapes *s, enum shapes_table t, uint64_t row, const ui
     return HPFC_OK;
 }
 
+/* The scratch arrays that hold a feature's points (its edges' points, then
+ * its rings'), reserved once for as many points as the file has, up to
+ * SCRATCH_POINTS. Grown from 16 by doubling, they were reallocated a dozen
+ * times on a large feature, each time into pages the process had not
+ * touched, and those page faults were most of what reading the large
+ * features of a world layer through the GDAL driver cost (bench/README.md,
+ * "Fewer pages touched"). Reserved memory is only address space until
+ * written. */
+enum { SCRATCH_POINTS = 1 << 18 };
+
+static int reserve_point_scratch(hpfc_shapes *s)
+{
+    uint64_t all = s->points + s->vertices;
+    size_t n = all < SCRATCH_POINTS ? (size_t)all + 1 : SCRATCH_POINTS;
+    if (array_grow((void **)&s->ept, &s->cap_ept, 2 * n, sizeof *s->ept) ||
+        array_grow((void **)&s->txy, &s->cap_txy, 2 * n, sizeof *s->txy))
+        return HPFC_E_NOMEM;
+    return HPFC_OK;
+}
+
 int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
 {
     if (!f || !out)
@@ -478,6 +498,8 @@ int hpfc_shapes_create(const hpfc_file *f, hpfc_shapes **out)
         if (!s->face_mark || !s->face_local || !s->vmark || !s->vpos)
             st = HPFC_E_NOMEM;
     }
+    if (!st)
+        st = reserve_point_scratch(s);
     if (st) {
         hpfc_shapes_free(s);
         return st;
@@ -647,11 +669,9 @@ static int load_edge(hpfc_shapes *s, uint64_t e, size_t *at)
 }
 
 /* The dart of edge e with the region's face `face` on its left (v to u
- * when reversed), its points decoded once for the ring that takes it. */
+ * when reversed); its points are counted now and read by load_darts. */
 static int add_dart(hpfc_shapes *s, uint64_t e, int reversed, uint64_t face)
 {
-    /* the points this edge will bring to the answer, counted before the
-     * tracing reads them */
     int st = shapes_need_edge(s, e);
     if (st)
         return st;
@@ -663,20 +683,38 @@ static int add_dart(hpfc_shapes *s, uint64_t e, int reversed, uint64_t face)
     memset(d, 0, sizeof *d);
     d->code = e << 1 | (uint64_t)reversed;
     d->face = (uint32_t)face;
-    st = load_edge(s, e, &d->pts);
-    if (st)
-        return st;
-    uint64_t n = shapes_edge_points(s, e);
-    /* first two and last two points, u -> v */
-    const int64_t *p0 = s->ept + 2 * d->pts, *p1 = p0 + 2, *q0 = p0 + 2 * (n - 2),
-                  *q1 = p0 + 2 * (n - 1);
-    int64_t fwd[2] = {p1[0] - p0[0], p1[1] - p0[1]}, bwd[2] = {q0[0] - q1[0], q0[1] - q1[1]};
-    if ((!fwd[0] && !fwd[1]) || (!bwd[0] && !bwd[1]))
-        return HPFC_E_CORRUPT; /* a zero-length segment */
     d->origin = reversed ? s->ev[e] : s->eu[e];
     d->target = reversed ? s->eu[e] : s->ev[e];
-    memcpy(d->out, reversed ? bwd : fwd, sizeof d->out);
-    memcpy(d->back, reversed ? fwd : bwd, sizeof d->back);
+    return HPFC_OK;
+}
+
+/* Every dart's points, decoded once for the ring that takes it, into an
+ * array sized once from the points counted (call_points): grown an edge
+ * at a time, a large feature's points were copied a dozen times into
+ * pages not touched before. Then each dart's first and last directions. */
+static int load_darts(hpfc_shapes *s)
+{
+    if (s->call_points > SIZE_MAX / 4 ||
+        array_grow((void **)&s->ept, &s->cap_ept, 2 * ((size_t)s->call_points + 1),
+                         sizeof *s->ept))
+        return HPFC_E_NOMEM;
+    for (size_t k = 0; k < s->ndarts; k++) {
+        bdart *d = &s->darts[k];
+        uint64_t e = d->code >> 1;
+        int st = load_edge(s, e, &d->pts);
+        if (st)
+            return st;
+        uint64_t n = shapes_edge_points(s, e);
+        /* first two and last two points, u -> v */
+        const int64_t *p0 = s->ept + 2 * d->pts, *p1 = p0 + 2, *q0 = p0 + 2 * (n - 2),
+                      *q1 = p0 + 2 * (n - 1);
+        int64_t fwd[2] = {p1[0] - p0[0], p1[1] - p0[1]}, bwd[2] = {q0[0] - q1[0], q0[1] - q1[1]};
+        if ((!fwd[0] && !fwd[1]) || (!bwd[0] && !bwd[1]))
+            return HPFC_E_CORRUPT; /* a zero-length segment */
+        int reversed = (int)(d->code & 1);
+        memcpy(d->out, reversed ? bwd : fwd, sizeof d->out);
+        memcpy(d->back, reversed ? fwd : bwd, sizeof d->back);
+    }
     return HPFC_OK;
 }
 
@@ -1041,14 +1079,41 @@ static int own_by_part(hpfc_shapes *s, size_t *rest)
     return HPFC_OK;
 }
 
-/* Copies ring r to the answer. */
-static void put_ring(hpfc_shapes *s, size_t r, size_t *rings, size_t *points)
+/* Ring r as the answer's next ring: copied to s->xy, or, where the answer
+ * is the traced points as they lie (in_place), only numbered. */
+static void put_ring(hpfc_shapes *s, size_t r, int in_place, size_t *rings, size_t *points)
 {
     const tring *R = &s->rings[r];
     size_t n = R->end - R->start;
-    memcpy(s->xy + 2 * *points, s->txy + 2 * R->start, 2 * n * sizeof *s->xy);
+    if (!in_place)
+        memcpy(s->xy + 2 * *points, s->txy + 2 * R->start, 2 * n * sizeof *s->xy);
     s->ring_point[(*rings)++] = *points;
     *points += n;
+}
+
+/* Whether the answer's ring order (outer rings in ring order, each with
+ * its holes, then the holes of none) leaves every ring where tracing put
+ * it in s->txy: one polygon, or islands with no holes, the usual feature.
+ * Then the answer points into s->txy and its points are not copied: a
+ * second array as large as the feature, touched for nothing. */
+static int answer_in_place(const hpfc_shapes *s, const size_t *first, const size_t *hole)
+{
+    size_t nr = s->nrings, at = 0;
+    for (size_t o = 0; o <= nr; o++) {
+        if (o < nr) {
+            if (s->rings[o].area2 <= 0)
+                continue;
+            if (s->rings[o].start != at)
+                return 0;
+            at = s->rings[o].end;
+        }
+        for (size_t k = first[o]; k < first[o + 1]; k++) {
+            if (s->rings[hole[k]].start != at)
+                return 0;
+            at = s->rings[hole[k]].end;
+        }
+    }
+    return 1;
 }
 
 /* Each hole to the smallest outer ring containing it; then the answer:
@@ -1093,7 +1158,8 @@ static int arrange(hpfc_shapes *s, hpfc_polygons *out)
         if (s->rings[h].area2 < 0)
             hole[fill[s->rings[h].owner == SIZE_MAX ? nr : s->rings[h].owner]++] = h;
     free(fill);
-    if (array_grow((void **)&s->xy, &s->cap_xy, 2 * s->ntxy + 2, sizeof *s->xy) ||
+    int in_place = answer_in_place(s, first, hole);
+    if ((!in_place && array_grow((void **)&s->xy, &s->cap_xy, 2 * s->ntxy + 2, sizeof *s->xy)) ||
         array_grow((void **)&s->ring_point, &s->cap_ring_point, nr + 1, sizeof *s->ring_point) ||
         array_grow((void **)&s->polygon_ring, &s->cap_polygon_ring, outers + 1,
                    sizeof *s->polygon_ring)) {
@@ -1105,13 +1171,13 @@ static int arrange(hpfc_shapes *s, hpfc_polygons *out)
         if (s->rings[o].area2 <= 0)
             continue;
         s->polygon_ring[polygons++] = rings;
-        put_ring(s, o, &rings, &points);
+        put_ring(s, o, in_place, &rings, &points);
         for (size_t k = first[o]; k < first[o + 1]; k++)
-            put_ring(s, hole[k], &rings, &points);
+            put_ring(s, hole[k], in_place, &rings, &points);
     }
     s->polygon_ring[polygons] = rings;
     for (size_t k = first[nr]; k < first[nr + 1]; k++)
-        put_ring(s, hole[k], &rings, &points);
+        put_ring(s, hole[k], in_place, &rings, &points);
     free(first), free(hole);
     s->ring_point[rings] = points;
     *out = (hpfc_polygons){.polygon_count = polygons,
@@ -1119,7 +1185,7 @@ static int arrange(hpfc_shapes *s, hpfc_polygons *out)
                            .point_count = points,
                            .polygon_ring = s->polygon_ring,
                            .ring_point = s->ring_point,
-                           .xy = s->xy};
+                           .xy = in_place ? s->txy : s->xy};
     return HPFC_OK;
 }
 
@@ -1133,7 +1199,17 @@ static void reset(hpfc_shapes *s)
  * arranged. */
 static int assemble(hpfc_shapes *s, hpfc_polygons *out)
 {
-    int st = link_darts(s);
+    int st = load_darts(s);
+    if (!st)
+        st = link_darts(s);
+    /* the rings' points at once: each dart's edge but one point, and a
+     * closing point a ring, fewer than the darts' call_points; grown a
+     * ring at a time, the array was copied a dozen times on a large
+     * feature, each copy into pages the process had not touched yet */
+    if (!st && (s->call_points > SIZE_MAX / 4 ||
+                array_grow((void **)&s->txy, &s->cap_txy,
+                                 2 * ((size_t)s->call_points + 1), sizeof *s->txy)))
+        st = HPFC_E_NOMEM;
     if (!st)
         st = trace_rings(s);
     if (!st)
@@ -1302,6 +1378,9 @@ static int join_lines(hpfc_shapes *s, const uint32_t *edges, size_t n, hpfc_poly
     w.used = calloc(w.n + 1, 1);
     w.ends = malloc((2 * w.n + 1) * sizeof *w.ends);
     st = w.used && w.ends ? HPFC_OK : HPFC_E_NOMEM;
+    /* the answer's xy is s->txy, never NULL */
+    if (!st && array_grow((void **)&s->txy, &s->cap_txy, 2, sizeof *s->txy))
+        st = HPFC_E_NOMEM;
     for (size_t k = 0; k < w.n && !st; k++) {
         uint32_t e = w.edges[k];
         w.ends[2 * k] = (line_end){s->eu[e], (uint32_t)k, 0};
@@ -1323,16 +1402,13 @@ static int join_lines(hpfc_shapes *s, const uint32_t *edges, size_t n, hpfc_poly
     }
     free(w.used);
     free(w.ends);
-    if (!st && (array_grow((void **)&s->xy, &s->cap_xy, 2 * s->ntxy + 2, sizeof *s->xy) ||
-                array_grow((void **)&s->polygon_ring, &s->cap_polygon_ring, 1,
+    if (!st && (array_grow((void **)&s->polygon_ring, &s->cap_polygon_ring, 1,
                      sizeof *s->polygon_ring) ||
                 array_grow((void **)&s->ring_point, &s->cap_ring_point, lines + 1,
                      sizeof *s->ring_point)))
         st = HPFC_E_NOMEM;
     if (st)
         return st;
-    if (s->ntxy)
-        memcpy(s->xy, s->txy, 2 * s->ntxy * sizeof *s->xy);
     s->ring_point[lines] = s->ntxy;
     s->polygon_ring[0] = lines; /* no polygon; the lines are not holes */
     *out = (hpfc_polygons){.polygon_count = 0,
@@ -1340,7 +1416,7 @@ static int join_lines(hpfc_shapes *s, const uint32_t *edges, size_t n, hpfc_poly
                            .point_count = s->ntxy,
                            .polygon_ring = s->polygon_ring,
                            .ring_point = s->ring_point,
-                           .xy = s->xy};
+                           .xy = s->txy}; /* the lines as walked */
     return HPFC_OK;
 }
 
