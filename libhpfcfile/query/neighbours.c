@@ -94,16 +94,16 @@ static int topo_begin(hpfc_shapes *s)
         return HPFC_E_NOMEM;
     }
     for (uint64_t e = 0; e < E; e++) {
-        t->vstart[s->eu[e] + 1]++;
-        t->vstart[s->ev[e] + 1]++;
+        t->vstart[s->edge[e].u + 1]++;
+        t->vstart[s->edge[e].v + 1]++;
         t->length[e] = -1;
     }
     for (uint64_t v = 0; v < V; v++)
         t->vstart[v + 1] += t->vstart[v];
     memcpy(fill, t->vstart, V * sizeof *fill);
     for (uint64_t e = 0; e < E; e++) {
-        t->vedge[fill[s->eu[e]]++] = (uint32_t)e;
-        t->vedge[fill[s->ev[e]]++] = (uint32_t)e;
+        t->vedge[fill[s->edge[e].u]++] = (uint32_t)e;
+        t->vedge[fill[s->edge[e].v]++] = (uint32_t)e;
     }
     free(fill);
     s->topo = t;
@@ -160,9 +160,9 @@ static int add_edge_border(hpfc_shapes *s, uint64_t e)
 {
     shapes_topo *t = s->topo;
     int st = shapes_need_edge(s, e);
-    if (!st && s->face_features && s->left[e] != s->right[e]) {
+    if (!st && s->face_features && s->edge[e].left != s->edge[e].right) {
         for (int side = 0; side < 2 && !st; side++) {
-            uint64_t face = side ? s->right[e] : s->left[e], other = side ? s->left[e] : s->right[e];
+            uint64_t face = side ? s->edge[e].right : s->edge[e].left, other = side ? s->edge[e].left : s->edge[e].right;
             uint32_t n;
             hpfc_id g;
             if ((st = hpfc_face_feature_count(s->f, face, &n)))
@@ -266,10 +266,10 @@ int shapes_feature_border(hpfc_shapes *s, hpfc_id feature, uint32_t **edges, siz
                 return st;
             for (uint64_t j = fa; j < fb; j++) {
                 uint32_t e = shapes_item(s, FACE_EDGES, j);
-                int in_left = s->face_mark[s->left[e]] == m;
+                int in_left = s->face_mark[s->edge[e].left] == m;
                 /* once per edge: from its side inside the feature */
                 if (shapes_on_border(s, s->face_mark, m, e) &&
-                    (in_left ? s->left[e] : s->right[e]) == face) {
+                    (in_left ? s->edge[e].left : s->edge[e].right) == face) {
                     if (array_grow((void **)edges, cap, *n + 1, sizeof **edges))
                         return HPFC_E_NOMEM;
                     (*edges)[(*n)++] = e;
@@ -408,7 +408,7 @@ int hpfc_shapes_feature_neighbours(hpfc_shapes *s, hpfc_id feature, hpfc_neighbo
         st = add_edge_border(s, e);
         if (!st)
             st = set_contacts(t, self, e);
-        uint32_t ends[2] = {s->eu[e], s->ev[e]};
+        uint32_t ends[2] = {s->edge[e].u, s->edge[e].v};
         for (int j = 0; j < 2 && !st; j++) {
             if (t->vmark[ends[j]] == t->vgen)
                 continue;

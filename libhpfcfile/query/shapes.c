@@ -216,12 +216,7 @@ void hpfc_shapes_free(hpfc_shapes *s)
     if (!s)
         return;
     size_t E = (size_t)s->edges + 1, V = (size_t)s->vertices + 1, F = (size_t)s->faces + 1;
-    shapes_zeroed_free(s->eu, E, sizeof *s->eu);
-    shapes_zeroed_free(s->ev, E, sizeof *s->ev);
-    shapes_zeroed_free(s->left, E, sizeof *s->left);
-    shapes_zeroed_free(s->right, E, sizeof *s->right);
-    shapes_zeroed_free(s->first, E, sizeof *s->first);
-    shapes_zeroed_free(s->end, E, sizeof *s->end);
+    shapes_zeroed_free(s->edge, E, sizeof *s->edge);
     shapes_zeroed_free(s->vxy, 2 * V, sizeof *s->vxy);
     shapes_zeroed_free(s->edge_read, (E >> SHAPES_CHUNK_SHIFT) + 1, 1);
     shapes_zeroed_free(s->vertex_read, (V >> SHAPES_CHUNK_SHIFT) + 1, 1);
@@ -268,14 +263,14 @@ static int build_face_edges(hpfc_shapes *s)
         st = inverse_begin(&t, s->faces);
     for (int pass = 0; pass < 2 && !st; pass++) {
         for (uint64_t e = 0; e < s->edges; e++) {
-            if (s->left[e] == s->right[e])
+            if (s->edge[e].left == s->edge[e].right)
                 continue;
             if (pass == 0) {
-                inverse_count(&t, s->left[e]);
-                inverse_count(&t, s->right[e]);
+                inverse_count(&t, s->edge[e].left);
+                inverse_count(&t, s->edge[e].right);
             } else {
-                inverse_put(&t, s->left[e], (uint32_t)e);
-                inverse_put(&t, s->right[e], (uint32_t)e);
+                inverse_put(&t, s->edge[e].left, (uint32_t)e);
+                inverse_put(&t, s->edge[e].right, (uint32_t)e);
             }
         }
         if (pass == 0)
@@ -292,20 +287,16 @@ static int build_face_edges(hpfc_shapes *s)
 }
 
 /* Room for each edge's record and each vertex's coordinates, read a
- * chunk at a time on first use (shapes_edges.c); untouched until then. */
+ * chunk at a time on first use (shapes_edges.c); untouched until then, so
+ * a query pays a page fault for each page of them it writes first. */
 static int index_edges(hpfc_shapes *s)
 {
     size_t E = (size_t)s->edges + 1, V = (size_t)s->vertices + 1;
-    s->eu = shapes_zeroed(E, sizeof *s->eu);
-    s->ev = shapes_zeroed(E, sizeof *s->ev);
-    s->left = shapes_zeroed(E, sizeof *s->left);
-    s->right = shapes_zeroed(E, sizeof *s->right);
-    s->first = shapes_zeroed(E, sizeof *s->first);
-    s->end = shapes_zeroed(E, sizeof *s->end);
+    s->edge = shapes_zeroed(E, sizeof *s->edge);
     s->vxy = shapes_zeroed(2 * V, sizeof *s->vxy);
     s->edge_read = shapes_zeroed((E >> SHAPES_CHUNK_SHIFT) + 1, 1);
     s->vertex_read = shapes_zeroed((V >> SHAPES_CHUNK_SHIFT) + 1, 1);
-    if (!s->eu || !s->ev || !s->left || !s->right || !s->first || !s->end || !s->vxy ||
+    if (!s->edge || !s->vxy ||
         !s->edge_read || !s->vertex_read)
         return HPFC_E_NOMEM;
     return HPFC_OK;
@@ -653,9 +644,9 @@ static int load_edge(hpfc_shapes *s, uint64_t e, size_t *at)
     if (array_grow((void **)&s->ept, &s->cap_ept, 2 * (s->nept + n), sizeof *s->ept))
         return HPFC_E_NOMEM;
     int64_t *p = s->ept + 2 * s->nept;
-    memcpy(p, s->vxy + 2 * (size_t)s->eu[e], 2 * sizeof *p);
-    memcpy(p + 2 * (n - 1), s->vxy + 2 * (size_t)s->ev[e], 2 * sizeof *p);
-    st = geom_points(s->f, GEOM_PX, s->first[e], n - 2, p + 2);
+    memcpy(p, s->vxy + 2 * (size_t)s->edge[e].u, 2 * sizeof *p);
+    memcpy(p + 2 * (n - 1), s->vxy + 2 * (size_t)s->edge[e].v, 2 * sizeof *p);
+    st = geom_points(s->f, GEOM_PX, s->edge[e].first, n - 2, p + 2);
     /* GEOM's points lie in the domain (geom_points checks): within the
      * limit when the domain is */
     for (uint64_t k = 0; k < n && !st && !s->domain_in_limit; k++)
@@ -683,8 +674,8 @@ static int add_dart(hpfc_shapes *s, uint64_t e, int reversed, uint64_t face)
     memset(d, 0, sizeof *d);
     d->code = e << 1 | (uint64_t)reversed;
     d->face = (uint32_t)face;
-    d->origin = reversed ? s->ev[e] : s->eu[e];
-    d->target = reversed ? s->eu[e] : s->ev[e];
+    d->origin = reversed ? s->edge[e].v : s->edge[e].u;
+    d->target = reversed ? s->edge[e].u : s->edge[e].v;
     return HPFC_OK;
 }
 
@@ -1230,7 +1221,7 @@ int hpfc_shapes_face_polygons(hpfc_shapes *s, hpfc_id face, hpfc_polygons *out)
     for (uint64_t k = a; !st && k < b; k++) {
         uint32_t e = shapes_item(s, FACE_EDGES, k);
         /* the face on the left: u -> v when it is the left face */
-        st = add_dart(s, e, s->left[e] != face, face);
+        st = add_dart(s, e, s->edge[e].left != face, face);
     }
     return st ? st : assemble(s, out);
 }
@@ -1254,11 +1245,11 @@ static int region_polygons(hpfc_shapes *s, const uint32_t *faces, size_t n, hpfc
         st = shapes_row(s, FACE_EDGES, face, &a, &b);
         for (uint64_t j = a; !st && j < b; j++) {
             uint32_t e = shapes_item(s, FACE_EDGES, j);
-            int in_left = s->face_mark[s->left[e]] == m, in_right = s->face_mark[s->right[e]] == m;
+            int in_left = s->face_mark[s->edge[e].left] == m, in_right = s->face_mark[s->edge[e].right] == m;
             if (in_left && in_right)
-                parts_join(s, s->left[e], s->right[e]);
+                parts_join(s, s->edge[e].left, s->edge[e].right);
             /* once per edge: from the face on its side inside the region */
-            else if (in_left != in_right && (in_left ? s->left[e] : s->right[e]) == face)
+            else if (in_left != in_right && (in_left ? s->edge[e].left : s->edge[e].right) == face)
                 st = add_dart(s, e, in_right, face);
         }
     }
@@ -1344,7 +1335,7 @@ static int walk_line(line_walk *w, line_end from)
         if (!st)
             st = add_points(s, at, n, from.end, first ? 0 : 1, n);
         first = 0;
-        line_end arrived = {from.end ? s->eu[e] : s->ev[e], from.k, 1 - from.end};
+        line_end arrived = {from.end ? s->edge[e].u : s->edge[e].v, from.k, 1 - from.end};
         const line_end *next = continuation(w, arrived.vertex, &arrived);
         if (!next)
             break;
@@ -1358,13 +1349,13 @@ static int walk_line(line_walk *w, line_end from)
 static line_end line_start(const line_walk *w, uint32_t k)
 {
     const hpfc_shapes *s = w->s;
-    line_end at = {s->eu[w->edges[k]], k, 0};
+    line_end at = {s->edge[w->edges[k]].u, k, 0};
     for (size_t steps = 0; steps < w->n; steps++) {
         const line_end *o = continuation(w, at.vertex, &at);
         if (!o || o->k == k || w->used[o->k])
             break;
         uint32_t e = w->edges[o->k];
-        at = (line_end){o->end ? s->eu[e] : s->ev[e], o->k, 1 - o->end};
+        at = (line_end){o->end ? s->edge[e].u : s->edge[e].v, o->k, 1 - o->end};
     }
     return at; /* the walk goes forward from here, along at.k */
 }
@@ -1383,8 +1374,8 @@ static int join_lines(hpfc_shapes *s, const uint32_t *edges, size_t n, hpfc_poly
         st = HPFC_E_NOMEM;
     for (size_t k = 0; k < w.n && !st; k++) {
         uint32_t e = w.edges[k];
-        w.ends[2 * k] = (line_end){s->eu[e], (uint32_t)k, 0};
-        w.ends[2 * k + 1] = (line_end){s->ev[e], (uint32_t)k, 1};
+        w.ends[2 * k] = (line_end){s->edge[e].u, (uint32_t)k, 0};
+        w.ends[2 * k + 1] = (line_end){s->edge[e].v, (uint32_t)k, 1};
     }
     if (!st && w.n)
         qsort(w.ends, 2 * w.n, sizeof *w.ends, cmp_line_end);
@@ -1538,11 +1529,11 @@ int hpfc_shapes_mesh(hpfc_shapes *s, const uint32_t *group, size_t n, unsigned s
     size_t nl = 0, nr = 0, cap_l = 0, cap_r = 0, nk = 0, cap_k = 0;
     int st = shapes_read_all(s); /* every edge's faces */
     for (uint64_t e = 0; e < s->edges && s->face_features && !st; e++) {
-        if (s->left[e] == s->right[e])
+        if (s->edge[e].left == s->edge[e].right)
             continue;
-        st = face_groups(s, s->left[e], group, &gl, &nl, &cap_l);
+        st = face_groups(s, s->edge[e].left, group, &gl, &nl, &cap_l);
         if (!st)
-            st = face_groups(s, s->right[e], group, &gr, &nr, &cap_r);
+            st = face_groups(s, s->edge[e].right, group, &gr, &nr, &cap_r);
         if (st)
             break;
         int keep = (sides & HPFC_MESH_EXTERIOR) && ((nl == 0) != (nr == 0));

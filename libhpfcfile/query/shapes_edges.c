@@ -106,9 +106,9 @@ int shapes_read_edges(hpfc_shapes *s, uint64_t chunk)
             if (!s->vertex_read[vc])
                 st = shapes_read_vertices(s, vc);
         }
-        s->eu[e] = (uint32_t)rec[k].u, s->ev[e] = (uint32_t)rec[k].v;
-        s->first[e] = rec[k].first, s->end[e] = rec[k].first + rec[k].n;
-        s->left[e] = l, s->right[e] = r;
+        s->edge[e].u = (uint32_t)rec[k].u, s->edge[e].v = (uint32_t)rec[k].v;
+        s->edge[e].first = rec[k].first, s->edge[e].end = rec[k].first + rec[k].n;
+        s->edge[e].left = l, s->edge[e].right = r;
     }
     if (!st)
         s->edge_read[chunk] = 1;

@@ -154,9 +154,9 @@ static int add_edge_sides(hpfc_shapes *s, uint64_t edge, int border)
         return st;
     if (border)
         w->edge_border[edge] = w->gen;
-    st = add_face(s, s->left[edge], border);
-    if (!st && s->right[edge] != s->left[edge])
-        st = add_face(s, s->right[edge], border);
+    st = add_face(s, s->edge[edge].left, border);
+    if (!st && s->edge[edge].right != s->edge[edge].left)
+        st = add_face(s, s->edge[edge].right, border);
     if (st || w->edge_mark[edge] == w->gen)
         return st;
     w->edge_mark[edge] = w->gen;
@@ -243,18 +243,18 @@ int shapes_edge_point_run(const hpfc_shapes *s, uint64_t e, uint64_t from, uint6
         return HPFC_E_ARG;
     uint64_t k = from;
     if (k == 0) {
-        xy[0] = s->vxy[2 * (size_t)s->eu[e]], xy[1] = s->vxy[2 * (size_t)s->eu[e] + 1];
+        xy[0] = s->vxy[2 * (size_t)s->edge[e].u], xy[1] = s->vxy[2 * (size_t)s->edge[e].u + 1];
         xy += 2, k++;
     }
     uint64_t inner = end < last ? end : last; /* shape points: 1 .. last - 1 */
     if (k < inner) {
-        st = geom_points(s->f, GEOM_PX, s->first[e] + k - 1, inner - k, xy);
+        st = geom_points(s->f, GEOM_PX, s->edge[e].first + k - 1, inner - k, xy);
         if (st)
             return st;
         xy += 2 * (inner - k), k = inner;
     }
     if (k < end) /* k == last */
-        xy[0] = s->vxy[2 * (size_t)s->ev[e]], xy[1] = s->vxy[2 * (size_t)s->ev[e] + 1];
+        xy[0] = s->vxy[2 * (size_t)s->edge[e].v], xy[1] = s->vxy[2 * (size_t)s->edge[e].v + 1];
     return HPFC_OK;
 }
 
