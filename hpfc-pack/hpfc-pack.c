@@ -39,7 +39,10 @@
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2 };
 /* --jobs: threads are cheap to ask for and dear to start by the thousand */
 #define MAX_JOBS 1024
-#define MAX_JOBS_TEXT "1024"
+/* its text in the message, made from the number so the two cannot differ */
+#define TEXT_OF(x) #x
+#define NUMBER_TEXT(x) TEXT_OF(x)
+#define MAX_JOBS_TEXT NUMBER_TEXT(MAX_JOBS)
 
 typedef struct pack_args {
     const char *input, *output;
