@@ -162,7 +162,8 @@ static int add_edge_border(hpfc_shapes *s, uint64_t e)
     int st = shapes_need_edge(s, e);
     if (!st && s->face_features && s->edge[e].left != s->edge[e].right) {
         for (int side = 0; side < 2 && !st; side++) {
-            uint64_t face = side ? s->edge[e].right : s->edge[e].left, other = side ? s->edge[e].left : s->edge[e].right;
+            const shapes_edge *r = &s->edge[e];
+            uint64_t face = side ? r->right : r->left, other = side ? r->left : r->right;
             uint32_t n;
             hpfc_id g;
             if ((st = hpfc_face_feature_count(s->f, face, &n)))

@@ -687,7 +687,7 @@ static int load_darts(hpfc_shapes *s)
 {
     if (s->call_points > SIZE_MAX / 4 ||
         array_grow((void **)&s->ept, &s->cap_ept, 2 * ((size_t)s->call_points + 1),
-                         sizeof *s->ept))
+                   sizeof *s->ept))
         return HPFC_E_NOMEM;
     for (size_t k = 0; k < s->ndarts; k++) {
         bdart *d = &s->darts[k];
@@ -1198,8 +1198,8 @@ static int assemble(hpfc_shapes *s, hpfc_polygons *out)
      * ring at a time, the array was copied a dozen times on a large
      * feature, each copy into pages the process had not touched yet */
     if (!st && (s->call_points > SIZE_MAX / 4 ||
-                array_grow((void **)&s->txy, &s->cap_txy,
-                                 2 * ((size_t)s->call_points + 1), sizeof *s->txy)))
+                array_grow((void **)&s->txy, &s->cap_txy, 2 * ((size_t)s->call_points + 1),
+                           sizeof *s->txy)))
         st = HPFC_E_NOMEM;
     if (!st)
         st = trace_rings(s);
@@ -1245,7 +1245,8 @@ static int region_polygons(hpfc_shapes *s, const uint32_t *faces, size_t n, hpfc
         st = shapes_row(s, FACE_EDGES, face, &a, &b);
         for (uint64_t j = a; !st && j < b; j++) {
             uint32_t e = shapes_item(s, FACE_EDGES, j);
-            int in_left = s->face_mark[s->edge[e].left] == m, in_right = s->face_mark[s->edge[e].right] == m;
+            int in_left = s->face_mark[s->edge[e].left] == m,
+                in_right = s->face_mark[s->edge[e].right] == m;
             if (in_left && in_right)
                 parts_join(s, s->edge[e].left, s->edge[e].right);
             /* once per edge: from the face on its side inside the region */
