@@ -679,15 +679,22 @@ static int add_dart(hpfc_shapes *s, uint64_t e, int reversed, uint64_t face)
     return HPFC_OK;
 }
 
+/* Room in *p (pairs) for as many points as this call has counted
+ * (call_points), which bounds both the darts' edge points and the rings'. */
+static int reserve_call_points(const hpfc_shapes *s, int64_t **p, size_t *cap)
+{
+    if (s->call_points > SIZE_MAX / 4)
+        return HPFC_E_NOMEM;
+    return array_grow((void **)p, cap, 2 * ((size_t)s->call_points + 1), sizeof **p);
+}
+
 /* Every dart's points, decoded once for the ring that takes it, into an
  * array sized once from the points counted (call_points): grown an edge
  * at a time, a large feature's points were copied a dozen times into
  * pages not touched before. Then each dart's first and last directions. */
 static int load_darts(hpfc_shapes *s)
 {
-    if (s->call_points > SIZE_MAX / 4 ||
-        array_grow((void **)&s->ept, &s->cap_ept, 2 * ((size_t)s->call_points + 1),
-                   sizeof *s->ept))
+    if (reserve_call_points(s, &s->ept, &s->cap_ept))
         return HPFC_E_NOMEM;
     for (size_t k = 0; k < s->ndarts; k++) {
         bdart *d = &s->darts[k];
@@ -1197,9 +1204,7 @@ static int assemble(hpfc_shapes *s, hpfc_polygons *out)
      * closing point a ring, fewer than the darts' call_points; grown a
      * ring at a time, the array was copied a dozen times on a large
      * feature, each copy into pages the process had not touched yet */
-    if (!st && (s->call_points > SIZE_MAX / 4 ||
-                array_grow((void **)&s->txy, &s->cap_txy, 2 * ((size_t)s->call_points + 1),
-                           sizeof *s->txy)))
+    if (!st && reserve_call_points(s, &s->txy, &s->cap_txy))
         st = HPFC_E_NOMEM;
     if (!st)
         st = trace_rings(s);
