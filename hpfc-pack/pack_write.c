@@ -229,7 +229,6 @@ static int build_one_part(const hpfc_cut *cut, const hpfc_build_params *p, const
         st = hpfc_build_part(sub, p, &part, out, diag);
     hpfc_graph_free(sub);
     hpfc_free(ids);
-    release_free_memory();
     return st;
 }
 
@@ -343,6 +342,11 @@ typedef struct part_queue {
     size_t parts;
     const part_folder *files;
     progress *bar;
+    /* one thread: the heap given back after each part, as the parts go
+     * one after another. Several: once, after the last (pack_write);
+     * malloc_trim walks and locks every thread's heap, and under
+     * AddressSanitizer two threads trimming at once crashed in glibc */
+    bool trim_each;
     pthread_mutex_t lock; /* guards what follows */
     size_t next, done;
     size_t failed_part; /* parts when none failed */
@@ -359,6 +363,8 @@ static int build_and_write_part(part_queue *pq, size_t q, hpfc_diag *diag)
     if (!st)
         st = write_part(part, pq->files->paths[q], diag); /* HPFC_E_IO: the disk's fault */
     hpfc_tree_free(part);
+    if (pq->trim_each)
+        release_free_memory();
     return st;
 }
 
@@ -454,9 +460,11 @@ static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pac
     quiet.progress = NULL;
     part_queue pq = {.cut = cut, .params = &quiet, .domain = &d, .pixels = pixels, .roots = roots,
                      .edges = hpfc_graph_edge_count(g), .parts = k, .files = &pf, .bar = bar};
+    uint32_t jobs = parts->jobs ? parts->jobs : 1;
+    pq.trim_each = jobs == 1;
     if (!st) {
         progress_show(bar, "parts", 0, (double)k, 1);
-        st = run_part_queue(&pq, parts->jobs ? parts->jobs : 1, diag);
+        st = run_part_queue(&pq, jobs, diag);
     }
     hpfc_cut_free(cut);
     if (st && st != HPFC_E_IO)
