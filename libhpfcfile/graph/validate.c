@@ -243,9 +243,84 @@ static int report_conflict(const hpfc_graph *g, const seg_table *t, uint32_t s1,
                     diag ? diag->x : 0.0, diag ? diag->y : 0.0);
 }
 
+/* The pairs of one cell. Two segments that conflict share a point, so
+ * their closed boxes meet: the box test, a few comparisons, spares the
+ * orientation predicates of most pairs. Exact either way. */
+static bool boxes_meet(lpoint a, lpoint b, lpoint c, lpoint d)
+{
+    return (a.x < b.x ? a.x : b.x) <= (c.x > d.x ? c.x : d.x) &&
+           (c.x < d.x ? c.x : d.x) <= (a.x > b.x ? a.x : b.x) &&
+           (a.y < b.y ? a.y : b.y) <= (c.y > d.y ? c.y : d.y) &&
+           (c.y < d.y ? c.y : d.y) <= (a.y > b.y ? a.y : b.y);
+}
+
+static bool pair_conflicts(const seg_table *t, uint32_t s1, uint32_t s2, double at[2])
+{
+    lpoint a = seg_point(t, s1, 0), b = seg_point(t, s1, 1);
+    lpoint c = seg_point(t, s2, 0), d = seg_point(t, s2, 1);
+    return boxes_meet(a, b, c, d) && segments_conflict(a, b, c, d, at);
+}
+
+static bool cell_conflicts(const seg_table *t, const uint32_t *items, size_t k)
+{
+    double at[2];
+    for (size_t i = 0; i < k; i++)
+        for (size_t j = i + 1; j < k; j++)
+            if (pair_conflicts(t, items[i], items[j], at))
+                return true;
+    return false;
+}
+
+/* A dense cell (a coastline's detail, thousands of segments in one cell of
+ * a uniform grid over a continent) is swept instead: its segments sorted by
+ * their boxes' west side, each tested only against those that start before
+ * it ends. */
+typedef struct swept_seg {
+    int64_t x0, x1;
+    uint32_t s;
+} swept_seg;
+
+#define SWEEP_FROM 32
+
+static int cmp_swept(const void *pa, const void *pb)
+{
+    const swept_seg *a = pa, *b = pb;
+    return (a->x0 > b->x0) - (a->x0 < b->x0);
+}
+
+static bool cell_conflicts_swept(const seg_table *t, const uint32_t *items, size_t k, swept_seg *sweep)
+{
+    for (size_t i = 0; i < k; i++) {
+        lpoint a = seg_point(t, items[i], 0), b = seg_point(t, items[i], 1);
+        sweep[i] = (swept_seg){a.x < b.x ? a.x : b.x, a.x > b.x ? a.x : b.x, items[i]};
+    }
+    qsort(sweep, k, sizeof *sweep, cmp_swept);
+    double at[2];
+    for (size_t i = 0; i < k; i++)
+        for (size_t j = i + 1; j < k && sweep[j].x0 <= sweep[i].x1; j++)
+            if (pair_conflicts(t, sweep[i].s, sweep[j].s, at))
+                return true;
+    return false;
+}
+
+/* The pair reported is the first in the cell's own order, whichever test
+ * found that the cell holds one, so a graph's message does not depend on
+ * how its cells are searched. */
+static int report_cell_conflict(const hpfc_graph *g, const seg_table *t, const uint32_t *items,
+                                size_t k, const bucket_grid *bg, hpfc_diag *diag)
+{
+    double at[2];
+    for (size_t i = 0; i < k; i++)
+        for (size_t j = i + 1; j < k; j++)
+            if (pair_conflicts(t, items[i], items[j], at))
+                return report_conflict(g, t, items[i], items[j], at, bg, diag);
+    return diag_set(diag, HPFC_E_NONPLANAR, "internal error: a conflict found once is not found again");
+}
+
 static int check_planarity(const hpfc_graph *g, hpfc_diag *diag)
 {
     seg_table t = {0};
+    swept_seg *sweep = NULL;
     for (size_t e = 0; e < g->ne; e++)
         t.count += graph_edge_point_count(g, e) - 1;
     if (t.count > UINT32_MAX)
@@ -264,19 +339,18 @@ static int check_planarity(const hpfc_graph *g, hpfc_diag *diag)
     st = build_buckets(g, &t, &bg);
     if (st)
         goto done;
+    size_t most = 0;
+    for (size_t c = 0; c < bg.cols * bg.rows; c++)
+        most = bg.start[c + 1] - bg.start[c] > most ? bg.start[c + 1] - bg.start[c] : most;
+    if (most > SWEEP_FROM && !(sweep = malloc(most * sizeof *sweep))) {
+        st = HPFC_E_NOMEM;
+        goto done;
+    }
     for (size_t c = 0; c < bg.cols * bg.rows && !st; c++) {
-        for (size_t i = bg.start[c]; i < bg.start[c + 1] && !st; i++) {
-            uint32_t s1 = bg.items[i];
-            lpoint a = seg_point(&t, s1, 0), b = seg_point(&t, s1, 1);
-            for (size_t j = i + 1; j < bg.start[c + 1]; j++) {
-                uint32_t s2 = bg.items[j];
-                double at[2];
-                if (segments_conflict(a, b, seg_point(&t, s2, 0), seg_point(&t, s2, 1), at)) {
-                    st = report_conflict(g, &t, s1, s2, at, &bg, diag);
-                    break;
-                }
-            }
-        }
+        const uint32_t *items = bg.items + bg.start[c];
+        size_t k = bg.start[c + 1] - bg.start[c];
+        if (k > SWEEP_FROM ? cell_conflicts_swept(&t, items, k, sweep) : cell_conflicts(&t, items, k))
+            st = report_cell_conflict(g, &t, items, k, &bg, diag);
     }
 done:
     if (st == HPFC_E_NOMEM)
@@ -286,6 +360,7 @@ done:
     free(t.end);
     free(bg.start);
     free(bg.items);
+    free(sweep);
     return st;
 }
 

@@ -1,0 +1,284 @@
+/*
+ * hpfc_graph_validate on dense graphs, against a naive oracle: every pair
+ * of segments and every pair of points compared directly.
+ *
+ * The graphs put a few hundred segments into a small cluster and one edge
+ * far away, so the validator's uniform grid (about one cell a segment over
+ * the whole box) gathers the cluster into a cell or four: dense cells are
+ * searched by a sweep, sparse ones pair by pair, and point repeats are
+ * found by a hash before a sort names the culprit. The oracle shares none
+ * of that: its verdict, and for a crossing the pair of edges named, must be
+ * the validator's.
+ */
+#include <stdbool.h>
+#include <string.h>
+
+#include "check.h"
+#include "gen.h"
+#include "hpfc.h"
+
+typedef struct pt {
+    int64_t x, y;
+} pt;
+
+typedef struct segment {
+    pt a, b;
+    uint32_t edge;
+} segment;
+
+/* Exact in 64 bits: the graphs here stay below 2^26 in x and y. */
+static int orientation(pt a, pt b, pt c)
+{
+    int64_t v = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    return (v > 0) - (v < 0);
+}
+
+static bool within(int64_t lo, int64_t hi, int64_t v)
+{
+    return (lo < hi ? lo : hi) <= v && v <= (lo > hi ? lo : hi);
+}
+
+static bool on_closed_segment(pt a, pt b, pt p)
+{
+    return orientation(a, b, p) == 0 && within(a.x, b.x, p.x) && within(a.y, b.y, p.y);
+}
+
+static bool same(pt a, pt b)
+{
+    return a.x == b.x && a.y == b.y;
+}
+
+/* The closed segments' intersection is empty, one point or a segment; the
+ * graph allows only one point that is an end of both. */
+static bool naive_conflict(pt a, pt b, pt c, pt d)
+{
+    int o1 = orientation(a, b, c), o2 = orientation(a, b, d);
+    int o3 = orientation(c, d, a), o4 = orientation(c, d, b);
+    bool meet = (o1 * o2 < 0 && o3 * o4 < 0) || on_closed_segment(a, b, c) ||
+                on_closed_segment(a, b, d) || on_closed_segment(c, d, a) || on_closed_segment(c, d, b);
+    if (!meet)
+        return false;
+    bool share = same(a, c) || same(a, d) || same(b, c) || same(b, d);
+    if (o1 || o2) /* not on one line: they meet in one point */
+        return !share;
+    /* on one line: the overlap of their extents along it */
+    bool by_x = a.x != b.x || c.x != d.x;
+    int64_t a0 = by_x ? a.x : a.y, a1 = by_x ? b.x : b.y, c0 = by_x ? c.x : c.y, c1 = by_x ? d.x : d.y;
+    int64_t lo = (a0 < a1 ? a0 : a1) > (c0 < c1 ? c0 : c1) ? (a0 < a1 ? a0 : a1) : (c0 < c1 ? c0 : c1);
+    int64_t hi = (a0 > a1 ? a0 : a1) < (c0 > c1 ? c0 : c1) ? (a0 > a1 ? a0 : a1) : (c0 > c1 ? c0 : c1);
+    return hi > lo || !share;
+}
+
+typedef struct graph_copy {
+    segment *seg;
+    size_t nseg;
+    pt *point;
+    size_t npoint;
+} graph_copy;
+
+static void copy_graph(const hpfc_graph *g, graph_copy *c)
+{
+    size_t ne = hpfc_graph_edge_count(g), nv = hpfc_graph_vertex_count(g), total = nv;
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t u, v;
+        const int64_t *xy;
+        size_t n;
+        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
+        total += n;
+    }
+    c->point = malloc(total * sizeof *c->point);
+    c->seg = malloc(total * sizeof *c->seg);
+    c->npoint = c->nseg = 0;
+    for (size_t v = 0; v < nv; v++) {
+        pt *p = &c->point[c->npoint++];
+        hpfc_graph_vertex(g, v, &p->x, &p->y);
+    }
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t u, v;
+        const int64_t *xy;
+        size_t n;
+        hpfc_graph_edge(g, e, &u, &v, &xy, &n);
+        pt prev = c->point[u];
+        for (size_t k = 0; k <= n; k++) {
+            pt next = k < n ? (pt){xy[2 * k], xy[2 * k + 1]} : c->point[v];
+            if (k < n)
+                c->point[c->npoint++] = next;
+            c->seg[c->nseg++] = (segment){prev, next, (uint32_t)e};
+            prev = next;
+        }
+    }
+}
+
+static bool naive_repeat(const graph_copy *c)
+{
+    for (size_t i = 0; i < c->npoint; i++)
+        for (size_t j = i + 1; j < c->npoint; j++)
+            if (same(c->point[i], c->point[j]))
+                return true;
+    return false;
+}
+
+static bool edges_conflict(const graph_copy *c, int64_t e1, int64_t e2)
+{
+    for (size_t i = 0; i < c->nseg; i++)
+        for (size_t j = i + 1; j < c->nseg; j++)
+            if (((c->seg[i].edge == e1 && c->seg[j].edge == e2) ||
+                 (c->seg[i].edge == e2 && c->seg[j].edge == e1)) &&
+                naive_conflict(c->seg[i].a, c->seg[i].b, c->seg[j].a, c->seg[j].b))
+                return true;
+    return false;
+}
+
+static bool naive_crossing(const graph_copy *c)
+{
+    for (size_t i = 0; i < c->nseg; i++)
+        for (size_t j = i + 1; j < c->nseg; j++)
+            if (naive_conflict(c->seg[i].a, c->seg[i].b, c->seg[j].a, c->seg[j].b))
+                return true;
+    return false;
+}
+
+/* Polylines in horizontal strips of a small square, x rising along each
+ * (so none crosses itself or another strip), a far edge that stretches the
+ * box, then the flaws a round asks for: edges with random ends across the
+ * strips, a vertex dropped on a polyline's point, a polyline's point moved
+ * onto another's, or, right of the strips, an edge ending on a vertical one
+ * (or one unit short of it), where the two boxes' only common x is an end
+ * of both: the sweep's bound, tested exactly. */
+typedef struct dense_case {
+    uint32_t strips, points, stray_edges;
+    bool repeat, touch, t_junction, t_apart;
+} dense_case;
+
+static hpfc_graph *dense_graph(gen_rng *rng, const dense_case *dc)
+{
+    hpfc_graph *g;
+    hpfc_graph_create(&g);
+    const int64_t side = 4096, strip = side / dc->strips;
+    int64_t *xy = malloc(2 * dc->points * sizeof *xy);
+    for (uint32_t s = 0; s < dc->strips; s++) {
+        int64_t y0 = s * strip, x = (int64_t)gen_rng_below(rng, 16);
+        uint32_t u, v;
+        hpfc_graph_add_vertex(g, x, y0 + (int64_t)gen_rng_below(rng, (uint64_t)strip - 1), &u);
+        for (uint32_t k = 0; k < dc->points; k++) {
+            x += 1 + (int64_t)gen_rng_below(rng, 2 * side / dc->points);
+            xy[2 * k] = x;
+            xy[2 * k + 1] = y0 + (int64_t)gen_rng_below(rng, (uint64_t)strip - 1);
+        }
+        x += 1 + (int64_t)gen_rng_below(rng, 8);
+        hpfc_graph_add_vertex(g, x, y0 + (int64_t)gen_rng_below(rng, (uint64_t)strip - 1), &v);
+        hpfc_graph_add_edge(g, u, v, xy, dc->points, NULL);
+    }
+    uint32_t u, v;
+    hpfc_graph_add_vertex(g, 40000000, 30000000, &u);
+    hpfc_graph_add_vertex(g, 40000005, 30000009, &v);
+    hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+    for (uint32_t k = 0; k < dc->stray_edges; k++) {
+        int64_t x0 = (int64_t)gen_rng_below(rng, 3 * side), y0 = (int64_t)gen_rng_below(rng, side);
+        hpfc_graph_add_vertex(g, x0, y0, &u);
+        hpfc_graph_add_vertex(g, x0 + 1 + (int64_t)gen_rng_below(rng, 64), y0 + (int64_t)gen_rng_below(rng, 64), &v);
+        hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+    }
+    if (dc->touch || dc->repeat) { /* a vertex on, or a point of, a strip's point */
+        uint32_t s = (uint32_t)gen_rng_below(rng, dc->strips);
+        const int64_t *pts;
+        size_t n;
+        hpfc_graph_edge(g, s, &u, &v, &pts, &n);
+        size_t k = (size_t)gen_rng_below(rng, n);
+        int64_t px = pts[2 * k], py = pts[2 * k + 1];
+        if (dc->repeat) {
+            hpfc_graph_add_vertex(g, px, py, &u);
+            hpfc_graph_add_vertex(g, px + 3, py + side, &v);
+        } else { /* the middle of the segment after point k: on it only if the lattice allows */
+            const int64_t *q = k + 1 < n ? pts + 2 * k + 2 : NULL;
+            int64_t qx = q ? q[0] : px + 2, qy = q ? q[1] : py;
+            hpfc_graph_add_vertex(g, (px + qx) / 2, (py + qy) / 2, &u);
+            hpfc_graph_add_vertex(g, (px + qx) / 2 + 1, py + side, &v);
+        }
+        hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+    }
+    if (dc->t_junction) {
+        int64_t x = 3 * side + 500, y = (int64_t)gen_rng_below(rng, side);
+        hpfc_graph_add_vertex(g, x, y, &u);
+        hpfc_graph_add_vertex(g, x, y + 40, &v);
+        hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+        hpfc_graph_add_vertex(g, x - (dc->t_apart ? 1 : 0), y + 20, &u);
+        hpfc_graph_add_vertex(g, x - 9, y + 27, &v);
+        hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+    }
+    free(xy);
+    return g;
+}
+
+static int rounds_with_verdict[3];
+
+static void check_against_oracle(const hpfc_graph *g)
+{
+    graph_copy c;
+    copy_graph(g, &c);
+    hpfc_diag d;
+    int st = hpfc_graph_validate(g, &d);
+    int expected = naive_repeat(&c) ? HPFC_E_DUPLICATE_POINT
+                   : naive_crossing(&c) ? HPFC_E_NONPLANAR
+                                        : HPFC_OK;
+    CHECK_EQ_INT(st, expected);
+    if (st == HPFC_E_NONPLANAR && expected == st) /* the edges named do conflict */
+        CHECK(d.edge[0] >= 0 && d.edge[1] >= 0 && edges_conflict(&c, d.edge[0], d.edge[1]));
+    rounds_with_verdict[expected == HPFC_OK ? 0 : expected == HPFC_E_NONPLANAR ? 1 : 2]++;
+    free(c.seg);
+    free(c.point);
+}
+
+static void test_dense_clusters(void)
+{
+    gen_rng rng;
+    gen_rng_seed(&rng, 20261205);
+    for (int round = 0; round < 300; round++) {
+        dense_case dc = {.strips = 4 + (uint32_t)gen_rng_below(&rng, 28),
+                         .points = 8 + (uint32_t)gen_rng_below(&rng, 40),
+                         .stray_edges = round % 5 == 0 ? 1 + (uint32_t)gen_rng_below(&rng, 3) : 0,
+                         .repeat = round % 5 == 1,
+                         .touch = round % 5 == 2,
+                         .t_junction = round % 5 == 3,
+                         .t_apart = round % 10 == 8};
+        hpfc_graph *g = dense_graph(&rng, &dc);
+        check_against_oracle(g);
+        hpfc_graph_free(g);
+    }
+    /* each verdict reached often enough to mean something */
+    CHECK(rounds_with_verdict[0] >= 40 && rounds_with_verdict[1] >= 40 && rounds_with_verdict[2] >= 40);
+    fprintf(stderr, "dense clusters: %d valid, %d crossing, %d repeating\n", rounds_with_verdict[0],
+            rounds_with_verdict[1], rounds_with_verdict[2]);
+}
+
+/* The hash sees every point: a repeat between the first vertex and the
+ * last interior point of a long graph, and none at all. */
+static void test_repeat_far_apart(void)
+{
+    for (int with_repeat = 0; with_repeat < 2; with_repeat++) {
+        hpfc_graph *g;
+        hpfc_graph_create(&g);
+        uint32_t u, v;
+        hpfc_graph_add_vertex(g, 0, 0, &u);
+        hpfc_graph_add_vertex(g, 100000, 7, &v);
+        int64_t xy[2 * 50000];
+        for (int k = 0; k < 50000; k++)
+            xy[2 * k] = 2 * (k + 1), xy[2 * k + 1] = 1 + (k % 5);
+        if (with_repeat)
+            xy[2 * 49999] = 0, xy[2 * 49999 + 1] = 0;
+        hpfc_graph_add_edge(g, u, v, xy, 50000, NULL);
+        hpfc_diag d;
+        int st = hpfc_graph_validate(g, &d);
+        CHECK_EQ_INT(st, with_repeat ? HPFC_E_DUPLICATE_POINT : HPFC_OK);
+        if (with_repeat)
+            CHECK(strcmp(d.message, "interior point 50000 of edge 0 is at the same point (0, 0) as vertex 0") == 0);
+        hpfc_graph_free(g);
+    }
+}
+
+int main(void)
+{
+    test_dense_clusters();
+    test_repeat_far_apart();
+    return check_report("validate");
+}
