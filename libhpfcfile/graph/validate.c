@@ -63,12 +63,13 @@ static int check_edges_locally(const hpfc_graph *g, hpfc_diag *diag)
 
 /* ---- planarity ---------------------------------------------------------- */
 
-typedef struct seg_table {
-    size_t count;
-    uint32_t *edge;   /* edge of each segment */
-    uint32_t *k;      /* segment index within its edge */
-    lpoint *end;      /* 2 per segment, relative to the bucket grid's origin */
-} seg_table;
+/* Segment k of edge `edge` (from its point k to point k + 1). The grid
+ * holds these, 8 bytes an incidence, and reads the points from the graph:
+ * a copy of every segment's ends took 40 bytes a segment more (8 GB at
+ * 2*10^8 shape points). */
+typedef struct seg_ref {
+    uint32_t edge, k;
+} seg_ref;
 
 static bool on_segment(lpoint a, lpoint b, lpoint p)
 {
@@ -129,41 +130,54 @@ static bool segments_conflict(lpoint a, lpoint b, lpoint c, lpoint d, double at[
     return false;
 }
 
-static lpoint seg_point(const seg_table *t, size_t s, int end)
-{
-    return t->end[2 * s + (size_t)end];
-}
 
 typedef struct bucket_grid {
+    const hpfc_graph *g;
     int64_t ox, oy, cw, ch;
     size_t cols, rows;
     size_t *start;     /* cols*rows + 1 offsets into items */
-    uint32_t *items;   /* segment ids */
+    seg_ref *items;
 } bucket_grid;
 
-/* Calls fn(cell, segment) for every cell the segment meets. */
-static void for_each_cell(const bucket_grid *bg, lpoint p, lpoint q, uint32_t s,
-                          void (*fn)(bucket_grid *, size_t, uint32_t), bucket_grid *out)
+/* An end of a segment, relative to the grid's origin. */
+static lpoint seg_point(const bucket_grid *bg, seg_ref s, int end)
 {
+    int64_t x, y;
+    graph_edge_point(bg->g, s.edge, (size_t)s.k + (size_t)end, &x, &y);
+    return (lpoint){x - bg->ox, y - bg->oy};
+}
+
+/* Calls fn(cell, segment) for every cell the segment meets. */
+static void for_each_cell(bucket_grid *bg, seg_ref s, void (*fn)(bucket_grid *, size_t, seg_ref))
+{
+    lpoint p = seg_point(bg, s, 0), q = seg_point(bg, s, 1);
     size_t c0 = (size_t)((p.x < q.x ? p.x : q.x) / bg->cw), c1 = (size_t)((p.x > q.x ? p.x : q.x) / bg->cw);
     size_t r0 = (size_t)((p.y < q.y ? p.y : q.y) / bg->ch), r1 = (size_t)((p.y > q.y ? p.y : q.y) / bg->ch);
     for (size_t r = r0; r <= r1; r++)
         for (size_t c = c0; c <= c1; c++) {
             int64_t x0 = (int64_t)c * bg->cw, y0 = (int64_t)r * bg->ch;
             if ((c0 == c1 && r0 == r1) || segment_meets_cell(p, q, x0, y0, x0 + bg->cw, y0 + bg->ch))
-                fn(out, r * bg->cols + c, s);
+                fn(bg, r * bg->cols + c, s);
         }
 }
 
-static void count_incidence(bucket_grid *bg, size_t cell, uint32_t s)
+static void count_incidence(bucket_grid *bg, size_t cell, seg_ref s)
 {
     (void)s;
     bg->start[cell + 1]++;
 }
 
-static void place_incidence(bucket_grid *bg, size_t cell, uint32_t s)
+static void place_incidence(bucket_grid *bg, size_t cell, seg_ref s)
 {
     bg->items[bg->start[cell]++] = s;
+}
+
+/* Every segment of the graph, in edge order. */
+static void for_each_segment(bucket_grid *bg, void (*fn)(bucket_grid *, size_t, seg_ref))
+{
+    for (size_t e = 0; e < bg->g->ne; e++)
+        for (size_t k = 0; k + 1 < graph_edge_point_count(bg->g, e); k++)
+            for_each_cell(bg, (seg_ref){(uint32_t)e, (uint32_t)k}, fn);
 }
 
 /* floor(sqrt(n)), in integers (the reader, which validates a GEOM section's
@@ -180,62 +194,49 @@ static size_t integer_sqrt(size_t n)
     return x;
 }
 
-static int build_buckets(const hpfc_graph *g, seg_table *t, bucket_grid *bg)
+static int build_buckets(const hpfc_graph *g, size_t segments, bucket_grid *bg)
 {
-    int64_t xmin = INT64_MAX, ymin = INT64_MAX, xmax = INT64_MIN, ymax = INT64_MIN;
-    for (size_t v = 0; v < g->nv; v++) {
-        int64_t x = g->vxy[2 * v], y = g->vxy[2 * v + 1];
-        xmin = x < xmin ? x : xmin, xmax = x > xmax ? x : xmax;
-        ymin = y < ymin ? y : ymin, ymax = y > ymax ? y : ymax;
-    }
-    for (size_t p = 0; p < g->npts; p++) {
-        int64_t x = g->pts[2 * p], y = g->pts[2 * p + 1];
-        xmin = x < xmin ? x : xmin, xmax = x > xmax ? x : xmax;
-        ymin = y < ymin ? y : ymin, ymax = y > ymax ? y : ymax;
-    }
-    for (size_t s = 0; s < t->count; s++)
-        for (int end = 0; end < 2; end++) {
-            int64_t x, y;
-            graph_edge_point(g, t->edge[s], t->k[s] + (size_t)end, &x, &y);
-            t->end[2 * s + (size_t)end] = (lpoint){x - xmin, y - ymin};
-        }
-    size_t side = integer_sqrt(t->count) + 1;
-    bg->ox = xmin, bg->oy = ymin;
+    int64_t box[4];
+    hpfc_graph_bounds(g, box); /* a graph with an edge has a vertex */
+    size_t side = integer_sqrt(segments) + 1;
+    bg->g = g;
+    bg->ox = box[0], bg->oy = box[1];
     bg->cols = bg->rows = side;
-    bg->cw = (xmax - xmin) / (int64_t)side + 1;
-    bg->ch = (ymax - ymin) / (int64_t)side + 1;
+    bg->cw = (box[2] - box[0]) / (int64_t)side + 1;
+    bg->ch = (box[3] - box[1]) / (int64_t)side + 1;
     size_t cells = side * side;
     bg->start = calloc(cells + 2, sizeof *bg->start);
     if (!bg->start)
         return HPFC_E_NOMEM;
-    for (size_t s = 0; s < t->count; s++)
-        for_each_cell(bg, seg_point(t, s, 0), seg_point(t, s, 1), (uint32_t)s, count_incidence, bg);
+    for_each_segment(bg, count_incidence);
     for (size_t c = 0; c < cells; c++)
         bg->start[c + 1] += bg->start[c];
-    bg->items = malloc((bg->start[cells] ? bg->start[cells] : 1) * sizeof *bg->items);
+    size_t incidences = bg->start[cells];
+    bg->items = incidences <= SIZE_MAX / sizeof *bg->items
+                    ? malloc((incidences ? incidences : 1) * sizeof *bg->items)
+                    : NULL;
     if (!bg->items)
         return HPFC_E_NOMEM;
-    for (size_t s = 0; s < t->count; s++)
-        for_each_cell(bg, seg_point(t, s, 0), seg_point(t, s, 1), (uint32_t)s, place_incidence, bg);
+    for_each_segment(bg, place_incidence);
     /* place_incidence advanced each start to the next cell's start */
     memmove(bg->start + 1, bg->start, cells * sizeof *bg->start);
     bg->start[0] = 0;
     return HPFC_OK;
 }
 
-static int report_conflict(const hpfc_graph *g, const seg_table *t, uint32_t s1, uint32_t s2,
-                           const double at[2], const bucket_grid *bg, hpfc_diag *diag)
+static int report_conflict(const bucket_grid *bg, seg_ref s1, seg_ref s2, const double at[2],
+                           hpfc_diag *diag)
 {
     char a[64], b[64];
-    uint32_t e1 = t->edge[s1], e2 = t->edge[s2];
+    uint32_t e1 = s1.edge, e2 = s2.edge;
     if (e1 > e2) {
         uint32_t tmp = e1;
         e1 = e2, e2 = tmp;
     }
-    describe_edge(g, e1, a, sizeof a);
-    describe_edge(g, e2, b, sizeof b);
-    diag_edges(diag, g, e1, e2);
-    diag_point(diag, at[0] + (double)bg->ox, at[1] + (double)bg->oy, g->unit_exp10);
+    describe_edge(bg->g, e1, a, sizeof a);
+    describe_edge(bg->g, e2, b, sizeof b);
+    diag_edges(diag, bg->g, e1, e2);
+    diag_point(diag, at[0] + (double)bg->ox, at[1] + (double)bg->oy, bg->g->unit_exp10);
     if (e1 == e2)
         return diag_set(diag, HPFC_E_NONPLANAR, "%s intersects itself at (%.17g, %.17g)", a,
                         diag ? diag->x : 0.0, diag ? diag->y : 0.0);
@@ -254,19 +255,19 @@ static bool boxes_meet(lpoint a, lpoint b, lpoint c, lpoint d)
            (c.y < d.y ? c.y : d.y) <= (a.y > b.y ? a.y : b.y);
 }
 
-static bool pair_conflicts(const seg_table *t, uint32_t s1, uint32_t s2, double at[2])
+static bool pair_conflicts(const bucket_grid *bg, seg_ref s1, seg_ref s2, double at[2])
 {
-    lpoint a = seg_point(t, s1, 0), b = seg_point(t, s1, 1);
-    lpoint c = seg_point(t, s2, 0), d = seg_point(t, s2, 1);
+    lpoint a = seg_point(bg, s1, 0), b = seg_point(bg, s1, 1);
+    lpoint c = seg_point(bg, s2, 0), d = seg_point(bg, s2, 1);
     return boxes_meet(a, b, c, d) && segments_conflict(a, b, c, d, at);
 }
 
-static bool cell_conflicts(const seg_table *t, const uint32_t *items, size_t k)
+static bool cell_conflicts(const bucket_grid *bg, const seg_ref *items, size_t k)
 {
     double at[2];
     for (size_t i = 0; i < k; i++)
         for (size_t j = i + 1; j < k; j++)
-            if (pair_conflicts(t, items[i], items[j], at))
+            if (pair_conflicts(bg, items[i], items[j], at))
                 return true;
     return false;
 }
@@ -277,7 +278,7 @@ static bool cell_conflicts(const seg_table *t, const uint32_t *items, size_t k)
  * it ends. */
 typedef struct swept_seg {
     int64_t x0, x1;
-    uint32_t s;
+    seg_ref s;
 } swept_seg;
 
 #define SWEEP_FROM 32
@@ -288,17 +289,18 @@ static int cmp_swept(const void *pa, const void *pb)
     return (a->x0 > b->x0) - (a->x0 < b->x0);
 }
 
-static bool cell_conflicts_swept(const seg_table *t, const uint32_t *items, size_t k, swept_seg *sweep)
+static bool cell_conflicts_swept(const bucket_grid *bg, const seg_ref *items, size_t k,
+                                 swept_seg *sweep)
 {
     for (size_t i = 0; i < k; i++) {
-        lpoint a = seg_point(t, items[i], 0), b = seg_point(t, items[i], 1);
+        lpoint a = seg_point(bg, items[i], 0), b = seg_point(bg, items[i], 1);
         sweep[i] = (swept_seg){a.x < b.x ? a.x : b.x, a.x > b.x ? a.x : b.x, items[i]};
     }
     qsort(sweep, k, sizeof *sweep, cmp_swept);
     double at[2];
     for (size_t i = 0; i < k; i++)
         for (size_t j = i + 1; j < k && sweep[j].x0 <= sweep[i].x1; j++)
-            if (pair_conflicts(t, sweep[i].s, sweep[j].s, at))
+            if (pair_conflicts(bg, sweep[i].s, sweep[j].s, at))
                 return true;
     return false;
 }
@@ -306,58 +308,39 @@ static bool cell_conflicts_swept(const seg_table *t, const uint32_t *items, size
 /* The pair reported is the first in the cell's own order, whichever test
  * found that the cell holds one, so a graph's message does not depend on
  * how its cells are searched. */
-static int report_cell_conflict(const hpfc_graph *g, const seg_table *t, const uint32_t *items,
-                                size_t k, const bucket_grid *bg, hpfc_diag *diag)
+static int report_cell_conflict(const bucket_grid *bg, const seg_ref *items, size_t k, hpfc_diag *diag)
 {
     double at[2];
     for (size_t i = 0; i < k; i++)
         for (size_t j = i + 1; j < k; j++)
-            if (pair_conflicts(t, items[i], items[j], at))
-                return report_conflict(g, t, items[i], items[j], at, bg, diag);
+            if (pair_conflicts(bg, items[i], items[j], at))
+                return report_conflict(bg, items[i], items[j], at, diag);
     return diag_set(diag, HPFC_E_NONPLANAR, "internal error: a conflict found once is not found again");
 }
 
 static int check_planarity(const hpfc_graph *g, hpfc_diag *diag)
 {
-    seg_table t = {0};
-    swept_seg *sweep = NULL;
+    size_t segments = 0;
     for (size_t e = 0; e < g->ne; e++)
-        t.count += graph_edge_point_count(g, e) - 1;
-    if (t.count > UINT32_MAX)
+        segments += graph_edge_point_count(g, e) - 1;
+    if (segments > UINT32_MAX)
         return diag_set(diag, HPFC_E_LIMIT, "too many segments");
     bucket_grid bg = {0};
-    int st = HPFC_E_NOMEM;
-    t.edge = malloc(t.count * sizeof *t.edge);
-    t.k = malloc(t.count * sizeof *t.k);
-    t.end = malloc(2 * t.count * sizeof *t.end);
-    if (!t.edge || !t.k || !t.end)
-        goto done;
-    size_t s = 0;
-    for (size_t e = 0; e < g->ne; e++)
-        for (size_t k = 0; k + 1 < graph_edge_point_count(g, e); k++, s++)
-            t.edge[s] = (uint32_t)e, t.k[s] = (uint32_t)k;
-    st = build_buckets(g, &t, &bg);
-    if (st)
-        goto done;
-    size_t most = 0;
-    for (size_t c = 0; c < bg.cols * bg.rows; c++)
+    swept_seg *sweep = NULL;
+    int st = build_buckets(g, segments, &bg);
+    size_t cells = bg.cols * bg.rows, most = 0;
+    for (size_t c = 0; !st && c < cells; c++)
         most = bg.start[c + 1] - bg.start[c] > most ? bg.start[c + 1] - bg.start[c] : most;
-    if (most > SWEEP_FROM && !(sweep = malloc(most * sizeof *sweep))) {
+    if (!st && most > SWEEP_FROM && !(sweep = malloc(most * sizeof *sweep)))
         st = HPFC_E_NOMEM;
-        goto done;
-    }
-    for (size_t c = 0; c < bg.cols * bg.rows && !st; c++) {
-        const uint32_t *items = bg.items + bg.start[c];
+    for (size_t c = 0; !st && c < cells; c++) {
+        const seg_ref *items = bg.items + bg.start[c];
         size_t k = bg.start[c + 1] - bg.start[c];
-        if (k > SWEEP_FROM ? cell_conflicts_swept(&t, items, k, sweep) : cell_conflicts(&t, items, k))
-            st = report_cell_conflict(g, &t, items, k, &bg, diag);
+        if (k > SWEEP_FROM ? cell_conflicts_swept(&bg, items, k, sweep) : cell_conflicts(&bg, items, k))
+            st = report_cell_conflict(&bg, items, k, diag);
     }
-done:
     if (st == HPFC_E_NOMEM)
         diag_set(diag, st, "out of memory");
-    free(t.edge);
-    free(t.k);
-    free(t.end);
     free(bg.start);
     free(bg.items);
     free(sweep);
