@@ -281,7 +281,11 @@ typedef struct swept_seg {
     seg_ref s;
 } swept_seg;
 
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+#define SWEEP_FROM 2 /* fuzzed graphs are small: sweep almost every cell */
+#else
 #define SWEEP_FROM 32
+#endif
 
 static int cmp_swept(const void *pa, const void *pb)
 {
