@@ -93,15 +93,19 @@ static uint64_t place_hash(const int64_t *p)
 }
 
 /* Whether some two of the first n points share a place: 1 yes, 0 no, -1
- * out of memory (or too many points for the table's 32-bit slots). An
- * open-addressing table of point numbers, at most half full: a probe or
- * two a point, where sorting the points took a comparison sort of 32-byte
- * records (2.5 s for 7 M points, and four times the table's memory). Only
- * a repeat's culprit needs the sort. */
+ * not known (out of memory, too many points for the table's 32-bit slots,
+ * or too many probes). An open-addressing table of point numbers, at most
+ * half full: a probe or two a point, where sorting the points took a
+ * comparison sort of 32-byte records (2.5 s for 7 M points, and four times
+ * the table's memory). Only a repeat's culprit needs the sort, and so does
+ * a graph whose points were chosen to collide in the table (the hash is
+ * fixed and the input may be hostile): past 8 probes a point on average,
+ * the sort's n log n decides instead. */
 static int any_repeat(const hpfc_graph *g, size_t n)
 {
     if (n >= UINT32_MAX / 2)
         return -1;
+    size_t budget = 8 * n + 1024;
     size_t size = 16;
     while (size < 2 * n)
         size *= 2;
@@ -113,6 +117,10 @@ static int any_repeat(const hpfc_graph *g, size_t n)
     for (size_t k = 0; k < n && !repeat; k++) {
         const int64_t *p = point_at(g, k);
         for (size_t at = (size_t)place_hash(p) & (size - 1);; at = (at + 1) & (size - 1)) {
+            if (budget-- == 0) {
+                repeat = -1;
+                break;
+            }
             if (slot[at] == UINT32_MAX) {
                 slot[at] = (uint32_t)k;
                 break;

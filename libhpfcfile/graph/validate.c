@@ -130,13 +130,12 @@ static bool segments_conflict(lpoint a, lpoint b, lpoint c, lpoint d, double at[
     return false;
 }
 
-
 typedef struct bucket_grid {
     const hpfc_graph *g;
     int64_t ox, oy, cw, ch;
     size_t cols, rows;
     size_t *start;     /* cols*rows + 1 offsets into items */
-    seg_ref *items;
+    seg_ref *items;    /* each cell's segments, cell after cell */
 } bucket_grid;
 
 /* An end of a segment, relative to the grid's origin. */
