@@ -78,16 +78,16 @@ typedef struct graph_copy {
 
 static void copy_graph(const hpfc_graph *g, graph_copy *c)
 {
-    size_t ne = hpfc_graph_edge_count(g), nv = hpfc_graph_vertex_count(g), total = nv;
+    size_t ne = hpfc_graph_edge_count(g), nv = hpfc_graph_vertex_count(g), interior = 0;
     for (size_t e = 0; e < ne; e++) {
         uint32_t u, v;
         const int64_t *xy;
         size_t n;
         hpfc_graph_edge(g, e, &u, &v, &xy, &n);
-        total += n;
+        interior += n;
     }
-    c->point = malloc(total * sizeof *c->point);
-    c->seg = malloc(total * sizeof *c->seg);
+    c->point = malloc((nv + interior) * sizeof *c->point);
+    c->seg = malloc((ne + interior) * sizeof *c->seg); /* an edge of n interior points has n + 1 */
     c->npoint = c->nseg = 0;
     for (size_t v = 0; v < nv; v++) {
         pt *p = &c->point[c->npoint++];
