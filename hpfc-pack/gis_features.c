@@ -348,28 +348,22 @@ static stage_time thread_now(void)
     return t;
 }
 
+/* The wall and this thread's CPU time since t0. */
+static stage_time thread_since(stage_time t0)
+{
+    stage_time t = thread_now();
+    t.wall -= t0.wall;
+    t.cpu -= t0.cpu;
+    return t;
+}
+
 static void *find_witnesses(void *arg)
 {
     witness_job *job = arg;
-    stage_time t0 = thread_now(), t1;
+    stage_time t0 = thread_now();
     job->status = face_witnesses(job->graph, job->lc, job->file, job->faces, job->w);
-    t1 = thread_now();
-    job->t.wall = t1.wall - t0.wall;
-    job->t.cpu = t1.cpu - t0.cpu;
+    job->t = thread_since(t0);
     return NULL;
-}
-
-/* The topology walk, its time as the main thread's. */
-static int walk_topology(face_link *fl, const gis_features *fs, const hpfc_graph *graph,
-                         const leaf_crossings *lc, const hpfc_file *file, const hpfc_faces *faces,
-                         stage_time *t)
-{
-    stage_time t0 = thread_now(), t1;
-    int st = face_link_run(fl, fs, graph, lc, file, faces);
-    t1 = thread_now();
-    t->wall = t1.wall - t0.wall;
-    t->cpu = t1.cpu - t0.cpu;
-    return st;
 }
 
 int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
@@ -397,7 +391,9 @@ int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
         int threaded = pthread_create(&thread, NULL, find_witnesses, &job) == 0;
         if (!threaded) /* no thread to be had: one walk after the other */
             find_witnesses(&job);
-        int walked = walk_topology(&fl, fs, graph, lc, file, faces, &out->topology_t);
+        stage_time t0 = thread_now();
+        int walked = face_link_run(&fl, fs, graph, lc, file, faces);
+        out->topology_t = thread_since(t0);
         if (threaded)
             pthread_join(thread, NULL);
         out->witness_t = job.t;

@@ -261,13 +261,17 @@ static bool pair_conflicts(const bucket_grid *bg, seg_ref s1, seg_ref s2, double
     return boxes_meet(a, b, c, d) && segments_conflict(a, b, c, d, at);
 }
 
-static bool cell_conflicts(const bucket_grid *bg, const seg_ref *items, size_t k)
+/* The first pair of a cell that conflicts, in the cell's own order (the
+ * pair a message names, whichever search found that the cell holds one). */
+static bool first_conflict(const bucket_grid *bg, const seg_ref *items, size_t k, size_t *fi,
+                           size_t *fj, double at[2])
 {
-    double at[2];
     for (size_t i = 0; i < k; i++)
         for (size_t j = i + 1; j < k; j++)
-            if (pair_conflicts(bg, items[i], items[j], at))
+            if (pair_conflicts(bg, items[i], items[j], at)) {
+                *fi = i, *fj = j;
                 return true;
+            }
     return false;
 }
 
@@ -308,19 +312,6 @@ static bool cell_conflicts_swept(const bucket_grid *bg, const seg_ref *items, si
     return false;
 }
 
-/* The pair reported is the first in the cell's own order, whichever test
- * found that the cell holds one, so a graph's message does not depend on
- * how its cells are searched. */
-static int report_cell_conflict(const bucket_grid *bg, const seg_ref *items, size_t k, hpfc_diag *diag)
-{
-    double at[2];
-    for (size_t i = 0; i < k; i++)
-        for (size_t j = i + 1; j < k; j++)
-            if (pair_conflicts(bg, items[i], items[j], at))
-                return report_conflict(bg, items[i], items[j], at, diag);
-    return diag_set(diag, HPFC_E_NONPLANAR, "internal error: a conflict found once is not found again");
-}
-
 static int check_planarity(const hpfc_graph *g, hpfc_diag *diag)
 {
     size_t segments = 0;
@@ -338,9 +329,14 @@ static int check_planarity(const hpfc_graph *g, hpfc_diag *diag)
         st = HPFC_E_NOMEM;
     for (size_t c = 0; !st && c < cells; c++) {
         const seg_ref *items = bg.items + bg.start[c];
-        size_t k = bg.start[c + 1] - bg.start[c];
-        if (k > SWEEP_FROM ? cell_conflicts_swept(&bg, items, k, sweep) : cell_conflicts(&bg, items, k))
-            st = report_cell_conflict(&bg, items, k, diag);
+        size_t k = bg.start[c + 1] - bg.start[c], i, j;
+        double at[2];
+        if (k > SWEEP_FROM && !cell_conflicts_swept(&bg, items, k, sweep))
+            continue; /* a dense cell, without a conflict: nothing to name */
+        if (first_conflict(&bg, items, k, &i, &j, at))
+            st = report_conflict(&bg, items[i], items[j], at, diag);
+        else if (k > SWEEP_FROM)
+            st = diag_set(diag, HPFC_E_NONPLANAR, "internal error: a conflict swept is not found again");
     }
     if (st == HPFC_E_NOMEM)
         diag_set(diag, st, "out of memory");
