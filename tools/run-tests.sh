@@ -28,8 +28,8 @@ fi
 # bytes must be the whole build's, and a graph whose edges cross, refused
 # in the whole build's words; then two GIS layers with polygons, whose
 # linking finds the faces' witnesses on a second thread (their bytes must
-# be the release build's; GDAL's own lock order, taken on one thread, is
-# not what this checks: detect_deadlocks=0 there). Any report fails it.
+# be the ASan build's; GDAL's own lock order, taken on one thread, is not
+# what this checks: detect_deadlocks=0 there). Any report fails it.
 # Skipped without clang.
 tsan_gis() {
     for layer in counties_ne countries_world; do
