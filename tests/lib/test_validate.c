@@ -261,7 +261,7 @@ static void test_repeat_far_apart(void)
         uint32_t u, v;
         hpfc_graph_add_vertex(g, 0, 0, &u);
         hpfc_graph_add_vertex(g, 100000, 7, &v);
-        int64_t xy[2 * 50000];
+        static int64_t xy[2 * 50000]; /* 800 KB: not on the stack */
         for (int k = 0; k < 50000; k++)
             xy[2 * k] = 2 * (k + 1), xy[2 * k + 1] = 1 + (k % 5);
         if (with_repeat)
