@@ -5,8 +5,8 @@
  * The input is an .hpfc file followed by command bytes (input.h), opened
  * with HPFC_OPEN_SKIP_CHECKSUM so mutated sections and pools reach the
  * label code. Without commands: every leaf (at most 512) through every
- * label accessor, 16 located points, then hpfc_faces_build and
- * hpfc_labels_verify. With commands: the accessors on leaves, on darts
+ * label accessor, 16 located points, then hpfc_faces_build (and again on
+ * 3 threads) and hpfc_labels_verify. With commands: the accessors on leaves, on darts
  * naming any crossing and on pixel stacks with input-chosen depths, image
  * offsets and indices (untrusted, as a caller's). At most FUZZ_STEPS calls.
  *
@@ -17,8 +17,10 @@
  * listing; a dart's face is the face of the stretch after its crossing;
  * indices one past the end are HPFC_E_ARG; when hpfc_labels_verify accepts
  * the section, every leaf's number is the pool walk's and every stretch's
- * face is hpfc_faces_build's.
+ * face is hpfc_faces_build's; the faces numbered on 3 threads fail as
+ * one thread's do, at the same leaf, or are the same faces.
  */
+#include "faces.h"
 #include "file.h"
 #include "input.h"
 #include "labels.h"
@@ -111,12 +113,42 @@ static void probe_pixel(lab *z, const hpfc_pixel *px, uint32_t extra_crossing)
     FUZZ_CHECK(hpfc_label_dart_face(z->f, &past, &face) == HPFC_E_ARG);
 }
 
+/* The faces numbered again on 3 threads (in runs of 3 leaves in fuzzing
+ * builds, faces.c): the status of one thread's numbering `st`, from the
+ * same leaf's failure `fail`, and when it numbers, the same faces. */
+static void numbered_alike(lab *z, int st, uint64_t fail, const hpfc_faces *fc)
+{
+    hpfc_faces *many = NULL;
+    uint64_t fail3 = 0;
+    int st3 = faces_build_width(z->f, FACES_NARROW_NODES, 3, 0, &fail3, &many);
+    FUZZ_CHECK(st3 == st && fail3 == fail);
+    if (!st && !st3) {
+        FUZZ_CHECK(hpfc_faces_face_count(many) == hpfc_faces_face_count(fc));
+        hpfc_pixel px;
+        long leaves = 0;
+        for (int s = hpfc_leaf_first(z->f, &px); !s && leaves < FUZZ_LEAVES;
+             s = hpfc_leaf_next(z->f, &px), leaves++) {
+            hpfc_dart d = {.pixel = px};
+            for (d.crossing = 0; d.crossing < 64; d.crossing++) {
+                uint64_t a = 0, b = 0;
+                int sa = hpfc_faces_dart_face(fc, &d, &a), sb = hpfc_faces_dart_face(many, &d, &b);
+                FUZZ_CHECK(sa == sb && a == b);
+                if (sa)
+                    break;
+            }
+        }
+    }
+    hpfc_faces_free(many);
+}
+
 /* hpfc_labels_verify; when it accepts, the labels are the map's. */
 static void verify(lab *z)
 {
     hpfc_faces *fc = NULL;
-    int st = hpfc_faces_build(z->f, &fc);
+    uint64_t fail = 0;
+    int st = faces_build_width(z->f, FACES_NARROW_NODES, 1, 0, &fail, &fc);
     check_status(st);
+    numbered_alike(z, st, fail, fc);
     if (st)
         return;
     hpfc_labels_report rep;

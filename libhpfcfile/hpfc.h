@@ -591,6 +591,10 @@ typedef struct hpfc_write_options {
      * opened file; the caller frees them with hpfc_faces_free. NULL after
      * every other call and on any error. */
     struct hpfc_faces **faces_out;
+    /* Threads the tree calls may number LABL's faces on
+     * (hpfc_faces_build_threads), the calling one among them; 0 or 1: the
+     * calling thread alone. The same bytes whatever the count. */
+    unsigned threads;
 } hpfc_write_options;
 
 /* Every write call takes its options (NULL: all defaults) with their size
@@ -1030,6 +1034,14 @@ typedef struct hpfc_faces hpfc_faces;
  * other, HPFC_E_LIMIT past 2^24 crossings in one leaf or 2^40 crossings in
  * all, HPFC_E_NOMEM. */
 HPFC_API int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out);
+/* The same faces, numbered on up to `threads` threads (0 or 1: the calling
+ * thread alone; at most 64), the calling thread among them: the same
+ * answers and statuses as hpfc_faces_build whatever the count, in about
+ * 1/threads of its time on a large map (it reads the pools at random, so
+ * threads on cores of their own help most). Adds 772 bytes per 4,096
+ * leaves and a walker a thread. A thread that cannot be started leaves its
+ * share to the others. */
+HPFC_API int hpfc_faces_build_threads(const hpfc_file *file, unsigned threads, hpfc_faces **out);
 HPFC_API void hpfc_faces_free(hpfc_faces *faces);
 /* The number of faces (ids 0 .. count - 1). */
 HPFC_API uint64_t hpfc_faces_face_count(const hpfc_faces *faces);

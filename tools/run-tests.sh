@@ -23,7 +23,9 @@ fi
 # Many readers at once under ThreadSanitizer: tests/lib/test_threads.c (8
 # threads on one file, each query against one thread's answer) built with
 # clang -fsanitize=thread, that program alone (what it links: the library
-# and the test generator), so the step costs about a minute. Then
+# and the test generator), so the step costs about a minute; then
+# tests/lib/test_faces_threads.c (faces numbered on up to 8 threads, a
+# smaller sweep than the ASan run's: about 30 s). Then
 # hpfc-pack's parts built on 4 threads (--jobs): the shipped sample, whose
 # bytes must be the whole build's, and a graph whose edges cross, refused
 # in the whole build's words; then two GIS layers with polygons, whose
@@ -60,8 +62,9 @@ if command -v clang >/dev/null 2>&1; then
     rm -rf build-tsan
     if CC=clang CXX=clang++ meson setup build-tsan -Db_sanitize=thread -Db_lundef=false \
             -Dcairo=disabled -Dpython=disabled -Dwerror=true >/dev/null &&
-        ninja -C build-tsan tests/test_threads hpfc-pack/hpfc-pack >/dev/null &&
-        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_threads && tsan_pack; then
+        ninja -C build-tsan tests/test_threads tests/test_faces_threads hpfc-pack/hpfc-pack >/dev/null &&
+        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_threads &&
+        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_faces_threads 2 6 && tsan_pack; then
         echo "tsan: OK"
     else
         echo "tsan: FAILED"

@@ -19,6 +19,7 @@
  *     so each leaf only looks at the neighbour that spans its side.
  * The classes are the faces.
  */
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
@@ -129,6 +130,7 @@ struct hpfc_faces {
     node_array parent;
     uint64_t nodes, count;
     pools_print print; /* set while detached */
+    bool shared;       /* the union-find is shared by threads (numbering only) */
 };
 
 /* Sizes the table from the level table, for a file of `leaves` leaves. A
@@ -200,11 +202,62 @@ static uint64_t find(node_array *parent, uint64_t x)
     return x;
 }
 
-static void unite(node_array *parent, uint64_t a, uint64_t b)
+/* The union-find shared by the numbering's threads (hpfc_faces_build_threads):
+ * every parent is smaller than its child (a root links under the smaller
+ * root), so a parent once read is an ancestor still, whatever the other
+ * threads do after; path halving stores an ancestor, and a root is only
+ * ever linked by a compare-and-swap that finds it still a root. The classes,
+ * and so the faces' numbers, do not depend on the order of the unions. */
+static uint64_t node_load(const node_array *a, uint64_t x)
 {
-    a = find(parent, a), b = find(parent, b);
-    if (a != b) /* the smaller root wins: face 0 stays outer */
-        node_set(parent, a > b ? a : b, a < b ? a : b);
+    return a->narrow ? __atomic_load_n(&a->narrow[x], __ATOMIC_RELAXED)
+                     : __atomic_load_n(&a->wide[x], __ATOMIC_RELAXED);
+}
+
+static void node_store(node_array *a, uint64_t x, uint64_t v)
+{
+    if (a->narrow)
+        __atomic_store_n(&a->narrow[x], (uint32_t)v, __ATOMIC_RELAXED);
+    else
+        __atomic_store_n(&a->wide[x], v, __ATOMIC_RELAXED);
+}
+
+/* Links root x under y if x is a root still. */
+static bool node_link(node_array *a, uint64_t x, uint64_t y)
+{
+    if (a->narrow) {
+        uint32_t was = (uint32_t)x;
+        return __atomic_compare_exchange_n(&a->narrow[x], &was, (uint32_t)y, false, __ATOMIC_RELAXED,
+                                           __ATOMIC_RELAXED);
+    }
+    uint64_t was = x;
+    return __atomic_compare_exchange_n(&a->wide[x], &was, y, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
+}
+
+static uint64_t find_shared(node_array *parent, uint64_t x)
+{
+    for (uint64_t p; (p = node_load(parent, x)) != x; x = p) {
+        p = node_load(parent, p);
+        node_store(parent, x, p);
+    }
+    return x;
+}
+
+/* The smaller root wins: face 0 stays outer, and a class's root is its
+ * smallest node. */
+static void unite(node_array *parent, bool shared, uint64_t a, uint64_t b)
+{
+    if (!shared) {
+        a = find(parent, a), b = find(parent, b);
+        if (a != b)
+            node_set(parent, a > b ? a : b, a < b ? a : b);
+        return;
+    }
+    for (;;) {
+        a = find_shared(parent, a), b = find_shared(parent, b);
+        if (a == b || node_link(parent, a > b ? a : b, a < b ? a : b))
+            return;
+    }
 }
 
 /* Node of the boundary region of a parsed pixel that holds the stretch of
@@ -218,42 +271,185 @@ static uint64_t gap_node(const word_parts *lw, uint64_t base, int road, uint64_t
     return out_node(base, lw->n, k == 0 ? lw->n - 1 : k - 1);
 }
 
-/* Pass 1: give every leaf its nodes. */
-static int number_leaves(hpfc_faces *fc, hpfc_walker *w)
+/* ---- the leaves in runs, for several threads ----------------------------------- */
+
+/* Leaves are reached only one after another (hpfc_leaf_next), so the count
+ * keeps every RUN_LEAVES-th (772 bytes each) and each thread takes whole
+ * runs: a run's leaves are parsed, given their first node, then united.
+ * Fuzzing builds make runs of a few leaves, so that the small files a
+ * fuzzer makes are numbered in many runs too. */
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+enum { RUN_LEAVES = 3 };
+#else
+enum { RUN_LEAVES = 4096 };
+#endif
+
+/* Where in a leaf's checks a failure came, in the order one thread makes
+ * them: a failure's key is its leaf's number << FAIL_ORDER_BITS | order. */
+enum { FAIL_READ = 0, FAIL_OUTSIDE = 1, FAIL_TWICE = 2, FAIL_LIMIT = 3, FAIL_ORDER_BITS = 2 };
+
+typedef struct numbering numbering;
+typedef void (*run_step)(numbering *nb, hpfc_walker *w, size_t run);
+
+/* One numbering's runs and their threads. The failure kept is the first
+ * by key, whichever thread meets it; a run that starts after it is not
+ * taken, and runs are taken in order, so every run before it is done:
+ * any number of threads gives the status one thread does. */
+struct numbering {
+    hpfc_faces *fc;
+    hpfc_pixel *run_first; /* each run's first leaf */
+    uint64_t *run_nodes;   /* each run's node count, then its first node */
+    size_t runs;
+    uint64_t run_size; /* leaves a run */
+    uint64_t leaves;
+    run_step step;
+    size_t next_run;     /* the next run to take (atomic) */
+    uint64_t fail_key;   /* UINT64_MAX while none (atomic, written under lock) */
+    int fail_status;
+    pthread_mutex_t lock;
+    bool locked;         /* lock made: more than one thread */
+};
+
+static void note_failure(numbering *nb, uint64_t leaf, int order, int st)
 {
+    uint64_t key = leaf << FAIL_ORDER_BITS | (uint64_t)order;
+    if (nb->locked)
+        pthread_mutex_lock(&nb->lock);
+    if (key < __atomic_load_n(&nb->fail_key, __ATOMIC_RELAXED)) {
+        __atomic_store_n(&nb->fail_key, key, __ATOMIC_RELAXED);
+        nb->fail_status = st;
+    }
+    if (nb->locked)
+        pthread_mutex_unlock(&nb->lock);
+}
+
+/* Leaf `leaf` of a run whose first is `first`, px holding the one before:
+ * the count met every one of them, so the end of the leaves here is a
+ * file that changed under us. */
+static int run_next(const hpfc_file *f, uint64_t first, uint64_t leaf, hpfc_pixel *px)
+{
+    int st = leaf > first ? hpfc_leaf_next(f, px) : HPFC_OK;
+    return st == HPFC_E_NO_PIXEL ? HPFC_E_CORRUPT : st;
+}
+
+static uint64_t run_leaves(const numbering *nb, size_t run)
+{
+    uint64_t first = (uint64_t)run * nb->run_size;
+    return nb->leaves - first < nb->run_size ? nb->leaves - first : nb->run_size;
+}
+
+/* Pass 1: the leaves counted (a tree has exactly as many as the level table
+ * declares word pixels; addresses that alias one child image make the tree
+ * a DAG whose leaf paths can number n^L in a small file: counting stops
+ * there), each run's first kept, the table of entries made. */
+static int count_leaves(numbering *nb)
+{
+    hpfc_faces *fc = nb->fc;
     hpfc_pixel px;
-    /* A tree has exactly as many leaves as the level table declares word
-     * pixels. Addresses that alias one child image make the tree a DAG
-     * whose leaf paths can number n^L in a small file: counting stops there. */
-    uint64_t leaves = 0, most = file_total_leaves(fc->file);
+    uint64_t most = file_total_leaves(fc->file);
+    size_t cap = 0;
     int st = hpfc_leaf_first(fc->file, &px);
-    for (; !st; st = hpfc_leaf_next(fc->file, &px))
-        if (++leaves > most)
+    for (; !st; st = hpfc_leaf_next(fc->file, &px)) {
+        if (nb->leaves >= most)
             return HPFC_E_CORRUPT;
+        if (nb->leaves % nb->run_size == 0) {
+            if (nb->runs == cap) {
+                size_t grown = cap ? 2 * cap : 16;
+                hpfc_pixel *p = realloc(nb->run_first, grown * sizeof *p);
+                if (!p)
+                    return HPFC_E_NOMEM;
+                nb->run_first = p, cap = grown;
+            }
+            nb->run_first[nb->runs++] = px;
+        }
+        nb->leaves++;
+    }
     if (st != HPFC_E_NO_PIXEL)
         return st;
-    if ((st = leaf_table_init(&fc->leaves, fc->file, leaves)))
-        return st;
-    for (st = hpfc_leaf_first(fc->file, &px); !st; st = hpfc_leaf_next(fc->file, &px)) {
-        uint64_t *e = leaf_entry(fc, &px, &st);
-        if (st || (st = topo_parse_pixel(w, &w->p_word, &px)))
-            return st;
-        if (!e || *e != ENTRY_EMPTY) /* outside its level's entries, or two paths to one leaf */
-            return HPFC_E_CORRUPT;
-        uint64_t n = w->p_word.n, nodes = n ? n : 1;
-        if (n > ENTRY_COUNT_MAX || fc->nodes > ENTRY_BASE_MAX - nodes)
-            return HPFC_E_LIMIT; /* 2^24 crossings in one leaf, 2^40 nodes in all */
-        *e = fc->nodes << ENTRY_COUNT_BITS | n;
-        fc->nodes += nodes;
+    if (!(nb->run_nodes = calloc(nb->runs ? nb->runs : 1, sizeof *nb->run_nodes)))
+        return HPFC_E_NOMEM;
+    return leaf_table_init(&fc->leaves, fc->file, nb->leaves);
+}
+
+/* Pass 2, a run: each leaf's crossing count in its entry, beside its
+ * number (entry_base) while the first nodes are not known; the run's node
+ * count. An entry found taken is a second path to its leaf: the failure is
+ * the later of the two paths'. */
+static void parse_run(numbering *nb, hpfc_walker *w, size_t run)
+{
+    hpfc_faces *fc = nb->fc;
+    hpfc_pixel px = nb->run_first[run];
+    uint64_t first = (uint64_t)run * nb->run_size, end = first + run_leaves(nb, run), nodes = 0;
+    for (uint64_t leaf = first; leaf < end; leaf++) {
+        int st = run_next(fc->file, first, leaf, &px);
+        uint64_t *e = st ? NULL : leaf_entry(fc, &px, &st);
+        if (st || (st = topo_parse_pixel(w, &w->p_word, &px))) {
+            note_failure(nb, leaf, FAIL_READ, st);
+            return;
+        }
+        if (!e) { /* outside its level's entries */
+            note_failure(nb, leaf, FAIL_OUTSIDE, HPFC_E_CORRUPT);
+            return;
+        }
+        uint64_t n = w->p_word.n, was = ENTRY_EMPTY;
+        uint64_t mine = leaf << ENTRY_COUNT_BITS | (n > ENTRY_COUNT_MAX ? ENTRY_COUNT_MAX : n);
+        if (!__atomic_compare_exchange_n(e, &was, mine, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+            uint64_t other = entry_base(was);
+            note_failure(nb, other > leaf ? other : leaf, FAIL_TWICE, HPFC_E_CORRUPT);
+            return;
+        }
+        if (n > ENTRY_COUNT_MAX) { /* 2^24 crossings in one leaf */
+            note_failure(nb, leaf, FAIL_LIMIT, HPFC_E_LIMIT);
+            return;
+        }
+        nodes += n ? n : 1;
     }
-    return st == HPFC_E_NO_PIXEL ? HPFC_OK : st;
+    nb->run_nodes[run] = nodes;
+}
+
+/* Between passes 2 and 3: each run's first node. */
+static int sum_runs(numbering *nb)
+{
+    uint64_t total = 0;
+    for (size_t r = 0; r < nb->runs; r++) {
+        uint64_t n = nb->run_nodes[r];
+        if (total > ENTRY_BASE_MAX - n) { /* 2^40 nodes in all */
+            note_failure(nb, (uint64_t)r * nb->run_size, FAIL_LIMIT, HPFC_E_LIMIT);
+            return HPFC_E_LIMIT;
+        }
+        nb->run_nodes[r] = total;
+        total += n;
+    }
+    nb->fc->nodes = total;
+    return HPFC_OK;
+}
+
+/* Pass 3, a run: each leaf's first node in its entry, in leaf order. */
+static void base_run(numbering *nb, hpfc_walker *w, size_t run)
+{
+    (void)w;
+    hpfc_faces *fc = nb->fc;
+    hpfc_pixel px = nb->run_first[run];
+    uint64_t first = (uint64_t)run * nb->run_size, end = first + run_leaves(nb, run);
+    uint64_t node = nb->run_nodes[run];
+    for (uint64_t leaf = first; leaf < end; leaf++) {
+        int st = run_next(fc->file, first, leaf, &px);
+        uint64_t *e = st ? NULL : leaf_entry(fc, &px, &st); /* pass 2 took it for this leaf */
+        if (!e) {
+            note_failure(nb, leaf, FAIL_READ, st ? st : HPFC_E_CORRUPT);
+            return;
+        }
+        uint64_t n = entry_crossings(*e);
+        *e = node << ENTRY_COUNT_BITS | n;
+        node += n ? n : 1;
+    }
 }
 
 /* The unions that stay inside one pixel. */
-static void unite_inside(node_array *parent, const word_parts *lw, uint64_t base)
+static void unite_inside(hpfc_faces *fc, const word_parts *lw, uint64_t base)
 {
     for (uint32_t k = 0; k < lw->n; k++) /* rule 2 holds by construction */
-        unite(parent, in_node(base, k), out_node(base, lw->n, lw->pred[k]));
+        unite(&fc->parent, fc->shared, in_node(base, k), out_node(base, lw->n, lw->pred[k]));
 }
 
 /* A crossing seen from both sides of its road is one pair of sidewalks
@@ -281,8 +477,8 @@ static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uin
                 if (st)
                     return st;
             }
-            unite(&fc->parent, out_node(base, lw->n, k), in_node(qbase, mk));
-            unite(&fc->parent, out_node(qbase, w->q_word.n, mk), in_node(base, k));
+            unite(&fc->parent, fc->shared, out_node(base, lw->n, k), in_node(qbase, mk));
+            unite(&fc->parent, fc->shared, out_node(qbase, w->q_word.n, mk), in_node(base, k));
         }
     }
     return HPFC_OK;
@@ -321,25 +517,151 @@ static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p
             st = HPFC_E_CORRUPT; /* more crossings on P's side than on Q's road */
             break;
         }
-        unite(&fc->parent, pnode, gap_node(&w->q_word, qbase, opposite, before));
+        unite(&fc->parent, fc->shared, pnode, gap_node(&w->q_word, qbase, opposite, before));
     }
     return st;
 }
 
-/* Pass 2: all unions. */
-static int unite_all(hpfc_faces *fc, hpfc_walker *w)
+/* Pass 4, a run: all unions its leaves make. */
+static void unite_run(numbering *nb, hpfc_walker *w, size_t run)
 {
-    hpfc_pixel px;
-    int st;
-    for (st = hpfc_leaf_first(fc->file, &px); !st; st = hpfc_leaf_next(fc->file, &px)) {
+    hpfc_faces *fc = nb->fc;
+    hpfc_pixel px = nb->run_first[run];
+    uint64_t first = (uint64_t)run * nb->run_size, end = first + run_leaves(nb, run);
+    for (uint64_t leaf = first; leaf < end; leaf++) {
         uint64_t base;
-        if ((st = node_base(fc, &px, &base)) || (st = topo_parse_pixel(w, &w->p_word, &px)))
-            return st;
-        unite_inside(&fc->parent, &w->p_word, base);
-        if ((st = unite_across(fc, w, &px, base)) || (st = unite_empty_roads(fc, w, &px, base)))
-            return st;
+        int st = run_next(fc->file, first, leaf, &px);
+        if (!st && !(st = node_base(fc, &px, &base)) && !(st = topo_parse_pixel(w, &w->p_word, &px))) {
+            unite_inside(fc, &w->p_word, base);
+            if (!(st = unite_across(fc, w, &px, base)))
+                st = unite_empty_roads(fc, w, &px, base);
+        }
+        if (st) {
+            note_failure(nb, leaf, FAIL_READ, st);
+            return;
+        }
     }
-    return st == HPFC_E_NO_PIXEL ? HPFC_OK : st;
+}
+
+/* Takes runs in order until none is left or one starts after the first
+ * failure known. */
+static void take_runs(numbering *nb, hpfc_walker *w)
+{
+    for (;;) {
+        size_t run = __atomic_fetch_add(&nb->next_run, 1, __ATOMIC_RELAXED);
+        uint64_t fail_leaf = __atomic_load_n(&nb->fail_key, __ATOMIC_RELAXED) >> FAIL_ORDER_BITS;
+        if (run >= nb->runs || (uint64_t)run * nb->run_size > fail_leaf)
+            return;
+        nb->step(nb, w, run);
+    }
+}
+
+/* The threads besides the caller, started once for the three passes: each
+ * waits for a pass, takes runs until none is left, says it is done, and
+ * waits for the next pass or the end. */
+typedef struct crew crew;
+typedef struct crew_seat {
+    crew *c;
+    hpfc_walker *w;
+} crew_seat;
+
+struct crew {
+    numbering *nb;
+    unsigned started; /* threads running besides the caller */
+    pthread_t id[FACES_MAX_THREADS];
+    crew_seat seat[FACES_MAX_THREADS];
+    pthread_mutex_t lock; /* guards what follows */
+    pthread_cond_t start, done;
+    unsigned pass;    /* passes begun */
+    unsigned finished; /* threads done with the current pass */
+    bool quit;
+};
+
+static void *crew_main(void *arg)
+{
+    crew_seat *seat = arg;
+    crew *c = seat->c;
+    for (unsigned seen = 0;;) {
+        pthread_mutex_lock(&c->lock);
+        while (c->pass == seen && !c->quit)
+            pthread_cond_wait(&c->start, &c->lock);
+        bool quit = c->quit;
+        seen = c->pass;
+        pthread_mutex_unlock(&c->lock);
+        if (quit)
+            return NULL;
+        take_runs(c->nb, seat->w);
+        pthread_mutex_lock(&c->lock);
+        if (++c->finished == c->started)
+            pthread_cond_signal(&c->done);
+        pthread_mutex_unlock(&c->lock);
+    }
+}
+
+/* Starts up to `threads` - 1 threads, one a walker after the first: false
+ * when none could be (the caller then works alone). */
+static bool crew_start(crew *c, numbering *nb, hpfc_walker **walkers, unsigned threads)
+{
+    c->nb = nb;
+    if (pthread_mutex_init(&c->lock, NULL) != 0)
+        return false;
+    if (pthread_cond_init(&c->start, NULL) != 0) {
+        pthread_mutex_destroy(&c->lock);
+        return false;
+    }
+    if (pthread_cond_init(&c->done, NULL) != 0) {
+        pthread_cond_destroy(&c->start);
+        pthread_mutex_destroy(&c->lock);
+        return false;
+    }
+    for (unsigned k = 1; k < threads; k++) {
+        c->seat[c->started] = (crew_seat){c, walkers[k]};
+        if (pthread_create(&c->id[c->started], NULL, crew_main, &c->seat[c->started]) != 0)
+            break;
+        c->started++;
+    }
+    if (c->started)
+        return true;
+    pthread_cond_destroy(&c->done);
+    pthread_cond_destroy(&c->start);
+    pthread_mutex_destroy(&c->lock);
+    return false;
+}
+
+static void crew_stop(crew *c)
+{
+    pthread_mutex_lock(&c->lock);
+    c->quit = true;
+    pthread_cond_broadcast(&c->start);
+    pthread_mutex_unlock(&c->lock);
+    for (unsigned k = 0; k < c->started; k++)
+        pthread_join(c->id[k], NULL);
+    pthread_cond_destroy(&c->done);
+    pthread_cond_destroy(&c->start);
+    pthread_mutex_destroy(&c->lock);
+}
+
+/* One pass over every run, by the calling thread (with `w`) and the crew
+ * (NULL: alone). The first failure's status, or HPFC_OK. */
+static int run_pass(numbering *nb, run_step step, hpfc_walker *w, crew *c)
+{
+    nb->step = step;
+    nb->next_run = 0;
+    if (c) {
+        pthread_mutex_lock(&c->lock);
+        c->finished = 0;
+        c->pass++;
+        pthread_cond_broadcast(&c->start);
+        pthread_mutex_unlock(&c->lock);
+    }
+    take_runs(nb, w);
+    if (c) {
+        pthread_mutex_lock(&c->lock);
+        while (c->finished < c->started)
+            pthread_cond_wait(&c->done, &c->lock);
+        pthread_mutex_unlock(&c->lock);
+    }
+    return nb->fail_key == UINT64_MAX ? HPFC_OK : nb->fail_status;
 }
 
 /* Numbers the classes densely, the unbounded face first: the domain's
@@ -384,31 +706,79 @@ static int number_faces(hpfc_faces *fc, hpfc_walker *w)
 
 int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out)
 {
-    return faces_build_width(file, FACES_NARROW_NODES, out);
+    return faces_build_width(file, FACES_NARROW_NODES, 1, 0, NULL, out);
 }
 
-int faces_build_width(const hpfc_file *file, uint64_t narrow_below, hpfc_faces **out)
+int hpfc_faces_build_threads(const hpfc_file *file, unsigned threads, hpfc_faces **out)
+{
+    return faces_build_width(file, FACES_NARROW_NODES, threads, 0, NULL, out);
+}
+
+/* The walkers of the threads after the first, one each, as many as can be
+ * made up to `threads` (a walker that cannot be made leaves its runs to
+ * the others): how many walkers there are in all. */
+static unsigned more_walkers(const hpfc_file *file, hpfc_walker **w, unsigned threads)
+{
+    unsigned n = 1;
+    while (n < threads && !topo_walker_create(file, 0, &w[n]))
+        n++;
+    return n;
+}
+
+/* Passes 1 to 4 and the numbering, with walkers[0] and up to `threads`. */
+static int number_all(numbering *nb, hpfc_walker **walkers, unsigned threads, uint64_t narrow_below,
+                      unsigned *made)
+{
+    hpfc_faces *fc = nb->fc;
+    int st = count_leaves(nb);
+    if (st)
+        return st;
+    if (threads > nb->runs)
+        threads = nb->runs ? (unsigned)nb->runs : 1;
+    crew team = {0}, *c = NULL;
+    if (threads > 1 && (*made = more_walkers(fc->file, walkers, threads)) > 1 &&
+        pthread_mutex_init(&nb->lock, NULL) == 0) {
+        nb->locked = true;
+        if (crew_start(&team, nb, walkers, *made))
+            c = &team, fc->shared = true;
+    }
+    if (!(st = run_pass(nb, parse_run, walkers[0], c)) && !(st = sum_runs(nb)) &&
+        !(st = run_pass(nb, base_run, walkers[0], c)) &&
+        !(st = node_array_init(&fc->parent, fc->nodes, narrow_below)) &&
+        !(st = run_pass(nb, unite_run, walkers[0], c)))
+        st = number_faces(fc, walkers[0]);
+    if (c)
+        crew_stop(c);
+    fc->shared = false;
+    return st;
+}
+
+int faces_build_width(const hpfc_file *file, uint64_t narrow_below, unsigned threads, uint64_t run_size,
+                      uint64_t *failure, hpfc_faces **out)
 {
     if (!file || !out)
         return HPFC_E_ARG;
     *out = NULL;
     hpfc_faces *fc = calloc(1, sizeof *fc);
-    hpfc_walker *w = NULL;
+    hpfc_walker *walkers[FACES_MAX_THREADS] = {0};
+    unsigned made = 1;
     if (!fc)
         return HPFC_E_NOMEM;
     fc->file = file;
-    int st = hpfc_walker_create(file, &w);
-    if (!st) /* the flood fill parses each leaf into the walker's scratch words */
-        st = hpfc_walker_set_cache_size(w, 0);
+    numbering nb = {.fc = fc, .fail_key = UINT64_MAX, .run_size = run_size ? run_size : RUN_LEAVES};
+    /* the flood fill parses each leaf into the walker's scratch words: no cache */
+    int st = topo_walker_create(file, 0, &walkers[0]);
     if (!st)
-        st = number_leaves(fc, w);
-    if (!st)
-        st = node_array_init(&fc->parent, fc->nodes, narrow_below);
-    if (!st)
-        st = unite_all(fc, w);
-    if (!st)
-        st = number_faces(fc, w);
-    hpfc_walker_free(w);
+        st = number_all(&nb, walkers, threads < FACES_MAX_THREADS ? threads : FACES_MAX_THREADS,
+                        narrow_below, &made);
+    for (unsigned k = 0; k < made; k++)
+        hpfc_walker_free(walkers[k]);
+    if (nb.locked)
+        pthread_mutex_destroy(&nb.lock);
+    free(nb.run_first);
+    free(nb.run_nodes);
+    if (failure)
+        *failure = nb.fail_key;
     if (st) {
         hpfc_faces_free(fc);
         return st;

@@ -13,9 +13,18 @@
  * (2^31: the top bit tags numbered roots), else 64-bit ones. */
 #define FACES_NARROW_NODES (UINT64_C(1) << 31)
 
-/* hpfc_faces_build with 32-bit words below `narrow_below` nodes: the tests
- * pass 0 to run the 64-bit path on small maps. */
-int faces_build_width(const hpfc_file *file, uint64_t narrow_below, hpfc_faces **out);
+/* The most threads one numbering uses (hpfc_faces_build_threads). */
+#define FACES_MAX_THREADS 64u
+
+/* hpfc_faces_build_threads with 32-bit words below `narrow_below` nodes
+ * and runs of `run_size` leaves a thread takes at a time (0: the
+ * library's): the tests pass 0 and small runs to reach the 64-bit path and
+ * many runs on small maps. *failure (when not NULL) receives which of the
+ * runs' failures was kept: its leaf's number << 2 | the check's place
+ * among that leaf's, UINT64_MAX for none (a failure before the runs, in
+ * the count, is not one of them). */
+int faces_build_width(const hpfc_file *file, uint64_t narrow_below, unsigned threads, uint64_t run_size,
+                      uint64_t *failure, hpfc_faces **out);
 
 /* The nodes of the leaf whose record (level 0) or slot starts at bit `bit`
  * of level `level`'s pool: node base + t is stretch t (one node for a

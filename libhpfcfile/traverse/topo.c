@@ -16,6 +16,11 @@
 
 int hpfc_walker_create(const hpfc_file *file, hpfc_walker **out)
 {
+    return topo_walker_create(file, HPFC_WALKER_DEFAULT_CACHE, out);
+}
+
+int topo_walker_create(const hpfc_file *file, size_t cache_limit, hpfc_walker **out)
+{
     if (!file || !out)
         return HPFC_E_ARG;
     *out = NULL;
@@ -34,7 +39,7 @@ int hpfc_walker_create(const hpfc_file *file, hpfc_walker **out)
     if (!st && !(w->symbols = malloc((size_t)w->cap + 4)))
         st = HPFC_E_NOMEM;
     if (!st)
-        st = topo_cache_init(w, HPFC_WALKER_DEFAULT_CACHE);
+        st = topo_cache_init(w, cache_limit);
     if (st == HPFC_E_NOMEM && w->uncached)
         st = HPFC_OK; /* no room for the default cache: walk without it */
     if (st) {

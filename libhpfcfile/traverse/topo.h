@@ -420,6 +420,10 @@ int topo_decode_word(hpfc_walker *w, const hpfc_pixel *px, size_t *len);
 int topo_parse_decoded(hpfc_walker *w, word_parts *lw, size_t len);
 /* Decodes and parses px's word into lw (HPFC_E_CORRUPT if malformed). */
 int topo_parse_pixel(hpfc_walker *w, word_parts *lw, const hpfc_pixel *px);
+/* hpfc_walker_create with a cache of `cache_limit` bytes (0: none, as
+ * hpfc_walker_set_cache_size(w, 0) leaves it, without making the default
+ * cache first). */
+int topo_walker_create(const hpfc_file *file, size_t cache_limit, hpfc_walker **out);
 /* Crossings on road `road` of a word pixel, decoded (a topo_road_counter;
  * its flow is always TOPO_DONE). */
 topo_result topo_road_count(hpfc_walker *w, const hpfc_pixel *px, int road, uint32_t *count);

@@ -58,6 +58,7 @@ typedef struct layout {
     uint64_t attr_offset, attr_length, edgf_offset, edgf_length;
     /* where make_labels hands out the faces it numbered (faces_out), or NULL */
     hpfc_faces **faces_out;
+    unsigned threads; /* hpfc_write_options.threads: for numbering the faces */
     /* SHIX (§6.8), made from LABL, FEAT and EDGF when there is a LABL */
     uint8_t *shix;
     uint64_t shix_offset, shix_length;
@@ -699,7 +700,7 @@ static int make_labels(layout *L, hpfc_diag *diag)
     int st = serialize_layout(L, &bytes, &size, diag);
     if (!st && (st = hpfc_open_memory(bytes, size, 0, &f)))
         diag_set(diag, st, "labels: the serialised file does not read back");
-    if (!st && (st = hpfc_faces_build(f, &fc)))
+    if (!st && (st = hpfc_faces_build_threads(f, L->threads, &fc)))
         diag_set(diag, st, "labels: numbering the faces failed");
     if (!st)
         st = labels_build(L->tree, f, fc, &labl, &length, diag);
@@ -757,7 +758,8 @@ static int begin_layout(const char *who, const void *source, const hpfc_write_op
                   .features = opts->features,
                   .attributes = opts->attributes,
                   .edge_features = opts->edge_features,
-                  .faces_out = opts->faces_out};
+                  .faces_out = opts->faces_out,
+                  .threads = opts->threads};
     if (opts->faces_out)
         *opts->faces_out = NULL;
     return HPFC_OK;

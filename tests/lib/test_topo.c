@@ -257,7 +257,7 @@ static void check_wide_faces(const hpfc_file *f, hpfc_walker *w, uint64_t count,
                              const uint64_t *face_of, size_t nd)
 {
     hpfc_faces *wide;
-    CHECK_EQ_INT(faces_build_width(f, 0, &wide), HPFC_OK);
+    CHECK_EQ_INT(faces_build_width(f, 0, 1, 0, NULL, &wide), HPFC_OK);
     if (!wide)
         return;
     CHECK_EQ_INT(hpfc_faces_face_count(wide), count);
