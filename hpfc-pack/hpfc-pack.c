@@ -157,7 +157,9 @@ static void print_help(void)
            "                        N times the builder's speed, N parts' builder memory\n"
            "                        at once; 1.5-1.8x with 2 on street networks); without\n"
            "                        --partitions, the tree is built in N parts (not with\n"
-           "                        --flat or --parts-dir; default: one part at a time)\n"
+           "                        --flat or --parts-dir; default: one part at a time).\n"
+           "                        Also the threads that number the faces (default:\n"
+           "                        one a core, up to 8; the same file whatever N)\n"
            "  --parts-dir DIR       with --partitions: the parts are built by other\n"
            "                        processes (python3 -m hpfc pack on Dask): their\n"
            "                        graphs are cut into DIR, the plan printed as one\n"
@@ -1042,6 +1044,17 @@ static int await_parts(void *user, const part_plan *plan, hpfc_diag *diag)
     return HPFC_E_IO; /* the parts' builders' failure, not this process's */
 }
 
+/* Threads for the steps that share their work (numbering the faces):
+ * --jobs when given, else one a core, up to 8 (past that the numbering
+ * waits on memory, not on the cores). */
+static unsigned step_threads(const pack_args *a)
+{
+    if (a->jobs)
+        return a->jobs;
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    return cores < 1 ? 1 : cores > 8 ? 8 : (unsigned)cores;
+}
+
 /* Builds, checks the serialised bytes, then writes OUTPUT (pack_write.h);
  * 0 or an exit status (the message is printed). */
 static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report *r)
@@ -1049,7 +1062,8 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     hpfc_write_options wopts = {.crs = r->gis ? r->gis_info.crs : NULL,
                                 .face_labels = !a->no_labels,
                                 .layout = a->layout,
-                                .geometry = a->no_geometry ? NULL : g};
+                                .geometry = a->no_geometry ? NULL : g,
+                                .threads = step_threads(a)};
     pack_write_stats w;
     hpfc_diag diag;
     pack_parts parts = {.count = a->partitions, .jobs = a->jobs, .dir = a->parts_dir,
