@@ -1036,9 +1036,9 @@ typedef struct hpfc_faces hpfc_faces;
 HPFC_API int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out);
 /* The same faces, numbered on up to `threads` threads (0 or 1: the calling
  * thread alone; at most 64), the calling thread among them: the same
- * answers and statuses as hpfc_faces_build whatever the count, in about
- * 1/threads of its time on a large map (it reads the pools at random, so
- * threads on cores of their own help most). Adds 772 bytes per 4,096
+ * answers and statuses as hpfc_faces_build whatever the count, faster on
+ * a large map when the threads have cores of their own (1.7-1.8x on two
+ * for a continental map; bench/README.md). Adds 772 bytes per 4,096
  * leaves and a walker a thread. A thread that cannot be started leaves its
  * share to the others. */
 HPFC_API int hpfc_faces_build_threads(const hpfc_file *file, unsigned threads, hpfc_faces **out);
