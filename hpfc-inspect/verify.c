@@ -34,9 +34,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "clock.h"
+#include "cores.h"
 #include "export.h"
 #include "hpfc.h"
 #include "jsonw.h"
@@ -853,20 +853,13 @@ static void check_attr_edgf(verifier *v, uint32_t features, uint64_t edges)
     }
 }
 
-/* The faces are numbered on one thread a core, up to 8: the same faces
- * (hpfc_faces_build_threads), in a fraction of the time on a large file. */
-static unsigned face_threads(void)
-{
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    return cores < 1 ? 1 : cores > 8 ? 8 : (unsigned)cores;
-}
-
 static int check_topology(verifier *v)
 {
     verify_report *r = v->r;
     size_t before = r->problem_count;
     topo tp = {0};
-    int st = hpfc_faces_build_threads(v->f, face_threads(), &tp.faces);
+    /* the same faces on any number of threads, faster on a large file */
+    int st = hpfc_faces_build_threads(v->f, default_threads(), &tp.faces);
     if (st) {
         problem(r, "faces: %s", hpfc_strerror(st));
     } else if ((st = export_map(v->f, &tp.m))) {

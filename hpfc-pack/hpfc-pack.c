@@ -27,6 +27,7 @@
 
 #include "atomic_output.h"
 #include "clock.h"
+#include "cores.h"
 #include "draco_input.h"
 #include "gis_features.h"
 #include "gis_input.h"
@@ -1045,14 +1046,10 @@ static int await_parts(void *user, const part_plan *plan, hpfc_diag *diag)
 }
 
 /* Threads for the steps that share their work (numbering the faces):
- * --jobs when given, else one a core, up to 8 (past that the numbering
- * waits on memory, not on the cores). */
+ * --jobs when given, else the tools' default (cores.h). */
 static unsigned step_threads(const pack_args *a)
 {
-    if (a->jobs)
-        return a->jobs;
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    return cores < 1 ? 1 : cores > 8 ? 8 : (unsigned)cores;
+    return a->jobs ? a->jobs : default_threads();
 }
 
 /* Builds, checks the serialised bytes, then writes OUTPUT (pack_write.h);
