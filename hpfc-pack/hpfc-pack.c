@@ -159,8 +159,9 @@ static void print_help(void)
            "                        at once; 1.5-1.8x with 2 on street networks); without\n"
            "                        --partitions, the tree is built in N parts (not with\n"
            "                        --flat or --parts-dir; default: one part at a time).\n"
-           "                        Also the threads that number the faces (default:\n"
-           "                        one a core, up to 8; the same file whatever N)\n"
+           "                        Also the threads that validate, build a whole tree\n"
+           "                        and number the faces (default: one a core, up to\n"
+           "                        8; the same file whatever N)\n"
            "  --parts-dir DIR       with --partitions: the parts are built by other\n"
            "                        processes (python3 -m hpfc pack on Dask): their\n"
            "                        graphs are cut into DIR, the plan printed as one\n"
@@ -1045,7 +1046,8 @@ static int await_parts(void *user, const part_plan *plan, hpfc_diag *diag)
     return HPFC_E_IO; /* the parts' builders' failure, not this process's */
 }
 
-/* Threads for the steps that share their work (numbering the faces):
+/* Threads for the steps that share their work (validation, the build of
+ * a whole tree, numbering the faces):
  * --jobs when given, else the tools' default (cores.h). */
 static unsigned step_threads(const pack_args *a)
 {
@@ -1065,7 +1067,9 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     hpfc_diag diag;
     pack_parts parts = {.count = a->partitions, .jobs = a->jobs, .dir = a->parts_dir,
                         .await_parts = await_parts};
-    int st = pack_write(g, &a->params, &parts, &wopts, r->gis ? &r->gis_info : NULL, a->link_witness,
+    hpfc_build_params params = a->params; /* a build in parts builds each on one thread */
+    params.threads = step_threads(a);
+    int st = pack_write(g, &params, &parts, &wopts, r->gis ? &r->gis_info : NULL, a->link_witness,
                         a->to_stdout ? NULL : a->output, isatty(2) && !a->quiet, report_tree,
                         r, &w, &diag);
     r->build_t = w.build_t, r->write_t = w.write_t, r->features_t = w.features_t;

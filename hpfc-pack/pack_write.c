@@ -458,6 +458,7 @@ static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pac
     /* one bar for the parts, not one a level of each */
     hpfc_build_params quiet = *p;
     quiet.progress = NULL;
+    quiet.threads = 1; /* the parts themselves share the threads */
     part_queue pq = {.cut = cut, .params = &quiet, .domain = &d, .pixels = pixels, .roots = roots,
                      .edges = hpfc_graph_edge_count(g), .parts = k, .files = &pf, .bar = bar};
     uint32_t jobs = parts->jobs ? parts->jobs : 1;

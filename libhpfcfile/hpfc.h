@@ -318,6 +318,12 @@ typedef struct hpfc_build_params {
      * of its total, at most every 4096 images and at each level's end. */
     void (*progress)(void *user, uint32_t level, uint64_t images_done, uint64_t images_total);
     void *progress_user;
+    /* Threads the build may start, the calling thread among them (0 or 1:
+     * the calling thread alone; at most 64 are used): validation's search
+     * for crossing segments and each level's images are shared among
+     * them. The tree and any error are the same as with one thread;
+     * progress is still called from the calling thread only. */
+    uint32_t threads;
 } hpfc_build_params;
 
 #define HPFC_DEFAULT_MAX_FLAT_PIXELS ((uint64_t)1 << 28)

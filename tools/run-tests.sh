@@ -25,7 +25,9 @@ fi
 # clang -fsanitize=thread, that program alone (what it links: the library
 # and the test generator), so the step costs about a minute; then
 # tests/lib/test_faces_threads.c (faces numbered on up to 8 threads, a
-# smaller sweep than the ASan run's: about 30 s). Then
+# smaller sweep than the ASan run's: about 30 s) and
+# tests/lib/test_build_threads.c (validation and the build's levels on up
+# to 8 threads, a smaller sweep too). Then
 # hpfc-pack's parts built on 4 threads (--jobs): the shipped sample, whose
 # bytes must be the whole build's, and a graph whose edges cross, refused
 # in the whole build's words; then two GIS layers with polygons, whose
@@ -62,9 +64,11 @@ if command -v clang >/dev/null 2>&1; then
     rm -rf build-tsan
     if CC=clang CXX=clang++ meson setup build-tsan -Db_sanitize=thread -Db_lundef=false \
             -Dcairo=disabled -Dpython=disabled -Dwerror=true >/dev/null &&
-        ninja -C build-tsan tests/test_threads tests/test_faces_threads hpfc-pack/hpfc-pack >/dev/null &&
+        ninja -C build-tsan tests/test_threads tests/test_faces_threads tests/test_build_threads \
+            hpfc-pack/hpfc-pack >/dev/null &&
         TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_threads &&
-        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_faces_threads 2 6 && tsan_pack; then
+        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_faces_threads 2 6 &&
+        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_build_threads 2 4 && tsan_pack; then
         echo "tsan: OK"
     else
         echo "tsan: FAILED"

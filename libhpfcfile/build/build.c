@@ -27,6 +27,7 @@
 #include "arrays.h"
 #include "road.h"
 #include "sized.h"
+#include "tasks.h"
 #include "tree.h"
 #include "words.h"
 
@@ -385,25 +386,40 @@ static bool beyond_first_segment(const word_scratch *w)
     return false;
 }
 
+/* Room for `more` crossings after the tree's, cross_seg (when there is
+ * one) following cross_edge's capacity. */
+static int reserve_crossings(hpfc_tree *t, size_t more)
+{
+    size_t old_cap = t->cap_cross;
+    int st = reserve((void **)&t->cross_edge, &t->cap_cross, t->ncross + more, sizeof(uint32_t));
+    if (!st && t->cross_seg && t->cap_cross != old_cap) {
+        uint32_t *ns = realloc(t->cross_seg, t->cap_cross * sizeof *ns);
+        if (!ns)
+            return HPFC_E_NOMEM;
+        t->cross_seg = ns;
+    }
+    return st;
+}
+
+/* The tree's first crossing past an edge's first segment: cross_seg made,
+ * the crossings so far all on first segments. */
+static int start_cross_seg(hpfc_tree *t)
+{
+    if (!t->cross_seg && !(t->cross_seg = calloc(t->cap_cross ? t->cap_cross : 1, sizeof *t->cross_seg)))
+        return HPFC_E_NOMEM;
+    return HPFC_OK;
+}
+
 static int append_word(builder *b, word_scratch *w, tpixel *px)
 {
     hpfc_tree *t = b->t;
     sort_crossings(w->cr, w->ncr, cmp_clockwise);
     size_t len = w->ncr + 4;
     int st = reserve((void **)&t->syms, &t->cap_syms, t->nsyms + len, 1);
-    size_t old_cap = t->cap_cross;
     if (!st)
-        st = reserve((void **)&t->cross_edge, &t->cap_cross, t->ncross + w->ncr, sizeof(uint32_t));
-    if (!st && t->cross_seg && t->cap_cross != old_cap) { /* it follows cross_edge's capacity */
-        uint32_t *ns = realloc(t->cross_seg, t->cap_cross * sizeof *ns);
-        if (!ns)
-            st = HPFC_E_NOMEM;
-        else
-            t->cross_seg = ns;
-    }
-    if (!st && !t->cross_seg && beyond_first_segment(w) &&
-        !(t->cross_seg = calloc(t->cap_cross, sizeof *t->cross_seg)))
-        st = HPFC_E_NOMEM; /* the crossings so far: all on first segments */
+        st = reserve_crossings(t, w->ncr);
+    if (!st && beyond_first_segment(w))
+        st = start_cross_seg(t);
     if (st)
         return st;
     if (w->ncr > TPIXEL_COUNT_MAX || t->ncross > TPIXEL_CROSS_OFF_MAX - w->ncr)
@@ -470,9 +486,9 @@ static int make_word(builder *b, word_scratch *w, const uint32_t *list, size_t n
     for (size_t c = 0; c < w->ncomp; c++) {
         int64_t v = w->comp[c].vertex;
         if (v >= 0) {
-            if (b->vertex_seen[v])
+            /* one byte a vertex, shared by a level's threads */
+            if (__atomic_exchange_n(&b->vertex_seen[v], 1, __ATOMIC_RELAXED))
                 return internal_error(b, "vertex in two pixels", b->segs[list[0]].edge);
-            b->vertex_seen[v] = 1;
         }
     }
     return append_word(b, w, px);
@@ -772,11 +788,254 @@ static int setup_root(builder *b)
     return HPFC_OK;
 }
 
+static void free_scratch(image_scratch *is, word_scratch *w)
+{
+    free(is->inc);
+    free(is->sorted);
+    free(is->count);
+    free(is->sub);
+    free(w->cr);
+    free(w->comp);
+}
+
+/* Images [first, end) of `level`, in order, by the builder b. */
+static int build_images(builder *b, uint32_t level, size_t first, size_t end)
+{
+    image_scratch is = {0};
+    word_scratch w = {0};
+    size_t total = b->t->levels[level].nimages;
+    int st = HPFC_OK;
+    for (size_t im = first; im < end && !st; im++) {
+        st = build_image(b, level, im, &is, &w);
+        if (b->p.progress && ((im + 1) % 4096 == 0 || im + 1 == total))
+            b->p.progress(b->p.progress_user, level, im + 1, total);
+    }
+    free_scratch(&is, &w);
+    return st;
+}
+
+/* ---- a level's images on several threads ---------------------------------
+ *
+ * The level's images are cut into runs of about equal segment counts. A
+ * run is built by one thread, in order, as build_images would build it,
+ * into a tree and next-level lists of its own (its pixels into the level's
+ * own array, which runs share image by image). The runs are then spliced
+ * onto the tree in order: their symbols, crossings, child images and
+ * segment lists appended, and their pixels' offsets moved by what the runs
+ * before them appended. So the tree is byte for byte the one thread's, and
+ * a failure is the first run's that failed, which is the one thread's
+ * first (but for "vertex in two pixels", an internal inconsistency, which
+ * either of the two pixels' runs may report). */
+
+typedef struct image_run {
+    size_t first, end;
+    builder b;              /* b.t is `t`, b.diag is `diag` */
+    hpfc_tree t;            /* symbols from 4 ("++++" at 0, as the tree's), crossings, counts */
+    hpfc_diag diag;
+    int status;
+} image_run;
+
+typedef struct level_runs {
+    builder *b;
+    uint32_t level;
+    image_run *run;
+    size_t nruns;
+    size_t first_failed;    /* the first run known to have failed: later ones stop (atomic) */
+} level_runs;
+
+/* Cuts the level's images into at most `most` runs of about equal numbers
+ * of segments (each image's list length, and one for the image). */
+static size_t cut_runs(const builder *b, size_t nimages, size_t most, image_run *run)
+{
+    uint64_t total = b->cur_start[nimages] - b->cur_start[0] + nimages, done = 0;
+    size_t n = 0, first = 0;
+    for (size_t im = 0; im < nimages; im++) {
+        done += b->cur_start[im + 1] - b->cur_start[im] + 1;
+        if (done * most >= total * (n + 1) || im + 1 == nimages) {
+            run[n++] = (image_run){.first = first, .end = im + 1};
+            first = im + 1;
+        }
+    }
+    return n;
+}
+
+static void free_run(image_run *r, uint32_t level)
+{
+    free(r->t.syms);
+    free(r->t.cross_edge);
+    free(r->t.cross_seg);
+    if (r->t.levels && level + 1 < r->t.levels_cap) {
+        free(r->t.levels[level + 1].img_gx);
+        free(r->t.levels[level + 1].img_gy);
+        free(r->t.levels[level + 1].pix);
+    }
+    free(r->t.levels);
+    free(r->b.next_list);
+    free(r->b.next_start);
+}
+
+static int start_run(const level_runs *lr, image_run *r)
+{
+    const hpfc_tree *t = lr->b->t;
+    r->b = *lr->b;
+    r->b.t = &r->t;
+    r->b.diag = &r->diag;
+    r->b.p.progress = NULL;
+    r->b.next_list = NULL, r->b.next_start = NULL;
+    r->b.next_len = r->b.next_cap = r->b.next_images_cap = 0;
+    r->t.info = t->info;
+    r->t.info.word_pixels = r->t.info.refined_pixels = r->t.info.private_pixels = 0;
+    r->t.info.max_word_symbols = 0;
+    if (!(r->t.levels = calloc(t->levels_cap, sizeof *r->t.levels)))
+        return HPFC_E_NOMEM;
+    r->t.levels_cap = t->levels_cap;
+    r->t.levels[lr->level] = t->levels[lr->level]; /* its pixels are the tree's */
+    if (lr->level + 1 < t->levels_cap) {
+        const tlevel *next = &t->levels[lr->level + 1];
+        r->t.levels[lr->level + 1] = (tlevel){.cols = next->cols, .rows = next->rows,
+                                              .cell_w = next->cell_w, .cell_h = next->cell_h};
+    }
+    if (reserve((void **)&r->t.syms, &r->t.cap_syms, 4, 1))
+        return HPFC_E_NOMEM;
+    memcpy(r->t.syms, PRIVATE_WORD, 4);
+    r->t.nsyms = 4;
+    return HPFC_OK;
+}
+
+static void build_run(void *arg, size_t k)
+{
+    level_runs *lr = arg;
+    image_run *r = &lr->run[k];
+    if (__atomic_load_n(&lr->first_failed, __ATOMIC_RELAXED) < k)
+        return; /* an earlier run failed: this one is not spliced */
+    diag_clear(&r->diag);
+    r->status = start_run(lr, r);
+    if (!r->status)
+        r->status = build_images(&r->b, lr->level, r->first, r->end);
+    if (r->status) {
+        size_t seen = __atomic_load_n(&lr->first_failed, __ATOMIC_RELAXED);
+        while (k < seen && !__atomic_compare_exchange_n(&lr->first_failed, &seen, k, false,
+                                                        __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+            ;
+    }
+}
+
+/* The run's pixels, which name its own symbols, crossings and children,
+ * moved past the tree's. */
+static void move_run_pixels(const tlevel *lv, const image_run *r, size_t sym_base, uint64_t cross_base,
+                            size_t child_base)
+{
+    size_t per = (size_t)lv->cols * lv->rows;
+    for (tpixel *px = lv->pix + r->first * per; px < lv->pix + r->end * per; px++) {
+        if (px->cross == TPIXEL_REFINED)
+            px->off += child_base;
+        else if (px->cross != TPIXEL_ABSENT) {
+            if (px->cross & ((UINT64_C(1) << TPIXEL_COUNT_BITS) - 1))
+                px->off += sym_base; /* a private pixel keeps the shared "++++" at 0 */
+            px->cross += cross_base << TPIXEL_COUNT_BITS;
+        }
+    }
+}
+
+/* The run's symbols and crossings after the tree's. */
+static int append_run_words(builder *b, const image_run *r)
+{
+    hpfc_tree *t = b->t;
+    const hpfc_tree *rt = &r->t;
+    if (rt->ncross > TPIXEL_CROSS_OFF_MAX - t->ncross)
+        return diag_set(b->diag, HPFC_E_LIMIT, "more than 2^24 - 2 crossings in a pixel, or 2^40 in all");
+    int st = reserve((void **)&t->syms, &t->cap_syms, t->nsyms + rt->nsyms - 4, 1);
+    if (!st)
+        st = reserve_crossings(t, rt->ncross);
+    if (!st && rt->cross_seg)
+        st = start_cross_seg(t);
+    if (st)
+        return st;
+    memcpy(t->syms + t->nsyms, rt->syms + 4, rt->nsyms - 4);
+    t->nsyms += rt->nsyms - 4;
+    if (rt->ncross) { /* else the arrays may be NULL */
+        memcpy(t->cross_edge + t->ncross, rt->cross_edge, rt->ncross * sizeof *t->cross_edge);
+        if (rt->cross_seg)
+            memcpy(t->cross_seg + t->ncross, rt->cross_seg, rt->ncross * sizeof *t->cross_seg);
+        else if (t->cross_seg)
+            memset(t->cross_seg + t->ncross, 0, rt->ncross * sizeof *t->cross_seg);
+        t->ncross += rt->ncross;
+    }
+    t->info.word_pixels += rt->info.word_pixels;
+    t->info.refined_pixels += rt->info.refined_pixels;
+    t->info.private_pixels += rt->info.private_pixels;
+    if (rt->info.max_word_symbols > t->info.max_word_symbols)
+        t->info.max_word_symbols = rt->info.max_word_symbols;
+    return HPFC_OK;
+}
+
+/* The run's child images and their segment lists after the tree's. */
+static int append_run_children(builder *b, uint32_t level, const image_run *r)
+{
+    if (level + 1 >= b->t->levels_cap)
+        return HPFC_OK;
+    tlevel *next = &b->t->levels[level + 1];
+    const tlevel *rn = &r->t.levels[level + 1];
+    size_t child_base = next->nimages, list_base = b->next_len;
+    if (rn->nimages == 0)
+        return HPFC_OK;
+    if (child_base + rn->nimages - 1 > UINT32_MAX)
+        return diag_set(b->diag, HPFC_E_LIMIT, "too many images in one level");
+    if (reserve((void **)&b->next_list, &b->next_cap, b->next_len + r->b.next_len, sizeof *b->next_list) ||
+        reserve((void **)&b->next_start, &b->next_images_cap, child_base + rn->nimages + 2,
+                sizeof *b->next_start))
+        return HPFC_E_NOMEM;
+    for (size_t i = 0; i < rn->nimages; i++) {
+        size_t index;
+        if (level_add_image(next, rn->img_gx[i], rn->img_gy[i], &index))
+            return HPFC_E_NOMEM;
+        b->next_start[index] = list_base + r->b.next_start[i];
+    }
+    b->next_start[next->nimages] = list_base + r->b.next_len;
+    if (r->b.next_len)
+        memcpy(b->next_list + list_base, r->b.next_list, r->b.next_len * sizeof *b->next_list);
+    b->next_len += r->b.next_len;
+    return HPFC_OK;
+}
+
+static int splice_run(builder *b, uint32_t level, const image_run *r)
+{
+    tlevel *lv = &b->t->levels[level];
+    size_t child_base = level + 1 < b->t->levels_cap ? b->t->levels[level + 1].nimages : 0;
+    move_run_pixels(lv, r, b->t->nsyms - 4, b->t->ncross, child_base);
+    int st = append_run_words(b, r);
+    if (!st)
+        st = append_run_children(b, level, r);
+    if (!st && b->p.progress)
+        b->p.progress(b->p.progress_user, level, r->end, lv->nimages);
+    return st;
+}
+
+static int build_level_threads(builder *b, uint32_t level, unsigned threads)
+{
+    size_t nimages = b->t->levels[level].nimages, most = (size_t)threads * 8;
+    level_runs lr = {.b = b, .level = level, .first_failed = SIZE_MAX};
+    if (!(lr.run = calloc(most < nimages ? most : nimages, sizeof *lr.run)))
+        return HPFC_E_NOMEM;
+    lr.nruns = cut_runs(b, nimages, most < nimages ? most : nimages, lr.run);
+    tasks_run(threads, lr.nruns, build_run, &lr);
+    int st = HPFC_OK;
+    for (size_t k = 0; k < lr.nruns && !st; k++) {
+        if ((st = lr.run[k].status) != HPFC_OK) {
+            if (b->diag && st != HPFC_E_NOMEM)
+                *b->diag = lr.run[k].diag;
+        } else
+            st = splice_run(b, level, &lr.run[k]);
+    }
+    for (size_t k = 0; k < lr.nruns; k++)
+        free_run(&lr.run[k], level);
+    free(lr.run);
+    return st;
+}
+
 static int build_levels(builder *b)
 {
     hpfc_tree *t = b->t;
-    image_scratch is = {0};
-    word_scratch w = {0};
     int st = HPFC_OK;
     uint32_t level = 0;
     for (;; level++) {
@@ -789,11 +1048,10 @@ static int build_levels(builder *b)
             next->cell_h = lv->cell_h / b->p.rows;
         }
         b->next_len = 0;
-        for (size_t im = 0; im < lv->nimages && !st; im++) {
-            st = build_image(b, level, im, &is, &w);
-            if (b->p.progress && ((im + 1) % 4096 == 0 || im + 1 == lv->nimages))
-                b->p.progress(b->p.progress_user, level, im + 1, lv->nimages);
-        }
+        if (b->p.threads > 1 && lv->nimages > 1)
+            st = build_level_threads(b, level, b->p.threads);
+        else
+            st = build_images(b, level, 0, lv->nimages);
         if (st || level >= b->max_depth || t->levels[level + 1].nimages == 0)
             break;
         /* the next level's segment lists become the current ones */
@@ -804,12 +1062,6 @@ static int build_levels(builder *b)
         b->next_cap = b->next_images_cap = 0;
     }
     t->info.levels = level + 1;
-    free(is.inc);
-    free(is.sorted);
-    free(is.count);
-    free(is.sub);
-    free(w.cr);
-    free(w.comp);
     return st;
 }
 
@@ -942,7 +1194,7 @@ int hpfc_build_sized(const hpfc_graph *g, const hpfc_build_params *params_arg,
     int st = check_params(&full, diag);
     if (st)
         return st;
-    st = hpfc_graph_validate(g, diag);
+    st = graph_validate_threads(g, full.threads, diag);
     if (st)
         return st;
     builder b = {.g = g, .p = full, .diag = diag};
@@ -1044,7 +1296,7 @@ int hpfc_build_part_sized(const hpfc_graph *g, const hpfc_build_params *params_a
     if (!st)
         st = check_part_lists(g, &full, part, diag);
     if (!st && (g->ne || g->nv)) /* a part may hold no edge: its pixels are private */
-        st = hpfc_graph_validate(g, diag);
+        st = graph_validate_threads(g, full.threads, diag);
     if (!st)
         st = check_part_points(g, &part->domain, diag);
     if (st)
@@ -1066,7 +1318,7 @@ void hpfc_build_params_init(hpfc_build_params *params, size_t size)
         .root_cols = 64, .root_rows = 64, .cols = 2, .rows = 2, .flat = 0,
         .max_flat_pixels = HPFC_DEFAULT_MAX_FLAT_PIXELS,
         .max_leaf_points = HPFC_DEFAULT_MAX_LEAF_POINTS,
-        .progress = NULL, .progress_user = NULL};
+        .progress = NULL, .progress_user = NULL, .threads = 1};
     sized_out(params, size, &defaults, sizeof defaults);
 }
 

@@ -70,4 +70,8 @@ void graph_set_last_edge_line(hpfc_graph *g, uint32_t line);
 int graph_check_duplicates(const hpfc_graph *g, bool interior, hpfc_diag *diag);
 int graph_check_isolated(const hpfc_graph *g, hpfc_diag *diag);
 
+/* hpfc_graph_validate with planarity's cells searched on up to `threads`
+ * threads (0 or 1: the caller's alone): the same status and message. */
+int graph_validate_threads(const hpfc_graph *g, unsigned threads, hpfc_diag *diag);
+
 #endif

@@ -7,13 +7,18 @@
  * one cell per segment (with the same exact segment/cell test the builder
  * uses, so a contact point always lies in a cell both segments meet) and
  * testing the pairs inside each cell with exact orientation predicates.
+ * The cells can be searched on several threads (tasks.h); the conflict
+ * named is the first in cell order either way.
  */
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "road.h"
+#include "arrays.h"
 #include "graph.h"
+#include "road.h"
+#include "tasks.h"
 
 /* Describes edge e for a message: "edge 3 (line 12)" or "edge 3". */
 static void describe_edge(const hpfc_graph *g, size_t e, char *buf, size_t size)
@@ -312,7 +317,68 @@ static bool cell_conflicts_swept(const bucket_grid *bg, const seg_ref *items, si
     return false;
 }
 
-static int check_planarity(const hpfc_graph *g, hpfc_diag *diag)
+/* The cells are searched in runs, 16 a thread (so that a thread that meets
+ * dense cells does not hold the others up) of at least RUN_CELLS_MIN
+ * cells, shared by the threads: each run finds its first cell holding a
+ * conflict, and the first such run's names the conflict, as one thread
+ * going through the cells in order would. */
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+#define RUN_CELLS_MIN 2 /* fuzzed graphs are small: many runs even so */
+#else
+#define RUN_CELLS_MIN 16
+#endif
+
+typedef struct cell_search {
+    const bucket_grid *bg;
+    size_t cells, run_cells;
+    size_t *found;           /* per run: its first cell with a conflict, or SIZE_MAX */
+    unsigned char *no_room;  /* per run: that cell's sweep found no memory */
+    atomic_size_t first_run; /* the first run known to have found one: later runs stop */
+} cell_search;
+
+static bool cell_conflicts(const bucket_grid *bg, size_t c, swept_seg **sweep, size_t *cap,
+                           bool *no_room)
+{
+    const seg_ref *items = bg->items + bg->start[c];
+    size_t k = bg->start[c + 1] - bg->start[c], i, j;
+    double at[2];
+    if (k <= SWEEP_FROM)
+        return first_conflict(bg, items, k, &i, &j, at);
+    if (array_reserve((void **)sweep, cap, k, sizeof **sweep, 64)) {
+        *no_room = true;
+        return true;
+    }
+    return cell_conflicts_swept(bg, items, k, *sweep);
+}
+
+static void lower_first_run(atomic_size_t *first, size_t run)
+{
+    size_t seen = atomic_load_explicit(first, memory_order_relaxed);
+    while (run < seen && !atomic_compare_exchange_weak_explicit(first, &seen, run, memory_order_relaxed,
+                                                               memory_order_relaxed))
+        ;
+}
+
+static void search_run(void *arg, size_t run)
+{
+    cell_search *cs = arg;
+    swept_seg *sweep = NULL;
+    size_t cap = 0, end = (run + 1) * cs->run_cells;
+    bool no_room = false;
+    for (size_t c = run * cs->run_cells; c < end && c < cs->cells; c++) {
+        if (atomic_load_explicit(&cs->first_run, memory_order_relaxed) < run)
+            break; /* an earlier run names the conflict */
+        if (cell_conflicts(cs->bg, c, &sweep, &cap, &no_room)) {
+            cs->found[run] = c;
+            cs->no_room[run] = no_room;
+            lower_first_run(&cs->first_run, run);
+            break;
+        }
+    }
+    free(sweep);
+}
+
+static int check_planarity(const hpfc_graph *g, unsigned threads, hpfc_diag *diag)
 {
     size_t segments = 0;
     for (size_t e = 0; e < g->ne; e++)
@@ -320,33 +386,45 @@ static int check_planarity(const hpfc_graph *g, hpfc_diag *diag)
     if (segments > UINT32_MAX)
         return diag_set(diag, HPFC_E_LIMIT, "too many segments");
     bucket_grid bg = {0};
-    swept_seg *sweep = NULL;
+    cell_search cs = {.bg = &bg};
     int st = build_buckets(g, segments, &bg);
-    size_t cells = bg.cols * bg.rows, most = 0;
-    for (size_t c = 0; !st && c < cells; c++)
-        most = bg.start[c + 1] - bg.start[c] > most ? bg.start[c + 1] - bg.start[c] : most;
-    if (!st && most > SWEEP_FROM && !(sweep = malloc(most * sizeof *sweep)))
+    cs.cells = bg.cols * bg.rows;
+    size_t per_thread = (size_t)(threads > 1 ? threads : 1) * 16;
+    cs.run_cells = (cs.cells + per_thread - 1) / per_thread;
+    if (cs.run_cells < RUN_CELLS_MIN)
+        cs.run_cells = RUN_CELLS_MIN;
+    size_t runs = (cs.cells + cs.run_cells - 1) / cs.run_cells;
+    if (!st && (!(cs.found = malloc(runs * sizeof *cs.found)) || !(cs.no_room = calloc(runs, 1))))
         st = HPFC_E_NOMEM;
-    for (size_t c = 0; !st && c < cells; c++) {
-        const seg_ref *items = bg.items + bg.start[c];
-        size_t k = bg.start[c + 1] - bg.start[c], i, j;
+    if (!st) {
+        for (size_t r = 0; r < runs; r++)
+            cs.found[r] = SIZE_MAX;
+        atomic_init(&cs.first_run, SIZE_MAX);
+        tasks_run(threads, runs, search_run, &cs);
+        size_t first = atomic_load(&cs.first_run);
+        size_t i, j;
         double at[2];
-        if (k > SWEEP_FROM && !cell_conflicts_swept(&bg, items, k, sweep))
-            continue; /* a dense cell, without a conflict: nothing to name */
-        if (first_conflict(&bg, items, k, &i, &j, at))
-            st = report_conflict(&bg, items[i], items[j], at, diag);
-        else if (k > SWEEP_FROM)
-            st = diag_set(diag, HPFC_E_NONPLANAR, "internal error: a conflict swept is not found again");
+        if (first < runs && cs.no_room[first])
+            st = HPFC_E_NOMEM;
+        else if (first < runs) {
+            size_t c = cs.found[first];
+            const seg_ref *items = bg.items + bg.start[c];
+            if (first_conflict(&bg, items, bg.start[c + 1] - bg.start[c], &i, &j, at))
+                st = report_conflict(&bg, items[i], items[j], at, diag);
+            else
+                st = diag_set(diag, HPFC_E_NONPLANAR, "internal error: a conflict swept is not found again");
+        }
     }
     if (st == HPFC_E_NOMEM)
         diag_set(diag, st, "out of memory");
     free(bg.start);
     free(bg.items);
-    free(sweep);
+    free(cs.found);
+    free(cs.no_room);
     return st;
 }
 
-int hpfc_graph_validate(const hpfc_graph *g, hpfc_diag *diag)
+int graph_validate_threads(const hpfc_graph *g, unsigned threads, hpfc_diag *diag)
 {
     diag_clear(diag);
     if (!g)
@@ -359,8 +437,13 @@ int hpfc_graph_validate(const hpfc_graph *g, hpfc_diag *diag)
     if (!st)
         st = graph_check_duplicates(g, true, diag);
     if (!st)
-        st = check_planarity(g, diag);
+        st = check_planarity(g, threads, diag);
     return st;
+}
+
+int hpfc_graph_validate(const hpfc_graph *g, hpfc_diag *diag)
+{
+    return graph_validate_threads(g, 1, diag);
 }
 
 int hpfc_graph_check_whole(const hpfc_graph *g, hpfc_diag *diag)
