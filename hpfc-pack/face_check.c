@@ -3,6 +3,7 @@
  */
 #include "face_check.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -290,17 +291,22 @@ static int ring_index_parity(const ring_index *ri, int l, size_t k, const face_w
 
 /* ---- the check ------------------------------------------------------------------- */
 
+/* Shared by the threads that ask (each with its own face_check_scratch):
+ * the tree is read only; asked and index change by atomic operations. */
 struct face_check {
     const gis_features *fs;
     size_t rings;       /* parts */
     box_tree tree;      /* over the closed parts */
     uint32_t *asked;    /* per part: how often its parity was asked for */
-    ring_index **index; /* per part, once built */
-    int64_t *pts;       /* decoding buffer */
-    size_t cap_pts;
-    uint32_t *hits; /* parts whose box holds the witness */
-    size_t n_hits, cap_hits;
+    ring_index **index; /* per part, once built (published by compare-and-swap) */
 };
+
+void face_check_scratch_free(face_check_scratch *s)
+{
+    free(s->pts);
+    free(s->hits);
+    memset(s, 0, sizeof *s);
+}
 
 void face_check_free(face_check *fc)
 {
@@ -310,8 +316,6 @@ void face_check_free(face_check *fc)
         ring_index_free(fc->index[r]);
     free(fc->index);
     free(fc->asked);
-    free(fc->pts);
-    free(fc->hits);
     box_tree_free(&fc->tree);
     free(fc);
 }
@@ -364,44 +368,67 @@ int face_check_create(const gis_features *fs, face_check **out)
     return HPFC_OK;
 }
 
-static int collect_hits(face_check *fc, int l, size_t k, const face_witness *w)
+static int collect_hits(const face_check *fc, face_check_scratch *s, int l, size_t k,
+                        const face_witness *w)
 {
     const box_tree *t = &fc->tree;
     if (!box_holds(&t->level[l][k], w->x2, w->y2))
         return HPFC_OK;
     if (l == 0) {
-        if (!array_grow((void **)&fc->hits, &fc->cap_hits, fc->n_hits + 1, sizeof *fc->hits))
+        if (!array_grow((void **)&s->hits, &s->cap_hits, s->n_hits + 1, sizeof *s->hits))
             return HPFC_E_NOMEM;
-        fc->hits[fc->n_hits++] = t->item[k];
+        s->hits[s->n_hits++] = t->item[k];
         return HPFC_OK;
     }
     size_t first = k * FANOUT, end = first + FANOUT;
     end = end < t->count[l - 1] ? end : t->count[l - 1];
     for (size_t i = first; i < end; i++) {
-        int st = collect_hits(fc, l - 1, i, w);
+        int st = collect_hits(fc, s, l - 1, i, w);
         if (st)
             return st;
     }
     return HPFC_OK;
 }
 
-/* Parity of ring r at w: 1, 0, -1 (w on the ring) or -2 (no memory). */
-static int ring_parity(face_check *fc, size_t r, const face_witness *w)
+/* Ring r's index, built at its second question when it is long enough
+ * (NULL otherwise; *failed when there was no memory for it). Two threads
+ * may build it at once: the first to publish it wins, the other frees
+ * its copy. Either way the parity is exact, so when a ring gets its index
+ * changes only the time. */
+static const ring_index *ring_index_get(face_check *fc, size_t r, bool *failed)
 {
-    if (!fc->index[r] && ++fc->asked[r] >= 2 &&
-        gis_features_part_points(fc->fs, r) >= INDEX_MIN_SEGMENTS &&
-        !(fc->index[r] = ring_index_build(fc->fs, r)))
+    ring_index *ri = __atomic_load_n(&fc->index[r], __ATOMIC_ACQUIRE);
+    if (ri || __atomic_add_fetch(&fc->asked[r], 1, __ATOMIC_RELAXED) < 2 ||
+        gis_features_part_points(fc->fs, r) < INDEX_MIN_SEGMENTS)
+        return ri;
+    if (!(ri = ring_index_build(fc->fs, r))) {
+        *failed = true;
+        return NULL;
+    }
+    ring_index *none = NULL;
+    if (!__atomic_compare_exchange_n(&fc->index[r], &none, ri, false, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)) {
+        ring_index_free(ri);
+        ri = none;
+    }
+    return ri;
+}
+
+/* Parity of ring r at w: 1, 0, -1 (w on the ring) or -2 (no memory). */
+static int ring_parity(face_check *fc, face_check_scratch *s, size_t r, const face_witness *w)
+{
+    bool failed = false;
+    const ring_index *ri = ring_index_get(fc, r, &failed);
+    if (failed)
         return -2;
-    const ring_index *ri = fc->index[r];
     if (ri)
         return ring_index_parity(ri, ri->levels - 1, 0, w);
-    size_t n = ring_points(fc->fs, r, &fc->pts, &fc->cap_pts);
+    size_t n = ring_points(fc->fs, r, &s->pts, &s->cap_pts);
     if (n == SIZE_MAX)
         return -2;
     int odd = 0;
     for (size_t k = 0; k + 1 < n; k++) {
-        int c = face_witness_ray_crosses(w, fc->pts[2 * k], fc->pts[2 * k + 1],
-                                         fc->pts[2 * k + 2], fc->pts[2 * k + 3]);
+        int c = face_witness_ray_crosses(w, s->pts[2 * k], s->pts[2 * k + 1],
+                                         s->pts[2 * k + 2], s->pts[2 * k + 3]);
         if (c < 0)
             return -1;
         odd ^= c;
@@ -415,22 +442,23 @@ static int cmp_u32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-int face_check_features(face_check *fc, const face_witness *w, feature_list *out)
+int face_check_features(face_check *fc, face_check_scratch *s, const face_witness *w,
+                        feature_list *out)
 {
     out->n = 0;
-    fc->n_hits = 0;
-    int st = fc->tree.levels ? collect_hits(fc, fc->tree.levels - 1, 0, w) : HPFC_OK;
+    s->n_hits = 0;
+    int st = fc->tree.levels ? collect_hits(fc, s, fc->tree.levels - 1, 0, w) : HPFC_OK;
     if (st)
         return st;
     /* parts in order, so a feature's rings come together */
-    sort_in_place(fc->hits, fc->n_hits, sizeof *fc->hits, cmp_u32);
-    if (!array_grow((void **)&out->v, &out->cap, fc->n_hits + 1, sizeof *out->v))
+    sort_in_place(s->hits, s->n_hits, sizeof *s->hits, cmp_u32);
+    if (!array_grow((void **)&out->v, &out->cap, s->n_hits + 1, sizeof *out->v))
         return HPFC_E_NOMEM;
-    for (size_t i = 0; i < fc->n_hits;) {
-        uint32_t feature = gis_features_part_feature(fc->fs, fc->hits[i]);
+    for (size_t i = 0; i < s->n_hits;) {
+        uint32_t feature = gis_features_part_feature(fc->fs, s->hits[i]);
         int odd = 0;
-        for (; i < fc->n_hits && gis_features_part_feature(fc->fs, fc->hits[i]) == feature; i++) {
-            int p = ring_parity(fc, fc->hits[i], w);
+        for (; i < s->n_hits && gis_features_part_feature(fc->fs, s->hits[i]) == feature; i++) {
+            int p = ring_parity(fc, s, s->hits[i], w);
             if (p < 0)
                 return p == -1 ? HPFC_E_CORRUPT : HPFC_E_NOMEM;
             odd ^= p;

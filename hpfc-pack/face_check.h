@@ -35,9 +35,21 @@ typedef struct feature_list {
 int face_check_create(const gis_features *fs, face_check **out);
 void face_check_free(face_check *fc);
 
+/* A thread's working arrays for face_check_features: zeroed before the
+ * first call, freed with face_check_scratch_free. */
+typedef struct face_check_scratch {
+    int64_t *pts;    /* a ring's points, decoded */
+    size_t cap_pts;
+    uint32_t *hits;  /* the parts whose box holds the witness */
+    size_t n_hits, cap_hits;
+} face_check_scratch;
+void face_check_scratch_free(face_check_scratch *s);
+
 /* Sets *out to the features whose rings hold w an odd number of times,
  * ascending. HPFC_OK, HPFC_E_NOMEM, or HPFC_E_CORRUPT when w lies on a
- * ring (a witness never lies on a segment of the map). */
-int face_check_features(face_check *fc, const face_witness *w, feature_list *out);
+ * ring (a witness never lies on a segment of the map). Several threads
+ * may ask one fc at once, each with its own scratch. */
+int face_check_features(face_check *fc, face_check_scratch *s, const face_witness *w,
+                        feature_list *out);
 
 #endif

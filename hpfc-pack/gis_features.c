@@ -4,6 +4,7 @@
 #include "gis_features.h"
 
 #include <pthread.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -258,52 +259,169 @@ void gis_feature_table_free(gis_feature_table *t)
 
 /* Every face's features, the exact answer of face_check.h at its witness,
  * into the table's face index; each compared with the walk's where the
- * walk reached the face (without `walked`, no face is compared). */
-static int check_faces(const gis_features *fs, const face_witness *w, const face_link *fl,
-                       int walked, gis_feature_table *out)
+ * walk reached the face (without `walked`, no face is compared).
+ *
+ * The faces are checked in runs, 16 a thread and of at least CHECK_RUN_MIN
+ * faces, taken in order by up to `threads` threads that share the check
+ * (each with its own scratch):
+ * a run's sets and counts go to arrays of its own, joined in run order
+ * afterwards, so the table, the counts and a failure are the one thread's. */
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+#define CHECK_RUN_MIN 3 /* fuzzed maps are small: many runs even so */
+#else
+#define CHECK_RUN_MIN 64
+#endif
+enum { CHECK_MAX_THREADS = 64 };
+
+typedef struct check_run {
+    uint32_t *feature;  /* the run's faces' sets, one after the other */
+    size_t n, cap;
+    uint32_t *len;      /* per face of the run, its set's length (up to a failure) */
+    uint64_t faces_done, without_witness, anchors, conflicts;
+    int status;
+} check_run;
+
+typedef struct face_checking {
+    const face_witness *w;
+    const face_link *fl;
+    int walked;
+    face_check *fc;
+    check_run *run;
+    size_t nruns, run_faces;
+    size_t next_run;     /* the next run to take (atomic) */
+    size_t first_failed; /* the first run known to have failed: later ones stop (atomic) */
+} face_checking;
+
+/* Face f's features into *set, counted in the run. */
+static int check_face(face_checking *c, uint64_t f, face_check_scratch *s, feature_list *set,
+                      check_run *r)
 {
-    out->face_start = calloc(fl->faces + 1, sizeof *out->face_start);
-    if (!out->face_start)
-        return HPFC_E_NOMEM;
-    face_check *fc = NULL;
-    feature_list set = {0};
-    size_t cap = 0, total = 0;
-    int st = face_check_create(fs, &fc);
-    for (uint64_t f = 0; f < fl->faces && !st; f++) {
-        out->face_start[f] = (uint32_t)total;
-        const uint32_t *walk = fl->pool + fl->set_off[f];
-        int reached = walked && fl->reached[f];
-        if (w[f].kind == FACE_WITNESS_NONE) {
-            /* no place of the file lies in this face: the walk's answer stands */
-            out->faces_without_witness++;
-            set.n = 0;
-            if (reached && !array_grow((void **)&set.v, &set.cap, fl->set_len[f] + 1,
-                                       sizeof *set.v))
-                st = HPFC_E_NOMEM;
-            else if (reached) {
-                memcpy(set.v, walk, fl->set_len[f] * sizeof *walk);
-                set.n = fl->set_len[f];
-            }
-        } else if (!(st = face_check_features(fc, &w[f], &set))) {
-            if (!reached)
-                out->anchors++;
-            else if (set.n != fl->set_len[f] || memcmp(set.v, walk, set.n * sizeof *walk) != 0)
-                out->conflicts++;
+    const face_link *fl = c->fl;
+    const uint32_t *walk = fl->pool + fl->set_off[f];
+    int reached = c->walked && fl->reached[f];
+    if (c->w[f].kind == FACE_WITNESS_NONE) {
+        /* no place of the file lies in this face: the walk's answer stands */
+        r->without_witness++;
+        set->n = 0;
+        if (reached && !array_grow((void **)&set->v, &set->cap, fl->set_len[f] + 1, sizeof *set->v))
+            return HPFC_E_NOMEM;
+        if (reached) {
+            memcpy(set->v, walk, fl->set_len[f] * sizeof *walk);
+            set->n = fl->set_len[f];
         }
-        if (!st && total + set.n >= UINT32_MAX)
-            st = HPFC_E_LIMIT;
-        if (!st && !array_grow((void **)&out->face_feature, &cap, total + set.n + 1,
-                               sizeof *out->face_feature))
-            st = HPFC_E_NOMEM;
-        if (!st) {
-            memcpy(out->face_feature + total, set.v, set.n * sizeof *set.v);
-            total += set.n;
+        return HPFC_OK;
+    }
+    int st = face_check_features(c->fc, s, &c->w[f], set);
+    if (!st && !reached)
+        r->anchors++;
+    else if (!st && (set->n != fl->set_len[f] || memcmp(set->v, walk, set->n * sizeof *walk) != 0))
+        r->conflicts++;
+    return st;
+}
+
+static int check_run_faces(face_checking *c, size_t k, face_check_scratch *s, feature_list *set)
+{
+    check_run *r = &c->run[k];
+    uint64_t first = (uint64_t)k * c->run_faces, end = first + c->run_faces;
+    end = end < c->fl->faces ? end : c->fl->faces;
+    if (!(r->len = malloc((size_t)(end - first) * sizeof *r->len)))
+        return HPFC_E_NOMEM;
+    for (uint64_t f = first; f < end; f++) {
+        int st = check_face(c, f, s, set, r);
+        if (st)
+            return st;
+        if (!array_grow((void **)&r->feature, &r->cap, r->n + set->n + 1, sizeof *r->feature))
+            return HPFC_E_NOMEM;
+        memcpy(r->feature + r->n, set->v, set->n * sizeof *set->v);
+        r->n += set->n;
+        r->len[f - first] = (uint32_t)set->n;
+        r->faces_done++;
+    }
+    return HPFC_OK;
+}
+
+static void *check_runs(void *arg)
+{
+    face_checking *c = arg;
+    face_check_scratch s = {0};
+    feature_list set = {0};
+    for (;;) {
+        size_t k = __atomic_fetch_add(&c->next_run, 1, __ATOMIC_RELAXED);
+        if (k >= c->nruns || __atomic_load_n(&c->first_failed, __ATOMIC_RELAXED) < k)
+            break; /* runs are taken in order: all later ones stop too */
+        if ((c->run[k].status = check_run_faces(c, k, &s, &set)) != HPFC_OK) {
+            size_t seen = __atomic_load_n(&c->first_failed, __ATOMIC_RELAXED);
+            while (k < seen && !__atomic_compare_exchange_n(&c->first_failed, &seen, k, false,
+                                                            __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+                ;
         }
     }
-    if (!st)
-        out->face_start[fl->faces] = (uint32_t)total;
     free(set.v);
-    face_check_free(fc);
+    face_check_scratch_free(&s);
+    return NULL;
+}
+
+/* The runs' sets and counts, in run order, into the table. */
+static int join_runs(const face_checking *c, gis_feature_table *out)
+{
+    size_t total = 0;
+    for (size_t k = 0; k < c->nruns; k++) {
+        const check_run *r = &c->run[k];
+        if (total + r->n >= UINT32_MAX)
+            return HPFC_E_LIMIT; /* at a face before any failure of the run */
+        if (r->status)
+            return r->status;
+        total += r->n;
+    }
+    if (!(out->face_feature = malloc((total ? total : 1) * sizeof *out->face_feature)))
+        return HPFC_E_NOMEM;
+    size_t at = 0;
+    for (size_t k = 0; k < c->nruns; k++) {
+        const check_run *r = &c->run[k];
+        uint64_t first = (uint64_t)k * c->run_faces;
+        for (uint64_t i = 0; i < r->faces_done; i++) {
+            out->face_start[first + i] = (uint32_t)at;
+            at += r->len[i];
+        }
+        if (r->n)
+            memcpy(out->face_feature + out->face_start[first], r->feature, r->n * sizeof *r->feature);
+        out->faces_without_witness += r->without_witness;
+        out->anchors += r->anchors;
+        out->conflicts += r->conflicts;
+    }
+    out->face_start[c->fl->faces] = (uint32_t)at;
+    return HPFC_OK;
+}
+
+static int check_faces(const gis_features *fs, const face_witness *w, const face_link *fl,
+                       int walked, unsigned threads, gis_feature_table *out)
+{
+    face_checking c = {.w = w, .fl = fl, .walked = walked};
+    threads = threads < 1 ? 1 : threads > CHECK_MAX_THREADS ? CHECK_MAX_THREADS : threads;
+    c.run_faces = (size_t)((fl->faces + 16 * threads - 1) / (16 * threads));
+    c.run_faces = c.run_faces < CHECK_RUN_MIN ? CHECK_RUN_MIN : c.run_faces;
+    c.nruns = (size_t)((fl->faces + c.run_faces - 1) / c.run_faces);
+    out->face_start = calloc(fl->faces + 1, sizeof *out->face_start);
+    c.run = calloc(c.nruns ? c.nruns : 1, sizeof *c.run);
+    int st = out->face_start && c.run ? face_check_create(fs, &c.fc) : HPFC_E_NOMEM;
+    if (!st) {
+        c.first_failed = SIZE_MAX;
+        pthread_t id[CHECK_MAX_THREADS];
+        unsigned started = 0;
+        while (started + 1 < threads && started + 1 < c.nruns &&
+               pthread_create(&id[started], NULL, check_runs, &c) == 0)
+            started++;
+        check_runs(&c);
+        for (unsigned k = 0; k < started; k++)
+            pthread_join(id[k], NULL);
+        st = join_runs(&c, out);
+    }
+    for (size_t k = 0; c.run && k < c.nruns; k++) {
+        free(c.run[k].feature);
+        free(c.run[k].len);
+    }
+    free(c.run);
+    face_check_free(c.fc);
     return st;
 }
 
@@ -368,8 +486,8 @@ static void *find_witnesses(void *arg)
 
 int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
                              const leaf_crossings *lc, const hpfc_file *file,
-                             const hpfc_faces *given, int witness, gis_feature_table *out,
-                             char *err, size_t err_len)
+                             const hpfc_faces *given, int witness, unsigned threads,
+                             gis_feature_table *out, char *err, size_t err_len)
 {
     memset(out, 0, sizeof *out);
     out->method_witness = witness != 0;
@@ -377,7 +495,7 @@ int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
     face_witness *w = NULL;
     face_link fl = {0};
     stage_time t = stage_now();
-    int st = given ? HPFC_OK : hpfc_faces_build(file, &built);
+    int st = given ? HPFC_OK : hpfc_faces_build_threads(file, threads, &built);
     const hpfc_faces *faces = given ? given : built;
     out->faces_t = stage_lap(&t);
     uint64_t n = faces ? hpfc_faces_face_count(faces) : 0;
@@ -402,7 +520,7 @@ int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
     hpfc_faces_free(built); /* the walk needs the faces' ids only */
     stage_lap(&t);
     if (!st)
-        st = check_faces(fs, w, &fl, !out->method_witness, out);
+        st = check_faces(fs, w, &fl, !out->method_witness, threads, out);
     out->check_t = stage_lap(&t);
     if (!st) {
         out->faces_propagated = out->method_witness ? 0 : fl.propagated - 1;

@@ -97,10 +97,13 @@ void gis_feature_table_free(gis_feature_table *t);
  * `witness` 0 links from the topology, every face then confirmed by the
  * exact check (hpfc-pack's default); 1 answers every face by its witness
  * point alone (hpfc-pack --link witness, a cross-check the tests compare
- * with the default). 0, or 1 with a message in err. */
+ * with the default). The faces are numbered (when not given) and checked
+ * on up to `threads` threads (0 or 1: the calling one, beside the
+ * witnesses' own thread); the table is the same whatever the count. 0, or
+ * 1 with a message in err. */
 int gis_features_link_method(const gis_features *fs, const hpfc_graph *graph,
                              const leaf_crossings *lc, const hpfc_file *file,
-                             const hpfc_faces *faces, int witness, gis_feature_table *out,
-                             char *err, size_t err_len);
+                             const hpfc_faces *faces, int witness, unsigned threads,
+                             gis_feature_table *out, char *err, size_t err_len);
 
 #endif

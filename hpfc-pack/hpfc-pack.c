@@ -67,6 +67,7 @@ typedef struct pack_args {
     int link_witness; /* --link witness */
     uint32_t partitions; /* --partitions: build in parts, one after another */
     uint32_t jobs;       /* --jobs: that many parts at once, in threads (0: not given) */
+    uint32_t threads;    /* --threads: for the steps that share their work (0: not given) */
     const char *parts_dir; /* --parts-dir: the parts built by other processes */
 } pack_args;
 
@@ -159,9 +160,12 @@ static void print_help(void)
            "                        at once; 1.5-1.8x with 2 on street networks); without\n"
            "                        --partitions, the tree is built in N parts (not with\n"
            "                        --flat or --parts-dir; default: one part at a time).\n"
-           "                        Also the threads that validate, build a whole tree\n"
-           "                        and number the faces (default: one a core, up to\n"
-           "                        8; the same file whatever N)\n"
+           "                        Also the threads of --threads when that is not given\n"
+           "  --threads N           threads for the steps that share their work:\n"
+           "                        validation, the build of a whole tree, numbering the\n"
+           "                        faces, checking the faces' features (default: --jobs,\n"
+           "                        else one a core, up to 8; at most 64; the same file\n"
+           "                        whatever N)\n"
            "  --parts-dir DIR       with --partitions: the parts are built by other\n"
            "                        processes (python3 -m hpfc pack on Dask): their\n"
            "                        graphs are cut into DIR, the plan printed as one\n"
@@ -328,6 +332,13 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->jobs = (uint32_t)n;
         return NULL;
     }
+    if (strcmp(name, "--threads") == 0) {
+        uint64_t n = 0;
+        if (!parse_positive(v, strlen(v), 64, &n))
+            return "a positive integer, at most 64";
+        a->threads = (uint32_t)n;
+        return NULL;
+    }
     if (strcmp(name, "--parts-dir") == 0) {
         a->parts_dir = v;
         return v[0] ? NULL : "a directory";
@@ -390,7 +401,8 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
                                         "--fields",   "--output",   "-o",
                                         "-l",         "-a_srs",     "-s_srs",
                                         "--layout",   "--link",     "--partitions",
-                                        "--parts-dir", "--jobs",   "-j"};
+                                        "--parts-dir", "--jobs",   "-j",
+                                        "--threads"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -1047,11 +1059,11 @@ static int await_parts(void *user, const part_plan *plan, hpfc_diag *diag)
 }
 
 /* Threads for the steps that share their work (validation, the build of
- * a whole tree, numbering the faces):
- * --jobs when given, else the tools' default (cores.h). */
+ * a whole tree, numbering the faces, checking the faces' features):
+ * --threads, else --jobs when given, else the tools' default (cores.h). */
 static unsigned step_threads(const pack_args *a)
 {
-    return a->jobs ? a->jobs : default_threads();
+    return a->threads ? a->threads : a->jobs ? a->jobs : default_threads();
 }
 
 /* Builds, checks the serialised bytes, then writes OUTPUT (pack_write.h);

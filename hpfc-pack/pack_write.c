@@ -32,7 +32,7 @@
  * before the linking's own arrays (and, without LABL, the faces' flood
  * fill) are made. 0, or 1 with a message in err. */
 static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
-                         const hpfc_faces *faces, const gis_info *gis, int witness,
+                         const hpfc_faces *faces, const gis_info *gis, int witness, unsigned threads,
                          pack_write_stats *r, gis_feature_table *ft, char *err, size_t err_len)
 {
     stage_time t0 = stage_now();
@@ -45,7 +45,7 @@ static int link_features(const hpfc_graph *g, hpfc_tree **t, const hpfc_file *f,
                  hpfc_strerror(st));
         return 1;
     }
-    st = gis_features_link_method(gis->polygons, g, &lc, f, faces, witness, ft, err, err_len);
+    st = gis_features_link_method(gis->polygons, g, &lc, f, faces, witness, threads, ft, err, err_len);
     leaf_crossings_free(&lc);
     if (!st) {
         r->features = ft->polygon_features;
@@ -525,7 +525,7 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts
     hpfc_attr_table attrs;
     hpfc_edge_feature_table edge_features;
     if (!st && linking) {
-        st = link_features(g, &t, f, faces, gis, link_witness, r, &ft, diag->message,
+        st = link_features(g, &t, f, faces, gis, link_witness, wopts.threads, r, &ft, diag->message,
                            sizeof diag->message);
         wopts.features = &ft.table;
         /* the features' attributes (ATTR) and the edges' features (EDGF) */

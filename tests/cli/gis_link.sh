@@ -6,8 +6,9 @@
 #    coast's box, overlapping features, a hole holding another feature,
 #    with and without crossing rings, --vertices all and junctions: the
 #    topological linking gives byte-identical files to the pre-1.2 witness
-#    method (--link witness), and --locate-batch agrees with a naive
-#    even-odd point-in-polygon oracle (link_oracle.py);
+#    method (--link witness) and on 1 and 3 threads (--threads), and
+#    --locate-batch agrees with a naive even-odd point-in-polygon oracle
+#    (link_oracle.py);
 #  - GeoJSON, Shapefile and GeoPackage copies of the counties (ogr2ogr) give
 #    the same fids, keys and attributes, each its own source_fid;
 #  - --fields stores typed values that GDAL reads back (feature_oracle.py
@@ -47,6 +48,13 @@ for kind in nested crossing; do
         "$PACK" --link witness --vertices "$v" "$tmp/$kind.geojson" -o "$tmp/w.hpfc" \
             >/dev/null 2>&1 || fail "$kind $v: pack with the witness method"
         cmp -s "$tmp/t.hpfc" "$tmp/w.hpfc" || fail "$kind $v: topology and witness linking differ"
+        # validation, the build, the faces and their check on one thread and
+        # on three: the same bytes
+        for n in 1 3; do
+            "$PACK" --threads "$n" --vertices "$v" "$tmp/$kind.geojson" -o "$tmp/n$n.hpfc" \
+                >/dev/null 2>&1 || fail "$kind $v: pack on $n threads"
+            cmp -s "$tmp/t.hpfc" "$tmp/n$n.hpfc" || fail "$kind $v: $n threads give other bytes"
+        done
         python3 - "$tmp/report.json" "$kind" <<'PY' || fail "$kind $v: link report"
 import json, sys
 r = json.load(open(sys.argv[1]))
