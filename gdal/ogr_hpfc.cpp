@@ -42,7 +42,7 @@ enum class LayerKind { Source, Faces, Edges };
 class HPFCLayer final : public OGRLayer
 {
   public:
-    HPFCLayer(HPFCDataset *ds, LayerKind kind, uint32_t source, const std::string &name,
+    HPFCLayer(HPFCDataset *ds, LayerKind kind, const std::string &name,
               OGRwkbGeometryType type);
     ~HPFCLayer() override;
 
@@ -85,7 +85,6 @@ class HPFCLayer final : public OGRLayer
 
     HPFCDataset *ds_;
     LayerKind kind_;
-    uint32_t source_;
     OGRFeatureDefn *defn_;
     std::string fid_column_;
     ogr_shapes_field *fields_ = nullptr;
@@ -275,7 +274,7 @@ bool HPFCDataset::Load(GDALOpenInfo *info)
             names.emplace_back(len ? std::string(name, len) : std::string("features"));
         }
         for (uint32_t l = 0; l < features_.layers; l++)
-            layers_.emplace_back(new HPFCLayer(this, LayerKind::Source, l, names[l], wkbUnknown));
+            layers_.emplace_back(new HPFCLayer(this, LayerKind::Source, names[l], wkbUnknown));
         for (uint32_t l = 0; l < features_.layers; l++) {
             layers_[l]->GetLayerDefn()->SetGeomType(types[l]);
             layers_[l]->SetCount(counts[l], features_.layers == 1);
@@ -289,9 +288,9 @@ bool HPFCDataset::Load(GDALOpenInfo *info)
         names.push_back(n);
         return n;
     };
-    layers_.emplace_back(new HPFCLayer(this, LayerKind::Faces, 0, free_name("faces"), wkbPolygon));
+    layers_.emplace_back(new HPFCLayer(this, LayerKind::Faces, free_name("faces"), wkbPolygon));
     layers_.emplace_back(
-        new HPFCLayer(this, LayerKind::Edges, 0, free_name("edges"), wkbLineString));
+        new HPFCLayer(this, LayerKind::Edges, free_name("edges"), wkbLineString));
     for (auto &l : layers_)
         if (!l->Init())
             return false;
@@ -440,9 +439,9 @@ bool HPFCDataset::Window(const OGREnvelope &env, int64_t *x0, int64_t *y0, int64
 
 /* ---- layers ------------------------------------------------------------------------ */
 
-HPFCLayer::HPFCLayer(HPFCDataset *ds, LayerKind kind, uint32_t source, const std::string &name,
+HPFCLayer::HPFCLayer(HPFCDataset *ds, LayerKind kind, const std::string &name,
                      OGRwkbGeometryType type)
-    : ds_(ds), kind_(kind), source_(source)
+    : ds_(ds), kind_(kind)
 {
     defn_ = new OGRFeatureDefn(name.c_str());
     defn_->Reference();

@@ -840,7 +840,7 @@ typedef struct level_runs {
     uint32_t level;
     image_run *run;
     size_t nruns;
-    size_t first_failed;    /* the first run known to have failed: later ones stop (atomic) */
+    tasks_failure first_failed; /* the first run known to have failed: later ones stop */
 } level_runs;
 
 /* Cuts the level's images into at most `most` runs of about equal numbers
@@ -906,18 +906,14 @@ static void build_run(void *arg, size_t k)
 {
     level_runs *lr = arg;
     image_run *r = &lr->run[k];
-    if (__atomic_load_n(&lr->first_failed, __ATOMIC_RELAXED) < k)
+    if (tasks_failed_before(&lr->first_failed, k))
         return; /* an earlier run failed: this one is not spliced */
     diag_clear(&r->diag);
     r->status = start_run(lr, r);
     if (!r->status)
         r->status = build_images(&r->b, lr->level, r->first, r->end);
-    if (r->status) {
-        size_t seen = __atomic_load_n(&lr->first_failed, __ATOMIC_RELAXED);
-        while (k < seen && !__atomic_compare_exchange_n(&lr->first_failed, &seen, k, false,
-                                                        __ATOMIC_RELAXED, __ATOMIC_RELAXED))
-            ;
-    }
+    if (r->status)
+        tasks_failure_note(&lr->first_failed, k);
 }
 
 /* The run's pixels, which name its own symbols, crossings and children,
@@ -1014,7 +1010,8 @@ static int splice_run(builder *b, uint32_t level, const image_run *r)
 static int build_level_threads(builder *b, uint32_t level, unsigned threads)
 {
     size_t nimages = b->t->levels[level].nimages, most = (size_t)threads * 8;
-    level_runs lr = {.b = b, .level = level, .first_failed = SIZE_MAX};
+    level_runs lr = {.b = b, .level = level};
+    tasks_failure_init(&lr.first_failed);
     if (!(lr.run = calloc(most < nimages ? most : nimages, sizeof *lr.run)))
         return HPFC_E_NOMEM;
     lr.nruns = cut_runs(b, nimages, most < nimages ? most : nimages, lr.run);

@@ -10,7 +10,6 @@
  * The cells can be searched on several threads (tasks.h); the conflict
  * named is the first in cell order either way.
  */
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -333,7 +332,7 @@ typedef struct cell_search {
     size_t cells, run_cells;
     size_t *found;           /* per run: its first cell with a conflict, or SIZE_MAX */
     unsigned char *no_room;  /* per run: that cell's sweep found no memory */
-    atomic_size_t first_run; /* the first run known to have found one: later runs stop */
+    tasks_failure first_run; /* the first run known to have found one: later runs stop */
 } cell_search;
 
 static bool cell_conflicts(const bucket_grid *bg, size_t c, swept_seg **sweep, size_t *cap,
@@ -351,14 +350,6 @@ static bool cell_conflicts(const bucket_grid *bg, size_t c, swept_seg **sweep, s
     return cell_conflicts_swept(bg, items, k, *sweep);
 }
 
-static void lower_first_run(atomic_size_t *first, size_t run)
-{
-    size_t seen = atomic_load_explicit(first, memory_order_relaxed);
-    while (run < seen && !atomic_compare_exchange_weak_explicit(first, &seen, run, memory_order_relaxed,
-                                                               memory_order_relaxed))
-        ;
-}
-
 static void search_run(void *arg, size_t run)
 {
     cell_search *cs = arg;
@@ -366,12 +357,12 @@ static void search_run(void *arg, size_t run)
     size_t cap = 0, end = (run + 1) * cs->run_cells;
     bool no_room = false;
     for (size_t c = run * cs->run_cells; c < end && c < cs->cells; c++) {
-        if (atomic_load_explicit(&cs->first_run, memory_order_relaxed) < run)
+        if (tasks_failed_before(&cs->first_run, run))
             break; /* an earlier run names the conflict */
         if (cell_conflicts(cs->bg, c, &sweep, &cap, &no_room)) {
             cs->found[run] = c;
             cs->no_room[run] = no_room;
-            lower_first_run(&cs->first_run, run);
+            tasks_failure_note(&cs->first_run, run);
             break;
         }
     }
@@ -399,9 +390,9 @@ static int check_planarity(const hpfc_graph *g, unsigned threads, hpfc_diag *dia
     if (!st) {
         for (size_t r = 0; r < runs; r++)
             cs.found[r] = SIZE_MAX;
-        atomic_init(&cs.first_run, SIZE_MAX);
+        tasks_failure_init(&cs.first_run);
         tasks_run(threads, runs, search_run, &cs);
-        size_t first = atomic_load(&cs.first_run);
+        size_t first = tasks_first_failure(&cs.first_run);
         size_t i, j;
         double at[2];
         if (first < runs && cs.no_room[first])
