@@ -24,6 +24,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "cores.h"
 #include "hpfc.h"
 #include "hpfc_batch.h"
 #include "lattice_point.h"
@@ -271,7 +272,8 @@ static PyObject *File_verify_checksums(FileObject *self, PyObject *unused)
     Py_RETURN_NONE;
 }
 
-/* Numbers the faces once (O(file)), without the GIL. */
+/* Numbers the faces once (O(file)), without the GIL, on one thread a core
+ * as hpfc-inspect does (the numbers do not depend on the threads). */
 static int file_faces(FileObject *self)
 {
     if (file_ready(self))
@@ -282,7 +284,7 @@ static int file_faces(FileObject *self)
     int st;
     self->busy++;
     Py_BEGIN_ALLOW_THREADS
-    st = hpfc_faces_build(self->f, &fc);
+    st = hpfc_faces_build_threads(self->f, default_threads(), &fc);
     Py_END_ALLOW_THREADS
     self->busy--;
     if (st) {
