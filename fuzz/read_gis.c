@@ -23,17 +23,19 @@
  * Oracle: gis_read_graph returns 0 with a graph or 1 with a one-line
  * message and no graph; the graph passes hpfc_graph_validate (the promise
  * of gis_input.h: the builder always receives a planar graph) and the shape
- * checks of input.h, at the unit gis_info reports; reading twice gives the
- * same graph. When the map has at most PACK_MAX_EDGES edges it is built,
- * serialised, reopened with checksums, and its faces are linked to the
- * polygon features as hpfc-pack links them (leaf_crossings_collect, the tree
- * freed, gis_features_link): as many faces as the builder counted, every
- * face's features exist, and the file rewritten with them
- * (hpfc_file_serialize) records exactly that table, the attributes (ATTR)
- * and the edges' features (EDGF). The walk over the faces and every face's
- * exact witness agree (no conflict, noded or not: the parts are recorded as
- * they lie in the map), every face has a witness, and the witness method
- * alone gives the very same table.
+ * checks of input.h, at the unit gis_info reports. Reading again with
+ * GEOS's polygon checks on a second thread (polygon_checks.h) gives the
+ * same outcome: the same message on failure, else the same graph, count
+ * of invalid polygons and list of them. When the map has at most
+ * PACK_MAX_EDGES edges it is built, serialised, reopened with checksums,
+ * and its faces are linked to the polygon features as hpfc-pack links them
+ * (leaf_crossings_collect, the tree freed, gis_features_link): as many faces
+ * as the builder counted, every face's features exist, and the file
+ * rewritten with them (hpfc_file_serialize) records exactly that table, the
+ * attributes (ATTR) and the edges' features (EDGF). The walk over the
+ * faces and every face's exact witness agree (no conflict, noded or not:
+ * the parts are recorded as they lie in the map), every face has a
+ * witness, and the witness method alone gives the very same table.
  */
 #include <cpl_vsi.h>
 
@@ -57,16 +59,17 @@ static void options_from_byte(uint8_t b, gis_options *o, const char **path)
     o->fields = b & 64 ? "all" : NULL;
 }
 
-/* Reads the in-memory dataset; 0 with *g, or 1 (checked message, no graph). */
-static int read_graph(const char *path, const gis_options *o, hpfc_graph **g, gis_info *info)
+/* Reads the in-memory dataset; 0 with *g, or 1 (checked message in err,
+ * no graph). */
+static int read_graph(const char *path, const gis_options *o, hpfc_graph **g, gis_info *info,
+                      char err[512])
 {
-    char err[512];
-    memset(err, 'x', sizeof err);
+    memset(err, 'x', 512);
     *g = NULL;
-    int st = gis_read_graph(path, o, g, info, err, sizeof err);
+    int st = gis_read_graph(path, o, g, info, err, 512);
     FUZZ_CHECK(st == 0 || st == 1);
     FUZZ_CHECK((st == 0) == (*g != NULL));
-    FUZZ_CHECK(memchr(err, '\0', sizeof err) != NULL);
+    FUZZ_CHECK(memchr(err, '\0', 512) != NULL);
     if (st) {
         FUZZ_CHECK(err[0] != '\0');
         FUZZ_CHECK(strpbrk(err, "\r\n") == NULL);
@@ -216,16 +219,24 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(mem != NULL);
     VSIFCloseL(mem);
 
-    hpfc_graph *g = NULL;
-    gis_info info;
-    if (read_graph(path, &o, &g, &info) == 0) {
+    hpfc_graph *g = NULL, *again = NULL;
+    gis_info info, info2;
+    char err[512], err2[512];
+    /* read again with GEOS's polygon checks on a second thread: the same
+     * outcome, message or graph and report */
+    gis_options threaded = o;
+    threaded.threads = 2;
+    int st = read_graph(path, &o, &g, &info, err);
+    FUZZ_CHECK(read_graph(path, &threaded, &again, &info2, err2) == st);
+    if (st)
+        FUZZ_CHECK(strcmp(err, err2) == 0);
+    if (st == 0) {
         fuzz_check_graph(g);
         FUZZ_CHECK(hpfc_graph_validate(g, NULL) == HPFC_OK);
         FUZZ_CHECK(hpfc_graph_unit_exp10(g) == info.unit_exp10);
-        hpfc_graph *again = NULL;
-        gis_info info2;
-        FUZZ_CHECK(read_graph(path, &o, &again, &info2) == 0);
         FUZZ_CHECK(fuzz_same_graph(g, again));
+        FUZZ_CHECK(info.invalid_noded == info2.invalid_noded);
+        FUZZ_CHECK(strcmp(info.repaired, info2.repaired) == 0);
         hpfc_graph_free(again);
         gis_info_free(&info2);
         if (hpfc_graph_edge_count(g) <= PACK_MAX_EDGES)

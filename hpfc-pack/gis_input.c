@@ -4,7 +4,8 @@
  *   1. read every selected layer's lines and polygon rings into flat
  *      arrays, checking coordinates (finite; in range when geographic),
  *      cutting geographic features that cross the antimeridian
- *      (dateline.h), and checking polygon validity (GEOS);
+ *      (dateline.h), and checking polygon validity (GEOS, on a second
+ *      thread while GDAL reads on: polygon_checks.h);
  *   2. choose the projection from the geographic extent, project;
  *   3. choose the lattice unit from the projected extent, snap by rounding;
  *   4. collect the distinct snapped segments, find exactly those that need
@@ -40,6 +41,7 @@
 #include "grow.h"
 #include "lattice.h"
 #include "noded_paths.h"
+#include "polygon_checks.h"
 #include "progress.h"
 #include "projection.h"
 #include "segment_graph.h"
@@ -65,6 +67,7 @@ typedef struct reader {
 
     GEOSContextHandle_t geos;
     char geos_msg[256];
+    polygon_checks *checks; /* the polygons' validity, in feature order */
 
     /* the current layer and feature, for messages */
     const char *layer_name;
@@ -134,20 +137,24 @@ static const char *where(const reader *r, char *buf, size_t n)
     return buf;
 }
 
-/* Names a noded polygon in the report's short list. */
-static void note_repaired(reader *r)
+/* A polygon's name in the report's short list of those noded: its --key
+ * value, else its layer and FID. */
+static void repaired_item(const reader *r, char *buf, size_t n)
+{
+    const char *key = message_key(r);
+    if (key)
+        snprintf(buf, n, "'%.40s'", key);
+    else
+        snprintf(buf, n, "layer '%.40s' feature %lld", r->layer_name, (long long)r->fid);
+}
+
+/* Adds a noded polygon to the report's short list (the first few). */
+static void note_repaired(reader *r, const char *item)
 {
     char *list = r->info->repaired;
     size_t len = strlen(list), cap = sizeof r->info->repaired;
     if (r->info->invalid_noded > 4 || len + 8 >= cap)
         return;
-    const char *key = message_key(r);
-    char item[120];
-    if (key)
-        snprintf(item, sizeof item, "'%.40s'", key);
-    else
-        snprintf(item, sizeof item, "layer '%.40s' feature %lld", r->layer_name,
-                 (long long)r->fid);
     snprintf(list + len, cap - len, "%s%s", len ? ", " : "", item);
 }
 
@@ -226,36 +233,42 @@ static int add_part(reader *r, OGRGeometryH g, int closed)
     return 0;
 }
 
-/* Why a polygon is invalid, from GEOS; 0 when it is valid. */
+/* GEOS's verdict on a polygon, in feature order (polygon_checks.h):
+ * counted and named when invalid polygons are noded, else the failure. */
+static int take_verdict(void *user, const polygon_verdict *v)
+{
+    reader *r = user;
+    if (v->kind == POLYGON_UNREADABLE)
+        return fail(r, "%s: invalid geometry (%s)", v->where,
+                    v->why[0] ? v->why : "GEOS cannot read it");
+    if (v->kind == POLYGON_VALID)
+        return 0;
+    if (r->opt->invalid_mode == GIS_INVALID_NODE) {
+        r->info->invalid_noded++;
+        note_repaired(r, v->item);
+        return 0;
+    }
+    return fail(r, "%s: invalid polygon: %s (--invalid node, the default, packs its rings as "
+                   "noded linework)",
+                v->where, v->why[0] ? v->why : "rejected by GEOS");
+}
+
+/* Queues the feature's polygon for GEOS's verdict (take_verdict). */
 static int check_polygon(reader *r, OGRGeometryH g)
 {
     size_t size = (size_t)OGR_G_WkbSize(g);
     unsigned char *wkb = malloc(size ? size : 1);
     if (!wkb)
         return fail(r, "out of memory");
-    GEOSGeometry *gg = NULL;
-    if (OGR_G_ExportToWkb(g, wkbNDR, wkb) == OGRERR_NONE)
-        gg = GEOSGeomFromWKB_buf_r(r->geos, wkb, size);
-    free(wkb);
-    char wb[200];
-    if (!gg)
-        return fail(r, "%s: invalid geometry (%s)", where(r, wb, sizeof wb),
-                    r->geos_msg[0] ? r->geos_msg : "GEOS cannot read it");
-    int st = 0;
-    if (GEOSisValid_r(r->geos, gg) != 1) {
-        if (r->opt->invalid_mode == GIS_INVALID_NODE) {
-            r->info->invalid_noded++;
-            note_repaired(r);
-        } else {
-            char *why = GEOSisValidReason_r(r->geos, gg);
-            st = fail(r, "%s: invalid polygon: %s (--invalid node, the default, packs its "
-                         "rings as noded linework)",
-                      where(r, wb, sizeof wb), why ? why : "rejected by GEOS");
-            GEOSFree_r(r->geos, why);
-        }
+    if (OGR_G_ExportToWkb(g, wkbNDR, wkb) != OGRERR_NONE) {
+        free(wkb); /* GEOS cannot read it */
+        wkb = NULL, size = 0;
     }
-    GEOSGeom_destroy_r(r->geos, gg);
-    return st;
+    char wb[200], item[120];
+    where(r, wb, sizeof wb);
+    repaired_item(r, item, sizeof item);
+    int st = polygon_checks_add(r->checks, wkb, size, wb, item);
+    return st < 0 ? fail(r, "out of memory") : st;
 }
 
 /* Adds every line and ring of g; *lines counts what was added. */
@@ -632,7 +645,7 @@ static int read_layer(reader *r, OGRLayerH layer, int chosen)
         r->cur = NULL;
         OGR_F_Destroy(f);
         if (st)
-            return st;
+            return st; /* read_dataset puts an earlier polygon's failure first */
         if (++done % 256 == 0)
             progress_show(&r->bar, "reading", (double)done, (double)total, 0);
     }
@@ -765,6 +778,10 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
         st = read_layer(r, layer, r->opt->n_layers != 0);
         r->info->layers++;
     }
+    /* every polygon's verdict before any failure after them; a failure of
+     * the verdicts is the earlier and replaces the message */
+    if (polygon_checks_finish(r->checks))
+        st = 1;
     if (!st && !name0)
         st = fail(r, "the dataset has no layer with geometry");
     if (!st && r->opt->key_field && !r->key_found)
@@ -1405,6 +1422,8 @@ static int read_graph(const char *path, GDALDatasetH given, const gis_options *o
     r.geos = GEOS_init_r();
     GEOSContext_setErrorMessageHandler_r(r.geos, geos_message, &r);
     GEOSContext_setNoticeMessageHandler_r(r.geos, geos_notice, &r);
+    r.checks = polygon_checks_create(opt->threads > 1, opt->invalid_mode != GIS_INVALID_NODE,
+                                     take_verdict, &r);
 
     char *srs_p4 = NULL;
     OGRSpatialReferenceH srs = NULL;
@@ -1412,7 +1431,8 @@ static int read_graph(const char *path, GDALDatasetH given, const gis_options *o
     seg *segs = NULL;
     size_t n_segs = 0;
     stage_time t = stage_now();
-    int st = read_dataset(&r, path, &srs_p4, &srs);
+    int st = r.checks ? read_dataset(&r, path, &srs_p4, &srs) : fail(&r, "out of memory");
+    polygon_checks_free(r.checks);
     info->points_read = r.n_points;
     info->read_t = stage_lap(&t);
     if (!st) {

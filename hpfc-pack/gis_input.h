@@ -49,6 +49,9 @@ typedef struct gis_options {
     /* as ogr2ogr's -a_srs (for layers without an SRS) and -s_srs (for every
      * layer): any text OSRSetFromUserInput takes; NULL for none */
     const char *assign_srs, *source_srs;
+    /* more than 1: GEOS checks the polygons on a second thread while GDAL
+     * reads on (the same result) */
+    unsigned threads;
 } gis_options;
 
 typedef struct gis_info {

@@ -651,6 +651,15 @@ static void keep_heap(void)
 #endif
 }
 
+/* Threads for the steps that share their work (validation, the build of
+ * a whole tree, numbering the faces, checking the faces' features, and
+ * GEOS's check of the polygons beside GDAL's read):
+ * --threads, else --jobs when given, else the tools' default (cores.h). */
+static unsigned step_threads(const pack_args *a)
+{
+    return a->threads ? a->threads : a->jobs ? a->jobs : default_threads();
+}
+
 /* Reads a GDAL dataset; 0 or an exit status (the message is printed). */
 static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
 {
@@ -664,7 +673,8 @@ static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
                        .key_field = a->key_field,
                        .fields = a->fields,
                        .assign_srs = a->assign_srs,
-                       .source_srs = a->source_srs};
+                       .source_srs = a->source_srs,
+                       .threads = step_threads(a)};
     char err[1024];
     r->gis = 1;
     keep_heap();
@@ -1056,14 +1066,6 @@ static int await_parts(void *user, const part_plan *plan, hpfc_diag *diag)
              strcmp(line, "failed\n") == 0 ? "a part's build failed"
                                             : "standard input: 'built' or 'failed' expected");
     return HPFC_E_IO; /* the parts' builders' failure, not this process's */
-}
-
-/* Threads for the steps that share their work (validation, the build of
- * a whole tree, numbering the faces, checking the faces' features):
- * --threads, else --jobs when given, else the tools' default (cores.h). */
-static unsigned step_threads(const pack_args *a)
-{
-    return a->threads ? a->threads : a->jobs ? a->jobs : default_threads();
 }
 
 /* Builds, checks the serialised bytes, then writes OUTPUT (pack_write.h);

@@ -37,7 +37,7 @@ fi
 # Skipped without clang.
 tsan_gis() {
     for layer in counties_ne countries_world; do
-        TSAN_OPTIONS=halt_on_error=1:exitcode=66:detect_deadlocks=0 build-tsan/hpfc-pack/hpfc-pack -q \
+        TSAN_OPTIONS=halt_on_error=1:exitcode=66:detect_deadlocks=0 build-tsan/hpfc-pack/hpfc-pack -q --threads 2 \
             "tests/data/gis/$layer.geojson" -o "$1/$layer.hpfc" &&
             build-test/hpfc-pack/hpfc-pack -q "tests/data/gis/$layer.geojson" -o "$1/$layer.ref.hpfc" &&
             cmp "$1/$layer.hpfc" "$1/$layer.ref.hpfc" || return 1

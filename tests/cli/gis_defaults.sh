@@ -58,6 +58,45 @@ grep -q "feature 1 (name 'Bowtie'): invalid polygon: Self-intersection" "$tmp/er
 run "$INSPECT" --locate-lonlat 0.5,0.5 --json "$tmp/bowtie.hpfc"
 grep -q '"fid": *0[,}]' "$tmp/out" || fail "(0.5, 0.5) is not in feature 0 (Square)"
 
+# GEOS checks the polygons on a second thread while GDAL reads on: the
+# verdicts still come in feature order. Eight bowties B0..B7 between
+# squares: the report names the first four, in order, on any number of
+# threads; with a point out of range after them, --invalid reject names
+# B0 (which one thread meets first), not the later point, and the default
+# names the point.
+python3 - "$tmp" <<'PY'
+import json, sys
+feats = []
+for k in range(8):
+    x = 4 * k
+    feats.append({"type": "Feature", "properties": {"name": "S%d" % k}, "geometry": {
+        "type": "Polygon", "coordinates": [[[x, 0], [x + 1, 0], [x + 1, 1], [x, 1], [x, 0]]]}})
+    feats.append({"type": "Feature", "properties": {"name": "B%d" % k}, "geometry": {
+        "type": "Polygon", "coordinates": [[[x + 2, 0], [x + 3, 1], [x + 3, 0], [x + 2, 1], [x + 2, 0]]]}})
+def dump(name, fs):
+    json.dump({"type": "FeatureCollection", "features": fs}, open(sys.argv[1] + "/" + name, "w"))
+dump("bowties.geojson", feats)
+far = {"type": "Feature", "properties": {"name": "Far"}, "geometry": {
+    "type": "LineString", "coordinates": [[0, 0], [0, 95]]}}
+dump("bowties_far.geojson", feats + [far])
+PY
+for threads in 1 2 3; do
+    run "$PACK" --threads $threads --key name "$tmp/bowties.geojson" -o "$tmp/bowties-$threads.hpfc"
+    expect_ok "eight bowties on $threads threads"
+    grep -qx "repaired   8 invalid polygons noded as linework ('B0', 'B1', 'B2', 'B3', ...)" "$tmp/out" ||
+        fail "$threads threads: $(grep '^repaired' "$tmp/out")"
+    [ "$threads" = 1 ] || cmp -s "$tmp/bowties-1.hpfc" "$tmp/bowties-$threads.hpfc" ||
+        fail "eight bowties: $threads threads do not give one thread's bytes"
+    run "$PACK" --threads $threads --invalid reject --key name "$tmp/bowties_far.geojson" -o "$tmp/far.hpfc"
+    expect_error "--invalid reject before a later failure, $threads threads" "hpfc-pack: " 1
+    grep -q "feature 1 (name 'B0'): invalid polygon: Self-intersection" "$tmp/err" ||
+        fail "--invalid reject on $threads threads: $(cat "$tmp/err")"
+    run "$PACK" --threads $threads --key name "$tmp/bowties_far.geojson" -o "$tmp/far.hpfc"
+    expect_error "a point out of range after noded bowties, $threads threads" "hpfc-pack: " 1
+    grep -q "feature 16 (name 'Far'): point (0, 95) is outside" "$tmp/err" ||
+        fail "a point out of range on $threads threads: $(cat "$tmp/err")"
+done
+
 # ---- 2. no SRS: WGS 84 assumed for lon/lat coordinates -----------------------
 # A TopoJSON (GDAL gives it no SRS) with two states sharing a border, and
 # an island across the antimeridian from them.
