@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A street-network-like planar map as .pfc, of about N shape points.
 
-    python3 bench/gen_streets.py N OUT.pfc [SEED]
+    python3 bench/gen_streets.py N OUT.pfc [SEED] [--stray]
 
 Junctions on a jittered square grid (spacing 1000 lattice units, each
 junction moved by up to 200 in x and y), streets between 4-neighbours as
@@ -12,6 +12,10 @@ dropped where both ends keep another street, which leaves junctions of
 degree 1 (dead ends) to 4.
 Integer coordinates: the map is exact as written. Deterministic for a
 seed. The kind of map issue 32 asks to pack through partitions.
+--stray adds one short street at (4e8, 4e8), far from the others (a stray
+feature, as one at null island in a city's layer): the network, 2*10^5
+to 2*10^6 units wide, is left in a corner of a box some thousand times
+larger.
 """
 import math
 import random
@@ -19,9 +23,11 @@ import sys
 
 
 def main():
-    target = int(float(sys.argv[1]))
-    out = sys.argv[2]
-    rng = random.Random(int(sys.argv[3]) if len(sys.argv) > 3 else 32)
+    args = [a for a in sys.argv[1:] if a != "--stray"]
+    stray = len(args) < len(sys.argv) - 1
+    target = int(float(args[0]))
+    out = args[1]
+    rng = random.Random(int(args[2]) if len(args) > 2 else 32)
     per_street = 11  # points a street: 12 interior, less the 12 % dropped
     side = max(2, int(math.sqrt(target / (2 * per_street))))
     spacing = 1000
@@ -50,6 +56,8 @@ def main():
         for j in range(side):
             for i in range(side):
                 f.write("v %d %d\n" % (i * spacing + jx[j][i], j * spacing + jy[j][i]))
+        if stray:
+            f.write("v 400000000 400000000\nv 400000010 400000000\n")
         points = side * side
         for (i, j, k, l) in kept:
             ax, ay = i * spacing + jx[j][i], j * spacing + jy[j][i]
@@ -70,6 +78,8 @@ def main():
                     last = p
             points += len(xy)
             f.write("e %d %d %s\n" % (j * side + i, l * side + k, " ".join(xy)))
+        if stray:
+            f.write("e %d %d\n" % (side * side, side * side + 1))
     sys.stderr.write("%s: %d junctions, %d streets, %d points\n" % (out, side * side, len(kept), points))
 
 

@@ -3,10 +3,13 @@
  * each edge on its own (loops, zero-length segments), then the whole-graph
  * checks the .pfc reader runs too (graph_check.c), then planarity.
  *
- * Planarity is checked by bucketing segments into a uniform grid of about
- * one cell per segment (with the same exact segment/cell test the builder
- * uses, so a contact point always lies in a cell both segments meet) and
- * testing the pairs inside each cell with exact orientation predicates.
+ * Planarity is checked by bucketing segments into a grid of about one cell
+ * per segment (with the same exact segment/cell test the builder uses, so
+ * a contact point always lies in a cell both segments meet) and testing
+ * the pairs inside each cell with exact orientation predicates. The grid's
+ * columns and rows are cut at quantiles of a sample of the segments, not
+ * evenly over the box: a city's streets and one stray edge far away (a
+ * feature at null island) would otherwise share a single cell.
  * The cells can be searched on several threads (tasks.h); the conflict
  * named is the first in cell order either way.
  */
@@ -136,7 +139,11 @@ static bool segments_conflict(lpoint a, lpoint b, lpoint c, lpoint d, double at[
 
 typedef struct bucket_grid {
     const hpfc_graph *g;
-    int64_t ox, oy, cw, ch;
+    int64_t ox, oy;
+    /* cell (c, r) is [xs[c], xs[c + 1]) x [ys[r], ys[r + 1]) relative to
+     * (ox, oy): cols + 1 and rows + 1 increasing bounds, the first 0 and
+     * the last past the box */
+    int64_t *xs, *ys;
     size_t cols, rows;
     size_t *start;     /* cols*rows + 1 offsets into items */
     seg_ref *items;    /* each cell's segments, cell after cell */
@@ -150,18 +157,53 @@ static lpoint seg_point(const bucket_grid *bg, seg_ref s, int end)
     return (lpoint){x - bg->ox, y - bg->oy};
 }
 
-/* Calls fn(cell, segment) for every cell the segment meets. */
-static void for_each_cell(bucket_grid *bg, seg_ref s, void (*fn)(bucket_grid *, size_t, seg_ref))
+/* The band (column or row) holding coordinate v among bands lo .. hi - 1,
+ * given bounds[lo] <= v < bounds[hi]: the last whose lower bound is at
+ * most v. */
+static size_t band_within(const int64_t *bounds, size_t lo, size_t hi, int64_t v)
 {
-    lpoint p = seg_point(bg, s, 0), q = seg_point(bg, s, 1);
-    size_t c0 = (size_t)((p.x < q.x ? p.x : q.x) / bg->cw), c1 = (size_t)((p.x > q.x ? p.x : q.x) / bg->cw);
-    size_t r0 = (size_t)((p.y < q.y ? p.y : q.y) / bg->ch), r1 = (size_t)((p.y > q.y ? p.y : q.y) / bg->ch);
-    for (size_t r = r0; r <= r1; r++)
-        for (size_t c = c0; c <= c1; c++) {
-            int64_t x0 = (int64_t)c * bg->cw, y0 = (int64_t)r * bg->ch;
-            if ((c0 == c1 && r0 == r1) || segment_meets_cell(p, q, x0, y0, x0 + bg->cw, y0 + bg->ch))
+    while (hi - lo > 1) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (bounds[mid] <= v)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* The band of the n (bounds[0] = 0 <= v < bounds[n]) holding v, searched
+ * outward from band `near` in growing steps: a polyline's next point is
+ * almost always in the band of the last or the next one, where this costs
+ * a comparison or two and a search from scratch a dozen. */
+static size_t band_near(const int64_t *bounds, size_t n, int64_t v, size_t near)
+{
+    size_t lo = near, hi, step = 1;
+    if (bounds[near] <= v) {
+        for (hi = near + 1; hi < n && bounds[hi] <= v; step *= 2)
+            lo = hi, hi = n - hi > step ? hi + step : n;
+        return band_within(bounds, lo, hi, v);
+    }
+    hi = near;
+    for (lo = near - 1; lo > 0 && bounds[lo] > v; step *= 2)
+        hi = lo, lo = lo > step ? lo - step : 0;
+    return band_within(bounds, lo, hi, v);
+}
+
+/* A segment's cells: the columns c0 .. c1 and rows r0 .. r1 of its box. */
+typedef struct seg_cells {
+    size_t c0, c1, r0, r1;
+} seg_cells;
+
+/* Calls fn(cell, segment) for every cell of span b the segment meets. */
+static void for_each_cell(bucket_grid *bg, seg_ref s, lpoint p, lpoint q, seg_cells b,
+                          void (*fn)(bucket_grid *, size_t, seg_ref))
+{
+    for (size_t r = b.r0; r <= b.r1; r++)
+        for (size_t c = b.c0; c <= b.c1; c++)
+            if ((b.c0 == b.c1 && b.r0 == b.r1) ||
+                segment_meets_cell(p, q, bg->xs[c], bg->ys[r], bg->xs[c + 1], bg->ys[r + 1]))
                 fn(bg, r * bg->cols + c, s);
-        }
 }
 
 static void count_incidence(bucket_grid *bg, size_t cell, seg_ref s)
@@ -175,12 +217,27 @@ static void place_incidence(bucket_grid *bg, size_t cell, seg_ref s)
     bg->items[bg->start[cell]++] = s;
 }
 
-/* Every segment of the graph, in edge order. */
+/* Every segment of the graph, in edge order, each point's column and row
+ * found from its predecessor's. */
 static void for_each_segment(bucket_grid *bg, void (*fn)(bucket_grid *, size_t, seg_ref))
 {
-    for (size_t e = 0; e < bg->g->ne; e++)
-        for (size_t k = 0; k + 1 < graph_edge_point_count(bg->g, e); k++)
-            for_each_cell(bg, (seg_ref){(uint32_t)e, (uint32_t)k}, fn);
+    size_t col = 0, row = 0;
+    for (size_t e = 0; e < bg->g->ne; e++) {
+        seg_ref s = {(uint32_t)e, 0};
+        lpoint p = seg_point(bg, s, 0);
+        col = band_near(bg->xs, bg->cols, p.x, col);
+        row = band_near(bg->ys, bg->rows, p.y, row);
+        for (size_t k = 0; k + 1 < graph_edge_point_count(bg->g, e); k++) {
+            s.k = (uint32_t)k;
+            lpoint q = seg_point(bg, s, 1);
+            size_t qcol = band_near(bg->xs, bg->cols, q.x, col);
+            size_t qrow = band_near(bg->ys, bg->rows, q.y, row);
+            seg_cells b = {col < qcol ? col : qcol, col > qcol ? col : qcol,
+                           row < qrow ? row : qrow, row > qrow ? row : qrow};
+            for_each_cell(bg, s, p, q, b, fn);
+            p = q, col = qcol, row = qrow;
+        }
+    }
 }
 
 /* floor(sqrt(n)), in integers (the reader, which validates a GEOM section's
@@ -197,17 +254,84 @@ static size_t integer_sqrt(size_t n)
     return x;
 }
 
+/* At most this many segments are sampled to place the grid's bounds:
+ * 2 MB, and at 2*10^8 segments still about nine a column. */
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+#define BOUNDS_SAMPLE_MAX 64 /* fuzzed graphs are small: sampled even so */
+#else
+#define BOUNDS_SAMPLE_MAX (1u << 17)
+#endif
+
+static int cmp_int64(const void *pa, const void *pb)
+{
+    int64_t a = *(const int64_t *)pa, b = *(const int64_t *)pb;
+    return (a > b) - (a < b);
+}
+
+/* Up to `side` bands over [0, extent) cut at quantiles of the m sorted
+ * sample coordinates (relative to the origin), equal cuts merged: the
+ * bounds into out (at most side + 1 of them); returns the band count. */
+static size_t bands_from_sample(const int64_t *sample, size_t m, size_t side, int64_t extent,
+                                int64_t *out)
+{
+    size_t n = 0;
+    out[0] = 0;
+    for (size_t i = 1; i < side; i++) {
+        int64_t cut = sample[(size_t)((uint64_t)i * m / side)];
+        if (cut > out[n] && cut < extent)
+            out[++n] = cut;
+    }
+    out[++n] = extent;
+    return n;
+}
+
+/* The grid's bounds: each segment's first point sampled (every stride-th
+ * segment, in edge order), then the columns and rows cut where the sample
+ * puts about the same number of segments in each. */
+static int place_bounds(bucket_grid *bg, size_t segments, size_t side, const int64_t box[4])
+{
+    size_t stride = segments / BOUNDS_SAMPLE_MAX + 1, m = 0, i = 0, most = segments / stride + 1;
+    int64_t *sx = malloc(most * sizeof *sx);
+    int64_t *sy = malloc(most * sizeof *sy);
+    /* bounds: at most one a distinct sample value, and side + 1 */
+    most = (side > most ? side : most) + 2;
+    bg->xs = malloc(most * sizeof *bg->xs);
+    bg->ys = malloc(most * sizeof *bg->ys);
+    int st = sx && sy && bg->xs && bg->ys ? HPFC_OK : HPFC_E_NOMEM;
+    for (size_t e = 0; !st && e < bg->g->ne; e++)
+        for (size_t k = 0; k + 1 < graph_edge_point_count(bg->g, e); k++, i++)
+            if (i % stride == 0) {
+                lpoint p = seg_point(bg, (seg_ref){(uint32_t)e, (uint32_t)k}, 0);
+                sx[m] = p.x, sy[m++] = p.y;
+            }
+    if (!st) {
+        qsort(sx, m, sizeof *sx, cmp_int64);
+        qsort(sy, m, sizeof *sy, cmp_int64);
+        int64_t width = box[2] - box[0] + 1, height = box[3] - box[1] + 1;
+        bg->cols = bands_from_sample(sx, m, side, width, bg->xs);
+        bg->rows = bands_from_sample(sy, m, side, height, bg->ys);
+        /* a map whose points share few x (or y) values: the other axis
+         * takes the cells this one could not use */
+        if (bg->cols < side)
+            bg->rows = bands_from_sample(sy, m, segments / bg->cols + 1, height, bg->ys);
+        else if (bg->rows < side)
+            bg->cols = bands_from_sample(sx, m, segments / bg->rows + 1, width, bg->xs);
+    }
+    free(sx);
+    free(sy);
+    return st;
+}
+
 static int build_buckets(const hpfc_graph *g, size_t segments, bucket_grid *bg)
 {
     int64_t box[4];
     hpfc_graph_bounds(g, box); /* a graph with an edge has a vertex */
-    size_t side = integer_sqrt(segments) + 1;
     bg->g = g;
     bg->ox = box[0], bg->oy = box[1];
-    bg->cols = bg->rows = side;
-    bg->cw = (box[2] - box[0]) / (int64_t)side + 1;
-    bg->ch = (box[3] - box[1]) / (int64_t)side + 1;
-    size_t cells = side * side;
+    int st = place_bounds(bg, segments, integer_sqrt(segments) + 1, box);
+    if (st)
+        return st;
+    size_t cells = bg->cols * bg->rows;
     bg->start = calloc(cells + 2, sizeof *bg->start);
     if (!bg->start)
         return HPFC_E_NOMEM;
@@ -279,10 +403,10 @@ static bool first_conflict(const bucket_grid *bg, const seg_ref *items, size_t k
     return false;
 }
 
-/* A dense cell (a coastline's detail, thousands of segments in one cell of
- * a uniform grid over a continent) is swept instead: its segments sorted by
- * their boxes' west side, each tested only against those that start before
- * it ends. */
+/* A dense cell (a coastline's detail finer than the sample saw, or the
+ * segments around a vertex of high degree) is swept instead: its segments
+ * sorted by their boxes' west side, each tested only against those that
+ * start before it ends. */
 typedef struct swept_seg {
     int64_t x0, x1;
     seg_ref s;
@@ -410,6 +534,8 @@ static int check_planarity(const hpfc_graph *g, unsigned threads, hpfc_diag *dia
         diag_set(diag, st, "out of memory");
     free(bg.start);
     free(bg.items);
+    free(bg.xs);
+    free(bg.ys);
     free(cs.found);
     free(cs.no_room);
     return st;

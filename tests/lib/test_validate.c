@@ -148,6 +148,7 @@ static bool naive_crossing(const graph_copy *c)
 typedef struct dense_case {
     uint32_t strips, points, stray_edges;
     bool repeat, touch, t_junction, t_apart;
+    bool split; /* every other strip moved far up and right: two clusters on a diagonal */
 } dense_case;
 
 static hpfc_graph *dense_graph(gen_rng *rng, const dense_case *dc)
@@ -157,7 +158,8 @@ static hpfc_graph *dense_graph(gen_rng *rng, const dense_case *dc)
     const int64_t side = 4096, strip = side / dc->strips;
     int64_t *xy = malloc(2 * dc->points * sizeof *xy);
     for (uint32_t s = 0; s < dc->strips; s++) {
-        int64_t y0 = s * strip, x = (int64_t)gen_rng_below(rng, 16);
+        int64_t shift = dc->split && s % 2 ? 1 << 20 : 0;
+        int64_t y0 = s * strip + shift, x = (int64_t)gen_rng_below(rng, 16) + shift;
         uint32_t u, v;
         hpfc_graph_add_vertex(g, x, y0 + (int64_t)gen_rng_below(rng, (uint64_t)strip - 1), &u);
         for (uint32_t k = 0; k < dc->points; k++) {
@@ -240,7 +242,8 @@ static void test_dense_clusters(void)
                          .repeat = round % 5 == 1,
                          .touch = round % 5 == 2,
                          .t_junction = round % 5 == 3,
-                         .t_apart = round % 10 == 8};
+                         .t_apart = round % 10 == 8,
+                         .split = round % 3 == 0};
         hpfc_graph *g = dense_graph(&rng, &dc);
         check_against_oracle(g);
         hpfc_graph_free(g);
@@ -249,6 +252,51 @@ static void test_dense_clusters(void)
     CHECK(rounds_with_verdict[0] >= 40 && rounds_with_verdict[1] >= 40 && rounds_with_verdict[2] >= 40);
     fprintf(stderr, "dense clusters: %d valid, %d crossing, %d repeating\n", rounds_with_verdict[0],
             rounds_with_verdict[1], rounds_with_verdict[2]);
+}
+
+/* Vertical polylines on three x values only, stacked in y (the grid's
+ * columns cannot split them, so its rows take the cells), then in some
+ * rounds a short edge across one of them, or up to one of them. */
+static void test_few_columns(void)
+{
+    gen_rng rng;
+    gen_rng_seed(&rng, 20261206);
+    int verdicts[2] = {0, 0};
+    for (int round = 0; round < 40; round++) {
+        hpfc_graph *g;
+        hpfc_graph_create(&g);
+        int64_t y = 0;
+        for (int k = 0; k < 600; k++) {
+            uint32_t u, v;
+            int64_t x = 1000 * (k % 3), len = 1 + (int64_t)gen_rng_below(&rng, 50);
+            if (k % 3 == 0) /* past the last three, the longest 50 */
+                y += 51 + (int64_t)gen_rng_below(&rng, 4);
+            hpfc_graph_add_vertex(g, x, y, &u);
+            hpfc_graph_add_vertex(g, x, y + len, &v);
+            hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+        }
+        if (round % 2) {
+            uint32_t u, v;
+            int64_t x = 1000 * (int64_t)gen_rng_below(&rng, 3);
+            int64_t at = (int64_t)gen_rng_below(&rng, (uint64_t)y);
+            int64_t reach = round % 4 == 1 ? 1 : -1; /* across the line, or ending one unit short */
+            hpfc_graph_add_vertex(g, x - 7, at, &u);
+            hpfc_graph_add_vertex(g, x + reach, at + 1, &v);
+            hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+        }
+        graph_copy c;
+        copy_graph(g, &c);
+        hpfc_diag d;
+        int st = hpfc_graph_validate(g, &d);
+        bool crossing = naive_crossing(&c);
+        CHECK_EQ_INT(st, crossing ? HPFC_E_NONPLANAR : HPFC_OK);
+        verdicts[crossing]++;
+        free(c.seg);
+        free(c.point);
+        hpfc_graph_free(g);
+    }
+    CHECK(verdicts[0] >= 10 && verdicts[1] >= 5);
+    fprintf(stderr, "few columns: %d valid, %d crossing\n", verdicts[0], verdicts[1]);
 }
 
 /* The hash sees every point: a repeat between the first vertex and the
@@ -279,6 +327,7 @@ static void test_repeat_far_apart(void)
 int main(void)
 {
     test_dense_clusters();
+    test_few_columns();
     test_repeat_far_apart();
     return check_report("validate");
 }
