@@ -12,6 +12,7 @@
  * rename only (delete_dataset below): until then it stays whole.
  */
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -27,6 +28,7 @@
 #include <ogrsf_frmts.h>
 
 extern "C" {
+#include "cores.h"
 #include "pack_write.h"
 }
 #include "ogr_hpfc.h"
@@ -91,6 +93,30 @@ bool choice(char **options, const char *name, const char *allowed, const char **
     return false;
 }
 
+/* Threads for the steps that share their work (hpfc-pack --threads): the
+ * NUM_THREADS creation option, else GDAL's GDAL_NUM_THREADS setting, as a
+ * count or ALL_CPUS; unset, one a core up to 8 (hpfc-pack's default). The
+ * file is the same bytes on any count. 0 after a CPLError. */
+unsigned num_threads(char **options)
+{
+    const char *v = CSLFetchNameValue(options, "NUM_THREADS");
+    const char *name = "NUM_THREADS";
+    if (!v) {
+        v = CPLGetConfigOption("GDAL_NUM_THREADS", nullptr);
+        name = "GDAL_NUM_THREADS";
+    }
+    if (!v || EQUAL(v, "ALL_CPUS"))
+        return default_threads();
+    char *end = nullptr;
+    unsigned long n = std::strtoul(v, &end, 10);
+    if (!*v || *end || v[0] == '-' || n < 1 || n > 1024) {
+        CPLError(CE_Failure, CPLE_IllegalArg,
+                 "HPFC: %s=%s: expected ALL_CPUS or a count of threads from 1 to 1024", name, v);
+        return 0;
+    }
+    return static_cast<unsigned>(n);
+}
+
 bool HPFCWriter::Pack()
 {
     const char *vertices, *projection, *layout;
@@ -98,8 +124,12 @@ bool HPFCWriter::Pack()
         !choice(options_, "PROJECTION", "auto|none|tm|lcc|aea|eqc", &projection) ||
         !choice(options_, "LAYOUT", "compact|paper", &layout))
         return false;
+    const unsigned threads = num_threads(options_);
+    if (!threads)
+        return false;
     hpfc_build_params params;
     hpfc_build_params_default(&params);
+    params.threads = threads;
     if (const char *lp = CSLFetchNameValue(options_, "LEAF_POINTS")) {
         char *end = nullptr;
         unsigned long long n = std::strtoull(lp, &end, 10);
@@ -120,6 +150,7 @@ bool HPFCWriter::Pack()
     opt.dateline = GIS_DATELINE_CUT;
     opt.key_field = CSLFetchNameValue(options_, "KEY");
     opt.fields = "all";
+    opt.threads = threads;
     hpfc_graph *g = nullptr;
     gis_info info;
     char err[1024];
@@ -134,6 +165,7 @@ bool HPFCWriter::Pack()
                    : EQUAL(layout, "paper") ? HPFC_LAYOUT_PAPER
                                             : HPFC_LAYOUT_COMPACT;
     wopts.geometry = g;
+    wopts.threads = threads;
     pack_write_stats stats;
     hpfc_diag diag;
     int st = pack_write(g, &params, nullptr, &wopts, &info, 0, path_.c_str(), 0, nullptr, nullptr,
@@ -248,6 +280,10 @@ void hpfc_gdal_register_create(GDALDriver *driver)
         "  <Option name='LAYOUT' type='string-select' default='compact' "
         "description='Pool layout (hpfc-pack --layout)'>"
         "    <Value>compact</Value><Value>paper</Value></Option>"
+        "  <Option name='NUM_THREADS' type='string' default='ALL_CPUS' "
+        "description='Threads for validation, the build, the faces and the polygons checks: "
+        "a count or ALL_CPUS (one a core, up to 8); GDAL_NUM_THREADS when not given. "
+        "The same bytes on any count (hpfc-pack --threads)'/>"
         "</CreationOptionList>");
     /* declared so that ogr2ogr keeps the source's fids, as hpfc-pack does */
     driver->SetMetadataItem(GDAL_DS_LAYER_CREATIONOPTIONLIST,

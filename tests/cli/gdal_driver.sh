@@ -110,6 +110,15 @@ run "$PACK" --vertices all --leaf-points 4 --projection lcc --layout paper --key
     "$tmp/src2.gpkg" -o "$tmp/packed2.hpfc"
 expect_ok "hpfc-pack with options"
 cmp "$tmp/written2.hpfc" "$tmp/packed2.hpfc" >/dev/null || fail "ogr2ogr -f HPFC and hpfc-pack differ (options)"
+# the threads (NUM_THREADS, else GDAL_NUM_THREADS) change nothing in the bytes
+for threads in "-dsco NUM_THREADS=1" "-dsco NUM_THREADS=3" "--config GDAL_NUM_THREADS 2"; do
+    # shellcheck disable=SC2086 # the option and its value, two words
+    run ogr2ogr -f HPFC "$tmp/threads.hpfc" "$tmp/src2.gpkg" -dsco VERTICES=all -dsco LEAF_POINTS=4 \
+        -dsco PROJECTION=lcc -dsco LAYOUT=paper -dsco KEY=name $threads
+    expect_ok "ogr2ogr -f HPFC $threads"
+    cmp "$tmp/threads.hpfc" "$tmp/packed2.hpfc" >/dev/null || fail "$threads: not hpfc-pack's bytes"
+    rm -f "$tmp/threads.hpfc"
+done
 # back: the driver's GPKG of counties packed again keeps every feature
 run ogr2ogr -f HPFC "$tmp/back.hpfc" "$tmp/counties.gpkg" counties_ne -dsco KEY=name
 expect_gdal "ogr2ogr -f HPFC from the driver's own GPKG"
@@ -117,6 +126,12 @@ expect_gdal "ogr2ogr -f HPFC from the driver's own GPKG"
 run ogr2ogr -f HPFC "$tmp/bad.hpfc" "$tmp/src.gpkg" -dsco VERTICES=some
 [ -e "$tmp/bad.hpfc" ] && fail "a refused VERTICES left a file"
 grep -q "VERTICES=some" "$tmp/err" || fail "VERTICES=some: no message: $(cat "$tmp/err")"
+for threads in "-dsco NUM_THREADS=0" "-dsco NUM_THREADS=two" "--config GDAL_NUM_THREADS -1"; do
+    # shellcheck disable=SC2086
+    run ogr2ogr -f HPFC "$tmp/bad.hpfc" "$tmp/src.gpkg" $threads
+    [ "$rc" -ne 0 ] && [ ! -e "$tmp/bad.hpfc" ] && grep -q "NUM_THREADS=" "$tmp/err" ||
+        fail "$threads: not refused cleanly: $rc $(cat "$tmp/err")"
+done
 run ogr2ogr -f HPFC "$tmp/no/such/dir.hpfc" "$tmp/src.gpkg"
 [ "$rc" -ne 0 ] && grep -q "no such folder" "$tmp/err" || fail "a missing folder: $rc $(cat "$tmp/err")"
 
