@@ -98,6 +98,28 @@ static void *checker(void *arg)
     return NULL;
 }
 
+/* The checker thread and what it shares with the reader; 0 (nothing left
+ * to undo) when any of them cannot be made. */
+static int start_checker(polygon_checks *pc)
+{
+    if (pthread_mutex_init(&pc->lock, NULL) != 0)
+        return 0;
+    if (pthread_cond_init(&pc->queued, NULL) != 0)
+        goto no_queued;
+    if (pthread_cond_init(&pc->checked, NULL) != 0)
+        goto no_checked;
+    if (pthread_create(&pc->thread, NULL, checker, pc) != 0)
+        goto no_thread;
+    return 1;
+no_thread:
+    pthread_cond_destroy(&pc->checked);
+no_checked:
+    pthread_cond_destroy(&pc->queued);
+no_queued:
+    pthread_mutex_destroy(&pc->lock);
+    return 0;
+}
+
 polygon_checks *polygon_checks_create(int threaded, int reasons, polygon_verdict_fn done, void *user)
 {
     polygon_checks *pc = calloc(1, sizeof *pc);
@@ -110,20 +132,9 @@ polygon_checks *polygon_checks_create(int threaded, int reasons, polygon_verdict
     }
     GEOSContext_setErrorMessageHandler_r(pc->geos, geos_message, pc);
     GEOSContext_setNoticeMessageHandler_r(pc->geos, geos_notice, pc);
-    if (threaded && pthread_mutex_init(&pc->lock, NULL) == 0) {
-        if (pthread_cond_init(&pc->queued, NULL) == 0) {
-            if (pthread_cond_init(&pc->checked, NULL) == 0) {
-                if (pthread_create(&pc->thread, NULL, checker, pc) == 0) {
-                    pc->threaded = 1;
-                    return pc;
-                }
-                pthread_cond_destroy(&pc->checked);
-            }
-            pthread_cond_destroy(&pc->queued);
-        }
-        pthread_mutex_destroy(&pc->lock);
-    }
-    return pc; /* the caller's thread checks */
+    if (threaded)
+        pc->threaded = start_checker(pc);
+    return pc; /* unthreaded: the caller's thread checks */
 }
 
 static void free_job(check_job *job)

@@ -38,7 +38,8 @@ static inline void tasks_failure_note(tasks_failure *f, size_t task)
 {
     size_t seen = atomic_load_explicit(f, memory_order_relaxed);
     while (task < seen &&
-           !atomic_compare_exchange_weak_explicit(f, &seen, task, memory_order_relaxed, memory_order_relaxed))
+           !atomic_compare_exchange_weak_explicit(f, &seen, task, memory_order_relaxed,
+                                                  memory_order_relaxed))
         ;
 }
 
