@@ -9,7 +9,9 @@
  * the pairs inside each cell with exact orientation predicates. The grid's
  * columns and rows are cut at quantiles of a sample of the segments, not
  * evenly over the box: a city's streets and one stray edge far away (a
- * feature at null island) would otherwise share a single cell.
+ * feature at null island) would otherwise share a single cell. A dense
+ * cell is swept, and a vertex of high degree in it (which no grid splits)
+ * is checked by sorting its segments around it.
  * The cells can be searched on several threads (tasks.h); the conflict
  * named is the first in cell order either way.
  */
@@ -389,33 +391,64 @@ static bool pair_conflicts(const bucket_grid *bg, seg_ref s1, seg_ref s2, double
     return boxes_meet(a, b, c, d) && segments_conflict(a, b, c, d, at);
 }
 
-/* The first pair of a cell that conflicts, in the cell's own order (the
- * pair a message names, whichever search found that the cell holds one). */
-static bool first_conflict(const bucket_grid *bg, const seg_ref *items, size_t k, size_t *fi,
-                           size_t *fj, double at[2])
+/* A conflicting pair found in a cell, and where they meet. */
+typedef struct conflict {
+    seg_ref a, b;
+    double at[2];
+} conflict;
+
+static bool test_pair(const bucket_grid *bg, seg_ref s1, seg_ref s2, conflict *out)
+{
+    if (!pair_conflicts(bg, s1, s2, out->at))
+        return false;
+    out->a = s1, out->b = s2;
+    return true;
+}
+
+/* The first pair of a small cell that conflicts, in the cell's order. */
+static bool first_conflict(const bucket_grid *bg, const seg_ref *items, size_t k, conflict *out)
 {
     for (size_t i = 0; i < k; i++)
         for (size_t j = i + 1; j < k; j++)
-            if (pair_conflicts(bg, items[i], items[j], at)) {
-                *fi = i, *fj = j;
+            if (test_pair(bg, items[i], items[j], out))
                 return true;
-            }
     return false;
 }
 
 /* A dense cell (a coastline's detail finer than the sample saw, or the
  * segments around a vertex of high degree) is swept instead: its segments
  * sorted by their boxes' west side, each tested only against those that
- * start before it ends. */
+ * start before it ends. Where that would still test many pairs and one
+ * point ends many of the cell's segments (a hub: a vertex of high degree,
+ * which no grid splits), the hub's spokes are tested against each other
+ * by sorting them around it (two spokes conflict only when they leave the
+ * hub in the same direction), and each other segment against them. */
 typedef struct swept_seg {
     int64_t x0, x1;
     seg_ref s;
 } swept_seg;
 
+/* A hub's spoke: its direction from the hub. */
+typedef struct spoke {
+    int64_t dx, dy;
+    seg_ref s;
+} spoke;
+
+typedef struct cell_scratch {
+    swept_seg *sweep, *rest;
+    lpoint *ends;
+    spoke *spokes;
+    size_t cap_sweep, cap_rest, cap_ends, cap_spokes;
+} cell_scratch;
+
 #ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
-#define SWEEP_FROM 2 /* fuzzed graphs are small: sweep almost every cell */
+#define SWEEP_FROM 2     /* fuzzed graphs are small: sweep almost every cell */
+#define HUB_MIN 3        /* and look for hubs in them */
+#define HUB_PAIRS_PER 0
 #else
 #define SWEEP_FROM 32
+#define HUB_MIN 32       /* spokes that make a hub */
+#define HUB_PAIRS_PER 8  /* a hub is looked for past this many pairs a segment */
 #endif
 
 static int cmp_swept(const void *pa, const void *pb)
@@ -424,20 +457,143 @@ static int cmp_swept(const void *pa, const void *pb)
     return (a->x0 > b->x0) - (a->x0 < b->x0);
 }
 
-static bool cell_conflicts_swept(const bucket_grid *bg, const seg_ref *items, size_t k,
-                                 swept_seg *sweep)
+static int cmp_lpoint(const void *pa, const void *pb)
 {
+    const lpoint *a = pa, *b = pb;
+    if (a->x != b->x)
+        return a->x < b->x ? -1 : 1;
+    return (a->y > b->y) - (a->y < b->y);
+}
+
+/* Directions around a point: the upper half-plane (y > 0, or y = 0 and
+ * x > 0) first, then by orientation; equal for the same direction. */
+static int cmp_spoke(const void *pa, const void *pb)
+{
+    const spoke *a = pa, *b = pb;
+    int ha = a->dy < 0 || (a->dy == 0 && a->dx < 0), hb = b->dy < 0 || (b->dy == 0 && b->dx < 0);
+    if (ha != hb)
+        return ha - hb;
+    i128 cross = (i128)a->dx * b->dy - (i128)a->dy * b->dx;
+    return cross > 0 ? -1 : cross < 0;
+}
+
+/* The pairs whose x ranges overlap, sweep sorted by x0: a count that stops
+ * past `most`. */
+static size_t overlapping_pairs(const swept_seg *sweep, size_t k, size_t most)
+{
+    size_t pairs = 0;
+    for (size_t i = 0; i < k && pairs <= most; i++) {
+        size_t lo = i + 1, hi = k; /* the first after i starting past its end */
+        while (lo < hi) {
+            size_t mid = lo + (hi - lo) / 2;
+            if (sweep[mid].x0 <= sweep[i].x1)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        pairs += lo - i - 1;
+    }
+    return pairs;
+}
+
+/* The point that ends the most of the k segments, and how many it ends. */
+static size_t find_hub(const bucket_grid *bg, const swept_seg *sweep, size_t k, lpoint *ends,
+                       lpoint *hub)
+{
+    for (size_t i = 0; i < k; i++)
+        ends[2 * i] = seg_point(bg, sweep[i].s, 0), ends[2 * i + 1] = seg_point(bg, sweep[i].s, 1);
+    qsort(ends, 2 * k, sizeof *ends, cmp_lpoint);
+    size_t best = 0;
+    for (size_t i = 0, j; i < 2 * k; i = j) {
+        for (j = i + 1; j < 2 * k && cmp_lpoint(&ends[i], &ends[j]) == 0; j++)
+            ;
+        if (j - i > best)
+            best = j - i, *hub = ends[i];
+    }
+    return best;
+}
+
+/* The pairs of `sweep` (sorted by x0) whose x ranges overlap. */
+static bool sweep_pairs(const bucket_grid *bg, const swept_seg *sweep, size_t k, conflict *out)
+{
+    for (size_t i = 0; i < k; i++)
+        for (size_t j = i + 1; j < k && sweep[j].x0 <= sweep[i].x1; j++)
+            if (test_pair(bg, sweep[i].s, sweep[j].s, out))
+                return true;
+    return false;
+}
+
+/* The hub's spokes against each other (sorted around it, neighbours in
+ * the same direction: two segments from one point meet elsewhere only
+ * along one line), then every other segment against the spokes and the
+ * others whose x ranges overlap its own. cs->sweep holds the cell's k
+ * segments by x0; the spokes are moved to its front in place (each
+ * written at an index no later than the one read), still by x0, and the
+ * others into cs->rest. */
+static bool hub_pairs(const bucket_grid *bg, size_t k, lpoint hub, cell_scratch *cs, conflict *out)
+{
+    swept_seg *sweep = cs->sweep;
+    size_t nspokes = 0, nrest = 0;
+    for (size_t i = 0; i < k; i++) {
+        lpoint a = seg_point(bg, sweep[i].s, 0), b = seg_point(bg, sweep[i].s, 1);
+        if (same_point(a, hub) || same_point(b, hub)) {
+            lpoint far = same_point(a, hub) ? b : a;
+            cs->spokes[nspokes] = (spoke){far.x - hub.x, far.y - hub.y, sweep[i].s};
+            sweep[nspokes++] = sweep[i];
+        } else {
+            cs->rest[nrest++] = sweep[i];
+        }
+    }
+    qsort(cs->spokes, nspokes, sizeof *cs->spokes, cmp_spoke);
+    for (size_t i = 0; i + 1 < nspokes; i++)
+        if (cmp_spoke(&cs->spokes[i], &cs->spokes[i + 1]) == 0 &&
+            test_pair(bg, cs->spokes[i].s, cs->spokes[i + 1].s, out))
+            return true;
+    if (sweep_pairs(bg, cs->rest, nrest, out))
+        return true;
+    for (size_t r = 0; r < nrest; r++)
+        for (size_t i = 0; i < nspokes && sweep[i].x0 <= cs->rest[r].x1; i++)
+            if (sweep[i].x1 >= cs->rest[r].x0 && test_pair(bg, sweep[i].s, cs->rest[r].s, out))
+                return true;
+    return false;
+}
+
+static bool cell_conflicts_swept(const bucket_grid *bg, const seg_ref *items, size_t k,
+                                 cell_scratch *cs, bool *no_room, conflict *out)
+{
+    if (array_reserve((void **)&cs->sweep, &cs->cap_sweep, k, sizeof *cs->sweep, 64)) {
+        *no_room = true;
+        return true;
+    }
+    swept_seg *sweep = cs->sweep;
     for (size_t i = 0; i < k; i++) {
         lpoint a = seg_point(bg, items[i], 0), b = seg_point(bg, items[i], 1);
         sweep[i] = (swept_seg){a.x < b.x ? a.x : b.x, a.x > b.x ? a.x : b.x, items[i]};
     }
     qsort(sweep, k, sizeof *sweep, cmp_swept);
-    double at[2];
-    for (size_t i = 0; i < k; i++)
-        for (size_t j = i + 1; j < k && sweep[j].x0 <= sweep[i].x1; j++)
-            if (pair_conflicts(bg, sweep[i].s, sweep[j].s, at))
-                return true;
-    return false;
+    size_t most = HUB_PAIRS_PER * k;
+    if (k < HUB_MIN || overlapping_pairs(sweep, k, most) <= most)
+        return sweep_pairs(bg, sweep, k, out);
+    if (array_reserve((void **)&cs->ends, &cs->cap_ends, 2 * k, sizeof *cs->ends, 64) ||
+        array_reserve((void **)&cs->rest, &cs->cap_rest, k, sizeof *cs->rest, 64) ||
+        array_reserve((void **)&cs->spokes, &cs->cap_spokes, k, sizeof *cs->spokes, 64)) {
+        *no_room = true;
+        return true;
+    }
+    lpoint hub;
+    if (find_hub(bg, sweep, k, cs->ends, &hub) < HUB_MIN)
+        return sweep_pairs(bg, sweep, k, out);
+    return hub_pairs(bg, k, hub, cs, out);
+}
+
+static bool cell_conflicts(const bucket_grid *bg, size_t c, cell_scratch *cs, bool *no_room,
+                           conflict *out)
+{
+    const seg_ref *items = bg->items + bg->start[c];
+    size_t k = bg->start[c + 1] - bg->start[c];
+    if (k <= SWEEP_FROM)
+        return first_conflict(bg, items, k, out);
+    return cell_conflicts_swept(bg, items, k, cs, no_room, out);
 }
 
 /* The cells are searched in runs, 16 a thread (so that a thread that meets
@@ -455,42 +611,31 @@ typedef struct cell_search {
     const bucket_grid *bg;
     size_t cells, run_cells;
     size_t *found;           /* per run: its first cell with a conflict, or SIZE_MAX */
+    conflict *pair;          /* per run: the pair that cell's search found */
     unsigned char *no_room;  /* per run: that cell's sweep found no memory */
     tasks_failure first_run; /* the first run known to have found one: later runs stop */
 } cell_search;
 
-static bool cell_conflicts(const bucket_grid *bg, size_t c, swept_seg **sweep, size_t *cap,
-                           bool *no_room)
-{
-    const seg_ref *items = bg->items + bg->start[c];
-    size_t k = bg->start[c + 1] - bg->start[c], i, j;
-    double at[2];
-    if (k <= SWEEP_FROM)
-        return first_conflict(bg, items, k, &i, &j, at);
-    if (array_reserve((void **)sweep, cap, k, sizeof **sweep, 64)) {
-        *no_room = true;
-        return true;
-    }
-    return cell_conflicts_swept(bg, items, k, *sweep);
-}
-
 static void search_run(void *arg, size_t run)
 {
     cell_search *cs = arg;
-    swept_seg *sweep = NULL;
-    size_t cap = 0, end = (run + 1) * cs->run_cells;
+    cell_scratch scratch = {0};
+    size_t end = (run + 1) * cs->run_cells;
     bool no_room = false;
     for (size_t c = run * cs->run_cells; c < end && c < cs->cells; c++) {
         if (tasks_failed_before(&cs->first_run, run))
             break; /* an earlier run names the conflict */
-        if (cell_conflicts(cs->bg, c, &sweep, &cap, &no_room)) {
+        if (cell_conflicts(cs->bg, c, &scratch, &no_room, &cs->pair[run])) {
             cs->found[run] = c;
             cs->no_room[run] = no_room;
             tasks_failure_note(&cs->first_run, run);
             break;
         }
     }
-    free(sweep);
+    free(scratch.sweep);
+    free(scratch.rest);
+    free(scratch.ends);
+    free(scratch.spokes);
 }
 
 static int check_planarity(const hpfc_graph *g, unsigned threads, hpfc_diag *diag)
@@ -509,7 +654,8 @@ static int check_planarity(const hpfc_graph *g, unsigned threads, hpfc_diag *dia
     if (cs.run_cells < RUN_CELLS_MIN)
         cs.run_cells = RUN_CELLS_MIN;
     size_t runs = (cs.cells + cs.run_cells - 1) / cs.run_cells;
-    if (!st && (!(cs.found = malloc(runs * sizeof *cs.found)) || !(cs.no_room = calloc(runs, 1))))
+    if (!st && (!(cs.found = malloc(runs * sizeof *cs.found)) || !(cs.no_room = calloc(runs, 1)) ||
+                !(cs.pair = malloc(runs * sizeof *cs.pair))))
         st = HPFC_E_NOMEM;
     if (!st) {
         for (size_t r = 0; r < runs; r++)
@@ -517,18 +663,10 @@ static int check_planarity(const hpfc_graph *g, unsigned threads, hpfc_diag *dia
         tasks_failure_init(&cs.first_run);
         tasks_run(threads, runs, search_run, &cs);
         size_t first = tasks_first_failure(&cs.first_run);
-        size_t i, j;
-        double at[2];
         if (first < runs && cs.no_room[first])
             st = HPFC_E_NOMEM;
-        else if (first < runs) {
-            size_t c = cs.found[first];
-            const seg_ref *items = bg.items + bg.start[c];
-            if (first_conflict(&bg, items, bg.start[c + 1] - bg.start[c], &i, &j, at))
-                st = report_conflict(&bg, items[i], items[j], at, diag);
-            else
-                st = diag_set(diag, HPFC_E_NONPLANAR, "internal error: a conflict swept is not found again");
-        }
+        else if (first < runs)
+            st = report_conflict(&bg, cs.pair[first].a, cs.pair[first].b, cs.pair[first].at, diag);
     }
     if (st == HPFC_E_NOMEM)
         diag_set(diag, st, "out of memory");
@@ -537,6 +675,7 @@ static int check_planarity(const hpfc_graph *g, unsigned threads, hpfc_diag *dia
     free(bg.xs);
     free(bg.ys);
     free(cs.found);
+    free(cs.pair);
     free(cs.no_room);
     return st;
 }

@@ -10,6 +10,7 @@
  * of that: its verdict, and for a crossing the pair of edges named, must be
  * the validator's.
  */
+#include <math.h>
 #include <stdbool.h>
 #include <string.h>
 
@@ -254,6 +255,108 @@ static void test_dense_clusters(void)
             rounds_with_verdict[1], rounds_with_verdict[2]);
 }
 
+/* A hub: one vertex with 40 to 300 spokes (some of them bent, some
+ * starting at their far end), which no grid splits, then the flaw a round
+ * asks for: a short spoke along another's first units, a short edge
+ * across spokes near the hub, an edge through the hub, a second hub close
+ * by, a ring of short edges beyond the spokes (valid), or two edges that
+ * cross each other beside the spokes. The first two and the last conflict
+ * only in the hub's own cell. */
+static hpfc_graph *hub_graph(gen_rng *rng, int flaw)
+{
+    hpfc_graph *g;
+    hpfc_graph_create(&g);
+    uint32_t hub, u, v;
+    const int64_t cx = 5000, cy = -3000;
+    hpfc_graph_add_vertex(g, cx, cy, &hub);
+    uint32_t spokes = 40 + (uint32_t)gen_rng_below(rng, 261);
+    int64_t first_far[2] = {0, 0};
+    for (uint32_t k = 0; k < spokes; k++) {
+        /* all around the hub; for flaw 6, from 100 to 260 degrees only */
+        double turn = ((double)k + 0.5 * (double)gen_rng_below(rng, 100) / 100.0) / spokes;
+        double angle = flaw == 6 ? 1.7453292519943295 + 2.792526803190927 * turn
+                                 : 6.283185307179586 * turn;
+        double r = 2000.0 + (double)gen_rng_below(rng, 3000);
+        int64_t fx = cx + (int64_t)(r * cos(angle)), fy = cy + (int64_t)(r * sin(angle));
+        if (k == 0 && flaw != 6) /* along (3, 1), which flaw 1 follows for a few units only */
+            fx = cx + 3000, fy = cy + 1000, first_far[0] = 3, first_far[1] = 1;
+        hpfc_graph_add_vertex(g, fx, fy, &v);
+        bool bent = gen_rng_below(rng, 4) == 0, reversed = gen_rng_below(rng, 3) == 0;
+        int64_t mid[2] = {cx + (fx - cx) / 2 + (int64_t)gen_rng_below(rng, 3) - 1,
+                          cy + (fy - cy) / 2 + (int64_t)gen_rng_below(rng, 3) - 1};
+        if (reversed)
+            hpfc_graph_add_edge(g, v, hub, bent ? mid : NULL, bent ? 1 : 0, NULL);
+        else
+            hpfc_graph_add_edge(g, hub, v, bent ? mid : NULL, bent ? 1 : 0, NULL);
+    }
+    if (flaw == 1) { /* along spoke 0's first units, seen in the hub's cell only */
+        hpfc_graph_add_vertex(g, cx + first_far[0], cy + first_far[1], &v);
+        hpfc_graph_add_edge(g, v, hub, NULL, 0, NULL);
+    } else if (flaw == 2) { /* across the spokes near the hub */
+        hpfc_graph_add_vertex(g, cx - 30, cy + 17, &u);
+        hpfc_graph_add_vertex(g, cx + 25, cy + 41, &v);
+        hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+    } else if (flaw == 3) { /* through the hub, between two spokes' directions */
+        hpfc_graph_add_vertex(g, cx - 7000, cy - 1, &u);
+        hpfc_graph_add_vertex(g, cx + 7000, cy + 1, &v);
+        hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+    } else if (flaw == 4) { /* a second hub, its spokes among the first's */
+        uint32_t hub2;
+        hpfc_graph_add_vertex(g, cx + 1500, cy + 700, &hub2);
+        for (uint32_t k = 0; k < 40; k++) {
+            hpfc_graph_add_vertex(g, cx + 1500 + (int64_t)gen_rng_below(rng, 900) - 450,
+                                  cy + 700 + (int64_t)gen_rng_below(rng, 900) - 450, &v);
+            hpfc_graph_add_edge(g, hub2, v, NULL, 0, NULL);
+        }
+    } else if (flaw == 6) { /* right of the spokes, two edges crossing at (cx + 20, cy): their
+                               * first points on the hub's x, so that the grid's cuts, at
+                               * sampled first points, leave the crossing in the hub's cell */
+        hpfc_graph_add_vertex(g, cx, cy + 30, &u);
+        hpfc_graph_add_vertex(g, cx + 40, cy - 30, &v);
+        hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+        hpfc_graph_add_vertex(g, cx, cy - 30, &u);
+        hpfc_graph_add_vertex(g, cx + 40, cy + 30, &v);
+        hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+    } else if (flaw == 5) { /* a ring of short edges beyond every spoke */
+        for (uint32_t k = 0; k < 64; k++) {
+            double a0 = 6.283185307179586 * k / 64, a1 = 6.283185307179586 * (k + 0.8) / 64;
+            hpfc_graph_add_vertex(g, cx + (int64_t)(5200 * cos(a0)),
+                                  cy + (int64_t)(5200 * sin(a0)), &u);
+            hpfc_graph_add_vertex(g, cx + (int64_t)(5200 * cos(a1)),
+                                  cy + (int64_t)(5200 * sin(a1)), &v);
+            hpfc_graph_add_edge(g, u, v, NULL, 0, NULL);
+        }
+    }
+    return g;
+}
+
+static void test_hubs(void)
+{
+    gen_rng rng;
+    gen_rng_seed(&rng, 20261207);
+    int verdicts[3] = {0, 0, 0};
+    for (int round = 0; round < 140; round++) {
+        hpfc_graph *g = hub_graph(&rng, round % 7);
+        graph_copy c;
+        copy_graph(g, &c);
+        int expected = naive_repeat(&c) ? HPFC_E_DUPLICATE_POINT
+                       : naive_crossing(&c) ? HPFC_E_NONPLANAR
+                                            : HPFC_OK;
+        hpfc_diag d;
+        int st = hpfc_graph_validate(g, &d);
+        CHECK_EQ_INT(st, expected);
+        if (st == HPFC_E_NONPLANAR && expected == st) /* the edges named do conflict */
+            CHECK(d.edge[0] >= 0 && d.edge[1] >= 0 && edges_conflict(&c, d.edge[0], d.edge[1]));
+        verdicts[expected == HPFC_OK ? 0 : expected == HPFC_E_NONPLANAR ? 1 : 2]++;
+        free(c.seg);
+        free(c.point);
+        hpfc_graph_free(g);
+    }
+    CHECK(verdicts[0] >= 30 && verdicts[1] >= 50);
+    fprintf(stderr, "hubs: %d valid, %d crossing, %d repeating\n", verdicts[0], verdicts[1],
+            verdicts[2]);
+}
+
 /* Vertical polylines on three x values only, stacked in y (the grid's
  * columns cannot split them, so its rows take the cells), then in some
  * rounds a short edge across one of them, or up to one of them. */
@@ -328,6 +431,7 @@ int main(void)
 {
     test_dense_clusters();
     test_few_columns();
+    test_hubs();
     test_repeat_far_apart();
     return check_report("validate");
 }
