@@ -109,9 +109,9 @@ unsigned num_threads(char **options)
         return default_threads();
     char *end = nullptr;
     unsigned long n = std::strtoul(v, &end, 10);
-    if (!*v || *end || v[0] == '-' || n < 1 || n > 1024) {
+    if (!*v || *end || v[0] == '-' || n < 1 || n > 64) {
         CPLError(CE_Failure, CPLE_IllegalArg,
-                 "HPFC: %s=%s: expected ALL_CPUS or a count of threads from 1 to 1024", name, v);
+                 "HPFC: %s=%s: expected ALL_CPUS or a count of threads from 1 to 64", name, v);
         return 0;
     }
     return static_cast<unsigned>(n);

@@ -126,7 +126,8 @@ expect_gdal "ogr2ogr -f HPFC from the driver's own GPKG"
 run ogr2ogr -f HPFC "$tmp/bad.hpfc" "$tmp/src.gpkg" -dsco VERTICES=some
 [ -e "$tmp/bad.hpfc" ] && fail "a refused VERTICES left a file"
 grep -q "VERTICES=some" "$tmp/err" || fail "VERTICES=some: no message: $(cat "$tmp/err")"
-for threads in "-dsco NUM_THREADS=0" "-dsco NUM_THREADS=two" "--config GDAL_NUM_THREADS -1"; do
+for threads in "-dsco NUM_THREADS=0" "-dsco NUM_THREADS=65" "-dsco NUM_THREADS=two" \
+    "--config GDAL_NUM_THREADS -1"; do
     # shellcheck disable=SC2086
     run ogr2ogr -f HPFC "$tmp/bad.hpfc" "$tmp/src.gpkg" $threads
     [ "$rc" -ne 0 ] && [ ! -e "$tmp/bad.hpfc" ] && grep -q "NUM_THREADS=" "$tmp/err" ||
