@@ -11,6 +11,7 @@
  * (an existing OUTPUT is untouched): the library's writer is atomic, and the
  * report is gathered from the serialised bytes before OUTPUT is written.
  */
+#include <ctype.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
@@ -67,6 +68,7 @@ typedef struct pack_args {
     int link_witness; /* --link witness */
     uint32_t partitions; /* --partitions: build in parts, one after another */
     uint32_t jobs;       /* --jobs: that many parts at once, in threads (0: not given) */
+    uint64_t memory;     /* --memory: the build's budget in bytes (0: not given) */
     uint32_t threads;    /* --threads: for the steps that share their work (0: not given) */
     const char *parts_dir; /* --parts-dir: the parts built by other processes */
 } pack_args;
@@ -96,6 +98,8 @@ typedef struct pack_report {
     int link_witness;
     stage_time link_t[4];
     stage_time features_t;
+    uint32_t parts;                     /* the tree's parts (1: built whole) */
+    uint64_t memory_held, memory_need;  /* --memory: before the build, the model's peak */
 } pack_report;
 
 /* ---- messages ------------------------------------------------------------ */
@@ -149,7 +153,9 @@ static void print_help(void)
            "                        reads few segments per leaf (default %u; 0: no bound)\n"
            , (unsigned long long)HPFC_DEFAULT_MAX_FLAT_PIXELS, HPFC_DEFAULT_MAX_LEAF_POINTS);
     printf(
-           "  --partitions N        build the tree in N parts (runs of root pixels), one\n"
+           "  --partitions N        build the tree in N parts (runs of root pixels of\n"
+           "                        about equal shape points; fewer where one root pixel\n"
+           "                        holds more than a share), one\n"
            "                        after another, each from the edges near its pixels\n"
            "                        and kept in a file beside the output until they are\n"
            "                        joined: the same file, byte for byte, with the\n"
@@ -161,6 +167,12 @@ static void print_help(void)
            "                        --partitions, the tree is built in N parts (not with\n"
            "                        --flat or --parts-dir; default: one part at a time).\n"
            "                        Also the threads of --threads when that is not given\n"
+           "  --memory SIZE         build in as few parts as keep the pack's own memory\n"
+           "                        within SIZE (500M, 4G: powers of 1024), as a model of\n"
+           "                        each step's needs estimates it (bench/README.md); a\n"
+           "                        note on stderr says when no cut can. The input's\n"
+           "                        reading (GDAL's) is outside it (not with --partitions,\n"
+           "                        --flat or --parts-dir)\n"
            "  --threads N           threads for the steps that share their work:\n"
            "                        validation, the build of a whole tree, numbering the\n"
            "                        faces, checking the faces' features (default: --jobs,\n"
@@ -235,6 +247,13 @@ static void print_help(void)
            "without --force), 2 usage error or unsupported input format.\n");
 }
 
+/* A note the pack's steps give (pack_parts.notice): printed even with -q,
+ * since it says the pack may need more than was asked. */
+static void note(const char *text)
+{
+    complain("note: %s", text);
+}
+
 /* ---- option parsing -------------------------------------------------------- */
 
 /* A whole unsigned decimal number in [1, max]: digits only, so signs, spaces,
@@ -255,6 +274,28 @@ static int parse_positive(const char *s, size_t len, uint64_t max, uint64_t *out
     if (v == 0)
         return 0;
     *out = v;
+    return 1;
+}
+
+/* A number of bytes: N, or N followed by K, M, G or T (powers of 1024, as
+ * sort -S takes them; either case, an optional trailing B or iB), at least
+ * one MiB and at most 2^60 bytes. */
+static int parse_bytes(const char *s, uint64_t *out)
+{
+    size_t n = strspn(s, "0123456789");
+    const char *unit = s + n;
+    static const char letters[] = "KMGT";
+    const char *at = *unit ? strchr(letters, toupper((unsigned char)*unit)) : NULL;
+    unsigned shift = at ? 10u * (unsigned)(at - letters + 1) : 0;
+    const char *rest = at ? unit + 1 : unit;
+    if (at && (*rest == 'i' || *rest == 'I') && (rest[1] == 'B' || rest[1] == 'b'))
+        rest += 2;
+    else if (*rest == 'B' || *rest == 'b')
+        rest += 1;
+    uint64_t v = 0, most = UINT64_C(1) << 60;
+    if (*rest || !parse_positive(s, n, most >> shift, &v) || (v << shift) < (UINT64_C(1) << 20))
+        return 0;
+    *out = v << shift;
     return 1;
 }
 
@@ -325,6 +366,8 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
         a->partitions = (uint32_t)n;
         return NULL;
     }
+    if (strcmp(name, "--memory") == 0)
+        return parse_bytes(v, &a->memory) ? NULL : "a size such as 4G, 500M or 2048M, at least 1M";
     if (strcmp(name, "--jobs") == 0 || strcmp(name, "-j") == 0) {
         uint64_t n = 0;
         if (!parse_positive(v, strlen(v), MAX_JOBS, &n))
@@ -402,7 +445,7 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
                                         "-l",         "-a_srs",     "-s_srs",
                                         "--layout",   "--link",     "--partitions",
                                         "--parts-dir", "--jobs",   "-j",
-                                        "--threads"};
+                                        "--threads",  "--memory"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -485,7 +528,12 @@ static int parse_args(int argc, char **argv, pack_args *a)
         complain("--jobs: not with --flat (built whole) or --parts-dir (built elsewhere)");
         return EXIT_USAGE;
     }
-    if (a->jobs > 1 && a->partitions == 0)
+    if (a->memory && (a->partitions || a->params.flat || a->parts_dir)) {
+        complain("--memory: not with --partitions (it chooses them), --flat (built whole)"
+                 " or --parts-dir");
+        return EXIT_USAGE;
+    }
+    if (a->jobs > 1 && a->partitions == 0 && !a->memory)
         a->partitions = a->jobs;
     if (a->partitions > 1 && a->params.flat) {
         complain("--partitions and --flat: a flat grid is built whole");
@@ -857,6 +905,14 @@ static void print_json(FILE *out, const pack_args *a, const pack_report *r)
     jsonw_u64(&w, "faces", t->faces);
     jsonw_u64(&w, "components", t->components);
     jsonw_bool(&w, "flat", a->params.flat);
+    jsonw_u64(&w, "parts", r->parts);
+    if (a->memory) {
+        jsonw_object_begin(&w, "memory");
+        jsonw_u64(&w, "budget_bytes", a->memory);
+        jsonw_u64(&w, "held_bytes", r->memory_held);
+        jsonw_u64(&w, "estimate_bytes", r->memory_need);
+        jsonw_object_end(&w);
+    }
     jsonw_u64(&w, "root_cols", t->root_cols);
     jsonw_u64(&w, "root_rows", t->root_rows);
     jsonw_u64(&w, "refine_cols", t->cols);
@@ -968,6 +1024,13 @@ static void print_text(FILE *out, const pack_args *a, const pack_report *r)
         fprintf(out, ", at most %u shape points a leaf", a->params.max_leaf_points);
     fputc('\n', out);
     fprintf(out, "depth      %u (%u level%s)\n", t->levels - 1, t->levels, t->levels == 1 ? "" : "s");
+    if (r->parts > 1 || a->memory)
+        fprintf(out, "parts      %u%s\n", r->parts, r->parts > 1 ? " (runs of root pixels)" : " (built whole)");
+    if (a->memory)
+        fprintf(out, "memory     --memory %llu MiB: %llu MiB held before the build, about %llu MiB "
+                     "at the peak (estimated)\n",
+               (unsigned long long)(a->memory >> 20), (unsigned long long)(r->memory_held >> 20),
+               (unsigned long long)(r->memory_need >> 20));
     fprintf(out, "\n%5s %10s %12s %12s %12s %5s %5s %14s\n", "level", "images", "word", "refined",
            "private", "k_w", "k_@", "pool bits");
     for (uint32_t l = 0; l < t->levels; l++) {
@@ -1080,13 +1143,14 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
     pack_write_stats w;
     hpfc_diag diag;
     pack_parts parts = {.count = a->partitions, .jobs = a->jobs, .dir = a->parts_dir,
-                        .await_parts = await_parts};
+                        .await_parts = await_parts, .memory = a->memory, .notice = note};
     hpfc_build_params params = a->params; /* a build in parts builds each on one thread */
     params.threads = step_threads(a);
     int st = pack_write(g, &params, &parts, &wopts, r->gis ? &r->gis_info : NULL, a->link_witness,
                         a->to_stdout ? NULL : a->output, isatty(2) && !a->quiet, report_tree,
                         r, &w, &diag);
     r->build_t = w.build_t, r->write_t = w.write_t, r->features_t = w.features_t;
+    r->parts = w.parts, r->memory_held = w.memory_held, r->memory_need = w.memory_need;
     if (w.file_bytes)
         r->file_bytes = w.file_bytes;
     r->features = w.features, r->all_features = w.all_features;

@@ -23,6 +23,7 @@
 #include "clock.h"
 #include "face_witness.h"
 #include "gis_features.h"
+#include "pack_cut.h"
 #include "progress.h"
 
 /* Links the faces of the serialised file to the GIS features that
@@ -337,8 +338,9 @@ typedef struct part_queue {
     const hpfc_cut *cut;
     const hpfc_build_params *params; /* without a progress callback */
     const hpfc_domain *domain;
-    const uint32_t *pixels; /* every root pixel in part order: part q's run is [q*roots/k, (q+1)*roots/k) */
-    uint64_t roots, edges;
+    const uint32_t *pixels; /* every root pixel in scanline order */
+    const uint64_t *start;  /* part q is pixels [start[q], start[q + 1]) */
+    uint64_t edges;
     size_t parts;
     const part_folder *files;
     progress *bar;
@@ -356,7 +358,7 @@ typedef struct part_queue {
 
 static int build_and_write_part(part_queue *pq, size_t q, hpfc_diag *diag)
 {
-    size_t first = (size_t)(pq->roots * q / pq->parts), end = (size_t)(pq->roots * (q + 1) / pq->parts);
+    size_t first = (size_t)pq->start[q], end = (size_t)pq->start[q + 1];
     hpfc_tree *part = NULL;
     int st = build_one_part(pq->cut, pq->params, pq->domain, (uint32_t)q, pq->pixels + first,
                             end - first, pq->edges, &part, diag);
@@ -413,6 +415,45 @@ static int run_part_queue(part_queue *pq, uint32_t jobs, hpfc_diag *diag)
     return pq->status;
 }
 
+/* How the parts cut the root pixels (pack_cut.h): into runs of about
+ * equal points, or for the budget of parts->memory. *k is the number of
+ * runs, in start[0 .. *k]; 1 builds whole. */
+static int choose_runs(const hpfc_graph *g, const hpfc_build_params *p, const hpfc_domain *d,
+                       const pack_parts *parts, uint64_t *start, uint32_t *k, pack_write_stats *r,
+                       hpfc_diag *diag)
+{
+    uint64_t roots = (uint64_t)p->root_cols * p->root_rows;
+    uint32_t most = roots < UINT32_MAX ? (uint32_t)roots : UINT32_MAX;
+    uint64_t *weight = malloc((size_t)roots * sizeof *weight);
+    if (!weight)
+        return diag_set_message(diag, HPFC_E_NOMEM, "out of memory");
+    pack_cut_weigh(g, p, d, weight);
+    if (!parts->memory) {
+        *k = pack_cut_even(weight, roots, parts->count < most ? parts->count : most, start);
+        free(weight);
+        return HPFC_OK;
+    }
+    /* what the process holds, without the free heap the build would reuse
+     * (hpfc-pack keeps it while GDAL reads) */
+    release_free_memory();
+    r->memory_held = pack_own_bytes();
+    uint32_t jobs = parts->jobs ? parts->jobs : 1;
+    *k = pack_cut_budget(weight, roots, r->memory_held, jobs, parts->memory, most, start,
+                         &r->memory_need);
+    free(weight);
+    if (r->memory_need > parts->memory && parts->notice) {
+        char text[200];
+        snprintf(text, sizeof text,
+                 "--memory %llu MiB: this map needs about %llu MiB however it is cut; "
+                 "building it in %u part%s",
+                 (unsigned long long)(parts->memory >> 20),
+                 (unsigned long long)((r->memory_need + (1u << 20) - 1) >> 20), *k,
+                 *k == 1 ? " (whole)" : "s");
+        parts->notice(text);
+    }
+    return HPFC_OK;
+}
+
 /* The tree, built whole, or in parts (pack_parts), each from the edges near
  * its root pixels, written to a part file and freed, then joined where the
  * files lie (hpfc_build_part, hpfc_tree_merge_files): the same tree, with
@@ -428,19 +469,31 @@ static int run_part_queue(part_queue *pq, uint32_t jobs, hpfc_diag *diag)
  * check (64 bytes a point, the one-process pack's peak on large maps) runs
  * only when a part finds a flaw, to report it in hpfc_build's very words. */
 static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts *parts,
-                      const char *output, progress *bar, hpfc_tree **out, hpfc_diag *diag)
+                      const char *output, progress *bar, hpfc_tree **out, pack_write_stats *r,
+                      hpfc_diag *diag)
 {
-    if (parts->dir)
-        return build_parts_elsewhere(g, p, parts, out, diag);
     uint64_t roots = (uint64_t)p->root_cols * p->root_rows;
-    if (parts->count <= 1 || p->flat || hpfc_graph_check_whole(g, NULL))
+    if (parts->dir) {
+        r->parts = parts->count < roots ? parts->count : (uint32_t)roots; /* part_dir_cut's */
+        return build_parts_elsewhere(g, p, parts, out, diag);
+    }
+    r->parts = 1;
+    if ((parts->count <= 1 && !parts->memory) || p->flat || hpfc_graph_check_whole(g, NULL))
         return hpfc_build(g, p, out, diag); /* which words the flaw */
     int64_t box[4];
     hpfc_domain d;
     int st = hpfc_graph_bounds(g, box);
     if (!st)
         st = hpfc_build_domain(box, p, &d, diag);
-    size_t k = parts->count < roots ? parts->count : (size_t)roots;
+    uint64_t *start = st ? NULL : malloc(((size_t)roots + 1) * sizeof *start);
+    uint32_t k = 1;
+    if (!st)
+        st = start ? choose_runs(g, p, &d, parts, start, &k, r, diag)
+                   : diag_set_message(diag, HPFC_E_NOMEM, "out of memory");
+    if (!st && k <= 1) {
+        free(start);
+        return hpfc_build(g, p, out, diag);
+    }
     uint32_t *pixels = st ? NULL : malloc((size_t)roots * sizeof *pixels);
     uint32_t *owner = st ? NULL : malloc((size_t)roots * sizeof *owner);
     hpfc_cut *cut = NULL;
@@ -449,17 +502,18 @@ static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pac
         st = diag_set_message(diag, HPFC_E_NOMEM, "out of memory");
     if (!st)
         st = part_folder_open(&pf, output, k, diag);
-    for (size_t q = 0; !st && q < k; q++)
-        for (size_t px = (size_t)(roots * q / k); px < (size_t)(roots * (q + 1) / k); px++)
-            pixels[px] = (uint32_t)px, owner[px] = (uint32_t)q;
+    for (uint32_t q = 0; !st && q < k; q++)
+        for (uint64_t px = start[q]; px < start[q + 1]; px++)
+            pixels[px] = (uint32_t)px, owner[px] = q;
     if (!st)
-        st = hpfc_cut_create(g, p, &d, owner, (uint32_t)k, &cut, diag);
+        st = hpfc_cut_create(g, p, &d, owner, k, &cut, diag);
     free(owner);
+    r->parts = k;
     /* one bar for the parts, not one a level of each */
     hpfc_build_params quiet = *p;
     quiet.progress = NULL;
     quiet.threads = 1; /* the parts themselves share the threads */
-    part_queue pq = {.cut = cut, .params = &quiet, .domain = &d, .pixels = pixels, .roots = roots,
+    part_queue pq = {.cut = cut, .params = &quiet, .domain = &d, .pixels = pixels, .start = start,
                      .edges = hpfc_graph_edge_count(g), .parts = k, .files = &pf, .bar = bar};
     uint32_t jobs = parts->jobs ? parts->jobs : 1;
     pq.trim_each = jobs == 1;
@@ -476,6 +530,7 @@ static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pac
     }
     part_folder_close(&pf);
     free(pixels);
+    free(start);
     return st;
 }
 
@@ -496,7 +551,7 @@ int pack_write(const hpfc_graph *g, const hpfc_build_params *p, const pack_parts
     stage_time t0 = stage_now();
     progress_show(&bar, "building", 0, 0, 1);
     pack_parts whole = {0};
-    int st = build_tree(g, &params, parts ? parts : &whole, output, &bar, &t, diag);
+    int st = build_tree(g, &params, parts ? parts : &whole, output, &bar, &t, r, diag);
     progress_end(&bar);
     release_free_memory();
     r->build_t = stage_lap(&t0);

@@ -23,6 +23,9 @@ extern "C" {
 typedef struct pack_write_stats {
     int build_failed;           /* the failure (if any) was the build's: the input's fault */
     uint64_t file_bytes;        /* the file written, 0 where the hook's count stands */
+    uint32_t parts;             /* the parts the tree was built in (1: whole) */
+    uint64_t memory_held;       /* with a budget: the process's own memory before the build */
+    uint64_t memory_need;       /* with a budget: the model's peak for those parts */
     stage_time build_t, write_t, features_t; /* wall and CPU */
     uint32_t features, all_features, edges_with_features;
     uint64_t faces_with_features, faces_without_witness;
@@ -44,8 +47,14 @@ typedef int (*pack_write_hook)(void *user, const hpfc_tree *t, const hpfc_file *
  * whole graph is validated, to word a flaw a part found as hpfc_build
  * does. Every way gives the same bytes. */
 typedef struct pack_parts {
-    uint32_t count;
+    uint32_t count; /* at most that many parts, of about equal points (pack_cut_even) */
     uint32_t jobs; /* parts built at once here, in threads (0 or 1: one after another) */
+    /* hpfc-pack --memory: a budget in bytes (0: none) for which `count` is
+     * chosen instead, the fewest parts whose pack the model of pack_cut.h
+     * keeps within it (one: the whole build). When none does, the finest
+     * cut is taken and `notice` (when set) is told so before the build. */
+    uint64_t memory;
+    void (*notice)(const char *text);
     const char *dir;
     int (*await_parts)(void *user, const part_plan *plan, hpfc_diag *diag);
     void *user;
