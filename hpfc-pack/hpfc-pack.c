@@ -100,6 +100,7 @@ typedef struct pack_report {
     stage_time features_t;
     uint32_t parts;                     /* the tree's parts (1: built whole) */
     uint64_t memory_held, memory_need;  /* --memory: before the build, the model's peak */
+    uint64_t memory_sample_points, memory_sample_pixels; /* --memory: the model's sample */
 } pack_report;
 
 /* ---- messages ------------------------------------------------------------ */
@@ -911,6 +912,8 @@ static void print_json(FILE *out, const pack_args *a, const pack_report *r)
         jsonw_u64(&w, "budget_bytes", a->memory);
         jsonw_u64(&w, "held_bytes", r->memory_held);
         jsonw_u64(&w, "estimate_bytes", r->memory_need);
+        jsonw_u64(&w, "sample_points", r->memory_sample_points);
+        jsonw_u64(&w, "sample_pixels", r->memory_sample_pixels);
         jsonw_object_end(&w);
     }
     jsonw_u64(&w, "root_cols", t->root_cols);
@@ -1151,6 +1154,7 @@ static int build_and_write(const pack_args *a, const hpfc_graph *g, pack_report 
                         r, &w, &diag);
     r->build_t = w.build_t, r->write_t = w.write_t, r->features_t = w.features_t;
     r->parts = w.parts, r->memory_held = w.memory_held, r->memory_need = w.memory_need;
+    r->memory_sample_points = w.memory_sample_points, r->memory_sample_pixels = w.memory_sample_pixels;
     if (w.file_bytes)
         r->file_bytes = w.file_bytes;
     r->features = w.features, r->all_features = w.all_features;

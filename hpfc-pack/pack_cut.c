@@ -9,21 +9,25 @@
 #include <malloc.h>
 #endif
 
-/* The memory model's bytes a point, measured on generated street networks
- * and on countries-land-1m (bench/README.md, "A memory budget"), each
- * rounded up: a whole build's working arrays and tree (its validation
+/* The memory model's bytes a point and a pixel of the tree, fitted to a
+ * generated street network (0.2 pixels a point) and to countries-land-1m's
+ * graph (0.94) and rounded up by a tenth (bench/README.md, "A memory
+ * budget"): a whole build's working arrays and tree (its validation
  * included); the cut's lists of every part's edges; a part's builder
  * arrays, tree and graph; the join of the part files and the write
  * (LABL's face numbering, the edges' union-find). */
+enum {
+    WHOLE_BYTES_A_POINT = 44,
+    WHOLE_BYTES_A_PIXEL = 24,
+    CUT_BYTES_A_POINT = 2,
+    PART_BYTES_A_POINT = 56,
+    PART_BYTES_A_PIXEL = 60,
+    JOIN_BYTES_A_POINT = 2,
+    JOIN_BYTES_A_PIXEL = 25,
+};
+
 /* run boundaries compare shares of the total (points times parts) */
 __extension__ typedef unsigned __int128 u128;
-
-enum {
-    WHOLE_BYTES_A_POINT = 48,
-    CUT_BYTES_A_POINT = 2,
-    PART_BYTES_A_POINT = 64,
-    JOIN_BYTES_A_POINT = 8,
-};
 
 static uint64_t root_of(const hpfc_domain *d, uint64_t cell_w, uint64_t cell_h, uint32_t cols,
                         uint32_t rows, int64_t x, int64_t y)
@@ -98,12 +102,22 @@ uint32_t pack_cut_limit(const uint64_t *weight, uint64_t roots, uint64_t limit, 
     return runs;
 }
 
+/* The pixels of `points` points, by the sample's proportion. */
+static uint64_t pixels_of(const pack_memory *m, uint64_t points)
+{
+    if (m->sample_points == 0)
+        return points;
+    return (uint64_t)((u128)points * m->sample_pixels / m->sample_points);
+}
+
 uint64_t pack_memory_need(const pack_memory *m)
 {
-    uint64_t build = m->parts <= 1
-                         ? WHOLE_BYTES_A_POINT * m->points
-                         : CUT_BYTES_A_POINT * m->points + (uint64_t)m->jobs * PART_BYTES_A_POINT * m->heaviest;
-    uint64_t join = m->parts <= 1 ? 0 : JOIN_BYTES_A_POINT * m->points;
+    uint64_t n = m->points, px = pixels_of(m, n), h = m->heaviest;
+    if (m->parts <= 1)
+        return m->held + WHOLE_BYTES_A_POINT * n + WHOLE_BYTES_A_PIXEL * px;
+    uint64_t build = CUT_BYTES_A_POINT * n +
+                     (uint64_t)m->jobs * (PART_BYTES_A_POINT * h + PART_BYTES_A_PIXEL * pixels_of(m, h));
+    uint64_t join = JOIN_BYTES_A_POINT * n + JOIN_BYTES_A_PIXEL * px;
     return m->held + (build > join ? build : join);
 }
 
@@ -119,41 +133,62 @@ static uint64_t heaviest_run(const uint64_t *weight, const uint64_t *start, uint
     return most;
 }
 
-uint32_t pack_cut_budget(const uint64_t *weight, uint64_t roots, uint64_t held, uint32_t jobs,
-                         uint64_t budget, uint32_t most, uint64_t *start, uint64_t *need)
+/* The heaviest run whose part keeps the build within `budget` (0 when
+ * none does): a binary search, as the need grows with the run's points. */
+static uint64_t part_limit(pack_memory m, uint64_t budget)
 {
-    pack_memory m = {.held = held, .jobs = jobs ? jobs : 1, .parts = 1};
+    uint64_t lo = 0, hi = m.points;
+    m.parts = 2;
+    while (lo < hi) {
+        uint64_t mid = lo + (hi - lo + 1) / 2;
+        m.heaviest = mid;
+        uint64_t build = pack_memory_need(&m);
+        m.heaviest = 0;
+        /* the part's own share, beside the join's floor */
+        if (build <= budget || build <= pack_memory_need(&m))
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return lo;
+}
+
+uint32_t pack_cut_budget(const uint64_t *weight, uint64_t roots, pack_memory *m, uint64_t budget,
+                         uint32_t most, uint64_t *start, uint64_t *need)
+{
     uint64_t pixel_most = 0;
+    m->jobs = m->jobs ? m->jobs : 1;
+    m->points = 0;
     for (uint64_t r = 0; r < roots; r++) {
-        m.points += weight[r];
+        m->points += weight[r];
         pixel_most = weight[r] > pixel_most ? weight[r] : pixel_most;
     }
-    m.heaviest = m.points;
-    uint64_t need_whole = pack_memory_need(&m);
+    m->parts = 1;
+    m->heaviest = m->points;
+    uint64_t need_whole = pack_memory_need(m);
     start[0] = 0, start[1] = roots;
     *need = need_whole;
     if (need_whole <= budget || most <= 1)
         return 1;
-    /* what is left for the parts' builds, a part at a time on each job.
-     * Two floors: no part is lighter than the heaviest root pixel, and
-     * parts smaller than the join's share gain nothing, since the join
-     * comes after them; a budget short of either takes parts that size */
-    uint64_t fixed = held + CUT_BYTES_A_POINT * m.points, per_point = (uint64_t)m.jobs * PART_BYTES_A_POINT;
-    uint64_t limit = budget > fixed ? (budget - fixed) / per_point : 0;
-    uint64_t join_share = (JOIN_BYTES_A_POINT - CUT_BYTES_A_POINT) * m.points / per_point;
-    limit = limit > join_share ? limit : join_share;
+    /* the heaviest part the budget leaves room for, a part at a time on
+     * each job. Two floors: no part is lighter than the heaviest root
+     * pixel, and parts whose build needs less than the join gain nothing,
+     * since the join comes after them (part_limit stops at neither) */
+    uint64_t limit = part_limit(*m, budget);
     limit = limit > pixel_most ? limit : pixel_most;
-    m.parts = pack_cut_limit(weight, roots, limit, most, start);
-    m.heaviest = heaviest_run(weight, start, m.parts);
-    *need = pack_memory_need(&m);
+    m->parts = pack_cut_limit(weight, roots, limit, most, start);
+    m->heaviest = heaviest_run(weight, start, m->parts);
+    *need = pack_memory_need(m);
     if (*need > budget && need_whole <= *need) {
         /* nothing fits, and the whole build needs no more than parts */
+        m->parts = 1, m->heaviest = m->points;
         start[1] = roots;
         *need = need_whole;
         return 1;
     }
-    return m.parts;
+    return m->parts;
 }
+
 /* RssAnon of /proc/self/status, in bytes; 0 where there is none. */
 static uint64_t resident_anonymous(void)
 {

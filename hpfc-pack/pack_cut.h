@@ -38,23 +38,29 @@ uint32_t pack_cut_limit(const uint64_t *weight, uint64_t roots, uint64_t limit, 
 
 /* What a pack holds at its peak, by the model of bench/README.md ("A
  * memory budget"): `held` bytes before the build (the input graph, a GIS
- * layer's features), then the larger of the build (the heaviest part's
- * points, `jobs` parts at once; a whole build when parts is 1) and the
- * join and write (every point of the map). */
+ * layer's features), then the larger of the build (a whole build's, or
+ * `jobs` parts' at once, the heaviest part's points each) and the join and
+ * write. The build's tree and the join grow with the tree's pixels as
+ * well as with the points, and a map's pixels a point vary fivefold
+ * (a street network's few, a coastline's many): the model takes them as
+ * tree_pixels / sample_points, measured on a sample of the map
+ * (pack_write.c builds a few small parts first). */
 typedef struct pack_memory {
-    uint64_t held;    /* allocated when the build starts */
-    uint64_t points;  /* the map's */
+    uint64_t held;     /* allocated when the build starts */
+    uint64_t points;   /* the map's */
     uint64_t heaviest; /* the heaviest run's points */
     uint32_t parts, jobs;
+    uint64_t sample_pixels, sample_points; /* pixels a point; 0 points: one a point */
 } pack_memory;
 uint64_t pack_memory_need(const pack_memory *m);
 
-/* The fewest runs whose pack needs at most `budget` bytes (in *start, at
- * most `most` runs, as pack_cut_limit), and what that pack needs, which
- * exceeds the budget when no cut keeps within it (then the finest cut the
- * model gives). */
-uint32_t pack_cut_budget(const uint64_t *weight, uint64_t roots, uint64_t held, uint32_t jobs,
-                         uint64_t budget, uint32_t most, uint64_t *start, uint64_t *need);
+/* The fewest runs whose pack needs at most `budget` bytes by the model
+ * (m->held, jobs and sample; its points, heaviest and parts are set here),
+ * in *start (at most `most` runs, as pack_cut_limit), and what that pack
+ * needs, which exceeds the budget when no cut keeps within it (then the
+ * cut that needs least, in the fewest runs). Returns the number of runs. */
+uint32_t pack_cut_budget(const uint64_t *weight, uint64_t roots, pack_memory *m, uint64_t budget,
+                         uint32_t most, uint64_t *start, uint64_t *need);
 
 /* The process's own memory now, in bytes: its resident anonymous pages
  * (Linux), else what glibc's heap has handed out (which counts pages

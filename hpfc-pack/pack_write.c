@@ -415,6 +415,72 @@ static int run_part_queue(part_queue *pq, uint32_t jobs, hpfc_diag *diag)
     return pq->status;
 }
 
+/* The memory model's sample (pack_cut.h): PILOTS small runs of root
+ * pixels spread over the map (each about 1/PILOT_SHARE of its points,
+ * from a pixel of no more than four times that), built as parts and
+ * thrown away, give the tree's pixels a point. A few percent of the
+ * build's time; a pilot that fails (a flaw of the graph, which the build
+ * proper reports) counts for nothing. */
+enum { PILOTS = 4, PILOT_SHARE = 128 };
+
+static void sample_pixels(const hpfc_graph *g, const hpfc_build_params *p, const hpfc_domain *d,
+                          const uint64_t *weight, uint64_t roots, pack_memory *m)
+{
+    uint64_t total = 0, before = 0, target;
+    for (uint64_t r = 0; r < roots; r++)
+        total += weight[r];
+    target = total / PILOT_SHARE + 1;
+    uint32_t *owner = malloc((size_t)roots * sizeof *owner);
+    uint32_t *pixels = malloc((size_t)roots * sizeof *pixels);
+    uint64_t first[PILOTS], count[PILOTS] = {0}, points[PILOTS] = {0};
+    uint32_t pilots = 0;
+    if (!owner || !pixels)
+        goto done;
+    for (uint64_t r = 0; r < roots; r++)
+        owner[r] = PILOTS, pixels[r] = (uint32_t)r; /* PILOTS: the rest, not built */
+    for (uint64_t r = 0; r < roots && pilots < PILOTS; before += weight[r], r++) {
+        bool dense = weight[r] > 4 * target;
+        if (count[pilots] == 0) {
+            /* pilot k starts at the (2k + 1)/(2 PILOTS) quantile of the points */
+            bool reached = before * 2 * PILOTS >= total * (2 * pilots + 1);
+            if (!reached || weight[r] == 0 || dense)
+                continue;
+            first[pilots] = r;
+        } else if (dense) {
+            pilots++; /* closed before a dense pixel */
+            continue;
+        }
+        owner[r] = pilots;
+        count[pilots]++;
+        points[pilots] += weight[r];
+        if (points[pilots] >= target)
+            pilots++;
+    }
+    pilots += pilots < PILOTS && count[pilots] > 0;
+    hpfc_cut *cut = NULL;
+    hpfc_diag quiet;
+    hpfc_build_params one = *p;
+    one.progress = NULL;
+    one.threads = 1;
+    if (pilots == 0 || hpfc_cut_create(g, p, d, owner, PILOTS + 1, &cut, &quiet))
+        goto done;
+    for (uint32_t k = 0; k < pilots; k++) {
+        hpfc_tree *t = NULL;
+        hpfc_tree_info info;
+        if (build_one_part(cut, &one, d, k, pixels + first[k], count[k], hpfc_graph_edge_count(g), &t,
+                           &quiet) == HPFC_OK) {
+            hpfc_tree_get_info(t, &info);
+            m->sample_pixels += info.word_pixels + info.refined_pixels;
+            m->sample_points += points[k];
+        }
+        hpfc_tree_free(t);
+    }
+    hpfc_cut_free(cut);
+done:
+    free(owner);
+    free(pixels);
+}
+
 /* How the parts cut the root pixels (pack_cut.h): into runs of about
  * equal points, or for the budget of parts->memory. *k is the number of
  * runs, in start[0 .. *k]; 1 builds whole. */
@@ -436,10 +502,12 @@ static int choose_runs(const hpfc_graph *g, const hpfc_build_params *p, const hp
     /* what the process holds, without the free heap the build would reuse
      * (hpfc-pack keeps it while GDAL reads) */
     release_free_memory();
-    r->memory_held = pack_own_bytes();
-    uint32_t jobs = parts->jobs ? parts->jobs : 1;
-    *k = pack_cut_budget(weight, roots, r->memory_held, jobs, parts->memory, most, start,
-                         &r->memory_need);
+    pack_memory m = {.held = pack_own_bytes(), .jobs = parts->jobs};
+    sample_pixels(g, p, d, weight, roots, &m);
+    release_free_memory();
+    *k = pack_cut_budget(weight, roots, &m, parts->memory, most, start, &r->memory_need);
+    r->memory_held = m.held;
+    r->memory_sample_pixels = m.sample_pixels, r->memory_sample_points = m.sample_points;
     free(weight);
     if (r->memory_need > parts->memory && parts->notice) {
         char text[200];

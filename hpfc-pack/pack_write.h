@@ -26,6 +26,7 @@ typedef struct pack_write_stats {
     uint32_t parts;             /* the parts the tree was built in (1: whole) */
     uint64_t memory_held;       /* with a budget: the process's own memory before the build */
     uint64_t memory_need;       /* with a budget: the model's peak for those parts */
+    uint64_t memory_sample_pixels, memory_sample_points; /* the model's sample (pack_cut.h) */
     stage_time build_t, write_t, features_t; /* wall and CPU */
     uint32_t features, all_features, edges_with_features;
     uint64_t faces_with_features, faces_without_witness;

@@ -5,7 +5,8 @@
  * definition (a cover of the pixels in order, none empty, at most the parts
  * asked, each within a share plus one pixel); the cut under a limit against
  * a dynamic program's fewest runs; the budget's cut against the model
- * evaluated on it and on every cut the fewest runs can take.
+ * evaluated on it and on every cut the fewest runs can take, with and
+ * without a sample of pixels a point.
  */
 #include <stdint.h>
 #include <stdlib.h>
@@ -118,10 +119,10 @@ static void test_limit(void)
 }
 
 /* The model on a cut. */
-static uint64_t need_of(const uint64_t *w, const uint64_t *start, uint32_t runs, uint64_t held,
-                        uint32_t jobs)
+static uint64_t need_of(const uint64_t *w, const uint64_t *start, uint32_t runs, const pack_memory *base)
 {
-    pack_memory m = {.held = held, .parts = runs, .jobs = jobs};
+    pack_memory m = *base;
+    m.parts = runs, m.points = 0, m.heaviest = 0;
     for (uint32_t q = 0; q < runs; q++) {
         uint64_t s = run_weight(w, start, q);
         m.points += s;
@@ -135,11 +136,11 @@ static uint64_t need_of(const uint64_t *w, const uint64_t *start, uint32_t runs,
  * the fewest runs are pack_cut_limit's (checked against the dynamic
  * program above), so every bound a run's weight can take is tried, and
  * the whole build. */
-static uint32_t fewest_fitting(const uint64_t *w, uint64_t roots, uint64_t held, uint32_t jobs,
+static uint32_t fewest_fitting(const uint64_t *w, uint64_t roots, const pack_memory *m,
                                uint64_t target)
 {
     uint64_t whole[2] = {0, roots}, start[62];
-    if (need_of(w, whole, 1, held, jobs) <= target)
+    if (need_of(w, whole, 1, m) <= target)
         return 1;
     uint32_t best = UINT32_MAX;
     for (uint64_t first = 0; first < roots; first++) {
@@ -147,7 +148,7 @@ static uint32_t fewest_fitting(const uint64_t *w, uint64_t roots, uint64_t held,
         for (uint64_t end = first; end < roots; end++) {
             bound += w[end];
             uint32_t runs = pack_cut_limit(w, roots, bound, UINT32_MAX, start);
-            if (runs > 1 && runs < best && need_of(w, start, runs, held, jobs) <= target)
+            if (runs > 1 && runs < best && need_of(w, start, runs, m) <= target)
                 best = runs;
         }
     }
@@ -161,24 +162,48 @@ static void test_budget(void)
         random_weights(w, roots);
         if (round % 4 == 0)
             w[rnd(roots)] = 20000 + rnd(100000); /* a dense city in one root pixel */
-        uint64_t held = rnd(1u << 24);
-        uint32_t jobs = 1 + (uint32_t)rnd(3);
+        /* a sample of none (a pixel a point), or of 0.1 to 2 pixels a point */
+        pack_memory m = {.held = rnd(1u << 24), .jobs = 1 + (uint32_t)rnd(3)};
+        if (round % 3) {
+            m.sample_points = 1000 + rnd(100000);
+            m.sample_pixels = m.sample_points / 10 + rnd(2 * m.sample_points);
+        }
         for (uint64_t r = 0; r <= roots; r++)
             finest[r] = r;
         uint64_t whole[2] = {0, roots};
-        uint64_t need_whole = need_of(w, whole, 1, held, jobs);
-        uint64_t least = need_of(w, finest, (uint32_t)roots, held, jobs);
+        uint64_t need_whole = need_of(w, whole, 1, &m);
+        uint64_t least = need_of(w, finest, (uint32_t)roots, &m);
         least = roots > 1 && least < need_whole ? least : need_whole;
-        uint64_t budget = held + rnd(need_whole - held + 2), need = 0;
-        uint32_t runs = pack_cut_budget(w, roots, held, jobs, budget, (uint32_t)roots, start, &need);
+        uint64_t budget = m.held + rnd(need_whole - m.held + 2), need = 0;
+        pack_memory given = m;
+        uint32_t runs = pack_cut_budget(w, roots, &m, budget, (uint32_t)roots, start, &need);
         check_cover(start, runs, roots);
-        CHECK_EQ_INT(need, need_of(w, start, runs, held, jobs));
+        CHECK_EQ_INT(need, need_of(w, start, runs, &given));
+        CHECK_EQ_INT(need, pack_memory_need(&m)); /* m describes the cut taken */
+        CHECK_EQ_INT(m.parts, runs);
         /* within the budget when any cut is, else the least any cut needs */
         uint64_t target = least <= budget ? budget : least;
         CHECK(need <= target);
         /* and in the fewest parts that do so */
-        CHECK_EQ_INT(runs, fewest_fitting(w, roots, held, jobs, target));
+        CHECK_EQ_INT(runs, fewest_fitting(w, roots, &given, target));
     }
+}
+
+/* The model grows with the sample's pixels a point: a map of many pixels
+ * a point needs more, and with no sample it takes one a point. */
+static void test_model(void)
+{
+    pack_memory few = {.points = 1000000, .heaviest = 1000000, .parts = 1, .jobs = 1,
+                       .sample_points = 1000, .sample_pixels = 200};
+    pack_memory many = few, none = few;
+    many.sample_pixels = 900;
+    none.sample_points = 0;
+    CHECK(pack_memory_need(&few) < pack_memory_need(&many));
+    pack_memory one = few;
+    one.sample_pixels = 1000;
+    CHECK_EQ_INT(pack_memory_need(&none), pack_memory_need(&one));
+    few.parts = many.parts = 8, few.heaviest = many.heaviest = 200000;
+    CHECK(pack_memory_need(&few) < pack_memory_need(&many));
 }
 
 /* A run is closed only by a pixel that would take it past the limit: a
@@ -235,6 +260,7 @@ int main(void)
     test_limit();
     test_limit_exact();
     test_budget();
+    test_model();
     test_weigh();
     return check_report("pack_cut");
 }
