@@ -26,7 +26,7 @@ enum {
     JOIN_BYTES_A_PIXEL = 25,
 };
 
-/* run boundaries compare shares of the total (points times parts) */
+/* products of points and parts, or of points and pixels, may pass 64 bits */
 __extension__ typedef unsigned __int128 u128;
 
 static uint64_t root_of(const hpfc_domain *d, uint64_t cell_w, uint64_t cell_h, uint32_t cols,
