@@ -555,6 +555,8 @@ static int build_tree(const hpfc_graph *g, const hpfc_build_params *p, const pac
         st = hpfc_build_domain(box, p, &d, diag);
     uint64_t *start = st ? NULL : malloc(((size_t)roots + 1) * sizeof *start);
     uint32_t k = 1;
+    if (!st && parts->memory)
+        progress_show(bar, "sampling", 0, 0, 1); /* the model's small parts */
     if (!st)
         st = start ? choose_runs(g, p, &d, parts, start, &k, r, diag)
                    : diag_set_message(diag, HPFC_E_NOMEM, "out of memory");
