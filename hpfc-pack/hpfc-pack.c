@@ -1028,7 +1028,8 @@ static void print_text(FILE *out, const pack_args *a, const pack_report *r)
     fputc('\n', out);
     fprintf(out, "depth      %u (%u level%s)\n", t->levels - 1, t->levels, t->levels == 1 ? "" : "s");
     if (r->parts > 1 || a->memory)
-        fprintf(out, "parts      %u%s\n", r->parts, r->parts > 1 ? " (runs of root pixels)" : " (built whole)");
+        fprintf(out, "parts      %u%s\n", r->parts,
+                r->parts > 1 ? " (runs of root pixels)" : " (built whole)");
     if (a->memory)
         fprintf(out, "memory     --memory %llu MiB: %llu MiB held before the build, about %llu MiB "
                      "at the peak (estimated)\n",
