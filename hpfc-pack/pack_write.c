@@ -437,7 +437,7 @@ static void sample_pixels(const hpfc_graph *g, const hpfc_build_params *p, const
     if (!owner || !pixels)
         goto done;
     for (uint64_t r = 0; r < roots; r++)
-        owner[r] = PILOTS, pixels[r] = (uint32_t)r; /* PILOTS: the rest, not built */
+        owner[r] = UINT32_MAX, pixels[r] = (uint32_t)r; /* in no pilot: left out of the cut */
     for (uint64_t r = 0; r < roots && pilots < PILOTS; before += weight[r], r++) {
         bool dense = weight[r] > 4 * target;
         if (count[pilots] == 0) {
@@ -462,7 +462,7 @@ static void sample_pixels(const hpfc_graph *g, const hpfc_build_params *p, const
     hpfc_build_params one = *p;
     one.progress = NULL;
     one.threads = 1;
-    if (pilots == 0 || hpfc_cut_create(g, p, d, owner, PILOTS + 1, &cut, &quiet))
+    if (pilots == 0 || hpfc_cut_create(g, p, d, owner, pilots, &cut, &quiet))
         goto done;
     for (uint32_t k = 0; k < pilots; k++) {
         hpfc_tree *t = NULL;
