@@ -424,25 +424,56 @@ static int sum_runs(numbering *nb)
     return HPFC_OK;
 }
 
-/* Pass 3, a run: each leaf's first node in its entry, in leaf order. */
-static void base_run(numbering *nb, hpfc_walker *w, size_t run)
+/* Pass 3: each leaf's first node in its entry. Pass 2 left every leaf's
+ * number in its entry, so the bases are the prefix sums of the leaves'
+ * node counts by leaf number: two sweeps of the table and one of the
+ * counts, where a walk of the leaves in their order would decode the tree
+ * again. The counts take 4 bytes a leaf (8 past 2^32 nodes), freed before
+ * the union-find takes as many a node. */
+static int bases_from_entries(numbering *nb)
 {
-    (void)w;
     hpfc_faces *fc = nb->fc;
-    hpfc_pixel px = nb->run_first[run];
-    uint64_t first = (uint64_t)run * nb->run_size, end = first + run_leaves(nb, run);
-    uint64_t node = nb->run_nodes[run];
-    for (uint64_t leaf = first; leaf < end; leaf++) {
-        int st = run_next(fc->file, first, leaf, &px);
-        uint64_t *e = st ? NULL : leaf_entry(fc, &px, &st); /* pass 2 took it for this leaf */
-        if (!e) {
-            note_failure(nb, leaf, FAIL_READ, st ? st : HPFC_E_CORRUPT);
-            return;
-        }
-        uint64_t n = entry_crossings(*e);
-        *e = node << ENTRY_COUNT_BITS | n;
-        node += n ? n : 1;
+    leaf_table *t = &fc->leaves;
+    hpfc_file_info info;
+    hpfc_file_get_info(fc->file, &info);
+    uint64_t slots = t->first[info.levels];
+    bool narrow = fc->nodes <= UINT32_MAX;
+    size_t unit = narrow ? sizeof(uint32_t) : sizeof(uint64_t);
+    if (nb->leaves > SIZE_MAX / unit)
+        return HPFC_E_NOMEM;
+    void *sums = malloc(nb->leaves ? (size_t)nb->leaves * unit : 1);
+    if (!sums)
+        return HPFC_E_NOMEM;
+    uint32_t *sum32 = sums;
+    uint64_t *sum64 = sums;
+    for (uint64_t x = 0; x < slots; x++) {
+        uint64_t e = t->entry[x];
+        if (e == ENTRY_EMPTY)
+            continue;
+        uint64_t n = entry_crossings(e), nodes = n ? n : 1;
+        if (narrow)
+            sum32[entry_base(e)] = (uint32_t)nodes;
+        else
+            sum64[entry_base(e)] = nodes;
     }
+    uint64_t total = 0;
+    for (uint64_t leaf = 0; leaf < nb->leaves; leaf++) {
+        uint64_t nodes = narrow ? sum32[leaf] : sum64[leaf];
+        if (narrow)
+            sum32[leaf] = (uint32_t)total;
+        else
+            sum64[leaf] = total;
+        total += nodes;
+    }
+    for (uint64_t x = 0; x < slots; x++) {
+        uint64_t e = t->entry[x];
+        if (e == ENTRY_EMPTY)
+            continue;
+        uint64_t leaf = entry_base(e);
+        t->entry[x] = (narrow ? sum32[leaf] : sum64[leaf]) << ENTRY_COUNT_BITS | entry_crossings(e);
+    }
+    free(sums);
+    return total == fc->nodes ? HPFC_OK : HPFC_E_CORRUPT;
 }
 
 /* The unions that stay inside one pixel. */
@@ -485,39 +516,73 @@ static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uin
 }
 
 /* Crossing-free road stretches: for each road of P without crossings whose
- * neighbour spans P's whole side, join P's region there with Q's. */
+ * neighbour Q spans P's whole side, join P's region there with Q's.
+ *
+ * Q is found by hpfc_pixel_move, which stops at the first leaf across: a
+ * leaf no deeper than P spans P's side (pixels of one level are aligned),
+ * a deeper one is one of several smaller leaves, each of which handles its
+ * own side. When Q is as large as P, P is the only leaf along Q's side, so
+ * no crossing comes after P there, and the road seen from Q is empty too:
+ * Q makes the same union from its road W or N, and P leaves its roads E
+ * and S to Q. Most empty roads lie between leaves of one size (private
+ * pixels in open country), so most take one move and no parse. */
 static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uint64_t base)
 {
-    road_box pb, qb;
-    int st = topo_leaf_box(fc->file, p, &pb);
+    road_box pb;
+    bool have_pb = false;
+    int st = HPFC_OK;
     for (int road = 0; road < 4 && !st; road++) {
         if (w->p_word.road_off[road + 1] != w->p_word.road_off[road])
             continue; /* crossings link both sides through the sidewalks */
-        int64_t lo, hi, qlo, qhi;
-        road_extent(&pb, road, &lo, &hi);
         hpfc_pixel q;
-        st = topo_locate_on_road(fc->file, p, &pb, road, lo, false, &q, &qb);
-        if (st == HPFC_E_CORRUPT) { /* the domain's border: nothing across */
+        st = hpfc_pixel_move(fc->file, p, road, &q);
+        if (st == HPFC_E_NO_PIXEL) { /* the domain's border: nothing across */
             st = HPFC_OK;
             continue;
         }
         if (st)
             break;
-        road_extent(&qb, road, &qlo, &qhi);
-        if (qlo > lo || qhi < hi)
-            continue; /* smaller leaves across: each handles its own side */
-        uint64_t before, qbase;
-        uint64_t pnode = gap_node(&w->p_word, base, road, 0);
-        /* the plain counter's flow is always TOPO_DONE: the status is all */
-        if ((st = topo_crossings_after(w, p, &pb, road, qlo, qhi, topo_road_count, &before).status) ||
-            (st = node_base(fc, &q, &qbase)) || (st = topo_parse_pixel(w, &w->q_word, &q)))
-            break;
+        if (q.depth > p->depth || (q.depth == p->depth && (road == HPFC_EAST || road == HPFC_SOUTH)))
+            continue; /* smaller leaves across, or Q makes this union */
         int opposite = (road + 2) % 4;
-        if (before > w->q_word.road_off[opposite + 1] - w->q_word.road_off[opposite]) {
-            st = HPFC_E_CORRUPT; /* more crossings on P's side than on Q's road */
+        uint64_t before = 0, qbase, qn;
+        const uint64_t *e = leaf_entry(fc, &q, &st);
+        if (!st && (!e || *e == ENTRY_EMPTY))
+            st = HPFC_E_CORRUPT;
+        if (st)
             break;
+        qbase = entry_base(*e), qn = entry_crossings(*e);
+        uint64_t on_road = 0; /* Q's crossings on the road */
+        if (qn) {             /* a private Q is one node: no word to read */
+            if ((st = topo_parse_pixel(w, &w->q_word, &q)))
+                break;
+            on_road = w->q_word.road_off[opposite + 1] - w->q_word.road_off[opposite];
         }
-        unite(&fc->parent, fc->shared, pnode, gap_node(&w->q_word, qbase, opposite, before));
+        /* A larger Q whose road has crossings: those of the leaves along its
+         * side after P. A road with none has none after P in a valid file;
+         * in a damaged one whose smaller leaves along it have some, the
+         * union is still with a node of Q's (the walk did not find every
+         * such contradiction before either: not those before P). */
+        if (q.depth < p->depth && on_road) {
+            road_box qb;
+            int64_t qlo, qhi;
+            if (!have_pb && (st = topo_leaf_box(fc->file, p, &pb)))
+                break;
+            have_pb = true;
+            if ((st = topo_leaf_box(fc->file, &q, &qb)))
+                break;
+            road_extent(&qb, road, &qlo, &qhi);
+            /* the plain counter's flow is always TOPO_DONE: the status is all;
+             * its counts decode other leaves' symbols, not Q's parsed word */
+            if ((st = topo_crossings_after(w, p, &pb, road, qlo, qhi, topo_road_count, &before).status))
+                break;
+            if (before > on_road) {
+                st = HPFC_E_CORRUPT; /* more crossings on P's side than on Q's road */
+                break;
+            }
+        }
+        uint64_t qnode = qn ? gap_node(&w->q_word, qbase, opposite, before) : qbase;
+        unite(&fc->parent, fc->shared, gap_node(&w->p_word, base, road, 0), qnode);
     }
     return st;
 }
@@ -743,7 +808,7 @@ static int number_all(numbering *nb, hpfc_walker **walkers, unsigned threads, ui
             c = &team, fc->shared = true;
     }
     if (!(st = run_pass(nb, parse_run, walkers[0], c)) && !(st = sum_runs(nb)) &&
-        !(st = run_pass(nb, base_run, walkers[0], c)) &&
+        !(st = bases_from_entries(nb)) &&
         !(st = node_array_init(&fc->parent, fc->nodes, narrow_below)) &&
         !(st = run_pass(nb, unite_run, walkers[0], c)))
         st = number_faces(fc, walkers[0]);
