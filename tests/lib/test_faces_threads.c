@@ -5,8 +5,9 @@
  *   - every crossing's face and every private leaf's face is the one the
  *     calling thread alone gives, for 1 to 8 threads and runs of 3 to 17
  *     leaves, with the union-find's 32- and 64-bit words;
- *   - a file written with hpfc_write_options.threads is the same bytes as
- *     one written on one thread;
+ *   - a file written with hpfc_write_options.threads (its GEOM planned
+ *     on a thread beside the labels) is the same bytes as one written on
+ *     one thread;
  *   - mutants of those files (bytes of the pools changed, opened without
  *     the checksum) give, on 3 threads, the status one thread gives, from
  *     the same leaf's failure, and the same faces when they number at all.
@@ -157,8 +158,8 @@ static void check_map(const hpfc_graph *g, const char *what, int layout, uint64_
     hpfc_tree *t = NULL;
     uint8_t *bytes = NULL, *bytes3 = NULL;
     size_t size = 0, size3 = 0;
-    hpfc_write_options o = {.face_labels = 1, .layout = layout};
-    hpfc_write_options o3 = {.face_labels = 1, .layout = layout, .threads = 3};
+    hpfc_write_options o = {.face_labels = 1, .layout = layout, .geometry = g};
+    hpfc_write_options o3 = {.face_labels = 1, .layout = layout, .geometry = g, .threads = 3};
     if (hpfc_build(g, &p, &t, NULL) != HPFC_OK)
         return; /* the generators' graphs all build; a failure is build's test */
     CHECK_EQ_INT(hpfc_tree_serialize(t, &o, &bytes, &size, NULL), HPFC_OK);
