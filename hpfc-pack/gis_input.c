@@ -989,10 +989,11 @@ static int push_seg(reader *r, seg **segs, size_t *n, size_t *cap, pt a, pt b)
     return 0;
 }
 
-/* Sorts and deduplicates segs; returns the array, shrunk to *n. */
-static seg *sort_unique(seg *segs, size_t *n)
+/* Sorts and deduplicates segs on up to `threads` threads; returns the
+ * array, shrunk to *n. */
+static seg *sort_unique(seg *segs, size_t *n, unsigned threads)
 {
-    sort_in_place(segs, *n, sizeof *segs, cmp_seg); /* qsort would double the array */
+    sort_in_place_threads(segs, *n, sizeof *segs, cmp_seg, threads); /* qsort would double the array */
     size_t u = 0;
     for (size_t i = 0; i < *n; i++)
         if (u == 0 || cmp_seg(&segs[u - 1], &segs[i]) != 0)
@@ -1019,7 +1020,7 @@ static int collect_segments(reader *r, const int64_t *lat, seg **out, size_t *n_
                 return 1;
             }
         }
-    segs = sort_unique(segs, &n);
+    segs = sort_unique(segs, &n, r->opt->threads);
     *out = segs;
     *n_out = n;
     return n ? 0 : fail(r, "nothing left after snapping to the lattice (every line collapsed "
@@ -1171,7 +1172,7 @@ static int node_partly(reader *r, const seg *segs, size_t n, const unsigned char
     seg *from_geos = NULL; /* GEOS's segments: the paths of the dirty ones run along them */
     size_t n_geos = m;
     if (!st) {
-        from_geos = sort_unique(merged, &n_geos);
+        from_geos = sort_unique(merged, &n_geos, r->opt->threads);
         merged = NULL;
     }
     /* the clean segments, in segs' sorted order, and GEOS's */
@@ -1266,7 +1267,7 @@ static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out, se
         free(segs);
         return st;
     }
-    segs = sort_unique(segs, &n);
+    segs = sort_unique(segs, &n, r->opt->threads);
     snprintf(r->info->noding, sizeof r->info->noding, "all");
     r->info->noded_segments = n;
     *segs_out = *geos = segs;
@@ -1380,7 +1381,7 @@ static int make_graph(reader *r, const seg *segs, size_t n_segs, hpfc_graph **ou
     char why[256];
     int st = segment_graph_make(segs, n_segs, r->line_ends, r->n_line_ends,
                                 r->opt->vertex_model == GIS_VERTICES_ALL, r->info->unit_exp10,
-                                out, why, sizeof why);
+                                r->opt->threads, out, why, sizeof why);
     return st ? fail(r, "%s", why) : 0;
 }
 

@@ -102,8 +102,8 @@ static int gb_chain(graph_builder *b, size_t p, size_t s)
 }
 
 int segment_graph_make(const segnode_seg *segs, size_t n_segs, const segnode_pt *ends,
-                       size_t n_ends, int all_vertices, int32_t unit_exp10, hpfc_graph **out,
-                       char *err, size_t err_len)
+                       size_t n_ends, int all_vertices, int32_t unit_exp10, unsigned threads,
+                       hpfc_graph **out, char *err, size_t err_len)
 {
     graph_builder b = {.err = err, .err_len = err_len, .segs = segs, .n_segs = n_segs};
     int st = 0;
@@ -122,7 +122,7 @@ int segment_graph_make(const segnode_seg *segs, size_t n_segs, const segnode_pt 
         b.pts[2 * i] = (segnode_pt){segs[i].ax, segs[i].ay};
         b.pts[2 * i + 1] = (segnode_pt){segs[i].bx, segs[i].by};
     }
-    sort_in_place(b.pts, 2 * n_segs, sizeof *b.pts, segnode_pt_cmp);
+    sort_in_place_threads(b.pts, 2 * n_segs, sizeof *b.pts, segnode_pt_cmp, threads);
     for (size_t i = 0; i < 2 * n_segs; i++)
         if (b.n_pts == 0 || segnode_pt_cmp(&b.pts[b.n_pts - 1], &b.pts[i]) != 0)
             b.pts[b.n_pts++] = b.pts[i];

@@ -23,9 +23,11 @@
  * no segment's end is ignored), and a closed chain with
  * no junction gets one vertex, at its least point (lowest x, then y).
  * Vertices are added in point order, so equal inputs give equal graphs.
+ * The points are sorted on up to `threads` threads (0 or 1: this one),
+ * the same graph whatever the count.
  * HPFC_OK, or a status with a one-line reason in err. */
 int segment_graph_make(const segnode_seg *segs, size_t n, const segnode_pt *ends, size_t n_ends,
-                       int all_vertices, int32_t unit_exp10, hpfc_graph **out, char *err,
-                       size_t err_len);
+                       int all_vertices, int32_t unit_exp10, unsigned threads, hpfc_graph **out,
+                       char *err, size_t err_len);
 
 #endif

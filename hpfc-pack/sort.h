@@ -8,11 +8,16 @@
  * peak. This is an introsort: quicksort on the median of three (Hoare's
  * partition), insertion sort below 16 elements, heapsort past 2 log2(n)
  * levels, so O(n log n) in the worst case, O(log n) stack and no heap. Not
- * stable, which no caller needs: equal elements are identical here.
+ * stable, which no caller needs: equal elements are identical here, so
+ * the result is the same bytes however the work is shared out.
+ * sort_in_place_threads sorts the two sides of a partition on two threads,
+ * and so on while it has threads to give: the read's two largest sorts
+ * would otherwise keep the second core idle.
  */
 #ifndef HPFC_PACK_SORT_H
 #define HPFC_PACK_SORT_H
 
+#include <pthread.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
@@ -113,17 +118,83 @@ static inline void sort_intro(char *base, size_t n, size_t size, sort_cmp cmp, u
     sort_insertion(base, n, size, cmp);
 }
 
-/* Sorts n elements of `size` bytes in place (larger elements than
- * SORT_MAX_SIZE go to qsort). */
-static inline void sort_in_place(void *base, size_t n, size_t size, sort_cmp cmp)
+/* sort_intro's budget of levels before heapsort: 2 log2(n). */
+static inline unsigned sort_depth(size_t n)
 {
     unsigned depth = 0;
     for (size_t m = n; m > 1; m >>= 1)
         depth += 2;
+    return depth;
+}
+
+/* Sorts n elements of `size` bytes in place (larger elements than
+ * SORT_MAX_SIZE go to qsort). */
+static inline void sort_in_place(void *base, size_t n, size_t size, sort_cmp cmp)
+{
     if (size <= SORT_MAX_SIZE)
-        sort_intro(base, n, size, cmp, depth);
+        sort_intro(base, n, size, cmp, sort_depth(n));
     else
         qsort(base, n, size, cmp);
+}
+
+/* Below this many elements a side is not worth a thread. */
+enum { SORT_SPLIT_MIN = 1 << 15 };
+
+typedef struct sort_share {
+    char *base;
+    size_t n, size, min_split;
+    sort_cmp cmp;
+    unsigned depth, threads;
+} sort_share;
+
+static inline void sort_split(const sort_share *s);
+
+static inline void *sort_share_run(void *arg)
+{
+    sort_split(arg);
+    return NULL;
+}
+
+/* s's elements on s->threads threads: partitioned once, the left side on a
+ * new thread with half of them, the right side here with the rest. */
+static inline void sort_split(const sort_share *s)
+{
+    if (s->threads < 2 || s->n < s->min_split || s->n <= SORT_SMALL || s->depth == 0) {
+        sort_intro(s->base, s->n, s->size, s->cmp, s->depth);
+        return;
+    }
+    size_t left = sort_partition(s->base, s->n, s->size, s->cmp) + 1;
+    sort_share l = *s, r = *s;
+    l.n = left, l.depth = r.depth = s->depth - 1, l.threads = s->threads / 2;
+    r.base = sort_at(s->base, left, s->size), r.n = s->n - left, r.threads = s->threads - l.threads;
+    pthread_t thread;
+    if (pthread_create(&thread, NULL, sort_share_run, &l) != 0) { /* no thread: one after the other */
+        l.threads = 1;
+        sort_split(&l);
+        sort_split(&r);
+        return;
+    }
+    sort_split(&r);
+    pthread_join(thread, NULL);
+}
+
+/* sort_in_place on up to `threads` threads (0 or 1: this one), each side
+ * of a partition of at least `min_split` elements given a thread of its
+ * own: the same bytes as sort_in_place. */
+static inline void sort_in_place_split(void *base, size_t n, size_t size, sort_cmp cmp, unsigned threads,
+                                       size_t min_split)
+{
+    if (size > SORT_MAX_SIZE) {
+        qsort(base, n, size, cmp);
+        return;
+    }
+    sort_share s = {base, n, size, min_split, cmp, sort_depth(n), threads};
+    sort_split(&s);
+}
+
+static inline void sort_in_place_threads(void *base, size_t n, size_t size, sort_cmp cmp, unsigned threads)
+{
+    sort_in_place_split(base, n, size, cmp, threads, SORT_SPLIT_MIN);
 }
 
 #endif

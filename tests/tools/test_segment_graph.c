@@ -219,7 +219,7 @@ static void test_random(void)
         for (int all = 0; all < 2; all++) {
             hpfc_graph *g = NULL;
             char why[256] = "";
-            CHECK_EQ_INT(segment_graph_make(s, n, ends, n_ends, all, -3, &g, why, sizeof why),
+            CHECK_EQ_INT(segment_graph_make(s, n, ends, n_ends, all, -3, 1, &g, why, sizeof why),
                          HPFC_OK);
             if (g) {
                 CHECK_EQ_INT(hpfc_graph_unit_exp10(g), -3);
@@ -236,7 +236,7 @@ static void test_empty(void)
 {
     hpfc_graph *g = NULL;
     char why[64];
-    CHECK_EQ_INT(segment_graph_make(NULL, 0, NULL, 0, 0, 0, &g, why, sizeof why), HPFC_OK);
+    CHECK_EQ_INT(segment_graph_make(NULL, 0, NULL, 0, 0, 0, 2, &g, why, sizeof why), HPFC_OK);
     CHECK(g != NULL);
     CHECK_EQ_INT(hpfc_graph_vertex_count(g), 0);
     CHECK_EQ_INT(hpfc_graph_edge_count(g), 0);

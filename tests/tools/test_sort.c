@@ -4,7 +4,9 @@
  * and 32-byte segments), on random arrays with many or few equal keys,
  * sorted, reversed, constant and organ-pipe inputs, sizes around the
  * insertion-sort cutoff and large ones; and the heapsort fallback forced
- * on its own.
+ * on its own. The threaded sort (sort_in_place_split) on 2, 3 and 4
+ * threads, its sides split from 2, 64 and SORT_SPLIT_MIN elements, must be
+ * the same bytes too (it runs under ThreadSanitizer in tools/run-tests.sh).
  */
 #include <stdint.h>
 #include <stdlib.h>
@@ -74,9 +76,11 @@ static int64_t shaped_key(int shape, size_t i, size_t n)
 }
 
 /* Sorts a copy with sort_in_place (or, with depth 0, sort_intro's heapsort
- * at once) and another with qsort: the two must be the same bytes. */
+ * at once) and another with qsort: the two must be the same bytes; and
+ * copies on several threads, splitting from several sizes. */
 static void check_against_qsort(const void *in, size_t n, size_t size, sort_cmp cmp, int heap_only)
 {
+    static const size_t splits[] = {2, 64, SORT_SPLIT_MIN};
     char *a = malloc(n * size + 1), *b = malloc(n * size + 1);
     memcpy(a, in, n * size);
     memcpy(b, in, n * size);
@@ -86,6 +90,12 @@ static void check_against_qsort(const void *in, size_t n, size_t size, sort_cmp 
         sort_in_place(a, n, size, cmp);
     qsort(b, n, size, cmp);
     CHECK(memcmp(a, b, n * size) == 0);
+    for (unsigned threads = 2; threads <= 4 && !heap_only; threads++)
+        for (size_t k = 0; k < sizeof splits / sizeof splits[0]; k++) {
+            memcpy(a, in, n * size);
+            sort_in_place_split(a, n, size, cmp, threads, splits[k]);
+            CHECK(memcmp(a, b, n * size) == 0);
+        }
     free(a);
     free(b);
 }
