@@ -1043,7 +1043,7 @@ HPFC_API int hpfc_faces_build(const hpfc_file *file, hpfc_faces **out);
 /* The same faces, numbered on up to `threads` threads (0 or 1: the calling
  * thread alone; at most 64), the calling thread among them: the same
  * answers and statuses as hpfc_faces_build whatever the count, faster on
- * a large map when the threads have cores of their own (1.7-1.8x on two
+ * a large map when the threads have cores of their own (1.5-1.6x on two
  * for a continental map; bench/README.md). Adds 772 bytes per 4,096
  * leaves and a walker a thread. A thread that cannot be started leaves its
  * share to the others. */
