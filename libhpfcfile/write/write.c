@@ -724,11 +724,11 @@ static int make_labels(layout *L, hpfc_diag *diag)
 }
 
 /* The GEOM section of the tree laid out in L, from the graph it was built
- * from (spec §6.6): planned here, streamed out with the other sections. */
-/* GEOM's plan, made from the tree and the graph alone: with threads to
- * spare it is made on a thread of its own beside make_labels (a fifth of
- * the labels' time on a continental map), into the job rather than L,
- * whose sections make_labels lays out without GEOM. */
+ * from (spec §6.6): planned here, streamed out with the other sections.
+ * The plan needs the tree and the graph alone: with threads to spare it
+ * is made on a thread of its own beside make_labels (a fifth of the
+ * labels' time on a continental map), into the job rather than L, whose
+ * sections make_labels lays out without GEOM. */
 typedef struct geometry_job {
     const hpfc_tree *tree;
     const hpfc_graph *graph;
@@ -750,6 +750,7 @@ static void *plan_geometry(void *arg)
 static int make_labels_and_geometry(layout *L, const hpfc_write_options *opts, hpfc_diag *diag)
 {
     geometry_job job = {.tree = L->tree, .graph = opts->geometry};
+    diag_clear(&job.diag);
     pthread_t thread;
     bool beside = opts->geometry && opts->face_labels && L->threads > 1 &&
                   pthread_create(&thread, NULL, plan_geometry, &job) == 0;
@@ -759,7 +760,8 @@ static int make_labels_and_geometry(layout *L, const hpfc_write_options *opts, h
     else if (!st && opts->geometry)
         plan_geometry(&job);
     if (!st && job.status) {
-        *diag = job.diag;
+        if (diag) /* the caller may want no message */
+            *diag = job.diag;
         st = job.status;
     }
     if (!st) {

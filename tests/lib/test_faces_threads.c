@@ -151,6 +151,31 @@ static void check_mutants(const uint8_t *bytes, size_t size, uint64_t seed)
     free(copy);
 }
 
+/* GEOM from a graph the tree was not built from (one vertex, no edge):
+ * the same status and words on three threads, where the plan fails beside
+ * the labels, as on one, with a diagnostic and without. */
+static void check_wrong_geometry(const hpfc_tree *t, int layout)
+{
+    hpfc_graph *other = NULL;
+    if (hpfc_graph_create(&other) != HPFC_OK || hpfc_graph_add_vertex(other, 0, 0, NULL) != HPFC_OK) {
+        CHECK(0);
+        hpfc_graph_free(other);
+        return;
+    }
+    hpfc_write_options o = {.face_labels = 1, .layout = layout, .geometry = other};
+    hpfc_write_options o3 = {.face_labels = 1, .layout = layout, .geometry = other, .threads = 3};
+    hpfc_diag d1, d3;
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &o, &bytes, &size, &d1), HPFC_E_ARG);
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &o3, &bytes, &size, &d3), HPFC_E_ARG);
+    CHECK(!bytes && d1.status == d3.status && strcmp(d1.message, d3.message) == 0 &&
+          d1.edge[0] == d3.edge[0] && d1.edge[1] == d3.edge[1] && strstr(d3.message, "geometry"));
+    CHECK(d3.edge[0] == -1 && d3.edge[1] == -1 && !d3.has_point); /* no edge or point named */
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &o3, &bytes, &size, NULL), HPFC_E_ARG);
+    hpfc_graph_free(other);
+}
+
 static void check_map(const hpfc_graph *g, const char *what, int layout, uint64_t seed)
 {
     hpfc_build_params p;
@@ -165,6 +190,7 @@ static void check_map(const hpfc_graph *g, const char *what, int layout, uint64_
     CHECK_EQ_INT(hpfc_tree_serialize(t, &o, &bytes, &size, NULL), HPFC_OK);
     CHECK_EQ_INT(hpfc_tree_serialize(t, &o3, &bytes3, &size3, NULL), HPFC_OK);
     CHECK(bytes && bytes3 && size == size3 && memcmp(bytes, bytes3, size) == 0);
+    check_wrong_geometry(t, layout);
     hpfc_tree_free(t);
     hpfc_file *f = NULL;
     if (!bytes || hpfc_open_memory(bytes, size, 0, &f)) {
