@@ -190,7 +190,9 @@ static void check_map(const hpfc_graph *g, const char *what, int layout, uint64_
     CHECK_EQ_INT(hpfc_tree_serialize(t, &o, &bytes, &size, NULL), HPFC_OK);
     CHECK_EQ_INT(hpfc_tree_serialize(t, &o3, &bytes3, &size3, NULL), HPFC_OK);
     CHECK(bytes && bytes3 && size == size3 && memcmp(bytes, bytes3, size) == 0);
-    check_wrong_geometry(t, layout);
+    static unsigned wrong_geometry_maps;
+    if (wrong_geometry_maps++ < 4) /* the failure's path, not the maps', is under test */
+        check_wrong_geometry(t, layout);
     hpfc_tree_free(t);
     hpfc_file *f = NULL;
     if (!bytes || hpfc_open_memory(bytes, size, 0, &f)) {
