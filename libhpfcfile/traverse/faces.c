@@ -298,7 +298,7 @@ typedef void (*run_step)(numbering *nb, hpfc_walker *w, size_t run);
 struct numbering {
     hpfc_faces *fc;
     hpfc_pixel *run_first; /* each run's first leaf */
-    uint64_t *run_nodes;   /* each run's node count, then its first node */
+    uint64_t *run_nodes;   /* each run's node count */
     size_t runs;
     uint64_t run_size; /* leaves a run */
     uint64_t leaves;
@@ -407,7 +407,8 @@ static void parse_run(numbering *nb, hpfc_walker *w, size_t run)
     nb->run_nodes[run] = nodes;
 }
 
-/* Between passes 2 and 3: each run's first node. */
+/* Between passes 2 and 3: the node count, which must fit an entry's
+ * base; past it, the failure is the first run's that crosses the limit. */
 static int sum_runs(numbering *nb)
 {
     uint64_t total = 0;
@@ -417,7 +418,6 @@ static int sum_runs(numbering *nb)
             note_failure(nb, (uint64_t)r * nb->run_size, FAIL_LIMIT, HPFC_E_LIMIT);
             return HPFC_E_LIMIT;
         }
-        nb->run_nodes[r] = total;
         total += n;
     }
     nb->fc->nodes = total;
