@@ -178,67 +178,274 @@ static void walk_start(edge_walk *w, const map_seg *m, int64_t px, int64_t py)
     w->at = w->dir > 0 ? m->pos : m->pos + 1;
 }
 
-/* One segment p-q of a part, which is a segment of the map (the parts were
- * recorded as they lie in the map, gis_features.h): the edge's feature (once
- * per run along one edge) and, on the edge's representative segment, a
- * toggle of a ring. The segment is first sought as the next one of the
- * edge the part was running along (one comparison), and only at the edge's
- * end among all the map's (a binary search a segment cost a cache miss a
- * step, most of the stage on large maps). */
-static int match_segment(const map_seg *s, size_t n, edge_walk *w, int64_t px, int64_t py,
-                         int64_t qx, int64_t qy, uint32_t feature, int ring, u64_list *uses,
-                         u64_list *toggles)
+/* Starts walking edge e from its end u (at_v 0) or v (1). */
+static void walk_from_end(edge_walk *w, uint32_t e, int at_v)
 {
-    int64_t ax = px, ay = py, bx = qx, by = qy;
-    if (!order_ends(&ax, &ay, &bx, &by))
-        return HPFC_OK;
-    uint32_t edge;
-    int64_t pos = walk_next(w, qx, qy);
-    if (pos >= 0) {
-        edge = w->edge;
-        w->at = (uint32_t)(w->at + w->dir);
-    } else {
-        const map_seg *m = find_seg(s, n, ax, ay, bx, by);
-        if (!m)
-            return HPFC_E_CORRUPT; /* a part leaves the map */
-        walk_start(w, m, px, py);
-        w->at = (uint32_t)(w->at + w->dir);
-        edge = m->edge, pos = m->pos;
+    size_t k;
+    w->edge = e;
+    hpfc_graph_edge(w->g, e, &w->u, &w->v, &w->xy, &k);
+    w->k = k;
+    w->dir = at_v ? -1 : 1;
+    w->at = at_v ? (uint32_t)(k + 1) : 0;
+}
+
+/* ---- the map's vertices by their point ------------------------------------------ */
+
+/* The vertices in a hash table of their points, and the edge ends at each
+ * vertex, so that a part is matched to the map from one of its points that
+ * is a vertex: along an edge the part can only go on or turn back, and at
+ * a vertex it takes the edge end whose first segment it runs along. */
+typedef struct vertex_index {
+    const hpfc_graph *g;
+    uint32_t *slot; /* vertex + 1, 0 for none */
+    size_t mask;
+    uint64_t *end_start; /* vertex v's edge ends: end[end_start[v] .. end_start[v + 1]) */
+    uint64_t *end;       /* edge << 1 | (1 at the edge's v end) */
+} vertex_index;
+
+/* A point's slot: lattice points share their low bits (a grid's step, a
+ * snapping), so every bit of both coordinates is mixed in (splitmix64's
+ * finaliser). */
+static size_t point_hash(int64_t x, int64_t y)
+{
+    uint64_t z = (uint64_t)x * 0x9e3779b97f4a7c15u ^ (uint64_t)y;
+    z = (z ^ z >> 30) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ z >> 27) * 0x94d049bb133111ebu;
+    return (size_t)(z ^ z >> 31);
+}
+
+static uint32_t vertex_find(const vertex_index *vi, int64_t x, int64_t y)
+{
+    for (size_t i = point_hash(x, y) & vi->mask;; i = (i + 1) & vi->mask) {
+        uint32_t s = vi->slot[i];
+        if (s == 0)
+            return UINT32_MAX;
+        int64_t vx, vy;
+        hpfc_graph_vertex(vi->g, s - 1, &vx, &vy);
+        if (vx == x && vy == y)
+            return s - 1;
     }
-    uint64_t key = (uint64_t)edge << 32 | feature;
-    if ((uses->n == 0 || uses->v[uses->n - 1] != key) && push_u64(uses, key))
+}
+
+static int vertex_index_make(vertex_index *vi, const hpfc_graph *g)
+{
+    memset(vi, 0, sizeof *vi);
+    vi->g = g;
+    size_t nv = hpfc_graph_vertex_count(g), ne = hpfc_graph_edge_count(g), slots = 16;
+    if (nv >= UINT32_MAX)
+        return HPFC_E_LIMIT;
+    while (slots < 2 * nv)
+        slots *= 2;
+    vi->mask = slots - 1;
+    vi->slot = calloc(slots, sizeof *vi->slot);
+    vi->end_start = calloc(nv + 1, sizeof *vi->end_start);
+    vi->end = malloc((ne ? 2 * ne : 1) * sizeof *vi->end);
+    if (!vi->slot || !vi->end_start || !vi->end)
         return HPFC_E_NOMEM;
-    if (ring && pos == 0)
-        return push_u64(toggles, key);
+    for (size_t v = 0; v < nv; v++) {
+        int64_t x, y;
+        hpfc_graph_vertex(g, v, &x, &y);
+        size_t i = point_hash(x, y) & vi->mask;
+        while (vi->slot[i])
+            i = (i + 1) & vi->mask;
+        vi->slot[i] = (uint32_t)v + 1;
+    }
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t u, v;
+        const int64_t *xy;
+        size_t k;
+        hpfc_graph_edge(g, e, &u, &v, &xy, &k);
+        vi->end_start[u + 1]++;
+        vi->end_start[v + 1]++;
+    }
+    for (size_t v = 0; v < nv; v++)
+        vi->end_start[v + 1] += vi->end_start[v];
+    for (size_t e = 0; e < ne; e++) { /* end_start[v] runs ahead, then is put back */
+        uint32_t u, v;
+        const int64_t *xy;
+        size_t k;
+        hpfc_graph_edge(g, e, &u, &v, &xy, &k);
+        vi->end[vi->end_start[u]++] = (uint64_t)e << 1;
+        vi->end[vi->end_start[v]++] = (uint64_t)e << 1 | 1;
+    }
+    for (size_t v = nv; v > 0; v--)
+        vi->end_start[v] = vi->end_start[v - 1];
+    vi->end_start[0] = 0;
     return HPFC_OK;
 }
 
-static int match_parts(const gis_features *fs, const hpfc_graph *g, const map_seg *s, size_t n,
-                       u64_list *uses, u64_list *toggles)
+static void vertex_index_free(vertex_index *vi)
 {
-    size_t parts = gis_features_part_count(fs);
-    for (size_t r = 0; r < parts; r++) {
-        uint32_t feature;
-        int ring;
-        gis_part_cursor c = gis_features_part_open(fs, r, &feature, &ring);
-        int64_t x0, y0, px, py, qx, qy;
-        if (!c.left)
-            continue;
-        gis_part_next(&c, &x0, &y0);
-        px = x0, py = y0;
-        int st = HPFC_OK;
-        edge_walk w = {.g = g, .edge = UINT32_MAX};
-        while (c.left && !st) {
-            gis_part_next(&c, &qx, &qy);
-            st = match_segment(s, n, &w, px, py, qx, qy, feature, ring, uses, toggles);
-            px = qx, py = qy;
-        }
-        if (!st && ring) /* the closing segment */
-            st = match_segment(s, n, &w, px, py, x0, y0, feature, ring, uses, toggles);
-        if (st)
-            return st;
+    free(vi->slot);
+    free(vi->end_start);
+    free(vi->end);
+    memset(vi, 0, sizeof *vi);
+}
+
+/* ---- parts against edges ------------------------------------------------------- */
+
+/* A part's run over the map: the edge it runs along, its last point, and
+ * that point's vertex when the run starts there (UINT32_MAX otherwise). */
+typedef struct part_run {
+    const vertex_index *vi;
+    const map_seg *segs; /* the map's segments, for a part through no vertex; else NULL */
+    size_t n_segs;
+    edge_walk w;
+    int64_t px, py;
+    uint32_t vertex;
+    uint32_t feature;
+    int ring;
+    u64_list *uses, *toggles;
+} part_run;
+
+static void run_start(part_run *pr, int64_t x, int64_t y, uint32_t vertex)
+{
+    pr->w.edge = UINT32_MAX;
+    pr->px = x, pr->py = y;
+    pr->vertex = vertex;
+}
+
+/* The first segment from vertex `vertex` toward q: the walk set on its
+ * edge and its position, else -1. */
+static int64_t branch_at(part_run *pr, uint32_t vertex, int64_t qx, int64_t qy)
+{
+    const vertex_index *vi = pr->vi;
+    for (uint64_t i = vi->end_start[vertex]; i < vi->end_start[vertex + 1]; i++) {
+        walk_from_end(&pr->w, (uint32_t)(vi->end[i] >> 1), (int)(vi->end[i] & 1));
+        int64_t pos = walk_next(&pr->w, qx, qy);
+        if (pos >= 0)
+            return pos;
     }
+    return -1;
+}
+
+/* Where p-q lies when it is not the next segment of the edge being walked:
+ * back along the edge from a point inside it (a point of degree 2 lies on
+ * no other edge), or another edge from a vertex; -1 when p-q is not a
+ * segment of the map. */
+static int64_t turn(part_run *pr, int64_t qx, int64_t qy)
+{
+    edge_walk *w = &pr->w;
+    if (w->edge != UINT32_MAX) {
+        if (w->at > 0 && w->at <= w->k) {
+            w->dir = -w->dir;
+            return walk_next(w, qx, qy);
+        }
+        return branch_at(pr, w->at == 0 ? w->u : w->v, qx, qy);
+    }
+    if (pr->vertex != UINT32_MAX)
+        return branch_at(pr, pr->vertex, qx, qy);
+    if (!pr->segs)
+        return -1;
+    int64_t ax = pr->px, ay = pr->py, bx = qx, by = qy;
+    order_ends(&ax, &ay, &bx, &by);
+    const map_seg *m = find_seg(pr->segs, pr->n_segs, ax, ay, bx, by);
+    if (!m)
+        return -1;
+    walk_start(w, m, pr->px, pr->py);
+    return m->pos;
+}
+
+/* The part's next point q: the segment from the last point to q gives the
+ * part's feature to its edge (once per run along one edge) and, on the
+ * edge's representative segment, toggles a ring. */
+static int run_to(part_run *pr, int64_t qx, int64_t qy)
+{
+    if (qx == pr->px && qy == pr->py)
+        return HPFC_OK;
+    int64_t pos = walk_next(&pr->w, qx, qy);
+    if (pos < 0 && (pos = turn(pr, qx, qy)) < 0)
+        return HPFC_E_CORRUPT; /* a part leaves the map */
+    pr->w.at = (uint32_t)(pr->w.at + pr->w.dir);
+    pr->px = qx, pr->py = qy;
+    uint64_t key = (uint64_t)pr->w.edge << 32 | pr->feature;
+    if ((pr->uses->n == 0 || pr->uses->v[pr->uses->n - 1] != key) && push_u64(pr->uses, key))
+        return HPFC_E_NOMEM;
+    if (pr->ring && pos == 0)
+        return push_u64(pr->toggles, key);
     return HPFC_OK;
+}
+
+typedef struct point_list {
+    int64_t *xy;
+    size_t n, cap;
+} point_list;
+
+/* A part in pts through no vertex of the map (a ring lying inside one edge,
+ * along another feature's border; or a line not starting at one, which the
+ * reader never records): its first segment sought among all the map's
+ * segments, which are sorted the first time. */
+static int run_without_vertex(part_run *pr, const point_list *pts, map_seg **segs, size_t *n_segs)
+{
+    if (!*segs && !(*segs = map_segments(pr->vi->g, n_segs)))
+        return HPFC_E_NOMEM;
+    pr->segs = *segs, pr->n_segs = *n_segs;
+    run_start(pr, pts->xy[0], pts->xy[1], UINT32_MAX);
+    int st = HPFC_OK;
+    for (size_t j = 1; j < pts->n && !st; j++)
+        st = run_to(pr, pts->xy[2 * j], pts->xy[2 * j + 1]);
+    if (!st && pr->ring)
+        st = run_to(pr, pts->xy[0], pts->xy[1]);
+    pr->segs = NULL;
+    return st;
+}
+
+/* Part r, started at a point that is a vertex: a line's first (its ends
+ * are vertices of the map, gis_input.c), a ring's first such point, whose
+ * points before it are kept in `pts` and run over last, so each of the
+ * ring's segments is run over once. */
+static int match_part(part_run *pr, const gis_features *fs, size_t r, point_list *pts,
+                      map_seg **segs, size_t *n_segs)
+{
+    gis_part_cursor c = gis_features_part_open(fs, r, &pr->feature, &pr->ring);
+    uint32_t vertex = UINT32_MAX;
+    pts->n = 0;
+    while (c.left && vertex == UINT32_MAX && (pr->ring || pts->n == 0)) {
+        if (!array_grow((void **)&pts->xy, &pts->cap, 2 * (pts->n + 1), sizeof *pts->xy))
+            return HPFC_E_NOMEM;
+        int64_t *p = pts->xy + 2 * pts->n++;
+        gis_part_next(&c, &p[0], &p[1]);
+        vertex = vertex_find(pr->vi, p[0], p[1]);
+    }
+    if (pts->n == 0)
+        return HPFC_OK;
+    if (vertex == UINT32_MAX) {
+        for (; c.left; pts->n++) { /* the rest of a line */
+            if (!array_grow((void **)&pts->xy, &pts->cap, 2 * (pts->n + 1), sizeof *pts->xy))
+                return HPFC_E_NOMEM;
+            gis_part_next(&c, &pts->xy[2 * pts->n], &pts->xy[2 * pts->n + 1]);
+        }
+        return run_without_vertex(pr, pts, segs, n_segs);
+    }
+    size_t i = pts->n - 1;
+    run_start(pr, pts->xy[2 * i], pts->xy[2 * i + 1], vertex);
+    int st = HPFC_OK;
+    while (c.left && !st) {
+        int64_t x, y;
+        gis_part_next(&c, &x, &y);
+        st = run_to(pr, x, y);
+    }
+    /* a ring's closing segment, then its points before the vertex */
+    for (size_t j = 0; pr->ring && j <= i && !st; j++)
+        st = run_to(pr, pts->xy[2 * j], pts->xy[2 * j + 1]);
+    return st;
+}
+
+static int match_parts(const gis_features *fs, const hpfc_graph *g, u64_list *uses,
+                       u64_list *toggles)
+{
+    vertex_index vi;
+    int st = vertex_index_make(&vi, g);
+    part_run pr = {.vi = &vi, .w = {.g = g, .edge = UINT32_MAX}, .uses = uses, .toggles = toggles};
+    point_list pts = {0};
+    map_seg *segs = NULL;
+    size_t n_segs = 0, parts = gis_features_part_count(fs);
+    for (size_t r = 0; r < parts && !st; r++)
+        st = match_part(&pr, fs, r, &pts, &segs, &n_segs);
+    free(pts.xy);
+    free(segs);
+    vertex_index_free(&vi);
+    return st;
 }
 
 /* Sorted (edge << 32 | feature) keys as CSR per edge: distinct keys, or
@@ -444,14 +651,9 @@ int face_link_run(face_link *fl, const gis_features *fs, const hpfc_graph *graph
     if (nf == 0 || nf >= UINT32_MAX || ne >= UINT32_MAX)
         return HPFC_E_CORRUPT;
     int st = allocate(fl, nf, (uint32_t)ne);
-    size_t n_seg = 0;
-    map_seg *segs = st ? NULL : map_segments(graph, &n_seg);
     u64_list uses = {0}, toggles = {0};
-    if (!st && !segs)
-        st = HPFC_E_NOMEM;
     if (!st)
-        st = match_parts(fs, graph, segs, n_seg, &uses, &toggles);
-    free(segs);
+        st = match_parts(fs, graph, &uses, &toggles);
     if (!st)
         st = edge_csr(&uses, fl->edges, 0, &fl->edge_start, &fl->edge_feature);
     free(uses.v);

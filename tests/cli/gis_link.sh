@@ -13,7 +13,9 @@
 #    the same fids, keys and attributes, each its own source_fid;
 #  - --fields stores typed values that GDAL reads back (feature_oracle.py
 #    for the points, GDAL for the values); --key a,b joins them;
-#  - a line layer: its features are recorded, no face lies in them.
+#  - a line layer: its features are recorded, no face lies in them;
+#  - rings that turn back inside an edge or pass no vertex of the map name
+#    every edge they run along.
 # Skipped (exit 77) without GIS input or without Python's GDAL bindings.
 # shellcheck source=tests/cli/lib.sh
 . "$(dirname "$0")/lib.sh"
@@ -208,6 +210,40 @@ for q in "1,1.001 a" "8,8.01 a" "1,8.99 b" "9,1.01 b" "5,3.2 c" "9.9,3.1 c" "2,3
 import json, sys
 a = json.load(open(sys.argv[1]))
 assert sys.argv[2] in [f.get("key") for f in a.get("along", [])], a
+PY
+done
+
+# --- rings that turn back inside an edge, a ring through no vertex -----------
+# P's spike runs out along the line L and back from a point inside L's edge;
+# deg has no area and lies along Q's side between points of degree 2, so no
+# vertex of the map is on it. Both still name every edge they run along.
+python3 - "$tmp/spike.geojson" <<'PY'
+import json, sys
+rings = {"P": [[0, 0], [10, 0], [10, 5], [14, 5], [10, 5], [10, 10], [0, 10], [0, 0]],
+         "Q": [[20, 0], [30, 0], [30, 10], [20, 10], [20, 0]],
+         "deg": [[22, 0], [25, 0], [23, 0], [22, 0]]}
+feats = [{"type": "Feature", "properties": {"name": k},
+          "geometry": {"type": "Polygon", "coordinates": [r]}} for k, r in rings.items()]
+feats.append({"type": "Feature", "properties": {"name": "L"},
+              "geometry": {"type": "LineString", "coordinates": [[12, 5], [16, 5]]}})
+json.dump({"type": "FeatureCollection", "features": feats}, open(sys.argv[1], "w"))
+PY
+run "$PACK" --key name --projection none "$tmp/spike.geojson" -o "$tmp/spike.hpfc"
+expect_ok "pack rings that turn back"
+"$PACK" --link witness --key name --projection none "$tmp/spike.geojson" -o "$tmp/spike_w.hpfc" \
+    >/dev/null 2>&1 || fail "rings that turn back: pack with the witness method"
+cmp -s "$tmp/spike.hpfc" "$tmp/spike_w.hpfc" || fail "rings that turn back: topology and witness differ"
+for q in "11,5.001 P -" "13,5.001 L,P -" "15.9,5.001 L,P -" "5,5 - P" "21,0.001 Q,deg Q" \
+    "24,0.001 Q,deg Q" "25,5 - Q"; do
+    set -- $q
+    run "$INSPECT" --json --locate "$1" "$tmp/spike.hpfc"
+    expect_ok "--locate $1"
+    python3 - "$tmp/out" "$2" "$3" <<'PY' || fail "rings that turn back: --locate $1 does not give along $2, in $3"
+import json, sys
+a = json.load(open(sys.argv[1]))
+along = ",".join(sorted(f["key"] for f in a.get("along", []))) or "-"
+inside = ",".join(sorted(f["key"] for f in a.get("features", []))) or "-"
+assert (along, inside) == (sys.argv[2], sys.argv[3]), (along, inside)
 PY
 done
 
