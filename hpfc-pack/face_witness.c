@@ -158,12 +158,34 @@ static int view_leaf(const hpfc_file *file, leaf_view *v)
     return st;
 }
 
+/* The tree's images along the last leaf's path, so that the next leaf,
+ * which shares the start of its path (leaves come depth first), is found
+ * from where the two paths part instead of from the root. */
+typedef struct tree_path {
+    uint32_t valid; /* image[0 .. valid) are known for the path in i[], j[] */
+    size_t image[HPFC_MAX_LEVELS];
+    uint32_t i[HPFC_MAX_LEVELS], j[HPFC_MAX_LEVELS];
+} tree_path;
+
 /* The tree's pixel at the file pixel's path: the child images of the
  * refined pixels along it, level by level. */
-static int tree_pixel_of(const hpfc_tree *tree, const hpfc_pixel *px, hpfc_tree_pixel *tp)
+static int tree_pixel_of(const hpfc_tree *tree, const hpfc_pixel *px, tree_path *tp_cache,
+                         hpfc_tree_pixel *tp)
 {
-    size_t image = 0;
-    for (uint32_t l = 0;; l++) {
+    if (px->depth >= HPFC_MAX_LEVELS)
+        return HPFC_E_CORRUPT;
+    /* image[l] depends on the path above level l only */
+    uint32_t l = 0;
+    while (l < tp_cache->valid && l <= px->depth &&
+           (l == 0 || (tp_cache->i[l - 1] == px->path[l - 1].i &&
+                       tp_cache->j[l - 1] == px->path[l - 1].j)))
+        l++;
+    l = l ? l - 1 : 0;
+    size_t image = l ? tp_cache->image[l] : 0;
+    for (;; l++) {
+        tp_cache->image[l] = image;
+        tp_cache->i[l] = px->path[l].i, tp_cache->j[l] = px->path[l].j;
+        tp_cache->valid = l + 1;
         int st = hpfc_tree_get_pixel(tree, l, image, px->path[l].i, px->path[l].j, tp);
         if (st || l == px->depth)
             return st ? HPFC_E_CORRUPT : HPFC_OK;
@@ -224,12 +246,13 @@ int leaf_crossings_collect(const hpfc_tree *tree, const hpfc_file *file, leaf_cr
 {
     memset(out, 0, sizeof *out);
     leaf_view v = {0};
+    tree_path path = {0};
     int st = reserve_crossings(tree, out);
     if (!st)
         st = hpfc_leaf_first(file, &v.px);
     for (; !st; st = hpfc_leaf_next(file, &v.px)) {
         hpfc_tree_pixel tp;
-        if ((st = view_leaf(file, &v)) || (st = tree_pixel_of(tree, &v.px, &tp)))
+        if ((st = view_leaf(file, &v)) || (st = tree_pixel_of(tree, &v.px, &path, &tp)))
             break;
         if (tp.type != HPFC_PIXEL_WORD || tp.word_len != v.word_len ||
             memcmp(tp.word, v.word, v.word_len) != 0 || tp.x0 != v.x0 || tp.y0 != v.y0 ||
