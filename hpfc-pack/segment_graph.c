@@ -5,6 +5,7 @@
  */
 #include "segment_graph.h"
 
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -101,6 +102,49 @@ static int gb_chain(graph_builder *b, size_t p, size_t s)
     }
 }
 
+/* Segments [first, end)'s second ends numbered, by binary search. */
+typedef struct b_ends {
+    graph_builder *b;
+    size_t first, end;
+} b_ends;
+
+static void *number_b_ends(void *arg)
+{
+    const b_ends *r = arg;
+    const graph_builder *b = r->b;
+    for (size_t i = r->first; i < r->end; i++)
+        b->seg_b[i] = (uint32_t)find_pt(b->pts, b->n_pts, b->segs[i].bx, b->segs[i].by);
+    return NULL;
+}
+
+/* Each segment's ends as point numbers. The first ends come in the points'
+ * order when the segments are sorted, as the readers give them, so each is
+ * the point the last one was, or the next (a search otherwise); the second
+ * ends are searched for, their halves on two threads when there are. */
+static void number_ends(graph_builder *b, unsigned threads)
+{
+    size_t at = 0;
+    for (size_t i = 0; i < b->n_segs; i++) {
+        segnode_pt a = {b->segs[i].ax, b->segs[i].ay};
+        if (at + 1 < b->n_pts && segnode_pt_cmp(&b->pts[at], &a) != 0 &&
+            segnode_pt_cmp(&b->pts[at + 1], &a) == 0)
+            at++;
+        else if (segnode_pt_cmp(&b->pts[at], &a) != 0)
+            at = find_pt(b->pts, b->n_pts, a.x, a.y);
+        b->seg_a[i] = (uint32_t)at;
+    }
+    b_ends half[2] = {{b, 0, b->n_segs / 2}, {b, b->n_segs / 2, b->n_segs}};
+    pthread_t thread;
+    if (threads > 1 && b->n_segs >= SORT_SPLIT_MIN &&
+        pthread_create(&thread, NULL, number_b_ends, &half[1]) == 0) {
+        number_b_ends(&half[0]);
+        pthread_join(thread, NULL);
+    } else {
+        half[0].end = b->n_segs;
+        number_b_ends(&half[0]);
+    }
+}
+
 int segment_graph_make(const segnode_seg *segs, size_t n_segs, const segnode_pt *ends,
                        size_t n_ends, int all_vertices, int32_t unit_exp10, unsigned threads,
                        hpfc_graph **out, char *err, size_t err_len)
@@ -135,9 +179,8 @@ int segment_graph_make(const segnode_seg *segs, size_t n_segs, const segnode_pt 
         st = fail_nomem(&b);
         goto done;
     }
+    number_ends(&b, threads);
     for (size_t i = 0; i < n_segs; i++) {
-        b.seg_a[i] = (uint32_t)find_pt(b.pts, b.n_pts, segs[i].ax, segs[i].ay);
-        b.seg_b[i] = (uint32_t)find_pt(b.pts, b.n_pts, segs[i].bx, segs[i].by);
         b.adj_start[b.seg_a[i] + 1]++;
         b.adj_start[b.seg_b[i] + 1]++;
     }

@@ -8,7 +8,8 @@
  * plus one on each closed chain without a junction, at its least point;
  * interior points
  * have degree 2 and no line ends there. With all_vertices, one vertex a
- * point and one edge a segment.
+ * point and one edge a segment. On several threads, the one thread's
+ * graph; from segments in no order, a graph as correct.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -232,6 +233,86 @@ static void test_random(void)
     }
 }
 
+/* The same graph whatever the threads: enough segments for the segments'
+ * ends to be numbered on two threads, against one thread's graph, vertex
+ * for vertex and edge for edge, and against the segments themselves. */
+static int same_graph(const hpfc_graph *a, const hpfc_graph *b)
+{
+    if (hpfc_graph_vertex_count(a) != hpfc_graph_vertex_count(b) ||
+        hpfc_graph_edge_count(a) != hpfc_graph_edge_count(b))
+        return 0;
+    for (size_t v = 0; v < hpfc_graph_vertex_count(a); v++) {
+        int64_t ax, ay, bx, by;
+        hpfc_graph_vertex(a, v, &ax, &ay);
+        hpfc_graph_vertex(b, v, &bx, &by);
+        if (ax != bx || ay != by)
+            return 0;
+    }
+    for (size_t e = 0; e < hpfc_graph_edge_count(a); e++) {
+        uint32_t au, av, bu, bv;
+        const int64_t *axy, *bxy;
+        size_t ak, bk;
+        hpfc_graph_edge(a, e, &au, &av, &axy, &ak);
+        hpfc_graph_edge(b, e, &bu, &bv, &bxy, &bk);
+        if (au != bu || av != bv || ak != bk || (ak && memcmp(axy, bxy, 2 * ak * sizeof *axy)))
+            return 0;
+    }
+    return 1;
+}
+
+static void test_threads(void)
+{
+    rng_state = 0x7a11u;
+    int w = 150, h = 150;
+    segnode_seg *s = malloc(sizeof *s * (size_t)(2 * w * h + 20));
+    size_t n = make_segments(s, w, h, 90);
+    CHECK(n > 40000); /* above the size split on threads */
+    segnode_pt ends[1] = {{s[n / 2].ax, s[n / 2].ay}};
+    hpfc_graph *one = NULL, *many = NULL;
+    char why[256] = "";
+    CHECK_EQ_INT(segment_graph_make(s, n, ends, 1, 0, 0, 1, &one, why, sizeof why), HPFC_OK);
+    for (unsigned threads = 2; threads <= 3 && one; threads++) {
+        CHECK_EQ_INT(segment_graph_make(s, n, ends, 1, 0, 0, threads, &many, why, sizeof why),
+                     HPFC_OK);
+        if (many) {
+            CHECK(same_graph(one, many));
+            check_graph(s, n, ends, 1, many, 0);
+        }
+        hpfc_graph_free(many);
+        many = NULL;
+    }
+    hpfc_graph_free(one);
+    free(s);
+}
+
+/* Segments in no order (the readers sort theirs; the graph must not need
+ * it): the same checks against the segments. */
+static void test_unsorted(void)
+{
+    for (int round = 0; round < 10; round++) {
+        rng_state = 0x50f7u + (uint64_t)round;
+        int w = 2 + (int)rnd(12), h = 2 + (int)rnd(12);
+        segnode_seg *s = malloc(sizeof *s * (size_t)(2 * w * h + 20));
+        size_t n = make_segments(s, w, h, 60 + (int)rnd(40));
+        segnode_seg *shuffled = malloc(sizeof *s * n);
+        memcpy(shuffled, s, sizeof *s * n);
+        for (size_t i = n; i > 1; i--) {
+            size_t j = rnd((uint32_t)i);
+            segnode_seg t = shuffled[i - 1];
+            shuffled[i - 1] = shuffled[j], shuffled[j] = t;
+        }
+        hpfc_graph *g = NULL;
+        char why[256] = "";
+        CHECK_EQ_INT(segment_graph_make(shuffled, n, NULL, 0, 0, 0, 2, &g, why, sizeof why),
+                     HPFC_OK);
+        if (g) /* against the segments in order, as check_graph takes them */
+            check_graph(s, n, NULL, 0, g, 0);
+        hpfc_graph_free(g);
+        free(shuffled);
+        free(s);
+    }
+}
+
 static void test_empty(void)
 {
     hpfc_graph *g = NULL;
@@ -246,6 +327,8 @@ static void test_empty(void)
 int main(void)
 {
     test_random();
+    test_threads();
+    test_unsorted();
     test_empty();
     return check_report("test_segment_graph");
 }
