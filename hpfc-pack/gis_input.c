@@ -1228,7 +1228,7 @@ static int node(reader *r, const int64_t *lat, seg **segs_out, size_t *n_out, se
     unsigned char *dirty = st ? NULL : calloc(n, 1);
     if (!st && !dirty)
         st = fail(r, "out of memory");
-    long long n_dirty = st ? 0 : segnode_find_dirty(segs, n, dirty);
+    long long n_dirty = st ? 0 : segnode_find_dirty(segs, n, dirty, r->opt->threads);
     if (n_dirty < 0)
         st = fail(r, "out of memory");
     *segs_out = *geos = NULL;

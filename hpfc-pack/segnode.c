@@ -4,6 +4,7 @@
 #include "segnode.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 
 __extension__ typedef __int128 i128;
@@ -98,15 +99,79 @@ static grid make_grid(const segnode_seg *s, size_t n)
     return g;
 }
 
+/* dirty[] is shared by the threads that test cells: a segment in cells of
+ * two threads may be marked by both. Marks only ever go from 0 to 1, and a
+ * mark read only spares a test whose answer would change nothing, so the
+ * set marked is the same in any order. */
+static unsigned char dirty_get(const unsigned char *dirty, uint32_t i)
+{
+    return __atomic_load_n(&dirty[i], __ATOMIC_RELAXED);
+}
+
+static void dirty_set(unsigned char *dirty, uint32_t i)
+{
+    __atomic_store_n(&dirty[i], 1, __ATOMIC_RELAXED);
+}
+
 /* Tests every pair of segments sharing cell c. */
 static void test_cell(const segnode_seg *s, const uint32_t *ids, size_t k, unsigned char *dirty)
 {
     for (size_t p = 0; p < k; p++)
         for (size_t q = p + 1; q < k; q++) {
             uint32_t a = ids[p], b = ids[q];
-            if ((!dirty[a] || !dirty[b]) && segnode_interact(&s[a], &s[b]))
-                dirty[a] = dirty[b] = 1;
+            if ((!dirty_get(dirty, a) || !dirty_get(dirty, b)) && segnode_interact(&s[a], &s[b])) {
+                dirty_set(dirty, a);
+                dirty_set(dirty, b);
+            }
         }
+}
+
+/* Cells [first, end) of the grid's buckets, tested by one thread. */
+typedef struct cell_run {
+    const segnode_seg *s;
+    const uint32_t *ids;
+    const size_t *start;
+    size_t first, end;
+    unsigned char *dirty;
+} cell_run;
+
+static void *test_cells(void *arg)
+{
+    const cell_run *r = arg;
+    for (size_t c = r->first; c < r->end; c++)
+        test_cell(r->s, r->ids + r->start[c], r->start[c + 1] - r->start[c], r->dirty);
+    return NULL;
+}
+
+/* The cells' tests, on up to `threads` threads with about as many bucket
+ * entries each (a run whose thread cannot start is tested here). */
+static void test_all_cells(const segnode_seg *s, const uint32_t *ids, const size_t *start,
+                           size_t cells, unsigned char *dirty, unsigned threads)
+{
+    enum { MAX_RUNS = 16, MIN_ENTRIES_PER_RUN = 1 << 15 };
+    size_t entries = start[cells], runs = threads < 1 ? 1 : threads > MAX_RUNS ? MAX_RUNS : threads;
+    if (entries / MIN_ENTRIES_PER_RUN < runs)
+        runs = entries / MIN_ENTRIES_PER_RUN ? entries / MIN_ENTRIES_PER_RUN : 1;
+    cell_run run[MAX_RUNS];
+    pthread_t thread[MAX_RUNS];
+    int started[MAX_RUNS] = {0};
+    size_t c = 0;
+    for (size_t k = 0; k < runs; k++) {
+        size_t goal = entries / runs * (k + 1);
+        run[k] = (cell_run){s, ids, start, c, c, dirty};
+        while (c < cells && (k + 1 == runs || start[c + 1] <= goal))
+            c++;
+        run[k].end = c;
+    }
+    for (size_t k = 1; k < runs; k++)
+        started[k] = pthread_create(&thread[k], NULL, test_cells, &run[k]) == 0;
+    test_cells(&run[0]);
+    for (size_t k = 1; k < runs; k++) {
+        if (started[k])
+            pthread_join(thread[k], NULL);
+        else
+            test_cells(&run[k]);
+    }
 }
 
 static int same_seg(const segnode_seg *a, const segnode_seg *b)
@@ -185,7 +250,8 @@ int segnode_any_near(const segnode_seg *fresh, size_t m, const segnode_seg *all,
     return found;
 }
 
-long long segnode_find_dirty(const segnode_seg *s, size_t n, unsigned char *dirty)
+long long segnode_find_dirty(const segnode_seg *s, size_t n, unsigned char *dirty,
+                             unsigned threads)
 {
     long long marked = 0;
     if (n >= UINT32_MAX) /* beyond 32-bit ids: let GEOS node them all */
@@ -231,8 +297,7 @@ long long segnode_find_dirty(const segnode_seg *s, size_t n, unsigned char *dirt
                     ids[fill[j * g.cols + c]++] = (uint32_t)i;
         }
         free(fill);
-        for (size_t c = 0; c < cells; c++)
-            test_cell(s, ids + start[c], start[c + 1] - start[c], dirty);
+        test_all_cells(s, ids, start, cells, dirty, threads);
         free(ids);
         free(start);
     }

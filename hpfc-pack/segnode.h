@@ -41,8 +41,11 @@ static inline int segnode_pt_cmp(const void *a, const void *b)
  * non-degenerate. Buckets the segments in a uniform grid and tests the pairs
  * that share a cell with exact orientation tests (128-bit products); a
  * segment whose box covers too many cells is marked dirty without tests.
- * Returns the number of dirty segments, or -1 when memory runs out. */
-long long segnode_find_dirty(const segnode_seg *s, size_t n, unsigned char *dirty);
+ * The cells are tested on up to `threads` threads (the same marks on any
+ * number). Returns the number of dirty segments, or -1 when memory runs
+ * out. */
+long long segnode_find_dirty(const segnode_seg *s, size_t n, unsigned char *dirty,
+                             unsigned threads);
 
 /* 1 when a segment of all[0 .. n) meets one of fresh[0 .. m) other than at
  * an end point of both (a segment of all equal to a fresh one is that one,

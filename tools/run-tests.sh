@@ -27,8 +27,11 @@ fi
 # tests/lib/test_faces_threads.c (faces numbered on up to 8 threads, a
 # smaller sweep than the ASan run's: about 30 s) and
 # tests/lib/test_build_threads.c (validation and the build's levels on up
-# to 8 threads, a smaller sweep too) and tests/tools/test_sort.c (hpfc-pack's
-# sort on up to 4 threads). Then
+# to 8 threads, a smaller sweep too), tests/tools/test_sort.c (hpfc-pack's
+# sort on up to 4 threads), tests/tools/test_segnode.c (the noding's
+# search for crossing segments on up to 3 threads) and
+# tests/tools/test_segment_graph.c (the graph's segment ends numbered on up
+# to 3 threads). Then
 # hpfc-pack's parts built on 4 threads (--jobs): the shipped sample, whose
 # bytes must be the whole build's, and a graph whose edges cross, refused
 # in the whole build's words; then two GIS layers with polygons, whose
@@ -66,9 +69,12 @@ if command -v clang >/dev/null 2>&1; then
     if CC=clang CXX=clang++ meson setup build-tsan -Db_sanitize=thread -Db_lundef=false \
             -Dcairo=disabled -Dpython=disabled -Dwerror=true >/dev/null &&
         ninja -C build-tsan tests/test_threads tests/test_faces_threads tests/test_build_threads \
-            tests/test_sort hpfc-pack/hpfc-pack >/dev/null &&
+            tests/test_sort tests/test_segnode tests/test_segment_graph hpfc-pack/hpfc-pack \
+            >/dev/null &&
         TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_threads &&
         TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_sort &&
+        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_segnode &&
+        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_segment_graph &&
         TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_faces_threads 2 6 &&
         TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_build_threads 2 4 && tsan_pack; then
         echo "tsan: OK"

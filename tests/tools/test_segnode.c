@@ -152,7 +152,7 @@ static void grid_case(int64_t span, int64_t offset, int n_long)
     }
     size_t u = sort_unique(s, n);
     unsigned char got[N] = {0}, want[N] = {0};
-    long long marked = segnode_find_dirty(s, u, got);
+    long long marked = segnode_find_dirty(s, u, got, 1);
     long long expect = 0;
     for (size_t i = 0; i < u; i++)
         for (size_t j = i + 1; j < u; j++)
@@ -179,6 +179,40 @@ static void test_grid(void)
     grid_case(100000, -(1LL << 39), 0);
     grid_case(1000, 0, 30);          /* long segments across everything */
     grid_case((int64_t)1 << 38, (int64_t)1 << 38, 0);
+}
+
+/* Enough segments for the cells to be tested on several threads (the
+ * small cases above, checked against all pairs, run on one): a random
+ * network of short segments with a few crossings among them, marked alike
+ * on 1, 2 and 3 threads, and the crossings found. */
+static void test_grid_threads(void)
+{
+    enum { N = 120000 };
+    segnode_seg *s = malloc(N * sizeof *s);
+    unsigned char *one = calloc(N, 1), *many = calloc(N, 1);
+    if (!s || !one || !many) {
+        CHECK(0);
+        free(s), free(one), free(many);
+        return;
+    }
+    size_t n = 0;
+    while (n < N) {
+        int64_t x = rnd(1000000), y = rnd(1000000);
+        segnode_seg t = seg(x, y, x + rnd(801) - 400, y + rnd(801) - 400);
+        if (t.ax != t.bx || t.ay != t.by)
+            s[n++] = t;
+    }
+    size_t u = sort_unique(s, n);
+    long long marked = segnode_find_dirty(s, u, one, 1);
+    CHECK(marked > 100 && (size_t)marked < u / 4); /* some cross, most do not */
+    for (unsigned threads = 2; threads <= 3; threads++) {
+        memset(many, 0, N);
+        CHECK_EQ_INT(segnode_find_dirty(s, u, many, threads), marked);
+        CHECK(memcmp(one, many, u) == 0);
+    }
+    free(s);
+    free(one);
+    free(many);
 }
 
 /* ---- segnode_any_near against all pairs with a fresh segment ------------------- */
@@ -235,5 +269,6 @@ int main(void)
     test_oracle();
     test_grid();
     test_near();
+    test_grid_threads();
     return check_report("test_segnode");
 }
