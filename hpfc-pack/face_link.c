@@ -371,6 +371,16 @@ typedef struct point_list {
     size_t n, cap;
 } point_list;
 
+/* The cursor's next point, kept at the end of pts; NULL when out of memory. */
+static const int64_t *keep_next(point_list *pts, gis_part_cursor *c)
+{
+    if (!array_grow((void **)&pts->xy, &pts->cap, 2 * (pts->n + 1), sizeof *pts->xy))
+        return NULL;
+    int64_t *p = pts->xy + 2 * pts->n++;
+    gis_part_next(c, &p[0], &p[1]);
+    return p;
+}
+
 /* A part in pts through no vertex of the map (a ring lying inside one edge,
  * along another feature's border; or a line not starting at one, which the
  * reader never records): its first segment sought among all the map's
@@ -401,20 +411,17 @@ static int match_part(part_run *pr, const gis_features *fs, size_t r, point_list
     uint32_t vertex = UINT32_MAX;
     pts->n = 0;
     while (c.left && vertex == UINT32_MAX && (pr->ring || pts->n == 0)) {
-        if (!array_grow((void **)&pts->xy, &pts->cap, 2 * (pts->n + 1), sizeof *pts->xy))
+        const int64_t *p = keep_next(pts, &c);
+        if (!p)
             return HPFC_E_NOMEM;
-        int64_t *p = pts->xy + 2 * pts->n++;
-        gis_part_next(&c, &p[0], &p[1]);
         vertex = vertex_find(pr->vi, p[0], p[1]);
     }
     if (pts->n == 0)
         return HPFC_OK;
     if (vertex == UINT32_MAX) {
-        for (; c.left; pts->n++) { /* the rest of a line */
-            if (!array_grow((void **)&pts->xy, &pts->cap, 2 * (pts->n + 1), sizeof *pts->xy))
+        while (c.left) /* the rest of a line */
+            if (!keep_next(pts, &c))
                 return HPFC_E_NOMEM;
-            gis_part_next(&c, &pts->xy[2 * pts->n], &pts->xy[2 * pts->n + 1]);
-        }
         return run_without_vertex(pr, pts, segs, n_segs);
     }
     size_t i = pts->n - 1;

@@ -126,11 +126,10 @@ static void number_ends(graph_builder *b, unsigned threads)
     size_t at = 0;
     for (size_t i = 0; i < b->n_segs; i++) {
         segnode_pt a = {b->segs[i].ax, b->segs[i].ay};
-        if (at + 1 < b->n_pts && segnode_pt_cmp(&b->pts[at], &a) != 0 &&
-            segnode_pt_cmp(&b->pts[at + 1], &a) == 0)
-            at++;
-        else if (segnode_pt_cmp(&b->pts[at], &a) != 0)
-            at = find_pt(b->pts, b->n_pts, a.x, a.y);
+        if (segnode_pt_cmp(&b->pts[at], &a) != 0)
+            at = at + 1 < b->n_pts && segnode_pt_cmp(&b->pts[at + 1], &a) == 0
+                     ? at + 1
+                     : find_pt(b->pts, b->n_pts, a.x, a.y);
         b->seg_a[i] = (uint32_t)at;
     }
     b_ends half[2] = {{b, 0, b->n_segs / 2}, {b, b->n_segs / 2, b->n_segs}};
