@@ -10,7 +10,8 @@
  * checked against its path form, and hpfc_key_vertex_darts against them. Without commands it
  * applies twin, next, prev, origin, target and the keys to every collected
  * dart, and the key calls to its key and to keys next to it, then builds
- * the faces; with commands each byte picks the next
+ * the faces (whole, and a root pixel at a time for up to 16 roots); with
+ * commands each byte picks the next
  * operator from an input-chosen start (a collected dart, a vertex's k-th
  * dart, or a dart naming an arbitrary crossing, which the API must treat
  * as untrusted). At most FUZZ_STEPS operator calls per input.
@@ -28,6 +29,7 @@
  * map, twin an involution and so on, are roundtrip_graph's oracle: a file
  * with matching checksums can still be a crafted inconsistent fixture.)
  */
+#include "faces.h"
 #include "input.h"
 #include "key_ops.h"
 
@@ -144,6 +146,53 @@ static void collect(trav *t)
         t->complete = false;
 }
 
+/* The faces one root pixel at a time (faces.h, the merge's numbering):
+ * known statuses, and every collected leaf of a root numbered has a face
+ * below the plan's count when private. Its ids are not compared with the
+ * whole file's: on a damaged file the two make different unions. At most
+ * FUZZ_ROOTS roots are numbered again. */
+enum { FUZZ_ROOTS = 16 };
+
+static void stream_faces(trav *t)
+{
+    faces_stream *s = NULL;
+    int st = faces_stream_plan(t->f, &s);
+    status(st);
+    FUZZ_CHECK((st == HPFC_OK) == (s != NULL));
+    if (!s)
+        return;
+    uint64_t count = faces_stream_face_count(s);
+    FUZZ_CHECK(count >= 1 || t->nleaves == 0);
+    hpfc_file_info info;
+    hpfc_file_get_info(t->f, &info);
+    uint32_t done = 0;
+    for (size_t k = 0; k < t->nleaves && done < FUZZ_ROOTS; k++) {
+        const hpfc_pixel *px = &t->leaves[k];
+        if (k > 0 && px->path[0].i == t->leaves[k - 1].path[0].i &&
+            px->path[0].j == t->leaves[k - 1].path[0].j)
+            continue; /* the root's first collected leaf numbers it */
+        hpfc_faces *root = NULL;
+        st = faces_stream_root(s, px->path[0].i, px->path[0].j, &root);
+        status(st);
+        done++;
+        if (!root)
+            continue;
+        FUZZ_CHECK(hpfc_faces_face_count(root) == count);
+        for (size_t q = k; q < t->nleaves && t->leaves[q].path[0].i == px->path[0].i &&
+                           t->leaves[q].path[0].j == px->path[0].j;
+             q++) {
+            int is_private = 0;
+            uint64_t face;
+            if (hpfc_pixel_is_private(t->f, &t->leaves[q], &is_private) == HPFC_OK && is_private &&
+                hpfc_faces_pixel_face(root, &t->leaves[q], &face) == HPFC_OK)
+                FUZZ_CHECK(face < count);
+        }
+        hpfc_faces_free(root);
+    }
+    FUZZ_CHECK(faces_stream_root(s, info.root_cols, 0, &(hpfc_faces *){NULL}) == HPFC_E_ARG);
+    faces_stream_free(s);
+}
+
 static void build_faces(trav *t)
 {
     if (t->faces_status >= 0)
@@ -163,6 +212,7 @@ static void build_faces(trav *t)
             FUZZ_CHECK(face < count);
         }
     }
+    stream_faces(t);
 }
 
 static bool same_pixel(const hpfc_pixel *a, const hpfc_pixel *b)

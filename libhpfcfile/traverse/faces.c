@@ -112,6 +112,9 @@ typedef struct leaf_table {
     uint64_t first[HPFC_MAX_LEVELS + 1]; /* level l's entries: [first[l], first[l + 1]) */
     uint64_t pool_bit[HPFC_MAX_LEVELS];  /* absolute bit of the level's pool */
     uint64_t unit[HPFC_MAX_LEVELS];      /* bits per entry: a root record, k_w below */
+    /* the pool bit of the level's first entry: 0, but for one root pixel's
+     * table (faces_stream) the start of its run */
+    uint64_t lo[HPFC_MAX_LEVELS];
 } leaf_table;
 
 /* What a file's pools must be for faces numbered on another copy to hold
@@ -131,6 +134,10 @@ struct hpfc_faces {
     uint64_t nodes, count;
     pools_print print; /* set while detached */
     bool shared;       /* the union-find is shared by threads (numbering only) */
+    /* one root pixel's leaves only (faces_stream): roads on its boundary
+     * are left to the plan's gaps; cols x rows pixels an image below it */
+    bool scoped;
+    uint32_t cols, rows;
 };
 
 /* Sizes the table from the level table, for a file of `leaves` leaves. A
@@ -177,7 +184,10 @@ static uint64_t *leaf_entry(const hpfc_faces *fc, const hpfc_pixel *px, int *st)
         return NULL;
     const leaf_table *t = &fc->leaves;
     uint32_t l = px->depth; /* below the file's levels: the slot exists */
-    uint64_t at = t->first[l] + (slot - t->pool_bit[l]) / t->unit[l];
+    uint64_t off = slot - t->pool_bit[l];
+    if (off < t->lo[l])
+        return NULL; /* before one root pixel's run */
+    uint64_t at = t->first[l] + (off - t->lo[l]) / t->unit[l];
     return at < t->first[l + 1] ? &t->entry[at] : NULL;
 }
 
@@ -476,6 +486,26 @@ static int bases_from_entries(numbering *nb)
     return total == fc->nodes ? HPFC_OK : HPFC_E_CORRUPT;
 }
 
+/* Does road `road` of leaf p lie on its root pixel's boundary? The pixels
+ * of its path below the root all touch that side. */
+static bool on_root_side(uint32_t cols, uint32_t rows, const hpfc_pixel *p, int road)
+{
+    for (uint32_t d = 1; d <= p->depth; d++) {
+        uint32_t i = p->path[d].i, j = p->path[d].j;
+        if ((road == HPFC_WEST && i != 0) || (road == HPFC_EAST && i + 1 != cols) ||
+            (road == HPFC_NORTH && j != 0) || (road == HPFC_SOUTH && j + 1 != rows))
+            return false;
+    }
+    return true;
+}
+
+/* A numbering of one root pixel's leaves leaves its boundary roads out:
+ * what lies across them is another root's (faces_stream's gaps join it). */
+static bool road_left_out(const hpfc_faces *fc, const hpfc_pixel *p, int road)
+{
+    return fc->scoped && on_root_side(fc->cols, fc->rows, p, road);
+}
+
 /* The unions that stay inside one pixel. */
 static void unite_inside(hpfc_faces *fc, const word_parts *lw, uint64_t base)
 {
@@ -494,6 +524,8 @@ static int unite_across(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p, uin
 {
     const word_parts *lw = &w->p_word;
     for (int road = HPFC_WEST; road <= HPFC_NORTH; road++) {
+        if (road_left_out(fc, p, road))
+            continue;
         hpfc_pixel q;
         uint32_t mk = 0;
         uint64_t qbase = 0;
@@ -532,7 +564,7 @@ static int unite_empty_roads(hpfc_faces *fc, hpfc_walker *w, const hpfc_pixel *p
     bool have_pb = false;
     int st = HPFC_OK;
     for (int road = 0; road < 4 && !st; road++) {
-        if (w->p_word.road_off[road + 1] != w->p_word.road_off[road])
+        if (w->p_word.road_off[road + 1] != w->p_word.road_off[road] || road_left_out(fc, p, road))
             continue; /* crossings link both sides through the sidewalks */
         hpfc_pixel q;
         st = hpfc_pixel_move(fc->file, p, road, &q);
@@ -975,9 +1007,9 @@ int faces_leaf_nodes(const hpfc_faces *fc, uint32_t level, uint64_t bit, uint64_
                      uint64_t *crossings)
 {
     const leaf_table *t = &fc->leaves;
-    if (level >= HPFC_MAX_LEVELS || !t->unit[level])
+    if (level >= HPFC_MAX_LEVELS || !t->unit[level] || bit < t->lo[level])
         return HPFC_E_ARG;
-    uint64_t at = t->first[level] + bit / t->unit[level];
+    uint64_t at = t->first[level] + (bit - t->lo[level]) / t->unit[level];
     if (at >= t->first[level + 1] || t->entry[at] == ENTRY_EMPTY)
         return HPFC_E_ARG;
     *base = entry_base(t->entry[at]);
@@ -988,4 +1020,633 @@ int faces_leaf_nodes(const hpfc_faces *fc, uint32_t level, uint64_t bit, uint64_
 uint64_t faces_node_face(const hpfc_faces *fc, uint64_t node)
 {
     return node_get(&fc->parent, node);
+}
+
+/* ---- the faces one root pixel at a time (faces.h) ------------------------------- */
+
+/*
+ * A root pixel's leaves are numbered alone, as hpfc_faces_build numbers
+ * the whole file, but for the roads on the root's boundary. Along each
+ * side of a root the crossings on that line cut it into gaps, the same
+ * gaps seen from the roots on both sides (both see the line's crossings
+ * in the same order), and the region at one gap is one face on both sides
+ * (no edge passes there). So each root keeps, per side, the class of
+ * each gap, and the plan unites the classes across every side two roots
+ * share: a union-find of the roots' border classes only. A root's other
+ * classes (closed ones) lie inside it. A class's rank among all classes,
+ * by smallest node as §3.11 numbers them, then follows from counts: each
+ * root's closed classes, which border classes have their smallest node in
+ * it, and how many closed classes come before each of those.
+ *
+ * Nodes are numbered as hpfc_faces_build numbers them, leaf order being
+ * depth-first: a root's nodes are one run, and node x of a root is node
+ * node_base[root] + x of the file. Depth-first order also meets the leaves
+ * along each side of a root from north to south or from west to east,
+ * which is the order of a side's gaps here.
+ */
+
+typedef struct gap_list {
+    uint64_t *at;
+    size_t n, cap;
+} gap_list;
+
+/* One root pixel's numbering: its scoped faces and its sides' gaps. */
+typedef struct root_pass {
+    hpfc_faces fc;
+    gap_list side[4]; /* HPFC_WEST .. HPFC_SOUTH: a local node a gap */
+    uint32_t i, j;
+    hpfc_pixel first;
+    uint64_t leaves;
+} root_pass;
+
+struct faces_stream {
+    const hpfc_file *file;
+    hpfc_walker *w;
+    uint32_t cols, rows, sub_cols, sub_rows; /* the root grid; an image's pixels below */
+    uint64_t roots;
+    uint64_t *nodes;      /* per root, its node count */
+    uint64_t *node_base;  /* per root, its first node in the file (roots + 1) */
+    uint64_t *closed;     /* per root, its closed classes */
+    uint64_t *face_base;  /* per root, the rank of its first class (roots + 1) */
+    uint64_t *border_at;  /* per root, its first border class (roots + 1) */
+    uint64_t *side_at;    /* per root and side, its first gap (4 roots + 1) */
+    /* the border classes, each root's in order of their smallest node */
+    uint64_t *bx;         /* its smallest node, in its root */
+    uint64_t *below;      /* its root's closed classes before bx */
+    uint64_t *parent;     /* the union-find across the roots' sides */
+    uint64_t *gmin;       /* per united class (at its root): its smallest node in the file */
+    uint64_t *grank;      /* per united class: its rank among all classes */
+    uint64_t *gaps;       /* per gap, its border class */
+    uint64_t borders, border_cap, gap_count, gap_cap;
+    uint64_t outer_x, outer_closed_below; /* the unbounded face's node in root 0 */
+    bool outer_border;
+    uint64_t outer_rank, count;
+};
+
+static int gap_push(gap_list *g, uint64_t node)
+{
+    if (g->n == g->cap) {
+        size_t grown = g->cap ? 2 * g->cap : 64;
+        uint64_t *p = realloc(g->at, grown * sizeof *p);
+        if (!p)
+            return HPFC_E_NOMEM;
+        g->at = p, g->cap = grown;
+    }
+    g->at[g->n++] = node;
+    return HPFC_OK;
+}
+
+static void root_pass_free(root_pass *rp)
+{
+    free(rp->fc.leaves.entry);
+    free(rp->fc.parent.narrow);
+    free(rp->fc.parent.wide);
+    for (int s = 0; s < 4; s++)
+        free(rp->side[s].at);
+    memset(rp, 0, sizeof *rp);
+}
+
+static bool in_root(const hpfc_pixel *px, uint32_t i, uint32_t j)
+{
+    return px->path[0].i == i && px->path[0].j == j;
+}
+
+/* The leaf after px, *more false past the root's last. */
+static int next_in_root(const hpfc_file *f, hpfc_pixel *px, uint32_t i, uint32_t j, bool *more)
+{
+    int st = hpfc_leaf_next(f, px);
+    *more = false;
+    if (st == HPFC_E_NO_PIXEL)
+        return HPFC_OK;
+    if (!st)
+        *more = in_root(px, i, j);
+    return st;
+}
+
+/* Pass 1 of a root: its first leaf, its leaves counted (within what the
+ * level table leaves), the run of slots they take at each level, and a
+ * leaf table over those runs. */
+static int root_count(faces_stream *s, root_pass *rp, uint64_t most)
+{
+    const hpfc_file *f = s->file;
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    uint64_t lo[HPFC_MAX_LEVELS], hi[HPFC_MAX_LEVELS];
+    for (uint32_t l = 0; l < HPFC_MAX_LEVELS; l++)
+        lo[l] = UINT64_MAX, hi[l] = 0;
+    hpfc_pixel px;
+    int st = hpfc_pixel_root(f, rp->i, rp->j, &px);
+    while (!st) { /* down to the root's first leaf */
+        int type;
+        if ((st = hpfc_pixel_type(f, &px, &type)) || type == HPFC_PIXEL_WORD)
+            break;
+        st = hpfc_pixel_child(f, &px, 0, 0, &px);
+    }
+    rp->first = px;
+    leaf_table *t = &rp->fc.leaves;
+    for (bool more = true; !st && more; st = next_in_root(f, &px, rp->i, rp->j, &more)) {
+        uint64_t slot;
+        if (rp->leaves >= most)
+            return HPFC_E_CORRUPT; /* more paths to leaves than leaves */
+        if ((st = reader_leaf_slot_bit(f, &px, &slot)))
+            return st;
+        uint32_t l = px.depth;
+        slot -= (uint64_t)f->lv[l].info.pool_offset * 8;
+        lo[l] = slot < lo[l] ? slot : lo[l];
+        hi[l] = slot > hi[l] ? slot : hi[l];
+        rp->leaves++;
+    }
+    if (st)
+        return st;
+    uint64_t total = 0;
+    for (uint32_t l = 0; l < info.levels; l++) {
+        uint64_t entries;
+        reader_slot_grid(f, l, &t->unit[l], &entries);
+        t->first[l] = total;
+        t->pool_bit[l] = (uint64_t)f->lv[l].info.pool_offset * 8;
+        if (hi[l] < lo[l])
+            continue; /* no leaf of the root at this level */
+        t->lo[l] = lo[l];
+        uint64_t n = (hi[l] - lo[l]) / t->unit[l] + 1, most = 16 * rp->leaves + 64;
+        if (n > most || total + n > most) /* a valid run: fewer than 8 entries a leaf */
+            return HPFC_E_CORRUPT;
+        total += n;
+    }
+    t->first[info.levels] = total;
+    if (!(t->entry = malloc(total ? (size_t)total * 8 : 1)))
+        return HPFC_E_NOMEM;
+    memset(t->entry, 0xFF, (size_t)total * 8); /* ENTRY_EMPTY */
+    return HPFC_OK;
+}
+
+/* Pass 2 of a root: each leaf's entry, its first node (the leaves come in
+ * order) and crossing count; the root's node count. */
+static int root_parse(faces_stream *s, root_pass *rp)
+{
+    hpfc_pixel px = rp->first;
+    uint64_t nodes = 0;
+    int st = HPFC_OK;
+    for (bool more = true; !st && more; st = next_in_root(s->file, &px, rp->i, rp->j, &more)) {
+        uint64_t *e = leaf_entry(&rp->fc, &px, &st);
+        if (st || (st = topo_parse_pixel(s->w, &s->w->p_word, &px)))
+            return st;
+        uint64_t n = s->w->p_word.n;
+        if (!e || *e != ENTRY_EMPTY)
+            return HPFC_E_CORRUPT; /* outside the runs counted, or a second path to a leaf */
+        if (n > ENTRY_COUNT_MAX || nodes > ENTRY_BASE_MAX - n - 1)
+            return HPFC_E_LIMIT;
+        *e = nodes << ENTRY_COUNT_BITS | n;
+        nodes += n ? n : 1;
+    }
+    rp->fc.nodes = nodes;
+    return st;
+}
+
+/* Leaf p's gaps on the sides of its root it lies on, in the side's order:
+ * north to south, west to east; clockwise, roads W and S run the other
+ * way. A leaf's first gap on a side is its neighbour's last there (the
+ * crossroad between them carries no edge): one gap, its nodes united. */
+static int collect_gaps(root_pass *rp, const word_parts *lw, const hpfc_pixel *p, uint64_t base)
+{
+    for (int road = 0; road < 4; road++) {
+        if (!on_root_side(rp->fc.cols, rp->fc.rows, p, road))
+            continue;
+        gap_list *g = &rp->side[road];
+        uint64_t c = lw->n ? lw->road_off[road + 1] - lw->road_off[road] : 0;
+        bool reversed = road == HPFC_WEST || road == HPFC_SOUTH;
+        for (uint64_t u = 0; u <= c; u++) {
+            uint64_t node = gap_node(lw, base, road, reversed ? c - u : u);
+            if (u == 0 && g->n) {
+                unite(&rp->fc.parent, false, g->at[g->n - 1], node);
+                continue;
+            }
+            int st = gap_push(g, node);
+            if (st)
+                return st;
+        }
+    }
+    return HPFC_OK;
+}
+
+/* Pass 3 of a root: its unions, then every node pointing at its class's
+ * smallest node. */
+static int root_unite(faces_stream *s, root_pass *rp)
+{
+    hpfc_pixel px = rp->first;
+    hpfc_walker *w = s->w;
+    /* narrow words only while the face ids, which pass 2 puts in them, fit too */
+    uint64_t narrow_below = s->count < FACES_NARROW_NODES ? FACES_NARROW_NODES : 0;
+    int st = node_array_init(&rp->fc.parent, rp->fc.nodes, narrow_below);
+    for (bool more = true; !st && more; st = next_in_root(s->file, &px, rp->i, rp->j, &more)) {
+        uint64_t base;
+        if ((st = node_base(&rp->fc, &px, &base)) || (st = topo_parse_pixel(w, &w->p_word, &px)))
+            return st;
+        unite_inside(&rp->fc, &w->p_word, base);
+        if ((st = unite_across(&rp->fc, w, &px, base)) ||
+            (st = unite_empty_roads(&rp->fc, w, &px, base)) ||
+            (st = collect_gaps(rp, &w->p_word, &px, base)))
+            return st;
+    }
+    if (st)
+        return st;
+    node_array *parent = &rp->fc.parent;
+    for (uint64_t x = 0; x < rp->fc.nodes; x++)
+        node_set(parent, x, find(parent, x));
+    for (int road = 0; road < 4; road++)
+        for (size_t k = 0; k < rp->side[road].n; k++)
+            rp->side[road].at[k] = node_get(parent, rp->side[road].at[k]);
+    return HPFC_OK;
+}
+
+/* Root (i, j) numbered alone, within `most` leaves: its classes, each
+ * node at its smallest. */
+static int root_number(faces_stream *s, uint32_t i, uint32_t j, uint64_t most, root_pass *rp)
+{
+    memset(rp, 0, sizeof *rp);
+    rp->i = i, rp->j = j;
+    rp->fc.file = s->file;
+    rp->fc.scoped = true;
+    rp->fc.cols = s->sub_cols, rp->fc.rows = s->sub_rows;
+    int st = root_count(s, rp, most);
+    if (!st)
+        st = root_parse(s, rp);
+    if (!st)
+        st = root_unite(s, rp);
+    return st;
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+static int grow_u64(uint64_t **a, uint64_t *cap, uint64_t need)
+{
+    if (need <= *cap)
+        return HPFC_OK;
+    uint64_t grown = *cap ? *cap : 256;
+    while (grown < need)
+        grown *= 2;
+    if (grown > SIZE_MAX / sizeof **a)
+        return HPFC_E_NOMEM;
+    uint64_t *p = realloc(*a, (size_t)grown * sizeof *p);
+    if (!p)
+        return HPFC_E_NOMEM;
+    *a = p, *cap = grown;
+    return HPFC_OK;
+}
+
+/* The border classes of root r: the classes of its sides' gaps, in order
+ * of their smallest node, at the end of the plan's list. */
+static int add_borders(faces_stream *s, root_pass *rp, uint64_t r)
+{
+    size_t n = 0;
+    for (int road = 0; road < 4; road++)
+        n += rp->side[road].n;
+    uint64_t have = s->borders, cap = s->border_cap;
+    int st = grow_u64(&s->bx, &cap, have + n); /* bx and below grow alike */
+    if (!st && (cap = s->border_cap, st = grow_u64(&s->below, &cap, have + n)) == HPFC_OK)
+        s->border_cap = cap;
+    if (st)
+        return st;
+    uint64_t *b = s->bx + have;
+    n = 0;
+    for (int road = 0; road < 4; road++)
+        for (size_t k = 0; k < rp->side[road].n; k++)
+            b[n++] = rp->side[road].at[k];
+    qsort(b, n, sizeof *b, cmp_u64);
+    size_t u = 0;
+    for (size_t k = 0; k < n; k++)
+        if (u == 0 || b[k] != b[u - 1])
+            b[u++] = b[k];
+    s->borders = have + u;
+    s->border_at[r + 1] = s->borders;
+    return HPFC_OK;
+}
+
+/* Root r's border class of local node x (one of its gaps' classes). */
+static uint64_t border_of(const faces_stream *s, uint64_t r, uint64_t x)
+{
+    uint64_t lo = s->border_at[r], hi = s->border_at[r + 1];
+    while (lo < hi) {
+        uint64_t mid = lo + (hi - lo) / 2;
+        if (s->bx[mid] < x)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* Root r's closed classes, and before each border class how many. */
+static void count_closed(faces_stream *s, root_pass *rp, uint64_t r)
+{
+    uint64_t k = s->border_at[r], end = s->border_at[r + 1], closed = 0;
+    for (uint64_t x = 0; x < rp->fc.nodes; x++) {
+        if (r == 0 && x == s->outer_x)
+            s->outer_closed_below = closed;
+        if (k < end && s->bx[k] == x) {
+            s->below[k++] = closed;
+            continue;
+        }
+        if (node_get(&rp->fc.parent, x) == x)
+            closed++;
+    }
+    s->closed[r] = closed;
+}
+
+/* Root r's gaps as border classes, side by side. */
+static int add_gaps(faces_stream *s, root_pass *rp, uint64_t r)
+{
+    for (int road = 0; road < 4; road++) {
+        const gap_list *g = &rp->side[road];
+        int st = grow_u64(&s->gaps, &s->gap_cap, s->gap_count + g->n);
+        if (st)
+            return st;
+        for (size_t k = 0; k < g->n; k++)
+            s->gaps[s->gap_count++] = border_of(s, r, g->at[k]);
+        s->side_at[4 * r + (uint64_t)road + 1] = s->gap_count;
+    }
+    return HPFC_OK;
+}
+
+/* The unbounded face's node in root 0: the class at the north-west
+ * crossroad of the leaf at the domain's north-west corner (§3.11). */
+static int find_outer(faces_stream *s, root_pass *rp)
+{
+    hpfc_file_info info;
+    hpfc_file_get_info(s->file, &info);
+    hpfc_pixel corner;
+    uint64_t base;
+    int st = hpfc_locate(s->file, info.x0, info.y0 + info.height - 1, &corner);
+    if (!st && !in_root(&corner, 0, 0))
+        st = HPFC_E_CORRUPT;
+    if (!st)
+        st = node_base(&rp->fc, &corner, &base);
+    if (!st)
+        st = topo_parse_pixel(s->w, &s->w->p_word, &corner);
+    if (!st)
+        s->outer_x = node_get(&rp->fc.parent, gap_node(&s->w->p_word, base, HPFC_NORTH, 0));
+    return st;
+}
+
+/* Pass 1 over every root, in order: what the plan keeps of each. */
+static int plan_roots(faces_stream *s)
+{
+    uint64_t most = file_total_leaves(s->file);
+    for (uint64_t r = 0; r < s->roots; r++) {
+        root_pass rp;
+        int st = root_number(s, (uint32_t)(r % s->cols), (uint32_t)(r / s->cols), most, &rp);
+        if (!st && r == 0)
+            st = find_outer(s, &rp);
+        if (!st) {
+            most -= rp.leaves;
+            s->nodes[r] = rp.fc.nodes;
+            s->node_base[r + 1] = s->node_base[r] + rp.fc.nodes;
+            st = add_borders(s, &rp, r);
+        }
+        if (!st) {
+            count_closed(s, &rp, r);
+            st = add_gaps(s, &rp, r);
+        }
+        root_pass_free(&rp);
+        if (st)
+            return st;
+    }
+    return HPFC_OK;
+}
+
+static uint64_t plan_find(uint64_t *parent, uint64_t x)
+{
+    for (uint64_t p; (p = parent[x]) != x; x = p)
+        parent[x] = parent[p];
+    return x;
+}
+
+/* Side `a` of root r and side `b` of root q are one line: gap k of one is
+ * gap k of the other. */
+static int unite_side(faces_stream *s, uint64_t r, int a, uint64_t q, int b)
+{
+    uint64_t ra = s->side_at[4 * r + (uint64_t)a], na = s->side_at[4 * r + (uint64_t)a + 1] - ra;
+    uint64_t qb = s->side_at[4 * q + (uint64_t)b], nb = s->side_at[4 * q + (uint64_t)b + 1] - qb;
+    if (na != nb)
+        return HPFC_E_CORRUPT; /* the line's crossings differ seen from its two sides */
+    for (uint64_t k = 0; k < na; k++) {
+        uint64_t x = plan_find(s->parent, s->gaps[ra + k]), y = plan_find(s->parent, s->gaps[qb + k]);
+        if (x != y)
+            s->parent[x > y ? x : y] = x < y ? x : y;
+    }
+    return HPFC_OK;
+}
+
+static int unite_roots(faces_stream *s)
+{
+    for (uint64_t x = 0; x < s->borders; x++)
+        s->parent[x] = x;
+    for (uint64_t r = 0; r < s->roots; r++) {
+        uint64_t i = r % s->cols, j = r / s->cols;
+        int st = HPFC_OK;
+        if (i + 1 < s->cols)
+            st = unite_side(s, r, HPFC_EAST, r + 1, HPFC_WEST);
+        if (!st && j + 1 < s->rows)
+            st = unite_side(s, r, HPFC_SOUTH, r + s->cols, HPFC_NORTH);
+        if (st)
+            return st;
+    }
+    return HPFC_OK;
+}
+
+/* Is border class k (of root r) the smallest node of its united class? */
+static bool first_of_class(const faces_stream *s, uint64_t r, uint64_t k)
+{
+    return s->node_base[r] + s->bx[k] == s->gmin[plan_find(s->parent, k)];
+}
+
+/* The ranks: each united class's smallest node, each root's first rank,
+ * each united class's rank, the unbounded face's. */
+static void rank_classes(faces_stream *s)
+{
+    for (uint64_t k = 0; k < s->borders; k++)
+        s->gmin[k] = UINT64_MAX;
+    for (uint64_t r = 0; r < s->roots; r++)
+        for (uint64_t k = s->border_at[r]; k < s->border_at[r + 1]; k++) {
+            uint64_t g = plan_find(s->parent, k), at = s->node_base[r] + s->bx[k];
+            s->gmin[g] = at < s->gmin[g] ? at : s->gmin[g];
+        }
+    s->face_base[0] = 0;
+    for (uint64_t r = 0; r < s->roots; r++) {
+        uint64_t firsts = 0;
+        for (uint64_t k = s->border_at[r]; k < s->border_at[r + 1]; k++)
+            if (first_of_class(s, r, k))
+                s->grank[plan_find(s->parent, k)] = s->face_base[r] + s->below[k] + firsts++;
+        s->face_base[r + 1] = s->face_base[r] + s->closed[r] + firsts;
+    }
+    s->count = s->face_base[s->roots];
+    uint64_t k = border_of(s, 0, s->outer_x);
+    s->outer_border = k < s->border_at[1] && s->bx[k] == s->outer_x;
+    if (s->outer_border) {
+        s->outer_rank = s->grank[plan_find(s->parent, k)];
+        return;
+    }
+    uint64_t firsts = 0; /* united classes first in root 0 before the outer node */
+    for (k = 0; k < s->border_at[1] && s->bx[k] < s->outer_x; k++)
+        firsts += first_of_class(s, 0, k);
+    s->outer_rank = s->outer_closed_below + firsts;
+}
+
+/* Face id of rank k: the unbounded face 0, the others 1, 2, ... in order. */
+static uint64_t face_of_rank(const faces_stream *s, uint64_t k)
+{
+    return k == s->outer_rank ? 0 : k < s->outer_rank ? k + 1 : k;
+}
+
+static int plan_alloc(faces_stream *s)
+{
+    uint64_t r = s->roots;
+    if (r > SIZE_MAX / 64)
+        return HPFC_E_NOMEM;
+    s->nodes = calloc((size_t)r, sizeof *s->nodes);
+    s->node_base = calloc((size_t)r + 1, sizeof *s->node_base);
+    s->closed = calloc((size_t)r, sizeof *s->closed);
+    s->face_base = calloc((size_t)r + 1, sizeof *s->face_base);
+    s->border_at = calloc((size_t)r + 1, sizeof *s->border_at);
+    s->side_at = calloc(4 * (size_t)r + 1, sizeof *s->side_at);
+    if (!s->nodes || !s->node_base || !s->closed || !s->face_base || !s->border_at || !s->side_at)
+        return HPFC_E_NOMEM;
+    return HPFC_OK;
+}
+
+void faces_stream_free(faces_stream *s)
+{
+    if (!s)
+        return;
+    hpfc_walker_free(s->w);
+    free(s->nodes);
+    free(s->node_base);
+    free(s->closed);
+    free(s->face_base);
+    free(s->border_at);
+    free(s->side_at);
+    free(s->bx);
+    free(s->below);
+    free(s->parent);
+    free(s->gmin);
+    free(s->grank);
+    free(s->gaps);
+    free(s);
+}
+
+int faces_stream_plan(const hpfc_file *file, faces_stream **out)
+{
+    if (!file || !out)
+        return HPFC_E_ARG;
+    *out = NULL;
+    faces_stream *s = calloc(1, sizeof *s);
+    if (!s)
+        return HPFC_E_NOMEM;
+    hpfc_file_info info;
+    hpfc_file_get_info(file, &info);
+    s->file = file;
+    s->cols = info.root_cols, s->rows = info.root_rows;
+    s->sub_cols = info.cols, s->sub_rows = info.rows;
+    s->roots = (uint64_t)s->cols * s->rows;
+    int st = topo_walker_create(file, 0, &s->w);
+    if (!st)
+        st = plan_alloc(s);
+    if (!st)
+        st = plan_roots(s);
+    if (!st && s->node_base[s->roots] > ENTRY_BASE_MAX)
+        st = HPFC_E_LIMIT;
+    if (!st) {
+        size_t n = s->borders ? (size_t)s->borders : 1;
+        s->parent = malloc(n * sizeof *s->parent);
+        s->gmin = malloc(n * sizeof *s->gmin);
+        s->grank = malloc(n * sizeof *s->grank);
+        if (!s->parent || !s->gmin || !s->grank)
+            st = HPFC_E_NOMEM;
+    }
+    if (!st)
+        st = unite_roots(s);
+    if (st) {
+        faces_stream_free(s);
+        return st;
+    }
+    rank_classes(s);
+    *out = s;
+    return HPFC_OK;
+}
+
+uint64_t faces_stream_face_count(const faces_stream *s)
+{
+    return s ? s->count : 0;
+}
+
+uint64_t faces_bytes(const hpfc_faces *fc)
+{
+    uint64_t entries = 0; /* the last level's end, the largest */
+    for (uint32_t l = 0; l <= HPFC_MAX_LEVELS; l++)
+        entries = fc->leaves.first[l] > entries ? fc->leaves.first[l] : entries;
+    return 8 * entries + (fc->parent.narrow ? 4 : 8) * (fc->nodes + 1);
+}
+
+uint64_t faces_stream_plan_bytes(const faces_stream *s)
+{
+    return 8 * (s->roots * 10 + s->border_cap * 5 + s->gap_cap);
+}
+
+/* Pass 2 of root r: its nodes' face ids, in place of their classes. */
+static int number_root(const faces_stream *s, root_pass *rp, uint64_t r)
+{
+    node_array *parent = &rp->fc.parent;
+    const uint64_t TAG = node_tag(parent);
+    uint64_t k = s->border_at[r], end = s->border_at[r + 1], next = s->face_base[r];
+    for (uint64_t x = 0; x < rp->fc.nodes; x++) {
+        uint64_t c = node_get(parent, x);
+        if (c != x) { /* its class's smallest node, numbered before */
+            node_set(parent, x, node_get(parent, c));
+            continue;
+        }
+        uint64_t rank;
+        if (k < end && s->bx[k] == x) {
+            rank = s->grank[plan_find(s->parent, k)];
+            next += first_of_class(s, r, k);
+            k++;
+        } else {
+            rank = next++;
+        }
+        node_set(parent, x, TAG | face_of_rank(s, rank));
+    }
+    if (next != s->face_base[r + 1] || k != end)
+        return HPFC_E_CORRUPT; /* not the root the plan saw */
+    for (uint64_t x = 0; x < rp->fc.nodes; x++)
+        node_set(parent, x, node_get(parent, x) & ~TAG);
+    return HPFC_OK;
+}
+
+int faces_stream_root(faces_stream *s, uint32_t i, uint32_t j, hpfc_faces **out)
+{
+    if (!s || !out || i >= s->cols || j >= s->rows)
+        return HPFC_E_ARG;
+    *out = NULL;
+    uint64_t r = (uint64_t)j * s->cols + i;
+    root_pass rp;
+    int st = root_number(s, i, j, file_total_leaves(s->file), &rp);
+    if (!st && rp.fc.nodes != s->nodes[r])
+        st = HPFC_E_CORRUPT;
+    if (!st)
+        st = number_root(s, &rp, r);
+    hpfc_faces *fc = st ? NULL : malloc(sizeof *fc);
+    if (!st && !fc)
+        st = HPFC_E_NOMEM;
+    if (st) {
+        root_pass_free(&rp);
+        return st;
+    }
+    *fc = rp.fc;
+    fc->count = s->count;
+    for (int road = 0; road < 4; road++)
+        free(rp.side[road].at);
+    *out = fc;
+    return HPFC_OK;
 }

@@ -39,4 +39,23 @@ uint64_t faces_node_face(const hpfc_faces *fc, uint64_t node);
  * the file. */
 int faces_detach(hpfc_faces *fc);
 
+/* The faces one root pixel at a time, for a writer whose memory must
+ * follow the roots' borders, not the map (issue 32's merge). The plan
+ * numbers each root's leaves alone and keeps only what lies on the roots'
+ * sides: the classes of the gaps between crossings along them, united
+ * across each side two roots share, and counts. faces_stream_root then
+ * numbers one root again, with the ids hpfc_faces_build gives: an
+ * hpfc_faces whose faces_leaf_nodes and faces_node_face answer for that
+ * root's leaves only (hpfc_faces_free it). The plan keeps a walker: one
+ * thread at a time. */
+typedef struct faces_stream faces_stream;
+int faces_stream_plan(const hpfc_file *file, faces_stream **out);
+uint64_t faces_stream_face_count(const faces_stream *s);
+/* Bytes the plan holds (its arrays' capacity), and a numbering's leaf
+ * table and union-find: for tests and benches. */
+uint64_t faces_bytes(const hpfc_faces *fc);
+uint64_t faces_stream_plan_bytes(const faces_stream *s);
+int faces_stream_root(faces_stream *s, uint32_t i, uint32_t j, hpfc_faces **out);
+void faces_stream_free(faces_stream *s);
+
 #endif
