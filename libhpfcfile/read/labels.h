@@ -211,5 +211,13 @@ int labels_leaf_face(const hpfc_file *file, const labels_leaf *l, uint32_t stret
  * faces are fc): *out (malloc'ed), *length. */
 int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc, uint8_t **out,
                  uint64_t *length, hpfc_diag *diag);
+/* The same bytes, with the faces numbered a root pixel at a time (fs, of
+ * the same file: faces.h): what the build holds besides the section is
+ * the plan, one root's numbering, the roots' runs on each level, each
+ * edge's first level, and the pieces met before their edge's first one
+ * (pieces of edges across roots). */
+typedef struct faces_stream faces_stream;
+int labels_build_stream(const hpfc_tree *tree, const hpfc_file *file, faces_stream *fs,
+                        uint8_t **out, uint64_t *length, hpfc_diag *diag);
 
 #endif

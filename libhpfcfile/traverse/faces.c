@@ -1077,6 +1077,11 @@ struct faces_stream {
     uint64_t *gmin;       /* per united class (at its root): its smallest node in the file */
     uint64_t *grank;      /* per united class: its rank among all classes */
     uint64_t *gaps;       /* per gap, its border class */
+    /* once ranked (settle_plan), all the numbering of a root needs per
+     * border class: its class's rank, and whether its smallest node is the
+     * class's (a bit each); the arrays above but bx are freed */
+    uint64_t *krank;
+    uint8_t *first;
     uint64_t borders, border_cap, gap_count, gap_cap;
     uint64_t outer_x, outer_closed_below; /* the unbounded face's node in root 0 */
     bool outer_border;
@@ -1534,7 +1539,32 @@ void faces_stream_free(faces_stream *s)
     free(s->gmin);
     free(s->grank);
     free(s->gaps);
+    free(s->krank);
+    free(s->first);
     free(s);
+}
+
+/* What the roots' numberings need of the ranked plan, the rest freed:
+ * the plan held while the file is written is two words and a bit a border
+ * class and a few words a root. */
+static int settle_plan(faces_stream *s)
+{
+    size_t n = s->borders ? (size_t)s->borders : 1;
+    if (!(s->krank = malloc(n * sizeof *s->krank)) || !(s->first = calloc((n + 7) / 8, 1)))
+        return HPFC_E_NOMEM;
+    for (uint64_t r = 0; r < s->roots; r++)
+        for (uint64_t k = s->border_at[r]; k < s->border_at[r + 1]; k++) {
+            s->krank[k] = s->grank[plan_find(s->parent, k)];
+            if (first_of_class(s, r, k))
+                s->first[k >> 3] |= (uint8_t)(1u << (k & 7));
+        }
+    uint64_t *bx = realloc(s->bx, n * sizeof *bx);
+    if (bx)
+        s->bx = bx;
+    free(s->below), free(s->parent), free(s->gmin), free(s->grank), free(s->gaps), free(s->side_at);
+    s->below = s->parent = s->gmin = s->grank = s->gaps = s->side_at = NULL;
+    s->border_cap = s->borders, s->gap_cap = 0;
+    return HPFC_OK;
 }
 
 int faces_stream_plan(const hpfc_file *file, faces_stream **out)
@@ -1573,6 +1603,10 @@ int faces_stream_plan(const hpfc_file *file, faces_stream **out)
         return st;
     }
     rank_classes(s);
+    if ((st = settle_plan(s))) {
+        faces_stream_free(s);
+        return st;
+    }
     *out = s;
     return HPFC_OK;
 }
@@ -1592,7 +1626,7 @@ uint64_t faces_bytes(const hpfc_faces *fc)
 
 uint64_t faces_stream_plan_bytes(const faces_stream *s)
 {
-    return 8 * (s->roots * 10 + s->border_cap * 5 + s->gap_cap);
+    return 8 * (s->roots * 5 + s->borders * 2) + (s->borders + 7) / 8;
 }
 
 /* Pass 2 of root r: its nodes' face ids, in place of their classes. */
@@ -1609,8 +1643,8 @@ static int number_root(const faces_stream *s, root_pass *rp, uint64_t r)
         }
         uint64_t rank;
         if (k < end && s->bx[k] == x) {
-            rank = s->grank[plan_find(s->parent, k)];
-            next += first_of_class(s, r, k);
+            rank = s->krank[k];
+            next += (s->first[k >> 3] >> (k & 7)) & 1;
             k++;
         } else {
             rank = next++;

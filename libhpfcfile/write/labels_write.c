@@ -10,6 +10,13 @@
  * leaf number and the running image offset is where the reader finds the
  * slot (in the compact layout, the pixel's type bits); faces_leaf_nodes
  * looks the leaf up by that position.
+ *
+ * labels_build_stream makes the same bytes with the faces numbered a root
+ * pixel at a time (faces_stream, faces.h), for a writer whose memory must
+ * follow the roots' borders: passes 1 and 2 go in leaf order without
+ * faces (sizes, then the directory) and note where each root's run of
+ * images and records starts on each level; pass 3 goes root by root, each
+ * root's runs level by level, and writes the records and the sides.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -37,6 +44,8 @@ typedef struct label_plan {
     /* per edge its two faces, face_bits each, as the section stores them
      * (0 for an edge with no crossing), and whether it was met */
     uint8_t *sides, *seen;
+    /* streamed: per edge the level of its first piece in leaf order */
+    uint8_t *first_level;
     /* pass 2: the directory being written */
     uint8_t *dir;
     uint32_t shift, block_bits, offset_bits;
@@ -48,6 +57,7 @@ static void plan_free(label_plan *p)
 {
     free(p->sides);
     free(p->seen);
+    free(p->first_level);
     for (uint32_t l = 0; l < HPFC_MAX_LEVELS; l++)
         free(p->samples[l]);
 }
@@ -85,27 +95,157 @@ static uint64_t side_get(const label_plan *p, uint64_t e, int which)
     return format_get(&b, (2 * e + (uint64_t)which) * p->face_bits, p->face_bits);
 }
 
-/* One leaf, visited in leaf order: pass 1 (out NULL) records its offset,
- * pass 2 writes its labels at out (the label stream). */
+/* A piece whose z bit waits for its edge's sides (streamed pass 3): a
+ * piece met, root by root, before the first piece of its edge in leaf
+ * order, which sets the sides. Only edges across roots have such pieces. */
+typedef struct later_piece {
+    uint64_t at; /* the z bit's offset in the records */
+    uint64_t edge, right, left;
+} later_piece;
+
+/* Where each root's run of images, and of records, starts on each level
+ * (streamed passes): noted in pass 1, followed in pass 3. */
+typedef struct root_runs {
+    uint64_t roots;
+    uint64_t *image_first[HPFC_MAX_LEVELS]; /* roots + 1: the run's first image (l >= 1) */
+    uint64_t *record_at[HPFC_MAX_LEVELS];   /* the run's first record's offset */
+    uint64_t *image_at[HPFC_MAX_LEVELS];    /* the run's first image's bit in the pool */
+} root_runs;
+
+/* One leaf at a time, in one of the passes:
+ *   - whole pass 1 (fc, no out, no directory): offsets measured, each edge's
+ *     sides where it first comes;
+ *   - whole pass 2 (fc, out, directory): directory entries and records;
+ *   - streamed pass 1 (no fc, no out, no directory): offsets measured, each
+ *     edge's first level, the roots' runs;
+ *   - streamed pass 2 (no fc, no out, directory): directory entries;
+ *   - streamed pass 3 (a root's fc, out, no directory): the records of one
+ *     root, the sides as their first pieces come, other z bits later. */
 typedef struct leaf_visit {
     label_plan *plan;
     const hpfc_faces *fc;
     uint8_t *out;
-    uint64_t next; /* global leaf number */
+    bool directory;
+    uint64_t next; /* global leaf number (passes in leaf order) */
+    root_runs *runs;
+    later_piece *later;
+    size_t nlater, later_cap;
 } leaf_visit;
 
-static int visit_leaf(leaf_visit *lv, uint32_t level, uint64_t slot, const hpfc_tree_pixel *px,
+static bool measuring(const leaf_visit *v)
+{
+    return !v->out && !v->directory;
+}
+
+static bool edge_seen(const label_plan *p, uint64_t e)
+{
+    return p->seen[e >> 3] & (1u << (e & 7));
+}
+
+static void set_seen(label_plan *p, uint64_t e)
+{
+    p->seen[e >> 3] |= (uint8_t)(1u << (e & 7));
+}
+
+static void set_sides(label_plan *p, uint64_t e, uint64_t right, uint64_t left)
+{
+    set_seen(p, e);
+    format_put(p->sides, 2 * e * p->face_bits, p->face_bits, right);
+    format_put(p->sides, (2 * e + 1) * p->face_bits, p->face_bits, left);
+}
+
+/* Piece of edge e at `at` (its z bit at at + edge_bits), the face on the
+ * right of its first crossing's out-dart `right`, on its left `left`:
+ * its z bit, from the edge's sides. */
+static int put_side_bit(label_plan *p, uint8_t *out, uint64_t at, uint64_t e, uint64_t right,
+                        uint64_t left, hpfc_diag *diag)
+{
+    uint64_t side[2] = {side_get(p, e, 0), side_get(p, e, 1)};
+    uint32_t bit = side[0] != side[1] && right != side[0];
+    if (right != side[bit] || left != side[!bit])
+        return diag_set(diag, HPFC_E_ARG, "labels: edge %llu has more than two faces",
+                        (unsigned long long)e);
+    format_put(out, at, 1, bit);
+    return HPFC_OK;
+}
+
+static int defer_piece(leaf_visit *v, uint64_t at, uint64_t e, uint64_t right, uint64_t left,
+                       hpfc_diag *diag)
+{
+    if (v->nlater == v->later_cap) {
+        size_t grown = v->later_cap ? 2 * v->later_cap : 1024;
+        later_piece *p = realloc(v->later, grown * sizeof *p);
+        if (!p)
+            return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
+        v->later = p, v->later_cap = grown;
+    }
+    v->later[v->nlater++] = (later_piece){at, e, right, left};
+    return HPFC_OK;
+}
+
+/* The pieces of a leaf whose record starts at `at` (pass 1: what the edges
+ * need; the other passes with faces: the records' pieces). */
+static int visit_pieces(leaf_visit *v, uint32_t level, const labels_word *w, const hpfc_tree_pixel *px,
+                        uint64_t base, uint64_t at, hpfc_diag *diag)
+{
+    label_plan *p = v->plan;
+    /* Each piece from its first crossing c: the face on the right of out_c
+     * (stretch c + 1) and of in_c (stretch c), the two sides of its edge. */
+    for (uint32_t c = 0, q = 0; c < w->n; c++) {
+        if (w->piece[c] != q)
+            continue; /* a stabbing's second crossing */
+        q++;
+        uint64_t e = px->cross_edge[c];
+        if (e >= p->edges)
+            return diag_set(diag, HPFC_E_ARG, "labels: a crossing of edge %llu, of %llu edges",
+                            (unsigned long long)e, (unsigned long long)p->edges);
+        if (!v->fc) { /* streamed pass 1 */
+            if (!edge_seen(p, e)) {
+                set_seen(p, e);
+                p->first_level[e] = (uint8_t)level;
+            }
+            continue;
+        }
+        uint64_t right = faces_node_face(v->fc, base + (c + 1) % w->n);
+        uint64_t left = faces_node_face(v->fc, base + c);
+        if (!v->out) { /* whole pass 1: the sides where the edge first comes */
+            if (!edge_seen(p, e))
+                set_sides(p, e, right, left);
+            continue;
+        }
+        format_put(v->out, at, p->edge_bits, e);
+        int st = HPFC_OK;
+        if (p->first_level && !edge_seen(p, e)) {
+            /* streamed: the first piece in leaf order comes in the first root
+             * (root order) with a piece on the edge's first level */
+            if (level == p->first_level[e])
+                set_sides(p, e, right, left);
+            else
+                st = defer_piece(v, at + p->edge_bits, e, right, left, diag);
+        }
+        if (!st && edge_seen(p, e))
+            st = put_side_bit(p, v->out, at + p->edge_bits, e, right, left, diag);
+        if (st)
+            return st;
+        at += p->edge_bits + 1;
+    }
+    return HPFC_OK;
+}
+
+/* One leaf: its record's offset measured, its directory entry or its
+ * record written, as the pass does. */
+static int visit_leaf(leaf_visit *v, uint32_t level, uint64_t slot, const hpfc_tree_pixel *px,
                       hpfc_diag *diag)
 {
-    label_plan *p = lv->plan;
+    label_plan *p = v->plan;
     labels_word w;
     int st = labels_word_parse(&w, px->word, px->word_len);
-    uint64_t base = 0, n = 0, g = lv->next++;
+    uint64_t base = 0, n = 0, g = v->next++;
     if (st)
         st = diag_set(diag, st, "labels: a word of the tree does not parse");
     else if (g >= p->leaves)
         st = diag_set(diag, HPFC_E_ARG, "labels: more leaves in the tree than in the file");
-    else if (faces_leaf_nodes(lv->fc, level, slot, &base, &n) || n != w.n)
+    else if (v->fc && (faces_leaf_nodes(v->fc, level, slot, &base, &n) || n != w.n))
         st = diag_set(diag, HPFC_E_ARG, "labels: the faces do not belong to this tree's file");
     if (st) {
         labels_word_free(&w);
@@ -113,101 +253,138 @@ static int visit_leaf(leaf_visit *lv, uint32_t level, uint64_t slot, const hpfc_
     }
     uint64_t at = p->at;
     p->at = at + labels_record_bits(&w, p->face_bits, p->edge_bits);
-    if (!lv->out) {
-        measure_blocks(p, g, at);
-    } else {
+    if (v->directory)
         put_directory_entry(p, g, at);
-        if (w.n == 0)
-            format_put(lv->out, at, p->face_bits, faces_node_face(lv->fc, base));
-    }
-    /* Each piece from its first crossing c: the face on the right of out_c
-     * (stretch c + 1) and of in_c (stretch c), the two sides of its edge.
-     * Pass 1 records an edge's sides where it first comes; pass 2 writes
-     * which of them is on the right of out_c. */
-    for (uint32_t c = 0, q = 0; c < w.n; c++) {
-        if (w.piece[c] != q)
-            continue; /* a stabbing's second crossing */
-        uint64_t e = px->cross_edge[c];
-        uint64_t right = faces_node_face(lv->fc, base + (c + 1) % w.n);
-        uint64_t left = faces_node_face(lv->fc, base + c);
-        if (e >= p->edges) {
-            st = diag_set(diag, HPFC_E_ARG, "labels: a crossing of edge %llu, of %llu edges",
-                          (unsigned long long)e, (unsigned long long)p->edges);
-            break;
-        }
-        if (!lv->out) {
-            if (!(p->seen[e >> 3] & (1u << (e & 7)))) {
-                p->seen[e >> 3] |= (uint8_t)(1u << (e & 7));
-                format_put(p->sides, 2 * e * p->face_bits, p->face_bits, right);
-                format_put(p->sides, (2 * e + 1) * p->face_bits, p->face_bits, left);
-            }
-        } else {
-            uint64_t side[2] = {side_get(p, e, 0), side_get(p, e, 1)};
-            uint32_t bit = side[0] != side[1] && right != side[0];
-            if (right != side[bit] || left != side[!bit]) {
-                st = diag_set(diag, HPFC_E_ARG, "labels: edge %llu has more than two faces",
-                              (unsigned long long)e);
-                break;
-            }
-            format_put(lv->out, at, p->edge_bits, e);
-            format_put(lv->out, at + p->edge_bits, 1, bit);
-            at += p->edge_bits + 1;
-        }
-        q++;
-    }
+    else if (!v->out)
+        measure_blocks(p, g, at);
+    if (v->out && w.n == 0)
+        format_put(v->out, at, p->face_bits, faces_node_face(v->fc, base));
+    if (v->fc || measuring(v))
+        st = visit_pieces(v, level, &w, px, base, at, diag);
     labels_word_free(&w);
     return st;
 }
 
+/* A level's grid and slots, as the writer lays the pools out. */
+typedef struct level_walk {
+    uint32_t level, cols, rows;
+    bool compact;
+    uint64_t record, word_bits, address_bits;
+} level_walk;
+
+static void level_walk_init(level_walk *lw, const hpfc_file *file, uint32_t l)
+{
+    hpfc_file_info fi;
+    hpfc_level_info li;
+    hpfc_file_get_info(file, &fi);
+    hpfc_file_get_level(file, l, &li);
+    lw->level = l;
+    lw->cols = l ? fi.cols : fi.root_cols, lw->rows = l ? fi.rows : fi.root_rows;
+    lw->compact = file->compact;
+    lw->record = 1 + (uint64_t)(li.address_bits > li.word_bits ? li.address_bits : li.word_bits);
+    lw->word_bits = li.word_bits, lw->address_bits = li.address_bits;
+}
+
+/* Root record r (level 0): visited if a leaf; *refined 1 if not. */
+static int visit_root_pixel(leaf_visit *v, const hpfc_tree *tree, const level_walk *lw, uint64_t r,
+                            uint64_t *words, uint64_t *refined, hpfc_diag *diag)
+{
+    uint32_t i = (uint32_t)(r % lw->cols), j = (uint32_t)(r / lw->cols);
+    hpfc_tree_pixel px;
+    int st = hpfc_tree_get_pixel(tree, 0, 0, i, j, &px);
+    if (st)
+        return diag_set(diag, st, "labels: no pixel (%u, %u)", i, j);
+    *refined = px.type == HPFC_PIXEL_REFINED;
+    if (*refined)
+        return HPFC_OK;
+    /* the compact layout names a leaf by its type-bit position (two bits a
+     * pixel, spec §5.3.2), as the faces' leaf table does */
+    (*words)++;
+    return visit_leaf(v, 0, lw->compact ? 2 * r : r * lw->record, &px, diag);
+}
+
+/* Image im of level lw->level >= 1, at bit *image_at of its pool: its
+ * leaves visited, *image_at past it, its word and refined pixels added. */
+static int visit_image(leaf_visit *v, const hpfc_tree *tree, const level_walk *lw, uint64_t im,
+                       uint64_t *image_at, uint64_t *words, uint64_t *refined, hpfc_diag *diag)
+{
+    uint64_t pixels = (uint64_t)lw->cols * lw->rows, slot = *image_at + pixels;
+    for (uint32_t j = 0; j < lw->rows; j++)
+        for (uint32_t i = 0; i < lw->cols; i++) {
+            hpfc_tree_pixel px;
+            int st = hpfc_tree_get_pixel(tree, lw->level, im, i, j, &px);
+            if (st)
+                return diag_set(diag, st, "labels: no pixel (%u, %u)", i, j);
+            if (px.type == HPFC_PIXEL_REFINED) {
+                slot += lw->address_bits;
+                (*refined)++;
+                continue;
+            }
+            uint64_t key = lw->compact ? 2 * (im * pixels + (uint64_t)j * lw->cols + i) : slot;
+            if ((st = visit_leaf(v, lw->level, key, &px, diag)))
+                return st;
+            slot += lw->word_bits;
+            (*words)++;
+        }
+    *image_at = slot;
+    return HPFC_OK;
+}
+
+/* Streamed pass 1, before level l's image im (l >= 1): the root whose run
+ * it starts, if any, notes where its run begins; *root follows. */
+static void note_run_start(leaf_visit *v, uint32_t l, uint64_t im, uint64_t image_at, uint64_t *root)
+{
+    root_runs *rr = v->runs;
+    while (*root < rr->roots && rr->image_first[l][*root + 1] <= im)
+        (*root)++;
+    if (*root < rr->roots && rr->image_first[l][*root] == im) {
+        rr->record_at[l][*root] = v->plan->at;
+        rr->image_at[l][*root] = image_at;
+    }
+}
+
 /* Every leaf of the tree in leaf order, with its slot's pool offset (as the
- * writer lays the pools out) and, in pass 1, the rank samples. */
+ * writer lays the pools out) and, in pass 1, the rank samples (and, in a
+ * streamed pass 1, the roots' runs). */
 static int visit_all(leaf_visit *v, const hpfc_tree *tree, const hpfc_file *file, hpfc_diag *diag)
 {
     hpfc_file_info fi;
     hpfc_file_get_info(file, &fi);
-    bool compact = file->compact;
     uint64_t step = UINT64_C(1) << v->plan->sample_shift;
+    uint32_t shift = v->plan->sample_shift;
+    root_runs *rr = measuring(v) ? v->runs : NULL;
     for (uint32_t l = 0; l < fi.levels; l++) {
         hpfc_level_info li;
         hpfc_file_get_level(file, l, &li);
-        uint32_t cols = l ? fi.cols : fi.root_cols, rows = l ? fi.rows : fi.root_rows;
-        uint64_t record = 1 + (uint64_t)(li.address_bits > li.word_bits ? li.address_bits : li.word_bits);
-        uint64_t images = hpfc_tree_image_count(tree, l), words = 0, image_at = 0;
-        uint32_t shift = v->plan->sample_shift;
-        if (images != li.images)
+        level_walk lw;
+        level_walk_init(&lw, file, l);
+        uint64_t units = l ? hpfc_tree_image_count(tree, l) : (uint64_t)lw.cols * lw.rows;
+        uint64_t words = 0, image_at = 0, root = 0;
+        if (l && units != li.images)
             return diag_set(diag, HPFC_E_ARG, "labels: the tree and the file differ");
-        for (uint64_t im = 0; im < images; im++) {
-            uint64_t slot = image_at + (l ? (uint64_t)cols * rows : 0);
-            if (l && !v->out && (im & (step - 1)) == 0)
-                v->plan->samples[l][im >> shift] = words;
-            for (uint32_t j = 0; j < rows; j++)
-                for (uint32_t i = 0; i < cols; i++) {
-                    if (l == 0) {
-                        uint64_t r = (uint64_t)j * cols + i;
-                        if (!v->out && (r & (step - 1)) == 0)
-                            v->plan->samples[0][r >> shift] = words;
-                        slot = r * record;
-                    }
-                    hpfc_tree_pixel px;
-                    int st = hpfc_tree_get_pixel(tree, l, im, i, j, &px);
-                    if (st)
-                        return diag_set(diag, st, "labels: no pixel (%u, %u)", i, j);
-                    if (px.type == HPFC_PIXEL_REFINED) {
-                        slot += l ? li.address_bits : 0;
-                        continue;
-                    }
-                    /* the compact layout names a leaf by its type-bit position
-                     * (two bits a pixel, spec §5.3.2), as the faces' leaf table does */
-                    uint64_t key = compact ? 2 * ((l ? im * cols * rows : 0) + (uint64_t)j * cols + i)
-                                           : slot;
-                    if ((st = visit_leaf(v, l, key, &px, diag)))
-                        return st;
-                    slot += l ? li.word_bits : 0;
-                    words++;
-                }
-            if (l)
-                image_at = slot;
+        for (uint64_t u = 0; u < units; u++) {
+            if (measuring(v) && (u & (step - 1)) == 0)
+                v->plan->samples[l][u >> shift] = words;
+            uint64_t refined = 0;
+            int st;
+            if (l == 0) {
+                if (rr)
+                    rr->record_at[0][u] = v->plan->at;
+                st = visit_root_pixel(v, tree, &lw, u, &words, &refined, diag);
+                root = u;
+            } else {
+                if (rr)
+                    note_run_start(v, l, u, image_at, &root);
+                st = visit_image(v, tree, &lw, u, &image_at, &words, &refined, diag);
+            }
+            if (st)
+                return st;
+            if (rr && l + 1 < fi.levels) /* the next level's images of this root */
+                rr->image_first[l + 1][root + 1] += refined;
         }
+        if (rr && l + 1 < fi.levels)
+            for (uint64_t r = 0; r < rr->roots; r++) /* counts to starts */
+                rr->image_first[l + 1][r + 1] += rr->image_first[l + 1][r];
         if (words != li.word_pixels)
             return diag_set(diag, HPFC_E_ARG, "labels: the tree and the file differ");
     }
@@ -238,14 +415,14 @@ static void choose_blocks(const label_plan *p, uint32_t *shift, uint32_t *block_
     }
 }
 
-static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file,
-                     const hpfc_faces *fc, hpfc_diag *diag)
+static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file, uint64_t faces,
+                     hpfc_diag *diag)
 {
     hpfc_file_info fi;
     hpfc_tree_info ti;
     hpfc_file_get_info(file, &fi);
     hpfc_tree_get_info(tree, &ti);
-    p->faces = hpfc_faces_face_count(fc);
+    p->faces = faces;
     p->edges = ti.edges;
     if (!p->faces || !p->edges)
         return diag_set(diag, HPFC_E_ARG, "labels: a map with no face or no edge");
@@ -271,64 +448,195 @@ static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file
     return HPFC_OK;
 }
 
+/* After pass 1: the directory's block size and widths, the section's
+ * layout, the section allocated (zeros) with the directory and record
+ * streams ready for the next pass. */
+static int plan_section(label_plan *p, labels_layout *lay, uint8_t **sec, hpfc_diag *diag)
+{
+    p->label_bits = p->at;
+    choose_blocks(p, &p->shift, &p->block_bits, &p->offset_bits);
+    if (!labels_compute_layout(&p->lv, p->rank_bits, p->leaves, p->shift, p->block_bits,
+                               p->offset_bits, p->sample_shift, p->edges, p->face_bits,
+                               p->label_bits, lay) ||
+        lay->length > SIZE_MAX)
+        return diag_set(diag, HPFC_E_LIMIT, "labels: the section would be too large");
+    if (!(*sec = calloc(1, (size_t)lay->length)))
+        return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
+    p->dir = *sec + lay->dir_at;
+    p->block_record_bits = lay->block_record_bits;
+    p->at = 0;
+    return HPFC_OK;
+}
+
+/* The header, the level entries, the samples and the sides. */
+static void finish_section(const label_plan *p, const labels_layout *lay, uint8_t *sec)
+{
+    labl_set_face_count(sec, p->faces);
+    labl_set_edge_count(sec, p->edges);
+    labl_set_leaf_count(sec, p->leaves);
+    labl_set_label_bits(sec, p->label_bits);
+    labl_set_face_bits(sec, (uint8_t)p->face_bits);
+    labl_set_edge_bits(sec, (uint8_t)p->edge_bits);
+    labl_set_block_shift(sec, (uint8_t)p->shift);
+    labl_set_block_bits(sec, (uint8_t)p->block_bits);
+    labl_set_offset_bits(sec, (uint8_t)p->offset_bits);
+    labl_set_sample_shift(sec, (uint8_t)p->sample_shift);
+    labl_set_levels(sec, p->lv.levels);
+    for (uint32_t l = 0; l < p->lv.levels; l++) {
+        labll_set_rank_bits(sec + LABL_HEADER_SIZE + (size_t)l * LABL_LEVEL_SIZE, (uint8_t)p->rank_bits[l]);
+        for (uint64_t k = 0; k < lay->samples[l]; k++)
+            format_put(sec + lay->rank_at, lay->rank_start[l] + k * p->rank_bits[l], p->rank_bits[l],
+                       p->samples[l][k]);
+    }
+    /* already in the section's bit layout; an edge with no crossing: faces 0 */
+    memcpy(sec + lay->sides_at, p->sides, (size_t)format_pool_bytes(2 * p->edges * p->face_bits));
+}
+
 int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc, uint8_t **out,
                  uint64_t *length, hpfc_diag *diag)
 {
     label_plan p = {0};
+    labels_layout lay;
+    uint8_t *sec = NULL;
     *out = NULL;
     *length = 0;
-    int st = plan_init(&p, tree, file, fc, diag);
+    int st = plan_init(&p, tree, file, hpfc_faces_face_count(fc), diag);
     leaf_visit v = {.plan = &p, .fc = fc};
     if (!st)
         st = visit_all(&v, tree, file, diag);
-    labels_layout lay;
-    uint32_t shift = 0, block_bits = 0, offset_bits = 0;
-    uint8_t *sec = NULL;
+    if (!st)
+        st = plan_section(&p, &lay, &sec, diag);
     if (!st) {
-        p.label_bits = p.at;
-        choose_blocks(&p, &shift, &block_bits, &offset_bits);
-        if (!labels_compute_layout(&p.lv, p.rank_bits, p.leaves, shift, block_bits, offset_bits,
-                                   p.sample_shift, p.edges, p.face_bits, p.label_bits, &lay) ||
-            lay.length > SIZE_MAX)
-            st = diag_set(diag, HPFC_E_LIMIT, "labels: the section would be too large");
-    }
-    if (!st && !(sec = calloc(1, (size_t)lay.length)))
-        st = diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
-    if (!st) {
-        v.out = sec + lay.labels_at;
-        v.next = 0;
-        p.at = 0;
-        p.dir = sec + lay.dir_at;
-        p.shift = shift, p.block_bits = block_bits, p.offset_bits = offset_bits;
-        p.block_record_bits = lay.block_record_bits;
+        v = (leaf_visit){.plan = &p, .fc = fc, .out = sec + lay.labels_at, .directory = true};
         st = visit_all(&v, tree, file, diag);
     }
     if (!st) {
-        labl_set_face_count(sec, p.faces);
-        labl_set_edge_count(sec, p.edges);
-        labl_set_leaf_count(sec, p.leaves);
-        labl_set_label_bits(sec, p.label_bits);
-        labl_set_face_bits(sec, (uint8_t)p.face_bits);
-        labl_set_edge_bits(sec, (uint8_t)p.edge_bits);
-        labl_set_block_shift(sec, (uint8_t)shift);
-        labl_set_block_bits(sec, (uint8_t)block_bits);
-        labl_set_offset_bits(sec, (uint8_t)offset_bits);
-        labl_set_sample_shift(sec, (uint8_t)p.sample_shift);
-        labl_set_levels(sec, p.lv.levels);
-        for (uint32_t l = 0; l < p.lv.levels; l++) {
-            labll_set_rank_bits(sec + LABL_HEADER_SIZE + (size_t)l * LABL_LEVEL_SIZE,
-                                (uint8_t)p.rank_bits[l]);
-            for (uint64_t k = 0; k < lay.samples[l]; k++)
-                format_put(sec + lay.rank_at, lay.rank_start[l] + k * p.rank_bits[l],
-                           p.rank_bits[l], p.samples[l][k]);
-        }
-        /* already in the section's bit layout; an edge with no crossing: faces 0 */
-        memcpy(sec + lay.sides_at, p.sides, (size_t)format_pool_bytes(2 * p.edges * p.face_bits));
+        finish_section(&p, &lay, sec);
         *out = sec;
         *length = lay.length;
         sec = NULL;
     }
     free(sec);
+    plan_free(&p);
+    return st;
+}
+
+/* ---- a root pixel at a time ------------------------------------------------ */
+
+static void root_runs_free(root_runs *rr)
+{
+    for (uint32_t l = 0; l < HPFC_MAX_LEVELS; l++) {
+        free(rr->image_first[l]);
+        free(rr->record_at[l]);
+        free(rr->image_at[l]);
+    }
+}
+
+static int root_runs_init(root_runs *rr, const hpfc_file *file, hpfc_diag *diag)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(file, &fi);
+    *rr = (root_runs){.roots = (uint64_t)fi.root_cols * fi.root_rows};
+    if (rr->roots > SIZE_MAX / 16)
+        return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
+    size_t n = (size_t)rr->roots + 1;
+    for (uint32_t l = 0; l < fi.levels; l++)
+        if (!(rr->image_first[l] = calloc(n, 8)) || !(rr->record_at[l] = calloc(n, 8)) ||
+            !(rr->image_at[l] = calloc(n, 8)))
+            return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
+    return HPFC_OK;
+}
+
+/* Streamed pass 3, root r: its faces numbered again, its runs' records
+ * level by level, each from the offset pass 1 noted. */
+static int visit_root(leaf_visit *v, const hpfc_tree *tree, const hpfc_file *file, faces_stream *fs,
+                      uint64_t r, hpfc_diag *diag)
+{
+    hpfc_file_info fi;
+    hpfc_file_get_info(file, &fi);
+    const root_runs *rr = v->runs;
+    hpfc_faces *fc = NULL;
+    int st = faces_stream_root(fs, (uint32_t)(r % fi.root_cols), (uint32_t)(r / fi.root_cols), &fc);
+    if (st)
+        return diag_set(diag, st, "labels: numbering the faces of root pixel %llu failed",
+                        (unsigned long long)r);
+    v->fc = fc;
+    v->next = 0;
+    for (uint32_t l = 0; l < fi.levels && !st; l++) {
+        level_walk lw;
+        level_walk_init(&lw, file, l);
+        uint64_t words = 0, refined = 0, image_at = rr->image_at[l][r];
+        v->plan->at = rr->record_at[l][r];
+        if (l == 0) {
+            st = visit_root_pixel(v, tree, &lw, r, &words, &refined, diag);
+            continue;
+        }
+        for (uint64_t im = rr->image_first[l][r]; im < rr->image_first[l][r + 1] && !st; im++)
+            st = visit_image(v, tree, &lw, im, &image_at, &words, &refined, diag);
+    }
+    v->fc = NULL;
+    hpfc_faces_free(fc);
+    return st;
+}
+
+/* After pass 3: the z bits that waited for their edges' sides. */
+static int put_later_bits(leaf_visit *v, hpfc_diag *diag)
+{
+    label_plan *p = v->plan;
+    for (size_t k = 0; k < v->nlater; k++) {
+        const later_piece *q = &v->later[k];
+        if (!edge_seen(p, q->edge))
+            return diag_set(diag, HPFC_E_ARG, "labels: edge %llu has no first piece",
+                            (unsigned long long)q->edge);
+        int st = put_side_bit(p, v->out, q->at, q->edge, q->right, q->left, diag);
+        if (st)
+            return st;
+    }
+    return HPFC_OK;
+}
+
+int labels_build_stream(const hpfc_tree *tree, const hpfc_file *file, faces_stream *fs,
+                        uint8_t **out, uint64_t *length, hpfc_diag *diag)
+{
+    label_plan p = {0};
+    root_runs rr;
+    labels_layout lay;
+    uint8_t *sec = NULL;
+    *out = NULL;
+    *length = 0;
+    int st = plan_init(&p, tree, file, faces_stream_face_count(fs), diag);
+    if (!st)
+        st = root_runs_init(&rr, file, diag);
+    else
+        rr = (root_runs){0};
+    if (!st && !(p.first_level = malloc(p.edges ? (size_t)p.edges : 1)))
+        st = diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
+    leaf_visit v = {.plan = &p, .runs = &rr};
+    if (!st) /* pass 1: sizes, samples, first levels, runs */
+        st = visit_all(&v, tree, file, diag);
+    if (!st)
+        st = plan_section(&p, &lay, &sec, diag);
+    if (!st) { /* pass 2: the directory */
+        v = (leaf_visit){.plan = &p, .runs = &rr, .directory = true};
+        st = visit_all(&v, tree, file, diag);
+    }
+    if (!st) { /* pass 3: the records, root by root */
+        memset(p.seen, 0, (size_t)format_pool_bytes(p.edges));
+        v = (leaf_visit){.plan = &p, .runs = &rr, .out = sec + lay.labels_at};
+        for (uint64_t r = 0; r < rr.roots && !st; r++)
+            st = visit_root(&v, tree, file, fs, r, diag);
+        if (!st)
+            st = put_later_bits(&v, diag);
+    }
+    if (!st) {
+        finish_section(&p, &lay, sec);
+        *out = sec;
+        *length = lay.length;
+        sec = NULL;
+    }
+    free(v.later);
+    free(sec);
+    root_runs_free(&rr);
     plan_free(&p);
     return st;
 }

@@ -689,6 +689,22 @@ static int write_layout(layout *L, int fd, const char *name, hpfc_diag *diag)
     return k.err ? write_error(diag, name, k.err) : HPFC_OK;
 }
 
+/* LABL with the faces numbered a root pixel at a time (faces.h): for a
+ * tree joined from part files, whose merge must hold what the parts'
+ * borders need rather than a union-find over the whole map. */
+static int make_labels_by_root(layout *L, const hpfc_file *f, uint8_t **labl, uint64_t *length,
+                               hpfc_diag *diag)
+{
+    faces_stream *fs = NULL;
+    int st = faces_stream_plan(f, &fs);
+    if (st)
+        diag_set(diag, st, "labels: numbering the faces failed");
+    else
+        st = labels_build_stream(L->tree, f, fs, labl, length, diag);
+    faces_stream_free(fs);
+    return st;
+}
+
 /* The LABL section of the tree laid out in L: its faces are numbered on
  * the file serialised without it (face ids depend on the pools only). */
 static int make_labels(layout *L, hpfc_diag *diag)
@@ -701,9 +717,11 @@ static int make_labels(layout *L, hpfc_diag *diag)
     int st = serialize_layout(L, &bytes, &size, diag);
     if (!st && (st = hpfc_open_memory(bytes, size, 0, &f)))
         diag_set(diag, st, "labels: the serialised file does not read back");
-    if (!st && (st = hpfc_faces_build_threads(f, L->threads, &fc)))
+    if (!st && L->tree->view && !L->faces_out)
+        st = make_labels_by_root(L, f, &labl, &length, diag);
+    else if (!st && (st = hpfc_faces_build_threads(f, L->threads, &fc)))
         diag_set(diag, st, "labels: numbering the faces failed");
-    if (!st)
+    if (!st && fc)
         st = labels_build(L->tree, f, fc, &labl, &length, diag);
     /* the faces answer for every copy of these pools: the caller may have
      * them, bound to the file it opens (hpfc_faces_attach) */

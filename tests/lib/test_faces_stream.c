@@ -3,6 +3,8 @@
  *   - the same face count, and for every root pixel, every leaf's faces
  *     (each crossing's out-dart, each private leaf) the same ids;
  *   - a root's numbering answers for its own leaves only;
+ *   - LABL written a root at a time (labels_build_stream) is the section
+ *     the writer stores, byte for byte;
  *   - over maps of the generators and the special cases, both layouts, root
  *     grids from 1 x 1 to 16 x 16 and refined images of 2 x 2 and 3 x 2;
  *   - mutants of those files (pools changed, opened without the checksum)
@@ -15,6 +17,8 @@
 
 #include "check.h"
 #include "faces.h"
+#include "file.h"
+#include "labels.h"
 #include "gen.h"
 #include "hpfc.h"
 
@@ -143,6 +147,29 @@ static void check_mutants(const uint8_t *bytes, size_t size, uint64_t seed)
     free(copy);
 }
 
+static size_t sections_checked;
+
+/* LABL written a root at a time against the section the writer stored. */
+static void check_labels(const hpfc_tree *t, const hpfc_file *f)
+{
+    faces_stream *s = NULL;
+    uint8_t *labl = NULL;
+    uint64_t length = 0;
+    hpfc_diag d;
+    CHECK_EQ_INT(faces_stream_plan(f, &s), HPFC_OK);
+    if (!s)
+        return;
+    int st = labels_build_stream(t, f, s, &labl, &length, &d);
+    if (st)
+        fprintf(stderr, "labels_build_stream: %s\n", d.message);
+    CHECK_EQ_INT(st, HPFC_OK);
+    CHECK(f->labels.present && labl && length == f->labels.section_length &&
+          memcmp(labl, f->labels.section, (size_t)length) == 0);
+    sections_checked++;
+    free(labl);
+    faces_stream_free(s);
+}
+
 static void check_map(const hpfc_graph *g, const char *what, uint64_t seed)
 {
     static const struct {
@@ -157,14 +184,15 @@ static void check_map(const hpfc_graph *g, const char *what, uint64_t seed)
             hpfc_tree *t = NULL;
             if (hpfc_build(g, &p, &t, NULL) != HPFC_OK)
                 continue; /* a build's failure is test_build's */
-            hpfc_write_options o = {.layout = layout ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER};
+            hpfc_write_options o = {.layout = layout ? HPFC_LAYOUT_COMPACT : HPFC_LAYOUT_PAPER,
+                                    .face_labels = 1};
             uint8_t *bytes = NULL;
             size_t size = 0;
             CHECK_EQ_INT(hpfc_tree_serialize(t, &o, &bytes, &size, NULL), HPFC_OK);
-            hpfc_tree_free(t);
             hpfc_file *f = NULL;
             if (bytes && hpfc_open_memory(bytes, size, 0, &f) == HPFC_OK) {
                 check_file(f, what);
+                check_labels(t, f);
                 hpfc_close(f);
                 if (k == 1 || k == 3)
                     check_mutants(bytes, size, seed * 7 + k * 2 + (uint64_t)layout);
@@ -172,6 +200,7 @@ static void check_map(const hpfc_graph *g, const char *what, uint64_t seed)
                 CHECK(0);
             }
             hpfc_free(bytes);
+            hpfc_tree_free(t);
         }
 }
 
@@ -208,8 +237,8 @@ int main(int argc, char **argv)
             check_map(g, "grid", seed + 20);
         hpfc_graph_free(g);
     }
-    printf("faces_stream: %zu roots, %zu leaves checked; %zu mutants, %zu numbered\n", roots_checked,
-           leaves_checked, mutants_checked, mutants_numbered);
-    CHECK(roots_checked > 1000 && leaves_checked > 10000 && mutants_checked > 50);
+    printf("faces_stream: %zu roots, %zu leaves, %zu LABL sections checked; %zu mutants, %zu numbered\n",
+           roots_checked, leaves_checked, sections_checked, mutants_checked, mutants_numbered);
+    CHECK(roots_checked > 1000 && leaves_checked > 10000 && sections_checked > 100 && mutants_checked > 50);
     return check_report("faces_stream");
 }
