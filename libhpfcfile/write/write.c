@@ -60,6 +60,7 @@ typedef struct layout {
     /* where make_labels hands out the faces it numbered (faces_out), or NULL */
     hpfc_faces **faces_out;
     unsigned threads; /* hpfc_write_options.threads: for numbering the faces */
+    bool faces_by_root; /* hpfc_write_options.faces_by_root */
     /* SHIX (§6.8), made from LABL, FEAT and EDGF when there is a LABL */
     uint8_t *shix;
     uint64_t shix_offset, shix_length;
@@ -689,9 +690,9 @@ static int write_layout(layout *L, int fd, const char *name, hpfc_diag *diag)
     return k.err ? write_error(diag, name, k.err) : HPFC_OK;
 }
 
-/* LABL with the faces numbered a root pixel at a time (faces.h): for a
- * tree joined from part files, whose merge must hold what the parts'
- * borders need rather than a union-find over the whole map. */
+/* LABL with the faces numbered a root pixel at a time (faces.h,
+ * hpfc_write_options.faces_by_root): a merge's writer then holds what the
+ * roots' borders need rather than a union-find over the whole map. */
 static int make_labels_by_root(layout *L, const hpfc_file *f, uint8_t **labl, uint64_t *length,
                                hpfc_diag *diag)
 {
@@ -717,7 +718,7 @@ static int make_labels(layout *L, hpfc_diag *diag)
     int st = serialize_layout(L, &bytes, &size, diag);
     if (!st && (st = hpfc_open_memory(bytes, size, 0, &f)))
         diag_set(diag, st, "labels: the serialised file does not read back");
-    if (!st && L->tree->view && !L->faces_out)
+    if (!st && L->faces_by_root && !L->faces_out)
         st = make_labels_by_root(L, f, &labl, &length, diag);
     else if (!st && (st = hpfc_faces_build_threads(f, L->threads, &fc)))
         diag_set(diag, st, "labels: numbering the faces failed");
@@ -821,7 +822,8 @@ static int begin_layout(const char *who, const void *source, const hpfc_write_op
                   .attributes = opts->attributes,
                   .edge_features = opts->edge_features,
                   .faces_out = opts->faces_out,
-                  .threads = opts->threads};
+                  .threads = opts->threads,
+                  .faces_by_root = opts->faces_by_root != 0};
     if (opts->faces_out)
         *opts->faces_out = NULL;
     return HPFC_OK;

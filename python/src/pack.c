@@ -167,7 +167,11 @@ static PyObject *mod_pack_merge(PyObject *m, PyObject *args)
     if (!st && geometry && (st = hpfc_pfc_read_file(pfc, &g, &d)) != HPFC_OK)
         culprit = pfc;
     if (!st) {
-        hpfc_write_options o = {.face_labels = labels, .layout = layout, .geometry = g};
+        /* without GEOM the merge holds no graph: LABL's faces numbered a
+         * root pixel at a time keep its memory to the parts' borders (with
+         * GEOM the graph read whole dwarfs them: the faster numbering) */
+        hpfc_write_options o = {.face_labels = labels, .layout = layout, .geometry = g,
+                                .faces_by_root = !geometry};
         st = hpfc_tree_write_file(joined, &o, out, &d);
         culprit = out;
     }

@@ -4,7 +4,9 @@
  *     (each crossing's out-dart, each private leaf) the same ids;
  *   - a root's numbering answers for its own leaves only;
  *   - LABL written a root at a time (labels_build_stream) is the section
- *     the writer stores, byte for byte;
+ *     the writer stores, byte for byte, and so is a file written with
+ *     hpfc_write_options.faces_by_root (also with faces_out, which it
+ *     leaves to the whole numbering);
  *   - over maps of the generators and the special cases, both layouts, root
  *     grids from 1 x 1 to 16 x 16 and refined images of 2 x 2 and 3 x 2;
  *   - mutants of those files (pools changed, opened without the checksum)
@@ -170,6 +172,27 @@ static void check_labels(const hpfc_tree *t, const hpfc_file *f)
     faces_stream_free(s);
 }
 
+/* The writer's option (hpfc_write_options.faces_by_root): the same bytes;
+ * with faces_out too, the faces handed out as without it. */
+static void check_by_root(const hpfc_tree *t, const hpfc_write_options *o, const uint8_t *bytes,
+                          size_t size)
+{
+    hpfc_write_options by_root = *o;
+    by_root.faces_by_root = 1;
+    uint8_t *again = NULL;
+    size_t again_size = 0;
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &by_root, &again, &again_size, NULL), HPFC_OK);
+    CHECK(again && again_size == size && memcmp(again, bytes, size) == 0);
+    hpfc_free(again);
+    hpfc_faces *fc = NULL;
+    by_root.faces_out = &fc;
+    again = NULL;
+    CHECK_EQ_INT(hpfc_tree_serialize(t, &by_root, &again, &again_size, NULL), HPFC_OK);
+    CHECK(again && again_size == size && memcmp(again, bytes, size) == 0 && fc);
+    hpfc_faces_free(fc);
+    hpfc_free(again);
+}
+
 static void check_map(const hpfc_graph *g, const char *what, uint64_t seed)
 {
     static const struct {
@@ -189,6 +212,7 @@ static void check_map(const hpfc_graph *g, const char *what, uint64_t seed)
             uint8_t *bytes = NULL;
             size_t size = 0;
             CHECK_EQ_INT(hpfc_tree_serialize(t, &o, &bytes, &size, NULL), HPFC_OK);
+            check_by_root(t, &o, bytes, size);
             hpfc_file *f = NULL;
             if (bytes && hpfc_open_memory(bytes, size, 0, &f) == HPFC_OK) {
                 check_file(f, what);
