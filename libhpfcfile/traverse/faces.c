@@ -1079,7 +1079,8 @@ struct faces_stream {
     uint64_t *gaps;       /* per gap, its border class */
     /* once ranked (settle_plan), all the numbering of a root needs per
      * border class: its class's rank, and whether its smallest node is the
-     * class's (a bit each); the arrays above but bx are freed */
+     * class's (a bit each); below, parent, gmin, grank, gaps and side_at
+     * are freed then */
     uint64_t *krank;
     uint8_t *first;
     uint64_t borders, border_cap, gap_count, gap_cap;
