@@ -25,6 +25,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h> /* sysconf */
 
 #include "hpfc.h"
 #include "part_dir.h"
@@ -137,6 +138,14 @@ static PyObject *mod_pack_part(PyObject *m, PyObject *args)
     return PyUnicode_FromFormat("%s/part-%u.part", dir, k);
 }
 
+/* The merge's threads (LABL's faces, GEOM's plan beside them): the
+ * client's cores, which wait for the merge once the parts are built. */
+static unsigned merge_threads(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > 8 ? 8 : (unsigned)n;
+}
+
 /* _pack_merge(part_paths, pfc, out, layout, labels, geometry) -> None */
 static PyObject *mod_pack_merge(PyObject *m, PyObject *args)
 {
@@ -171,7 +180,7 @@ static PyObject *mod_pack_merge(PyObject *m, PyObject *args)
          * root pixel at a time keep its memory to the parts' borders (with
          * GEOM the graph read whole dwarfs them: the faster numbering) */
         hpfc_write_options o = {.face_labels = labels, .layout = layout, .geometry = g,
-                                .faces_by_root = !geometry};
+                                .faces_by_root = !geometry, .threads = merge_threads()};
         st = hpfc_tree_write_file(joined, &o, out, &d);
         culprit = out;
     }
