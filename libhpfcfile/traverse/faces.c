@@ -761,23 +761,33 @@ static int run_pass(numbering *nb, run_step step, hpfc_walker *w, crew *c)
     return nb->fail_key == UINT64_MAX ? HPFC_OK : nb->fail_status;
 }
 
-/* Numbers the classes densely, the unbounded face first: the domain's
- * north-west corner lies in it. */
-static int number_faces(hpfc_faces *fc, hpfc_walker *w)
+/* A node of the unbounded face (§3.11): the one at the north-west
+ * crossroad of the leaf at the domain's north-west corner, *corner. */
+static int outer_node(const hpfc_faces *fc, hpfc_walker *w, hpfc_pixel *corner, uint64_t *node)
 {
     hpfc_file_info info;
     hpfc_file_get_info(fc->file, &info);
-    hpfc_pixel corner;
     uint64_t base;
-    int st = hpfc_locate(fc->file, info.x0, info.y0 + info.height - 1, &corner);
+    int st = hpfc_locate(fc->file, info.x0, info.y0 + info.height - 1, corner);
     if (!st)
-        st = node_base(fc, &corner, &base);
+        st = node_base(fc, corner, &base);
     if (!st)
-        st = topo_parse_pixel(w, &w->p_word, &corner);
+        st = topo_parse_pixel(w, &w->p_word, corner);
+    if (!st)
+        *node = gap_node(&w->p_word, base, HPFC_NORTH, 0);
+    return st;
+}
+
+/* Numbers the classes densely, the unbounded face first. */
+static int number_faces(hpfc_faces *fc, hpfc_walker *w)
+{
+    hpfc_pixel corner;
+    uint64_t node;
+    int st = outer_node(fc, w, &corner, &node);
     if (st)
         return st;
     node_array *parent = &fc->parent;
-    uint64_t outer = find(parent, gap_node(&w->p_word, base, HPFC_NORTH, 0));
+    uint64_t outer = find(parent, node);
     for (uint64_t x = 0; x < fc->nodes; x++) /* every node now points at its root */
         node_set(parent, x, find(parent, x));
     /* Face ids in place, in order of each face's smallest node, the outer
@@ -1377,23 +1387,16 @@ static int add_gaps(faces_stream *s, root_pass *rp, uint64_t r)
     return HPFC_OK;
 }
 
-/* The unbounded face's node in root 0: the class at the north-west
- * crossroad of the leaf at the domain's north-west corner (§3.11). */
+/* The unbounded face's class in root 0 (its numbering flattened). */
 static int find_outer(faces_stream *s, root_pass *rp)
 {
-    hpfc_file_info info;
-    hpfc_file_get_info(s->file, &info);
     hpfc_pixel corner;
-    uint64_t base;
-    int st = hpfc_locate(s->file, info.x0, info.y0 + info.height - 1, &corner);
+    uint64_t node;
+    int st = outer_node(&rp->fc, s->w, &corner, &node);
     if (!st && !in_root(&corner, 0, 0))
         st = HPFC_E_CORRUPT;
     if (!st)
-        st = node_base(&rp->fc, &corner, &base);
-    if (!st)
-        st = topo_parse_pixel(s->w, &s->w->p_word, &corner);
-    if (!st)
-        s->outer_x = node_get(&rp->fc.parent, gap_node(&s->w->p_word, base, HPFC_NORTH, 0));
+        s->outer_x = node_get(&rp->fc.parent, node);
     return st;
 }
 
