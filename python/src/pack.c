@@ -177,7 +177,7 @@ static PyObject *mod_pack_merge(PyObject *m, PyObject *args)
         culprit = pfc;
     if (!st) {
         /* without GEOM the merge holds no graph: LABL's faces numbered a
-         * root pixel at a time keep its memory to the parts' borders (with
+         * root pixel at a time keep its memory to the root pixels' borders (with
          * GEOM the graph read whole dwarfs them: the faster numbering) */
         hpfc_write_options o = {.face_labels = labels, .layout = layout, .geometry = g,
                                 .faces_by_root = !geometry, .threads = merge_threads()};
