@@ -24,6 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "arrays.h"
 #include "faces.h"
 #include "file.h"
 #include "labels.h"
@@ -1074,7 +1075,6 @@ struct faces_stream {
     hpfc_walker *w;
     uint32_t cols, rows, sub_cols, sub_rows; /* the root grid; an image's pixels below */
     uint64_t roots;
-    uint64_t *nodes;      /* per root, its node count */
     uint64_t *node_base;  /* per root, its first node in the file (roots + 1) */
     uint64_t *closed;     /* per root, its closed classes */
     uint64_t *face_base;  /* per root, the rank of its first class (roots + 1) */
@@ -1093,7 +1093,8 @@ struct faces_stream {
      * are freed then */
     uint64_t *krank;
     uint8_t *first;
-    uint64_t borders, border_cap, gap_count, gap_cap;
+    uint64_t borders, gap_count;
+    size_t border_cap, gap_cap;
     uint64_t outer_x, outer_closed_below; /* the unbounded face's node in root 0 */
     bool outer_border;
     uint64_t outer_rank, count;
@@ -1101,15 +1102,10 @@ struct faces_stream {
 
 static int gap_push(gap_list *g, uint64_t node)
 {
-    if (g->n == g->cap) {
-        size_t grown = g->cap ? 2 * g->cap : 64;
-        uint64_t *p = realloc(g->at, grown * sizeof *p);
-        if (!p)
-            return HPFC_E_NOMEM;
-        g->at = p, g->cap = grown;
-    }
-    g->at[g->n++] = node;
-    return HPFC_OK;
+    int st = array_reserve((void **)&g->at, &g->cap, g->n + 1, sizeof *g->at, 64);
+    if (!st)
+        g->at[g->n++] = node;
+    return st;
 }
 
 static void root_pass_free(root_pass *rp)
@@ -1152,12 +1148,8 @@ static int root_count(faces_stream *s, root_pass *rp, uint64_t most)
         lo[l] = UINT64_MAX, hi[l] = 0;
     hpfc_pixel px;
     int st = hpfc_pixel_root(f, rp->i, rp->j, &px);
-    while (!st) { /* down to the root's first leaf */
-        int type;
-        if ((st = hpfc_pixel_type(f, &px, &type)) || type == HPFC_PIXEL_WORD)
-            break;
-        st = hpfc_pixel_child(f, &px, 0, 0, &px);
-    }
+    if (!st)
+        st = topo_first_leaf_below(f, &px);
     rp->first = px;
     leaf_table *t = &rp->fc.leaves;
     for (bool more = true; !st && more; st = next_in_root(f, &px, rp->i, rp->j, &more)) {
@@ -1297,22 +1289,6 @@ static int cmp_u64(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-static int grow_u64(uint64_t **a, uint64_t *cap, uint64_t need)
-{
-    if (need <= *cap)
-        return HPFC_OK;
-    uint64_t grown = *cap ? *cap : 256;
-    while (grown < need)
-        grown *= 2;
-    if (grown > SIZE_MAX / sizeof **a)
-        return HPFC_E_NOMEM;
-    uint64_t *p = realloc(*a, (size_t)grown * sizeof *p);
-    if (!p)
-        return HPFC_E_NOMEM;
-    *a = p, *cap = grown;
-    return HPFC_OK;
-}
-
 /* The border classes of root r: the classes of its sides' gaps, in order
  * of their smallest node, at the end of the plan's list. */
 static int add_borders(faces_stream *s, root_pass *rp, uint64_t r)
@@ -1320,9 +1296,11 @@ static int add_borders(faces_stream *s, root_pass *rp, uint64_t r)
     size_t n = 0;
     for (int road = 0; road < 4; road++)
         n += rp->side[road].n;
-    uint64_t have = s->borders, cap = s->border_cap;
-    int st = grow_u64(&s->bx, &cap, have + n); /* bx and below grow alike */
-    if (!st && (cap = s->border_cap, st = grow_u64(&s->below, &cap, have + n)) == HPFC_OK)
+    uint64_t have = s->borders;
+    size_t cap = s->border_cap;
+    int st = array_reserve((void **)&s->bx, &cap, have + n, sizeof *s->bx, 256); /* bx and below grow alike */
+    if (!st && (cap = s->border_cap,
+                st = array_reserve((void **)&s->below, &cap, have + n, sizeof *s->below, 256)) == HPFC_OK)
         s->border_cap = cap;
     if (st)
         return st;
@@ -1377,7 +1355,7 @@ static int add_gaps(faces_stream *s, root_pass *rp, uint64_t r)
 {
     for (int road = 0; road < 4; road++) {
         const gap_list *g = &rp->side[road];
-        int st = grow_u64(&s->gaps, &s->gap_cap, s->gap_count + g->n);
+        int st = array_reserve((void **)&s->gaps, &s->gap_cap, s->gap_count + g->n, sizeof *s->gaps, 256);
         if (st)
             return st;
         for (size_t k = 0; k < g->n; k++)
@@ -1411,7 +1389,6 @@ static int plan_roots(faces_stream *s)
             st = find_outer(s, &rp);
         if (!st) {
             most -= rp.leaves;
-            s->nodes[r] = rp.fc.nodes;
             s->node_base[r + 1] = s->node_base[r] + rp.fc.nodes;
             st = add_borders(s, &rp, r);
         }
@@ -1515,13 +1492,12 @@ static int plan_alloc(faces_stream *s)
     uint64_t r = s->roots;
     if (r > SIZE_MAX / 64)
         return HPFC_E_NOMEM;
-    s->nodes = calloc((size_t)r, sizeof *s->nodes);
     s->node_base = calloc((size_t)r + 1, sizeof *s->node_base);
     s->closed = calloc((size_t)r, sizeof *s->closed);
     s->face_base = calloc((size_t)r + 1, sizeof *s->face_base);
     s->border_at = calloc((size_t)r + 1, sizeof *s->border_at);
     s->side_at = calloc(4 * (size_t)r + 1, sizeof *s->side_at);
-    if (!s->nodes || !s->node_base || !s->closed || !s->face_base || !s->border_at || !s->side_at)
+    if (!s->node_base || !s->closed || !s->face_base || !s->border_at || !s->side_at)
         return HPFC_E_NOMEM;
     return HPFC_OK;
 }
@@ -1531,7 +1507,6 @@ void faces_stream_free(faces_stream *s)
     if (!s)
         return;
     hpfc_walker_free(s->w);
-    free(s->nodes);
     free(s->node_base);
     free(s->closed);
     free(s->face_base);
@@ -1630,7 +1605,7 @@ uint64_t faces_bytes(const hpfc_faces *fc)
 
 uint64_t faces_stream_plan_bytes(const faces_stream *s)
 {
-    return 8 * (s->roots * 5 + s->borders * 2) + (s->borders + 7) / 8;
+    return 8 * (s->roots * 4 + s->borders * 2) + (s->borders + 7) / 8;
 }
 
 /* Pass 2 of root r: its nodes' face ids, in place of their classes. */
@@ -1670,7 +1645,7 @@ int faces_stream_root(faces_stream *s, uint32_t i, uint32_t j, hpfc_faces **out)
     uint64_t r = (uint64_t)j * s->cols + i;
     root_pass rp;
     int st = root_number(s, i, j, file_total_leaves(s->file), &rp);
-    if (!st && rp.fc.nodes != s->nodes[r])
+    if (!st && rp.fc.nodes != s->node_base[r + 1] - s->node_base[r])
         st = HPFC_E_CORRUPT;
     if (!st)
         st = number_root(s, &rp, r);

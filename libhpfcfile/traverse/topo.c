@@ -190,8 +190,7 @@ int hpfc_vertex_dart(hpfc_walker *w, const hpfc_vertex *v, uint32_t index, hpfc_
 
 /* ---- leaf iteration ------------------------------------------------------ */
 
-/* Descends from px to the first leaf below it (pixel (0,0) of each image). */
-static int first_leaf_below(const hpfc_file *f, hpfc_pixel *px)
+int topo_first_leaf_below(const hpfc_file *f, hpfc_pixel *px)
 {
     for (;;) {
         int type, st = hpfc_pixel_type(f, px, &type);
@@ -207,7 +206,7 @@ int hpfc_leaf_first(const hpfc_file *f, hpfc_pixel *px)
     if (!f || !px)
         return HPFC_E_ARG;
     int st = hpfc_pixel_root(f, 0, 0, px);
-    return st ? st : first_leaf_below(f, px);
+    return st ? st : topo_first_leaf_below(f, px);
 }
 
 int hpfc_leaf_next(const hpfc_file *f, hpfc_pixel *px)
@@ -232,7 +231,7 @@ int hpfc_leaf_next(const hpfc_file *f, hpfc_pixel *px)
                 if (!st)
                     st = hpfc_pixel_child(f, &parent, i, j, px);
             }
-            return st ? st : first_leaf_below(f, px);
+            return st ? st : topo_first_leaf_below(f, px);
         }
         if (d == 0)
             return HPFC_E_NO_PIXEL;

@@ -447,6 +447,10 @@ int topo_cross_road(hpfc_walker *w, const hpfc_pixel *p, bool p_located, const w
  * crossing after k on the road is Q's crossing *m - 1: a caller going
  * through a road's crossings in order needs this call for its first only
  * (the faces' flood fill does). */
+/* Descends from px to the first leaf below it (pixel (0,0) of each image):
+ * the leaves' depth-first order starts there (hpfc_leaf_first, and one
+ * root pixel's leaves for faces_stream). */
+int topo_first_leaf_below(const hpfc_file *f, hpfc_pixel *px);
 int topo_cross_road_spans(hpfc_walker *w, const hpfc_pixel *p, bool p_located,
                           const word_parts *lw, uint32_t k, hpfc_pixel *q, word_parts *qlw,
                           uint32_t *m, bool *spans);

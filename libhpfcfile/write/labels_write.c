@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "arrays.h"
 #include "diag.h"
 #include "faces.h"
 #include "file.h"
@@ -172,13 +173,8 @@ static int put_side_bit(label_plan *p, uint8_t *out, uint64_t at, uint64_t e, ui
 static int defer_piece(leaf_visit *v, uint64_t at, uint64_t e, uint64_t right, uint64_t left,
                        hpfc_diag *diag)
 {
-    if (v->nlater == v->later_cap) {
-        size_t grown = v->later_cap ? 2 * v->later_cap : 1024;
-        later_piece *p = realloc(v->later, grown * sizeof *p);
-        if (!p)
-            return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
-        v->later = p, v->later_cap = grown;
-    }
+    if (array_reserve((void **)&v->later, &v->later_cap, v->nlater + 1, sizeof *v->later, 1024))
+        return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
     v->later[v->nlater++] = (later_piece){at, e, right, left};
     return HPFC_OK;
 }
