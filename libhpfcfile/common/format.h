@@ -427,4 +427,20 @@ static inline void format_put(uint8_t *pool, uint64_t off, unsigned k, uint64_t 
     }
 }
 
+/* Overwrites the k-bit field (0 <= k <= 64) at bit offset off with the
+ * low k bits of v: format_put for a field that may already hold bits
+ * (a count kept in place while a table is built in its own bytes). */
+static inline void format_set(uint8_t *pool, uint64_t off, unsigned k, uint64_t v)
+{
+    while (k > 0) {
+        unsigned shift = (unsigned)(off & 7), room = 8 - shift;
+        unsigned take = k < room ? k : room;
+        unsigned mask = ((1u << take) - 1) << (room - take);
+        uint64_t part = (v >> (k - take)) & ((1u << take) - 1);
+        pool[off >> 3] = (uint8_t)((pool[off >> 3] & ~mask) | (unsigned)(part << (room - take)));
+        off += take;
+        k -= take;
+    }
+}
+
 #endif

@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "inverse.h"
 #include "shix.h"
 
 /* Bits to write x: 0 for 0. */
@@ -140,69 +139,147 @@ int shix_row(const shix_table *t, uint64_t row, const shix_inverse *of, uint64_t
  * say how many. */
 #define SHIX_MOST_LINKS (UINT32_MAX - 1)
 
-/* The rows of (start, item), `rows` of them, inverted: for each of
- * `targets` targets, the rows that link it, ascending (rows are visited
- * in order). The links were checked below `targets` by the writer's
- * check of FEAT and EDGF. */
-static int invert(uint32_t rows, const uint32_t *start, const uint32_t *item, uint32_t targets,
-                  inverse_table *out)
+/* The rows a table inverts: LABL's edges (`labels` set: an edge's two
+ * faces when they differ, none when they are the same) or FEAT's or
+ * EDGF's rows (start, item). */
+typedef struct source_rows {
+    const labels_view *labels;
+    const uint32_t *start, *item;
+    uint64_t rows;
+} source_rows;
+
+/* Row r's links as *links, their count returned; pair is room for an
+ * edge's two faces. */
+static uint32_t row_links(const source_rows *s, uint64_t r, uint32_t pair[2], const uint32_t **links)
 {
-    int st = inverse_begin(out, targets);
-    if (st)
-        return st;
-    for (uint32_t i = 0; i < start[rows]; i++)
-        inverse_count(out, item[i]);
-    if ((st = inverse_room(out, SHIX_MOST_LINKS)))
-        return st;
-    for (uint32_t r = 0; r < rows; r++)
-        for (uint32_t i = start[r]; i < start[r + 1]; i++)
-            inverse_put(out, item[i], r);
-    inverse_done(out);
+    if (!s->labels) {
+        *links = s->item + s->start[r];
+        return s->start[r + 1] - s->start[r];
+    }
+    const labels_view *lv = s->labels;
+    pair[0] = (uint32_t)format_get(&lv->sides, 2 * r * lv->face_bits, lv->face_bits);
+    pair[1] = (uint32_t)format_get(&lv->sides, (2 * r + 1) * lv->face_bits, lv->face_bits);
+    *links = pair;
+    return pair[0] != pair[1] ? 2 : 0;
+}
+
+/* The face table's links: two for each edge between two faces.
+ * HPFC_E_ARG for a side past the faces, HPFC_E_LIMIT past the u32
+ * count. */
+static int count_face_links(const labels_view *lv, uint64_t *links)
+{
+    source_rows s = {.labels = lv, .rows = lv->edges};
+    uint64_t n = 0;
+    for (uint64_t e = 0; e < lv->edges; e++) {
+        uint32_t pair[2];
+        const uint32_t *l;
+        uint32_t k = row_links(&s, e, pair, &l);
+        if (pair[0] >= lv->faces || pair[1] >= lv->faces)
+            return HPFC_E_ARG;
+        n += k;
+    }
+    *links = n;
+    return n > SHIX_MOST_LINKS ? HPFC_E_LIMIT : HPFC_OK;
+}
+
+/* Table t (shaped, its `rows` the targets) filled in its own zeroed
+ * bytes `b` with the inverse of the source's rows, by counting sort with
+ * no memory beside the table: target x's count is kept in offset x + 2,
+ * the counts become each row's start in offset x + 1, and placing a link
+ * moves that start on to the row's end, which is the next row's start.
+ * Each row's ids ascend, as the source rows are visited in order. */
+static void invert_into(const shix_table *t, uint8_t *b, const source_rows *s)
+{
+    unsigned ob = t->offset_bits;
+    uint64_t rows = t->rows;
+    if (t->links == 0)
+        return; /* every offset 0 */
+    format_bits view = {b, t->bits.bits, format_pool_bytes(t->bits.bits)};
+    for (uint64_t r = 0; r < s->rows; r++) {
+        uint32_t pair[2];
+        const uint32_t *links;
+        for (uint32_t i = 0, n = row_links(s, r, pair, &links); i < n; i++)
+            if ((uint64_t)links[i] + 2 <= rows) {
+                uint64_t at = ((uint64_t)links[i] + 2) * ob;
+                format_set(b, at, ob, format_get(&view, at, ob) + 1);
+            }
+    }
+    uint64_t sum = 0;
+    for (uint64_t k = 1; k <= rows; k++) {
+        sum += format_get(&view, k * ob, ob);
+        format_set(b, k * ob, ob, sum);
+    }
+    for (uint64_t r = 0; r < s->rows; r++) {
+        uint32_t pair[2];
+        const uint32_t *links;
+        for (uint32_t i = 0, n = row_links(s, r, pair, &links); i < n; i++) {
+            uint64_t at = ((uint64_t)links[i] + 1) * ob, pos = format_get(&view, at, ob);
+            format_put(b, t->links_at + pos * t->id_bits, t->id_bits, r);
+            format_set(b, at, ob, pos + 1);
+        }
+    }
+}
+
+int shix_measure(const labels_view *labels, const hpfc_feature_table *features,
+                 const hpfc_edge_feature_table *edges, shix_plan *plan, hpfc_diag *diag)
+{
+    *plan = (shix_plan){0};
+    if (labels->faces >= UINT32_MAX || labels->edges >= UINT32_MAX)
+        return diag_set(diag, HPFC_E_LIMIT, "shape index: over 2^32 - 2 faces or edges");
+    /* a LABL copied from a damaged file may claim counts its bytes do not
+     * pay for: held to the bounds hpfc_shapes_create holds them to, before
+     * anything is read */
+    if (!labels_counts_paid(labels))
+        return diag_set(diag, HPFC_E_ARG, "shape index: LABL's counts are not its bytes'");
+    uint64_t face_links = 0, feature_faces = 0, feature_edges = 0;
+    uint32_t tables = 0, nfeat = features ? features->feature_count : 0;
+    int st = count_face_links(labels, &face_links);
+    if (st == HPFC_E_ARG)
+        return diag_set(diag, st, "shape index: LABL names a face past its count");
+    if (!st && features && features->face_count == labels->faces) {
+        tables |= SHIX_FEATURE_FACES;
+        feature_faces = features->face_start[features->face_count];
+    }
+    if (!st && features && edges && edges->edge_count == labels->edges &&
+        edges->feature_count == nfeat) {
+        tables |= SHIX_FEATURE_EDGES;
+        feature_edges = edges->edge_start[edges->edge_count];
+    }
+    if (st || feature_faces > SHIX_MOST_LINKS || feature_edges > SHIX_MOST_LINKS)
+        return diag_set(diag, HPFC_E_LIMIT, "shape index: a table of 2^32 links or more");
+    uint8_t *h = plan->header;
+    shix_set_face_count(h, (uint32_t)labels->faces);
+    shix_set_edge_count(h, (uint32_t)labels->edges);
+    shix_set_feature_count(h, nfeat);
+    shix_set_tables(h, tables);
+    shix_set_face_links(h, (uint32_t)face_links);
+    shix_set_feature_face_links(h, (uint32_t)feature_faces);
+    shix_set_feature_edge_links(h, (uint32_t)feature_edges);
+    shix_view v;
+    plan->length = layout(h, &v);
     return HPFC_OK;
 }
 
-/* Each face's edges from LABL's sides: an edge with two different faces
- * is in both faces' rows, one with the same face on both sides in none
- * (it bounds nothing). HPFC_E_ARG for a side past the faces. */
-static int face_edges(const labels_view *lv, inverse_table *out)
+void shix_emit(const shix_plan *plan, const labels_view *labels,
+               const hpfc_feature_table *features, const hpfc_edge_feature_table *edges,
+               uint8_t *out)
 {
-    uint64_t faces = lv->faces;
-    unsigned fb = lv->face_bits;
-    int st = inverse_begin(out, faces);
-    for (int pass = 0; pass < 2 && !st; pass++) {
-        for (uint64_t e = 0; e < lv->edges; e++) {
-            uint64_t a = format_get(&lv->sides, 2 * e * fb, fb);
-            uint64_t b = format_get(&lv->sides, (2 * e + 1) * fb, fb);
-            if (a >= faces || b >= faces)
-                return HPFC_E_ARG;
-            if (a == b)
-                continue;
-            if (pass == 0) {
-                inverse_count(out, a);
-                inverse_count(out, b);
-            } else {
-                inverse_put(out, a, (uint32_t)e);
-                inverse_put(out, b, (uint32_t)e);
-            }
-        }
-        if (pass == 0)
-            st = inverse_room(out, SHIX_MOST_LINKS);
+    memcpy(out, plan->header, SHIX_HEADER_SIZE);
+    shix_view v;
+    layout(plan->header, &v);
+    uint8_t *at = out + SHIX_HEADER_SIZE;
+    invert_into(&v.face_edges, at, &(source_rows){.labels = labels, .rows = labels->edges});
+    at += table_bytes(&v.face_edges);
+    if (v.tables & SHIX_FEATURE_FACES) {
+        invert_into(&v.feature_faces, at,
+                    &(source_rows){.start = features->face_start, .item = features->face_feature,
+                                   .rows = features->face_count});
+        at += table_bytes(&v.feature_faces);
     }
-    inverse_done(out);
-    return st;
-}
-
-/* A built table's bits at *at (zeroed), its ids below `bound`; *at moves
- * past it. */
-static void put_table(uint8_t **at, const inverse_table *b, uint32_t bound)
-{
-    shix_table t;
-    table_shape(&t, (uint32_t)b->rows, (uint32_t)b->start[b->rows], bound);
-    for (uint64_t r = 0; r <= b->rows; r++)
-        format_put(*at, r * t.offset_bits, t.offset_bits, b->start[r]);
-    for (uint64_t i = 0; i < t.links; i++)
-        format_put(*at, t.links_at + i * t.id_bits, t.id_bits, b->item[i]);
-    *at += table_bytes(&t);
+    if (v.tables & SHIX_FEATURE_EDGES)
+        invert_into(&v.feature_edges, at,
+                    &(source_rows){.start = edges->edge_start, .item = edges->edge_feature,
+                                   .rows = edges->edge_count});
 }
 
 int shix_build(const labels_view *labels, const hpfc_feature_table *features,
@@ -211,58 +288,15 @@ int shix_build(const labels_view *labels, const hpfc_feature_table *features,
 {
     *out = NULL;
     *length = 0;
-    if (labels->faces >= UINT32_MAX || labels->edges >= UINT32_MAX)
-        return diag_set(diag, HPFC_E_LIMIT, "shape index: over 2^32 - 2 faces or edges");
-    /* a LABL copied from a damaged file may claim counts its bytes do not
-     * pay for: held to the bounds hpfc_shapes_create holds them to, before
-     * anything is allocated */
-    if (!labels_counts_paid(labels))
-        return diag_set(diag, HPFC_E_ARG, "shape index: LABL's counts are not its bytes'");
-    inverse_table fe = {0}, ff = {0}, fx = {0};
-    uint32_t tables = 0, nfeat = features ? features->feature_count : 0;
-    uint32_t nedges = (uint32_t)labels->edges;
-    int st = face_edges(labels, &fe);
-    if (!st && features && features->face_count == labels->faces) {
-        tables |= SHIX_FEATURE_FACES;
-        st = invert(features->face_count, features->face_start, features->face_feature, nfeat, &ff);
-    }
-    if (!st && features && edges && edges->edge_count == labels->edges &&
-        edges->feature_count == nfeat) {
-        tables |= SHIX_FEATURE_EDGES;
-        st = invert(edges->edge_count, edges->edge_start, edges->edge_feature, nfeat, &fx);
-    }
-    uint8_t header[SHIX_HEADER_SIZE] = {0}, *s = NULL;
-    uint64_t n = 0;
-    if (!st) {
-        shix_set_face_count(header, (uint32_t)fe.rows);
-        shix_set_edge_count(header, nedges);
-        shix_set_feature_count(header, nfeat);
-        shix_set_tables(header, tables);
-        shix_set_face_links(header, (uint32_t)fe.start[fe.rows]);
-        shix_set_feature_face_links(header, ff.start ? (uint32_t)ff.start[nfeat] : 0);
-        shix_set_feature_edge_links(header, fx.start ? (uint32_t)fx.start[nfeat] : 0);
-        shix_view v;
-        n = layout(header, &v);
-        if (!(s = calloc(1, (size_t)n)))
-            st = HPFC_E_NOMEM;
-    }
-    if (!st) {
-        memcpy(s, header, sizeof header);
-        uint8_t *at = s + SHIX_HEADER_SIZE;
-        put_table(&at, &fe, nedges);
-        if (ff.start)
-            put_table(&at, &ff, (uint32_t)fe.rows);
-        if (fx.start)
-            put_table(&at, &fx, nedges);
-        *out = s;
-        *length = n;
-    }
-    inverse_free(&fe);
-    inverse_free(&ff);
-    inverse_free(&fx);
-    if (st == HPFC_E_LIMIT)
-        return diag_set(diag, st, "shape index: a table of 2^32 links or more");
-    if (st == HPFC_E_ARG)
-        return diag_set(diag, st, "shape index: LABL names a face past its count");
-    return st ? diag_set(diag, st, "out of memory") : HPFC_OK;
+    shix_plan plan;
+    int st = shix_measure(labels, features, edges, &plan, diag);
+    if (st)
+        return st;
+    uint8_t *s = calloc(1, (size_t)plan.length);
+    if (!s)
+        return diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    shix_emit(&plan, labels, features, edges, s);
+    *out = s;
+    *length = plan.length;
+    return HPFC_OK;
 }

@@ -72,11 +72,30 @@ typedef struct shix_inverse {
 int shix_row(const shix_table *t, uint64_t row, const shix_inverse *of, uint64_t *a,
              uint64_t *b);
 
-/* The SHIX section of a map with LABL view `labels` (its sides give each
- * face's edges), FEAT table `features` and EDGF table `edges` (either
- * NULL), as the writer stores it (spec §6.8.3), into *out (*length bytes,
- * free()). HPFC_E_LIMIT (the diagnostic cleared) for a table of 2^32
- * links or more, which the section cannot hold. */
+/* The SHIX section the writer stores (spec §6.8.3) for a map with LABL
+ * view `labels` (its sides give each face's edges), FEAT table
+ * `features` and EDGF table `edges` (either NULL), measured before it is
+ * made, so that a writer can place it, then made in place. */
+typedef struct shix_plan {
+    uint8_t header[SHIX_HEADER_SIZE];
+    uint64_t length; /* the section's bytes */
+} shix_plan;
+
+/* The section's header and length into *plan, from one pass over LABL's
+ * sides: HPFC_E_LIMIT (diag set) for a table of 2^32 links or more,
+ * which the section cannot hold; HPFC_E_ARG for a LABL whose counts its
+ * bytes do not pay for or whose sides name a face past its count. */
+int shix_measure(const labels_view *labels, const hpfc_feature_table *features,
+                 const hpfc_edge_feature_table *edges, shix_plan *plan, hpfc_diag *diag);
+
+/* The section measured in *plan, made in `out` (plan->length zeroed
+ * bytes) from the same tables, with no memory beside it: each table is
+ * inverted by a counting sort kept in its own offsets. */
+void shix_emit(const shix_plan *plan, const labels_view *labels,
+               const hpfc_feature_table *features, const hpfc_edge_feature_table *edges,
+               uint8_t *out);
+
+/* shix_measure, then shix_emit into *out (*length bytes, free()). */
 int shix_build(const labels_view *labels, const hpfc_feature_table *features,
                const hpfc_edge_feature_table *edges, uint8_t **out, uint64_t *length,
                hpfc_diag *diag);

@@ -39,8 +39,9 @@ typedef struct layout {
     const hpfc_file *source; /* an open file whose pools are copied */
     hpfc_tree_info info;
     format_level lv[HPFC_MAX_LEVELS];
-    /* Per level >= 1: first the refined pixels of each image, then (after
-     * sizing) the bit offset of each image in the level's pool. */
+    /* Per level >= 1 in the paper layout: first the refined pixels of
+     * each image, then (after sizing) the bit offset of each image in the
+     * level's pool. */
     uint64_t *image_off[HPFC_MAX_LEVELS];
     uint64_t pool_offset[HPFC_MAX_LEVELS]; /* byte offset in the file */
     uint32_t section_count;
@@ -105,7 +106,7 @@ static int count_pixel(layout *L, uint32_t level, size_t image, const hpfc_tree_
             return diag_set(diag, HPFC_E_ARG, "tree: a refined pixel of level %u has no child image",
                             level);
         lv->refined_pixels++;
-        if (level > 0)
+        if (L->image_off[level])
             L->image_off[level][image]++;
         return HPFC_OK;
     }
@@ -137,7 +138,7 @@ static int count_level(layout *L, uint32_t level, hpfc_diag *diag)
 {
     size_t images = hpfc_tree_image_count(L->tree, level);
     L->lv[level].images = images;
-    if (level > 0) {
+    if (level > 0 && !L->compact) { /* the paper layout's child addresses: the compact has none */
         L->image_off[level] = calloc(images ? images : 1, sizeof(uint64_t));
         if (!L->image_off[level])
             return diag_set(diag, HPFC_E_NOMEM, "out of memory");
