@@ -22,9 +22,12 @@
  * read, or else of the copying merge, and its view serialises to the
  * copying merge's bytes (both layouts), or fails where that one fails;
  * serialised with the faces a root pixel at a time (faces_by_root) it
- * gives a known status with a diagnostic.
+ * gives a known status with a diagnostic. Each of the view's two
+ * serialisations is also written to a file (hpfc_tree_write_fd, made in
+ * the file's own pages): the same status and the same bytes.
  */
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "format.h"
@@ -86,6 +89,44 @@ static int serialize(const hpfc_tree *joined, int layout, int by_root, uint8_t *
     return st;
 }
 
+/* A scratch file for the process (unlinked at once), opened for reading
+ * and writing: -1 when it cannot be made. */
+static int scratch_fd(const char *what)
+{
+    char name[64];
+    snprintf(name, sizeof name, "/tmp/fuzz-read-part-%ld.%s", (long)getpid(), what);
+    int fd = open(name, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    if (fd >= 0)
+        unlink(name);
+    return fd;
+}
+
+/* The joined tree written as serialize() makes it, but to a file, which
+ * the writer makes in its own pages (write_in_place): the same status and,
+ * when it succeeds, the same bytes as `want`. */
+static void check_written(const hpfc_tree *joined, int layout, int by_root, int want_st,
+                          const uint8_t *want, size_t want_size)
+{
+    static int fd = -1;
+    if (fd < 0 && (fd = scratch_fd("hpfc")) < 0)
+        return;
+    hpfc_diag d;
+    hpfc_write_options o = {.face_labels = 1, .layout = layout, .faces_by_root = by_root};
+    int st = hpfc_tree_write_fd(joined, &o, fd, &d);
+    fuzz_check_diag(&d, st);
+    if (st == HPFC_E_NOMEM || want_st == HPFC_E_NOMEM)
+        return;
+    FUZZ_CHECK(st == want_st);
+    if (st)
+        return;
+    struct stat sb;
+    FUZZ_CHECK(fstat(fd, &sb) == 0 && (size_t)sb.st_size == want_size);
+    uint8_t *got = malloc(want_size ? want_size : 1);
+    FUZZ_CHECK(got && pread(fd, got, want_size, 0) == (ssize_t)want_size &&
+               memcmp(got, want, want_size) == 0);
+    free(got);
+}
+
 /* The input as a part file on disk, for hpfc_tree_merge_files: one file
  * for the process (unlinked at once, named through /proc), rewritten for
  * each input. */
@@ -94,11 +135,8 @@ static const char *part_path(const uint8_t *data, size_t size)
     static char path[64];
     static int fd = -1;
     if (fd < 0) {
-        char name[64];
-        snprintf(name, sizeof name, "/tmp/fuzz-read-part-%ld.part", (long)getpid());
-        if ((fd = open(name, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600)) < 0)
+        if ((fd = scratch_fd("part")) < 0)
             return NULL;
-        unlink(name);
         snprintf(path, sizeof path, "/proc/self/fd/%d", fd);
     }
     if (ftruncate(fd, 0) != 0 || pwrite(fd, data, size, 0) != (ssize_t)size)
@@ -133,12 +171,15 @@ static void merge_file_alone(const uint8_t *data, size_t size, int read_st, int 
         int sa = serialize(joined, layout, 0, &a, &na), sb = serialize(view, layout, 0, &b, &nb);
         if (sa != HPFC_E_NOMEM && sb != HPFC_E_NOMEM)
             FUZZ_CHECK(sa == sb && na == nb && (sa || memcmp(a, b, na) == 0));
+        check_written(view, layout, 0, sb, b, nb);
         hpfc_free(a);
         hpfc_free(b);
         /* the faces a root pixel at a time: a known status (hostile words
-         * may number differently where a root's side is inconsistent) */
+         * may number differently where a root's side is inconsistent),
+         * the same written in place */
         b = NULL;
-        serialize(view, layout, 1, &b, &nb);
+        sb = serialize(view, layout, 1, &b, &nb);
+        check_written(view, layout, 1, sb, b, nb);
         hpfc_free(b);
     }
     hpfc_tree_free(view);

@@ -220,4 +220,17 @@ typedef struct faces_stream faces_stream;
 int labels_build_stream(const hpfc_tree *tree, const hpfc_file *file, faces_stream *fs,
                         uint8_t **out, uint64_t *length, hpfc_diag *diag);
 
+/* Either build in two steps, so that a writer can place the section
+ * before it is made and make it in the file's own bytes: begin reads the
+ * tree once in leaf order (the faces `fc` numbered whole, or else `fs` a
+ * root pixel at a time) and gives the section's exact *length; emit
+ * makes the section in `sec` (*length zeroed bytes), the streamed sides
+ * in place. The writer holds neither the section nor, streamed, its
+ * sides. */
+typedef struct labels_writer labels_writer;
+int labels_writer_begin(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc,
+                        faces_stream *fs, labels_writer **w, uint64_t *length, hpfc_diag *diag);
+int labels_writer_emit(labels_writer *w, uint8_t *sec, hpfc_diag *diag);
+void labels_writer_free(labels_writer *w);
+
 #endif

@@ -220,6 +220,14 @@ static void invert_into(const shix_table *t, uint8_t *b, const source_rows *s)
     }
 }
 
+bool shix_fits(uint64_t edges, const hpfc_feature_table *features,
+               const hpfc_edge_feature_table *edges_table)
+{
+    return edges < UINT32_MAX / 2 && 2 * edges <= SHIX_MOST_LINKS &&
+           (!features || features->face_start[features->face_count] <= SHIX_MOST_LINKS) &&
+           (!edges_table || edges_table->edge_start[edges_table->edge_count] <= SHIX_MOST_LINKS);
+}
+
 int shix_measure(const labels_view *labels, const hpfc_feature_table *features,
                  const hpfc_edge_feature_table *edges, shix_plan *plan, hpfc_diag *diag)
 {

@@ -95,6 +95,13 @@ void shix_emit(const shix_plan *plan, const labels_view *labels,
                const hpfc_feature_table *features, const hpfc_edge_feature_table *edges,
                uint8_t *out);
 
+/* Whether a map of `edges` edges with these FEAT and EDGF tables (either
+ * NULL) has a SHIX section whatever its LABL: each table under 2^32
+ * links (an edge is in two faces' rows at most), so that a writer can
+ * count the section in the directory before LABL is made. */
+bool shix_fits(uint64_t edges, const hpfc_feature_table *features,
+               const hpfc_edge_feature_table *edges_table);
+
 /* shix_measure, then shix_emit into *out (*length bytes, free()). */
 int shix_build(const labels_view *labels, const hpfc_feature_table *features,
                const hpfc_edge_feature_table *edges, uint8_t **out, uint64_t *length,

@@ -45,6 +45,7 @@ typedef struct label_plan {
     /* per edge its two faces, face_bits each, as the section stores them
      * (0 for an edge with no crossing), and whether it was met */
     uint8_t *sides, *seen;
+    bool own_sides; /* sides allocated (whole), or in the section (streamed) */
     /* streamed: per edge the level of its first piece in leaf order */
     uint8_t *first_level;
     /* pass 2: the directory being written */
@@ -56,7 +57,8 @@ typedef struct label_plan {
 
 static void plan_free(label_plan *p)
 {
-    free(p->sides);
+    if (p->own_sides)
+        free(p->sides);
     free(p->seen);
     free(p->first_level);
     for (uint32_t l = 0; l < HPFC_MAX_LEVELS; l++)
@@ -411,8 +413,11 @@ static void choose_blocks(const label_plan *p, uint32_t *shift, uint32_t *block_
     }
 }
 
+/* The plan's counts and sample rows; room for each edge's sides unless
+ * streamed (`streamed`: the sides are then set in the section's own
+ * bytes, in pass 3). */
 static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file, uint64_t faces,
-                     hpfc_diag *diag)
+                     bool streamed, hpfc_diag *diag)
 {
     hpfc_file_info fi;
     hpfc_tree_info ti;
@@ -438,16 +443,16 @@ static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file
             return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
     }
     uint64_t side_bytes = format_pool_bytes(2 * p->edges * p->face_bits);
-    if (p->edges > SIZE_MAX / 128 || !(p->sides = calloc(1, side_bytes ? (size_t)side_bytes : 1)) ||
+    if (p->edges > SIZE_MAX / 128 ||
+        (!streamed && !(p->own_sides = (p->sides = calloc(1, side_bytes ? (size_t)side_bytes : 1)))) ||
         !(p->seen = calloc(1, (size_t)format_pool_bytes(p->edges))))
         return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
     return HPFC_OK;
 }
 
-/* After pass 1: the directory's block size and widths, the section's
- * layout, the section allocated (zeros) with the directory and record
- * streams ready for the next pass. */
-static int plan_section(label_plan *p, labels_layout *lay, uint8_t **sec, hpfc_diag *diag)
+/* After pass 1: the directory's block size and widths and the section's
+ * layout. */
+static int plan_layout(label_plan *p, labels_layout *lay, hpfc_diag *diag)
 {
     p->label_bits = p->at;
     choose_blocks(p, &p->shift, &p->block_bits, &p->offset_bits);
@@ -456,12 +461,16 @@ static int plan_section(label_plan *p, labels_layout *lay, uint8_t **sec, hpfc_d
                                p->label_bits, lay) ||
         lay->length > SIZE_MAX)
         return diag_set(diag, HPFC_E_LIMIT, "labels: the section would be too large");
-    if (!(*sec = calloc(1, (size_t)lay->length)))
-        return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
-    p->dir = *sec + lay->dir_at;
+    return HPFC_OK;
+}
+
+/* The directory and record streams in `sec` (the section's zeroed bytes),
+ * ready for the next pass. */
+static void start_emit(label_plan *p, const labels_layout *lay, uint8_t *sec)
+{
+    p->dir = sec + lay->dir_at;
     p->block_record_bits = lay->block_record_bits;
     p->at = 0;
-    return HPFC_OK;
 }
 
 /* The header, the level entries, the samples and the sides. */
@@ -484,37 +493,10 @@ static void finish_section(const label_plan *p, const labels_layout *lay, uint8_
             format_put(sec + lay->rank_at, lay->rank_start[l] + k * p->rank_bits[l], p->rank_bits[l],
                        p->samples[l][k]);
     }
-    /* already in the section's bit layout; an edge with no crossing: faces 0 */
-    memcpy(sec + lay->sides_at, p->sides, (size_t)format_pool_bytes(2 * p->edges * p->face_bits));
-}
-
-int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc, uint8_t **out,
-                 uint64_t *length, hpfc_diag *diag)
-{
-    label_plan p = {0};
-    labels_layout lay;
-    uint8_t *sec = NULL;
-    *out = NULL;
-    *length = 0;
-    int st = plan_init(&p, tree, file, hpfc_faces_face_count(fc), diag);
-    leaf_visit v = {.plan = &p, .fc = fc};
-    if (!st)
-        st = visit_all(&v, tree, file, diag);
-    if (!st)
-        st = plan_section(&p, &lay, &sec, diag);
-    if (!st) {
-        v = (leaf_visit){.plan = &p, .fc = fc, .out = sec + lay.labels_at, .directory = true};
-        st = visit_all(&v, tree, file, diag);
-    }
-    if (!st) {
-        finish_section(&p, &lay, sec);
-        *out = sec;
-        *length = lay.length;
-        sec = NULL;
-    }
-    free(sec);
-    plan_free(&p);
-    return st;
+    /* already in the section's bit layout (set there when streamed); an
+     * edge with no crossing: faces 0 */
+    if (p->sides != sec + lay->sides_at)
+        memcpy(sec + lay->sides_at, p->sides, (size_t)format_pool_bytes(2 * p->edges * p->face_bits));
 }
 
 /* ---- a root pixel at a time ------------------------------------------------ */
@@ -591,48 +573,138 @@ static int put_later_bits(leaf_visit *v, hpfc_diag *diag)
     return HPFC_OK;
 }
 
-int labels_build_stream(const hpfc_tree *tree, const hpfc_file *file, faces_stream *fs,
-                        uint8_t **out, uint64_t *length, hpfc_diag *diag)
-{
-    label_plan p = {0};
+/* ---- the writer: pass 1, then the section in the caller's bytes -------------- */
+
+struct labels_writer {
+    const hpfc_tree *tree;
+    const hpfc_file *file;
+    const hpfc_faces *fc; /* the faces numbered whole, or */
+    faces_stream *fs;     /* a root pixel at a time */
+    label_plan p;
     root_runs rr;
     labels_layout lay;
+};
+
+void labels_writer_free(labels_writer *w)
+{
+    if (!w)
+        return;
+    root_runs_free(&w->rr);
+    plan_free(&w->p);
+    free(w);
+}
+
+/* Pass 1 whole: sizes, samples and each edge's sides. */
+static int begin_whole(labels_writer *w, hpfc_diag *diag)
+{
+    int st = plan_init(&w->p, w->tree, w->file, hpfc_faces_face_count(w->fc), false, diag);
+    leaf_visit v = {.plan = &w->p, .fc = w->fc};
+    return st ? st : visit_all(&v, w->tree, w->file, diag);
+}
+
+/* Pass 1 streamed: sizes, samples, each edge's first level, the roots'
+ * runs. */
+static int begin_stream(labels_writer *w, hpfc_diag *diag)
+{
+    label_plan *p = &w->p;
+    int st = plan_init(p, w->tree, w->file, faces_stream_face_count(w->fs), true, diag);
+    if (!st)
+        st = root_runs_init(&w->rr, w->file, diag);
+    if (!st && !(p->first_level = malloc(p->edges ? (size_t)p->edges : 1)))
+        st = diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
+    leaf_visit v = {.plan = p, .runs = &w->rr};
+    return st ? st : visit_all(&v, w->tree, w->file, diag);
+}
+
+int labels_writer_begin(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc,
+                        faces_stream *fs, labels_writer **out, uint64_t *length, hpfc_diag *diag)
+{
+    *out = NULL;
+    *length = 0;
+    labels_writer *w = calloc(1, sizeof *w);
+    if (!w)
+        return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
+    *w = (labels_writer){.tree = tree, .file = file, .fc = fc, .fs = fc ? NULL : fs};
+    int st = fc ? begin_whole(w, diag) : begin_stream(w, diag);
+    if (!st)
+        st = plan_layout(&w->p, &w->lay, diag);
+    if (st) {
+        labels_writer_free(w);
+        return st;
+    }
+    *out = w;
+    *length = w->lay.length;
+    return HPFC_OK;
+}
+
+/* Pass 2 whole: the directory and the records. */
+static int emit_whole(labels_writer *w, uint8_t *sec, hpfc_diag *diag)
+{
+    leaf_visit v = {.plan = &w->p, .fc = w->fc, .out = sec + w->lay.labels_at, .directory = true};
+    return visit_all(&v, w->tree, w->file, diag);
+}
+
+/* Streamed passes 2 and 3: the directory in leaf order, then the records
+ * root by root, the sides in the section as their first pieces come. */
+static int emit_stream(labels_writer *w, uint8_t *sec, hpfc_diag *diag)
+{
+    label_plan *p = &w->p;
+    leaf_visit v = {.plan = p, .runs = &w->rr, .directory = true};
+    int st = visit_all(&v, w->tree, w->file, diag);
+    if (st)
+        return st;
+    p->sides = sec + w->lay.sides_at;
+    memset(p->seen, 0, (size_t)format_pool_bytes(p->edges));
+    v = (leaf_visit){.plan = p, .runs = &w->rr, .out = sec + w->lay.labels_at};
+    for (uint64_t r = 0; r < w->rr.roots && !st; r++)
+        st = visit_root(&v, w->tree, w->file, w->fs, r, diag);
+    if (!st)
+        st = put_later_bits(&v, diag);
+    free(v.later);
+    return st;
+}
+
+int labels_writer_emit(labels_writer *w, uint8_t *sec, hpfc_diag *diag)
+{
+    start_emit(&w->p, &w->lay, sec);
+    int st = w->fc ? emit_whole(w, sec, diag) : emit_stream(w, sec, diag);
+    if (!st)
+        finish_section(&w->p, &w->lay, sec);
+    return st;
+}
+
+/* labels_writer_begin, then the section in bytes of its own. */
+static int build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc,
+                 faces_stream *fs, uint8_t **out, uint64_t *length, hpfc_diag *diag)
+{
+    labels_writer *w = NULL;
+    uint64_t n = 0;
     uint8_t *sec = NULL;
     *out = NULL;
     *length = 0;
-    int st = plan_init(&p, tree, file, faces_stream_face_count(fs), diag);
-    if (!st)
-        st = root_runs_init(&rr, file, diag);
-    else
-        rr = (root_runs){0};
-    if (!st && !(p.first_level = malloc(p.edges ? (size_t)p.edges : 1)))
+    int st = labels_writer_begin(tree, file, fc, fs, &w, &n, diag);
+    if (!st && !(sec = calloc(1, (size_t)n)))
         st = diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
-    leaf_visit v = {.plan = &p, .runs = &rr};
-    if (!st) /* pass 1: sizes, samples, first levels, runs */
-        st = visit_all(&v, tree, file, diag);
     if (!st)
-        st = plan_section(&p, &lay, &sec, diag);
-    if (!st) { /* pass 2: the directory */
-        v = (leaf_visit){.plan = &p, .runs = &rr, .directory = true};
-        st = visit_all(&v, tree, file, diag);
+        st = labels_writer_emit(w, sec, diag);
+    labels_writer_free(w);
+    if (st) {
+        free(sec);
+        return st;
     }
-    if (!st) { /* pass 3: the records, root by root */
-        memset(p.seen, 0, (size_t)format_pool_bytes(p.edges));
-        v = (leaf_visit){.plan = &p, .runs = &rr, .out = sec + lay.labels_at};
-        for (uint64_t r = 0; r < rr.roots && !st; r++)
-            st = visit_root(&v, tree, file, fs, r, diag);
-        if (!st)
-            st = put_later_bits(&v, diag);
-    }
-    if (!st) {
-        finish_section(&p, &lay, sec);
-        *out = sec;
-        *length = lay.length;
-        sec = NULL;
-    }
-    free(v.later);
-    free(sec);
-    root_runs_free(&rr);
-    plan_free(&p);
-    return st;
+    *out = sec;
+    *length = n;
+    return HPFC_OK;
+}
+
+int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc, uint8_t **out,
+                 uint64_t *length, hpfc_diag *diag)
+{
+    return build(tree, file, fc, NULL, out, length, diag);
+}
+
+int labels_build_stream(const hpfc_tree *tree, const hpfc_file *file, faces_stream *fs,
+                        uint8_t **out, uint64_t *length, hpfc_diag *diag)
+{
+    return build(tree, file, NULL, fs, out, length, diag);
 }

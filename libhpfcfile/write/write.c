@@ -11,6 +11,7 @@
  */
 #include <errno.h>
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,6 +36,7 @@
 #include "words.h"
 
 typedef struct layout {
+    const hpfc_write_options *opts; /* the caller's, over the defaults */
     const hpfc_tree *tree;   /* the map to lay out, or */
     const hpfc_file *source; /* an open file whose pools are copied */
     hpfc_tree_info info;
@@ -65,6 +67,10 @@ typedef struct layout {
     /* SHIX (§6.8), made from LABL, FEAT and EDGF when there is a LABL */
     uint8_t *shix;
     uint64_t shix_offset, shix_length;
+    /* made in the file's own pages (write_in_place): the pools, LABL and
+     * SHIX are in the file already, with these CRCs */
+    bool in_place;
+    uint32_t pool_crc, labl_crc, shix_crc;
     /* the compact layout (pool.h): per level, its stabbed words, their
      * stream's bits and longest code, and the geometry from them */
     bool compact;
@@ -86,6 +92,17 @@ static uint32_t image_rows(const layout *L, uint32_t level)
 static bool has_geom(const layout *L)
 {
     return L->geom || L->geom_plan;
+}
+
+/* In place (write_in_place), LABL and SHIX are made after the pools. */
+static bool has_labl(const layout *L)
+{
+    return L->labl || L->in_place;
+}
+
+static bool has_shix(const layout *L)
+{
+    return L->shix || L->in_place;
 }
 
 static void layout_free(layout *L)
@@ -259,20 +276,33 @@ static uint64_t append_section(uint64_t *file_size, uint64_t length)
     return offset;
 }
 
+static int check_file_size(const layout *L, hpfc_diag *diag)
+{
+    if (L->file_size > FORMAT_MAX_FILE_SIZE)
+        return diag_set(diag, HPFC_E_LIMIT, "the file would exceed the format's 2^41 bytes");
+#if SIZE_MAX < UINT64_MAX
+    if (L->file_size > SIZE_MAX)
+        return diag_set(diag, HPFC_E_NOMEM, "the file does not fit in memory");
+#endif
+    return HPFC_OK;
+}
+
 /* Header, level table and directory, then the POOL section (pools on 8-byte
  * boundaries, the section ending with the last pool's last byte), then CRS,
  * FEAT, ATTR, EDGF, LABL, GEOM and SHIX, each present one on an 8-byte
- * boundary. */
-static int place_sections(layout *L, hpfc_diag *diag)
+ * boundary: place_pools, then place_tail. */
+static int place_pools(layout *L, hpfc_diag *diag)
 {
     int st = measure_tables(L, diag);
-    if (!st && L->labl && !L->shix)
+    if (!st && L->labl && !L->shix && !L->in_place)
         st = make_index(L, diag);
     if (st)
         return st;
+    /* in place, LABL, GEOM and SHIX are placed once made, but counted now:
+     * the directory's size places the pools (shix_fits) */
+    bool geom = has_geom(L) || (L->in_place && L->opts->geometry);
     L->section_count = 1 + (L->crs != NULL) + (L->features != NULL) + (L->attributes != NULL) +
-                       (L->edge_features != NULL) + (L->labl != NULL) + has_geom(L) +
-                       (L->shix != NULL);
+                       (L->edge_features != NULL) + has_labl(L) + geom + has_shix(L);
     L->meta_size = FORMAT_HEADER_SIZE + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * L->info.levels +
                    (uint64_t)FORMAT_SECTION_ENTRY_SIZE * L->section_count;
     L->pool_section = format_align8(L->meta_size);
@@ -286,6 +316,13 @@ static int place_sections(layout *L, hpfc_diag *diag)
     }
     L->pool_length = end - L->pool_section;
     L->file_size = end;
+    return HPFC_OK;
+}
+
+/* The sections after the pools, from their lengths; in place, SHIX is
+ * placed once LABL is made (place_index). */
+static int place_tail(layout *L, hpfc_diag *diag)
+{
     if (L->crs) {
         L->crs_length = strlen(L->crs);
         L->crs_offset = append_section(&L->file_size, L->crs_length);
@@ -296,19 +333,19 @@ static int place_sections(layout *L, hpfc_diag *diag)
         L->attr_offset = append_section(&L->file_size, L->attr_length);
     if (L->edge_features)
         L->edgf_offset = append_section(&L->file_size, L->edgf_length);
-    if (L->labl)
+    if (L->labl || L->in_place)
         L->labl_offset = append_section(&L->file_size, L->labl_length);
     if (has_geom(L))
         L->geom_offset = append_section(&L->file_size, L->geom_length);
     if (L->shix)
         L->shix_offset = append_section(&L->file_size, L->shix_length);
-    if (L->file_size > FORMAT_MAX_FILE_SIZE)
-        return diag_set(diag, HPFC_E_LIMIT, "the file would exceed the format's 2^41 bytes");
-#if SIZE_MAX < UINT64_MAX
-    if (L->file_size > SIZE_MAX)
-        return diag_set(diag, HPFC_E_NOMEM, "the file does not fit in memory");
-#endif
-    return HPFC_OK;
+    return check_file_size(L, diag);
+}
+
+static int place_sections(layout *L, hpfc_diag *diag)
+{
+    int st = place_pools(L, diag);
+    return st ? st : place_tail(L, diag);
 }
 
 /* ---- pass 3: emit ---------------------------------------------------------- */
@@ -439,19 +476,78 @@ static void emit_section(uint8_t *meta, uint32_t index, const char *tag, uint32_
 /* The file being written: a memory image of all of it (the serialize
  * calls), or a file descriptor written section by section at known
  * offsets (the write calls), so that a writer to disk holds one section
- * at a time, never the file. */
+ * at a time, never the file. When the descriptor can be mapped, a
+ * section is made in a mapping of the file's own pages (`mapped`): the
+ * kernel writes them back and may drop them, so the writer's memory is
+ * what the sections' making needs beside them. */
 typedef struct sink {
     uint8_t *file;  /* the memory image (zeroed), or NULL */
     int fd;         /* else: a regular file, already file_size bytes of zeros */
+    bool mapped;    /* fd: rooms are mappings of the file */
     int err;        /* the first write error (an errno) */
 } sink;
 
-/* Room for `length` bytes at `offset`, zeroed: in the image, or a buffer
- * of their own (NULL when out of memory: *nomem set). */
+/* The start of the page that holds byte `offset` of the file, and the
+ * distance to it. */
+static uint64_t page_start(uint64_t offset)
+{
+    uint64_t page = (uint64_t)sysconf(_SC_PAGESIZE);
+    return offset - offset % page;
+}
+
+/* Bytes [offset, offset + length) of the mapped sink's file, shared: NULL
+ * with k->err set when they cannot be mapped. */
+static uint8_t *sink_map(sink *k, uint64_t offset, uint64_t length, int prot)
+{
+    uint64_t start = page_start(offset), span = offset - start + length;
+    void *p = mmap(NULL, span ? (size_t)span : 1, prot, MAP_SHARED, k->fd, (off_t)start);
+    if (p == MAP_FAILED) {
+        if (!k->err)
+            k->err = errno;
+        return NULL;
+    }
+    return (uint8_t *)p + (offset - start);
+}
+
+static void sink_unmap(const uint8_t *bytes, uint64_t offset, uint64_t length)
+{
+    uint64_t start = page_start(offset), span = offset - start + length;
+    munmap((void *)(bytes - (offset - start)), span ? (size_t)span : 1);
+}
+
+/* Whether fd can be mapped for writing (opened for reading and writing,
+ * on a file system that maps). */
+static bool can_map(int fd)
+{
+    void *p = mmap(NULL, 1, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    if (p == MAP_FAILED)
+        return false;
+    munmap(p, 1);
+    return true;
+}
+
+/* The mapped sink's file grown to `size` bytes of zeros, its blocks
+ * reserved, so that no store into a mapping meets a full disk (which
+ * would raise SIGBUS rather than return an error). */
+static void sink_grow(sink *k, uint64_t from, uint64_t size)
+{
+    if (k->err)
+        return;
+    if (ftruncate(k->fd, (off_t)size) != 0)
+        k->err = errno;
+    else if (size > from)
+        k->err = posix_fallocate(k->fd, (off_t)from, (off_t)(size - from));
+}
+
+/* Room for `length` bytes at `offset`, zeroed: in the image, in the
+ * file's pages, or a buffer of their own (NULL when out of memory:
+ * *nomem set; or, mapped, when they cannot be mapped: k->err set). */
 static uint8_t *sink_room(sink *k, uint64_t offset, uint64_t length, int *nomem)
 {
     if (k->file)
         return k->file + offset;
+    if (k->mapped)
+        return sink_map(k, offset, length, PROT_READ | PROT_WRITE);
     uint8_t *b = calloc(1, length ? (size_t)length : 1);
     *nomem |= b == NULL;
     return b;
@@ -473,16 +569,21 @@ static void sink_pwrite(sink *k, uint64_t offset, const uint8_t *bytes, uint64_t
 }
 
 /* The bytes of a section (or a pool) placed at `offset`: written out and
- * released when they had a buffer of their own (`own`, from sink_room);
+ * released when they had a room of their own (`own`, from sink_room);
  * returns their CRC-32C, continued from `crc`. */
 static uint32_t sink_put(sink *k, uint64_t offset, const uint8_t *bytes, uint64_t length, int own,
                          uint32_t crc)
 {
     crc = crc32c_update(crc, bytes, (size_t)length);
-    if (k->file && !own)
-        memcpy(k->file + offset, bytes, (size_t)length);
-    else if (!k->file)
+    if (k->file) {
+        if (!own)
+            memcpy(k->file + offset, bytes, (size_t)length);
+    } else if (k->mapped && own) {
+        sink_unmap(bytes, offset, length); /* already in the file */
+        return crc;
+    } else {
         sink_pwrite(k, offset, bytes, length);
+    }
     if (own && !k->file)
         free((void *)bytes);
     return crc;
@@ -557,75 +658,92 @@ static void edgf_emit(const void *t, uint8_t *out)
     edgf_section_emit(t, out);
 }
 
-/* Every section in file order (GEOM streamed from its plan), then the
- * metadata (header, level table, directory) with their CRCs, into k.
+/* Every pool in level order into k: the POOL section's CRC-32C. */
+static uint32_t emit_pools(const layout *L, sink *k, int *nomem)
+{
+    uint32_t crc = 0;
+    for (uint32_t l = 0; l < L->info.levels; l++) {
+        crc = emit_pool(L, l, k, crc, nomem);
+        if (l + 1 < L->info.levels) /* the zeros up to the next pool, inside the section */
+            crc = crc_zeros(crc, L->pool_offset[l + 1] - L->pool_offset[l] -
+                                     format_pool_bytes(L->lv[l].pool_bits));
+    }
+    return crc;
+}
+
+/* Each section's CRC-32C, for the directory. */
+typedef struct section_crcs {
+    uint32_t pool, crs, feat, attr, edgf, labl, geom, shix;
+} section_crcs;
+
+/* The metadata (header, level table, directory) of L's sections, with
+ * their CRCs, into k. */
+static int emit_meta(const layout *L, sink *k, const section_crcs *c, hpfc_diag *diag)
+{
+    int nomem = 0;
+    uint8_t *meta = sink_room(k, 0, L->meta_size, &nomem);
+    if (!meta)
+        return k->err ? HPFC_OK : diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    emit_header(L, meta);
+    emit_level_table(L, meta);
+    uint32_t levels = L->info.levels, next = 1;
+    emit_section(meta, 0, FORMAT_TAG_POOL, FORMAT_SECTION_REQUIRED, L->pool_section, L->pool_length,
+                 c->pool, levels);
+    if (L->crs)
+        emit_section(meta, next++, FORMAT_TAG_CRS, 0, L->crs_offset, L->crs_length, c->crs, levels);
+    if (L->features)
+        emit_section(meta, next++, FORMAT_TAG_FEAT, 0, L->feat_offset, L->feat_length, c->feat,
+                     levels);
+    if (L->attributes)
+        emit_section(meta, next++, FORMAT_TAG_ATTR, 0, L->attr_offset, L->attr_length, c->attr,
+                     levels);
+    if (L->edge_features)
+        emit_section(meta, next++, FORMAT_TAG_EDGF, 0, L->edgf_offset, L->edgf_length, c->edgf,
+                     levels);
+    if (has_labl(L))
+        emit_section(meta, next++, FORMAT_TAG_LABL, 0, L->labl_offset, L->labl_length, c->labl,
+                     levels);
+    if (has_geom(L))
+        emit_section(meta, next++, FORMAT_TAG_GEOM, 0, L->geom_offset, L->geom_length, c->geom,
+                     levels);
+    if (has_shix(L))
+        emit_section(meta, next, FORMAT_TAG_SHIX, 0, L->shix_offset, L->shix_length, c->shix,
+                     levels);
+    hdr_set_meta_crc32c(meta, format_meta_crc(meta, L->meta_size));
+    sink_put(k, 0, meta, L->meta_size, 1, 0);
+    return HPFC_OK;
+}
+
+/* Every section in file order (GEOM streamed from its plan; in place, the
+ * pools, LABL and SHIX are there already), then the metadata, into k.
  * HPFC_E_NOMEM when a section's room or a stream's buffer could not be
  * had, with diag set; a write error stays in k->err. */
 static int emit_to(const layout *L, sink *k, hpfc_diag *diag)
 {
     int nomem = 0;
-    uint32_t pool_crc = 0;
-    for (uint32_t l = 0; l < L->info.levels; l++) {
-        pool_crc = emit_pool(L, l, k, pool_crc, &nomem);
-        if (l + 1 < L->info.levels) /* the zeros up to the next pool, inside the section */
-            pool_crc = crc_zeros(pool_crc, L->pool_offset[l + 1] - L->pool_offset[l] -
-                                               format_pool_bytes(L->lv[l].pool_bits));
-    }
-    uint32_t crs_crc = 0, feat_crc = 0, attr_crc = 0, edgf_crc = 0, labl_crc = 0, geom_crc = 0,
-             shix_crc = 0;
+    section_crcs c = {.labl = L->labl_crc, .shix = L->shix_crc};
+    c.pool = L->in_place ? L->pool_crc : emit_pools(L, k, &nomem);
     if (L->crs)
-        crs_crc = sink_put(k, L->crs_offset, (const uint8_t *)L->crs, L->crs_length, 0, 0);
+        c.crs = sink_put(k, L->crs_offset, (const uint8_t *)L->crs, L->crs_length, 0, 0);
     if (L->features)
-        feat_crc = emit_table(k, L->feat_offset, L->feat_length, feat_emit, L->features, &nomem);
+        c.feat = emit_table(k, L->feat_offset, L->feat_length, feat_emit, L->features, &nomem);
     if (L->attributes)
-        attr_crc = emit_table(k, L->attr_offset, L->attr_length, attr_emit, L->attributes, &nomem);
+        c.attr = emit_table(k, L->attr_offset, L->attr_length, attr_emit, L->attributes, &nomem);
     if (L->edge_features)
-        edgf_crc = emit_table(k, L->edgf_offset, L->edgf_length, edgf_emit, L->edge_features,
-                              &nomem);
-    if (L->labl)
-        labl_crc = sink_put(k, L->labl_offset, L->labl, L->labl_length, 0, 0);
+        c.edgf = emit_table(k, L->edgf_offset, L->edgf_length, edgf_emit, L->edge_features, &nomem);
+    if (L->labl && !L->in_place)
+        c.labl = sink_put(k, L->labl_offset, L->labl, L->labl_length, 0, 0);
     if (L->geom)
-        geom_crc = sink_put(k, L->geom_offset, L->geom, L->geom_length, 0, 0);
+        c.geom = sink_put(k, L->geom_offset, L->geom, L->geom_length, 0, 0);
     int st = HPFC_OK;
     if (L->geom_plan)
         st = geometry_emit(L->geom_plan, (stream_target){sink_stream_put, k}, L->geom_offset,
-                           &geom_crc, diag);
-    if (L->shix)
-        shix_crc = sink_put(k, L->shix_offset, L->shix, L->shix_length, 0, 0);
-    uint8_t *meta = st ? NULL : sink_room(k, 0, L->meta_size, &nomem);
-    if (!meta || nomem) {
-        if (meta && !k->file)
-            free(meta);
-        return st ? st : diag_set(diag, HPFC_E_NOMEM, "out of memory");
-    }
-    emit_header(L, meta);
-    emit_level_table(L, meta);
-    uint32_t levels = L->info.levels, next = 1;
-    emit_section(meta, 0, FORMAT_TAG_POOL, FORMAT_SECTION_REQUIRED, L->pool_section, L->pool_length,
-                 pool_crc, levels);
-    if (L->crs)
-        emit_section(meta, next++, FORMAT_TAG_CRS, 0, L->crs_offset, L->crs_length, crs_crc, levels);
-    if (L->features)
-        emit_section(meta, next++, FORMAT_TAG_FEAT, 0, L->feat_offset, L->feat_length, feat_crc,
-                     levels);
-    if (L->attributes)
-        emit_section(meta, next++, FORMAT_TAG_ATTR, 0, L->attr_offset, L->attr_length, attr_crc,
-                     levels);
-    if (L->edge_features)
-        emit_section(meta, next++, FORMAT_TAG_EDGF, 0, L->edgf_offset, L->edgf_length, edgf_crc,
-                     levels);
-    if (L->labl)
-        emit_section(meta, next++, FORMAT_TAG_LABL, 0, L->labl_offset, L->labl_length, labl_crc,
-                     levels);
-    if (has_geom(L))
-        emit_section(meta, next++, FORMAT_TAG_GEOM, 0, L->geom_offset, L->geom_length, geom_crc,
-                     levels);
-    if (L->shix)
-        emit_section(meta, next, FORMAT_TAG_SHIX, 0, L->shix_offset, L->shix_length, shix_crc,
-                     levels);
-    hdr_set_meta_crc32c(meta, format_meta_crc(meta, L->meta_size));
-    sink_put(k, 0, meta, L->meta_size, 1, 0);
-    return HPFC_OK;
+                           &c.geom, diag);
+    if (L->shix && !L->in_place)
+        c.shix = sink_put(k, L->shix_offset, L->shix, L->shix_length, 0, 0);
+    if (!st && nomem)
+        st = diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    return st || k->err ? st : emit_meta(L, k, &c, diag);
 }
 
 /* ---- entry points ------------------------------------------------------------ */
@@ -674,81 +792,82 @@ static int write_error(hpfc_diag *diag, const char *name, int err)
     return diag_set(diag, HPFC_E_IO, "cannot write: %s", strerror(err));
 }
 
-/* Places the sections and writes the file laid out in L to fd, a regular
- * file, from its start, a section at a time; `name` for the messages
- * (NULL: the caller's descriptor, which the caller names). */
-static int write_layout(layout *L, int fd, const char *name, hpfc_diag *diag)
+/* ---- LABL and GEOM --------------------------------------------------------- */
+
+/* The faces of f (the tree's pools, serialised) numbered, whole on L's
+ * threads or a root pixel at a time (faces.h, hpfc_write_options.
+ * faces_by_root: a merge's writer then holds what the roots' borders need
+ * rather than a union-find over the whole map), and LABL's first pass:
+ * *w, the section's *length. */
+static int begin_labels(layout *L, const hpfc_file *f, hpfc_faces **fc, faces_stream **fs,
+                        labels_writer **w, uint64_t *length, hpfc_diag *diag)
 {
-    int st = place_sections(L, diag);
+    int st = L->faces_by_root && !L->faces_out ? faces_stream_plan(f, fs)
+                                                 : hpfc_faces_build_threads(f, L->threads, fc);
     if (st)
-        return st;
-    /* emptied, then sized: the padding between sections reads as zeros */
-    if (ftruncate(fd, 0) != 0 || ftruncate(fd, (off_t)L->file_size) != 0)
-        return write_error(diag, name, errno);
-    sink k = {.fd = fd};
-    if ((st = emit_to(L, &k, diag)))
-        return st;
-    return k.err ? write_error(diag, name, k.err) : HPFC_OK;
+        return diag_set(diag, st, "labels: numbering the faces failed");
+    return labels_writer_begin(L->tree, f, *fc, *fs, w, length, diag);
 }
 
-/* LABL with the faces numbered a root pixel at a time (faces.h,
- * hpfc_write_options.faces_by_root): a merge's writer then holds what the
- * roots' borders need rather than a union-find over the whole map. */
-static int make_labels_by_root(layout *L, const hpfc_file *f, uint8_t **labl, uint64_t *length,
-                               hpfc_diag *diag)
+/* LABL made in `sec` (its zeroed bytes), and the faces handed to the
+ * caller who asked for them (faces_out). */
+static int finish_labels(layout *L, labels_writer *w, uint8_t *sec, hpfc_faces **fc,
+                         hpfc_diag *diag)
 {
-    faces_stream *fs = NULL;
-    int st = faces_stream_plan(f, &fs);
-    if (st)
-        diag_set(diag, st, "labels: numbering the faces failed");
-    else
-        st = labels_build_stream(L->tree, f, fs, labl, length, diag);
-    faces_stream_free(fs);
+    int st = labels_writer_emit(w, sec, diag);
+    /* the faces answer for every copy of these pools: the caller may have
+     * them, bound to the file it opens (hpfc_faces_attach) */
+    if (!st && L->faces_out) {
+        if ((st = faces_detach(*fc)))
+            diag_set(diag, st, "labels: the serialised pools lie outside their file");
+        else
+            *L->faces_out = *fc, *fc = NULL;
+    }
     return st;
 }
 
-/* The LABL section of the tree laid out in L: its faces are numbered on
- * the file serialised without it (face ids depend on the pools only). */
-static int make_labels(layout *L, hpfc_diag *diag)
+/* The LABL section of the tree laid out in L, in memory: its faces are
+ * numbered on the file serialised without it (face ids depend on the
+ * pools only). */
+static int make_labels(layout *L, void *unused, hpfc_diag *diag)
 {
+    (void)unused;
     uint8_t *bytes = NULL, *labl = NULL;
     size_t size = 0;
     hpfc_file *f = NULL;
     hpfc_faces *fc = NULL;
+    faces_stream *fs = NULL;
+    labels_writer *w = NULL;
     uint64_t length = 0;
     int st = serialize_layout(L, &bytes, &size, diag);
     if (!st && (st = hpfc_open_memory(bytes, size, 0, &f)))
         diag_set(diag, st, "labels: the serialised file does not read back");
-    if (!st && L->faces_by_root && !L->faces_out)
-        st = make_labels_by_root(L, f, &labl, &length, diag);
-    else if (!st && (st = hpfc_faces_build_threads(f, L->threads, &fc)))
-        diag_set(diag, st, "labels: numbering the faces failed");
-    if (!st && fc)
-        st = labels_build(L->tree, f, fc, &labl, &length, diag);
-    /* the faces answer for every copy of these pools: the caller may have
-     * them, bound to the file it opens (hpfc_faces_attach) */
-    if (!st && L->faces_out) {
-        if ((st = faces_detach(fc)))
-            diag_set(diag, st, "labels: the serialised pools lie outside their file");
-        else
-            *L->faces_out = fc, fc = NULL;
-    }
+    if (!st)
+        st = begin_labels(L, f, &fc, &fs, &w, &length, diag);
+    if (!st && !(labl = calloc(1, (size_t)length)))
+        st = diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
+    if (!st)
+        st = finish_labels(L, w, labl, &fc, diag);
+    labels_writer_free(w);
+    faces_stream_free(fs);
     hpfc_faces_free(fc);
     hpfc_close(f);
     free(bytes);
-    if (!st) {
-        L->labl = labl;
-        L->labl_length = length;
+    if (st) {
+        free(labl);
+        return st;
     }
-    return st;
+    L->labl = labl;
+    L->labl_length = length;
+    return HPFC_OK;
 }
 
 /* The GEOM section of the tree laid out in L, from the graph it was built
  * from (spec §6.6): planned here, streamed out with the other sections.
  * The plan needs the tree and the graph alone: with threads to spare it
- * is made on a thread of its own beside make_labels (a fifth of the
+ * is made on a thread of its own beside the labels (a fifth of the
  * labels' time on a continental map), into the job rather than L, whose
- * sections make_labels lays out without GEOM. */
+ * sections the labels' step may lay out without GEOM. */
 typedef struct geometry_job {
     const hpfc_tree *tree;
     const hpfc_graph *graph;
@@ -765,16 +884,22 @@ static void *plan_geometry(void *arg)
     return NULL;
 }
 
-/* LABL, then GEOM's plan into L, the plan beside the labels on two
- * threads or more; the first failure of the two in that order. */
-static int make_labels_and_geometry(layout *L, const hpfc_write_options *opts, hpfc_diag *diag)
+/* A step that makes or begins LABL (make_labels, or in place
+ * pools_and_labels) on `ctx`. */
+typedef int (*labels_step)(layout *L, void *ctx, hpfc_diag *diag);
+
+/* The labels' step when opts asks for LABL, then GEOM's plan into L, the
+ * plan beside the step on two threads or more; the first failure of the
+ * two in that order. */
+static int labels_and_geometry(layout *L, const hpfc_write_options *opts, labels_step step,
+                               void *ctx, hpfc_diag *diag)
 {
     geometry_job job = {.tree = L->tree, .graph = opts->geometry};
     diag_clear(&job.diag);
     pthread_t thread;
     bool beside = opts->geometry && opts->face_labels && L->threads > 1 &&
                   pthread_create(&thread, NULL, plan_geometry, &job) == 0;
-    int st = opts->face_labels ? make_labels(L, diag) : HPFC_OK;
+    int st = opts->face_labels ? step(L, ctx, diag) : HPFC_OK;
     if (beside)
         pthread_join(thread, NULL);
     else if (!st && opts->geometry)
@@ -791,6 +916,172 @@ static int make_labels_and_geometry(layout *L, const hpfc_write_options *opts, h
         geometry_writer_free(job.plan);
     }
     return st;
+}
+
+/* ---- the file made in its own pages ------------------------------------------ */
+
+/* A file written in place (write_in_place) holds, between its steps, the
+ * pools mapped back under a provisional header, their faces and LABL's
+ * writer. */
+typedef struct in_place {
+    sink *k;
+    const uint8_t *view;
+    uint64_t view_size;
+    hpfc_file *f;
+    hpfc_faces *fc;
+    faces_stream *fs;
+    labels_writer *w;
+} in_place;
+
+static void in_place_free(in_place *ip)
+{
+    labels_writer_free(ip->w);
+    faces_stream_free(ip->fs);
+    hpfc_faces_free(ip->fc);
+    hpfc_close(ip->f);
+    if (ip->view)
+        sink_unmap(ip->view, 0, ip->view_size);
+}
+
+/* L's pools under a header that names them alone: a file that opens with
+ * the pools at their final offsets, the bytes between its smaller
+ * metadata and the pools zero (padding, spec §4). The final metadata,
+ * written last, covers it. */
+static layout provisional(const layout *L)
+{
+    layout P = *L;
+    P.crs = NULL, P.features = NULL, P.attributes = NULL, P.edge_features = NULL;
+    P.labl = NULL, P.geom = NULL, P.geom_plan = NULL, P.shix = NULL, P.in_place = false;
+    P.section_count = 1;
+    P.meta_size = FORMAT_HEADER_SIZE + (uint64_t)FORMAT_LEVEL_ENTRY_SIZE * L->info.levels +
+                  FORMAT_SECTION_ENTRY_SIZE;
+    P.file_size = L->pool_section + L->pool_length;
+    return P;
+}
+
+/* The labels' step in place: the pools written into the file, read back
+ * under a provisional header, their faces numbered and LABL's first pass.
+ * A write error stays in the sink. */
+static int pools_and_labels(layout *L, void *ctx, hpfc_diag *diag)
+{
+    in_place *ip = ctx;
+    sink *k = ip->k;
+    int nomem = 0;
+    sink_grow(k, 0, L->file_size);
+    if (!k->err)
+        L->pool_crc = emit_pools(L, k, &nomem);
+    layout P = provisional(L);
+    int st = k->err ? HPFC_OK : emit_meta(&P, k, &(section_crcs){.pool = L->pool_crc}, diag);
+    if (st || k->err || !(ip->view = sink_map(k, 0, P.file_size, PROT_READ)))
+        return st;
+    ip->view_size = P.file_size;
+    if ((st = hpfc_open_memory(ip->view, (size_t)ip->view_size, 0, &ip->f)))
+        return diag_set(diag, st, "labels: the pools written do not read back");
+    return begin_labels(L, ip->f, &ip->fc, &ip->fs, &ip->w, &L->labl_length, diag);
+}
+
+/* SHIX measured from the LABL just made (L->labl, in the file's pages),
+ * placed last and made in its own pages. */
+static int index_in_place(layout *L, sink *k, hpfc_diag *diag)
+{
+    labels_view v;
+    shix_plan plan;
+    if (labels_of(L, &v))
+        return diag_set(diag, HPFC_E_ARG, "shape index: the labels do not read back");
+    int st = shix_measure(&v, L->features, L->edge_features, &plan, diag);
+    uint64_t from = L->file_size;
+    if (!st) {
+        L->shix_length = plan.length;
+        L->shix_offset = append_section(&L->file_size, plan.length);
+        st = check_file_size(L, diag);
+    }
+    if (st)
+        return st;
+    sink_grow(k, from, L->file_size);
+    uint8_t *room = k->err ? NULL : sink_map(k, L->shix_offset, plan.length, PROT_READ | PROT_WRITE);
+    if (room) {
+        shix_emit(&plan, &v, L->features, L->edge_features, room);
+        L->shix_crc = sink_put(k, L->shix_offset, room, plan.length, 1, 0);
+    }
+    return HPFC_OK;
+}
+
+/* LABL made in its pages (placed: place_tail), then SHIX from it. */
+static int labels_in_place(layout *L, in_place *ip, hpfc_diag *diag)
+{
+    sink *k = ip->k;
+    sink_grow(k, L->pool_section + L->pool_length, L->file_size);
+    uint8_t *labl =
+        k->err ? NULL : sink_map(k, L->labl_offset, L->labl_length, PROT_READ | PROT_WRITE);
+    if (!labl)
+        return HPFC_OK;
+    int st = finish_labels(L, ip->w, labl, &ip->fc, diag);
+    if (!st) {
+        L->labl = labl; /* for labels_of, while it is mapped */
+        st = index_in_place(L, k, diag);
+        L->labl = NULL;
+    }
+    L->labl_crc = sink_put(k, L->labl_offset, labl, L->labl_length, 1, 0);
+    return st;
+}
+
+/* The tree laid out in L (its pools sized, LABL and GEOM not yet made)
+ * written to fd, mapped, in its own pages: the pools, then read back for
+ * their faces, LABL placed and made, SHIX from it, the other sections,
+ * then the metadata. The writer holds no section; what it holds is the
+ * faces' numbering, LABL's pass-1 plan and GEOM's plan. */
+static int write_in_place(layout *L, const hpfc_write_options *opts, sink *k, hpfc_diag *diag)
+{
+    in_place ip = {.k = k};
+    L->in_place = true;
+    int st = place_pools(L, diag);
+    if (!st)
+        st = labels_and_geometry(L, opts, pools_and_labels, &ip, diag);
+    if (!st && !k->err)
+        st = place_tail(L, diag);
+    if (!st && !k->err)
+        st = labels_in_place(L, &ip, diag);
+    in_place_free(&ip);
+    if (!st && !k->err)
+        st = emit_to(L, k, diag);
+    return st;
+}
+
+/* Whether the tree laid out in L is written in place to fd: LABL asked
+ * for, fd mapped, and SHIX storable whatever the faces (it is counted
+ * before LABL is made). */
+static bool writes_in_place(const layout *L, const hpfc_write_options *opts, int fd)
+{
+    return L->tree && opts->face_labels &&
+           shix_fits(L->info.edges, L->features, L->edge_features) && can_map(fd);
+}
+
+/* Writes the file laid out in L (a tree's: its LABL and GEOM not yet
+ * made, as opts asks) to fd, a regular file, from its start, a section
+ * at a time; `name` for the messages (NULL: the caller's descriptor,
+ * which the caller names). */
+static int write_layout(layout *L, int fd, const char *name, hpfc_diag *diag)
+{
+    const hpfc_write_options *opts = L->opts;
+    if (ftruncate(fd, 0) != 0) /* emptied: the padding between sections reads as zeros */
+        return write_error(diag, name, errno);
+    sink k = {.fd = fd};
+    int st;
+    if (writes_in_place(L, opts, fd)) {
+        k.mapped = true;
+        st = write_in_place(L, opts, &k, diag);
+    } else {
+        st = L->tree ? labels_and_geometry(L, opts, make_labels, NULL, diag) : HPFC_OK;
+        if (!st)
+            st = place_sections(L, diag);
+        if (!st && ftruncate(fd, (off_t)L->file_size) != 0)
+            return write_error(diag, name, errno);
+        if (!st)
+            st = emit_to(L, &k, diag);
+    }
+    if (st)
+        return st;
+    return k.err ? write_error(diag, name, k.err) : HPFC_OK;
 }
 
 /* The caller's options of `size` bytes over the defaults (all zero), into
@@ -818,7 +1109,8 @@ static int begin_layout(const char *who, const void *source, const hpfc_write_op
     int st = read_options(opts_arg, opts_size, opts, who, diag);
     if (st)
         return st;
-    *L = (layout){.crs = opts->crs,
+    *L = (layout){.opts = opts,
+                  .crs = opts->crs,
                   .features = opts->features,
                   .attributes = opts->attributes,
                   .edge_features = opts->edge_features,
@@ -845,8 +1137,10 @@ static int begin_serialize(const char *who, const void *source, const hpfc_write
     return HPFC_OK;
 }
 
-/* The tree's layout: counted, sized, its LABL and GEOM made as opts asks.
- * layout_release after, whatever it returns. */
+/* The tree's layout: counted and sized; its LABL and GEOM are made as
+ * opts asks by the serialize call (labels_and_geometry) or as the write
+ * calls place them (write_layout). layout_release after, whatever it
+ * returns. */
 static int lay_out_tree(const hpfc_tree *tree, const hpfc_write_options *opts, layout *L,
                         hpfc_diag *diag)
 {
@@ -863,8 +1157,6 @@ static int lay_out_tree(const hpfc_tree *tree, const hpfc_write_options *opts, l
         st = count_level(L, l, diag);
     if (!st)
         st = size_levels(L, diag);
-    if (!st)
-        st = make_labels_and_geometry(L, opts, diag);
     return st;
 }
 
@@ -937,6 +1229,8 @@ int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_options *o
     if (st)
         return st;
     st = lay_out_tree(tree, &opts, &L, diag);
+    if (!st)
+        st = labels_and_geometry(&L, &opts, make_labels, NULL, diag);
     if (!st)
         st = serialize_layout(&L, out, out_size, diag);
     layout_release(&L, st);
@@ -1047,7 +1341,8 @@ static int create_temp(const char *dir, const char *base, char **tmp, int *fd)
         seed = mix64(seed + (uint64_t)attempt);
         snprintf(*tmp, cap, "%s/.%s.%012llx.tmp", dir, base,
                  (unsigned long long)(seed & 0xffffffffffffu));
-        *fd = open(*tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        /* read and write: the writer maps it (write_in_place) */
+        *fd = open(*tmp, O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (*fd >= 0 || errno != EEXIST)
             return HPFC_OK;
     }
