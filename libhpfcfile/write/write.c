@@ -8,6 +8,12 @@
  * The tree is read through the public hpfc_tree_* accessors only, in three
  * passes: count (n_w, n_@, k_w and each image's refined pixels), size (k_@
  * and s bottom-up, then each image's bit offset), and emit.
+ *
+ * A tree with LABL written to a descriptor that maps is made in the file's
+ * own pages (write_in_place): the pools first, read back for their faces,
+ * then LABL and SHIX each placed from a first pass and made in place. The
+ * serialize calls, and a descriptor that does not map, make LABL and SHIX
+ * in memory first (make_labels, make_index), then place every section.
  */
 #include <errno.h>
 #include <fcntl.h>
@@ -320,7 +326,7 @@ static int place_pools(layout *L, hpfc_diag *diag)
 }
 
 /* The sections after the pools, from their lengths; in place, SHIX is
- * placed once LABL is made (place_index). */
+ * placed once LABL is made (index_in_place). */
 static int place_tail(layout *L, hpfc_diag *diag)
 {
     if (L->crs) {
@@ -333,7 +339,7 @@ static int place_tail(layout *L, hpfc_diag *diag)
         L->attr_offset = append_section(&L->file_size, L->attr_length);
     if (L->edge_features)
         L->edgf_offset = append_section(&L->file_size, L->edgf_length);
-    if (L->labl || L->in_place)
+    if (has_labl(L))
         L->labl_offset = append_section(&L->file_size, L->labl_length);
     if (has_geom(L))
         L->geom_offset = append_section(&L->file_size, L->geom_length);
@@ -482,13 +488,14 @@ static void emit_section(uint8_t *meta, uint32_t index, const char *tag, uint32_
  * what the sections' making needs beside them. */
 typedef struct sink {
     uint8_t *file;  /* the memory image (zeroed), or NULL */
-    int fd;         /* else: a regular file, already file_size bytes of zeros */
+    int fd;         /* else: a regular file, already file_size bytes of zeros
+                       (mapped: grown to each section's end before it) */
     bool mapped;    /* fd: rooms are mappings of the file */
     int err;        /* the first write error (an errno) */
 } sink;
 
-/* The start of the page that holds byte `offset` of the file, and the
- * distance to it. */
+/* The start of the page that holds byte `offset` of the file: where a
+ * mapping of it starts. */
 static uint64_t page_start(uint64_t offset)
 {
     uint64_t page = (uint64_t)sysconf(_SC_PAGESIZE);
@@ -684,6 +691,7 @@ static int emit_meta(const layout *L, sink *k, const section_crcs *c, hpfc_diag 
     uint8_t *meta = sink_room(k, 0, L->meta_size, &nomem);
     if (!meta)
         return k->err ? HPFC_OK : diag_set(diag, HPFC_E_NOMEM, "out of memory");
+    memset(meta, 0, (size_t)L->meta_size); /* in place: over the provisional header */
     emit_header(L, meta);
     emit_level_table(L, meta);
     uint32_t levels = L->info.levels, next = 1;
