@@ -131,11 +131,13 @@ int atomic_output_open(atomic_output *o, const char *path, char *why)
         atomic_output_discard(o);
         return say(why, path, "cannot write", ENOMEM);
     }
+    /* opened for reading too: the library's writer maps the file to make
+     * its sections in place (hpfc_tree_write_fd) */
 #ifdef O_TMPFILE
     /* Unnamed until complete: a kill leaves nothing. Linking it later goes
      * through /proc (linkat's AT_EMPTY_PATH needs a privilege). */
     if (access("/proc/self/fd", X_OK) == 0) {
-        o->fd = open(o->dir, O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+        o->fd = open(o->dir, O_TMPFILE | O_RDWR | O_CLOEXEC, 0666);
         if (o->fd >= 0) {
             free(o->tmp);
             o->tmp = NULL;
@@ -147,7 +149,7 @@ int atomic_output_open(atomic_output *o, const char *path, char *why)
      * mkstemp's 0600 would not */
     for (int attempt = 0; attempt < 64 && o->fd < 0; attempt++) {
         temp_name(o, SUFFIX, o->tmp, cap, attempt);
-        o->fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        o->fd = open(o->tmp, O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (o->fd < 0 && errno != EEXIST)
             break;
     }

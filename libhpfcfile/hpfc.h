@@ -628,17 +628,22 @@ HPFC_API int hpfc_tree_serialize_sized(const hpfc_tree *tree, const hpfc_write_o
 
 /* Writes the tree to `path` atomically: a temporary file in the same
  * directory, fsync, rename. On failure no partial file is left and an
- * existing file at `path` is untouched. The file is written a section at
- * a time (a level's pool, a table), never held whole in memory; the face
- * labels (LABL) still number faces on a serialised copy of the pools. */
+ * existing file at `path` is untouched. The file is never held whole in
+ * memory: each section is made in a mapping of the file's own pages, the
+ * face labels (LABL) numbered on the pools written there, so the writer
+ * holds no section beside what making one needs (each growth of the file
+ * reserves its blocks first: a full disk is HPFC_E_IO). */
 HPFC_API int hpfc_tree_write_file_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
                                         size_t opts_size, const char *path, hpfc_diag *diag);
 #define hpfc_tree_write_file(tree, opts, path, diag) \
     hpfc_tree_write_file_sized((tree), (opts), sizeof(hpfc_write_options), (path), (diag))
 /* The same, written from the start of `fd`, an open regular file the
- * caller owns (a tool with its own way of replacing its output): set to
- * the file's size, then written a section at a time at known offsets, as
- * hpfc_file_write_fd writes; fd is neither synced nor closed. HPFC_E_IO
+ * caller owns (a tool with its own way of replacing its output); fd is
+ * neither synced nor closed. Opened for reading and writing, fd is
+ * written in place as above; opened for writing only (it cannot be
+ * mapped), it is set to the file's size and written a section at a time
+ * at known offsets, as hpfc_file_write_fd writes, the face labels and the
+ * shape index made in memory first. The same bytes either way. HPFC_E_IO
  * (with the system's reason in diag) when a write fails. */
 HPFC_API int hpfc_tree_write_fd_sized(const hpfc_tree *tree, const hpfc_write_options *opts,
                                       size_t opts_size, int fd, hpfc_diag *diag);
