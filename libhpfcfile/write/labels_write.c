@@ -17,6 +17,11 @@
  * faces (sizes, then the directory) and note where each root's run of
  * images and records starts on each level; pass 3 goes root by root, each
  * root's runs level by level, and writes the records and the sides.
+ *
+ * Either way pass 1 alone gives the section's length
+ * (labels_writer_begin), and the other passes make it in bytes the caller
+ * placed (labels_writer_emit): the file's own pages, for the writer that
+ * makes a file in place.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -442,10 +447,15 @@ static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file
         if (!(p->samples[l] = calloc(samples ? samples : 1, sizeof *p->samples[l])))
             return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
     }
+    if (p->edges > SIZE_MAX / 128)
+        return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
     uint64_t side_bytes = format_pool_bytes(2 * p->edges * p->face_bits);
-    if (p->edges > SIZE_MAX / 128 ||
-        (!streamed && !(p->own_sides = (p->sides = calloc(1, side_bytes ? (size_t)side_bytes : 1)))) ||
-        !(p->seen = calloc(1, (size_t)format_pool_bytes(p->edges))))
+    if (!streamed) {
+        p->sides = calloc(1, side_bytes ? (size_t)side_bytes : 1);
+        p->own_sides = true;
+    }
+    p->seen = calloc(1, (size_t)format_pool_bytes(p->edges));
+    if ((!streamed && !p->sides) || !p->seen)
         return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
     return HPFC_OK;
 }
