@@ -102,6 +102,12 @@ static bool links_hold(const feature_links *t, uint64_t row, uint32_t feature)
     return false;
 }
 
+/* Side k (0 or 1) of edge e in LABL's sides. */
+static uint64_t side_of(const labels_view *lv, uint64_t e, int k)
+{
+    return format_get(&lv->sides, (2 * e + (uint64_t)k) * lv->face_bits, lv->face_bits);
+}
+
 /* Whether id v of row `row` is the inverse of a link of `of`. */
 static bool is_inverse(const shix_inverse *of, uint64_t row, uint32_t v)
 {
@@ -111,8 +117,7 @@ static bool is_inverse(const shix_inverse *of, uint64_t row, uint32_t v)
     const labels_view *lv = of->labels;
     if (v >= lv->edges)
         return false;
-    uint64_t l = format_get(&lv->sides, 2 * (uint64_t)v * lv->face_bits, lv->face_bits);
-    uint64_t r = format_get(&lv->sides, (2 * (uint64_t)v + 1) * lv->face_bits, lv->face_bits);
+    uint64_t l = side_of(lv, v, 0), r = side_of(lv, v, 1);
     return l != r && (l == row || r == row);
 }
 
@@ -149,16 +154,16 @@ typedef struct source_rows {
 } source_rows;
 
 /* Row r's links as *links, their count returned; pair is room for an
- * edge's two faces. */
+ * edge's two faces (below the face count, which count_face_links
+ * checked: they fit 32 bits). */
 static uint32_t row_links(const source_rows *s, uint64_t r, uint32_t pair[2], const uint32_t **links)
 {
     if (!s->labels) {
         *links = s->item + s->start[r];
         return s->start[r + 1] - s->start[r];
     }
-    const labels_view *lv = s->labels;
-    pair[0] = (uint32_t)format_get(&lv->sides, 2 * r * lv->face_bits, lv->face_bits);
-    pair[1] = (uint32_t)format_get(&lv->sides, (2 * r + 1) * lv->face_bits, lv->face_bits);
+    pair[0] = (uint32_t)side_of(s->labels, r, 0);
+    pair[1] = (uint32_t)side_of(s->labels, r, 1);
     *links = pair;
     return pair[0] != pair[1] ? 2 : 0;
 }
@@ -168,15 +173,12 @@ static uint32_t row_links(const source_rows *s, uint64_t r, uint32_t pair[2], co
  * count. */
 static int count_face_links(const labels_view *lv, uint64_t *links)
 {
-    source_rows s = {.labels = lv, .rows = lv->edges};
     uint64_t n = 0;
     for (uint64_t e = 0; e < lv->edges; e++) {
-        uint32_t pair[2];
-        const uint32_t *l;
-        uint32_t k = row_links(&s, e, pair, &l);
-        if (pair[0] >= lv->faces || pair[1] >= lv->faces)
+        uint64_t a = side_of(lv, e, 0), b = side_of(lv, e, 1);
+        if (a >= lv->faces || b >= lv->faces)
             return HPFC_E_ARG;
-        n += k;
+        n += a != b ? 2 : 0;
     }
     *links = n;
     return n > SHIX_MOST_LINKS ? HPFC_E_LIMIT : HPFC_OK;
