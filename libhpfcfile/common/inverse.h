@@ -1,10 +1,10 @@
 /*
- * inverse.h: a table of rows inverted by counting sort, the one way the
- * library inverts its link tables: LABL's edge sides into each face's
- * edges, FEAT's and EDGF's links into each feature's faces and edges. The
- * writer stores the inverses (SHIX, read/shix.c) and the shapes index
- * makes them in memory for a file without them (query/shapes.c), each
- * from its own source: the caller visits its links twice, counting them
+ * inverse.h: a table of rows inverted by counting sort, in memory: LABL's
+ * edge sides into each face's edges, FEAT's and EDGF's links into each
+ * feature's faces and edges, as the shapes index makes them for a file
+ * without SHIX (query/shapes.c). The writer stores the same inverses in
+ * SHIX, sorted in the section's own offsets (read/shix.c, invert_into).
+ * The caller visits its links twice, counting them
  * (inverse_count), then, after inverse_room, placing them (inverse_put)
  * in the same order, so each inverse row lists its sources in the order
  * they were visited (ascending when the sources are visited in order).

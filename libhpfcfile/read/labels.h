@@ -207,12 +207,10 @@ int labels_piece_edge(const hpfc_file *file, const labels_pieces *p, uint64_t q,
 int labels_leaf_face(const hpfc_file *file, const labels_leaf *l, uint32_t stretch,
                      uint64_t *face);
 
-/* Builds the section's bytes for a tree and its serialised file (whose
- * faces are fc): *out (malloc'ed), *length. */
-int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc, uint8_t **out,
-                 uint64_t *length, hpfc_diag *diag);
-/* The same bytes, with the faces numbered a root pixel at a time (fs, of
- * the same file: faces.h): what the build holds besides the section is
+/* The section's bytes for a tree and its serialised file, with the faces
+ * numbered a root pixel at a time (fs, of the same file: faces.h):
+ * *out (malloc'ed), *length: the writer's bytes (the writer itself uses
+ * labels_writer below). What the build holds besides the section is
  * the plan, one root's numbering, the roots' runs on each level, each
  * edge's first level, and the pieces met before their edge's first one
  * (pieces of edges across roots). */

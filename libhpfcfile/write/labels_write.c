@@ -683,16 +683,17 @@ int labels_writer_emit(labels_writer *w, uint8_t *sec, hpfc_diag *diag)
     return st;
 }
 
-/* labels_writer_begin, then the section in bytes of its own. */
-static int build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc,
-                 faces_stream *fs, uint8_t **out, uint64_t *length, hpfc_diag *diag)
+/* Streamed, the section in bytes of its own (labels_writer_begin, then
+ * emit into them). */
+int labels_build_stream(const hpfc_tree *tree, const hpfc_file *file, faces_stream *fs,
+                        uint8_t **out, uint64_t *length, hpfc_diag *diag)
 {
     labels_writer *w = NULL;
     uint64_t n = 0;
     uint8_t *sec = NULL;
     *out = NULL;
     *length = 0;
-    int st = labels_writer_begin(tree, file, fc, fs, &w, &n, diag);
+    int st = labels_writer_begin(tree, file, NULL, fs, &w, &n, diag);
     if (!st && !(sec = calloc(1, (size_t)n)))
         st = diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
     if (!st)
@@ -705,16 +706,4 @@ static int build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces 
     *out = sec;
     *length = n;
     return HPFC_OK;
-}
-
-int labels_build(const hpfc_tree *tree, const hpfc_file *file, const hpfc_faces *fc, uint8_t **out,
-                 uint64_t *length, hpfc_diag *diag)
-{
-    return build(tree, file, fc, NULL, out, length, diag);
-}
-
-int labels_build_stream(const hpfc_tree *tree, const hpfc_file *file, faces_stream *fs,
-                        uint8_t **out, uint64_t *length, hpfc_diag *diag)
-{
-    return build(tree, file, NULL, fs, out, length, diag);
 }
