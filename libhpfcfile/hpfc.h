@@ -1829,6 +1829,97 @@ HPFC_API int hpfc_word_symbol_code(char symbol);
  * reads; with it, a word read again from the cache does not count. */
 HPFC_API uint64_t hpfc_walker_pixels_visited(const hpfc_walker *walker);
 
+/* ---- A .pfc read in chunks, into a graph file ----------------------------
+ * The parallel read of a split build (python/hpfc/_pack.py): experimental
+ * while the split build's entry points settle. */
+/* A .pfc text read in chunks, by many processes at once (a split build's
+ * parallel read, docs/interfaces.md §8): the text cut at line starts
+ * (hpfc_pfc_chunk_bounds), each chunk scanned alone for its records'
+ * counts and finest digits (hpfc_pfc_chunk_scan), then, with the file's
+ * digits and the counts of the chunks before it, each filled into its own
+ * stretch of the graph's arrays (hpfc_pfc_chunk_fill), which a graph file
+ * (below) holds. Where hpfc_pfc_parse reads a text, its chunks give the
+ * same vertices, edges and points, value for value, and the same unit
+ * exponent (-digits). A chunk checks what it sees alone: encoding, syntax,
+ * the header (in the first chunk only), loops, the extent, edges naming
+ * vertices not yet defined, zero-length segments between interior points.
+ * What needs the whole text is the caller's: more than 30 digits
+ * (HPFC_E_LIMIT from the fill), no edge at all, and, through
+ * hpfc_graph_check_whole and hpfc_graph_validate (or a split build's
+ * parts), duplicate and isolated vertices and zero-length segments at an
+ * edge's ends. Messages name lines counted from the chunk's start: read
+ * the whole text with hpfc_pfc_read_file to word a flaw with its line. */
+
+/* Cuts text into at most `count` chunks of about equal length, each
+ * starting at a line start, the first holding the header's line: fills
+ * bounds[0 .. n] (bounds[0] = 0, bounds[n] = length; the caller's array
+ * has count + 1 entries) and returns n, 0 for a NULL argument or count 0. */
+HPFC_API size_t hpfc_pfc_chunk_bounds(const char *text, size_t length, size_t count,
+                                      size_t *bounds);
+
+typedef struct hpfc_pfc_chunk {
+    uint64_t vertices, edges;  /* its v and e records */
+    uint64_t points;           /* its edges' interior points */
+    int32_t digits;            /* its finest coordinate's significant fractional digits */
+} hpfc_pfc_chunk;
+
+/* Scans text[begin, end), a chunk of hpfc_pfc_chunk_bounds (begin 0 or
+ * after a line end, end the text's end or after a line end: else
+ * HPFC_E_ARG). The chunk at 0 must start with the header; no other may
+ * hold one. */
+HPFC_API int hpfc_pfc_chunk_scan(const char *text, size_t length, size_t begin, size_t end,
+                                 hpfc_pfc_chunk *out, hpfc_diag *diag);
+
+/* Where a scanned chunk's records go: the whole text's digits (the
+ * chunks' largest), the vertices and interior points of the chunks before
+ * it, and the caller's arrays for this chunk's share (vxy: 2 per vertex;
+ * eu, ev, eoff: 1 per edge, eoff[k] the index of edge k's first interior
+ * point in the whole text; pts: 2 per interior point). box is set to the
+ * chunk's points' closed box {xmin, ymin, xmax, ymax} (INT64_MAX, INT64_MAX,
+ * INT64_MIN, INT64_MIN when it has none). */
+typedef struct hpfc_pfc_fill {
+    int32_t digits;
+    uint64_t first_vertex, first_point;
+    int64_t *vxy;
+    uint32_t *eu, *ev;
+    uint64_t *eoff;
+    int64_t *pts;
+    int64_t box[4];
+} hpfc_pfc_fill;
+
+/* Fills *fill from text[begin, end), which hpfc_pfc_chunk_scan gave
+ * *scan: HPFC_E_ARG if the chunk's records are no longer scan's counts. */
+HPFC_API int hpfc_pfc_chunk_fill(const char *text, size_t length, size_t begin, size_t end,
+                                 const hpfc_pfc_chunk *scan, hpfc_pfc_fill *fill,
+                                 hpfc_diag *diag);
+
+/* A graph file: a graph's arrays in the machine's byte order after a
+ * 64-byte header (docs/interfaces.md §8), written in place by the chunks
+ * of a .pfc read and mapped back as a graph that lives in the page cache,
+ * not in the process's own memory. hpfc_graph_file_layout gives, for the
+ * counts, the header's bytes, each array's byte offset and the file's
+ * size (HPFC_E_LIMIT past 2^32 - 2 vertices or edges, or past 2^58
+ * points); eoff has edges + 1 entries, the last one `points`. */
+typedef struct hpfc_graph_file_layout {
+    uint8_t header[64];
+    uint64_t vxy, eu, ev, eoff, pts;  /* int64 x 2, uint32, uint32, uint64, int64 x 2 */
+    uint64_t size;
+} hpfc_graph_file_layout;
+HPFC_API int hpfc_graph_file_layout_of(uint64_t vertices, uint64_t edges, uint64_t points,
+                                       int32_t unit_exp10, hpfc_graph_file_layout *out);
+
+/* Maps a graph file read-only as a graph (HPFC_E_ARG from
+ * hpfc_graph_add_vertex and hpfc_graph_add_edge on it), checked as
+ * hpfc_graph_add_* check what they add: HPFC_E_MAGIC (another file, or
+ * another byte order), HPFC_E_TRUNCATED (a size that is not the header's),
+ * HPFC_E_HEADER, HPFC_E_EXTENT (a coordinate past HPFC_COORD_MAX),
+ * HPFC_E_VERTEX_INDEX, HPFC_E_CORRUPT (offsets out of order), and as the
+ * .pfc reader, HPFC_E_LOOP_INTERIOR (a loop of fewer than 2 interior
+ * points). The graph
+ * has no source lines. As with hpfc_open, do not change the file while it
+ * is mapped. */
+HPFC_API int hpfc_graph_map_file(const char *path, hpfc_graph **out, hpfc_diag *diag);
+
 #endif /* HPFC_EXPERIMENTAL */
 
 /* ------------------------------------------------------------------------

@@ -70,10 +70,14 @@ typedef struct pfc_reader {
     int64_t *xy;
     size_t cap_xy;
     /* pass 1 results */
-    size_t nv, ne;
+    size_t nv, ne, np;  /* np: interior points (counted for chunks only) */
     int64_t d;          /* largest number of significant fractional digits */
     uint32_t d_line;    /* first line where d is reached */
     hpfc_graph *g;      /* pass 2 result */
+    /* a chunk of a larger text (hpfc_pfc_chunk_*): its edges may name
+     * vertices of the chunks before, and unless it starts the text it has
+     * no byte-order mark and no header */
+    bool chunk, inner;
 } pfc_reader;
 
 /* ------------------------------------------------------------------------
@@ -470,8 +474,8 @@ static int check_edge(pfc_reader *r)
     for (size_t k = 3; k < r->ntok; k++)
         if ((st = note_coordinate(r, &r->tok[k])))
             return st;
-    if ((st = check_edge_end(r, u, 1)) || (st = check_edge_end(r, v, 2)))
-        return st;
+    if (!r->chunk && ((st = check_edge_end(r, u, 1)) || (st = check_edge_end(r, v, 2))))
+        return st; /* a chunk's fill checks its ends against the chunks before too */
     if (u == v && r->ntok - 3 < 4) {
         diag_edge(r, r->ne);
         return fail(r, HPFC_E_LOOP_INTERIOR, r->line,
@@ -479,6 +483,7 @@ static int check_edge(pfc_reader *r)
                     (unsigned long long)u, (r->ntok - 3) / 2, r->ntok == 5 ? "" : "s");
     }
     r->ne++;
+    r->np += (r->ntok - 3) / 2;
     return HPFC_OK;
 }
 
@@ -504,6 +509,8 @@ static int check_record(pfc_reader *r, bool *header_seen)
  * some editors add one unasked, so it is skipped. */
 static size_t text_start(const pfc_reader *r)
 {
+    if (r->inner)
+        return 0;
     return (r->length >= 3 && memcmp(r->text, "\xEF\xBB\xBF", 3) == 0) ? 3 : 0;
 }
 
@@ -791,5 +798,212 @@ int hpfc_pfc_read_file(const char *path, hpfc_graph **out, hpfc_diag *diag)
     if (map)
         munmap(map, len);
     free(text);
+    return st;
+}
+
+/* ------------------------------------------------------------------------
+ * A text read in chunks (hpfc.h, "A .pfc text read in chunks")
+ *
+ * Each chunk runs pass 1 alone (hpfc_pfc_chunk_scan), then pass 1 and pass
+ * 2 together once the whole text's d is known (hpfc_pfc_chunk_fill): the
+ * same checks and the same exact scaling as hpfc_pfc_parse, line for line,
+ * but for what a chunk cannot see (hpfc.h lists it).
+ * ------------------------------------------------------------------------ */
+
+/* Does the line [b, e) (its end of line excluded) hold a field? */
+static bool line_has_field(const char *b, const char *e)
+{
+    if (e > b && e[-1] == '\r')
+        e--;
+    const char *hash = memchr(b, '#', (size_t)(e - b));
+    for (const char *p = b; p < (hash ? hash : e); p++)
+        if (!is_blank(*p))
+            return true;
+    return false;
+}
+
+/* The end of the first line that holds a field (the header's, in a valid
+ * text), or the text's end. */
+static size_t header_end(const char *text, size_t length)
+{
+    size_t pos = length >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+    while (pos < length) {
+        const char *nl = memchr(text + pos, '\n', length - pos);
+        size_t end = nl ? (size_t)(nl - text) : length;
+        if (line_has_field(text + pos, text + end))
+            return nl ? end + 1 : length;
+        pos = end + 1;
+    }
+    return length;
+}
+
+size_t hpfc_pfc_chunk_bounds(const char *text, size_t length, size_t count, size_t *bounds)
+{
+    if ((!text && length) || !bounds || count == 0)
+        return 0;
+    size_t n = 0, head = header_end(text, length), step = length / count, rest = length % count;
+    bounds[0] = 0;
+    for (size_t k = 1; k < count; k++) {
+        /* k * length / count without overflow: rest < count */
+        size_t at = step * k + (size_t)((double)rest * (double)k / (double)count);
+        at = at < head ? head : at;
+        if (at > 0 && at < length && text[at - 1] != '\n') {
+            const char *nl = memchr(text + at, '\n', length - at);
+            at = nl ? (size_t)(nl - text) + 1 : length;
+        }
+        if (at >= length)
+            break;
+        if (at > bounds[n])
+            bounds[++n] = at;
+    }
+    bounds[++n] = length;
+    return n;
+}
+
+static bool chunk_ok(const char *text, size_t length, size_t begin, size_t end)
+{
+    return (text || !length) && begin <= end && end <= length &&
+           (begin == 0 || text[begin - 1] == '\n') && (end == length || text[end - 1] == '\n');
+}
+
+static void chunk_reader(pfc_reader *r, const char *text, size_t begin, size_t end, hpfc_diag *diag)
+{
+    memset(r, 0, sizeof *r);
+    r->text = text ? text + begin : "";
+    r->length = end - begin;
+    r->diag = diag;
+    r->chunk = true;
+    r->inner = begin != 0;
+}
+
+int hpfc_pfc_chunk_scan(const char *text, size_t length, size_t begin, size_t end,
+                        hpfc_pfc_chunk *out, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!out || !chunk_ok(text, length, begin, end))
+        return diag_set(diag, HPFC_E_ARG, "hpfc_pfc_chunk_scan: not a chunk of the text");
+    memset(out, 0, sizeof *out);
+    pfc_reader r;
+    chunk_reader(&r, text, begin, end, diag);
+    const char *b, *e;
+    bool header_seen = r.inner;
+    int st = HPFC_OK;
+    r.pos = text_start(&r);
+    while (!st && next_line(&r, &b, &e)) {
+        if (!(st = check_encoding(&r, b, e)) && !(st = split_fields(&r, b, e)) && r.ntok)
+            st = check_record(&r, &header_seen);
+    }
+    if (!st && !header_seen)
+        st = fail(&r, HPFC_E_PFC_VERSION, last_line(&r), "end of input before the 'pfc 1' header");
+    free(r.tok);
+    if (st)
+        return st;
+    out->vertices = r.nv, out->edges = r.ne, out->points = r.np;
+    out->digits = r.d > INT32_MAX ? INT32_MAX : (int32_t)r.d;
+    return HPFC_OK;
+}
+
+static void box_add(int64_t box[4], const int64_t *xy)
+{
+    box[0] = xy[0] < box[0] ? xy[0] : box[0], box[2] = xy[0] > box[2] ? xy[0] : box[2];
+    box[1] = xy[1] < box[1] ? xy[1] : box[1], box[3] = xy[1] > box[3] ? xy[1] : box[3];
+}
+
+static int chunk_changed(pfc_reader *r)
+{
+    return fail(r, HPFC_E_ARG, r->line, "the chunk is not the one scanned");
+}
+
+static int fill_vertex(pfc_reader *r, hpfc_pfc_fill *f, size_t k)
+{
+    int64_t *xy = f->vxy + 2 * k;
+    int st = scale_token(r, &r->tok[1], &xy[0]);
+    if (!st)
+        st = scale_token(r, &r->tok[2], &xy[1]);
+    if (!st)
+        box_add(f->box, xy);
+    return st;
+}
+
+/* An end of edge `k` (its record's field `which`) names a vertex of this
+ * chunk's before it or of the chunks before. */
+static int fill_edge_end(pfc_reader *r, const hpfc_pfc_fill *f, int which, uint32_t *out)
+{
+    char q[PFC_QUOTE_MAX + 4];
+    uint64_t index = 0, defined = f->first_vertex + r->nv;
+    parse_index(&r->tok[which], &index); /* checked by check_record */
+    if (index < defined && index < (uint64_t)UINT32_MAX - 2) {
+        *out = (uint32_t)index; /* defined < 2^32 - 2: the layout's bound */
+        return HPFC_OK;
+    }
+    diag_edge(r, r->ne - 1);
+    return fail(r, HPFC_E_VERTEX_INDEX, r->line,
+                "edge names vertex %s but only %llu vertices are defined before it",
+                quote(&r->tok[which], q), (unsigned long long)defined);
+}
+
+/* Edge k (the chunk's) and its n interior points, from point p on. */
+static int fill_edge(pfc_reader *r, hpfc_pfc_fill *f, size_t k, size_t p, size_t n)
+{
+    int st = fill_edge_end(r, f, 1, &f->eu[k]);
+    if (!st)
+        st = fill_edge_end(r, f, 2, &f->ev[k]);
+    for (size_t c = 0; !st && c < 2 * n; c++)
+        st = scale_token(r, &r->tok[3 + c], &f->pts[2 * p + c]);
+    for (size_t c = 0; !st && c < n; c++) {
+        const int64_t *xy = f->pts + 2 * (p + c);
+        box_add(f->box, xy);
+        if (c && xy[0] == xy[-2] && xy[1] == xy[-1]) { /* the ends are the whole graph's check */
+            diag_edge(r, k);
+            st = fail(r, HPFC_E_ZERO_LENGTH, r->line,
+                      "zero-length segment: edge points %zu and %zu are one point", c, c + 1);
+        }
+    }
+    f->eoff[k] = f->first_point + p;
+    return st;
+}
+
+/* One record of the chunk checked (pass 1) and filled (pass 2). */
+static int fill_record(pfc_reader *r, hpfc_pfc_fill *f, const hpfc_pfc_chunk *scan, bool *header_seen)
+{
+    bool was_header = !*header_seen;
+    size_t nv = r->nv, ne = r->ne, np = r->np;
+    int st = check_record(r, header_seen);
+    if (st || was_header)
+        return st;
+    if (r->d != f->digits || r->nv > scan->vertices || r->ne > scan->edges || r->np > scan->points)
+        return chunk_changed(r);
+    if (r->nv > nv)
+        return fill_vertex(r, f, nv);
+    return fill_edge(r, f, ne, np, r->np - np);
+}
+
+int hpfc_pfc_chunk_fill(const char *text, size_t length, size_t begin, size_t end,
+                        const hpfc_pfc_chunk *scan, hpfc_pfc_fill *fill, hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!scan || !fill || !chunk_ok(text, length, begin, end) ||
+        (scan->vertices && !fill->vxy) || (scan->edges && (!fill->eu || !fill->ev || !fill->eoff)) ||
+        (scan->points && !fill->pts) || fill->digits < scan->digits || fill->digits < 0)
+        return diag_set(diag, HPFC_E_ARG, "hpfc_pfc_chunk_fill: not a scanned chunk and its arrays");
+    fill->box[0] = fill->box[1] = INT64_MAX, fill->box[2] = fill->box[3] = INT64_MIN;
+    pfc_reader r;
+    chunk_reader(&r, text, begin, end, diag);
+    if (fill->digits > PFC_MAX_FRAC_DIGITS)
+        return fail(&r, HPFC_E_LIMIT, 1,
+                    "coordinates have %ld significant fractional digits; at most %d are supported",
+                    (long)fill->digits, PFC_MAX_FRAC_DIGITS);
+    r.d = fill->digits;
+    const char *b, *e;
+    bool header_seen = r.inner;
+    int st = HPFC_OK;
+    r.pos = text_start(&r);
+    while (!st && next_line(&r, &b, &e)) {
+        if (!(st = check_encoding(&r, b, e)) && !(st = split_fields(&r, b, e)) && r.ntok)
+            st = fill_record(&r, fill, scan, &header_seen);
+    }
+    if (!st && (r.nv != scan->vertices || r.ne != scan->edges || r.np != scan->points || !header_seen))
+        st = chunk_changed(&r);
+    free(r.tok);
     return st;
 }

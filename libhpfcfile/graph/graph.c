@@ -7,6 +7,7 @@
  */
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include "graph.h"
 
@@ -33,6 +34,12 @@ void hpfc_graph_free(hpfc_graph *g)
 {
     if (!g)
         return;
+    if (g->map) /* the arrays are a graph file's pages */
+        munmap(g->map, g->map_len);
+    if (g->map || g->map_len) {
+        free(g);
+        return;
+    }
     free(g->vxy);
     free(g->vline);
     free(g->eu);
@@ -103,6 +110,12 @@ static void set_line(uint32_t **lines, size_t cap, size_t i, uint32_t line)
         (*lines)[i] = line;
 }
 
+/* A graph over a graph file's bytes cannot grow: its arrays are not its own. */
+static bool graph_is_file(const hpfc_graph *g)
+{
+    return g->map || g->map_len;
+}
+
 static bool coord_ok(int64_t v)
 {
     return v >= -HPFC_COORD_MAX && v <= HPFC_COORD_MAX;
@@ -110,7 +123,7 @@ static bool coord_ok(int64_t v)
 
 int hpfc_graph_add_vertex(hpfc_graph *g, int64_t x, int64_t y, uint32_t *out_index)
 {
-    if (!g)
+    if (!g || graph_is_file(g))
         return HPFC_E_ARG;
     if (!coord_ok(x) || !coord_ok(y))
         return HPFC_E_EXTENT;
@@ -135,7 +148,7 @@ int hpfc_graph_add_edge(hpfc_graph *g, uint32_t u, uint32_t v,
                         const int64_t *interior_xy, size_t n_interior,
                         uint32_t *out_index)
 {
-    if (!g || (n_interior && !interior_xy))
+    if (!g || graph_is_file(g) || (n_interior && !interior_xy))
         return HPFC_E_ARG;
     if (u >= g->nv || v >= g->nv)
         return HPFC_E_VERTEX_INDEX;

@@ -21,6 +21,10 @@ struct hpfc_graph {
     uint32_t *eline;       /* source line per edge, NULL until one is set */
     size_t npts, cap_pts;
     int64_t *pts;          /* 2 per interior point */
+    /* a graph file's mapping (graph_file.c), which the arrays point into;
+     * NULL for a graph that owns its arrays */
+    void *map;
+    size_t map_len;
 };
 
 /* Source line of vertex v / edge e, 0 if unknown (the arrays exist only
@@ -61,6 +65,11 @@ static inline void graph_edge_point(const hpfc_graph *g, size_t e, size_t k,
  * .pfc reader's), so that diagnostics can name it. */
 void graph_set_last_vertex_line(hpfc_graph *g, uint32_t line);
 void graph_set_last_edge_line(hpfc_graph *g, uint32_t line);
+
+/* A graph over a graph file's bytes (hpfc_graph_map_file's checks), its
+ * arrays pointing into them: the caller keeps the bytes until the graph is
+ * freed (which frees neither), and sets map to have them unmapped. */
+int graph_from_file_bytes(const void *bytes, size_t length, hpfc_graph **out, hpfc_diag *diag);
 
 /* The whole-graph checks both the .pfc reader and hpfc_graph_validate run
  * (graph_check.c): two points at one place (vertices only, or interior
