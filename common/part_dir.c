@@ -4,9 +4,13 @@
 #include "part_dir.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 static int diag_say(hpfc_diag *d, int status, const char *what, const char *why)
 {
@@ -238,5 +242,124 @@ int part_dir_merge(const char *dir, const char *const *paths, uint32_t count, hp
     int st = hpfc_tree_merge_files(paths ? paths : list, count, out, d);
     free(named);
     free(list);
+    return st;
+}
+
+/* ---- the .pfc read by the workers, into DIR/graph --------------------------- */
+
+int part_dir_map_text(const char *path, const char **text, size_t *length, hpfc_diag *d)
+{
+    memset(d, 0, sizeof *d);
+    *text = NULL, *length = 0;
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    struct stat sb;
+    if (fd < 0)
+        return diag_say(d, HPFC_E_IO, path, strerror(errno));
+    if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode) || (uintmax_t)sb.st_size > SIZE_MAX) {
+        close(fd);
+        return diag_say(d, HPFC_E_IO, path, "not a regular file");
+    }
+    if (sb.st_size > 0) {
+        void *map = mmap(NULL, (size_t)sb.st_size, PROT_READ, MAP_PRIVATE, fd, 0);
+        if (map == MAP_FAILED) {
+            int err = errno;
+            close(fd);
+            return diag_say(d, HPFC_E_IO, path, strerror(err));
+        }
+        *text = map, *length = (size_t)sb.st_size;
+    }
+    close(fd);
+    return HPFC_OK;
+}
+
+static int pwrite_all(int fd, const void *buf, size_t n, uint64_t at)
+{
+    const char *p = buf;
+    while (n > 0) {
+        ssize_t w = pwrite(fd, p, n, (off_t)at);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return errno ? errno : EIO;
+        p += w, n -= (size_t)w, at += (uint64_t)w;
+    }
+    return 0;
+}
+
+int part_dir_graph_create(const char *path, uint64_t vertices, uint64_t edges, uint64_t points,
+                          int32_t unit_exp10, hpfc_diag *d)
+{
+    memset(d, 0, sizeof *d);
+    hpfc_graph_file_layout l;
+    int st = hpfc_graph_file_layout_of(vertices, edges, points, unit_exp10, &l);
+    if (st)
+        return diag_say(d, st, "the graph", "too large for a graph file");
+    int fd = open(path, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0)
+        return diag_say(d, HPFC_E_IO, path, strerror(errno));
+    int err = ftruncate(fd, (off_t)l.size) ? errno : 0;
+    if (!err)
+        err = pwrite_all(fd, l.header, sizeof l.header, 0);
+    if (!err)
+        err = pwrite_all(fd, &points, sizeof points, l.eoff + 8 * edges);
+    if (close(fd) && !err)
+        err = errno ? errno : EIO;
+    return err ? diag_say(d, HPFC_E_IO, path, strerror(err)) : HPFC_OK;
+}
+
+/* One array's stretch of the chunk: n items of `size` bytes from item
+ * `first` of the array at byte `at`. */
+static int put_stretch(int fd, const void *items, uint64_t n, size_t size, uint64_t at, uint64_t first)
+{
+    return n ? pwrite_all(fd, items, (size_t)n * size, at + first * size) : 0;
+}
+
+int part_dir_fill_chunk(const char *pfc_path, size_t begin, size_t end, const struct hpfc_pfc_chunk *scan,
+                        const char *graph_path, const part_dir_chunk_place *place, int64_t box[4],
+                        hpfc_diag *d)
+{
+    hpfc_graph_file_layout l;
+    if (hpfc_graph_file_layout_of(place->vertices, place->edges, place->points, -place->digits, &l) ||
+        place->first_vertex + scan->vertices > place->vertices ||
+        place->first_edge + scan->edges > place->edges || place->first_point + scan->points > place->points)
+        return diag_say(d, HPFC_E_ARG, "chunk", "not a chunk of the graph file's counts");
+    const char *text;
+    size_t length;
+    int st = part_dir_map_text(pfc_path, &text, &length, d);
+    if (st)
+        return st;
+    hpfc_pfc_fill f = {.digits = place->digits, .first_vertex = place->first_vertex,
+                       .first_point = place->first_point};
+    /* the chunk's share of each array, in the process's memory until written */
+    f.vxy = malloc(16 * (size_t)scan->vertices + 16);
+    f.eu = malloc(4 * (size_t)scan->edges + 4);
+    f.ev = malloc(4 * (size_t)scan->edges + 4);
+    f.eoff = malloc(8 * (size_t)scan->edges + 8);
+    f.pts = malloc(16 * (size_t)scan->points + 16);
+    if (!f.vxy || !f.eu || !f.ev || !f.eoff || !f.pts)
+        st = diag_say(d, HPFC_E_NOMEM, "chunk", "out of memory");
+    if (!st)
+        st = hpfc_pfc_chunk_fill(text, length, begin, end, scan, &f, d);
+    if (text)
+        munmap((void *)(uintptr_t)text, length);
+    int fd = st ? -1 : open(graph_path, O_WRONLY | O_CLOEXEC);
+    int err = !st && fd < 0 ? errno : 0;
+    if (!st && !err)
+        err = put_stretch(fd, f.vxy, scan->vertices, 16, l.vxy, place->first_vertex);
+    if (!st && !err)
+        err = put_stretch(fd, f.eu, scan->edges, 4, l.eu, place->first_edge);
+    if (!st && !err)
+        err = put_stretch(fd, f.ev, scan->edges, 4, l.ev, place->first_edge);
+    if (!st && !err)
+        err = put_stretch(fd, f.eoff, scan->edges, 8, l.eoff, place->first_edge);
+    if (!st && !err)
+        err = put_stretch(fd, f.pts, scan->points, 16, l.pts, place->first_point);
+    if (fd >= 0 && close(fd) && !err)
+        err = errno ? errno : EIO;
+    if (err)
+        st = diag_say(d, HPFC_E_IO, graph_path, strerror(err));
+    if (!st)
+        memcpy(box, f.box, sizeof f.box);
+    free(f.vxy), free(f.eu), free(f.ev), free(f.eoff), free(f.pts);
     return st;
 }

@@ -9,6 +9,10 @@
  *                     machine's order
  *   DIR/part-K.part   the part's tree (spec/part-format.md), from whoever
  *                     built it
+ *   DIR/graph         (a .pfc read by the workers) the whole graph as a
+ *                     graph file (hpfc.h, "A .pfc read in chunks, into a
+ *                     graph file"), each chunk's stretch written by the
+ *                     process that read it
  *
  * Part K of P is the run of root pixels [R*K/P, R*(K+1)/P) in scanline order
  * (R root pixels). hpfc-pack --parts-dir and the Python package's hpfc.pack
@@ -59,6 +63,33 @@ int part_dir_build(const char *dir, const part_plan *plan, uint32_t k, hpfc_diag
  * until then). A file's fault is said as "PATH: why" in diag. */
 int part_dir_merge(const char *dir, const char *const *paths, uint32_t count, hpfc_tree **out,
                    hpfc_diag *diag);
+
+/* The graph file for `vertices`, `edges` and `points` at unit 10^unit:
+ * its header and last edge offset written, the rest zeros for the chunks'
+ * fills (part_dir_fill_chunk). */
+int part_dir_graph_create(const char *path, uint64_t vertices, uint64_t edges, uint64_t points,
+                          int32_t unit_exp10, hpfc_diag *diag);
+
+/* Where one chunk of a .pfc goes: the whole text's counts and digits, the
+ * vertices, edges and points of the chunks before it. */
+typedef struct part_dir_chunk_place {
+    uint64_t vertices, edges, points;
+    int32_t digits;
+    uint64_t first_vertex, first_edge, first_point;
+} part_dir_chunk_place;
+
+/* Fills chunk [begin, end) of the .pfc at pfc_path, which scanned as
+ * *scan, into its stretch of the graph file at graph_path (pwrite of its
+ * own bytes only, so processes on other machines may fill theirs at
+ * once); *box gets its points' box (hpfc_pfc_fill). hpfc_pfc_chunk is in
+ * hpfc.h's experimental tier, which part_dir.c sees. */
+int part_dir_fill_chunk(const char *pfc_path, size_t begin, size_t end, const struct hpfc_pfc_chunk *scan,
+                        const char *graph_path, const part_dir_chunk_place *place, int64_t box[4],
+                        hpfc_diag *diag);
+
+/* A .pfc file mapped read-only for its chunks (munmap with its length); a
+ * status with diag's message. */
+int part_dir_map_text(const char *path, const char **text, size_t *length, hpfc_diag *diag);
 
 #ifdef __cplusplus
 }

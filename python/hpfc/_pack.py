@@ -18,16 +18,19 @@ Without a client, a LocalCluster of `workers` processes (default 2) runs
 for the call. The parts' files live in `shared_dir` (default: a temporary
 directory beside the output), which every worker must see.
 
-A .pfc graph is read, cut and joined in this process. Any other input (GIS
-layers, Draco meshes), or any hpfc-pack `options`, goes through hpfc-pack
---parts-dir, which reads, nodes and projects the input once, as hpfc-pack
-alone does, cuts the parts for the workers and joins what they built (with
-the features, attributes and edge links of a GIS layer); reading the input
-in parallel is not done yet. The client holds the whole graph while it cuts
-the parts and the joined tree while it writes. The graph is validated part
-by part on the workers (every flaw but a vertex of no edge lies in one root
-pixel, whose part holds every edge through it); after a part finds one,
-the whole graph is validated once to report it as hpfc-pack does.
+A .pfc graph is read by the workers, a chunk of its text each, into one
+graph file in the shared directory (hpfc.h, "A .pfc read in chunks, into a
+graph file"); this process maps that file to cut the parts and, for GEOM,
+to write the joined file: the graph lives in the page cache, not in the
+client. Any other input (GIS layers, Draco meshes), or any hpfc-pack
+`options`, goes through hpfc-pack --parts-dir, which reads, nodes and
+projects the input once, as hpfc-pack alone does (GEOS's noding and the
+linking of features to faces see the whole layer), cuts the parts for the
+workers and joins what they built (with the features, attributes and edge
+links of a GIS layer). The graph is validated part by part on the workers
+(every flaw but a vertex of no edge lies in one root pixel, whose part
+holds every edge through it); after a chunk or a part finds one, the whole
+text is read and validated once to report it as hpfc-pack does.
 """
 import json
 import os
@@ -51,9 +54,85 @@ def _sizes(value, least, what):
     return cols, rows
 
 
+# a .pfc is read by the workers in chunks of about this many bytes (at
+# least one chunk a worker)
+CHUNK_BYTES = 64 << 20
+
+
+def _returning_errors(call, *args):
+    """call(*args) on a worker, an hpfc.Error returned rather than raised:
+    a flaw of the input is an answer, not a task's failure for Dask to log
+    on the worker's standard error."""
+    try:
+        return call(*args)
+    except Error as e:
+        return e
+
+
+def _scan_chunk(path, begin, end):
+    """One chunk of the .pfc scanned, on a worker: its counts and digits."""
+    return _returning_errors(_hpfc._pfc_scan, path, begin, end)
+
+
+def _fill_chunk(path, begin, end, scan, graph, totals, digits, firsts):
+    """One chunk of the .pfc filled into its stretch of DIR/graph, on a
+    worker: its points' box, or None."""
+    return _returning_errors(_hpfc._pfc_fill, path, begin, end, scan, graph, totals, digits, firsts)
+
+
+def _gather_all(c, futures, stage):
+    """The tasks' results, drawn on the bar as they come, once every task
+    is done (none still writing into the directory the caller removes
+    next); the first hpfc.Error one returned is raised."""
+    if sys.stderr.isatty():
+        from dask.distributed import as_completed
+        _progress(stage, 0, len(futures))
+        for done, _ in enumerate(as_completed(futures), 1):
+            _progress(stage, done, len(futures))
+        _progress(None)
+    results = c.gather(futures)
+    for r in results:
+        if isinstance(r, Error):
+            raise r
+    return results
+
+
+def _read_pfc(c, path, directory, chunks):
+    """The .pfc read by the cluster's workers into the graph file
+    DIR/graph, a chunk a task (hpfc.h, "A .pfc read in chunks"), the
+    client holding only the chunks' counts. Returns its path. A flaw a
+    chunk finds, or one that needs the whole text (more than 30 digits, no
+    edge), is reworded by reading the whole text here, as hpfc-pack would."""
+    if chunks is None:
+        n = max(1, len(c.scheduler_info()["workers"]))
+        chunks = max(n, -(-os.path.getsize(path) // CHUNK_BYTES))
+    bounds = _hpfc._pfc_chunks(path, int(chunks))
+    try:
+        scans = _gather_all(c, [c.submit(_scan_chunk, path, b, e, pure=False) for b, e in bounds],
+                            "reading")
+        digits = max(s[3] for s in scans)
+        totals = tuple(sum(s[k] for s in scans) for k in range(3))
+        if digits > 30 or totals[1] == 0:
+            raise Error(0, "the whole text", "")  # reworded below
+        graph = os.path.join(directory, "graph")
+        _hpfc._graph_create(graph, totals[0], totals[1], totals[2], -digits)
+        firsts, futures = [0, 0, 0], []
+        for (b, e), scan in zip(bounds, scans):
+            futures.append(c.submit(_fill_chunk, path, b, e, scan, graph, totals, digits,
+                                    tuple(firsts), pure=False))
+            firsts = [firsts[k] + scan[k] for k in range(3)]
+        _gather_all(c, futures, "reading")
+        return graph
+    except Error as e:
+        # the flaw in hpfc-pack's words, from the whole text
+        _hpfc._pack_check(os.fspath(path))
+        raise e
+
+
 def _build_part(directory, plan, k):
-    """One part, on a worker: DIR/part-K.pfc and .ids to DIR/part-K.part."""
-    return _hpfc._pack_part(directory, plan, k)
+    """One part, on a worker: DIR/part-K.pfc and .ids to DIR/part-K.part
+    (its path, or the hpfc.Error that refused it)."""
+    return _returning_errors(_hpfc._pack_part, directory, plan, k)
 
 
 def _is_pfc(path):
@@ -83,44 +162,36 @@ def _progress(stage, done=None, total=None):
     sys.stderr.flush()
 
 
-def _await_parts(futures):
-    """Draws the parts done until every one is (or failed)."""
-    if not sys.stderr.isatty():
-        return
-    from dask.distributed import as_completed
-    _progress("parts", 0, len(futures))
-    for done, _ in enumerate(as_completed(futures), 1):
-        _progress("parts", done, len(futures))
-    _progress(None)
+class _Cluster:
+    """The caller's client, or a LocalCluster of `workers` processes for
+    the call, closed on leaving."""
 
+    def __init__(self, client, workers):
+        self.client, self.workers, self.cluster = client, workers, None
 
-def _build_parts(client, workers, directory, plan):
-    """Every part built on the cluster (a LocalCluster of `workers` for the
-    call when client is None): their part files' paths, or the first
-    hpfc.Error a part raised."""
-    cluster = None
-    if client is None:
+    def __enter__(self):
+        if self.client is not None:
+            return self.client
         from dask.distributed import Client, LocalCluster
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=":0")
-    c = client or Client(cluster)
+        self.cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
+                                    dashboard_address=":0")
+        self.client = Client(self.cluster)
+        return self.client
+
+    def __exit__(self, *exc):
+        if self.cluster is not None:
+            self.client.close()
+            self.cluster.close()
+
+
+def _build_parts(c, directory, plan):
+    """Every part built on the cluster: their part files' paths, or the
+    first hpfc.Error a part raised."""
+    futures = [c.submit(_build_part, directory, plan, k, pure=False) for k in range(plan["parts"])]
     try:
-        futures = [c.submit(_build_part, directory, plan, k, pure=False)
-                   for k in range(plan["parts"])]
-        _await_parts(futures)
-        try:
-            return c.gather(futures), None
-        except Error as e:
-            # gather raises at the first failed part while the others run
-            # on, writing into the directory the caller removes next: all
-            # of them done (or failed) first
-            from dask.distributed import wait
-            wait(futures)
-            return None, e
-    finally:
-        if cluster is not None:
-            c.close()
-            cluster.close()
+        return _gather_all(c, futures, "parts"), None
+    except Error as e:
+        return None, e
 
 
 def _find_hpfc_pack(given):
@@ -149,7 +220,8 @@ def _pack_through_tool(tool, args, client, workers, directory):
         try:
             line = proc.stdout.readline()
             if line:
-                _paths, failure = _build_parts(client, workers, directory, json.loads(line))
+                with _Cluster(client, workers) as c:
+                    _paths, failure = _build_parts(c, directory, json.loads(line))
                 proc.stdin.write(b"failed\n" if failure else b"built\n")
                 proc.stdin.close()
                 if not failure:
@@ -178,7 +250,7 @@ def _size_arg(pair):
 
 def pack(input, output, *, client=None, partitions=None, workers=2, root=64, refine=2,  # noqa: A002
          leaf_points=16, layout="compact", labels=True, geometry=True, shared_dir=None,
-         options=(), hpfc_pack=None):
+         options=(), hpfc_pack=None, read_on_workers=True, chunks=None):
     """Packs `input` into `output` in `partitions` parts (default: four a
     worker), built on the Dask `client`'s workers (None: a LocalCluster of
     `workers` processes for this call). Options as hpfc-pack's --root,
@@ -186,8 +258,13 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
     other hpfc-pack option in `options` (["--fields", "all"], ...). The
     file is the one hpfc-pack writes with the same options.
 
-    A .pfc input without `options` is read here; any other goes through
-    hpfc-pack (`hpfc_pack`, else $HPFC_PACK, else PATH). Raises hpfc.Error
+    A .pfc input without `options` is read by the workers, each a chunk of
+    about CHUNK_BYTES (or `chunks` chunks), into one graph file in the
+    shared directory, which this process then maps rather than holds: the
+    input must be readable at the same path on every worker, as
+    `shared_dir` is (`read_on_workers=False` reads it here). Any other
+    input goes through hpfc-pack (`hpfc_pack`, else $HPFC_PACK, else
+    PATH). Raises hpfc.Error
     (the input, a part; hpfc-pack's exit status and message as code and
     text), ValueError (an option) or OSError."""
     root_cols, root_rows = _sizes(root, 1, "root")
@@ -213,10 +290,22 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
             _pack_through_tool(tool, args + options + ["-o", os.fspath(output), "--",
                                os.fspath(input)], client, workers, tmp)
             return
-        # the input read and cut first: a bad one fails before any cluster starts
-        plan = _hpfc._pack_cut(os.fspath(input), tmp, root_cols, root_rows, cols, rows,
-                               int(leaf_points), partitions)
-        paths, failure = _build_parts(client, workers, tmp, plan)
+        source = os.fspath(input)
+        with _Cluster(client, workers) as c:
+            if read_on_workers:
+                source = _read_pfc(c, source, tmp, chunks)
+            try:
+                _progress("cutting")
+                plan = _hpfc._pack_cut(source, tmp, root_cols, root_rows, cols, rows,
+                                       int(leaf_points), partitions, read_on_workers)
+            except Error:
+                # a flaw of the whole graph (a vertex of no edge) seen in
+                # the graph file, which has no lines: in hpfc-pack's words
+                _hpfc._pack_check(os.fspath(input))
+                raise
+            finally:
+                _progress(None)
+            paths, failure = _build_parts(c, tmp, plan)
         if failure:
             # a part found a flaw of the graph, in its own numbering:
             # the whole graph's check words it as hpfc-pack does
@@ -224,7 +313,7 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
             raise failure
         _progress("joining")
         try:
-            _hpfc._pack_merge(list(paths), os.fspath(input), os.fspath(output), LAYOUTS[layout],
-                              bool(labels), bool(geometry))
+            _hpfc._pack_merge(list(paths), source, os.fspath(output), LAYOUTS[layout],
+                              bool(labels), bool(geometry), read_on_workers)
         finally:
             _progress(None)

@@ -13,7 +13,11 @@
  *                 them and writes the .hpfc atomically, GEOM from the .pfc
  *                 read again;
  *   _pack_check   (the client, after a part failed) validates the whole
- *                 graph to word its flaw as hpfc_build does.
+ *                 graph to word its flaw as hpfc_build does;
+ *   _pfc_chunks, _pfc_scan, _graph_create, _pfc_fill
+ *                 the .pfc read by the workers a chunk each into the
+ *                 graph file DIR/graph (part_dir.h), which _pack_cut and
+ *                 _pack_merge then map (graph_file=True).
  *
  * A part's inputs come back through the library's hardened readers (the
  * .pfc parser, the part file reader) and hpfc_build_part checks the ids,
@@ -25,6 +29,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h> /* munmap */
 #include <unistd.h> /* sysconf */
 
 #include "hpfc.h"
@@ -89,14 +94,22 @@ static int plan_from_dict(PyObject *dict, part_plan *p)
     return 0;
 }
 
-/* _pack_cut(pfc, dir, root_cols, root_rows, cols, rows, leaf_points, parts)
- *   -> plan: the .pfc read, its parts' graphs written into dir */
+/* The graph of a .pfc, or of a graph file (DIR/graph, which the workers'
+ * chunks filled: mapped, not read into the process). */
+static int read_graph(const char *path, int graph_file, hpfc_graph **g, hpfc_diag *d)
+{
+    return graph_file ? hpfc_graph_map_file(path, g, d) : hpfc_pfc_read_file(path, g, d);
+}
+
+/* _pack_cut(pfc, dir, root_cols, root_rows, cols, rows, leaf_points, parts, graph_file=False)
+ *   -> plan: the .pfc (or graph file) read, its parts' graphs written into dir */
 static PyObject *mod_pack_cut(PyObject *m, PyObject *args)
 {
     (void)m;
     const char *pfc, *dir;
     unsigned n0, m0, n, mm, leaf, parts;
-    if (!PyArg_ParseTuple(args, "ssIIIIII", &pfc, &dir, &n0, &m0, &n, &mm, &leaf, &parts))
+    int graph_file = 0;
+    if (!PyArg_ParseTuple(args, "ssIIIIII|p", &pfc, &dir, &n0, &m0, &n, &mm, &leaf, &parts, &graph_file))
         return NULL;
     hpfc_build_params p;
     hpfc_build_params_default(&p);
@@ -106,7 +119,7 @@ static PyObject *mod_pack_cut(PyObject *m, PyObject *args)
     part_plan plan;
     int st;
     Py_BEGIN_ALLOW_THREADS
-    st = hpfc_pfc_read_file(pfc, &g, &d);
+    st = read_graph(pfc, graph_file, &g, &d);
     if (!st)
         st = part_dir_cut(g, &p, parts, dir, &plan, &d);
     Py_END_ALLOW_THREADS
@@ -146,14 +159,15 @@ static unsigned merge_threads(void)
     return n < 1 ? 1 : n > 8 ? 8 : (unsigned)n;
 }
 
-/* _pack_merge(part_paths, pfc, out, layout, labels, geometry) -> None */
+/* _pack_merge(part_paths, pfc, out, layout, labels, geometry, graph_file=False) -> None */
 static PyObject *mod_pack_merge(PyObject *m, PyObject *args)
 {
     (void)m;
     PyObject *list;
     const char *pfc, *out;
-    int layout, labels, geometry;
-    if (!PyArg_ParseTuple(args, "O!ssipp", &PyList_Type, &list, &pfc, &out, &layout, &labels, &geometry))
+    int layout, labels, geometry, graph_file = 0;
+    if (!PyArg_ParseTuple(args, "O!ssipp|p", &PyList_Type, &list, &pfc, &out, &layout, &labels, &geometry,
+                          &graph_file))
         return NULL;
     Py_ssize_t count = PyList_Size(list);
     if (count < 1 || count > UINT32_MAX)
@@ -173,7 +187,7 @@ static PyObject *mod_pack_merge(PyObject *m, PyObject *args)
     int st;
     Py_BEGIN_ALLOW_THREADS
     st = part_dir_merge(NULL, paths, (uint32_t)count, &joined, &d);
-    if (!st && geometry && (st = hpfc_pfc_read_file(pfc, &g, &d)) != HPFC_OK)
+    if (!st && geometry && (st = read_graph(pfc, graph_file, &g, &d)) != HPFC_OK)
         culprit = pfc;
     if (!st) {
         /* without GEOM the merge holds no graph: LABL's faces numbered a
@@ -215,7 +229,133 @@ static PyObject *mod_pack_check(PyObject *m, PyObject *arg)
     Py_RETURN_NONE;
 }
 
+/* ---- the .pfc read by the workers (part_dir.h: DIR/graph) ------------------- */
+
+/* _pfc_chunks(pfc, count) -> [(begin, end), ...]: at most count chunks,
+ * cut at line starts (hpfc_pfc_chunk_bounds) */
+static PyObject *mod_pfc_chunks(PyObject *m, PyObject *args)
+{
+    (void)m;
+    const char *pfc;
+    Py_ssize_t count;
+    if (!PyArg_ParseTuple(args, "sn", &pfc, &count))
+        return NULL;
+    if (count < 1 || count > (1 << 20))
+        return pyhpfc_raise(HPFC_E_ARG, "chunks: 1 to 2^20");
+    const char *text;
+    size_t length;
+    hpfc_diag d = {0};
+    size_t *at = malloc(((size_t)count + 1) * sizeof *at), n = 0;
+    if (!at)
+        return PyErr_NoMemory();
+    int st;
+    Py_BEGIN_ALLOW_THREADS
+    st = part_dir_map_text(pfc, &text, &length, &d);
+    if (!st) {
+        n = hpfc_pfc_chunk_bounds(text ? text : "", length, (size_t)count, at);
+        if (text)
+            munmap((void *)(uintptr_t)text, length);
+    }
+    Py_END_ALLOW_THREADS
+    PyObject *list = st ? NULL : PyList_New((Py_ssize_t)n);
+    for (size_t k = 0; list && k < n; k++) {
+        PyObject *pair = Py_BuildValue("(nn)", (Py_ssize_t)at[k], (Py_ssize_t)at[k + 1]);
+        if (!pair)
+            Py_CLEAR(list);
+        else
+            PyList_SET_ITEM(list, (Py_ssize_t)k, pair);
+    }
+    free(at);
+    if (st)
+        return raise_diag(st, &d, pfc);
+    return list;
+}
+
+/* _pfc_scan(pfc, begin, end) -> (vertices, edges, points, digits) */
+static PyObject *mod_pfc_scan(PyObject *m, PyObject *args)
+{
+    (void)m;
+    const char *pfc;
+    Py_ssize_t begin, end;
+    if (!PyArg_ParseTuple(args, "snn", &pfc, &begin, &end))
+        return NULL;
+    const char *text;
+    size_t length;
+    hpfc_diag d = {0};
+    hpfc_pfc_chunk c = {0};
+    int st;
+    Py_BEGIN_ALLOW_THREADS
+    st = part_dir_map_text(pfc, &text, &length, &d);
+    if (!st) {
+        st = begin < 0 || end < 0 ? HPFC_E_ARG
+                                  : hpfc_pfc_chunk_scan(text, length, (size_t)begin, (size_t)end, &c, &d);
+        if (text)
+            munmap((void *)(uintptr_t)text, length);
+    }
+    Py_END_ALLOW_THREADS
+    if (st)
+        return raise_diag(st, &d, pfc);
+    return Py_BuildValue("(KKKi)", (unsigned long long)c.vertices, (unsigned long long)c.edges,
+                         (unsigned long long)c.points, (int)c.digits);
+}
+
+/* _graph_create(path, vertices, edges, points, unit_exp10) -> None */
+static PyObject *mod_graph_create(PyObject *m, PyObject *args)
+{
+    (void)m;
+    const char *path;
+    unsigned long long nv, ne, np;
+    int unit;
+    if (!PyArg_ParseTuple(args, "sKKKi", &path, &nv, &ne, &np, &unit))
+        return NULL;
+    hpfc_diag d = {0};
+    int st;
+    Py_BEGIN_ALLOW_THREADS
+    st = part_dir_graph_create(path, nv, ne, np, unit, &d);
+    Py_END_ALLOW_THREADS
+    if (st)
+        return raise_diag(st, &d, path);
+    Py_RETURN_NONE;
+}
+
+/* _pfc_fill(pfc, begin, end, scan, graph, totals, digits, firsts)
+ *   -> (xmin, ymin, xmax, ymax), or None for a chunk of no point; scan is
+ *   _pfc_scan's tuple, totals (vertices, edges, points) the whole text's,
+ *   firsts the vertices, edges and points of the chunks before */
+static PyObject *mod_pfc_fill(PyObject *m, PyObject *args)
+{
+    (void)m;
+    const char *pfc, *graph;
+    Py_ssize_t begin, end;
+    int scan_digits;
+    hpfc_pfc_chunk c = {0};
+    part_dir_chunk_place place = {0};
+    if (!PyArg_ParseTuple(args, "snn(KKKi)s(KKK)i(KKK)", &pfc, &begin, &end, &c.vertices, &c.edges,
+                          &c.points, &scan_digits, &graph, &place.vertices, &place.edges, &place.points,
+                          &place.digits, &place.first_vertex, &place.first_edge, &place.first_point))
+        return NULL;
+    if (begin < 0 || end < 0)
+        return pyhpfc_raise(HPFC_E_ARG, "chunk: negative bounds");
+    c.digits = scan_digits;
+    hpfc_diag d = {0};
+    int64_t box[4];
+    int st;
+    Py_BEGIN_ALLOW_THREADS
+    st = part_dir_fill_chunk(pfc, (size_t)begin, (size_t)end, &c, graph, &place, box, &d);
+    Py_END_ALLOW_THREADS
+    if (st)
+        return raise_diag(st, &d, pfc);
+    if (box[0] > box[2])
+        Py_RETURN_NONE;
+    return Py_BuildValue("(LLLL)", (long long)box[0], (long long)box[1], (long long)box[2],
+                         (long long)box[3]);
+}
+
 static PyMethodDef pack_methods[] = {
+    {"_pfc_chunks", mod_pfc_chunks, METH_VARARGS, NULL},
+    {"_pfc_scan", mod_pfc_scan, METH_VARARGS, NULL},
+    {"_graph_create", mod_graph_create, METH_VARARGS, NULL},
+    {"_pfc_fill", mod_pfc_fill, METH_VARARGS, NULL},
     {"_pack_cut", mod_pack_cut, METH_VARARGS, NULL},
     {"_pack_part", mod_pack_part, METH_VARARGS, NULL},
     {"_pack_merge", mod_pack_merge, METH_VARARGS, NULL},

@@ -95,9 +95,13 @@ def test_same_bytes_as_hpfc_pack(tmp_path, client, pack_tool, kwargs, flags):
     for src in inputs(tmp_path):
         want = hpfc_pack(pack_tool, src, tmp_path / "want.hpfc", *flags)
         for parts in (1, 3, 7):
+            # the .pfc read by the workers in 1 to 9 chunks (and by the
+            # client once), cut wherever the text's length falls
             out = tmp_path / ("got-%d.hpfc" % parts)
-            hpfc.pack(src, out, client=client, partitions=parts, **kwargs)
+            hpfc.pack(src, out, client=client, partitions=parts, chunks=2 * parts - 1, **kwargs)
             assert out.read_bytes() == want, (src.name, kwargs, parts)
+        hpfc.pack(src, out, client=client, partitions=2, read_on_workers=False, **kwargs)
+        assert out.read_bytes() == want, (src.name, kwargs, "read here")
     assert not list(tmp_path.glob(".hpfc-parts.*")), "the parts' directory was left behind"
 
 
@@ -110,6 +114,10 @@ def test_command_line(tmp_path, pack_tool):
                        check=False, env=env)
     assert r.returncode == 0, r.stderr
     assert (tmp_path / "got.hpfc").read_bytes() == want
+    r = subprocess.run([sys.executable, "-m", "hpfc", "pack", str(src), "-o", str(tmp_path / "here.hpfc"),
+                        "--workers", "1", "--partitions", "3", "--read-here"], capture_output=True,
+                       text=True, check=False, env=env)
+    assert r.returncode == 0 and (tmp_path / "here.hpfc").read_bytes() == want, r.stderr
     bad = tmp_path / "bad.pfc"
     bad.write_text("pfc 1\nv 0 0\nv 1 1\ne 0 7\n")
     r = subprocess.run([sys.executable, "-m", "hpfc", "pack", str(bad), "-o", str(tmp_path / "no.hpfc"),
@@ -129,6 +137,35 @@ def test_failures_leave_nothing(tmp_path, client):
     with pytest.raises(ValueError):
         hpfc.pack(bad, tmp_path / "out.hpfc", client=client, refine=1)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["crossing.pfc"]
+
+
+FLAWED = {
+    # an edge naming a vertex that a later chunk defines
+    "forward.pfc": "pfc 1\n" + "".join("v %d %d\n" % (i, i * i) for i in range(40)) + "e 0 40\n"
+                   + "v 100 0\n" + "".join("e %d %d\n" % (i, i + 1) for i in range(40)),
+    "digits.pfc": "pfc 1\nv 0 0\nv 1 1e-31\ne 0 1\n",
+    "noedge.pfc": "pfc 1\nv 0 0\nv 1 1\n",
+    "isolated.pfc": "pfc 1\nv 0 0\nv 3 3\nv 7 7\ne 0 1\n",
+    "duplicate.pfc": "pfc 1\nv 0 0\nv 3 3\nv 0 0\nv 9 0\ne 0 1\ne 2 3\n",
+    "zero.pfc": "pfc 1\nv 0 0\nv 3 3\ne 0 1 0 0 1 1\n",
+    "syntax.pfc": "pfc 1\n" + "".join("v %d 0\n" % i for i in range(30)) + "v 1,5 0\n",
+}
+
+
+@pytest.mark.parametrize("name", sorted(FLAWED))
+def test_chunk_flaws_in_hpfc_packs_words(tmp_path, client, pack_tool, name):
+    """A flaw the workers' chunks find, or one only the whole text shows,
+    is the one hpfc-pack reports, with its line; nothing is left."""
+    src = tmp_path / name
+    src.write_text(FLAWED[name])
+    r = subprocess.run([pack_tool, "-q", str(src), "-o", str(tmp_path / "want.hpfc")],
+                       capture_output=True, text=True, check=False)
+    assert r.returncode == 1 and not (tmp_path / "want.hpfc").exists()
+    for chunks in (1, 4):
+        with pytest.raises(hpfc.Error) as e:
+            hpfc.pack(src, tmp_path / "out.hpfc", client=client, partitions=3, chunks=chunks)
+        assert r.stderr == "hpfc-pack: %s\n" % e.value.context, (r.stderr, e.value.context)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name]
 
 
 def test_killed_worker(tmp_path, client, pack_tool):
