@@ -2,33 +2,69 @@
 and each worker's peak resident memory (and hpfc-pack's, which reads, cuts
 and joins any input but .pfc), for bench/README.md "A build in parts".
 
-    PYTHONPATH=<the hpfc package> python3 bench/dask_pack_bench.py INPUT PARTS [OUT [HPFC-PACK-OPTION...]]
+    PYTHONPATH=<the hpfc package> python3 bench/dask_pack_bench.py [--read-here] INPUT PARTS [OUT [HPFC-PACK-OPTION...]]
 
-HPFC_PACK names the hpfc-pack to run (else PATH).
+HPFC_PACK names the hpfc-pack to run (else PATH). --read-here reads a .pfc
+in the client (read_on_workers=False). The client's peak is also given as
+its own (anonymous) memory, sampled every 20 ms from /proc/self/status:
+its resident peak counts the pages of the mapped graph file, which are the
+page cache's.
 """
 import resource
 import sys
+import threading
 import time
+
+
+def _status_kb(field):
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith(field + ":"):
+                return int(line.split()[1])
+    return 0
+
+
+class _AnonPeak(threading.Thread):
+    """The largest RssAnon of this process, sampled until stopped."""
+
+    def __init__(self):
+        super().__init__(daemon=True)
+        self.peak, self.done = 0, threading.Event()
+
+    def run(self):
+        while not self.done.wait(0.02):
+            self.peak = max(self.peak, _status_kb("RssAnon"))
 
 import hpfc
 from dask.distributed import Client, LocalCluster
 
 
 def main():
-    src, n = sys.argv[1], int(sys.argv[2])
+    argv = sys.argv[1:]
+    here = "--read-here" in argv[:1]
+    argv = argv[1:] if here else argv
+    src, n = argv[0], int(argv[1])
     cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
     c = Client(cluster)
+    before = _status_kb("RssAnon")
+    sampler = _AnonPeak()
+    sampler.start()
     t0 = time.perf_counter()
-    out = sys.argv[3] if len(sys.argv) > 3 else "/tmp/dask_out.hpfc"
-    hpfc.pack(src, out, client=c, partitions=n, shared_dir="/tmp", options=sys.argv[4:])
+    out = argv[2] if len(argv) > 2 else "/tmp/dask_out.hpfc"
+    hpfc.pack(src, out, client=c, partitions=n, shared_dir="/tmp", options=argv[3:],
+              read_on_workers=not here)
     wall = time.perf_counter() - t0
+    sampler.done.set()
+    sampler.join()
     # the only child waited for so far: hpfc-pack, when it ran (not the nannies)
-    ran_tool = not src.endswith(".pfc") or len(sys.argv) > 4
+    ran_tool = not src.endswith(".pfc") or len(argv) > 3
     tool_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024 if ran_tool else float("nan")
     peaks = c.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
     client_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print("wall %.2f s, client peak %.0f MB, hpfc-pack peak %.0f MB, worker peaks %s MB"
-          % (wall, client_mb, tool_mb, [round(v / 1024) for v in peaks.values()]))
+    print("wall %.2f s, client peak %.0f MB (own %.0f MB above its %.0f MB before the pack), "
+          "hpfc-pack peak %.0f MB, worker peaks %s MB"
+          % (wall, client_mb, (sampler.peak - before) / 1024, before / 1024, tool_mb,
+             [round(v / 1024) for v in peaks.values()]))
     c.close()
     cluster.close()
 

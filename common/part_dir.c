@@ -5,6 +5,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -314,14 +315,21 @@ static int put_stretch(int fd, const void *items, uint64_t n, size_t size, uint6
     return n ? pwrite_all(fd, items, (size_t)n * size, at + first * size) : 0;
 }
 
+/* Do items [first, first + n) lie within [0, total)? */
+static bool fits(uint64_t first, uint64_t n, uint64_t total)
+{
+    return first <= total && n <= total - first;
+}
+
 int part_dir_fill_chunk(const char *pfc_path, size_t begin, size_t end, const struct hpfc_pfc_chunk *scan,
                         const char *graph_path, const part_dir_chunk_place *place, int64_t box[4],
                         hpfc_diag *d)
 {
     hpfc_graph_file_layout l;
     if (hpfc_graph_file_layout_of(place->vertices, place->edges, place->points, -place->digits, &l) ||
-        place->first_vertex + scan->vertices > place->vertices ||
-        place->first_edge + scan->edges > place->edges || place->first_point + scan->points > place->points)
+        !fits(place->first_vertex, scan->vertices, place->vertices) ||
+        !fits(place->first_edge, scan->edges, place->edges) ||
+        !fits(place->first_point, scan->points, place->points))
         return diag_say(d, HPFC_E_ARG, "chunk", "not a chunk of the graph file's counts");
     const char *text;
     size_t length;

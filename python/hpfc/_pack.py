@@ -112,8 +112,10 @@ def _read_pfc(c, path, directory, chunks):
                             "reading")
         digits = max(s[3] for s in scans)
         totals = tuple(sum(s[k] for s in scans) for k in range(3))
-        if digits > 30 or totals[1] == 0:
-            raise Error(0, "the whole text", "")  # reworded below
+        if totals[1] == 0:  # reworded below, with the line hpfc-pack names
+            raise Error(26, "HPFC_E_EMPTY", "no edge", path)
+        if digits > 30:
+            raise Error(28, "HPFC_E_LIMIT", "more than 30 fractional digits", path)
         graph = os.path.join(directory, "graph")
         _hpfc._graph_create(graph, totals[0], totals[1], totals[2], -digits)
         firsts, futures = [0, 0, 0], []
