@@ -8,7 +8,8 @@ HPFC_PACK names the hpfc-pack to run (else PATH). --read-here reads a .pfc
 in the client (read_on_workers=False). The client's peak is also given as
 its own (anonymous) memory, sampled every 20 ms from /proc/self/status:
 its resident peak counts the pages of the mapped graph file, which are the
-page cache's.
+page cache's. The workers' own memory likewise (their resident peak counts
+the .pfc text and the graph file they map).
 """
 import resource
 import sys
@@ -39,6 +40,21 @@ import hpfc
 from dask.distributed import Client, LocalCluster
 
 
+def _start_sampler(dask_worker):
+    """On a worker: its own RssAnon peak sampled from now on."""
+    sampler = _AnonPeak()
+    dask_worker.hpfc_anon = sampler
+    sampler.start()
+    return _status_kb("RssAnon")
+
+
+def _stop_sampler(dask_worker):
+    sampler = dask_worker.hpfc_anon
+    sampler.done.set()
+    sampler.join()
+    return sampler.peak
+
+
 def main():
     argv = sys.argv[1:]
     here = "--read-here" in argv[:1]
@@ -47,6 +63,7 @@ def main():
     cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
     c = Client(cluster)
     before = _status_kb("RssAnon")
+    worker_before = c.run(_start_sampler)
     sampler = _AnonPeak()
     sampler.start()
     t0 = time.perf_counter()
@@ -56,15 +73,18 @@ def main():
     wall = time.perf_counter() - t0
     sampler.done.set()
     sampler.join()
+    worker_own = c.run(_stop_sampler)
+    worker_own = c.run(_stop_sampler)
     # the only child waited for so far: hpfc-pack, when it ran (not the nannies)
     ran_tool = not src.endswith(".pfc") or len(argv) > 3
     tool_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024 if ran_tool else float("nan")
     peaks = c.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
     client_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print("wall %.2f s, client peak %.0f MB (own %.0f MB above its %.0f MB before the pack), "
-          "hpfc-pack peak %.0f MB, worker peaks %s MB"
+          "hpfc-pack peak %.0f MB, worker peaks %s MB (own %s MB above their start)"
           % (wall, client_mb, (sampler.peak - before) / 1024, before / 1024, tool_mb,
-             [round(v / 1024) for v in peaks.values()]))
+             [round(v / 1024) for v in peaks.values()],
+             [round((worker_own[w] - worker_before[w]) / 1024) for w in worker_own]))
     c.close()
     cluster.close()
 

@@ -106,20 +106,20 @@ static int cut_one(const hpfc_cut *cut, uint32_t k, const char *dir, hpfc_diag *
     return st;
 }
 
-int part_dir_cut(const hpfc_graph *g, const hpfc_build_params *p, uint32_t parts, const char *dir,
-                 part_plan *plan, hpfc_diag *d)
+int part_dir_plan(const hpfc_graph *g, const hpfc_build_params *p, uint32_t parts, const int64_t *box,
+                  part_plan *plan, hpfc_diag *d)
 {
     memset(d, 0, sizeof *d);
     uint64_t roots = (uint64_t)p->root_cols * p->root_rows;
     if (parts < 1 || roots == 0 || roots > UINT32_MAX)
         return diag_say(d, HPFC_E_ARG, "partitions", "at least 1, on at most 2^32 root pixels");
     int st = hpfc_graph_check_whole(g, d);
-    int64_t box[4];
+    int64_t bounds[4];
     memset(plan, 0, sizeof *plan);
+    if (!st && !box)
+        st = hpfc_graph_bounds(g, bounds);
     if (!st)
-        st = hpfc_graph_bounds(g, box);
-    if (!st)
-        st = hpfc_build_domain(box, p, &plan->domain, d);
+        st = hpfc_build_domain(box ? box : bounds, p, &plan->domain, d);
     if (st)
         return st;
     plan->unit_exp10 = hpfc_graph_unit_exp10(g);
@@ -127,15 +127,32 @@ int part_dir_cut(const hpfc_graph *g, const hpfc_build_params *p, uint32_t parts
     plan->parts = parts < roots ? parts : (uint32_t)roots;
     plan->root_cols = p->root_cols, plan->root_rows = p->root_rows;
     plan->cols = p->cols, plan->rows = p->rows, plan->leaf_points = p->max_leaf_points;
-    uint32_t *owner = malloc((size_t)roots * sizeof *owner);
-    if (!owner)
-        return diag_say(d, HPFC_E_NOMEM, "cutting the parts", "out of memory");
-    for (uint32_t k = 0; k < plan->parts; k++) {
+    return HPFC_OK;
+}
+
+/* Each root pixel's part (malloc'd), NULL when out of memory. */
+static uint32_t *plan_owners(const part_plan *plan)
+{
+    uint64_t roots = (uint64_t)plan->root_cols * plan->root_rows;
+    uint32_t *owner = malloc((size_t)(roots ? roots : 1) * sizeof *owner);
+    for (uint32_t k = 0; owner && k < plan->parts; k++) {
         uint64_t first, end;
         part_dir_range(plan, k, &first, &end);
         for (uint64_t px = first; px < end; px++)
             owner[px] = k;
     }
+    return owner;
+}
+
+int part_dir_cut(const hpfc_graph *g, const hpfc_build_params *p, uint32_t parts, const char *dir,
+                 part_plan *plan, hpfc_diag *d)
+{
+    int st = part_dir_plan(g, p, parts, NULL, plan, d);
+    if (st)
+        return st;
+    uint32_t *owner = plan_owners(plan);
+    if (!owner)
+        return diag_say(d, HPFC_E_NOMEM, "cutting the parts", "out of memory");
     hpfc_cut *cut = NULL;
     st = hpfc_cut_create(g, p, &plan->domain, owner, plan->parts, &cut, d);
     free(owner);
@@ -183,22 +200,52 @@ static int read_part_graph(const char *path, int32_t unit, hpfc_graph **g, hpfc_
     return st;
 }
 
-int part_dir_build(const char *dir, const part_plan *plan, uint32_t k, hpfc_diag *d)
+/* Is part k one of the plan's, on a root the builder takes? */
+static int check_part(const part_plan *plan, uint32_t k, hpfc_diag *d)
 {
-    memset(d, 0, sizeof *d);
-    uint64_t roots = (uint64_t)plan->root_cols * plan->root_rows, first, end;
+    uint64_t roots = (uint64_t)plan->root_cols * plan->root_rows;
     if (plan->parts < 1 || k >= plan->parts || plan->parts > roots)
         return diag_say(d, HPFC_E_ARG, "part", "no such part in the plan");
     if (roots > ((uint64_t)1 << 31)) /* the builder's bound, before the pixels are listed */
         return diag_say(d, HPFC_E_ARG, "plan", "more root pixels than a build takes");
+    return HPFC_OK;
+}
+
+/* Part k built from its graph g and g's edge ids, into DIR/part-K.part. */
+static int build_and_write(const char *dir, const part_plan *plan, uint32_t k, const hpfc_graph *g,
+                           const uint32_t *ids, hpfc_diag *d)
+{
+    uint64_t first, end;
     part_dir_range(plan, k, &first, &end);
     hpfc_build_params p = part_plan_params(plan);
-    hpfc_graph *g = NULL;
     hpfc_tree *t = NULL;
-    uint32_t *ids = NULL, *pixels = malloc((size_t)(end - first + 1) * sizeof *pixels);
+    uint32_t *pixels = malloc((size_t)(end - first + 1) * sizeof *pixels);
     int st = pixels ? HPFC_OK : diag_say(d, HPFC_E_NOMEM, "part", "out of memory");
     for (uint64_t q = first; !st && q < end; q++)
         pixels[q - first] = (uint32_t)q;
+    if (!st) {
+        hpfc_part part = {.domain = plan->domain, .root_pixels = pixels,
+                          .root_pixel_count = (size_t)(end - first), .edge_ids = ids,
+                          .edge_count = plan->edges};
+        st = hpfc_build_part(g, &p, &part, &t, d);
+    }
+    char path[4096];
+    part_path(path, sizeof path, dir, k, "part");
+    if (!st)
+        st = hpfc_tree_write_part(t, path, d);
+    hpfc_tree_free(t);
+    free(pixels);
+    return st;
+}
+
+int part_dir_build(const char *dir, const part_plan *plan, uint32_t k, hpfc_diag *d)
+{
+    memset(d, 0, sizeof *d);
+    int st = check_part(plan, k, d);
+    if (st)
+        return st;
+    hpfc_graph *g = NULL;
+    uint32_t *ids = NULL;
     char path[4096];
     part_path(path, sizeof path, dir, k, "pfc");
     if (!st)
@@ -206,19 +253,10 @@ int part_dir_build(const char *dir, const part_plan *plan, uint32_t k, hpfc_diag
     part_path(path, sizeof path, dir, k, "ids");
     if (!st)
         st = read_ids(path, hpfc_graph_edge_count(g), &ids, d);
-    if (!st) {
-        hpfc_part part = {.domain = plan->domain, .root_pixels = pixels,
-                          .root_pixel_count = (size_t)(end - first), .edge_ids = ids,
-                          .edge_count = plan->edges};
-        st = hpfc_build_part(g, &p, &part, &t, d);
-    }
-    part_path(path, sizeof path, dir, k, "part");
     if (!st)
-        st = hpfc_tree_write_part(t, path, d);
-    hpfc_tree_free(t);
+        st = build_and_write(dir, plan, k, g, ids, d);
     hpfc_graph_free(g);
     free(ids);
-    free(pixels);
     return st;
 }
 
@@ -369,5 +407,151 @@ int part_dir_fill_chunk(const char *pfc_path, size_t begin, size_t end, const st
     if (!st)
         memcpy(box, f.box, sizeof f.box);
     free(f.vxy), free(f.eu), free(f.ev), free(f.eoff), free(f.pts);
+    return st;
+}
+
+/* ---- the edges routed to the parts by the workers (DIR/route-C) -------------
+ * One file a chunk: "HPFCRTE1", the part count (u32) and a zero (u32), the
+ * chunk's edge range (u64 first, u64 end), each part's count of edges (u64
+ * each), then the edges' ids (u32), part by part, ascending within a part.
+ * The machine's byte order, as the graph file's. */
+
+#define ROUTE_MAGIC "HPFCRTE1"
+#define ROUTE_HEADER 32
+
+static void route_path(char *path, size_t size, const char *dir, uint32_t chunk)
+{
+    snprintf(path, size, "%s/route-%u", dir, chunk);
+}
+
+int part_dir_route(const char *dir, const hpfc_graph *g, const part_plan *plan, uint32_t chunk,
+                   uint64_t first_edge, uint64_t end_edge, hpfc_diag *d)
+{
+    memset(d, 0, sizeof *d);
+    hpfc_build_params p = part_plan_params(plan);
+    uint32_t *owner = plan_owners(plan);
+    if (!owner)
+        return diag_say(d, HPFC_E_NOMEM, "routing the edges", "out of memory");
+    hpfc_cut *cut = NULL;
+    int st = first_edge <= end_edge && end_edge <= hpfc_graph_edge_count(g)
+                 ? hpfc_cut_create_range(g, &p, sizeof p, &plan->domain, owner, plan->parts,
+                                         (size_t)first_edge, (size_t)end_edge, &cut, d)
+                 : diag_say(d, HPFC_E_ARG, "chunk", "an edge range past the graph's");
+    free(owner);
+    char path[4096];
+    route_path(path, sizeof path, dir, chunk);
+    FILE *f = st ? NULL : fopen(path, "wb");
+    if (!st && !f)
+        st = diag_say(d, HPFC_E_IO, path, strerror(errno));
+    if (!st) {
+        uint32_t head[2] = {plan->parts, 0};
+        uint64_t range[2] = {first_edge, end_edge};
+        fwrite(ROUTE_MAGIC, 1, 8, f);
+        fwrite(head, sizeof head, 1, f);
+        fwrite(range, sizeof range, 1, f);
+        for (uint32_t k = 0; k < plan->parts; k++) {
+            const uint32_t *ids;
+            size_t n;
+            hpfc_cut_part_edges(cut, k, &ids, &n);
+            uint64_t count = n;
+            fwrite(&count, sizeof count, 1, f);
+        }
+        for (uint32_t k = 0; k < plan->parts; k++) {
+            const uint32_t *ids;
+            size_t n;
+            hpfc_cut_part_edges(cut, k, &ids, &n);
+            if (n)
+                fwrite(ids, sizeof *ids, n, f);
+        }
+        int err = ferror(f) ? EIO : 0;
+        if (fclose(f) && !err)
+            err = errno ? errno : EIO;
+        if (err)
+            st = diag_say(d, HPFC_E_IO, path, strerror(err));
+    }
+    hpfc_cut_free(cut);
+    return st;
+}
+
+/* Part k's ids in chunk c's route file, appended to *ids (grown: *n held,
+ * *cap room): refused unless the file is one of this plan's, for the edge
+ * range that follows the last chunk's (*next_edge), whole. */
+static int read_route(const char *dir, const part_plan *plan, uint32_t c, uint32_t k, uint64_t *next_edge,
+                      uint32_t **ids, size_t *n, size_t *cap, hpfc_diag *d)
+{
+    char path[4096];
+    route_path(path, sizeof path, dir, c);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return diag_say(d, HPFC_E_IO, path, strerror(errno));
+    char magic[8];
+    uint32_t head[2];
+    uint64_t range[2], before = 0, count = 0, total = 0;
+    int st = fread(magic, 8, 1, f) == 1 && fread(head, sizeof head, 1, f) == 1 &&
+                     fread(range, sizeof range, 1, f) == 1 && memcmp(magic, ROUTE_MAGIC, 8) == 0 &&
+                     head[0] == plan->parts && head[1] == 0 && range[0] == *next_edge &&
+                     range[0] <= range[1] && range[1] <= plan->edges
+                 ? HPFC_OK
+                 : diag_say(d, HPFC_E_CORRUPT, path, "not a route file of this plan's chunks");
+    for (uint32_t q = 0; !st && q < plan->parts; q++) {
+        uint64_t m;
+        if (fread(&m, sizeof m, 1, f) != 1 || m > range[1] - range[0])
+            st = diag_say(d, HPFC_E_CORRUPT, path, "a part's count past the chunk's edges");
+        before += q < k ? m : 0, count = q == k ? m : count, total += m;
+    }
+    struct stat sb;
+    if (!st && (fstat(fileno(f), &sb) != 0 ||
+                (uint64_t)sb.st_size != ROUTE_HEADER + 8 * (uint64_t)plan->parts + 4 * total))
+        st = diag_say(d, HPFC_E_CORRUPT, path, "not as long as its counts say");
+    if (!st && *n + count > *cap) {
+        size_t want = (size_t)(*n + count) * 2 + 16;
+        uint32_t *more = realloc(*ids, want * sizeof *more);
+        if (!more)
+            st = diag_say(d, HPFC_E_NOMEM, "part", "out of memory");
+        else
+            *ids = more, *cap = want;
+    }
+    if (!st && count &&
+        (fseeko(f, (off_t)(ROUTE_HEADER + 8 * (uint64_t)plan->parts + 4 * before), SEEK_SET) != 0 ||
+         fread(*ids + *n, sizeof **ids, (size_t)count, f) != count))
+        st = diag_say(d, HPFC_E_IO, path, "cannot read its ids");
+    for (size_t q = *n; !st && q < *n + count; q++) /* ascending within the chunk's range */
+        if ((*ids)[q] < range[0] || (*ids)[q] >= range[1] || (q > *n && (*ids)[q] <= (*ids)[q - 1]))
+            st = diag_say(d, HPFC_E_CORRUPT, path, "ids out of the chunk's range or order");
+    fclose(f);
+    if (!st)
+        *n += (size_t)count, *next_edge = range[1];
+    return st;
+}
+
+int part_dir_build_routed(const char *dir, const part_plan *plan, uint32_t k, uint32_t chunks, hpfc_diag *d)
+{
+    memset(d, 0, sizeof *d);
+    int st = check_part(plan, k, d);
+    if (st)
+        return st;
+    uint32_t *ids = NULL;
+    size_t n = 0, cap = 0;
+    uint64_t next_edge = 0;
+    for (uint32_t c = 0; !st && c < chunks; c++)
+        st = read_route(dir, plan, c, k, &next_edge, &ids, &n, &cap, d);
+    if (!st && next_edge != plan->edges)
+        st = diag_say(d, HPFC_E_CORRUPT, dir, "the route files do not cover the graph's edges");
+    if (!st && !ids && !(ids = malloc(sizeof *ids))) /* a part no edge comes near: ids, none of them */
+        st = diag_say(d, HPFC_E_NOMEM, "part", "out of memory");
+    char path[4096];
+    snprintf(path, sizeof path, "%s/graph", dir);
+    hpfc_graph *whole = NULL, *g = NULL;
+    if (!st)
+        st = hpfc_graph_map_file(path, &whole, d);
+    if (!st && (hpfc_graph_edge_count(whole) != plan->edges || hpfc_graph_unit_exp10(whole) != plan->unit_exp10))
+        st = diag_say(d, HPFC_E_CORRUPT, path, "not the plan's graph");
+    if (!st)
+        st = hpfc_graph_copy_edges(whole, ids, n, &g, d);
+    hpfc_graph_free(whole);
+    if (!st)
+        st = build_and_write(dir, plan, k, g, ids, d);
+    hpfc_graph_free(g);
+    free(ids);
     return st;
 }

@@ -13,6 +13,9 @@
  *                     graph file (hpfc.h, "A .pfc read in chunks, into a
  *                     graph file"), each chunk's stretch written by the
  *                     process that read it
+ *   DIR/route-C       (the same) chunk C's edges routed to the parts: each
+ *                     part's ids of the chunk's edges that come near it,
+ *                     which the part's builder copies out of DIR/graph
  *
  * Part K of P is the run of root pixels [R*K/P, R*(K+1)/P) in scanline order
  * (R root pixels). hpfc-pack --parts-dir and the Python package's hpfc.pack
@@ -53,6 +56,23 @@ void part_dir_range(const part_plan *plan, uint32_t k, uint64_t *first, uint64_t
  * and message are the build's). HPFC_OK or a status, diag saying why. */
 int part_dir_cut(const hpfc_graph *g, const hpfc_build_params *p, uint32_t parts, const char *dir,
                  part_plan *plan, hpfc_diag *diag);
+
+/* Fills *plan for g built with p in `parts` parts (as part_dir_cut), the
+ * domain from box (the graph's points' {xmin, ymin, xmax, ymax}, or NULL:
+ * hpfc_graph_bounds), checking what no part can see. */
+int part_dir_plan(const hpfc_graph *g, const hpfc_build_params *p, uint32_t parts, const int64_t *box,
+                  part_plan *plan, hpfc_diag *diag);
+
+/* Routes edges [first_edge, end_edge) of g (the graph file's) to the
+ * plan's parts, as part_dir_cut would: DIR/route-C (C = chunk). */
+int part_dir_route(const char *dir, const hpfc_graph *g, const part_plan *plan, uint32_t chunk,
+                   uint64_t first_edge, uint64_t end_edge, hpfc_diag *diag);
+
+/* Builds part k from DIR/graph and its edges in DIR/route-0 ..
+ * route-(chunks - 1) into part-K.part; a route file that is not of this
+ * plan's chunks, in order, whole, is HPFC_E_CORRUPT. */
+int part_dir_build_routed(const char *dir, const part_plan *plan, uint32_t k, uint32_t chunks,
+                          hpfc_diag *diag);
 
 /* Builds part k from dir's part-K.pfc and part-K.ids into part-K.part. */
 int part_dir_build(const char *dir, const part_plan *plan, uint32_t k, hpfc_diag *diag);

@@ -1920,6 +1920,23 @@ HPFC_API int hpfc_graph_file_layout_of(uint64_t vertices, uint64_t edges, uint64
  * is mapped. */
 HPFC_API int hpfc_graph_map_file(const char *path, hpfc_graph **out, hpfc_diag *diag);
 
+/* The cut of hpfc_cut_create over edges [first_edge, end_edge) only (a
+ * chunk's edges, routed to the parts by the process that read them);
+ * HPFC_E_ARG for a range past the graph's edges. hpfc_cut_part_edges
+ * gives part k's edges of that range, ascending (owned by the cut). */
+HPFC_API int hpfc_cut_create_range(const hpfc_graph *graph, const hpfc_build_params *params,
+                                   size_t params_size, const hpfc_domain *domain,
+                                   const uint32_t *owner, uint32_t part_count, size_t first_edge,
+                                   size_t end_edge, hpfc_cut **out, hpfc_diag *diag);
+HPFC_API int hpfc_cut_part_edges(const hpfc_cut *cut, uint32_t part, const uint32_t **edge_ids,
+                                 size_t *count);
+
+/* A new graph of the listed edges of `graph` (ids ascending, else
+ * HPFC_E_ARG) and their end vertices, renumbered in graph's order: the
+ * graph hpfc_cut_part_graph gives for the same list. */
+HPFC_API int hpfc_graph_copy_edges(const hpfc_graph *graph, const uint32_t *edge_ids, size_t count,
+                                   hpfc_graph **out, hpfc_diag *diag);
+
 #endif /* HPFC_EXPERIMENTAL */
 
 /* ------------------------------------------------------------------------

@@ -130,13 +130,22 @@ int hpfc_cut_create_sized(const hpfc_graph *g, const hpfc_build_params *params_a
                           const hpfc_domain *domain, const uint32_t *owner, uint32_t part_count, hpfc_cut **out,
                           hpfc_diag *diag)
 {
+    return hpfc_cut_create_range(g, params_arg, params_size, domain, owner, part_count, 0, g ? g->ne : 0,
+                                 out, diag);
+}
+
+int hpfc_cut_create_range(const hpfc_graph *g, const hpfc_build_params *params_arg, size_t params_size,
+                          const hpfc_domain *domain, const uint32_t *owner, uint32_t part_count,
+                          size_t first_edge, size_t end_edge, hpfc_cut **out, hpfc_diag *diag)
+{
     hpfc_build_params p;
     hpfc_build_params_default(&p);
     diag_clear(diag);
     if (!out)
         return diag_set(diag, HPFC_E_ARG, "hpfc_cut_create: NULL or unknown argument");
     *out = NULL;
-    if (!g || !params_arg || !domain || !owner || sized_in(&p, sizeof p, params_arg, params_size))
+    if (!g || !params_arg || !domain || !owner || sized_in(&p, sizeof p, params_arg, params_size) ||
+        first_edge > end_edge || end_edge > g->ne)
         return diag_set(diag, HPFC_E_ARG, "hpfc_cut_create: NULL or unknown argument");
     uint64_t roots = (uint64_t)p.root_cols * p.root_rows;
     if (p.root_cols < 1 || p.root_rows < 1 || roots > ((uint64_t)1 << 31) || domain->width < (int64_t)p.root_cols ||
@@ -154,7 +163,7 @@ int hpfc_cut_create_sized(const hpfc_graph *g, const hpfc_build_params *params_a
     int st = c && seen ? HPFC_OK : HPFC_E_NOMEM;
     owners o = {.owner = owner, .x0 = domain->x0, .y0 = domain->y0, .cw = domain->width / p.root_cols,
                 .ch = domain->height / p.root_rows, .cols = p.root_cols, .rows = p.root_rows};
-    for (size_t e = 0; !st && e < g->ne; e++)
+    for (size_t e = first_edge; !st && e < end_edge; e++)
         st = edge_parts(&o, g, (uint32_t)e, seen, &ps);
     if (!st) {
         c->g = g, c->parts = part_count;
@@ -217,6 +226,36 @@ static int copy_edges(const hpfc_graph *g, const uint32_t *list, size_t n, hpfc_
     }
     free(verts);
     return st;
+}
+
+int hpfc_cut_part_edges(const hpfc_cut *c, uint32_t part, const uint32_t **edge_ids, size_t *count)
+{
+    if (!c || !edge_ids || !count || part >= c->parts)
+        return HPFC_E_ARG;
+    *edge_ids = c->edge + c->start[part];
+    *count = c->start[part + 1] - c->start[part];
+    return HPFC_OK;
+}
+
+int hpfc_graph_copy_edges(const hpfc_graph *g, const uint32_t *edge_ids, size_t count, hpfc_graph **out,
+                          hpfc_diag *diag)
+{
+    diag_clear(diag);
+    if (!g || !out || (count && !edge_ids))
+        return diag_set(diag, HPFC_E_ARG, "hpfc_graph_copy_edges: NULL argument");
+    *out = NULL;
+    for (size_t k = 0; k < count; k++)
+        if (edge_ids[k] >= g->ne || (k && edge_ids[k] <= edge_ids[k - 1]))
+            return diag_set(diag, HPFC_E_ARG, "hpfc_graph_copy_edges: edge ids not ascending within the graph");
+    int st = hpfc_graph_create(out);
+    if (!st)
+        st = copy_edges(g, edge_ids, count, *out);
+    if (st) {
+        hpfc_graph_free(*out);
+        *out = NULL;
+        return diag_set(diag, st, "out of memory");
+    }
+    return HPFC_OK;
 }
 
 int hpfc_cut_part_graph(const hpfc_cut *c, uint32_t part, hpfc_graph **out, uint32_t **edge_ids, hpfc_diag *diag)

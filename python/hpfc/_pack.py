@@ -97,10 +97,22 @@ def _gather_all(c, futures, stage):
     return results
 
 
+def _route_chunk(directory, plan, chunk, first_edge, end_edge):
+    """One chunk's edges routed to the parts, on a worker: DIR/route-C."""
+    return _returning_errors(_hpfc._pfc_route, directory, plan, chunk, first_edge, end_edge)
+
+
+def _build_routed_part(directory, plan, k, chunks):
+    """One part built from DIR/graph and its edges in the route files, on a
+    worker (its path, or the hpfc.Error that refused it)."""
+    return _returning_errors(_hpfc._pack_part_routed, directory, plan, k, chunks)
+
+
 def _read_pfc(c, path, directory, chunks):
     """The .pfc read by the cluster's workers into the graph file
     DIR/graph, a chunk a task (hpfc.h, "A .pfc read in chunks"), the
-    client holding only the chunks' counts. Returns its path. A flaw a
+    client holding only the chunks' counts. Returns the chunks' edge
+    ranges and their points' box. A flaw a
     chunk finds, or one that needs the whole text (more than 30 digits, no
     edge), is reworded by reading the whole text here, as hpfc-pack would."""
     if chunks is None:
@@ -118,13 +130,16 @@ def _read_pfc(c, path, directory, chunks):
             raise Error(28, "HPFC_E_LIMIT", "more than 30 fractional digits", path)
         graph = os.path.join(directory, "graph")
         _hpfc._graph_create(graph, totals[0], totals[1], totals[2], -digits)
-        firsts, futures = [0, 0, 0], []
+        firsts, futures, ranges = [0, 0, 0], [], []
         for (b, e), scan in zip(bounds, scans):
             futures.append(c.submit(_fill_chunk, path, b, e, scan, graph, totals, digits,
                                     tuple(firsts), pure=False))
+            ranges.append((firsts[1], firsts[1] + scan[1]))
             firsts = [firsts[k] + scan[k] for k in range(3)]
-        _gather_all(c, futures, "reading")
-        return graph
+        boxes = [b for b in _gather_all(c, futures, "reading") if b is not None]
+        box = (min(b[0] for b in boxes), min(b[1] for b in boxes), max(b[2] for b in boxes),
+               max(b[3] for b in boxes))
+        return ranges, box
     except Error as e:
         # the flaw in hpfc-pack's words, from the whole text
         _hpfc._pack_check(os.fspath(path))
@@ -186,10 +201,9 @@ class _Cluster:
             self.cluster.close()
 
 
-def _build_parts(c, directory, plan):
-    """Every part built on the cluster: their part files' paths, or the
-    first hpfc.Error a part raised."""
-    futures = [c.submit(_build_part, directory, plan, k, pure=False) for k in range(plan["parts"])]
+def _build_parts(c, futures):
+    """Every part built on the cluster (the futures of their tasks): their
+    part files' paths, or the first hpfc.Error a part raised."""
     try:
         return _gather_all(c, futures, "parts"), None
     except Error as e:
@@ -222,8 +236,10 @@ def _pack_through_tool(tool, args, client, workers, directory):
         try:
             line = proc.stdout.readline()
             if line:
+                plan = json.loads(line)
                 with _Cluster(client, workers) as c:
-                    _paths, failure = _build_parts(c, directory, json.loads(line))
+                    _paths, failure = _build_parts(c, [c.submit(_build_part, directory, plan, k, pure=False)
+                                                       for k in range(plan["parts"])])
                 proc.stdin.write(b"failed\n" if failure else b"built\n")
                 proc.stdin.close()
                 if not failure:
@@ -295,11 +311,16 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
         source = os.fspath(input)
         with _Cluster(client, workers) as c:
             if read_on_workers:
-                source = _read_pfc(c, source, tmp, chunks)
+                ranges, box = _read_pfc(c, source, tmp, chunks)
+                source = os.path.join(tmp, "graph")
             try:
                 _progress("cutting")
-                plan = _hpfc._pack_cut(source, tmp, root_cols, root_rows, cols, rows,
-                                       int(leaf_points), partitions, read_on_workers)
+                if read_on_workers:
+                    plan = _hpfc._pack_plan(source, root_cols, root_rows, cols, rows, int(leaf_points),
+                                            partitions, box)
+                else:
+                    plan = _hpfc._pack_cut(source, tmp, root_cols, root_rows, cols, rows,
+                                           int(leaf_points), partitions)
             except Error:
                 # a flaw of the whole graph (a vertex of no edge) seen in
                 # the graph file, which has no lines: in hpfc-pack's words
@@ -307,7 +328,16 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
                 raise
             finally:
                 _progress(None)
-            paths, failure = _build_parts(c, tmp, plan)
+            if read_on_workers:
+                # each chunk's edges routed to the parts by a worker, each
+                # part's graph copied out of the graph file by its builder
+                _gather_all(c, [c.submit(_route_chunk, tmp, plan, k, e0, e1, pure=False)
+                                for k, (e0, e1) in enumerate(ranges)], "routing")
+                futures = [c.submit(_build_routed_part, tmp, plan, k, len(ranges), pure=False)
+                           for k in range(plan["parts"])]
+            else:
+                futures = [c.submit(_build_part, tmp, plan, k, pure=False) for k in range(plan["parts"])]
+            paths, failure = _build_parts(c, futures)
         if failure:
             # a part found a flaw of the graph, in its own numbering:
             # the whole graph's check words it as hpfc-pack does

@@ -16,8 +16,13 @@
  *                 graph to word its flaw as hpfc_build does;
  *   _pfc_chunks, _pfc_scan, _graph_create, _pfc_fill
  *                 the .pfc read by the workers a chunk each into the
- *                 graph file DIR/graph (part_dir.h), which _pack_cut and
- *                 _pack_merge then map (graph_file=True).
+ *                 graph file DIR/graph (part_dir.h);
+ *   _pack_plan, _pfc_route, _pack_part_routed
+ *                 the plan from the graph file and the chunks' box (the
+ *                 client), each chunk's edges routed to the parts (a
+ *                 worker each: DIR/route-C), each part's graph copied out
+ *                 of DIR/graph and built (a worker each); _pack_merge maps
+ *                 DIR/graph for GEOM (graph_file=True).
  *
  * A part's inputs come back through the library's hardened readers (the
  * .pfc parser, the part file reader) and hpfc_build_part checks the ids,
@@ -101,15 +106,14 @@ static int read_graph(const char *path, int graph_file, hpfc_graph **g, hpfc_dia
     return graph_file ? hpfc_graph_map_file(path, g, d) : hpfc_pfc_read_file(path, g, d);
 }
 
-/* _pack_cut(pfc, dir, root_cols, root_rows, cols, rows, leaf_points, parts, graph_file=False)
- *   -> plan: the .pfc (or graph file) read, its parts' graphs written into dir */
+/* _pack_cut(pfc, dir, root_cols, root_rows, cols, rows, leaf_points, parts)
+ *   -> plan: the .pfc read here, its parts' graphs written into dir */
 static PyObject *mod_pack_cut(PyObject *m, PyObject *args)
 {
     (void)m;
     const char *pfc, *dir;
     unsigned n0, m0, n, mm, leaf, parts;
-    int graph_file = 0;
-    if (!PyArg_ParseTuple(args, "ssIIIIII|p", &pfc, &dir, &n0, &m0, &n, &mm, &leaf, &parts, &graph_file))
+    if (!PyArg_ParseTuple(args, "ssIIIIII", &pfc, &dir, &n0, &m0, &n, &mm, &leaf, &parts))
         return NULL;
     hpfc_build_params p;
     hpfc_build_params_default(&p);
@@ -119,7 +123,7 @@ static PyObject *mod_pack_cut(PyObject *m, PyObject *args)
     part_plan plan;
     int st;
     Py_BEGIN_ALLOW_THREADS
-    st = read_graph(pfc, graph_file, &g, &d);
+    st = hpfc_pfc_read_file(pfc, &g, &d);
     if (!st)
         st = part_dir_cut(g, &p, parts, dir, &plan, &d);
     Py_END_ALLOW_THREADS
@@ -351,7 +355,91 @@ static PyObject *mod_pfc_fill(PyObject *m, PyObject *args)
                          (long long)box[3]);
 }
 
+/* _pack_plan(graph, root_cols, root_rows, cols, rows, leaf_points, parts, box) -> plan:
+ * the plan of the graph file's graph (mapped; box its points' box, from
+ * the chunks' fills), checking what no part can see */
+static PyObject *mod_pack_plan(PyObject *m, PyObject *args)
+{
+    (void)m;
+    const char *graph;
+    unsigned n0, m0, n, mm, leaf, parts;
+    long long b[4];
+    if (!PyArg_ParseTuple(args, "sIIIIII(LLLL)", &graph, &n0, &m0, &n, &mm, &leaf, &parts, &b[0], &b[1],
+                          &b[2], &b[3]))
+        return NULL;
+    hpfc_build_params p;
+    hpfc_build_params_default(&p);
+    p.root_cols = n0, p.root_rows = m0, p.cols = n, p.rows = mm, p.max_leaf_points = leaf;
+    int64_t box[4] = {b[0], b[1], b[2], b[3]};
+    hpfc_graph *g = NULL;
+    hpfc_diag d = {0};
+    part_plan plan;
+    int st;
+    Py_BEGIN_ALLOW_THREADS
+    st = hpfc_graph_map_file(graph, &g, &d);
+    if (!st)
+        st = part_dir_plan(g, &p, parts, box, &plan, &d);
+    Py_END_ALLOW_THREADS
+    hpfc_graph_free(g);
+    if (st)
+        return raise_diag(st, &d, graph);
+    return plan_to_dict(&plan);
+}
+
+/* _pfc_route(dir, plan, chunk, first_edge, end_edge) -> None: DIR/route-CHUNK */
+static PyObject *mod_pfc_route(PyObject *m, PyObject *args)
+{
+    (void)m;
+    const char *dir;
+    PyObject *dict;
+    unsigned chunk;
+    unsigned long long e0, e1;
+    part_plan plan;
+    if (!PyArg_ParseTuple(args, "sOIKK", &dir, &dict, &chunk, &e0, &e1) || plan_from_dict(dict, &plan))
+        return NULL;
+    char path[4096];
+    snprintf(path, sizeof path, "%s/graph", dir);
+    hpfc_graph *g = NULL;
+    hpfc_diag d = {0};
+    int st;
+    Py_BEGIN_ALLOW_THREADS
+    st = hpfc_graph_map_file(path, &g, &d);
+    if (!st)
+        st = part_dir_route(dir, g, &plan, chunk, e0, e1, &d);
+    Py_END_ALLOW_THREADS
+    hpfc_graph_free(g);
+    if (st)
+        return raise_diag(st, &d, dir);
+    Py_RETURN_NONE;
+}
+
+/* _pack_part_routed(dir, plan, k, chunks) -> DIR/part-K.part, from
+ * DIR/graph and DIR/route-0 .. route-(chunks - 1) */
+static PyObject *mod_pack_part_routed(PyObject *m, PyObject *args)
+{
+    (void)m;
+    const char *dir;
+    PyObject *dict;
+    unsigned k, chunks;
+    part_plan plan;
+    if (!PyArg_ParseTuple(args, "sOII", &dir, &dict, &k, &chunks) || plan_from_dict(dict, &plan))
+        return NULL;
+    hpfc_diag d = {0};
+    int st;
+    Py_BEGIN_ALLOW_THREADS
+    st = part_dir_build_routed(dir, &plan, k, chunks, &d);
+    Py_END_ALLOW_THREADS
+    char where[64];
+    snprintf(where, sizeof where, "part %u", k);
+    if (st)
+        return raise_diag(st, &d, where);
+    return PyUnicode_FromFormat("%s/part-%u.part", dir, k);
+}
+
 static PyMethodDef pack_methods[] = {
+    {"_pack_plan", mod_pack_plan, METH_VARARGS, NULL},
+    {"_pfc_route", mod_pfc_route, METH_VARARGS, NULL},
+    {"_pack_part_routed", mod_pack_part_routed, METH_VARARGS, NULL},
     {"_pfc_chunks", mod_pfc_chunks, METH_VARARGS, NULL},
     {"_pfc_scan", mod_pfc_scan, METH_VARARGS, NULL},
     {"_graph_create", mod_graph_create, METH_VARARGS, NULL},

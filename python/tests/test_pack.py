@@ -374,3 +374,60 @@ def test_parts_dir_words_a_flaw_as_hpfc_pack(tmp_path, pack_tool):
     rc, err = drive(pack_tool, bad, tmp_path / "out.hpfc", shared, 4, answer=b"failed\n")
     assert (rc, err) == (alone.returncode, alone.stderr)
     assert "cross" in err, err
+
+
+def test_routed_parts_refuse_foreign_files(tmp_path):
+    """The workers' read driven by hand (chunks scanned and filled into the
+    graph file, routed, a part built from them): a route file cut short,
+    two swapped, one of another plan, one missing and a graph file of
+    another map are each refused with a message, never built from."""
+    from hpfc import _hpfc
+    src = streets(tmp_path / "s.pfc", 14, 5)
+
+    def read(directory, path):
+        directory.mkdir()
+        bounds = _hpfc._pfc_chunks(str(path), 3)
+        scans = [_hpfc._pfc_scan(str(path), b, e) for b, e in bounds]
+        totals = tuple(sum(s[k] for s in scans) for k in range(3))
+        graph = str(directory / "graph")
+        _hpfc._graph_create(graph, *totals, 0)
+        firsts, ranges, boxes = [0, 0, 0], [], []
+        for (b, e), s in zip(bounds, scans):
+            boxes.append(_hpfc._pfc_fill(str(path), b, e, s, graph, totals, 0, tuple(firsts)))
+            ranges.append((firsts[1], firsts[1] + s[1]))
+            firsts = [firsts[k] + s[k] for k in range(3)]
+        box = (min(b[0] for b in boxes), min(b[1] for b in boxes), max(b[2] for b in boxes),
+               max(b[3] for b in boxes))
+        return graph, ranges, box
+
+    d = tmp_path / "d"
+    graph, ranges, box = read(d, src)
+    assert len(ranges) == 3
+    plan = _hpfc._pack_plan(graph, 8, 8, 2, 2, 16, 4, box)
+    for k, (e0, e1) in enumerate(ranges):
+        _hpfc._pfc_route(str(d), plan, k, e0, e1)
+    good = {k: (d / ("route-%d" % k)).read_bytes() for k in range(3)}
+    assert _hpfc._pack_part_routed(str(d), plan, 1, 3).endswith("part-1.part")
+
+    def refused(what):
+        with pytest.raises(hpfc.Error) as e:
+            _hpfc._pack_part_routed(str(d), plan, 1, 3)
+        assert e.value.name in ("HPFC_E_CORRUPT", "HPFC_E_IO"), what
+        for k in range(3):
+            (d / ("route-%d" % k)).write_bytes(good[k])
+
+    (d / "route-1").write_bytes(good[1][:-4])
+    refused("cut short")
+    (d / "route-0").write_bytes(good[1])
+    (d / "route-1").write_bytes(good[0])
+    refused("swapped")
+    other = dict(plan, parts=5)
+    _hpfc._pfc_route(str(d), other, 2, *ranges[2])
+    refused("another plan's")
+    (d / "route-2").unlink()
+    refused("missing")
+    # a graph file of another map under the same routes
+    e = tmp_path / "e"
+    read(e, streets(tmp_path / "t.pfc", 9, 6))
+    shutil.copy(e / "graph", d / "graph")
+    refused("another map's graph")
