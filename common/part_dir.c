@@ -418,6 +418,9 @@ int part_dir_fill_chunk(const char *pfc_path, size_t begin, size_t end, const st
 
 #define ROUTE_MAGIC "HPFCRTE1"
 #define ROUTE_HEADER 32
+/* more ids than any route file holds (16 TiB of them), which keeps the
+ * length the counts imply within 64 bits */
+#define ROUTE_MAX_IDS ((uint64_t)1 << 42)
 
 static void route_path(char *path, size_t size, const char *dir, uint32_t chunk)
 {
@@ -428,12 +431,15 @@ int part_dir_route(const char *dir, const hpfc_graph *g, const part_plan *plan, 
                    uint64_t first_edge, uint64_t end_edge, hpfc_diag *d)
 {
     memset(d, 0, sizeof *d);
+    int st = check_part(plan, 0, d);
+    if (st)
+        return st;
     hpfc_build_params p = part_plan_params(plan);
     uint32_t *owner = plan_owners(plan);
     if (!owner)
         return diag_say(d, HPFC_E_NOMEM, "routing the edges", "out of memory");
     hpfc_cut *cut = NULL;
-    int st = first_edge <= end_edge && end_edge <= hpfc_graph_edge_count(g)
+    st = first_edge <= end_edge && end_edge <= hpfc_graph_edge_count(g)
                  ? hpfc_cut_create_range(g, &p, sizeof p, &plan->domain, owner, plan->parts,
                                          (size_t)first_edge, (size_t)end_edge, &cut, d)
                  : diag_say(d, HPFC_E_ARG, "chunk", "an edge range past the graph's");
@@ -495,7 +501,7 @@ static int read_route(const char *dir, const part_plan *plan, uint32_t c, uint32
                  : diag_say(d, HPFC_E_CORRUPT, path, "not a route file of this plan's chunks");
     for (uint32_t q = 0; !st && q < plan->parts; q++) {
         uint64_t m;
-        if (fread(&m, sizeof m, 1, f) != 1 || m > range[1] - range[0])
+        if (fread(&m, sizeof m, 1, f) != 1 || m > range[1] - range[0] || total + m > ROUTE_MAX_IDS)
             st = diag_say(d, HPFC_E_CORRUPT, path, "a part's count past the chunk's edges");
         before += q < k ? m : 0, count = q == k ? m : count, total += m;
     }
