@@ -282,9 +282,8 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
     input must be readable at the same path on every worker, as
     `shared_dir` is (`read_on_workers=False` reads it here). Any other
     input goes through hpfc-pack (`hpfc_pack`, else $HPFC_PACK, else
-    PATH). Raises hpfc.Error
-    (the input, a part; hpfc-pack's exit status and message as code and
-    text), ValueError (an option) or OSError."""
+    PATH). Raises hpfc.Error (the input, a part; hpfc-pack's exit status
+    and message as code and text), ValueError (an option) or OSError."""
     root_cols, root_rows = _sizes(root, 1, "root")
     cols, rows = _sizes(refine, 2, "refine")
     if layout not in LAYOUTS:
