@@ -80,6 +80,8 @@ if [ ! -f "$build/build.ninja" ]; then
         -Db_sanitize=address,undefined -Db_lundef=false \
         "-Dc_args=$flags" "-Dcpp_args=$flags" >/dev/null
 fi
+# a build made before a harness was added lists it once meson has run again
+ninja -C "$build" build.ninja >/dev/null
 # read_gis exists only in builds with GIS input (GDAL, GEOS, GeographicLib)
 built=$(ninja -C "$build" -t targets all | sed -n 's|^fuzz/fuzz_\([a-z_]*\): .*|\1|p' | tr '\n' ' ')
 targets=""
