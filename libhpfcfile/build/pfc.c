@@ -70,7 +70,7 @@ typedef struct pfc_reader {
     int64_t *xy;
     size_t cap_xy;
     /* pass 1 results */
-    size_t nv, ne, np;  /* np: interior points (counted for chunks only) */
+    size_t nv, ne, np;  /* np: interior points (the chunks read it) */
     int64_t d;          /* largest number of significant fractional digits */
     uint32_t d_line;    /* first line where d is reached */
     hpfc_graph *g;      /* pass 2 result */
