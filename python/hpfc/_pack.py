@@ -323,7 +323,9 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
             except Error:
                 # a flaw of the whole graph (a vertex of no edge) seen in
                 # the graph file, which has no lines: in hpfc-pack's words
-                _hpfc._pack_check(os.fspath(input))
+                # (_pack_cut read the text itself and words it so already)
+                if read_on_workers:
+                    _hpfc._pack_check(os.fspath(input))
                 raise
             finally:
                 _progress(None)
