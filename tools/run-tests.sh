@@ -69,13 +69,14 @@ if command -v clang >/dev/null 2>&1; then
     if CC=clang CXX=clang++ meson setup build-tsan -Db_sanitize=thread -Db_lundef=false \
             -Dcairo=disabled -Dpython=disabled -Dwerror=true >/dev/null &&
         ninja -C build-tsan tests/test_threads tests/test_faces_threads tests/test_build_threads \
-            tests/test_sort tests/test_segnode tests/test_segment_graph hpfc-pack/hpfc-pack \
+            tests/test_faces_stream tests/test_sort tests/test_segnode tests/test_segment_graph hpfc-pack/hpfc-pack \
             >/dev/null &&
         TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_threads &&
         TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_sort &&
         TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_segnode &&
         TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_segment_graph &&
         TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_faces_threads 2 6 &&
+        TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_faces_stream &&
         TSAN_OPTIONS=halt_on_error=1:exitcode=66 build-tsan/tests/test_build_threads 2 4 && tsan_pack; then
         echo "tsan: OK"
     else

@@ -20,6 +20,7 @@
  * The classes are the faces.
  */
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +30,7 @@
 #include "file.h"
 #include "labels.h"
 #include "reader.h"
+#include "tasks.h"
 #include "topo.h"
 
 /* A leaf's entry: its first node and its crossing count (0 when private)
@@ -1070,9 +1072,32 @@ typedef struct root_pass {
     uint64_t leaves;
 } root_pass;
 
+/* A root numbered ahead of the caller (faces_stream_root). */
+typedef struct ahead_slot {
+    hpfc_faces *fc;
+    int status;
+} ahead_slot;
+
+enum { AHEAD_SLOTS = 4 };
+
+/* The roots numbered in row-major order on a thread of their own, at most
+ * AHEAD_SLOTS ahead of the caller, who writes a root's labels meanwhile:
+ * root r waits in slot r % AHEAD_SLOTS. */
+typedef struct roots_ahead {
+    bool wanted, running, stop, done;
+    pthread_t thread;
+    pthread_mutex_t lock;
+    pthread_cond_t filled, taken;
+    hpfc_walker *w;
+    uint64_t made; /* the roots numbered so far */
+    uint64_t next; /* the root the caller takes next */
+    ahead_slot slot[AHEAD_SLOTS];
+} roots_ahead;
+
 struct faces_stream {
     const hpfc_file *file;
     hpfc_walker *w;
+    roots_ahead ahead;
     uint32_t cols, rows, sub_cols, sub_rows; /* the root grid; an image's pixels below */
     uint64_t roots;
     uint64_t *node_base;  /* per root, its first node in the file (roots + 1) */
@@ -1189,16 +1214,16 @@ static int root_count(faces_stream *s, root_pass *rp, uint64_t most)
 
 /* Pass 2 of a root: each leaf's entry, its first node (the leaves come in
  * order) and crossing count; the root's node count. */
-static int root_parse(faces_stream *s, root_pass *rp)
+static int root_parse(faces_stream *s, hpfc_walker *w, root_pass *rp)
 {
     hpfc_pixel px = rp->first;
     uint64_t nodes = 0;
     int st = HPFC_OK;
     for (bool more = true; !st && more; st = next_in_root(s->file, &px, rp->i, rp->j, &more)) {
         uint64_t *e = leaf_entry(&rp->fc, &px, &st);
-        if (st || (st = topo_parse_pixel(s->w, &s->w->p_word, &px)))
+        if (st || (st = topo_parse_pixel(w, &w->p_word, &px)))
             return st;
-        uint64_t n = s->w->p_word.n;
+        uint64_t n = w->p_word.n;
         if (!e || *e != ENTRY_EMPTY)
             return HPFC_E_CORRUPT; /* outside the runs counted, or a second path to a leaf */
         if (n > ENTRY_COUNT_MAX || nodes > ENTRY_BASE_MAX - n - 1)
@@ -1238,10 +1263,9 @@ static int collect_gaps(root_pass *rp, const word_parts *lw, const hpfc_pixel *p
 
 /* Pass 3 of a root: its unions, then every node pointing at its class's
  * smallest node. */
-static int root_unite(faces_stream *s, root_pass *rp)
+static int root_unite(faces_stream *s, hpfc_walker *w, root_pass *rp)
 {
     hpfc_pixel px = rp->first;
-    hpfc_walker *w = s->w;
     /* narrow words only while the face ids, which pass 2 puts in them, fit too */
     uint64_t narrow_below = s->count < FACES_NARROW_NODES ? FACES_NARROW_NODES : 0;
     int st = node_array_init(&rp->fc.parent, rp->fc.nodes, narrow_below);
@@ -1266,9 +1290,10 @@ static int root_unite(faces_stream *s, root_pass *rp)
     return HPFC_OK;
 }
 
-/* Root (i, j) numbered alone, within `most` leaves: its classes, each
- * node at its smallest. */
-static int root_number(faces_stream *s, uint32_t i, uint32_t j, uint64_t most, root_pass *rp)
+/* Root (i, j) numbered alone with walker w, within `most` leaves: its
+ * classes, each node at its smallest. */
+static int root_number(faces_stream *s, hpfc_walker *w, uint32_t i, uint32_t j, uint64_t most,
+                       root_pass *rp)
 {
     memset(rp, 0, sizeof *rp);
     rp->i = i, rp->j = j;
@@ -1277,9 +1302,9 @@ static int root_number(faces_stream *s, uint32_t i, uint32_t j, uint64_t most, r
     rp->fc.cols = s->sub_cols, rp->fc.rows = s->sub_rows;
     int st = root_count(s, rp, most);
     if (!st)
-        st = root_parse(s, rp);
+        st = root_parse(s, w, rp);
     if (!st)
-        st = root_unite(s, rp);
+        st = root_unite(s, w, rp);
     return st;
 }
 
@@ -1289,43 +1314,68 @@ static int cmp_u64(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* What the plan keeps of a block of roots [r0, r1), made by one task
+ * (plan_roots): the border classes and the gaps of its roots in root
+ * order, with each root's first class and first gap counted from the
+ * block's start; joined into the plan in block order. Each root's node
+ * and closed class counts go straight to the plan's slots. */
+typedef struct plan_block {
+    uint64_t r0, r1;
+    uint64_t *bx, *below, *gaps;
+    uint64_t borders, gap_count;
+    size_t border_cap, gap_cap;
+    uint64_t *border_at; /* r1 - r0 + 1 */
+    uint64_t *side_at;   /* 4 (r1 - r0) + 1 */
+    uint64_t outer_x, outer_closed_below; /* the block of root 0 */
+    int status;
+} plan_block;
+
+/* The blocks' tasks: the plan, the blocks, and the leaves left to count
+ * (every root's walk is bounded by what the roots before it left, as one
+ * thread going in root order would bound it). */
+typedef struct plan_tasks {
+    faces_stream *s;
+    plan_block *blocks;
+    _Atomic uint64_t leaves_left;
+    tasks_failure failure;
+} plan_tasks;
+
 /* The border classes of root r: the classes of its sides' gaps, in order
- * of their smallest node, at the end of the plan's list. */
-static int add_borders(faces_stream *s, root_pass *rp, uint64_t r)
+ * of their smallest node, at the end of the block's list. */
+static int add_borders(plan_block *b, root_pass *rp, uint64_t r)
 {
     size_t n = 0;
     for (int road = 0; road < 4; road++)
         n += rp->side[road].n;
-    uint64_t have = s->borders;
-    size_t cap = s->border_cap;
-    int st = array_reserve((void **)&s->bx, &cap, have + n, sizeof *s->bx, 256); /* bx and below grow alike */
-    if (!st && (cap = s->border_cap,
-                st = array_reserve((void **)&s->below, &cap, have + n, sizeof *s->below, 256)) == HPFC_OK)
-        s->border_cap = cap;
+    uint64_t have = b->borders;
+    size_t cap = b->border_cap;
+    int st = array_reserve((void **)&b->bx, &cap, have + n, sizeof *b->bx, 256); /* bx and below grow alike */
+    if (!st && (cap = b->border_cap,
+                st = array_reserve((void **)&b->below, &cap, have + n, sizeof *b->below, 256)) == HPFC_OK)
+        b->border_cap = cap;
     if (st)
         return st;
-    uint64_t *b = s->bx + have;
+    uint64_t *x = b->bx + have;
     n = 0;
     for (int road = 0; road < 4; road++)
         for (size_t k = 0; k < rp->side[road].n; k++)
-            b[n++] = rp->side[road].at[k];
-    qsort(b, n, sizeof *b, cmp_u64);
+            x[n++] = rp->side[road].at[k];
+    qsort(x, n, sizeof *x, cmp_u64);
     size_t u = 0;
     for (size_t k = 0; k < n; k++)
-        if (u == 0 || b[k] != b[u - 1])
-            b[u++] = b[k];
-    s->borders = have + u;
-    s->border_at[r + 1] = s->borders;
+        if (u == 0 || x[k] != x[u - 1])
+            x[u++] = x[k];
+    b->borders = have + u;
+    b->border_at[r - b->r0 + 1] = b->borders;
     return HPFC_OK;
 }
 
-/* Root r's border class of local node x (one of its gaps' classes). */
-static uint64_t border_of(const faces_stream *s, uint64_t r, uint64_t x)
+/* The first of bx[lo, hi) (ascending) at least x. */
+static uint64_t border_search(const uint64_t *bx, uint64_t lo, uint64_t hi, uint64_t x)
 {
-    uint64_t lo = s->border_at[r], hi = s->border_at[r + 1];
     while (lo < hi) {
         uint64_t mid = lo + (hi - lo) / 2;
-        if (s->bx[mid] < x)
+        if (bx[mid] < x)
             lo = mid + 1;
         else
             hi = mid;
@@ -1333,15 +1383,21 @@ static uint64_t border_of(const faces_stream *s, uint64_t r, uint64_t x)
     return lo;
 }
 
-/* Root r's closed classes, and before each border class how many. */
-static void count_closed(faces_stream *s, root_pass *rp, uint64_t r)
+/* Root r's border class of local node x (one of its gaps' classes). */
+static uint64_t border_of(const faces_stream *s, uint64_t r, uint64_t x)
 {
-    uint64_t k = s->border_at[r], end = s->border_at[r + 1], closed = 0;
+    return border_search(s->bx, s->border_at[r], s->border_at[r + 1], x);
+}
+
+/* Root r's closed classes, and before each border class how many. */
+static void count_closed(faces_stream *s, plan_block *b, root_pass *rp, uint64_t r)
+{
+    uint64_t k = b->border_at[r - b->r0], end = b->border_at[r - b->r0 + 1], closed = 0;
     for (uint64_t x = 0; x < rp->fc.nodes; x++) {
-        if (r == 0 && x == s->outer_x)
-            s->outer_closed_below = closed;
-        if (k < end && s->bx[k] == x) {
-            s->below[k++] = closed;
+        if (r == 0 && x == b->outer_x)
+            b->outer_closed_below = closed;
+        if (k < end && b->bx[k] == x) {
+            b->below[k++] = closed;
             continue;
         }
         if (node_get(&rp->fc.parent, x) == x)
@@ -1350,57 +1406,154 @@ static void count_closed(faces_stream *s, root_pass *rp, uint64_t r)
     s->closed[r] = closed;
 }
 
-/* Root r's gaps as border classes, side by side. */
-static int add_gaps(faces_stream *s, root_pass *rp, uint64_t r)
+/* Root r's gaps as the block's border classes, side by side. */
+static int add_gaps(plan_block *b, root_pass *rp, uint64_t r)
 {
+    uint64_t lo = b->border_at[r - b->r0], hi = b->border_at[r - b->r0 + 1];
     for (int road = 0; road < 4; road++) {
         const gap_list *g = &rp->side[road];
-        int st = array_reserve((void **)&s->gaps, &s->gap_cap, s->gap_count + g->n, sizeof *s->gaps, 256);
+        int st = array_reserve((void **)&b->gaps, &b->gap_cap, b->gap_count + g->n, sizeof *b->gaps, 256);
         if (st)
             return st;
         for (size_t k = 0; k < g->n; k++)
-            s->gaps[s->gap_count++] = border_of(s, r, g->at[k]);
-        s->side_at[4 * r + (uint64_t)road + 1] = s->gap_count;
+            b->gaps[b->gap_count++] = border_search(b->bx, lo, hi, g->at[k]);
+        b->side_at[4 * (r - b->r0) + (uint64_t)road + 1] = b->gap_count;
     }
     return HPFC_OK;
 }
 
 /* The unbounded face's class in root 0 (its numbering flattened). */
-static int find_outer(faces_stream *s, root_pass *rp)
+static int find_outer(hpfc_walker *w, plan_block *b, root_pass *rp)
 {
     hpfc_pixel corner;
     uint64_t node;
-    int st = outer_node(&rp->fc, s->w, &corner, &node);
+    int st = outer_node(&rp->fc, w, &corner, &node);
     if (!st && !in_root(&corner, 0, 0))
         st = HPFC_E_CORRUPT;
     if (!st)
-        s->outer_x = node_get(&rp->fc.parent, node);
+        b->outer_x = node_get(&rp->fc.parent, node);
     return st;
 }
 
-/* Pass 1 over every root, in order: what the plan keeps of each. */
-static int plan_roots(faces_stream *s)
+/* Takes `leaves` from what is left to count: HPFC_E_CORRUPT past it (more
+ * paths to leaves than leaves). */
+static int take_leaves(plan_tasks *pt, uint64_t leaves)
 {
-    uint64_t most = file_total_leaves(s->file);
-    for (uint64_t r = 0; r < s->roots; r++) {
-        root_pass rp;
-        int st = root_number(s, (uint32_t)(r % s->cols), (uint32_t)(r / s->cols), most, &rp);
-        if (!st && r == 0)
-            st = find_outer(s, &rp);
-        if (!st) {
-            most -= rp.leaves;
-            s->node_base[r + 1] = s->node_base[r] + rp.fc.nodes;
-            st = add_borders(s, &rp, r);
-        }
-        if (!st) {
-            count_closed(s, &rp, r);
-            st = add_gaps(s, &rp, r);
-        }
-        root_pass_free(&rp);
-        if (st)
-            return st;
-    }
+    uint64_t left = atomic_load(&pt->leaves_left);
+    do {
+        if (leaves > left)
+            return HPFC_E_CORRUPT;
+    } while (!atomic_compare_exchange_weak(&pt->leaves_left, &left, left - leaves));
     return HPFC_OK;
+}
+
+/* One root of block b with walker w: numbered alone, what the plan keeps
+ * of it added to the block. */
+static int plan_root(plan_tasks *pt, hpfc_walker *w, plan_block *b, uint64_t r)
+{
+    faces_stream *s = pt->s;
+    root_pass rp;
+    int st = root_number(s, w, (uint32_t)(r % s->cols), (uint32_t)(r / s->cols),
+                         atomic_load(&pt->leaves_left), &rp);
+    if (!st && r == 0)
+        st = find_outer(w, b, &rp);
+    if (!st)
+        st = take_leaves(pt, rp.leaves);
+    if (!st) {
+        s->node_base[r + 1] = rp.fc.nodes; /* summed once every block is done */
+        st = add_borders(b, &rp, r);
+    }
+    if (!st) {
+        count_closed(s, b, &rp, r);
+        st = add_gaps(b, &rp, r);
+    }
+    root_pass_free(&rp);
+    return st;
+}
+
+/* Task k: block k's roots in order, with a walker of its own. */
+static void plan_block_task(void *ctx, size_t k)
+{
+    plan_tasks *pt = ctx;
+    plan_block *b = &pt->blocks[k];
+    hpfc_walker *w = NULL;
+    size_t n = (size_t)(b->r1 - b->r0);
+    b->border_at = calloc(n + 1, sizeof *b->border_at);
+    b->side_at = calloc(4 * n + 1, sizeof *b->side_at);
+    int st = b->border_at && b->side_at ? topo_walker_create(pt->s->file, 0, &w) : HPFC_E_NOMEM;
+    for (uint64_t r = b->r0; r < b->r1 && !st && !tasks_failed_before(&pt->failure, k); r++)
+        st = plan_root(pt, w, b, r);
+    hpfc_walker_free(w);
+    if ((b->status = st))
+        tasks_failure_note(&pt->failure, k);
+}
+
+static void plan_block_free(plan_block *b)
+{
+    free(b->bx), free(b->below), free(b->gaps), free(b->border_at), free(b->side_at);
+    memset(b, 0, sizeof *b);
+}
+
+/* Block b appended to the plan's lists: its classes and gaps, its roots'
+ * first class and first gap counted from the plan's start. */
+static int join_block(faces_stream *s, plan_block *b)
+{
+    size_t cap = s->border_cap;
+    int st = array_reserve((void **)&s->bx, &cap, s->borders + b->borders, sizeof *s->bx, 256);
+    if (!st && (cap = s->border_cap, st = array_reserve((void **)&s->below, &cap, s->borders + b->borders,
+                                                        sizeof *s->below, 256)) == HPFC_OK)
+        s->border_cap = cap;
+    if (!st)
+        st = array_reserve((void **)&s->gaps, &s->gap_cap, s->gap_count + b->gap_count, sizeof *s->gaps, 256);
+    if (st)
+        return st;
+    memcpy(s->bx + s->borders, b->bx, (size_t)b->borders * sizeof *s->bx);
+    memcpy(s->below + s->borders, b->below, (size_t)b->borders * sizeof *s->below);
+    for (uint64_t g = 0; g < b->gap_count; g++)
+        s->gaps[s->gap_count + g] = s->borders + b->gaps[g];
+    for (uint64_t r = b->r0; r < b->r1; r++) {
+        s->border_at[r + 1] = s->borders + b->border_at[r - b->r0 + 1];
+        for (uint64_t road = 1; road <= 4; road++)
+            s->side_at[4 * r + road] = s->gap_count + b->side_at[4 * (r - b->r0) + road];
+    }
+    if (b->r0 == 0)
+        s->outer_x = b->outer_x, s->outer_closed_below = b->outer_closed_below;
+    s->borders += b->borders;
+    s->gap_count += b->gap_count;
+    return HPFC_OK;
+}
+
+/* Pass 1 over every root, in blocks of roots on up to `threads` threads:
+ * what the plan keeps of each, in root order, as one thread would. */
+static int plan_roots(faces_stream *s, unsigned threads)
+{
+    size_t nblocks = threads > 1 ? 8 * (size_t)threads : 1;
+    if (nblocks > s->roots)
+        nblocks = (size_t)s->roots;
+    plan_tasks pt = {.s = s, .blocks = calloc(nblocks, sizeof *pt.blocks)};
+    if (!pt.blocks)
+        return HPFC_E_NOMEM;
+    atomic_init(&pt.leaves_left, file_total_leaves(s->file));
+    tasks_failure_init(&pt.failure);
+    for (size_t k = 0; k < nblocks; k++) {
+        pt.blocks[k].r0 = s->roots * k / nblocks;
+        pt.blocks[k].r1 = s->roots * (k + 1) / nblocks;
+    }
+    tasks_run(threads, nblocks, plan_block_task, &pt);
+    size_t failed = tasks_first_failure(&pt.failure);
+    int st = failed < nblocks ? pt.blocks[failed].status : HPFC_OK;
+    for (size_t k = 0; k < nblocks; k++) {
+        if (!st)
+            st = join_block(s, &pt.blocks[k]);
+        plan_block_free(&pt.blocks[k]);
+    }
+    free(pt.blocks);
+    for (uint64_t r = 0; r < s->roots && !st; r++) {
+        if (s->node_base[r + 1] > ENTRY_BASE_MAX - s->node_base[r])
+            st = HPFC_E_LIMIT;
+        s->node_base[r + 1] += s->node_base[r];
+    }
+    return st;
 }
 
 static uint64_t plan_find(uint64_t *parent, uint64_t x)
@@ -1502,10 +1655,13 @@ static int plan_alloc(faces_stream *s)
     return HPFC_OK;
 }
 
+static void stop_ahead(faces_stream *s);
+
 void faces_stream_free(faces_stream *s)
 {
     if (!s)
         return;
+    stop_ahead(s);
     hpfc_walker_free(s->w);
     free(s->node_base);
     free(s->closed);
@@ -1546,7 +1702,7 @@ static int settle_plan(faces_stream *s)
     return HPFC_OK;
 }
 
-int faces_stream_plan(const hpfc_file *file, faces_stream **out)
+int faces_stream_plan(const hpfc_file *file, unsigned threads, faces_stream **out)
 {
     if (!file || !out)
         return HPFC_E_ARG;
@@ -1564,7 +1720,8 @@ int faces_stream_plan(const hpfc_file *file, faces_stream **out)
     if (!st)
         st = plan_alloc(s);
     if (!st)
-        st = plan_roots(s);
+        st = plan_roots(s, threads ? threads : 1);
+    s->ahead.wanted = threads > 1;
     if (!st && s->node_base[s->roots] > ENTRY_BASE_MAX)
         st = HPFC_E_LIMIT;
     if (!st) {
@@ -1637,14 +1794,12 @@ static int number_root(const faces_stream *s, root_pass *rp, uint64_t r)
     return HPFC_OK;
 }
 
-int faces_stream_root(faces_stream *s, uint32_t i, uint32_t j, hpfc_faces **out)
+/* Root r numbered again with walker w, into *out. */
+static int number_one(faces_stream *s, hpfc_walker *w, uint64_t r, hpfc_faces **out)
 {
-    if (!s || !out || i >= s->cols || j >= s->rows)
-        return HPFC_E_ARG;
-    *out = NULL;
-    uint64_t r = (uint64_t)j * s->cols + i;
     root_pass rp;
-    int st = root_number(s, i, j, file_total_leaves(s->file), &rp);
+    int st = root_number(s, w, (uint32_t)(r % s->cols), (uint32_t)(r / s->cols),
+                         file_total_leaves(s->file), &rp);
     if (!st && rp.fc.nodes != s->node_base[r + 1] - s->node_base[r])
         st = HPFC_E_CORRUPT;
     if (!st)
@@ -1662,4 +1817,116 @@ int faces_stream_root(faces_stream *s, uint32_t i, uint32_t j, hpfc_faces **out)
         free(rp.side[road].at);
     *out = fc;
     return HPFC_OK;
+}
+
+/* The thread numbering the roots ahead: each in turn once its slot is
+ * free, until the last, a failure or the caller's stop. */
+static void *number_ahead(void *arg)
+{
+    faces_stream *s = arg;
+    roots_ahead *a = &s->ahead;
+    for (uint64_t r = 0; r < s->roots; r++) {
+        pthread_mutex_lock(&a->lock);
+        while (!a->stop && r - a->next >= AHEAD_SLOTS)
+            pthread_cond_wait(&a->taken, &a->lock);
+        bool stop = a->stop;
+        pthread_mutex_unlock(&a->lock);
+        if (stop)
+            break;
+        hpfc_faces *fc = NULL;
+        int st = number_one(s, a->w, r, &fc);
+        pthread_mutex_lock(&a->lock);
+        a->slot[r % AHEAD_SLOTS] = (ahead_slot){fc, st};
+        a->made = r + 1;
+        pthread_cond_signal(&a->filled);
+        pthread_mutex_unlock(&a->lock);
+        if (st)
+            break; /* the caller meets it at root r, then numbers on alone */
+    }
+    pthread_mutex_lock(&a->lock);
+    a->done = true;
+    pthread_cond_signal(&a->filled);
+    pthread_mutex_unlock(&a->lock);
+    return NULL;
+}
+
+/* The thread started for root 0 (false when it cannot be: the caller
+ * numbers alone). */
+static bool start_ahead(faces_stream *s)
+{
+    roots_ahead *a = &s->ahead;
+    a->wanted = false; /* once */
+    if (topo_walker_create(s->file, 0, &a->w))
+        return false;
+    bool locks = pthread_mutex_init(&a->lock, NULL) == 0;
+    bool filled = locks && pthread_cond_init(&a->filled, NULL) == 0;
+    bool taken = filled && pthread_cond_init(&a->taken, NULL) == 0;
+    if (taken && pthread_create(&a->thread, NULL, number_ahead, s) == 0) {
+        a->running = true;
+        return true;
+    }
+    if (filled)
+        pthread_cond_destroy(&a->filled);
+    if (locks)
+        pthread_mutex_destroy(&a->lock);
+    hpfc_walker_free(a->w);
+    a->w = NULL;
+    return false;
+}
+
+/* The thread stopped and joined, the roots it numbered and nobody took
+ * freed. */
+static void stop_ahead(faces_stream *s)
+{
+    roots_ahead *a = &s->ahead;
+    if (!a->running)
+        return;
+    pthread_mutex_lock(&a->lock);
+    a->stop = true;
+    pthread_cond_signal(&a->taken);
+    pthread_mutex_unlock(&a->lock);
+    pthread_join(a->thread, NULL);
+    for (uint64_t r = a->next; r < a->made; r++)
+        hpfc_faces_free(a->slot[r % AHEAD_SLOTS].fc);
+    pthread_cond_destroy(&a->filled);
+    pthread_cond_destroy(&a->taken);
+    pthread_mutex_destroy(&a->lock);
+    hpfc_walker_free(a->w);
+    a->w = NULL;
+    a->running = false;
+}
+
+/* Root r from the thread, if it numbered it or will: true, with its
+ * numbering or failure in *out and *st. */
+static bool take_ahead(faces_stream *s, uint64_t r, hpfc_faces **out, int *st)
+{
+    roots_ahead *a = &s->ahead;
+    pthread_mutex_lock(&a->lock);
+    while (a->made <= r && !a->done)
+        pthread_cond_wait(&a->filled, &a->lock);
+    bool have = a->made > r;
+    if (have) {
+        ahead_slot *slot = &a->slot[r % AHEAD_SLOTS];
+        *out = slot->fc, *st = slot->status;
+        slot->fc = NULL;
+        a->next = r + 1;
+        pthread_cond_signal(&a->taken);
+    }
+    pthread_mutex_unlock(&a->lock);
+    return have;
+}
+
+int faces_stream_root(faces_stream *s, uint32_t i, uint32_t j, hpfc_faces **out)
+{
+    if (!s || !out || i >= s->cols || j >= s->rows)
+        return HPFC_E_ARG;
+    *out = NULL;
+    uint64_t r = (uint64_t)j * s->cols + i;
+    if (r == 0 && s->ahead.wanted)
+        start_ahead(s);
+    int st;
+    if (s->ahead.running && r == s->ahead.next && take_ahead(s, r, out, &st))
+        return st;
+    stop_ahead(s); /* out of its order, or it stopped: alone from here */
+    return number_one(s, s->w, r, out);
 }

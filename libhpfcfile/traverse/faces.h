@@ -46,10 +46,15 @@ int faces_detach(hpfc_faces *fc);
  * across each side two roots share, and counts. faces_stream_root then
  * numbers one root again, with the ids hpfc_faces_build gives: an
  * hpfc_faces whose faces_leaf_nodes and faces_node_face answer for that
- * root's leaves only (hpfc_faces_free it). The plan keeps a walker: one
- * thread at a time. */
+ * root's leaves only (hpfc_faces_free it). The plan numbers its roots
+ * on up to `threads` threads (0 or 1: the calling one), the same plan
+ * whatever the count. With more than one, faces_stream_root, called
+ * from root 0 in row-major order (as the writer goes), finds each root
+ * numbered ahead by a thread of the plan's while the caller used the one
+ * before; a call out of that order stops the thread and numbers alone.
+ * faces_stream_root on one caller thread at a time. */
 typedef struct faces_stream faces_stream;
-int faces_stream_plan(const hpfc_file *file, faces_stream **out);
+int faces_stream_plan(const hpfc_file *file, unsigned threads, faces_stream **out);
 uint64_t faces_stream_face_count(const faces_stream *s);
 /* Bytes the plan holds (its arrays' capacity), and a numbering's leaf
  * table and union-find: for tests and benches. */

@@ -810,7 +810,7 @@ static int write_error(hpfc_diag *diag, const char *name, int err)
 static int begin_labels(layout *L, const hpfc_file *f, hpfc_faces **fc, faces_stream **fs,
                         labels_writer **w, uint64_t *length, hpfc_diag *diag)
 {
-    int st = L->faces_by_root && !L->faces_out ? faces_stream_plan(f, fs)
+    int st = L->faces_by_root && !L->faces_out ? faces_stream_plan(f, L->threads, fs)
                                                  : hpfc_faces_build_threads(f, L->threads, fc);
     if (st)
         return diag_set(diag, st, "labels: numbering the faces failed");

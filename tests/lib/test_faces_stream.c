@@ -7,6 +7,9 @@
  *     the writer stores, byte for byte, and so is a file written with
  *     hpfc_write_options.faces_by_root (also with faces_out, which it
  *     leaves to the whole numbering);
+ *   - the plan made on one thread and on several (roots in blocks), the
+ *     roots then numbered ahead on a thread of their own, and asked for
+ *     out of order too;
  *   - over maps of the generators and the special cases, both layouts, root
  *     grids from 1 x 1 to 16 x 16 and refined images of 2 x 2 and 3 x 2;
  *   - mutants of those files (pools changed, opened without the checksum)
@@ -52,13 +55,52 @@ static void same_leaf_faces(const hpfc_file *f, const hpfc_faces *a, const hpfc_
     }
 }
 
-/* Every root's numbering against the whole file's. */
-static void check_file(const hpfc_file *f, const char *what)
+/* Root r's numbering (row-major) against the whole file's at its leaves. */
+static void check_root(const hpfc_file *f, faces_stream *s, const hpfc_faces *whole, uint32_t cols,
+                       uint32_t r)
+{
+    hpfc_faces *root = NULL;
+    CHECK_EQ_INT(faces_stream_root(s, r % cols, r / cols, &root), HPFC_OK);
+    hpfc_pixel px;
+    int st;
+    for (st = hpfc_leaf_first(f, &px); root && !st; st = hpfc_leaf_next(f, &px))
+        if (px.path[0].j * cols + px.path[0].i == r)
+            same_leaf_faces(f, whole, root, &px);
+    roots_checked++;
+    hpfc_faces_free(root);
+}
+
+/* With the roots numbered ahead (a plan on two threads), roots asked for
+ * out of order: 0, 2, 1, 0, then the rest in order, each as the whole
+ * file's. */
+static void check_out_of_order(const hpfc_file *f)
+{
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    uint32_t roots = info.root_cols * info.root_rows;
+    hpfc_faces *whole = NULL;
+    faces_stream *s = NULL;
+    CHECK_EQ_INT(hpfc_faces_build(f, &whole), HPFC_OK);
+    CHECK_EQ_INT(faces_stream_plan(f, 2, &s), HPFC_OK);
+    if (whole && s && roots >= 3) {
+        static const uint32_t order[] = {0, 2, 1, 0};
+        for (size_t k = 0; k < sizeof order / sizeof *order; k++)
+            check_root(f, s, whole, info.root_cols, order[k]);
+        for (uint32_t r = 1; r < roots; r++)
+            check_root(f, s, whole, info.root_cols, r);
+    }
+    faces_stream_free(s);
+    hpfc_faces_free(whole);
+}
+
+/* Every root's numbering, the plan made on `threads` threads, against the
+ * whole file's. */
+static void check_file(const hpfc_file *f, const char *what, unsigned threads)
 {
     hpfc_faces *whole = NULL;
     faces_stream *s = NULL;
     CHECK_EQ_INT(hpfc_faces_build(f, &whole), HPFC_OK);
-    CHECK_EQ_INT(faces_stream_plan(f, &s), HPFC_OK);
+    CHECK_EQ_INT(faces_stream_plan(f, threads, &s), HPFC_OK);
     if (!whole || !s) {
         hpfc_faces_free(whole);
         faces_stream_free(s);
@@ -108,15 +150,22 @@ static void check_file(const hpfc_file *f, const char *what)
 
 /* A mutant is numbered or refused; when both numberings succeed, the
  * streamed plan still has a face count (its ids are not compared: a
- * damaged file's classes depend on which unions each method makes). */
+ * damaged file's classes depend on which unions each method makes). The
+ * plan made on three threads is refused or made as on one, with the same
+ * face count. */
 static void check_mutant(const uint8_t *bytes, size_t size)
 {
     hpfc_file *f = NULL;
     if (hpfc_open_memory(bytes, size, HPFC_OPEN_SKIP_CHECKSUM, &f))
         return;
-    faces_stream *s = NULL;
+    faces_stream *s = NULL, *three = NULL;
     mutants_checked++;
-    if (faces_stream_plan(f, &s) == HPFC_OK) {
+    int st = faces_stream_plan(f, 1, &s), st3 = faces_stream_plan(f, 3, &three);
+    CHECK((st == HPFC_OK) == (st3 == HPFC_OK));
+    if (!st && !st3)
+        CHECK(faces_stream_face_count(s) == faces_stream_face_count(three));
+    faces_stream_free(three);
+    if (st == HPFC_OK) {
         hpfc_file_info info;
         hpfc_file_get_info(f, &info);
         for (uint32_t j = 0; j < info.root_rows; j++)
@@ -158,7 +207,7 @@ static void check_labels(const hpfc_tree *t, const hpfc_file *f)
     uint8_t *labl = NULL;
     uint64_t length = 0;
     hpfc_diag d;
-    CHECK_EQ_INT(faces_stream_plan(f, &s), HPFC_OK);
+    CHECK_EQ_INT(faces_stream_plan(f, 2, &s), HPFC_OK);
     if (!s)
         return;
     int st = labels_build_stream(t, f, s, &labl, &length, &d);
@@ -215,7 +264,10 @@ static void check_map(const hpfc_graph *g, const char *what, uint64_t seed)
             check_by_root(t, &o, bytes, size);
             hpfc_file *f = NULL;
             if (bytes && hpfc_open_memory(bytes, size, 0, &f) == HPFC_OK) {
-                check_file(f, what);
+                check_file(f, what, 1);
+                check_file(f, what, 3);
+                if (k == 1)
+                    check_out_of_order(f);
                 check_labels(t, f);
                 hpfc_close(f);
                 if (k == 1 || k == 3)
@@ -235,7 +287,7 @@ int main(int argc, char **argv)
             hpfc_file *f = NULL;
             CHECK_EQ_INT(hpfc_open(argv[a], 0, &f), HPFC_OK);
             if (f)
-                check_file(f, argv[a]);
+                check_file(f, argv[a], 2);
             hpfc_close(f);
         }
         printf("faces_stream: %zu roots, %zu leaves checked\n", roots_checked, leaves_checked);
