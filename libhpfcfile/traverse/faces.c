@@ -1076,21 +1076,23 @@ typedef struct root_pass {
 typedef struct ahead_slot {
     hpfc_faces *fc;
     int status;
+    bool ready;
 } ahead_slot;
 
-enum { AHEAD_SLOTS = 4 };
+enum { AHEAD_SLOTS = 8, AHEAD_MAX_THREADS = 4 };
 
-/* The roots numbered in row-major order on a thread of their own, at most
- * AHEAD_SLOTS ahead of the caller, who writes a root's labels meanwhile:
- * root r waits in slot r % AHEAD_SLOTS. */
+/* The roots numbered in row-major order by threads of their own, each
+ * claiming the next root in turn, at most AHEAD_SLOTS ahead of the
+ * caller, who writes a root's labels meanwhile: root r waits in slot
+ * r % AHEAD_SLOTS. */
 typedef struct roots_ahead {
-    bool wanted, running, stop, done;
-    pthread_t thread;
+    unsigned wanted, running; /* threads */
+    bool stop;
+    pthread_t thread[AHEAD_MAX_THREADS];
     pthread_mutex_t lock;
     pthread_cond_t filled, taken;
-    hpfc_walker *w;
-    uint64_t made; /* the roots numbered so far */
-    uint64_t next; /* the root the caller takes next */
+    uint64_t claimed; /* the roots claimed by the threads so far */
+    uint64_t next;    /* the root the caller takes next */
     ahead_slot slot[AHEAD_SLOTS];
 } roots_ahead;
 
@@ -1721,7 +1723,8 @@ int faces_stream_plan(const hpfc_file *file, unsigned threads, faces_stream **ou
         st = plan_alloc(s);
     if (!st)
         st = plan_roots(s, threads ? threads : 1);
-    s->ahead.wanted = threads > 1;
+    /* the writer's own thread writes LABL meanwhile, which costs less */
+    s->ahead.wanted = threads < 2 ? 0 : threads < AHEAD_MAX_THREADS ? threads : AHEAD_MAX_THREADS;
     if (!st && s->node_base[s->roots] > ENTRY_BASE_MAX)
         st = HPFC_E_LIMIT;
     if (!st) {
@@ -1819,63 +1822,65 @@ static int number_one(faces_stream *s, hpfc_walker *w, uint64_t r, hpfc_faces **
     return HPFC_OK;
 }
 
-/* The thread numbering the roots ahead: each in turn once its slot is
- * free, until the last, a failure or the caller's stop. */
+/* A thread numbering roots ahead, with a walker of its own: the next
+ * root not claimed, once its slot is free, until the last or the caller's
+ * stop. */
 static void *number_ahead(void *arg)
 {
     faces_stream *s = arg;
     roots_ahead *a = &s->ahead;
-    for (uint64_t r = 0; r < s->roots; r++) {
+    hpfc_walker *w = NULL;
+    int walker_st = topo_walker_create(s->file, 0, &w);
+    for (;;) {
         pthread_mutex_lock(&a->lock);
-        while (!a->stop && r - a->next >= AHEAD_SLOTS)
+        while (!a->stop && a->claimed < s->roots && a->claimed - a->next >= AHEAD_SLOTS)
             pthread_cond_wait(&a->taken, &a->lock);
-        bool stop = a->stop;
-        pthread_mutex_unlock(&a->lock);
-        if (stop)
+        if (a->stop || a->claimed == s->roots) {
+            pthread_mutex_unlock(&a->lock);
             break;
-        hpfc_faces *fc = NULL;
-        int st = number_one(s, a->w, r, &fc);
-        pthread_mutex_lock(&a->lock);
-        a->slot[r % AHEAD_SLOTS] = (ahead_slot){fc, st};
-        a->made = r + 1;
-        pthread_cond_signal(&a->filled);
+        }
+        uint64_t r = a->claimed++;
         pthread_mutex_unlock(&a->lock);
-        if (st)
-            break; /* the caller meets it at root r, then numbers on alone */
+        hpfc_faces *fc = NULL;
+        int st = walker_st ? walker_st : number_one(s, w, r, &fc);
+        pthread_mutex_lock(&a->lock);
+        a->slot[r % AHEAD_SLOTS] = (ahead_slot){fc, st, true};
+        pthread_cond_broadcast(&a->filled);
+        pthread_mutex_unlock(&a->lock);
     }
-    pthread_mutex_lock(&a->lock);
-    a->done = true;
-    pthread_cond_signal(&a->filled);
-    pthread_mutex_unlock(&a->lock);
+    hpfc_walker_free(w);
     return NULL;
 }
 
-/* The thread started for root 0 (false when it cannot be: the caller
+/* The threads started for root 0 (none when none can be: the caller
  * numbers alone). */
-static bool start_ahead(faces_stream *s)
+static void start_ahead(faces_stream *s)
 {
     roots_ahead *a = &s->ahead;
-    a->wanted = false; /* once */
-    if (topo_walker_create(s->file, 0, &a->w))
-        return false;
-    bool locks = pthread_mutex_init(&a->lock, NULL) == 0;
-    bool filled = locks && pthread_cond_init(&a->filled, NULL) == 0;
-    bool taken = filled && pthread_cond_init(&a->taken, NULL) == 0;
-    if (taken && pthread_create(&a->thread, NULL, number_ahead, s) == 0) {
-        a->running = true;
-        return true;
-    }
-    if (filled)
-        pthread_cond_destroy(&a->filled);
-    if (locks)
+    unsigned want = a->wanted;
+    a->wanted = 0; /* once */
+    if (pthread_mutex_init(&a->lock, NULL))
+        return;
+    if (pthread_cond_init(&a->filled, NULL)) {
         pthread_mutex_destroy(&a->lock);
-    hpfc_walker_free(a->w);
-    a->w = NULL;
-    return false;
+        return;
+    }
+    if (pthread_cond_init(&a->taken, NULL)) {
+        pthread_cond_destroy(&a->filled);
+        pthread_mutex_destroy(&a->lock);
+        return;
+    }
+    while (a->running < want && pthread_create(&a->thread[a->running], NULL, number_ahead, s) == 0)
+        a->running++;
+    if (!a->running) {
+        pthread_cond_destroy(&a->taken);
+        pthread_cond_destroy(&a->filled);
+        pthread_mutex_destroy(&a->lock);
+    }
 }
 
-/* The thread stopped and joined, the roots it numbered and nobody took
- * freed. */
+/* The threads stopped and joined, the roots they numbered and nobody
+ * took freed. */
 static void stop_ahead(faces_stream *s)
 {
     roots_ahead *a = &s->ahead;
@@ -1883,37 +1888,35 @@ static void stop_ahead(faces_stream *s)
         return;
     pthread_mutex_lock(&a->lock);
     a->stop = true;
-    pthread_cond_signal(&a->taken);
+    pthread_cond_broadcast(&a->taken);
     pthread_mutex_unlock(&a->lock);
-    pthread_join(a->thread, NULL);
-    for (uint64_t r = a->next; r < a->made; r++)
-        hpfc_faces_free(a->slot[r % AHEAD_SLOTS].fc);
+    for (unsigned k = 0; k < a->running; k++)
+        pthread_join(a->thread[k], NULL);
+    for (int k = 0; k < AHEAD_SLOTS; k++)
+        if (a->slot[k].ready)
+            hpfc_faces_free(a->slot[k].fc);
     pthread_cond_destroy(&a->filled);
     pthread_cond_destroy(&a->taken);
     pthread_mutex_destroy(&a->lock);
-    hpfc_walker_free(a->w);
-    a->w = NULL;
-    a->running = false;
+    a->running = 0;
 }
 
-/* Root r from the thread, if it numbered it or will: true, with its
- * numbering or failure in *out and *st. */
-static bool take_ahead(faces_stream *s, uint64_t r, hpfc_faces **out, int *st)
+/* Root r (the caller's next) from the threads: its numbering or failure
+ * in *out and the status returned. */
+static int take_ahead(faces_stream *s, uint64_t r, hpfc_faces **out)
 {
     roots_ahead *a = &s->ahead;
+    ahead_slot *slot = &a->slot[r % AHEAD_SLOTS];
     pthread_mutex_lock(&a->lock);
-    while (a->made <= r && !a->done)
+    while (!slot->ready) /* claimed (the caller's next is within reach), so coming */
         pthread_cond_wait(&a->filled, &a->lock);
-    bool have = a->made > r;
-    if (have) {
-        ahead_slot *slot = &a->slot[r % AHEAD_SLOTS];
-        *out = slot->fc, *st = slot->status;
-        slot->fc = NULL;
-        a->next = r + 1;
-        pthread_cond_signal(&a->taken);
-    }
+    *out = slot->fc;
+    int st = slot->status;
+    *slot = (ahead_slot){0};
+    a->next = r + 1;
+    pthread_cond_broadcast(&a->taken);
     pthread_mutex_unlock(&a->lock);
-    return have;
+    return st;
 }
 
 int faces_stream_root(faces_stream *s, uint32_t i, uint32_t j, hpfc_faces **out)
@@ -1924,9 +1927,8 @@ int faces_stream_root(faces_stream *s, uint32_t i, uint32_t j, hpfc_faces **out)
     uint64_t r = (uint64_t)j * s->cols + i;
     if (r == 0 && s->ahead.wanted)
         start_ahead(s);
-    int st;
-    if (s->ahead.running && r == s->ahead.next && take_ahead(s, r, out, &st))
-        return st;
-    stop_ahead(s); /* out of its order, or it stopped: alone from here */
+    if (s->ahead.running && r == s->ahead.next)
+        return take_ahead(s, r, out);
+    stop_ahead(s); /* out of their order: alone from here */
     return number_one(s, s->w, r, out);
 }
