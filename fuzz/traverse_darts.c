@@ -149,16 +149,23 @@ static void collect(trav *t)
 /* The faces one root pixel at a time (faces.h, the merge's numbering):
  * known statuses, and every collected leaf of a root numbered has a face
  * below the plan's count when private. Its ids are not compared with the
- * whole file's: on a damaged file the two make different unions. At most
+ * whole file's: on a damaged file the two make different unions. The plan
+ * is made on one thread and on two (its roots in blocks), refused by both
+ * or made by both with one face count; the two threads' plan then numbers
+ * its roots ahead, asked for in the collected leaves' order. At most
  * FUZZ_ROOTS roots are numbered again. */
 enum { FUZZ_ROOTS = 16 };
 
 static void stream_faces(trav *t)
 {
-    faces_stream *s = NULL;
-    int st = faces_stream_plan(t->f, &s);
+    faces_stream *s = NULL, *one = NULL;
+    int st = faces_stream_plan(t->f, 2, &s), st1 = faces_stream_plan(t->f, 1, &one);
     status(st);
     FUZZ_CHECK((st == HPFC_OK) == (s != NULL));
+    FUZZ_CHECK((st == HPFC_OK) == (st1 == HPFC_OK));
+    if (s && one)
+        FUZZ_CHECK(faces_stream_face_count(s) == faces_stream_face_count(one));
+    faces_stream_free(one);
     if (!s)
         return;
     uint64_t count = faces_stream_face_count(s);
