@@ -18,6 +18,7 @@
  * every value a graph's accessors and checks rely on is one
  * hpfc_graph_add_* would have accepted.
  */
+#define _DEFAULT_SOURCE /* madvise's MADV_DONTNEED, beside the build's _POSIX_C_SOURCE */
 #include <errno.h>
 #include <fcntl.h>
 #include <stdlib.h>
@@ -82,22 +83,50 @@ int hpfc_graph_file_layout_of(uint64_t vertices, uint64_t edges, uint64_t points
     return HPFC_OK;
 }
 
-static bool coords_ok(const int64_t *xy, uint64_t n)
+/* The check reads the mapped file a stretch at a time and hands each
+ * stretch's pages back to the page cache once read: a process that maps
+ * the file to use a small part of it (a part's builder, a chunk's router)
+ * must not hold every page of it resident for the check's sake. */
+enum { CHECK_STRETCH = 1 << 20 }; /* values */
+
+/* The whole pages of [from, to) dropped from this process's mapping (the
+ * file's pages stay in the page cache); nothing when the bytes are no
+ * mapping (a copy: dropping would zero it). */
+static void release(const hpfc_graph *g, const void *from, const void *to)
 {
-    for (uint64_t k = 0; k < n; k++)
-        if (xy[k] < -HPFC_COORD_MAX || xy[k] > HPFC_COORD_MAX)
-            return false;
+    if (!g->map_pages)
+        return;
+    uintptr_t page = (uintptr_t)sysconf(_SC_PAGESIZE);
+    uintptr_t a = ((uintptr_t)from + page - 1) & ~(page - 1), b = (uintptr_t)to & ~(page - 1);
+    if (b > a)
+        madvise((void *)a, b - a, MADV_DONTNEED);
+}
+
+static bool coords_ok(const hpfc_graph *g, const int64_t *xy, uint64_t n)
+{
+    for (uint64_t at = 0; at < n; at += CHECK_STRETCH) {
+        uint64_t end = n - at < CHECK_STRETCH ? n : at + CHECK_STRETCH;
+        for (uint64_t k = at; k < end; k++)
+            if (xy[k] < -HPFC_COORD_MAX || xy[k] > HPFC_COORD_MAX)
+                return false;
+        release(g, xy + at, xy + end);
+    }
     return true;
 }
 
 /* The arrays' values, as hpfc_graph_add_* would have checked them. */
 static int check_arrays(const hpfc_graph *g, hpfc_diag *diag)
 {
-    if (!coords_ok(g->vxy, 2 * (uint64_t)g->nv) || !coords_ok(g->pts, 2 * (uint64_t)g->npts))
+    if (!coords_ok(g, g->vxy, 2 * (uint64_t)g->nv) || !coords_ok(g, g->pts, 2 * (uint64_t)g->npts))
         return diag_set(diag, HPFC_E_EXTENT, "graph file: a coordinate past 2^40");
     if (g->eoff[0] != 0 || g->eoff[g->ne] != g->npts)
         return diag_set(diag, HPFC_E_CORRUPT, "graph file: the edges' points do not span the points");
     for (size_t e = 0; e < g->ne; e++) {
+        if (e % CHECK_STRETCH == 0 && e) {
+            release(g, g->eu + e - CHECK_STRETCH, g->eu + e);
+            release(g, g->ev + e - CHECK_STRETCH, g->ev + e);
+            release(g, g->eoff + e - CHECK_STRETCH, g->eoff + e);
+        }
         if (g->eu[e] >= g->nv || g->ev[e] >= g->nv)
             return diag_set(diag, HPFC_E_VERTEX_INDEX, "graph file: edge %zu names no vertex", e);
         if (g->eoff[e + 1] < g->eoff[e])
@@ -108,7 +137,10 @@ static int check_arrays(const hpfc_graph *g, hpfc_diag *diag)
     return HPFC_OK;
 }
 
-int graph_from_file_bytes(const void *bytes, size_t length, hpfc_graph **out, hpfc_diag *diag)
+/* bytes a mapping of the file (map_pages: its pages may be dropped once
+ * checked) or a copy. */
+static int graph_from_bytes(const void *bytes, size_t length, bool map_pages, hpfc_graph **out,
+                            hpfc_diag *diag)
 {
     diag_clear(diag);
     if (out)
@@ -149,12 +181,19 @@ int graph_from_file_bytes(const void *bytes, size_t length, hpfc_graph **out, hp
     g->eoff = (size_t *)(uintptr_t)(b + l.eoff);
     g->pts = g->npts ? (int64_t *)(uintptr_t)(b + l.pts) : NULL;
     g->map_len = length;
+    g->map_pages = map_pages;
     if ((st = check_arrays(g, diag))) {
         free(g);
         return st;
     }
+    release(g, bytes, b + length); /* the check's last stretches */
     *out = g;
     return HPFC_OK;
+}
+
+int graph_from_file_bytes(const void *bytes, size_t length, hpfc_graph **out, hpfc_diag *diag)
+{
+    return graph_from_bytes(bytes, length, false, out, diag);
 }
 
 int hpfc_graph_map_file(const char *path, hpfc_graph **out, hpfc_diag *diag)
@@ -181,7 +220,7 @@ int hpfc_graph_map_file(const char *path, hpfc_graph **out, hpfc_diag *diag)
     close(fd);
     if (map == MAP_FAILED)
         return diag_set(diag, HPFC_E_IO, "cannot map %s: %s", path, strerror(errno));
-    int st = graph_from_file_bytes(map, len, out, diag);
+    int st = graph_from_bytes(map, len, true, out, diag);
     if (st) {
         munmap(map, len);
         return st;
