@@ -26,15 +26,19 @@ def _status_kb(field):
 
 
 class _AnonPeak(threading.Thread):
-    """The largest RssAnon of this process, sampled until stopped."""
+    """The largest RssAnon of this process, sampled until stopped, overall
+    and per stage of hpfc.pack (the stage its progress names last)."""
 
     def __init__(self):
         super().__init__(daemon=True)
         self.peak, self.done = 0, threading.Event()
+        self.stage, self.stages = "start", {}
 
     def run(self):
         while not self.done.wait(0.02):
-            self.peak = max(self.peak, _status_kb("RssAnon"))
+            kb = _status_kb("RssAnon")
+            self.peak = max(self.peak, kb)
+            self.stages[self.stage] = max(self.stages.get(self.stage, 0), kb)
 
 import hpfc
 from dask.distributed import Client, LocalCluster
@@ -65,6 +69,14 @@ def main():
     before = _status_kb("RssAnon")
     worker_before = c.run(_start_sampler)
     sampler = _AnonPeak()
+    shown = hpfc._pack._progress
+
+    def progress(stage, done=None, total=None):
+        if stage is not None:
+            sampler.stage = stage
+        shown(stage, done, total)
+
+    hpfc._pack._progress = progress
     sampler.start()
     t0 = time.perf_counter()
     out = argv[2] if len(argv) > 2 else "/tmp/dask_out.hpfc"
@@ -73,7 +85,6 @@ def main():
     wall = time.perf_counter() - t0
     sampler.done.set()
     sampler.join()
-    worker_own = c.run(_stop_sampler)
     worker_own = c.run(_stop_sampler)
     # the only child waited for so far: hpfc-pack, when it ran (not the nannies)
     ran_tool = not src.endswith(".pfc") or len(argv) > 3
@@ -85,6 +96,8 @@ def main():
           % (wall, client_mb, (sampler.peak - before) / 1024, before / 1024, tool_mb,
              [round(v / 1024) for v in peaks.values()],
              [round((worker_own[w] - worker_before[w]) / 1024) for w in worker_own]))
+    print("client's own peak by stage (MB above its start): " +
+          ", ".join("%s %.0f" % (k, (v - before) / 1024) for k, v in sampler.stages.items()))
     c.close()
     cluster.close()
 

@@ -194,11 +194,13 @@ static PyObject *mod_pack_merge(PyObject *m, PyObject *args)
     if (!st && geometry && (st = read_graph(pfc, graph_file, &g, &d)) != HPFC_OK)
         culprit = pfc;
     if (!st) {
-        /* without GEOM the merge holds no graph: LABL's faces numbered a
-         * root pixel at a time keep its memory to the root pixels' borders (with
-         * GEOM the graph read whole dwarfs them: the faster numbering) */
+        /* LABL's faces numbered a root pixel at a time keep the merge's
+         * memory to the root pixels' borders when it holds no graph: none
+         * without GEOM, or the graph file mapped (its pages the page
+         * cache's). A text read whole here dwarfs them: the faster
+         * numbering then. */
         hpfc_write_options o = {.face_labels = labels, .layout = layout, .geometry = g,
-                                .faces_by_root = !geometry, .threads = merge_threads()};
+                                .faces_by_root = !geometry || graph_file, .threads = merge_threads()};
         st = hpfc_tree_write_file(joined, &o, out, &d);
         culprit = out;
     }

@@ -199,6 +199,11 @@ static void check_map(const hpfc_graph *g, const char *dir, bool limits)
             o.faces_by_root = 0;
             o.geometry = g, o.crs = "EPSG:3857", o.threads = 2;
             check_options(t, &o, dir, limits && k == 2);
+            /* as a merge with its graph mapped writes: GEOM planned beside
+             * faces numbered a root pixel at a time */
+            o.faces_by_root = 1;
+            check_options(t, &o, dir, false);
+            o.faces_by_root = 0;
             /* a feature table with FEAT's faces: SHIX gains its feature table */
             uint8_t *plain = NULL;
             size_t size = 0;
