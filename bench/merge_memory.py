@@ -101,8 +101,8 @@ def merge(src, parts, directory, graph_file):
     size = sum(os.path.getsize(p) for p in paths) / 1e6
     print("%-28s %s parts %4d  merge %6.2f s  peak %6.0f MB (interpreter %3.0f)  anon %6.0f MB "
           "(interpreter %3.0f)  file-backed %6.0f MB  part files %6.0f MB  file %6.0f MB" %
-          (os.path.basename(src), "GEOM" if graph_file else "    ", parts, wall, peak, base, sampler.anon, base_anon, sampler.file,
-           size, os.path.getsize(out) / 1e6))
+          (os.path.basename(src), "GEOM" if graph_file else "    ", parts, wall, peak, base, sampler.anon,
+           base_anon, sampler.file, size, os.path.getsize(out) / 1e6))
 
 
 def main():
