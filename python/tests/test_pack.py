@@ -81,7 +81,8 @@ OPTIONS = [
     ({}, []),
     ({"root": (5, 3), "refine": 3, "layout": "paper"}, ["--root", "5x3", "--refine", "3", "--layout", "paper"]),
     ({"leaf_points": 1, "root": 9}, ["--leaf-points", "1", "--root", "9"]),
-    # without GEOM the merge numbers LABL's faces a root pixel at a time
+    # without GEOM (the merge numbers LABL's faces a root pixel at a time
+    # here as with the graph file; read_on_workers=False numbers them whole)
     ({"geometry": False, "root": 7, "layout": "paper"}, ["--no-geometry", "--root", "7", "--layout", "paper"]),
 ]
 
