@@ -25,7 +25,6 @@ struct hpfc_graph {
      * NULL for a graph that owns its arrays */
     void *map;
     size_t map_len;
-    bool map_pages; /* map is the file's mapping (not a copy of its bytes) */
 };
 
 /* Source line of vertex v / edge e, 0 if unknown (the arrays exist only

@@ -94,7 +94,7 @@ enum { CHECK_STRETCH = 1 << 20 }; /* values */
  * mapping (a copy: dropping would zero it). */
 static void release(const hpfc_graph *g, const void *from, const void *to)
 {
-    if (!g->map_pages)
+    if (!g->map)
         return;
     uintptr_t page = (uintptr_t)sysconf(_SC_PAGESIZE);
     uintptr_t a = ((uintptr_t)from + page - 1) & ~(page - 1), b = (uintptr_t)to & ~(page - 1);
@@ -137,9 +137,9 @@ static int check_arrays(const hpfc_graph *g, hpfc_diag *diag)
     return HPFC_OK;
 }
 
-/* bytes a mapping of the file (map_pages: its pages may be dropped once
- * checked) or a copy. */
-static int graph_from_bytes(const void *bytes, size_t length, bool map_pages, hpfc_graph **out,
+/* bytes the file's mapping (`mapped`: the graph then owns it, and its
+ * pages may be dropped once checked) or a copy. */
+static int graph_from_bytes(const void *bytes, size_t length, bool mapped, hpfc_graph **out,
                             hpfc_diag *diag)
 {
     diag_clear(diag);
@@ -181,9 +181,9 @@ static int graph_from_bytes(const void *bytes, size_t length, bool map_pages, hp
     g->eoff = (size_t *)(uintptr_t)(b + l.eoff);
     g->pts = g->npts ? (int64_t *)(uintptr_t)(b + l.pts) : NULL;
     g->map_len = length;
-    g->map_pages = map_pages;
+    g->map = mapped ? (void *)(uintptr_t)bytes : NULL;
     if ((st = check_arrays(g, diag))) {
-        free(g);
+        free(g); /* not hpfc_graph_free: the caller unmaps */
         return st;
     }
     release(g, bytes, b + length); /* the check's last stretches */
@@ -221,10 +221,7 @@ int hpfc_graph_map_file(const char *path, hpfc_graph **out, hpfc_diag *diag)
     if (map == MAP_FAILED)
         return diag_set(diag, HPFC_E_IO, "cannot map %s: %s", path, strerror(errno));
     int st = graph_from_bytes(map, len, true, out, diag);
-    if (st) {
+    if (st)
         munmap(map, len);
-        return st;
-    }
-    (*out)->map = map;
-    return HPFC_OK;
+    return st;
 }
