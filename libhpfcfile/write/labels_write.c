@@ -36,7 +36,8 @@
 enum { DIR_SHIFTS = 11 };
 
 /* What pass 1 learns: the records' bits, the largest offset inside a block
- * at each block size, each level's samples and each edge's two faces.
+ * at each block size, each level's samples (whole; streamed, pass 2 writes
+ * them into the section) and each edge's two faces.
  * Pass 2 lays the records and the directory out from the same running
  * offset, so no leaf's offset is kept. */
 typedef struct label_plan {
@@ -126,7 +127,8 @@ typedef struct root_runs {
  *   - whole pass 2 (fc, out, directory): directory entries and records;
  *   - streamed pass 1 (no fc, no out, no directory): offsets measured, each
  *     edge's first level, the roots' runs;
- *   - streamed pass 2 (no fc, no out, directory): directory entries;
+ *   - streamed pass 2 (no fc, no out, directory): directory entries and
+ *     the rank samples, into the section;
  *   - streamed pass 3 (a root's fc, out, no directory): the records of one
  *     root, the sides as their first pieces come, other z bits later. */
 typedef struct leaf_visit {
@@ -134,6 +136,10 @@ typedef struct leaf_visit {
     const hpfc_faces *fc;
     uint8_t *out;
     bool directory;
+    /* streamed pass 2: the section's rank samples, written as they come
+     * (pass 1 keeps none) */
+    uint8_t *rank;
+    const labels_layout *lay;
     uint64_t next; /* global leaf number (passes in leaf order) */
     root_runs *runs;
     later_piece *later;
@@ -346,6 +352,17 @@ static void note_run_start(leaf_visit *v, uint32_t l, uint64_t im, uint64_t imag
     }
 }
 
+/* Level l's rank sample k, `words` word pixels before its unit: kept by
+ * a whole pass 1, written into the section by a streamed pass 2. */
+static void put_sample(const leaf_visit *v, uint32_t l, uint64_t k, uint64_t words)
+{
+    label_plan *p = v->plan;
+    if (measuring(v) && p->samples[l])
+        p->samples[l][k] = words;
+    else if (v->rank)
+        format_put(v->rank, v->lay->rank_start[l] + k * p->rank_bits[l], p->rank_bits[l], words);
+}
+
 /* Every leaf of the tree in leaf order, with its slot's pool offset (as the
  * writer lays the pools out) and, in pass 1, the rank samples (and, in a
  * streamed pass 1, the roots' runs). */
@@ -366,8 +383,8 @@ static int visit_all(leaf_visit *v, const hpfc_tree *tree, const hpfc_file *file
         if (l && units != li.images)
             return diag_set(diag, HPFC_E_ARG, "labels: the tree and the file differ");
         for (uint64_t u = 0; u < units; u++) {
-            if (measuring(v) && (u & (step - 1)) == 0)
-                v->plan->samples[l][u >> shift] = words;
+            if ((u & (step - 1)) == 0)
+                put_sample(v, l, u >> shift, words);
             uint64_t refined = 0;
             int st;
             if (l == 0) {
@@ -418,9 +435,9 @@ static void choose_blocks(const label_plan *p, uint32_t *shift, uint32_t *block_
     }
 }
 
-/* The plan's counts and sample rows; room for each edge's sides unless
- * streamed (`streamed`: the sides are then set in the section's own
- * bytes, in pass 3). */
+/* The plan's counts; its sample rows and room for each edge's sides
+ * unless streamed (`streamed`: the samples are then written into the
+ * section's own bytes in pass 2, the sides in pass 3). */
 static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file, uint64_t faces,
                      bool streamed, hpfc_diag *diag)
 {
@@ -444,7 +461,7 @@ static int plan_init(label_plan *p, const hpfc_tree *tree, const hpfc_file *file
         p->leaves += li.word_pixels;
         p->rank_bits[l] = bits_for(li.word_pixels);
         uint64_t samples = (p->lv.units[l] + 7) >> 3;
-        if (!(p->samples[l] = calloc(samples ? samples : 1, sizeof *p->samples[l])))
+        if (!streamed && !(p->samples[l] = calloc(samples ? samples : 1, sizeof *p->samples[l])))
             return diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
     }
     if (p->edges > SIZE_MAX / 128)
@@ -499,7 +516,7 @@ static void finish_section(const label_plan *p, const labels_layout *lay, uint8_
     labl_set_levels(sec, p->lv.levels);
     for (uint32_t l = 0; l < p->lv.levels; l++) {
         labll_set_rank_bits(sec + LABL_HEADER_SIZE + (size_t)l * LABL_LEVEL_SIZE, (uint8_t)p->rank_bits[l]);
-        for (uint64_t k = 0; k < lay->samples[l]; k++)
+        for (uint64_t k = 0; p->samples[l] && k < lay->samples[l]; k++) /* else set when streamed */
             format_put(sec + lay->rank_at, lay->rank_start[l] + k * p->rank_bits[l], p->rank_bits[l],
                        p->samples[l][k]);
     }
@@ -659,7 +676,8 @@ static int emit_whole(labels_writer *w, uint8_t *sec, hpfc_diag *diag)
 static int emit_stream(labels_writer *w, uint8_t *sec, hpfc_diag *diag)
 {
     label_plan *p = &w->p;
-    leaf_visit v = {.plan = p, .runs = &w->rr, .directory = true};
+    leaf_visit v = {.plan = p, .runs = &w->rr, .directory = true, .rank = sec + w->lay.rank_at,
+                    .lay = &w->lay};
     int st = visit_all(&v, w->tree, w->file, diag);
     if (st)
         return st;
