@@ -14,9 +14,10 @@
  * labels_build_stream makes the same bytes with the faces numbered a root
  * pixel at a time (faces_stream, faces.h), for a writer whose memory must
  * follow the roots' borders: passes 1 and 2 go in leaf order without
- * faces (sizes, then the directory) and note where each root's run of
- * images and records starts on each level; pass 3 goes root by root, each
- * root's runs level by level, and writes the records and the sides.
+ * faces (sizes, then the directory and each edge's first level) and note
+ * where each root's run of images and records starts on each level; pass
+ * 3 goes root by root, each root's runs level by level, and writes the
+ * records and the sides.
  *
  * Either way pass 1 alone gives the section's length
  * (labels_writer_begin), and the other passes make it in bytes the caller
@@ -52,7 +53,10 @@ typedef struct label_plan {
      * (0 for an edge with no crossing), and whether it was met */
     uint8_t *sides, *seen;
     bool own_sides; /* sides allocated (whole), or in the section (streamed) */
-    /* streamed: per edge the level of its first piece in leaf order */
+    /* streamed, when an edge's two sides have fewer bits than a level
+     * (a map of at most four faces): per edge the level of its first piece
+     * in leaf order; else that level waits in the sides' own bits
+     * (first_level_get) */
     uint8_t *first_level;
     /* pass 2: the directory being written */
     uint8_t *dir;
@@ -98,10 +102,47 @@ static void put_directory_entry(label_plan *p, uint64_t g, uint64_t at)
     }
 }
 
+/* The sides' bits, to read. */
+static format_bits sides_bits(const label_plan *p)
+{
+    uint64_t bits = 2 * p->edges * p->face_bits;
+    return (format_bits){p->sides, bits, format_pool_bytes(bits)};
+}
+
 static uint64_t side_get(const label_plan *p, uint64_t e, int which)
 {
-    format_bits b = {p->sides, 2 * p->edges * p->face_bits, format_pool_bytes(2 * p->edges * p->face_bits)};
+    format_bits b = sides_bits(p);
     return format_get(&b, (2 * e + (uint64_t)which) * p->face_bits, p->face_bits);
+}
+
+/* The bits of a level (below HPFC_MAX_LEVELS). */
+enum { LEVEL_BITS = 6 };
+_Static_assert(HPFC_MAX_LEVELS <= 1 << LEVEL_BITS, "a level in LEVEL_BITS");
+
+/* Streamed: the level of edge e's first piece in leaf order, noted by
+ * pass 2 in the section's bits for e's two sides until pass 3 sets them
+ * (the seen bit tells which the bits hold), or in first_level when they
+ * are too few. The section's sides cost no memory of the writer's own:
+ * a byte an edge less (16 MB at 2*10^8 street points). */
+static bool first_level_in_sides(const label_plan *p)
+{
+    return 2 * p->face_bits >= LEVEL_BITS;
+}
+
+static void first_level_set(label_plan *p, uint64_t e, uint32_t level)
+{
+    if (first_level_in_sides(p))
+        format_put(p->sides, 2 * e * p->face_bits, LEVEL_BITS, level);
+    else
+        p->first_level[e] = (uint8_t)level;
+}
+
+static uint32_t first_level_get(const label_plan *p, uint64_t e)
+{
+    if (!first_level_in_sides(p))
+        return p->first_level[e];
+    format_bits b = sides_bits(p);
+    return (uint32_t)format_get(&b, 2 * e * p->face_bits, LEVEL_BITS);
 }
 
 /* A piece whose z bit waits for its edge's sides (streamed pass 3): a
@@ -125,10 +166,10 @@ typedef struct root_runs {
  *   - whole pass 1 (fc, no out, no directory): offsets measured, each edge's
  *     sides where it first comes;
  *   - whole pass 2 (fc, out, directory): directory entries and records;
- *   - streamed pass 1 (no fc, no out, no directory): offsets measured, each
- *     edge's first level, the roots' runs;
- *   - streamed pass 2 (no fc, no out, directory): directory entries and
- *     the rank samples, into the section;
+ *   - streamed pass 1 (no fc, no out, no directory): offsets measured, the
+ *     roots' runs;
+ *   - streamed pass 2 (no fc, no out, directory): directory entries, the
+ *     rank samples and each edge's first level, into the section;
  *   - streamed pass 3 (a root's fc, out, no directory): the records of one
  *     root, the sides as their first pieces come, other z bits later. */
 typedef struct leaf_visit {
@@ -161,11 +202,12 @@ static void set_seen(label_plan *p, uint64_t e)
     p->seen[e >> 3] |= (uint8_t)(1u << (e & 7));
 }
 
+/* Set, not or'ed: streamed, the bits held the edge's first level. */
 static void set_sides(label_plan *p, uint64_t e, uint64_t right, uint64_t left)
 {
     set_seen(p, e);
-    format_put(p->sides, 2 * e * p->face_bits, p->face_bits, right);
-    format_put(p->sides, (2 * e + 1) * p->face_bits, p->face_bits, left);
+    format_set(p->sides, 2 * e * p->face_bits, p->face_bits, right);
+    format_set(p->sides, (2 * e + 1) * p->face_bits, p->face_bits, left);
 }
 
 /* Piece of edge e at `at` (its z bit at at + edge_bits), the face on the
@@ -208,10 +250,10 @@ static int visit_pieces(leaf_visit *v, uint32_t level, const labels_word *w, con
         if (e >= p->edges)
             return diag_set(diag, HPFC_E_ARG, "labels: a crossing of edge %llu, of %llu edges",
                             (unsigned long long)e, (unsigned long long)p->edges);
-        if (!v->fc) { /* streamed pass 1 */
+        if (!v->fc) { /* streamed pass 2 */
             if (!edge_seen(p, e)) {
                 set_seen(p, e);
-                p->first_level[e] = (uint8_t)level;
+                first_level_set(p, e, level);
             }
             continue;
         }
@@ -224,10 +266,10 @@ static int visit_pieces(leaf_visit *v, uint32_t level, const labels_word *w, con
         }
         format_put(v->out, at, p->edge_bits, e);
         int st = HPFC_OK;
-        if (p->first_level && !edge_seen(p, e)) {
+        if (v->runs && !edge_seen(p, e)) {
             /* streamed: the first piece in leaf order comes in the first root
              * (root order) with a piece on the edge's first level */
-            if (level == p->first_level[e])
+            if (level == first_level_get(p, e))
                 set_sides(p, e, right, left);
             else
                 st = defer_piece(v, at + p->edge_bits, e, right, left, diag);
@@ -268,7 +310,7 @@ static int visit_leaf(leaf_visit *v, uint32_t level, uint64_t slot, const hpfc_t
         measure_blocks(p, g, at);
     if (v->out && w.n == 0)
         format_put(v->out, at, p->face_bits, faces_node_face(v->fc, base));
-    if (v->fc || measuring(v))
+    if (v->fc || (v->directory && v->runs)) /* a streamed pass 1 needs none */
         st = visit_pieces(v, level, &w, px, base, at, diag);
     labels_word_free(&w);
     return st;
@@ -629,15 +671,15 @@ static int begin_whole(labels_writer *w, hpfc_diag *diag)
     return st ? st : visit_all(&v, w->tree, w->file, diag);
 }
 
-/* Pass 1 streamed: sizes, samples, each edge's first level, the roots'
- * runs. */
+/* Pass 1 streamed: sizes and the roots' runs. */
 static int begin_stream(labels_writer *w, hpfc_diag *diag)
 {
     label_plan *p = &w->p;
     int st = plan_init(p, w->tree, w->file, faces_stream_face_count(w->fs), true, diag);
     if (!st)
         st = root_runs_init(&w->rr, w->file, diag);
-    if (!st && !(p->first_level = malloc(p->edges ? (size_t)p->edges : 1)))
+    bool own_levels = !first_level_in_sides(p);
+    if (!st && own_levels && !(p->first_level = malloc(p->edges ? (size_t)p->edges : 1)))
         st = diag_set(diag, HPFC_E_NOMEM, "labels: out of memory");
     leaf_visit v = {.plan = p, .runs = &w->rr};
     return st ? st : visit_all(&v, w->tree, w->file, diag);
@@ -671,17 +713,18 @@ static int emit_whole(labels_writer *w, uint8_t *sec, hpfc_diag *diag)
     return visit_all(&v, w->tree, w->file, diag);
 }
 
-/* Streamed passes 2 and 3: the directory in leaf order, then the records
- * root by root, the sides in the section as their first pieces come. */
+/* Streamed passes 2 and 3: the directory and the edges' first levels in
+ * leaf order, then the records root by root, the sides in the section as
+ * their first pieces come. */
 static int emit_stream(labels_writer *w, uint8_t *sec, hpfc_diag *diag)
 {
     label_plan *p = &w->p;
+    p->sides = sec + w->lay.sides_at;
     leaf_visit v = {.plan = p, .runs = &w->rr, .directory = true, .rank = sec + w->lay.rank_at,
                     .lay = &w->lay};
     int st = visit_all(&v, w->tree, w->file, diag);
     if (st)
         return st;
-    p->sides = sec + w->lay.sides_at;
     memset(p->seen, 0, (size_t)format_pool_bytes(p->edges));
     v = (leaf_visit){.plan = p, .runs = &w->rr, .out = sec + w->lay.labels_at};
     for (uint64_t r = 0; r < w->rr.roots && !st; r++)
