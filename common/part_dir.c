@@ -260,8 +260,8 @@ int part_dir_build(const char *dir, const part_plan *plan, uint32_t k, hpfc_diag
     return st;
 }
 
-int part_dir_merge(const char *dir, const char *const *paths, uint32_t count, hpfc_tree **out,
-                   hpfc_diag *d)
+int part_dir_merge(const char *dir, const char *const *paths, uint32_t count,
+                   bool count_components, hpfc_tree **out, hpfc_diag *d)
 {
     memset(d, 0, sizeof *d);
     /* dir's names, each as long as it needs ("DIR/part-K.part") */
@@ -278,7 +278,9 @@ int part_dir_merge(const char *dir, const char *const *paths, uint32_t count, hp
         list[k] = named + k * each;
     }
     /* the library's message already names the file at fault */
-    int st = hpfc_tree_merge_files(paths ? paths : list, count, out, d);
+    const char *const *files = paths ? paths : list;
+    int st = count_components ? hpfc_tree_merge_files(files, count, out, d)
+                              : hpfc_tree_merge_files_uncounted(files, count, out, d);
     free(named);
     free(list);
     return st;

@@ -27,6 +27,7 @@
 #ifndef HPFC_PART_DIR_H
 #define HPFC_PART_DIR_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "hpfc.h"
@@ -80,9 +81,12 @@ int part_dir_build(const char *dir, const part_plan *plan, uint32_t k, hpfc_diag
 /* Joins the `count` part files (paths[k], or dir's part-K.part when paths
  * is NULL) where they lie (hpfc_tree_merge_files: the joined tree reads
  * them from their mappings until it is freed, so they must stay unchanged
- * until then). A file's fault is said as "PATH: why" in diag. */
-int part_dir_merge(const char *dir, const char *const *paths, uint32_t count, hpfc_tree **out,
-                   hpfc_diag *diag);
+ * until then), with the map's components and faces counted when
+ * `count_components` (else hpfc_tree_merge_files_uncounted: 0, and no
+ * union-find over the edges). A file's fault is said as "PATH: why" in
+ * diag. */
+int part_dir_merge(const char *dir, const char *const *paths, uint32_t count,
+                   bool count_components, hpfc_tree **out, hpfc_diag *diag);
 
 /* The graph file for `vertices`, `edges` and `points` at unit 10^unit:
  * its header and last edge offset written, the rest zeros for the chunks'

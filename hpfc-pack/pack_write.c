@@ -254,7 +254,7 @@ static int build_parts_elsewhere(const hpfc_graph *g, const hpfc_build_params *p
     int st = part_dir_cut(g, p, parts->count, parts->dir, &plan, diag);
     if (!st && (st = parts->await_parts(parts->user, &plan, diag)) != HPFC_OK)
         return word_part_failure(g, st, diag);
-    if (!st && (st = part_dir_merge(parts->dir, NULL, plan.parts, out, diag)) == HPFC_E_ARG)
+    if (!st && (st = part_dir_merge(parts->dir, NULL, plan.parts, true, out, diag)) == HPFC_E_ARG)
         st = HPFC_E_CORRUPT; /* parts that do not belong together: their files' fault */
     return st;
 }

@@ -469,8 +469,10 @@ HPFC_API int hpfc_tree_read_part_memory(const void *data, size_t size, hpfc_tree
  * the mappings, which it keeps until hpfc_tree_free. What it holds besides
  * is a table of runs per level (a run per stretch of root pixels one part
  * owns in a row) and, while it counts the map's components, a union-find
- * over the edges (5 bytes an edge): a merge's memory is the parts' borders
- * and the writer's, the pixels staying in the files (the page cache). Every
+ * over the edges (4 bytes and a bit an edge;
+ * hpfc_tree_merge_files_uncounted, experimental, does without it): a
+ * merge's memory is the parts' borders and the writer's, the pixels
+ * staying in the files (the page cache). Every
  * write call takes the tree and writes the bytes hpfc_tree_merge's would
  * give. Errors as hpfc_tree_read_part (the message names the part's path)
  * and hpfc_tree_merge; HPFC_E_ARG for no path. The files must not change
@@ -1923,6 +1925,18 @@ HPFC_API int hpfc_graph_file_layout_of(uint64_t vertices, uint64_t edges, uint64
  * touches only theirs. The graph has no source lines. As with hpfc_open,
  * do not change the file while it is mapped. */
 HPFC_API int hpfc_graph_map_file(const char *path, hpfc_graph **out, hpfc_diag *diag);
+
+/* hpfc_tree_merge_files without counting the map's components: the joined
+ * tree's faces and components are 0 (hpfc_tree_get_info), not counted;
+ * everything else, every check and every byte written from it are
+ * hpfc_tree_merge_files's. The count is the one step of a join that needs
+ * a word per edge of the map (a union-find over them: 64 MB at 1.6*10^7
+ * edges, the peak of a Dask client's merge of 2*10^8 street points); what
+ * stays is a bit an edge, for the check that every edge is in some part's
+ * words. No writer needs the count: LABL's header gives the faces F of a
+ * file written with face labels, and then C = F + V - E - 1 (Euler). */
+HPFC_API int hpfc_tree_merge_files_uncounted(const char *const *paths, size_t count,
+                                             hpfc_tree **out, hpfc_diag *diag);
 
 /* The cut of hpfc_cut_create over edges [first_edge, end_edge) only (a
  * chunk's edges, routed to the parts by the process that read them);

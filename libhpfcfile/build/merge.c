@@ -33,8 +33,9 @@ typedef struct merger {
     hpfc_tree *t;
     source_image *next;       /* the next level's images, in joined order */
     size_t nnext;
-    uint32_t *edge_parent;    /* union-find over the map's edges */
-    uint8_t *edge_seen;
+    bool count_components;    /* the map's components (and faces) counted */
+    uint32_t *edge_parent;    /* union-find over the map's edges, when counted */
+    uint8_t *edge_seen;       /* a bit an edge: met in some part's words */
     word_parts wp;
     hpfc_diag *diag;
 } merger;
@@ -168,9 +169,9 @@ static int count_word(merger *m, const char *sym, uint32_t len, const uint32_t *
         if (edge[k] >= m->t->info.edges)
             return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: a part names edge %u of %llu", edge[k],
                             (unsigned long long)m->t->info.edges);
-        m->edge_seen[edge[k]] = 1;
+        m->edge_seen[edge[k] >> 3] |= (uint8_t)(1u << (edge[k] & 7));
         uint32_t c = wp->comp[k];
-        if (wp->comp_vertex[c] == WORD_NONE)
+        if (!m->edge_parent || wp->comp_vertex[c] == WORD_NONE)
             continue;
         uint32_t a = find_edge(m->edge_parent, edge[k]);
         uint32_t b = find_edge(m->edge_parent, edge[wp->comp_first[c]]);
@@ -185,13 +186,15 @@ static int count_map(merger *m)
     hpfc_tree_info *info = &m->t->info;
     uint64_t components = 0;
     for (uint64_t e = 0; e < info->edges; e++) {
-        if (!m->edge_seen[e])
+        if (!(m->edge_seen[e >> 3] & (1u << (e & 7))))
             return diag_set(m->diag, HPFC_E_ARG, "hpfc_tree_merge: edge %llu is in no part's words",
                             (unsigned long long)e);
-        components += find_edge(m->edge_parent, (uint32_t)e) == e;
+        components += m->edge_parent && find_edge(m->edge_parent, (uint32_t)e) == e;
     }
-    info->components = components;
-    info->faces = info->edges + 1 + components - info->vertices;
+    if (m->edge_parent) { /* else both stay 0: not counted */
+        info->components = components;
+        info->faces = info->edges + 1 + components - info->vertices;
+    }
     return HPFC_OK;
 }
 
@@ -323,11 +326,13 @@ static int begin_merge(merger *m, const char *who, size_t *roots)
     if (first->edges > crossings)
         return diag_set(m->diag, HPFC_E_ARG, "%s: %llu edges but %llu crossings in all parts", who,
                         (unsigned long long)first->edges, (unsigned long long)crossings);
-    m->edge_parent = malloc((first->edges ? first->edges : 1) * sizeof *m->edge_parent);
-    m->edge_seen = calloc(first->edges ? first->edges : 1, 1);
-    if (!m->edge_parent || !m->edge_seen || word_parts_alloc(&m->wp, max_symbols))
+    if (m->count_components &&
+        !(m->edge_parent = malloc((first->edges ? first->edges : 1) * sizeof *m->edge_parent)))
         return HPFC_E_NOMEM;
-    for (uint64_t e = 0; e < first->edges; e++)
+    m->edge_seen = calloc((size_t)(first->edges / 8 + 1), 1);
+    if (!m->edge_seen || word_parts_alloc(&m->wp, max_symbols))
+        return HPFC_E_NOMEM;
+    for (uint64_t e = 0; m->edge_parent && e < first->edges; e++)
         m->edge_parent[e] = (uint32_t)e;
     return HPFC_OK;
 }
@@ -379,7 +384,7 @@ int hpfc_tree_merge(hpfc_tree *const *parts, size_t count, hpfc_tree **out, hpfc
     if (!out)
         return diag_set(diag, HPFC_E_ARG, "hpfc_tree_merge: NULL argument");
     *out = NULL;
-    merger m = {.parts = parts, .nparts = count, .diag = diag};
+    merger m = {.parts = parts, .nparts = count, .count_components = true, .diag = diag};
     if (!(m.t = calloc(1, sizeof *m.t)))
         return diag_set(diag, HPFC_E_NOMEM, "out of memory");
     return end_merge(&m, merge_into(&m), out);
@@ -394,8 +399,10 @@ int hpfc_tree_merge(hpfc_tree *const *parts, size_t count, hpfc_tree **out, hpfc
  * parts' borders cross rows), and hpfc_tree_get_pixel reads each pixel
  * from its part, its child renumbered by its run's delta. The counts that
  * need every word (V, C, F) are made in one pass over the parts' words, as
- * hpfc_tree_merge makes them; its union-find over the map's edges is the
- * only memory that grows with the map (5 bytes an edge).
+ * hpfc_tree_merge makes them; its union-find over the map's edges (4 bytes
+ * an edge) and the edges met (a bit an edge) are the only memory that
+ * grows with the map. hpfc_tree_merge_files_uncounted leaves out the
+ * union-find, and with it C and F, which no writer needs.
  */
 
 /* Image `part_image` of `part` is the next image of joined level `level`:
@@ -563,7 +570,8 @@ static int read_part_file(const char *path, hpfc_tree **out, hpfc_diag *diag)
     return st;
 }
 
-int hpfc_tree_merge_files(const char *const *paths, size_t count, hpfc_tree **out, hpfc_diag *diag)
+static int merge_files(const char *const *paths, size_t count, bool count_components,
+                       hpfc_tree **out, hpfc_diag *diag)
 {
     diag_clear(diag);
     if (!out || (!paths && count))
@@ -584,6 +592,18 @@ int hpfc_tree_merge_files(const char *const *paths, size_t count, hpfc_tree **ou
     int st = HPFC_OK;
     for (size_t k = 0; k < count && !st; k++, v->nparts++)
         st = read_part_file(paths[k], &v->parts[k], diag);
-    merger m = {.parts = v->parts, .nparts = count, .t = t, .diag = diag};
+    merger m = {.parts = v->parts, .nparts = count, .t = t, .count_components = count_components,
+                .diag = diag};
     return end_merge(&m, st ? st : merge_view(&m, v), out);
+}
+
+int hpfc_tree_merge_files(const char *const *paths, size_t count, hpfc_tree **out, hpfc_diag *diag)
+{
+    return merge_files(paths, count, true, out, diag);
+}
+
+int hpfc_tree_merge_files_uncounted(const char *const *paths, size_t count, hpfc_tree **out,
+                                    hpfc_diag *diag)
+{
+    return merge_files(paths, count, false, out, diag);
 }

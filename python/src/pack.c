@@ -190,7 +190,9 @@ static PyObject *mod_pack_merge(PyObject *m, PyObject *args)
     const char *culprit = "merge";
     int st;
     Py_BEGIN_ALLOW_THREADS
-    st = part_dir_merge(NULL, paths, (uint32_t)count, &joined, &d);
+    /* no report here needs the map's components: not counted, the join
+     * holds a bit an edge, not a union-find over them */
+    st = part_dir_merge(NULL, paths, (uint32_t)count, false, &joined, &d);
     if (!st && geometry && (st = read_graph(pfc, graph_file, &g, &d)) != HPFC_OK)
         culprit = pfc;
     if (!st) {

@@ -641,6 +641,22 @@ static void test_merge_refusals(const fixture *f)
     hpfc_tree *gap[2] = {pw, pe};
     CHECK_EQ_INT(hpfc_tree_merge(gap, 2, &joined, &d), HPFC_E_ARG);
     CHECK(strstr(d.message, "edge 0") != NULL);
+    /* and from their files, the components counted or not (a bit an edge
+     * then says which were met) */
+    char gap_path[2][80];
+    for (int q = 0; q < 2; q++) {
+        part_file_path(gap_path[q], sizeof gap_path[q], (size_t)(5 + q));
+        CHECK_EQ_INT(hpfc_tree_write_part(gap[q], gap_path[q], &d), HPFC_OK);
+    }
+    const char *gap_files[2] = {gap_path[0], gap_path[1]};
+    for (int counted = 0; counted < 2; counted++) {
+        int st = counted ? hpfc_tree_merge_files(gap_files, 2, &joined, &d)
+                         : hpfc_tree_merge_files_uncounted(gap_files, 2, &joined, &d);
+        CHECK_EQ_INT(st, HPFC_E_ARG);
+        CHECK(joined == NULL && strstr(d.message, "edge 0") != NULL);
+    }
+    remove(gap_path[0]);
+    remove(gap_path[1]);
     hpfc_tree_free(pw);
     hpfc_tree_free(pe);
     hpfc_graph_free(sw.g);
@@ -768,9 +784,44 @@ static int merge_files_status(const char *const *paths, size_t n, const char *na
     return st;
 }
 
+/* A join without the components' count (hpfc_tree_merge_files_uncounted)
+ * against the counted `joined`: the same counts but F and C, those 0, and
+ * the same bytes, also with LABL's faces numbered a root pixel at a time
+ * as the Dask client writes them, whose face count is joined's F. */
+static void check_uncounted(const hpfc_tree *joined, const hpfc_tree *view, const hpfc_graph *g)
+{
+    hpfc_tree_info a, b;
+    hpfc_tree_get_info(joined, &a);
+    hpfc_tree_get_info(view, &b);
+    CHECK(a.faces > 1 && a.components > 0);
+    CHECK(b.faces == 0 && b.components == 0);
+    CHECK(a.vertices == b.vertices && a.edges == b.edges && a.levels == b.levels &&
+          a.word_pixels == b.word_pixels && a.refined_pixels == b.refined_pixels &&
+          a.max_word_symbols == b.max_word_symbols);
+    check_same_bytes(joined, view, g);
+    hpfc_write_options o = {.layout = HPFC_LAYOUT_COMPACT, .face_labels = 1, .geometry = g,
+                            .faces_by_root = 1, .threads = 2};
+    uint8_t *x = NULL, *y = NULL;
+    size_t nx = 0, ny = 0;
+    hpfc_diag d;
+    CHECK_EQ_INT(hpfc_tree_serialize(joined, &o, &x, &nx, &d), HPFC_OK);
+    CHECK_EQ_INT(hpfc_tree_serialize(view, &o, &y, &ny, &d), HPFC_OK);
+    CHECK(nx == ny && x && y && memcmp(x, y, nx) == 0);
+    hpfc_file *file = NULL;
+    hpfc_labels_info li;
+    CHECK_EQ_INT(y ? hpfc_open_memory(y, ny, 0, &file) : HPFC_E_ARG, HPFC_OK);
+    CHECK_EQ_INT(file ? hpfc_file_get_labels(file, &li) : HPFC_E_ARG, HPFC_OK);
+    CHECK(file && li.faces == a.faces);
+    hpfc_close(file);
+    comparisons++;
+    hpfc_free(x);
+    hpfc_free(y);
+}
+
 /* hpfc_tree_merge_files: the halves' files joined give hpfc_tree_merge's
- * bytes; a part twice, a part missing, a damaged or absent file and no
- * file are refused, a file's refusal naming it. */
+ * bytes, counted or not (check_uncounted); a part twice, a part missing, a
+ * damaged or absent file and no file are refused, a file's refusal naming
+ * it. */
 static void test_merge_files(const fixture *f)
 {
     hpfc_part west = {.domain = f->d, .root_pixels = f->half[0], .root_pixel_count = 8};
@@ -790,6 +841,11 @@ static void test_merge_files(const fixture *f)
     CHECK_EQ_INT(hpfc_tree_merge_files(both, 2, &view, &d), HPFC_OK);
     if (joined && view)
         check_same_bytes(joined, view, f->g);
+    hpfc_tree_free(view);
+    view = NULL;
+    CHECK_EQ_INT(hpfc_tree_merge_files_uncounted(both, 2, &view, &d), HPFC_OK);
+    if (joined && view)
+        check_uncounted(joined, view, f->g);
     hpfc_tree_free(view);
     /* refusals */
     bool names = false;
