@@ -22,7 +22,10 @@
  * read, or else of the copying merge, and its view serialises to the
  * copying merge's bytes (both layouts), or fails where that one fails;
  * serialised with the faces a root pixel at a time (faces_by_root) it
- * gives a known status with a diagnostic. Each of the view's two
+ * gives a known status with a diagnostic. The join without the
+ * components' count (hpfc_tree_merge_files_uncounted) gives the counted
+ * join's status, its counts but F and C, and its bytes with the faces by
+ * root. Each of the view's two
  * serialisations is also written to a file (hpfc_tree_write_fd, made in
  * the file's own pages): the same status and the same bytes.
  */
@@ -144,6 +147,43 @@ static const char *part_path(const uint8_t *data, size_t size)
     return path;
 }
 
+/* The part joined alone from its file without the components' count
+ * (hpfc_tree_merge_files_uncounted): the counted join's status `want_st`
+ * and, when it succeeds (`counted`), its counts but F and C (0), and its
+ * bytes with the faces a root pixel at a time (as the Dask client writes
+ * them), status and bytes. */
+static void check_uncounted(const char *path, int want_st, const hpfc_tree *counted)
+{
+    hpfc_tree *view = NULL;
+    hpfc_diag d;
+    int st = hpfc_tree_merge_files_uncounted(&path, 1, &view, &d);
+    fuzz_check_diag(&d, st);
+    FUZZ_CHECK((st == HPFC_OK) == (view != NULL));
+    if (st == HPFC_E_NOMEM || want_st == HPFC_E_NOMEM) {
+        hpfc_tree_free(view);
+        return;
+    }
+    FUZZ_CHECK(st == want_st);
+    if (st) {
+        hpfc_tree_free(view);
+        return;
+    }
+    hpfc_tree_info a, b;
+    hpfc_tree_get_info(counted, &a);
+    hpfc_tree_get_info(view, &b);
+    FUZZ_CHECK(b.faces == 0 && b.components == 0 && a.vertices == b.vertices && a.edges == b.edges &&
+               a.levels == b.levels && a.word_pixels == b.word_pixels);
+    uint8_t *x = NULL, *y = NULL;
+    size_t nx = 0, ny = 0;
+    int sx = serialize(counted, HPFC_LAYOUT_COMPACT, 1, &x, &nx);
+    int sy = serialize(view, HPFC_LAYOUT_COMPACT, 1, &y, &ny);
+    if (sx != HPFC_E_NOMEM && sy != HPFC_E_NOMEM)
+        FUZZ_CHECK(sx == sy && nx == ny && (sx || memcmp(x, y, nx) == 0));
+    hpfc_free(x);
+    hpfc_free(y);
+    hpfc_tree_free(view);
+}
+
 /* The part joined alone from its file: the read's status (read_st), or
  * else the copying merge's (merge_st), and then the copying merge's bytes
  * (`joined`'s) in both layouts. */
@@ -161,6 +201,7 @@ static void merge_file_alone(const uint8_t *data, size_t size, int read_st, int 
     if (st != HPFC_E_NOMEM)
         FUZZ_CHECK(st == (read_st ? read_st : merge_st) ||
                    (read_st == HPFC_E_NOMEM || merge_st == HPFC_E_NOMEM));
+    check_uncounted(path, st, view);
     if (st || !joined) {
         hpfc_tree_free(view);
         return;
