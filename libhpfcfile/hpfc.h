@@ -1926,6 +1926,8 @@ HPFC_API int hpfc_graph_file_layout_of(uint64_t vertices, uint64_t edges, uint64
  * do not change the file while it is mapped. */
 HPFC_API int hpfc_graph_map_file(const char *path, hpfc_graph **out, hpfc_diag *diag);
 
+/* ---- A split build's join, without the map's component count -------------
+ * (hpfc.pack's merge, python/src/pack.c) */
 /* hpfc_tree_merge_files without counting the map's components: the joined
  * tree's faces and components are 0 (hpfc_tree_get_info), not counted;
  * everything else, every check and every byte written from it are
