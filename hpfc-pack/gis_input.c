@@ -27,6 +27,8 @@
 
 #include <errno.h>
 #include <math.h>
+#include <time.h>
+#include <unistd.h>
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -104,6 +106,17 @@ typedef struct reader {
     double xmin, ymin, xmax, ymax;
     segnode_pt *line_ends; /* where each line part starts and ends in the map */
     size_t n_line_ends, cap_line_ends;
+
+    /* A read in feature ranges (gis_range.h). gis_read_range: the one
+     * range read here, and what it keeps (features, attributes and noded
+     * polygons' names go there instead of info). gis_read_graph with
+     * opt->ranges: the ranges other processes read, loaded by read_layer
+     * instead of reading the features (NULL: read here). */
+    const gis_range_plan *only;
+    gis_range *kept;
+    gis_range_plan *plan;
+    size_t n_plan;
+    uint64_t tag;
 } reader;
 
 static int fail(reader *r, const char *fmt, ...)
@@ -148,14 +161,24 @@ static void repaired_item(const reader *r, char *buf, size_t n)
         snprintf(buf, n, "layer '%.40s' feature %lld", r->layer_name, (long long)r->fid);
 }
 
-/* Adds a noded polygon to the report's short list (the first few). */
-static void note_repaired(reader *r, const char *item)
+/* Adds a noded polygon to the report's short list (the first few); a
+ * range keeps the names for the list of the whole read. */
+static int note_repaired(reader *r, const char *item)
 {
+    if (r->kept && gis_range_add_repaired(r->kept, item) != 0)
+        return fail(r, "out of memory");
     char *list = r->info->repaired;
     size_t len = strlen(list), cap = sizeof r->info->repaired;
     if (r->info->invalid_noded > 4 || len + 8 >= cap)
-        return;
+        return 0;
     snprintf(list + len, cap - len, "%s%s", len ? ", " : "", item);
+    return 0;
+}
+
+/* The index the next feature with parts gets. */
+static uint32_t features_so_far(const reader *r)
+{
+    return r->kept ? (uint32_t)r->kept->n_features : gis_features_count(r->info->polygons);
 }
 
 static void geos_message(const char *msg, void *user)
@@ -245,8 +268,7 @@ static int take_verdict(void *user, const polygon_verdict *v)
         return 0;
     if (r->opt->invalid_mode == GIS_INVALID_NODE) {
         r->info->invalid_noded++;
-        note_repaired(r, v->item);
-        return 0;
+        return note_repaired(r, v->item);
     }
     return fail(r, "%s: invalid polygon: %s (--invalid node, the default, packs its rings as "
                    "noded linework)",
@@ -344,29 +366,57 @@ static void iso_date(OGRFeatureH f, int i, OGRFieldType t, char *buf, size_t n)
         snprintf(buf, n, "%04d-%02d-%02dT%s%s", y, mo, d, time, zone);
 }
 
+/* Value k of the layer's --fields: to the attribute row, or to the
+ * range's feature (its field index, for the reader that loads it). */
+static int set_integer(reader *r, size_t k, int64_t v)
+{
+    return r->kept ? gis_range_add_integer(r->kept, (uint32_t)k, v)
+                   : gis_attrs_set_integer(r->info->attrs, r->fields[k].column, v);
+}
+
+static int set_real(reader *r, size_t k, double v)
+{
+    return r->kept ? gis_range_add_real(r->kept, (uint32_t)k, v)
+                   : gis_attrs_set_real(r->info->attrs, r->fields[k].column, v);
+}
+
+static int set_string(reader *r, size_t k, const char *v)
+{
+    return r->kept ? gis_range_add_string(r->kept, (uint32_t)k, v)
+                   : gis_attrs_set_string(r->info->attrs, r->fields[k].column, v);
+}
+
+/* Starts the feature's attribute row with its source FID (a range's
+ * reader adds it when it loads the feature). */
+static int start_row(reader *r)
+{
+    gis_attrs *a = r->info->attrs;
+    if (!r->kept && (gis_attrs_row(a) != 0 || gis_attrs_set_integer(a, 0, r->fid) != 0))
+        return fail(r, "out of memory");
+    return 0;
+}
+
 /* The --fields values of feature f as the next attribute row, after its
  * source FID. */
 static int add_attributes(reader *r, OGRFeatureH f)
 {
-    gis_attrs *a = r->info->attrs;
-    if (gis_attrs_row(a) != 0 || gis_attrs_set_integer(a, 0, r->fid) != 0)
-        return fail(r, "out of memory");
+    if (start_row(r))
+        return 1;
     for (size_t k = 0; k < r->n_fields; k++) {
         int i = r->fields[k].index, st;
-        uint32_t c = r->fields[k].column;
         if (!OGR_F_IsFieldSetAndNotNull(f, i))
             continue;
         OGRFieldType t = (OGRFieldType)r->fields[k].kind;
         if (t == OFTInteger || t == OFTInteger64)
-            st = gis_attrs_set_integer(a, c, OGR_F_GetFieldAsInteger64(f, i));
+            st = set_integer(r, k, OGR_F_GetFieldAsInteger64(f, i));
         else if (t == OFTReal)
-            st = gis_attrs_set_real(a, c, OGR_F_GetFieldAsDouble(f, i));
+            st = set_real(r, k, OGR_F_GetFieldAsDouble(f, i));
         else if (t == OFTDate || t == OFTTime || t == OFTDateTime) {
             char buf[64];
             iso_date(f, i, t, buf, sizeof buf);
-            st = gis_attrs_set_string(a, c, buf);
+            st = set_string(r, k, buf);
         } else
-            st = gis_attrs_set_string(a, c, OGR_F_GetFieldAsString(f, i));
+            st = set_string(r, k, OGR_F_GetFieldAsString(f, i));
         if (st)
             return fail(r, "out of memory");
     }
@@ -406,7 +456,9 @@ static int add_feature(reader *r, OGRFeatureH f)
 {
     int failed = 0;
     char *key = key_value(r, f, &failed);
-    if (failed || gis_features_add(r->info->polygons, r->position, r->fid, r->layer_index, key) != 0) {
+    if (failed || (r->kept ? gis_range_add_feature(r->kept, r->position, r->fid, key)
+                           : gis_features_add(r->info->polygons, r->position, r->fid,
+                                              r->layer_index, key)) != 0) {
         free(key);
         return fail(r, "out of memory");
     }
@@ -461,7 +513,7 @@ static int read_feature(reader *r, OGRFeatureH f, uint64_t *lines)
     }
     size_t parts_before = r->n_parts;
     int st = 0;
-    r->feature = gis_features_count(r->info->polygons);
+    r->feature = features_so_far(r);
     r->polygon = has_polygon(g);
     st = read_geometry(r, g, lines, &lin);
     if (!st && r->n_parts > parts_before)
@@ -625,22 +677,28 @@ static int find_fields(reader *r, OGRLayerH layer)
     return 0;
 }
 
-static int read_layer(reader *r, OGRLayerH layer, int chosen)
+/* Reads the layer's features (gis_read_range: its range's alone);
+ * *features counts them, *lines their lines and rings. */
+static int read_features(reader *r, OGRLayerH layer, uint64_t *features, uint64_t *lines)
 {
-    r->layer_name = OGR_L_GetName(layer);
-    if (find_key_field(r, layer) != 0 || find_fields(r, layer) != 0 ||
-        gis_features_set_layer(r->info->polygons, r->layer_index, r->layer_name) != 0)
-        return r->err[0] ? 1 : fail(r, "out of memory");
     GIntBig total = r->bar.on ? OGR_L_GetFeatureCount(layer, TRUE) : -1;
-    uint64_t features = 0, lines = 0, done = 0;
+    uint64_t done = 0;
+    int64_t end = r->only ? r->only->end : -1;
     OGR_L_ResetReading(layer);
-    OGRFeatureH f;
     CPLErrorReset();
     r->position = 0;
-    while ((f = OGR_L_GetNextFeature(layer)) != NULL) {
-        features++;
+    /* GDAL's contract: the feature the begin-th GetNextFeature gives */
+    if (r->only && r->only->begin > 0) {
+        if (OGR_L_SetNextByIndex(layer, r->only->begin) != OGRERR_NONE)
+            return fail(r, "layer '%s': cannot start reading at feature %lld", r->layer_name,
+                        (long long)r->only->begin);
+        r->position = r->only->begin;
+    }
+    OGRFeatureH f;
+    while ((end < 0 || r->position < end) && (f = OGR_L_GetNextFeature(layer)) != NULL) {
+        ++*features;
         r->cur = f;
-        int st = read_feature(r, f, &lines);
+        int st = read_feature(r, f, lines);
         r->position++;
         r->cur = NULL;
         OGR_F_Destroy(f);
@@ -651,7 +709,176 @@ static int read_layer(reader *r, OGRLayerH layer, int chosen)
     }
     if (CPLGetLastErrorType() >= CE_Failure)
         return fail(r, "layer '%s': %s", r->layer_name, CPLGetLastErrorMsg());
+    return 0;
+}
+
+/* The attribute type of a range's value kind. */
+static int attr_type_of_kind(uint8_t kind)
+{
+    return kind == GIS_RANGE_INTEGER ? HPFC_ATTR_INTEGER
+           : kind == GIS_RANGE_REAL  ? HPFC_ATTR_REAL
+                                     : HPFC_ATTR_STRING;
+}
+
+/* A range's feature and its attribute row, as add_feature records them. */
+static int take_feature(reader *r, const gis_range *g, const gis_range_feature *ft,
+                        const char *name)
+{
+    r->fid = ft->fid;
+    const char *key = ft->key == GIS_RANGE_NONE ? NULL : g->text + ft->key;
+    if (gis_features_add(r->info->polygons, ft->position, ft->fid, r->layer_index, key) != 0 ||
+        start_row(r) != 0)
+        return fail(r, "out of memory");
+    for (size_t v = 0; v < ft->values; v++) {
+        const gis_range_value *val = &g->values[ft->first_value + v];
+        if (attr_type_of_kind(val->kind) != attr_type_of((OGRFieldType)r->fields[val->field].kind))
+            return fail(r, "%s: damaged range file: a value of field %u is not of its type", name,
+                        val->field);
+        int st = val->kind == GIS_RANGE_INTEGER ? set_integer(r, val->field, val->i)
+                 : val->kind == GIS_RANGE_REAL  ? set_real(r, val->field, val->r)
+                                                : set_string(r, val->field, g->text + val->s);
+        if (st)
+            return fail(r, "out of memory");
+    }
+    return 0;
+}
+
+/* A range's part, with add_part's checks of a geographic layer's points
+ * (those of any layer, finite, the range's decoder made). */
+static int take_part(reader *r, const gis_range *g, const gis_range_part *pt, uint32_t base,
+                     const char *name)
+{
+    size_t n = pt->points;
+    if (!array_grow((void **)&r->xy, &r->cap_points, r->n_points + n, 2 * sizeof(double)) ||
+        !array_grow((void **)&r->start, &r->cap_start, r->n_parts + 2, sizeof(size_t)) ||
+        !array_grow((void **)&r->refs, &r->cap_parts, r->n_parts + 1, sizeof(part_ref)))
+        return fail(r, "out of memory");
+    const double *x = g->xy + 2 * pt->first_point;
+    for (size_t i = 0; i < n; i++) {
+        double px = x[2 * i], py = x[2 * i + 1];
+        if (r->geographic &&
+            (px < -180.0 || px > 180.0 || py < -90.0 || py > 90.0 ||
+             (i > 0 && dateline_segment_wraps(x[2 * i - 2], x[2 * i - 1], px, py))))
+            return fail(r, "%s: damaged range file: a point outside the longitude/latitude "
+                           "range, or a segment across the antimeridian",
+                        name);
+        r->xmin = fmin(r->xmin, px), r->xmax = fmax(r->xmax, px);
+        r->ymin = fmin(r->ymin, py), r->ymax = fmax(r->ymax, py);
+    }
+    memcpy(r->xy + 2 * r->n_points, x, 2 * n * sizeof *x);
+    const gis_range_feature *ft = &g->features[pt->feature];
+    r->start[r->n_parts] = r->n_points;
+    r->refs[r->n_parts] = (part_ref){r->layer_index, ft->fid, base + pt->feature, pt->ring};
+    r->n_parts++;
+    r->n_points += n;
+    r->start[r->n_parts] = r->n_points;
+    return 0;
+}
+
+/* What another process read of the layer, appended as read_features would
+ * have appended it. */
+static int take_range(reader *r, const gis_range *g, const char *name)
+{
+    if (g->fields != r->n_fields)
+        return fail(r, "%s: a range file of another reading (%u fields; the layer has %zu)", name,
+                    g->fields, r->n_fields);
+    uint32_t base = gis_features_count(r->info->polygons);
+    if (g->n_features > UINT32_MAX - base)
+        return fail(r, "%s: more features than a file holds", name);
+    for (size_t f = 0; f < g->n_features; f++)
+        if (take_feature(r, g, &g->features[f], name))
+            return 1;
+    for (size_t p = 0; p < g->n_parts; p++)
+        if (take_part(r, g, &g->parts[p], base, name))
+            return 1;
+    gis_info *info = r->info;
+    info->skipped_empty += g->counts.skipped_empty;
+    info->skipped_points += g->counts.skipped_points;
+    info->dateline_cut += g->counts.dateline_cut;
+    if (g->counts.invalid_noded && r->opt->invalid_mode != GIS_INVALID_NODE)
+        return fail(r, "%s: a range file of another reading (invalid polygons noded)", name);
+    for (uint64_t k = 0; k < g->counts.invalid_noded; k++) {
+        info->invalid_noded++;
+        if (k < g->n_repaired && note_repaired(r, g->text + g->repaired[k]))
+            return 1;
+    }
+    return 0;
+}
+
+/* Range file K's bytes (malloc'ed), or a failure. */
+static int read_range_file(reader *r, size_t k, uint8_t **bytes, size_t *len, char *name,
+                           size_t name_len)
+{
+    snprintf(name, name_len, "%s/range-%zu", r->opt->ranges->dir, k);
+    errno = 0;
+    FILE *f = fopen(name, "rb");
+    long size = -1;
+    if (f && fseek(f, 0, SEEK_END) == 0)
+        size = ftell(f);
+    *bytes = size >= 0 && fseek(f, 0, SEEK_SET) == 0 ? malloc(size ? (size_t)size : 1) : NULL;
+    int ok = *bytes && fread(*bytes, 1, (size_t)size, f) == (size_t)size;
+    int err = ok ? 0 : errno;
+    if (f)
+        fclose(f);
+    if (!ok) {
+        free(*bytes);
+        return fail(r, "%s: cannot read: %s", name, err ? strerror(err) : "short read");
+    }
+    *len = (size_t)size;
+    return 0;
+}
+
+/* The layer's ranges, read by other processes, taken in order;
+ * *features and *lines as read_features counts them. */
+static int load_layer(reader *r, uint64_t *features, uint64_t *lines)
+{
+    for (size_t k = 0; k < r->n_plan; k++) {
+        const gis_range_plan *p = &r->plan[k];
+        if (p->layer != r->layer_index)
+            continue;
+        char name[1200], why[256];
+        uint8_t *bytes = NULL;
+        size_t len = 0;
+        if (read_range_file(r, k, &bytes, &len, name, sizeof name))
+            return 1;
+        gis_range g;
+        int st = gis_range_decode(bytes, len, r->tag, p->layer, p->begin, &g, why, sizeof why);
+        free(bytes);
+        if (st)
+            return fail(r, "%s: %s", name, why);
+        if (p->end >= 0 && (int64_t)g.counts.read != p->end - p->begin)
+            st = fail(r, "layer '%s': %llu features read from feature %lld where %lld were "
+                         "counted: the layer changed while it was read",
+                      r->layer_name, (unsigned long long)g.counts.read, (long long)p->begin,
+                      (long long)(p->end - p->begin));
+        if (!st)
+            st = take_range(r, &g, name);
+        *features += g.counts.read;
+        *lines += g.counts.lines;
+        gis_range_free(&g);
+        if (st)
+            return st;
+    }
+    return 0;
+}
+
+static int read_layer(reader *r, OGRLayerH layer, int chosen)
+{
+    r->layer_name = OGR_L_GetName(layer);
+    if (find_key_field(r, layer) != 0 || find_fields(r, layer) != 0 ||
+        (!r->kept &&
+         gis_features_set_layer(r->info->polygons, r->layer_index, r->layer_name) != 0))
+        return r->err[0] ? 1 : fail(r, "out of memory");
+    uint64_t features = 0, lines = 0;
+    int st = r->plan ? load_layer(r, &features, &lines) : read_features(r, layer, &features, &lines);
+    if (st)
+        return st;
     r->info->features += features;
+    if (r->kept) { /* a range: the layer's totals are for the whole read */
+        r->kept->counts.read = features;
+        r->kept->counts.lines = lines;
+        return 0;
+    }
     if (features == 0)
         return fail(r, "layer '%s' is empty (no features)", r->layer_name);
     if (lines == 0)
@@ -711,15 +938,13 @@ static OGRSpatialReferenceH layer_srs(reader *r, OGRLayerH layer)
     return r->assumed_srs;
 }
 
-/* Opens the dataset and reads the selected layers. */
-static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatialReferenceH *srs_out)
+/* Opens the dataset (or takes the caller's): NULL with a failure. */
+static GDALDatasetH open_dataset(reader *r, const char *path)
 {
     /* Reading never writes: GDAL's GML driver would otherwise leave a .gfs
      * schema beside the input, and read it back the next time, so that the
      * same file could pack differently twice. */
     static const char *const open_options[] = {"WRITE_GFS=NO", NULL};
-    if ((r->opt->assign_srs || r->opt->source_srs) && !(r->given_srs = user_srs(r)))
-        return 1;
     GDALDatasetH ds = r->given ? r->given
                                : GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL,
                                             open_options, NULL);
@@ -729,40 +954,148 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
         errno = 0;
         VSILFILE *probe = VSIFOpenL(path, "rb");
         if (!probe)
-            return fail(r, "cannot read: %s", errno ? strerror(errno) : "no such file");
+            return fail(r, "cannot read: %s", errno ? strerror(errno) : "no such file"), NULL;
         VSIFCloseL(probe);
         const char *msg = CPLGetLastErrorMsg();
         if (msg && msg[0])
-            return fail(r, "not a vector dataset GDAL can read: %s", msg);
-        return fail(r, "unknown format: not a vector dataset GDAL can read");
+            return fail(r, "not a vector dataset GDAL can read: %s", msg), NULL;
+        return fail(r, "unknown format: not a vector dataset GDAL can read"), NULL;
     }
     GDALDriverH drv = GDALGetDatasetDriver(ds);
     snprintf(r->info->driver, sizeof r->info->driver, "%s",
              drv ? GDALGetDriverShortName(drv) : "GDAL");
-    int st = 0, n = GDALDatasetGetLayerCount(ds);
-    size_t want = r->opt->n_layers ? r->opt->n_layers : (size_t)n;
+    return ds;
+}
+
+/* Layer k of those read: the k-th named with --layer, else the dataset's
+ * k-th. 0 with *out; -1 to pass over it (a table without geometry, when
+ * the layers are not named); 1, a failure, when a named layer is not
+ * there. */
+static int select_layer(reader *r, GDALDatasetH ds, size_t k, OGRLayerH *out)
+{
+    int n = GDALDatasetGetLayerCount(ds);
+    if (!r->opt->n_layers) {
+        *out = GDALDatasetGetLayer(ds, (int)k);
+        return OGR_L_GetGeomType(*out) == wkbNone ? -1 : 0;
+    }
+    if ((*out = GDALDatasetGetLayerByName(ds, r->opt->layers[k])) != NULL)
+        return 0;
+    char names[200] = "";
+    for (int i = 0; i < n; i++) {
+        size_t len = strlen(names);
+        snprintf(names + len, sizeof names - len, "%s'%s'", i ? ", " : "",
+                 OGR_L_GetName(GDALDatasetGetLayer(ds, i)));
+    }
+    return fail(r, "no layer '%s' (layers: %s)", r->opt->layers[k], names);
+}
+
+/* A tag that tells this reading's range files from any other's. */
+static uint64_t reading_tag(void)
+{
+    uint64_t tag = 0;
+    FILE *f = fopen("/dev/urandom", "rb");
+    if (!f || fread(&tag, sizeof tag, 1, f) != 1)
+        tag = (uint64_t)time(NULL) * UINT64_C(0x9e3779b97f4a7c15) ^ (uint64_t)getpid();
+    if (f)
+        fclose(f);
+    return tag;
+}
+
+/* Cuts the `want` layers to read into about opt->ranges->count ranges of
+ * equal feature counts and has other processes read them: r->plan is set
+ * when they were. A layer GDAL cannot count, or a reader that failed,
+ * leaves the features to be read here (which words any failure). */
+static int plan_ranges(reader *r, GDALDatasetH ds, size_t want)
+{
+    const gis_ranges *rg = r->opt->ranges;
+    int64_t *count = calloc(want ? want : 1, sizeof *count);
+    gis_range_plan *plan = NULL;
+    size_t n = 0, cap = 0;
+    uint64_t total = 0;
+    if (!count)
+        return fail(r, "out of memory");
+    for (size_t k = 0; k < want; k++) {
+        OGRLayerH layer;
+        int st = select_layer(r, ds, k, &layer);
+        count[k] = st < 0 ? 0 : st > 0 ? -1 : (int64_t)OGR_L_GetFeatureCount(layer, TRUE);
+        if (count[k] < 0) {
+            r->err[0] = 0; /* the read here says it again, in its place */
+            goto here;
+        }
+        total += (uint64_t)count[k];
+    }
+    uint64_t size = total / (rg->count ? rg->count : 1) + 1;
+    for (size_t k = 0; k < want; k++) {
+        uint64_t c = (uint64_t)count[k], pieces = (c + size - 1) / size;
+        for (uint64_t i = 0; i < pieces; i++) {
+            if (!array_grow((void **)&plan, &cap, n + 1, sizeof *plan)) {
+                free(plan);
+                free(count);
+                return fail(r, "out of memory");
+            }
+            plan[n++] = (gis_range_plan){(uint32_t)k, (int64_t)(c * i / pieces),
+                                         i + 1 == pieces ? -1 : (int64_t)(c * (i + 1) / pieces)};
+        }
+    }
+    r->tag = reading_tag();
+    if (n && rg->read(rg->user, plan, n, r->tag) == 0) {
+        r->plan = plan, r->n_plan = n;
+        free(count);
+        return 0;
+    }
+here:
+    free(plan);
+    free(count);
+    CPLErrorReset();
+    return 0;
+}
+
+/* gis_read_range: the range's layer alone, in the SRS of the layers a
+ * whole read checks are all the same. */
+static int read_range_layer(reader *r, GDALDatasetH ds, OGRSpatialReferenceH *srs_out)
+{
+    size_t want = r->opt->n_layers ? r->opt->n_layers : (size_t)GDALDatasetGetLayerCount(ds);
+    OGRLayerH layer;
+    int st = r->only->layer < want ? select_layer(r, ds, r->only->layer, &layer) : -1;
+    if (st)
+        return st > 0 ? 1 : fail(r, "no layer %u with geometry to read", r->only->layer);
+    OGRSpatialReferenceH srs = layer_srs(r, layer);
+    *srs_out = srs ? OSRClone(srs) : NULL;
+    setup_srs(r, *srs_out);
+    r->layer_index = r->only->layer;
+    st = read_layer(r, layer, r->opt->n_layers != 0);
+    r->kept->fields = (uint32_t)r->n_fields;
+    return st;
+}
+
+/* Opens the dataset and reads the selected layers. */
+static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatialReferenceH *srs_out)
+{
+    if ((r->opt->assign_srs || r->opt->source_srs) && !(r->given_srs = user_srs(r)))
+        return 1;
+    GDALDatasetH ds = open_dataset(r, path);
+    if (!ds)
+        return 1;
+    size_t want = r->opt->n_layers ? r->opt->n_layers : (size_t)GDALDatasetGetLayerCount(ds);
     OGRSpatialReferenceH srs0 = NULL;
     const char *name0 = NULL;
+    int st = 0;
+    if (r->only) {
+        st = read_range_layer(r, ds, &srs0);
+        name0 = "";
+        goto finish;
+    }
     if (want == 0)
         st = fail(r, "the dataset has no layer");
+    else if (r->opt->ranges && r->opt->ranges->count && !r->given)
+        st = plan_ranges(r, ds, want);
     for (size_t k = 0; k < want && !st; k++) {
         OGRLayerH layer;
-        if (r->opt->n_layers) {
-            layer = GDALDatasetGetLayerByName(ds, r->opt->layers[k]);
-            if (!layer) {
-                char names[200] = "";
-                for (int i = 0; i < n; i++) {
-                    size_t len = strlen(names);
-                    snprintf(names + len, sizeof names - len, "%s'%s'", i ? ", " : "",
-                             OGR_L_GetName(GDALDatasetGetLayer(ds, i)));
-                }
-                st = fail(r, "no layer '%s' (layers: %s)", r->opt->layers[k], names);
-                break;
-            }
-        } else
-            layer = GDALDatasetGetLayer(ds, (int)k);
-        if (!r->opt->n_layers && OGR_L_GetGeomType(layer) == wkbNone)
+        int sel = select_layer(r, ds, k, &layer);
+        if (sel < 0)
             continue; /* a table without geometry */
+        if ((st = sel) != 0)
+            break;
         OGRSpatialReferenceH srs = layer_srs(r, layer);
         if (!name0) {
             name0 = OGR_L_GetName(layer);
@@ -778,15 +1111,16 @@ static int read_dataset(reader *r, const char *path, char **srs_text, OGRSpatial
         st = read_layer(r, layer, r->opt->n_layers != 0);
         r->info->layers++;
     }
+finish:
     /* every polygon's verdict before any failure after them; a failure of
      * the verdicts is the earlier and replaces the message */
     if (polygon_checks_finish(r->checks))
         st = 1;
     if (!st && !name0)
         st = fail(r, "the dataset has no layer with geometry");
-    if (!st && r->opt->key_field && !r->key_found)
+    if (!st && !r->only && r->opt->key_field && !r->key_found)
         st = fail(r, "%s", r->key_missing);
-    if (!st && srs0) {
+    if (!st && srs0 && !r->only) {
         char *p4 = NULL;
         if (OSRExportToProj4(srs0, &p4) == OGRERR_NONE && p4) {
             *srs_text = strdup(p4);
@@ -1398,15 +1732,55 @@ int gis_projection_valid(const char *name)
     return mapproj_parse_kind(name, &k);
 }
 
+/* GDAL and GEOS set up for a read, and the polygons' checks started. */
+static void reader_start(reader *r, char *err)
+{
+    r->bar.on = r->opt->progress;
+    r->xmin = r->ymin = INFINITY;
+    r->xmax = r->ymax = -INFINITY;
+    err[0] = 0;
+    /* GDAL speaks through our one-line messages only; GeoJSON objects of
+     * any size are read. */
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    CPLSetConfigOption("OGR_GEOJSON_MAX_OBJ_SIZE", "0");
+    GDALAllRegister();
+    r->geos = GEOS_init_r();
+    GEOSContext_setErrorMessageHandler_r(r->geos, geos_message, r);
+    GEOSContext_setNoticeMessageHandler_r(r->geos, geos_notice, r);
+    r->checks = polygon_checks_create(r->opt->threads > 1,
+                                      r->opt->invalid_mode != GIS_INVALID_NODE, take_verdict, r);
+}
+
+/* What reader_start and the read made, released; err made one line. */
+static void reader_end(reader *r, char *srs_p4, OGRSpatialReferenceH srs)
+{
+    progress_end(&r->bar);
+    free(r->xy);
+    free(r->start);
+    free(r->refs);
+    free(r->line_ends);
+    free(r->key_index);
+    free(r->fields);
+    free(r->plan);
+    free(srs_p4);
+    if (srs)
+        OSRDestroySpatialReference(srs);
+    if (r->given_srs)
+        OSRDestroySpatialReference(r->given_srs);
+    if (r->assumed_srs)
+        OSRDestroySpatialReference(r->assumed_srs);
+    GEOS_finish_r(r->geos);
+    CPLPopErrorHandler();
+    for (char *c = r->err; *c; c++)
+        if (*c == '\n' || *c == '\r')
+            *c = ' ';
+}
+
 static int read_graph(const char *path, GDALDatasetH given, const gis_options *opt,
                       hpfc_graph **out, gis_info *info, char *err, size_t err_len)
 {
     memset(info, 0, sizeof *info);
     reader r = {.opt = opt, .given = given, .info = info, .err = err, .err_len = err_len};
-    r.bar.on = opt->progress;
-    r.xmin = r.ymin = INFINITY;
-    r.xmax = r.ymax = -INFINITY;
-    err[0] = 0;
     if (!(info->polygons = gis_features_create(opt->key_field)) ||
         !(info->attrs = gis_attrs_create()) ||
         gis_attrs_column(info->attrs, "source_fid", HPFC_ATTR_INTEGER) != 0) {
@@ -1414,17 +1788,7 @@ static int read_graph(const char *path, GDALDatasetH given, const gis_options *o
         snprintf(err, err_len, "out of memory");
         return 1;
     }
-
-    /* GDAL speaks through our one-line messages only; GeoJSON objects of
-     * any size are read. */
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLSetConfigOption("OGR_GEOJSON_MAX_OBJ_SIZE", "0");
-    GDALAllRegister();
-    r.geos = GEOS_init_r();
-    GEOSContext_setErrorMessageHandler_r(r.geos, geos_message, &r);
-    GEOSContext_setNoticeMessageHandler_r(r.geos, geos_notice, &r);
-    r.checks = polygon_checks_create(opt->threads > 1, opt->invalid_mode != GIS_INVALID_NODE,
-                                     take_verdict, &r);
+    reader_start(&r, err);
 
     char *srs_p4 = NULL;
     OGRSpatialReferenceH srs = NULL;
@@ -1442,6 +1806,8 @@ static int read_graph(const char *path, GDALDatasetH given, const gis_options *o
     }
     free(r.xy);
     r.xy = NULL;
+    free(r.plan);
+    r.plan = NULL;
     info->project_t = stage_lap(&t);
     seg *geos = NULL, *dirty = NULL;
     size_t n_geos = 0, n_dirty = 0;
@@ -1458,30 +1824,59 @@ static int read_graph(const char *path, GDALDatasetH given, const gis_options *o
     if (!st)
         st = make_graph(&r, segs, n_segs, out);
     info->graph_t = stage_lap(&t);
-    progress_end(&r.bar);
     free(segs);
-    free(r.start);
-    free(r.refs);
-    free(r.line_ends);
-    free(r.key_index);
-    free(r.fields);
-    free(srs_p4);
-    if (srs)
-        OSRDestroySpatialReference(srs);
-    if (r.given_srs)
-        OSRDestroySpatialReference(r.given_srs);
-    if (r.assumed_srs)
-        OSRDestroySpatialReference(r.assumed_srs);
-    GEOS_finish_r(r.geos);
-    CPLPopErrorHandler();
+    reader_end(&r, srs_p4, srs);
     if (st) {
         gis_info_free(info);
-        for (char *c = err; *c; c++)
-            if (*c == '\n' || *c == '\r')
-                *c = ' ';
         return 1;
     }
     return 0;
+}
+
+/* The parts read, as the range's parts. */
+static int keep_parts_read(reader *r)
+{
+    for (size_t k = 0; k < r->n_parts; k++) {
+        size_t n = r->start[k + 1] - r->start[k];
+        if (gis_range_add_part(r->kept, r->refs[k].feature, r->xy + 2 * r->start[k], n,
+                               r->refs[k].ring) != 0)
+            return fail(r, "out of memory");
+    }
+    return 0;
+}
+
+int gis_read_range(const char *path, const gis_options *opt, const gis_range_plan *range,
+                   uint64_t tag, uint8_t **bytes, size_t *len, char *err, size_t err_len)
+{
+    gis_info info;
+    memset(&info, 0, sizeof info);
+    gis_range kept;
+    gis_range_init(&kept, tag, range->layer, 0, range->begin);
+    reader r = {.opt = opt, .info = &info, .err = err, .err_len = err_len, .only = range,
+                .kept = &kept};
+    /* the fields' columns, as a whole read numbers them (the values go to
+     * the range) */
+    if (!(info.attrs = gis_attrs_create())) {
+        snprintf(err, err_len, "out of memory");
+        return 1;
+    }
+    reader_start(&r, err);
+    char *srs_p4 = NULL;
+    OGRSpatialReferenceH srs = NULL;
+    int st = r.checks ? read_dataset(&r, path, &srs_p4, &srs) : fail(&r, "out of memory");
+    polygon_checks_free(r.checks);
+    if (!st) {
+        gis_range_counts *c = &kept.counts;
+        c->skipped_empty = info.skipped_empty, c->skipped_points = info.skipped_points;
+        c->dateline_cut = info.dateline_cut, c->invalid_noded = info.invalid_noded;
+        st = keep_parts_read(&r);
+    }
+    if (!st && gis_range_encode(&kept, bytes, len) != 0)
+        st = fail(&r, "out of memory");
+    gis_range_free(&kept);
+    reader_end(&r, srs_p4, srs);
+    gis_info_free(&info);
+    return st;
 }
 
 int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, gis_info *info,
@@ -1526,6 +1921,14 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out, g
     (void)opt;
     (void)out;
     memset(info, 0, sizeof *info);
+    snprintf(err, err_len, "GIS input needs GDAL, not built in");
+    return 2;
+}
+
+int gis_read_range(const char *path, const gis_options *opt, const gis_range_plan *range,
+                   uint64_t tag, uint8_t **bytes, size_t *len, char *err, size_t err_len)
+{
+    (void)path, (void)opt, (void)range, (void)tag, (void)bytes, (void)len;
     snprintf(err, err_len, "GIS input needs GDAL, not built in");
     return 2;
 }

@@ -17,6 +17,7 @@
 
 #include "gis_attrs.h"
 #include "gis_features.h"
+#include "gis_range.h"
 #include "hpfc.h"
 #include "clock.h"
 
@@ -33,6 +34,28 @@ enum { GIS_INVALID_REJECT = 0, GIS_INVALID_NODE = 1 };
 /* Geographic lines and rings with a segment spanning more than 180 degrees
  * of longitude: cut them at the antimeridian (dateline.h), or refuse them. */
 enum { GIS_DATELINE_CUT = 0, GIS_DATELINE_REJECT = 1 };
+
+/* A run of a layer's features, read by another process (gis_read_range):
+ * positions begin .. end - 1 of layer `layer` (numbered as the reader
+ * numbers the layers it reads), to the layer's end when end < 0. */
+typedef struct gis_range_plan {
+    uint32_t layer;
+    int64_t begin, end;
+} gis_range_plan;
+
+/* A read in feature ranges (hpfc-pack --read-ranges): once the dataset is
+ * open, its layers are cut into about `count` ranges by their feature
+ * counts, and read(user, ranges, n, tag) has each range K read into
+ * DIR/range-K by gis_read_range with the same options and this tag. It
+ * returns 0 when every range was read; otherwise (a reader failed, or a
+ * layer cannot be counted) the layers are read here, so that a failure is
+ * worded as a whole read words it. */
+typedef struct gis_ranges {
+    unsigned count;
+    const char *dir;
+    int (*read)(void *user, const gis_range_plan *ranges, size_t n, uint64_t tag);
+    void *user;
+} gis_ranges;
 
 typedef struct gis_options {
     const char *const *layers; /* layer names to read; all layers when n_layers == 0 */
@@ -52,6 +75,8 @@ typedef struct gis_options {
     /* more than 1: GEOS checks the polygons on a second thread while GDAL
      * reads on (the same result) */
     unsigned threads;
+    /* read in feature ranges by other processes; NULL: read here */
+    const gis_ranges *ranges;
 } gis_options;
 
 typedef struct gis_info {
@@ -99,6 +124,14 @@ int gis_read_graph(const char *path, const gis_options *opt, hpfc_graph **out,
 int gis_read_graph_dataset(void *dataset, const gis_options *opt, hpfc_graph **out,
                            gis_info *info, char *err, size_t err_len);
 void gis_info_free(gis_info *info);
+
+/* hpfc-pack --read-range: reads range `range` of `path` as gis_read_graph
+ * reads it (the same options) and gives what it kept as a range file's
+ * bytes (gis_range.h; malloc'ed) with `tag`. 0, 1 (the input cannot be
+ * read or is invalid) or 2 (no GIS input built in), with err as
+ * gis_read_graph's. */
+int gis_read_range(const char *path, const gis_options *opt, const gis_range_plan *range,
+                   uint64_t tag, uint8_t **bytes, size_t *len, char *err, size_t err_len);
 
 #ifdef __cplusplus
 }

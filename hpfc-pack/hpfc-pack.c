@@ -71,6 +71,10 @@ typedef struct pack_args {
     uint64_t memory;     /* --memory: the build's budget in bytes (0: not given) */
     uint32_t threads;    /* --threads: for the steps that share their work (0: not given) */
     const char *parts_dir; /* --parts-dir: the parts built by other processes */
+    uint32_t read_ranges;  /* --read-ranges: GIS input read in about N ranges elsewhere */
+    int has_range;         /* --read-range: read this range alone into OUTPUT */
+    gis_range_plan range;
+    const char *range_tag; /* --range-tag: the reading's tag, 16 hex digits */
 } pack_args;
 
 /* What the report needs about one level: counts and widths come from the
@@ -187,6 +191,17 @@ static void print_help(void)
            "                        standard input, 'built' or 'failed', says whether\n"
            "                        every DIR/part-K.part is there to be joined\n"
            "                        (docs/interfaces.md section 8)\n"
+           "  --read-ranges N       with --parts-dir, GIS input: its features are read\n"
+           "                        by other processes in about N ranges (hpfc.pack's\n"
+           "                        workers): the ranges are printed as one JSON line\n"
+           "                        first, then a line on standard input, 'read' or\n"
+           "                        'failed', says whether every DIR/range-K is there\n"
+           "                        (after 'failed' the features are read here)\n"
+           "  --read-range L:B:E    GIS input: read features B to E-1 (E 'end': to the\n"
+           "                        end) of layer L (numbered as --layer or the dataset\n"
+           "                        list them, from 0) with --range-tag T into the range\n"
+           "                        file OUTPUT, for a --read-ranges pack\n"
+           "  --range-tag T         the tag (16 hex digits) --read-ranges printed\n"
            );
     printf(
            "  -l, --layer NAME      GIS input: read layer NAME (repeatable; default: all)\n"
@@ -340,6 +355,30 @@ static const char *option_value(char **argv, int argc, int *i, const char *name,
     return argv[++*i];
 }
 
+/* A whole decimal number in [0, max] (parse_positive, and 0). */
+static int parse_count(const char *s, size_t len, uint64_t max, uint64_t *out)
+{
+    if (len == 1 && s[0] == '0') {
+        *out = 0;
+        return 1;
+    }
+    return parse_positive(s, len, max, out);
+}
+
+/* --read-range's LAYER:BEGIN:END (END 'end' for the layer's end). */
+static int parse_range(const char *v, gis_range_plan *out)
+{
+    const char *c1 = strchr(v, ':'), *c2 = c1 ? strchr(c1 + 1, ':') : NULL;
+    uint64_t layer = 0, begin = 0, end = 0;
+    int to_end = c2 && strcmp(c2 + 1, "end") == 0;
+    if (!c2 || !parse_count(v, (size_t)(c1 - v), 65535, &layer) ||
+        !parse_count(c1 + 1, (size_t)(c2 - c1 - 1), INT64_MAX / 2, &begin) ||
+        (!to_end && (!parse_count(c2 + 1, strlen(c2 + 1), INT64_MAX / 2, &end) || end <= begin)))
+        return 0;
+    *out = (gis_range_plan){(uint32_t)layer, (int64_t)begin, to_end ? -1 : (int64_t)end};
+    return 1;
+}
+
 /* Stores the value of option `name`; NULL on success, else what a valid
  * value looks like. */
 static const char *apply_value(pack_args *a, const char *name, const char *v)
@@ -387,6 +426,22 @@ static const char *apply_value(pack_args *a, const char *name, const char *v)
     if (strcmp(name, "--parts-dir") == 0) {
         a->parts_dir = v;
         return v[0] ? NULL : "a directory";
+    }
+    if (strcmp(name, "--read-ranges") == 0) {
+        uint64_t n = 0;
+        if (!parse_positive(v, strlen(v), 1u << 20, &n))
+            return "a positive integer, at most 1048576";
+        a->read_ranges = (uint32_t)n;
+        return NULL;
+    }
+    if (strcmp(name, "--read-range") == 0) {
+        a->has_range = 1;
+        return parse_range(v, &a->range) ? NULL
+                                          : "LAYER:BEGIN:END, END above BEGIN or 'end'";
+    }
+    if (strcmp(name, "--range-tag") == 0) {
+        a->range_tag = v;
+        return strlen(v) == 16 && strspn(v, "0123456789abcdef") == 16 ? NULL : "16 hex digits";
     }
     if (strcmp(name, "--layer") == 0 || strcmp(name, "-l") == 0) {
         if (a->n_layers == sizeof a->layers / sizeof a->layers[0])
@@ -447,7 +502,8 @@ static int value_option(pack_args *a, char **argv, int argc, int *i, int *status
                                         "-l",         "-a_srs",     "-s_srs",
                                         "--layout",   "--link",     "--partitions",
                                         "--parts-dir", "--jobs",   "-j",
-                                        "--threads",  "--memory"};
+                                        "--threads",  "--memory", "--read-ranges",
+                                        "--read-range", "--range-tag"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         int missing = 0;
         const char *v = option_value(argv, argc, i, names[k], &missing);
@@ -545,6 +601,16 @@ static int parse_args(int argc, char **argv, pack_args *a)
     if (a->parts_dir && (a->to_stdout || a->partitions < 1 || a->params.flat)) {
         complain("--parts-dir: with --partitions N, without --flat, and an OUTPUT other than -"
                  " (standard output carries the plan)");
+        return EXIT_USAGE;
+    }
+    if (a->read_ranges && !a->parts_dir) {
+        complain("--read-ranges: with --parts-dir (the ranges' files are in its directory)");
+        return EXIT_USAGE;
+    }
+    if (a->has_range != (a->range_tag != NULL) ||
+        (a->has_range && (a->parts_dir || a->partitions || a->memory || a->to_stdout))) {
+        complain("--read-range and --range-tag: both, with a file OUTPUT, and not with "
+                 "--parts-dir, --partitions or --memory");
         return EXIT_USAGE;
     }
     return -1;
@@ -710,21 +776,74 @@ static unsigned step_threads(const pack_args *a)
     return a->threads ? a->threads : a->jobs ? a->jobs : default_threads();
 }
 
+/* The GIS options of the command line. */
+static gis_options gis_options_of(const pack_args *a)
+{
+    return (gis_options){.layers = a->layers,
+                         .n_layers = a->n_layers,
+                         .projection = a->projection,
+                         .vertex_model = a->vertex_model,
+                         .progress = isatty(2) && !a->quiet,
+                         .invalid_mode = a->invalid_mode,
+                         .dateline = a->dateline,
+                         .key_field = a->key_field,
+                         .fields = a->fields,
+                         .assign_srs = a->assign_srs,
+                         .source_srs = a->source_srs,
+                         .threads = step_threads(a)};
+}
+
+/* --read-ranges (docs/interfaces.md §8): the ranges as one JSON line on
+ * standard output ([layer, begin, end], end -1 for the layer's end), then
+ * one line on standard input: "read" when every DIR/range-K is there; any
+ * other line, or none, has the features read here. */
+static int await_ranges(void *user, const gis_range_plan *ranges, size_t n, uint64_t tag)
+{
+    (void)user;
+    printf("{\"ranges\": [");
+    for (size_t k = 0; k < n; k++)
+        printf("%s[%u, %lld, %lld]", k ? ", " : "", ranges[k].layer, (long long)ranges[k].begin,
+               (long long)ranges[k].end);
+    printf("], \"tag\": \"%016llx\"}\n", (unsigned long long)tag);
+    char line[16];
+    if (fflush(stdout) != 0 || !fgets(line, sizeof line, stdin))
+        return 1;
+    return strcmp(line, "read\n") != 0;
+}
+
+/* --read-range: the range read into the range file OUTPUT; an exit
+ * status (the message is printed). */
+static int read_range(const pack_args *a)
+{
+    if (!is_gis_input(a->input)) {
+        complain("%s: --read-range reads GIS input only", a->input);
+        return EXIT_USAGE;
+    }
+    gis_options opt = gis_options_of(a);
+    opt.progress = 0;
+    uint64_t tag = strtoull(a->range_tag, NULL, 16);
+    char err[1024], why[ATOMIC_WHY];
+    uint8_t *bytes = NULL;
+    size_t len = 0;
+    int st = gis_read_range(a->input, &opt, &a->range, tag, &bytes, &len, err, sizeof err);
+    if (st) {
+        complain("%s: %s", a->input, err);
+        return st == 2 ? EXIT_USAGE : EXIT_FAIL;
+    }
+    st = atomic_output_write(a->output, bytes, len, why);
+    free(bytes);
+    if (st)
+        complain("%s", why);
+    return st ? EXIT_FAIL : 0;
+}
+
 /* Reads a GDAL dataset; 0 or an exit status (the message is printed). */
 static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
 {
-    gis_options opt = {.layers = a->layers,
-                       .n_layers = a->n_layers,
-                       .projection = a->projection,
-                       .vertex_model = a->vertex_model,
-                       .progress = isatty(2) && !a->quiet,
-                       .invalid_mode = a->invalid_mode,
-                       .dateline = a->dateline,
-                       .key_field = a->key_field,
-                       .fields = a->fields,
-                       .assign_srs = a->assign_srs,
-                       .source_srs = a->source_srs,
-                       .threads = step_threads(a)};
+    gis_options opt = gis_options_of(a);
+    gis_ranges ranges = {a->read_ranges, a->parts_dir, await_ranges, NULL};
+    if (a->read_ranges)
+        opt.ranges = &ranges;
     char err[1024];
     r->gis = 1;
     keep_heap();
@@ -1190,6 +1309,8 @@ int main(int argc, char **argv)
     }
     if ((status = check_output(&a)) != 0)
         return status;
+    if (a.has_range)
+        return read_range(&a);
     pack_report r = {0};
     hpfc_graph *g = NULL;
     stage_time t0 = stage_now();
