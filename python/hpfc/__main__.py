@@ -1,7 +1,7 @@
 """python3 -m hpfc pack INPUT -o OUTPUT.hpfc [--workers N | --scheduler ADDRESS]
 [--partitions N] [--root N|NxM] [--refine N|NxM] [--leaf-points N]
 [--layout compact|paper] [--no-labels] [--no-geometry] [--shared-dir DIR]
-[--read-here] [-- HPFC-PACK-OPTION...]
+[--read-here] [--ranges N] [-- HPFC-PACK-OPTION...]
 
 Packs a map in parts on Dask (hpfc.pack): a LocalCluster of N workers
 (default 2), or the cluster whose scheduler is at ADDRESS (started with
@@ -10,7 +10,9 @@ INPUT is anything hpfc-pack reads: a .pfc graph is read by the workers (at
 the same path: --read-here reads it here) and cut here, other inputs
 (GIS layers, Draco meshes) and the hpfc-pack options after `--`
 (-- --fields all --vertices all, ...) go through hpfc-pack --parts-dir ($HPFC_PACK, else
-PATH). The file is hpfc-pack's with the same options. One line on stderr
+PATH); a GIS layer's features are read by the workers in N ranges
+(default: one a worker; --read-here: by hpfc-pack) and noded and
+projected by hpfc-pack. The file is hpfc-pack's with the same options. One line on stderr
 and exit status 1 on failure, 2 on a usage error."""
 import argparse
 import sys
@@ -44,7 +46,10 @@ def main(argv=None):
     p.add_argument("--no-geometry", action="store_true")
     p.add_argument("--shared-dir", help="where the parts' files go (default: beside OUTPUT)")
     p.add_argument("--read-here", action="store_true",
-                   help="read a .pfc INPUT in this process, not on the workers (which must see its path)")
+                   help="read a .pfc INPUT in this process, and a GIS layer's features in hpfc-pack, "
+                        "not on the workers (which must see INPUT's path)")
+    p.add_argument("--ranges", type=int, help="GIS input: feature ranges the workers read "
+                                              "(default: one a worker)")
     argv = list(sys.argv[1:] if argv is None else argv)
     cut = argv.index("--") if "--" in argv else len(argv)
     args = parser.parse_args(argv[:cut])
@@ -58,7 +63,7 @@ def main(argv=None):
              workers=args.workers, root=args.root, refine=args.refine,
              leaf_points=args.leaf_points, layout=args.layout, labels=not args.no_labels,
              geometry=not args.no_geometry, shared_dir=args.shared_dir, options=options,
-             read_on_workers=not args.read_here)
+             read_on_workers=not args.read_here, ranges=args.ranges)
     except (Error, ValueError, OSError) as e:
         print("python3 -m hpfc pack: %s" % e, file=sys.stderr)
         return 1

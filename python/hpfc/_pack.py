@@ -224,22 +224,55 @@ def _last_line(stream):
     return lines[-1] if lines else "no message"
 
 
-def _pack_through_tool(tool, args, client, workers, directory):
+def _read_range(tool, options, source, directory, k, rng, tag):
+    """Range K of a GIS input's features read on a worker by hpfc-pack
+    --read-range into DIR/range-K: None, or hpfc-pack's message."""
+    layer, begin, end = rng
+    out = os.path.join(directory, "range-%d" % k)
+    proc = subprocess.run([tool, "-q", "--read-range", "%d:%d:%s" % (layer, begin, "end" if end < 0 else end),
+                           "--range-tag", tag] + options + ["-o", out, "--", source],
+                          stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    if proc.returncode == 0:
+        return None
+    lines = [ln for ln in proc.stderr.decode("utf-8", "replace").splitlines() if ln.strip()]
+    return "range %d: %s" % (k, lines[-1] if lines else "hpfc-pack exit status %d" % proc.returncode)
+
+
+def _read_ranges(c, tool, read, directory, ranges, tag):
+    """The features' ranges read by the workers: None, or the first
+    failure's message (the features are then read by hpfc-pack)."""
+    options, source = read
+    futures = [c.submit(_read_range, tool, options, source, directory, k, rng, tag, pure=False)
+               for k, rng in enumerate(ranges)]
+    failures = [f for f in _gather_all(c, futures, "reading") if f]
+    return failures[0] if failures else None
+
+
+def _pack_through_tool(tool, args, client, workers, directory, read=None):
     """hpfc-pack --parts-dir as a co-process: it reads and cuts, prints the
     plan, the cluster builds the parts, and a line on its standard input
-    ('built' or 'failed') lets it join them and write the file."""
-    with tempfile.TemporaryFile() as err:
+    ('built' or 'failed') lets it join them and write the file. With
+    `read` (options, input), hpfc-pack first prints the ranges of a GIS
+    input's features, which the workers read (_read_range) before a line
+    'read' or 'failed' lets it go on."""
+    with tempfile.TemporaryFile() as err, _Cluster(client, workers) as c:
         # not -q: its notes (a guessed SRS, ...) are passed on; its report,
         # after the plan on standard output, is read and dropped
         proc = subprocess.Popen([tool, "--parts-dir", directory] + args,
                                 stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=err)
+        range_failure = None
         try:
             line = proc.stdout.readline()
+            first = json.loads(line) if line else None
+            if first is not None and "ranges" in first:
+                range_failure = _read_ranges(c, tool, read, directory, first["ranges"], first["tag"])
+                proc.stdin.write(b"failed\n" if range_failure else b"read\n")
+                proc.stdin.flush()
+                line = proc.stdout.readline()
             if line:
                 plan = json.loads(line)
-                with _Cluster(client, workers) as c:
-                    _paths, failure = _build_parts(c, [c.submit(_build_part, directory, plan, k, pure=False)
-                                                       for k in range(plan["parts"])])
+                _paths, failure = _build_parts(c, [c.submit(_build_part, directory, plan, k, pure=False)
+                                                   for k in range(plan["parts"])])
                 proc.stdin.write(b"failed\n" if failure else b"built\n")
                 proc.stdin.close()
                 if not failure:
@@ -260,6 +293,9 @@ def _pack_through_tool(tool, args, client, workers, directory):
         warnings = err.read()
         if warnings:  # what hpfc-pack says of the input (a guessed SRS, ...)
             sys.stderr.write(warnings.decode("utf-8", "replace"))
+        if range_failure:  # the input was good, but read by one process
+            sys.stderr.write("hpfc.pack: note: the features were read by hpfc-pack alone (%s)\n"
+                             % range_failure)
 
 
 def _size_arg(pair):
@@ -268,7 +304,7 @@ def _size_arg(pair):
 
 def pack(input, output, *, client=None, partitions=None, workers=2, root=64, refine=2,  # noqa: A002
          leaf_points=16, layout="compact", labels=True, geometry=True, shared_dir=None,
-         options=(), hpfc_pack=None, read_on_workers=True, chunks=None):
+         options=(), hpfc_pack=None, read_on_workers=True, chunks=None, ranges=None):
     """Packs `input` into `output` in `partitions` parts (default: four a
     worker), built on the Dask `client`'s workers (None: a LocalCluster of
     `workers` processes for this call). Options as hpfc-pack's --root,
@@ -282,7 +318,11 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
     input must be readable at the same path on every worker, as
     `shared_dir` is (`read_on_workers=False` reads it here). Any other
     input goes through hpfc-pack (`hpfc_pack`, else $HPFC_PACK, else
-    PATH). Raises hpfc.Error (the input, a part; hpfc-pack's exit status
+    PATH), which the workers also run to read a GIS layer's features, in
+    `ranges` runs (default: one a worker) by GDAL's feature order, before
+    hpfc-pack projects and nodes them as a whole (`read_on_workers=False`:
+    hpfc-pack reads them too); the input and hpfc-pack must then be at the
+    same paths on every worker. Raises hpfc.Error (the input, a part; hpfc-pack's exit status
     and message as code and text), ValueError (an option) or OSError."""
     root_cols, root_rows = _sizes(root, 1, "root")
     cols, rows = _sizes(refine, 2, "refine")
@@ -290,8 +330,10 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
         raise ValueError("layout: compact or paper")
     if leaf_points < 0:
         raise ValueError("leaf_points: 0 (no bound) or more")
+    if ranges is not None and not 1 <= int(ranges) <= 1 << 20:
+        raise ValueError("ranges: 1 to 1048576")
+    n = workers if client is None else len(client.scheduler_info()["workers"])
     if partitions is None:
-        n = workers if client is None else len(client.scheduler_info()["workers"])
         partitions = 4 * max(1, n)
     partitions = max(1, min(int(partitions), root_cols * root_rows))
     where = shared_dir or os.path.dirname(os.path.abspath(output))
@@ -304,13 +346,17 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
                     "--layout", layout]
             args += [] if labels else ["--no-labels"]
             args += [] if geometry else ["--no-geometry"]
+            read = None
+            if read_on_workers:
+                args += ["--read-ranges", str(int(ranges) if ranges else min(max(1, n), 1 << 20))]
+                read = (options, os.path.abspath(input))
             _pack_through_tool(tool, args + options + ["-o", os.fspath(output), "--",
-                               os.fspath(input)], client, workers, tmp)
+                               os.fspath(input)], client, workers, tmp, read)
             return
         source = os.fspath(input)
         with _Cluster(client, workers) as c:
             if read_on_workers:
-                ranges, box = _read_pfc(c, source, tmp, chunks)
+                chunk_edges, box = _read_pfc(c, source, tmp, chunks)
                 source = os.path.join(tmp, "graph")
             try:
                 _progress("cutting")
@@ -333,8 +379,8 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
                 # each chunk's edges routed to the parts by a worker, each
                 # part's graph copied out of the graph file by its builder
                 _gather_all(c, [c.submit(_route_chunk, tmp, plan, k, e0, e1, pure=False)
-                                for k, (e0, e1) in enumerate(ranges)], "routing")
-                futures = [c.submit(_build_routed_part, tmp, plan, k, len(ranges), pure=False)
+                                for k, (e0, e1) in enumerate(chunk_edges)], "routing")
+                futures = [c.submit(_build_routed_part, tmp, plan, k, len(chunk_edges), pure=False)
                            for k in range(plan["parts"])]
             else:
                 futures = [c.submit(_build_part, tmp, plan, k, pure=False) for k in range(plan["parts"])]

@@ -203,11 +203,14 @@ def test_killed_worker(tmp_path, client, pack_tool):
 
 @pytest.mark.parametrize("kwargs,options,parts", [
     ({}, ["--fields", "all"], (2, 7)),
-    ({"root": (5, 4), "layout": "paper"}, ["--fields", "all", "--vertices", "all"], (5,)),
+    ({"root": (5, 4), "layout": "paper", "ranges": 5}, ["--fields", "all", "--vertices", "all"], (5,)),
+    ({"ranges": 1}, ["--fields", "all", "--invalid", "node"], (3,)),
+    ({"read_on_workers": False}, [], (3,)),
 ])
-def test_gis_same_bytes_as_hpfc_pack(tmp_path, client, pack_tool, kwargs, options, parts):
-    """GIS layers go through hpfc-pack --parts-dir: read, noded and
-    projected once, built on the workers, joined with their features."""
+def test_gis_same_bytes_as_hpfc_pack(tmp_path, client, pack_tool, kwargs, options, parts, capfd):
+    """GIS layers go through hpfc-pack --parts-dir: their features read by
+    the workers in ranges (or by hpfc-pack), noded and projected once,
+    built on the workers, joined with their features."""
     flags = list(options)
     if "root" in kwargs:
         flags += ["--root", "%dx%d" % kwargs["root"], "--layout", kwargs["layout"]]
@@ -219,12 +222,172 @@ def test_gis_same_bytes_as_hpfc_pack(tmp_path, client, pack_tool, kwargs, option
         nodings.add(json.loads(r.stderr.decode().splitlines()[-1])["noding"])
         for k in parts:
             out = tmp_path / "got.hpfc"
+            capfd.readouterr()
             hpfc.pack(src, out, client=client, partitions=k, options=options, hpfc_pack=pack_tool,
                       **kwargs)
             assert out.read_bytes() == want, (src.name, options, k)
             out.unlink()
+            # the workers read the features: hpfc-pack did not fall back
+            assert "read by hpfc-pack alone" not in capfd.readouterr().err, src.name
     assert nodings & {"partial", "all"}, nodings  # the noded path is in the test
     assert not list(tmp_path.glob(".hpfc-parts.*")), "the parts' directory was left behind"
+
+
+def two_layers(tmp_path):
+    """A GeoPackage of two layers (lines crossing, borders shared twice)."""
+    ogr2ogr = shutil.which("ogr2ogr")
+    if not ogr2ogr:
+        pytest.skip("ogr2ogr (gdal-bin) not installed")
+    gpkg = tmp_path / "two.gpkg"
+    ok = TESTS_DATA / "gis" / "ok"
+    subprocess.run([ogr2ogr, "-f", "GPKG", "-nln", "borders", str(gpkg), str(ok / "duplicate_borders.geojson")],
+                   check=True, capture_output=True)
+    subprocess.run([ogr2ogr, "-update", "-nln", "roads", str(gpkg), str(ok / "lines_crossing.geojson")],
+                   check=True, capture_output=True)
+    return gpkg
+
+
+def test_gis_layers_read_in_ranges(tmp_path, client, pack_tool, capfd):
+    """Two layers cut into ranges, by GeoPackage's random access, in the
+    dataset's order and in the order --layer names them: hpfc-pack's bytes."""
+    src = two_layers(tmp_path)
+    for options in ([], ["-l", "roads", "-l", "borders", "--fields", "all"]):
+        want = hpfc_pack(pack_tool, src, tmp_path / "want.hpfc", *options)
+        for ranges in (2, 4, 40):
+            out = tmp_path / "got.hpfc"
+            capfd.readouterr()
+            hpfc.pack(src, out, client=client, partitions=3, options=options, hpfc_pack=pack_tool,
+                      ranges=ranges)
+            assert out.read_bytes() == want, (options, ranges)
+            assert "read by hpfc-pack alone" not in capfd.readouterr().err
+            out.unlink()
+
+
+def drive_ranges(pack_tool, src, out, shared, ranges, options=(), tamper=None, answer=b"read\n",
+                 tag=None, report_form="--json"):
+    """hpfc-pack --read-ranges by hand: the ranges read by hpfc-pack
+    --read-range (with `tag`, else the reading's), `tamper(shared)`
+    applied, `answer` sent; then, if it goes on, every part built here.
+    `report_form`: --json, or another flag for the text report. (exit
+    status, stdout after the plan, stderr)."""
+    proc = subprocess.Popen([pack_tool, report_form, "--partitions", "3", "--parts-dir", str(shared),
+                             "--read-ranges", str(ranges), *options, str(src), "-o", str(out)],
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    first = json.loads(proc.stdout.readline())
+    assert 1 <= len(first["ranges"]) <= ranges + 1 and len(first["tag"]) == 16, first
+    for k, (layer, begin, end) in enumerate(first["ranges"]):
+        r = subprocess.run([pack_tool, "-q", "--read-range", "%d:%d:%s" % (layer, begin, "end" if end < 0 else end),
+                            "--range-tag", tag or first["tag"], *options, "-o", str(shared / ("range-%d" % k)),
+                            str(src)], capture_output=True, text=True, check=False)
+        assert r.returncode == 0, r.stderr
+    if tamper:
+        tamper(shared)
+    if answer:
+        proc.stdin.write(answer)
+        proc.stdin.flush()
+    else:
+        proc.stdin.close()  # then the parts' line cannot come either
+        proc.stdin = None
+    line = proc.stdout.readline()
+    if line:
+        plan = json.loads(line)
+        for k in range(plan["parts"]):
+            hpfc._hpfc._pack_part(str(shared), plan, k)
+        if answer:
+            proc.stdin.write(b"built\n")
+    rest, err = proc.communicate(timeout=120)
+    return proc.returncode, rest.decode(), err.decode()
+
+
+def report(text):
+    """A --json report without what a run's clock or directory changes."""
+    def timeless(d):
+        return {k: timeless(v) if isinstance(v, dict) else v for k, v in d.items()
+                if not k.endswith("seconds")}
+    return {k: v for k, v in timeless(json.loads(text)).items() if k not in ("parts", "output")}
+
+
+def test_read_ranges_protocol(tmp_path, pack_tool):
+    """--read-ranges driven by hand: the same bytes and report as hpfc-pack
+    alone (features, empty ones, antimeridian cuts, invalid polygons and
+    their names); a range file flipped, of another reading, swapped, cut
+    short or missing refused with one line naming it and no output; after
+    'failed' the features read by hpfc-pack itself."""
+    out = tmp_path / "out.hpfc"
+    n = noded = 0
+    for src, options in [(TESTS_DATA / "gis" / "ok" / "antimeridian_mixed.geojson", ["--fields", "all"]),
+                         (TESTS_DATA / "gis" / "ok" / "empty_geometries.geojson", []),
+                         (TESTS_DATA / "gis" / "bad" / "self_intersecting_ring.geojson", []),
+                         (TESTS_DATA / "gis" / "countries_world.geojson", ["--key", "name"])]:
+        alone = subprocess.run([pack_tool, "--json", "--force", *options, str(src), "-o", str(tmp_path / "a.hpfc")],
+                               capture_output=True, text=True, check=True)
+        text = subprocess.run([pack_tool, "--force", *options, str(src), "-o", str(tmp_path / "b.hpfc")],
+                              capture_output=True, text=True, check=True)
+        repaired = [ln for ln in text.stdout.splitlines() if ln.startswith("repaired")]
+        for ranges in (2, 3):
+            n += 1
+            shared = tmp_path / ("s%d" % n)
+            shared.mkdir()
+            rc, rest, err = drive_ranges(pack_tool, src, out, shared, ranges, options)
+            assert (rc, err) == (0, ""), err
+            assert out.read_bytes() == (tmp_path / "a.hpfc").read_bytes(), src.name
+            assert report(rest) == report(alone.stdout), src.name
+            out.unlink()
+        # the text report's names of the polygons noded, word for word
+        shared = tmp_path / ("t%d" % n)
+        shared.mkdir()
+        rc, rest, err = drive_ranges(pack_tool, src, out, shared, 3, options, report_form="--force")
+        assert rc == 0, err
+        out.unlink()
+        assert [ln for ln in rest.splitlines() if ln.startswith("repaired")] == repaired, src.name
+        noded += bool(repaired)
+    assert noded >= 1  # a layer with invalid polygons noded is in the test
+
+    src = TESTS_DATA / "gis" / "countries_world.geojson"
+    want = hpfc_pack(pack_tool, src, tmp_path / "want.hpfc")
+
+    def flip(shared):
+        p = shared / "range-1"
+        data = bytearray(p.read_bytes())
+        data[len(data) // 2] ^= 0x04
+        p.write_bytes(bytes(data))
+
+    def swap(shared):
+        a, b = shared / "range-0", shared / "range-1"
+        tmp = a.read_bytes()
+        a.write_bytes(b.read_bytes())
+        b.write_bytes(tmp)
+
+    def cut(shared):
+        p = shared / "range-2"
+        p.write_bytes(p.read_bytes()[:-9])
+
+    def missing(shared):
+        (shared / "range-0").unlink()
+
+    for k, (tamper, tag, words) in enumerate([
+            (flip, None, "range-1: damaged range file"),
+            (swap, None, "range-0: a range file of another reading"),
+            (cut, None, "range-2: damaged range file"),
+            (missing, None, "range-0: cannot read"),
+            (None, "0123456789abcdef", "range-0: a range file of another reading")]):
+        shared = tmp_path / ("bad-%d" % k)
+        shared.mkdir()
+        rc, rest, err = drive_ranges(pack_tool, src, out, shared, 3, tamper=tamper, tag=tag)
+        assert rc == 1 and err.startswith("hpfc-pack: ") and words in err, (k, err)
+        assert len(err.strip().splitlines()) == 1, err
+        assert not out.exists(), k
+    for k, answer in enumerate((b"failed\n", b"done\n")):  # read by hpfc-pack itself
+        shared = tmp_path / ("here-%d" % k)
+        shared.mkdir()
+        rc, rest, err = drive_ranges(pack_tool, src, out, shared, 3, tamper=missing, answer=answer)
+        assert (rc, err) == (0, ""), err
+        assert out.read_bytes() == want
+        out.unlink()
+    shared = tmp_path / "closed"
+    shared.mkdir()
+    rc, rest, err = drive_ranges(pack_tool, src, out, shared, 3, answer=b"")
+    assert rc == 1 and "standard input ended" in err and not out.exists(), err
 
 
 def test_gis_notes_passed_on(tmp_path, client, pack_tool, capfd):
