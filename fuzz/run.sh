@@ -21,7 +21,7 @@
 set -eu
 cd "$(dirname "$0")/.."
 build=${HPFC_FUZZ_BUILD:-build-fuzz-clang}
-all="open_buffer navigate_pixels traverse_darts read_labels read_geom parse_pfc roundtrip_graph decode_drc read_gis parse_points locate_batch read_shapes query_topology read_driver read_part read_pfc_chunks read_route"
+all="open_buffer navigate_pixels traverse_darts read_labels read_geom parse_pfc roundtrip_graph decode_drc read_gis parse_points locate_batch read_shapes query_topology read_driver read_part read_pfc_chunks read_route read_range"
 
 have_libfuzzer() {
     command -v clang >/dev/null 2>&1 && command -v clang++ >/dev/null 2>&1 || return 1
