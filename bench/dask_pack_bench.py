@@ -5,7 +5,9 @@ and joins any input but .pfc), for bench/README.md "A build in parts".
     PYTHONPATH=<the hpfc package> python3 bench/dask_pack_bench.py [--read-here] INPUT PARTS [OUT [HPFC-PACK-OPTION...]]
 
 HPFC_PACK names the hpfc-pack to run (else PATH). --read-here reads a .pfc
-in the client (read_on_workers=False). The client's peak is also given as
+in the client, a GIS layer's features in hpfc-pack (read_on_workers=False;
+else the workers read them in ranges, one a worker, whose hpfc-pack
+--read-range peaks are printed too). The client's peak is also given as
 its own (anonymous) memory, sampled every 20 ms from /proc/self/status:
 its resident peak counts the pages of the mapped graph file, which are the
 page cache's. The workers' own memory likewise (their resident peak counts
@@ -90,12 +92,17 @@ def main():
     ran_tool = not src.endswith(".pfc") or len(argv) > 3
     tool_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024 if ran_tool else float("nan")
     peaks = c.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+    # a worker's children: the hpfc-pack --read-range of a GIS layer's ranges
+    readers = c.run(lambda: resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
     client_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print("wall %.2f s, client peak %.0f MB (own %.0f MB above its %.0f MB before the pack), "
           "hpfc-pack peak %.0f MB, worker peaks %s MB (own %s MB above their start)"
           % (wall, client_mb, (sampler.peak - before) / 1024, before / 1024, tool_mb,
              [round(v / 1024) for v in peaks.values()],
              [round((worker_own[w] - worker_before[w]) / 1024) for w in worker_own]))
+    if any(readers.values()):
+        print("range readers' peaks (hpfc-pack --read-range, by worker): %s MB"
+              % [round(v / 1024) for v in readers.values()])
     print("client's own peak by stage (MB above its start): " +
           ", ".join("%s %.0f" % (k, (v - before) / 1024) for k, v in sampler.stages.items()))
     c.close()
