@@ -21,6 +21,7 @@ while read -r status tool args; do
             GARBAGE | EMPTY | TRUNCATED) word=$tmp/$(echo "$word" | tr '[:upper:]' '[:lower:]') ;;
             CSV) word=$tmp/table.csv ;;
             MISSING) word=$tmp/no-such-file ;;
+            --*=OUT) word=${word%OUT}$tmp/out.hpfc ;; # not the working directory's OUT
             *) word=$(substitute "$word") ;;
         esac
         set -- "$@" "$word"
