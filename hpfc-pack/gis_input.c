@@ -687,16 +687,25 @@ static int read_features(reader *r, OGRLayerH layer, uint64_t *features, uint64_
     OGR_L_ResetReading(layer);
     CPLErrorReset();
     r->position = 0;
-    /* GDAL's contract: the feature the begin-th GetNextFeature gives */
+    /* GDAL's contract: the feature the begin-th GetNextFeature gives. The
+     * one before it is read too: its FID, the previous range's last,
+     * tells the reading whether the driver kept the contract. */
     if (r->only && r->only->begin > 0) {
-        if (OGR_L_SetNextByIndex(layer, r->only->begin) != OGRERR_NONE)
+        OGRFeatureH before = NULL;
+        if (OGR_L_SetNextByIndex(layer, r->only->begin - 1) != OGRERR_NONE ||
+            !(before = OGR_L_GetNextFeature(layer)))
             return fail(r, "layer '%s': cannot start reading at feature %lld", r->layer_name,
                         (long long)r->only->begin);
+        r->kept->has_before = r->kept->has_last = 1;
+        r->kept->fid_before = r->kept->fid_last = OGR_F_GetFID(before);
+        OGR_F_Destroy(before);
         r->position = r->only->begin;
     }
     OGRFeatureH f;
     while ((end < 0 || r->position < end) && (f = OGR_L_GetNextFeature(layer)) != NULL) {
         ++*features;
+        if (r->kept)
+            r->kept->has_last = 1, r->kept->fid_last = OGR_F_GetFID(f);
         r->cur = f;
         int st = read_feature(r, f, lines);
         r->position++;
@@ -1001,6 +1010,47 @@ static uint64_t reading_tag(void)
     return tag;
 }
 
+/* Whether each range of a layer starts where the one before it ended, by
+ * the FIDs its reader saw (gis_range.h): a driver whose SetNextByIndex
+ * does not follow its GetNextFeature (a shapefile with deleted records)
+ * would have the ranges overlap or leave features out. When one does not,
+ * the features are read here, and the report says why. A file that does
+ * not decode is left for load_layer, which refuses it. */
+static int ranges_chained(reader *r, GDALDatasetH ds)
+{
+    gis_range prev = {0}, cur;
+    for (size_t k = 0; k < r->n_plan; k++) {
+        const gis_range_plan *p = &r->plan[k];
+        char name[1200], why[256];
+        uint8_t *bytes = NULL;
+        size_t len = 0;
+        if (read_range_file(r, k, &bytes, &len, name, sizeof name)) {
+            r->err[0] = 0;
+            return 1;
+        }
+        int st = gis_range_decode_head(bytes, len, r->tag, p->layer, p->begin, &cur, why,
+                                       sizeof why);
+        free(bytes);
+        if (st)
+            return 1;
+        if (k && p->layer == prev.layer && prev.has_last && cur.fid_before != prev.fid_last) {
+            OGRLayerH layer = NULL;
+            select_layer(r, ds, p->layer, &layer);
+            snprintf(r->info->ranges_declined, sizeof r->info->ranges_declined,
+                     "layer '%.60s': its driver's SetNextByIndex does not follow its feature "
+                     "order (feature %lld)",
+                     layer ? OGR_L_GetName(layer) : "?", (long long)p->begin);
+            gis_range_free(&cur);
+            gis_range_free(&prev);
+            return 0;
+        }
+        gis_range_free(&prev);
+        prev = cur;
+    }
+    gis_range_free(&prev);
+    return 1;
+}
+
 /* Cuts the `want` layers to read into about opt->ranges->count ranges of
  * equal feature counts and has other processes read them: r->plan is set
  * when they were. A layer GDAL cannot count, or a reader that failed,
@@ -1040,8 +1090,11 @@ static int plan_ranges(reader *r, GDALDatasetH ds, size_t want)
     r->tag = reading_tag();
     if (n && rg->read(rg->user, plan, n, r->tag) == 0) {
         r->plan = plan, r->n_plan = n;
-        free(count);
-        return 0;
+        if (ranges_chained(r, ds)) {
+            free(count);
+            return 0;
+        }
+        r->plan = NULL, r->n_plan = 0;
     }
 here:
     free(plan);

@@ -99,6 +99,9 @@ typedef struct gis_info {
     /* A layer without an SRS whose extent lies in the longitude/latitude
      * range was taken as WGS 84: the first such layer's name, "" if none. */
     char srs_assumed[64];
+    /* opt->ranges: why the ranges other processes read were not taken and
+     * the features were read here ("" when they were, or none were read) */
+    char ranges_declined[200];
     /* the first invalid polygons noded, as "name" or "layer 'L' feature N",
      * comma-separated (for the report) */
     char repaired[200];

@@ -11,7 +11,7 @@
 
 #include "grow.h"
 
-static const uint8_t MAGIC[8] = {'H', 'P', 'F', 'C', 'R', 'N', 'G', 1};
+static const uint8_t MAGIC[8] = {'H', 'P', 'F', 'C', 'R', 'N', 'G', 2};
 enum { HEAD_BYTES = 24 };
 
 /* ---- writing ----------------------------------------------------------------- */
@@ -201,6 +201,9 @@ int gis_range_encode(const gis_range *g, uint8_t **out, size_t *len)
     put_u32(&s, g->layer);
     put_u32(&s, g->fields);
     put_u64(&s, (uint64_t)g->begin);
+    put_u64(&s, (uint64_t)(g->has_before != 0) | (uint64_t)(g->has_last != 0) << 1);
+    put_u64(&s, (uint64_t)g->fid_before);
+    put_u64(&s, (uint64_t)g->fid_last);
     const gis_range_counts *c = &g->counts;
     uint64_t counts[] = {c->read, c->lines, c->skipped_empty, c->skipped_points, c->dateline_cut,
                          c->invalid_noded, g->n_features, g->n_parts, g->n_points};
@@ -438,6 +441,12 @@ static int get_head(source *s, gis_range *g, uint64_t tag, uint32_t layer, int64
     g->layer = get_u32(s);
     g->fields = get_u32(s);
     g->begin = (int64_t)get_u64(s);
+    uint64_t chain = get_u64(s);
+    g->fid_before = (int64_t)get_u64(s);
+    g->fid_last = (int64_t)get_u64(s);
+    g->has_before = (int)(chain & 1), g->has_last = (int)(chain >> 1 & 1);
+    if (!s->failed && chain > 3)
+        return refuse(s, "damaged range file: an unknown chain flag");
     if (!s->failed && (g->tag != tag || g->layer != layer || g->begin != begin))
         return refuse(s, "a range file of another reading (layer %u from feature %lld, expected "
                          "layer %u from %lld)",
@@ -454,7 +463,10 @@ static int get_head(source *s, gis_range *g, uint64_t tag, uint32_t layer, int64
     if (begin < 0 || c->read > (uint64_t)INT64_MAX - (uint64_t)begin || features > c->read ||
         c->skipped_empty > c->read || c->dateline_cut > c->read || c->invalid_noded > features ||
         parts < features || c->lines < parts || repaired > GIS_RANGE_REPAIRED ||
-        repaired > c->invalid_noded)
+        repaired > c->invalid_noded || g->has_before != (begin > 0) ||
+        g->has_last != (g->has_before || c->read > 0) ||
+        (!g->has_before && g->fid_before) || (!g->has_last && g->fid_last) ||
+        (!c->read && g->fid_last != g->fid_before))
         return refuse(s, "damaged range file: its counts disagree");
     /* a feature takes at least 28 bytes, a part 13, a point 16 */
     if (!(g->features = get_array(s, features, sizeof *g->features, 28)) ||
@@ -463,6 +475,24 @@ static int get_head(source *s, gis_range *g, uint64_t tag, uint32_t layer, int64
         return -1;
     g->n_features = (size_t)features, g->n_parts = (size_t)parts, g->n_points = (size_t)points;
     g->n_repaired = repaired;
+    return 0;
+}
+
+int gis_range_decode_head(const uint8_t *bytes, size_t len, uint64_t tag, uint32_t layer,
+                          int64_t begin, gis_range *g, char *why, size_t why_len)
+{
+    memset(g, 0, sizeof *g);
+    source s = {bytes, len, why, why_len, 0};
+    int st = get_head(&s, g, tag, layer, begin);
+    free(g->features);
+    free(g->parts);
+    free(g->xy);
+    g->features = NULL, g->parts = NULL, g->xy = NULL;
+    g->n_features = g->n_parts = g->n_points = g->n_repaired = 0;
+    if (st) {
+        gis_range_free(g);
+        return -1;
+    }
     return 0;
 }
 

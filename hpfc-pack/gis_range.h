@@ -13,11 +13,14 @@
  * host may have written them, a disk may have damaged them).
  *
  * A range file, all integers little-endian:
- *   magic "HPFCRNG" and the version byte 1;
+ *   magic "HPFCRNG" and the version byte 2;
  *   u64 payload length, u64 FNV-1a hash of the payload;
  *   payload: u64 tag (the reading's, so a file of another run is refused),
  *   u32 layer, u32 fields (the layer's --fields count), i64 begin,
- *   u64 read (features read, empty ones too: positions begin ..
+ *   u64 chain (bit 0: fid_before is set, bit 1: fid_last is), i64
+ *   fid_before (the source FID of the feature before the range, read to
+ *   check that GDAL started where a whole read would be), i64 fid_last
+ *   (of the range's last feature, else fid_before), u64 read (features read, empty ones too: positions begin ..
  *   begin + read - 1), u64 lines, skipped_empty, skipped_points,
  *   dateline_cut, invalid_noded, u64 features, parts, points, u32
  *   repaired; then each feature (i64 position, i64 source FID, its key
@@ -67,6 +70,11 @@ typedef struct gis_range {
     uint64_t tag;
     uint32_t layer, fields;
     int64_t begin;
+    /* The FIDs that chain the ranges of a layer: range k's fid_before is
+     * range k - 1's fid_last when GDAL's SetNextByIndex follows the order
+     * of its GetNextFeature (a shapefile with deleted records does not). */
+    int has_before, has_last;
+    int64_t fid_before, fid_last;
     gis_range_counts counts;
     gis_range_feature *features;
     gis_range_part *parts;
@@ -110,5 +118,9 @@ uint64_t gis_range_hash(const uint8_t *payload, size_t n);
  * and *g left empty. */
 int gis_range_decode(const uint8_t *bytes, size_t len, uint64_t tag, uint32_t layer,
                      int64_t begin, gis_range *g, char *why, size_t why_len);
+/* The same checks of the bytes (magic, hash, reading, counts), but only
+ * the head is kept: tag, layer, fields, begin, the chain and the counts. */
+int gis_range_decode_head(const uint8_t *bytes, size_t len, uint64_t tag, uint32_t layer,
+                          int64_t begin, gis_range *g, char *why, size_t why_len);
 
 #endif

@@ -850,10 +850,14 @@ static int read_gis(const pack_args *a, hpfc_graph **g, pack_report *r)
     int st = gis_read_graph(a->input, &opt, g, &r->gis_info, err, sizeof err);
     if (st)
         complain("%s: %s", a->input, err);
-    else if (r->gis_info.srs_assumed[0] && !a->quiet)
+    if (!st && r->gis_info.srs_assumed[0] && !a->quiet)
         fprintf(stderr, "hpfc-pack: note: %s: layer '%s' has no SRS and its coordinates are "
                         "longitudes/latitudes: taken as WGS 84 (EPSG:4326); -a_srs sets another\n",
                 a->input, r->gis_info.srs_assumed);
+    if (!st && r->gis_info.ranges_declined[0]) /* printed with -q too: the reading was slower */
+        fprintf(stderr, "hpfc-pack: note: %s: the ranges read elsewhere were not taken, %s; "
+                        "the features were read here\n",
+                a->input, r->gis_info.ranges_declined);
     return st == 0 ? 0 : st == 2 ? EXIT_USAGE : EXIT_FAIL;
 }
 

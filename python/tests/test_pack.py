@@ -263,6 +263,33 @@ def test_gis_layers_read_in_ranges(tmp_path, client, pack_tool, capfd):
             out.unlink()
 
 
+def test_gis_ranges_declined_when_gdal_skips_elsewhere(tmp_path, client, pack_tool, capfd):
+    """A shapefile whose .dbf marks records deleted: GDAL's GetNextFeature
+    passes over them, its SetNextByIndex does not, so ranges after them
+    would start early. The ranges' FIDs do not chain: hpfc-pack reads the
+    features itself, says so, and writes its own bytes."""
+    ogr2ogr = shutil.which("ogr2ogr")
+    if not ogr2ogr:
+        pytest.skip("ogr2ogr (gdal-bin) not installed")
+    shp = tmp_path / "w.shp"
+    subprocess.run([ogr2ogr, "-f", "ESRI Shapefile", str(shp), str(TESTS_DATA / "gis" / "countries_world.geojson")],
+                   check=True, capture_output=True)
+    dbf = bytearray(shp.with_suffix(".dbf").read_bytes())
+    records, head, size = int.from_bytes(dbf[4:8], "little"), int.from_bytes(dbf[8:10], "little"), \
+        int.from_bytes(dbf[10:12], "little")
+    assert records > 20
+    for r in (3, 4, records // 2):
+        dbf[head + r * size] = ord("*")
+    shp.with_suffix(".dbf").write_bytes(bytes(dbf))
+    want = hpfc_pack(pack_tool, shp, tmp_path / "want.hpfc", "--fields", "all")
+    capfd.readouterr()
+    hpfc.pack(shp, tmp_path / "got.hpfc", client=client, partitions=3, options=["--fields", "all"],
+              hpfc_pack=pack_tool, ranges=4)
+    assert (tmp_path / "got.hpfc").read_bytes() == want
+    err = capfd.readouterr().err
+    assert "the ranges read elsewhere were not taken" in err and "SetNextByIndex" in err, err
+
+
 def drive_ranges(pack_tool, src, out, shared, ranges, options=(), tamper=None, answer=b"read\n",
                  tag=None, report_form="--json"):
     """hpfc-pack --read-ranges by hand: the ranges read by hpfc-pack

@@ -50,6 +50,8 @@ typedef struct model {
     size_t n_repaired;
     char repaired[GIS_RANGE_REPAIRED][32];
     gis_range_counts counts;
+    int has_before, has_last;
+    int64_t fid_before, fid_last;
 } model;
 
 static void random_text(char *s, size_t cap)
@@ -99,6 +101,11 @@ static void random_model(model *m)
                                                                  : GIS_RANGE_REPAIRED;
     for (size_t k = 0; k < m->n_repaired; k++)
         random_text(m->repaired[k], sizeof m->repaired[k]);
+    /* the chain: the FID before the range, and its last (else that one) */
+    m->has_before = m->begin > 0;
+    m->fid_before = m->has_before ? (int64_t)rnd(1u << 20) - 9 : 0;
+    m->has_last = m->has_before || m->counts.read > 0;
+    m->fid_last = m->counts.read ? (int64_t)rnd(1u << 20) : m->fid_before;
 }
 
 /* The range the writer makes of the model. */
@@ -106,6 +113,8 @@ static void write_model(const model *m, gis_range *g)
 {
     gis_range_init(g, m->tag, m->layer, m->fields, m->begin);
     g->counts = m->counts;
+    g->has_before = m->has_before, g->has_last = m->has_last;
+    g->fid_before = m->fid_before, g->fid_last = m->fid_last;
     for (size_t f = 0; f < m->n; f++) {
         CHECK(gis_range_add_feature(g, m->position[f], m->fid[f], m->has_key[f] ? m->key[f] : NULL) == 0);
         for (size_t v = 0; v < m->n_values[f]; v++) {
@@ -141,6 +150,8 @@ static void check_same(const gis_range *g, const model *m)
     CHECK(memcmp(&g->counts, &m->counts, sizeof g->counts) == 0);
     CHECK_EQ_INT(g->fields, m->fields);
     CHECK_EQ_INT(g->n_repaired, m->n_repaired);
+    CHECK(g->has_before == m->has_before && g->has_last == m->has_last);
+    CHECK(g->fid_before == m->fid_before && g->fid_last == m->fid_last);
     if (g->n_features != m->n)
         return;
     size_t part = 0;
@@ -192,9 +203,16 @@ static void test_round_trip(void)
         CHECK(st == 0);
         if (st == 0)
             check_same(&g, &m);
-        else
+        else if (round < 3)
             fprintf(stderr, "round %d: %s\n", round, why);
         gis_range_free(&g);
+        /* the head alone: the same head, no data */
+        CHECK(gis_range_decode_head(b, n, m.tag, m.layer, m.begin, &g, why, sizeof why) == 0);
+        CHECK(g.n_features == 0 && g.features == NULL && g.xy == NULL);
+        CHECK(g.fid_before == m.fid_before && g.fid_last == m.fid_last &&
+              memcmp(&g.counts, &m.counts, sizeof g.counts) == 0);
+        gis_range_free(&g);
+        CHECK(gis_range_decode_head(b, n - 1, m.tag, m.layer, m.begin, &g, why, sizeof why) != 0);
         CHECK(gis_range_decode(b, n, m.tag ^ 1, m.layer, m.begin, &g, why, sizeof why) != 0);
         CHECK(strstr(why, "another reading") != NULL);
         CHECK(gis_range_decode(b, n, m.tag, m.layer + 1, m.begin, &g, why, sizeof why) != 0);
@@ -258,6 +276,15 @@ static void field_twice(model *m)
 }
 static void not_finite(model *m) { m->xy[1][0][1] = NAN; }
 static void fewer_read(model *m) { m->counts.read = m->n - 1; }
+/* a range after the first without the FID before it (or the first with one) */
+static void chain_without_before(model *m) { m->has_before = !m->has_before, m->fid_before = 0; }
+static void chain_before_at_zero(model *m) { m->begin = 0, m->has_before = 1, m->position[0] = 0; }
+static void chain_last_moved(model *m)
+{
+    m->counts.read = 0, m->n = 0, m->counts.skipped_empty = 0, m->counts.dateline_cut = 0;
+    m->counts.invalid_noded = 0, m->n_repaired = 0, m->has_last = m->has_before;
+    m->fid_last = m->fid_before + 1;
+}
 static void more_repaired(model *m) { m->counts.invalid_noded = m->n_repaired ? m->n_repaired - 1 : 0, m->n_repaired = m->n_repaired ? m->n_repaired : 1; }
 
 /* A feature without parts (its parts given to the next), written by hand:
@@ -301,6 +328,9 @@ int main(void)
     expect_refused(not_finite, "a coordinate not finite");
     expect_refused(fewer_read, "fewer features read than kept");
     expect_refused(more_repaired, "more names than polygons noded");
+    expect_refused(chain_without_before, "the FID before the range where there is none, or none");
+    expect_refused(chain_before_at_zero, "a FID before the first feature");
+    expect_refused(chain_last_moved, "a range of no feature whose last FID moved");
     test_feature_without_parts();
     return check_report("gis_range");
 }
