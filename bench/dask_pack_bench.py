@@ -90,19 +90,26 @@ def main():
     worker_own = c.run(_stop_sampler)
     # the only child waited for so far: hpfc-pack, when it ran (not the nannies)
     ran_tool = not src.endswith(".pfc") or len(argv) > 3
-    tool_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024 if ran_tool else float("nan")
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    tool_mb = children.ru_maxrss / 1024 if ran_tool else float("nan")
+    tool_cpu = children.ru_utime + children.ru_stime
     peaks = c.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
     # a worker's children: the hpfc-pack --read-range of a GIS layer's ranges
     readers = c.run(lambda: resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
+    readers_cpu = c.run(lambda: resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime +
+                        resource.getrusage(resource.RUSAGE_CHILDREN).ru_stime)
     client_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print("wall %.2f s, client peak %.0f MB (own %.0f MB above its %.0f MB before the pack), "
           "hpfc-pack peak %.0f MB, worker peaks %s MB (own %s MB above their start)"
           % (wall, client_mb, (sampler.peak - before) / 1024, before / 1024, tool_mb,
              [round(v / 1024) for v in peaks.values()],
              [round((worker_own[w] - worker_before[w]) / 1024) for w in worker_own]))
+    if ran_tool:
+        print("hpfc-pack's CPU %.1f s" % tool_cpu)
     if any(readers.values()):
-        print("range readers' peaks (hpfc-pack --read-range, by worker): %s MB"
-              % [round(v / 1024) for v in readers.values()])
+        print("range readers (hpfc-pack --read-range, by worker): peaks %s MB, CPU %s s"
+              % ([round(v / 1024) for v in readers.values()],
+                 [round(v, 1) for v in readers_cpu.values()]))
     print("client's own peak by stage (MB above its start): " +
           ", ".join("%s %.0f" % (k, (v - before) / 1024) for k, v in sampler.stages.items()))
     c.close()
