@@ -322,8 +322,9 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
     `ranges` runs (default: one a worker) by GDAL's feature order, before
     hpfc-pack projects and nodes them as a whole (`read_on_workers=False`:
     hpfc-pack reads them too); the input and hpfc-pack must then be at the
-    same paths on every worker. Raises hpfc.Error (the input, a part; hpfc-pack's exit status
-    and message as code and text), ValueError (an option) or OSError."""
+    same paths on every worker. Raises hpfc.Error (the input, a part;
+    hpfc-pack's exit status and message as code and text), ValueError (an
+    option) or OSError."""
     root_cols, root_rows = _sizes(root, 1, "root")
     cols, rows = _sizes(refine, 2, "refine")
     if layout not in LAYOUTS:
@@ -349,7 +350,10 @@ def pack(input, output, *, client=None, partitions=None, workers=2, root=64, ref
             read = None
             if read_on_workers:
                 args += ["--read-ranges", str(int(ranges) if ranges else min(max(1, n), 1 << 20))]
-                read = (options, os.path.abspath(input))
+                # a file at the same path on every worker; any other GDAL
+                # name (PG:..., /vsicurl/...) as given
+                source = os.fspath(input)
+                read = (options, os.path.abspath(source) if os.path.exists(source) else source)
             _pack_through_tool(tool, args + options + ["-o", os.fspath(output), "--",
                                os.fspath(input)], client, workers, tmp, read)
             return
