@@ -69,7 +69,7 @@ static uint8_t *file_of(const uint8_t *payload, size_t n, uint64_t tag, size_t *
 {
     uint8_t *f = malloc(HEAD + n + 1);
     FUZZ_CHECK(f != NULL);
-    memcpy(f, "HPFCRNG\1", 8);
+    memcpy(f, GIS_RANGE_MAGIC, 8);
     memcpy(f + HEAD, payload, n);
     uint8_t *p = f + HEAD;
     if (n >= BEGIN_AT + 8) {
@@ -151,6 +151,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     int st = gis_read_graph(PATH, &o, &g, &info, err, sizeof err);
     FUZZ_CHECK(decoded >= 0 && (st == 0 || st == 1) && (st == 0) == (g != NULL));
     FUZZ_CHECK(memchr(err, 0, sizeof err) != NULL);
+    /* the genuine range, whatever the tag, layer and begin the input held */
+    bool genuine_input = size == genuine_len - HEAD &&
+                         memcmp(data + BEGIN_AT + 8, genuine + HEAD + BEGIN_AT + 8,
+                                size - BEGIN_AT - 8) == 0;
+    FUZZ_CHECK(!genuine_input || (decoded && st == 0));
     if (st) {
         FUZZ_CHECK(err[0] && !strpbrk(err, "\r\n"));
         FUZZ_CHECK(decoded || strstr(err, "range-0: ") != NULL);
@@ -159,8 +164,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(decoded);
     fuzz_check_graph(g);
     FUZZ_CHECK(hpfc_graph_validate(g, NULL) == HPFC_OK);
-    if (size == genuine_len - HEAD && memcmp(data + BEGIN_AT + 8, genuine + HEAD + BEGIN_AT + 8,
-                                             size - BEGIN_AT - 8) == 0) {
+    if (genuine_input) {
         FUZZ_CHECK(fuzz_same_graph(g, whole));
         FUZZ_CHECK(gis_features_count(info.polygons) == gis_features_count(whole_info.polygons));
         FUZZ_CHECK(info.features == whole_info.features &&

@@ -11,7 +11,7 @@
 
 #include "grow.h"
 
-static const uint8_t MAGIC[8] = {'H', 'P', 'F', 'C', 'R', 'N', 'G', 2};
+static const uint8_t MAGIC[8] = GIS_RANGE_MAGIC;
 enum { HEAD_BYTES = 24 };
 
 /* ---- writing ----------------------------------------------------------------- */

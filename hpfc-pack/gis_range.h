@@ -36,6 +36,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* A range file's first 8 bytes: "HPFCRNG" and the version */
+#define GIS_RANGE_MAGIC "HPFCRNG\2"
+
 enum { GIS_RANGE_INTEGER = 1, GIS_RANGE_REAL = 2, GIS_RANGE_STRING = 3 };
 /* the names of the first noded invalid polygons a report lists */
 enum { GIS_RANGE_REPAIRED = 5 };
