@@ -1051,6 +1051,12 @@ static int ranges_chained(reader *r, GDALDatasetH ds)
     return 1;
 }
 
+/* c * i / pieces without overflow (a driver may count any number). */
+static uint64_t share(uint64_t c, uint64_t i, uint64_t pieces)
+{
+    return c / pieces * i + c % pieces * i / pieces;
+}
+
 /* Cuts the `want` layers to read into about opt->ranges->count ranges of
  * equal feature counts and has other processes read them: r->plan is set
  * when they were. A layer GDAL cannot count, or a reader that failed,
@@ -1083,8 +1089,8 @@ static int plan_ranges(reader *r, GDALDatasetH ds, size_t want)
                 free(count);
                 return fail(r, "out of memory");
             }
-            plan[n++] = (gis_range_plan){(uint32_t)k, (int64_t)(c * i / pieces),
-                                         i + 1 == pieces ? -1 : (int64_t)(c * (i + 1) / pieces)};
+            plan[n++] = (gis_range_plan){(uint32_t)k, (int64_t)share(c, i, pieces),
+                                         i + 1 == pieces ? -1 : (int64_t)share(c, i + 1, pieces)};
         }
     }
     r->tag = reading_tag();
