@@ -151,8 +151,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     int st = gis_read_graph(PATH, &o, &g, &info, err, sizeof err);
     FUZZ_CHECK(decoded >= 0 && (st == 0 || st == 1) && (st == 0) == (g != NULL));
     FUZZ_CHECK(memchr(err, 0, sizeof err) != NULL);
-    /* the genuine range, whatever the tag, layer and begin the input held */
+    /* the genuine range (its field count too), whatever the tag, layer
+     * and begin the input held */
     bool genuine_input = size == genuine_len - HEAD &&
+                         memcmp(data + LAYER_AT + 4, genuine + HEAD + LAYER_AT + 4, 4) == 0 &&
                          memcmp(data + BEGIN_AT + 8, genuine + HEAD + BEGIN_AT + 8,
                                 size - BEGIN_AT - 8) == 0;
     FUZZ_CHECK(!genuine_input || (decoded && st == 0));
