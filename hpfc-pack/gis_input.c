@@ -814,9 +814,10 @@ static int take_range(reader *r, const gis_range *g, const char *name)
     return 0;
 }
 
-/* Range file K's bytes (malloc'ed), or a failure. */
-static int read_range_file(reader *r, size_t k, uint8_t **bytes, size_t *len, char *name,
-                           size_t name_len)
+/* Range file K's bytes (malloc'ed), the whole file or its first `most`,
+ * or a failure. */
+static int read_range_file(reader *r, size_t k, size_t most, uint8_t **bytes, size_t *len,
+                           char *name, size_t name_len)
 {
     snprintf(name, name_len, "%s/range-%zu", r->opt->ranges->dir, k);
     errno = 0;
@@ -824,8 +825,9 @@ static int read_range_file(reader *r, size_t k, uint8_t **bytes, size_t *len, ch
     long size = -1;
     if (f && fseek(f, 0, SEEK_END) == 0)
         size = ftell(f);
-    *bytes = size >= 0 && fseek(f, 0, SEEK_SET) == 0 ? malloc(size ? (size_t)size : 1) : NULL;
-    int ok = *bytes && fread(*bytes, 1, (size_t)size, f) == (size_t)size;
+    size_t want = size >= 0 && (unsigned long)size < most ? (size_t)size : most;
+    *bytes = size >= 0 && fseek(f, 0, SEEK_SET) == 0 ? malloc(want ? want : 1) : NULL;
+    int ok = *bytes && fread(*bytes, 1, want, f) == want;
     int err = ok ? 0 : errno;
     if (f)
         fclose(f);
@@ -833,7 +835,7 @@ static int read_range_file(reader *r, size_t k, uint8_t **bytes, size_t *len, ch
         free(*bytes);
         return fail(r, "%s: cannot read: %s", name, err ? strerror(err) : "short read");
     }
-    *len = (size_t)size;
+    *len = want;
     return 0;
 }
 
@@ -848,7 +850,7 @@ static int load_layer(reader *r, uint64_t *features, uint64_t *lines)
         char name[1200], why[256];
         uint8_t *bytes = NULL;
         size_t len = 0;
-        if (read_range_file(r, k, &bytes, &len, name, sizeof name))
+        if (read_range_file(r, k, SIZE_MAX, &bytes, &len, name, sizeof name))
             return 1;
         gis_range g;
         int st = gis_range_decode(bytes, len, r->tag, p->layer, p->begin, &g, why, sizeof why);
@@ -1024,7 +1026,7 @@ static int ranges_chained(reader *r, GDALDatasetH ds)
         char name[1200], why[256];
         uint8_t *bytes = NULL;
         size_t len = 0;
-        if (read_range_file(r, k, &bytes, &len, name, sizeof name)) {
+        if (read_range_file(r, k, GIS_RANGE_HEAD, &bytes, &len, name, sizeof name)) {
             r->err[0] = 0;
             return 1;
         }

@@ -322,15 +322,11 @@ static size_t get_text(source *s, gis_range *g)
     return at;
 }
 
-/* An array of n items of `size` bytes, n checked against the bytes left
- * (each item takes at least `least` of them) before it is allocated. */
-static void *get_array(source *s, uint64_t n, size_t size, size_t least)
+/* An array of n items of `size` bytes; get_head has checked n against the
+ * bytes the file holds. */
+static void *get_array(source *s, size_t n, size_t size)
 {
-    if (s->failed)
-        return NULL;
-    if (n > s->left / least)
-        return refuse(s, "damaged range file: it counts more than it holds"), NULL;
-    void *p = malloc(n ? (size_t)n * size : 1);
+    void *p = malloc(n ? n * size : 1);
     if (!p)
         refuse(s, "out of memory");
     return p;
@@ -429,13 +425,18 @@ static int get_points(source *s, gis_range *g)
     return s->failed ? -1 : 0;
 }
 
-static int get_head(source *s, gis_range *g, uint64_t tag, uint32_t layer, int64_t begin)
+/* The head; `whole` says the bytes are the whole file, whose length and
+ * hash are then checked, else they may be its first GIS_RANGE_HEAD bytes
+ * and the counts are checked against the payload length the file states.
+ * The counts are left in g->n_*; nothing is allocated. */
+static int get_head(source *s, gis_range *g, uint64_t tag, uint32_t layer, int64_t begin,
+                    int whole)
 {
     const uint8_t *m = take(s, 8);
     if (!m || memcmp(m, MAGIC, 8) != 0)
         return refuse(s, "not a range file of this version (hpfc-pack --read-range writes them)");
     uint64_t n = get_u64(s), h = get_u64(s);
-    if (s->failed || n != s->left || h != gis_range_hash(s->p, s->left))
+    if (s->failed || (whole ? n != s->left || h != gis_range_hash(s->p, s->left) : n < s->left))
         return refuse(s, "damaged range file: its length or hash does not match its bytes");
     g->tag = get_u64(s);
     g->layer = get_u32(s);
@@ -468,13 +469,23 @@ static int get_head(source *s, gis_range *g, uint64_t tag, uint32_t layer, int64
         (!g->has_before && g->fid_before) || (!g->has_last && g->fid_last) ||
         (!c->read && g->fid_last != g->fid_before))
         return refuse(s, "damaged range file: its counts disagree");
-    /* a feature takes at least 28 bytes, a part 13, a point 16 */
-    if (!(g->features = get_array(s, features, sizeof *g->features, 28)) ||
-        !(g->parts = get_array(s, parts, sizeof *g->parts, 13)) ||
-        !(g->xy = get_array(s, points, 2 * sizeof *g->xy, 16)))
-        return -1;
+    /* The data after the head: a feature takes at least 24 bytes, a part
+     * 13, a point 16 (each step below subtracts what fits). */
+    uint64_t data = n - (GIS_RANGE_HEAD - 24);
+    if (points > data / 16 || features > (data -= points * 16) / 24 ||
+        parts > (data - features * 24) / 13)
+        return refuse(s, "damaged range file: it counts more than it holds");
     g->n_features = (size_t)features, g->n_parts = (size_t)parts, g->n_points = (size_t)points;
     g->n_repaired = repaired;
+    return 0;
+}
+
+static int get_arrays(source *s, gis_range *g)
+{
+    if (!(g->features = get_array(s, g->n_features, sizeof *g->features)) ||
+        !(g->parts = get_array(s, g->n_parts, sizeof *g->parts)) ||
+        !(g->xy = get_array(s, g->n_points, 2 * sizeof *g->xy)))
+        return -1;
     return 0;
 }
 
@@ -483,17 +494,9 @@ int gis_range_decode_head(const uint8_t *bytes, size_t len, uint64_t tag, uint32
 {
     memset(g, 0, sizeof *g);
     source s = {bytes, len, why, why_len, 0};
-    int st = get_head(&s, g, tag, layer, begin);
-    free(g->features);
-    free(g->parts);
-    free(g->xy);
-    g->features = NULL, g->parts = NULL, g->xy = NULL;
+    int st = get_head(&s, g, tag, layer, begin, 0);
     g->n_features = g->n_parts = g->n_points = g->n_repaired = 0;
-    if (st) {
-        gis_range_free(g);
-        return -1;
-    }
-    return 0;
+    return st ? -1 : 0;
 }
 
 int gis_range_decode(const uint8_t *bytes, size_t len, uint64_t tag, uint32_t layer,
@@ -501,8 +504,8 @@ int gis_range_decode(const uint8_t *bytes, size_t len, uint64_t tag, uint32_t la
 {
     memset(g, 0, sizeof *g);
     source s = {bytes, len, why, why_len, 0};
-    if (get_head(&s, g, tag, layer, begin) || get_features(&s, g) || get_parts(&s, g) ||
-        get_points(&s, g))
+    if (get_head(&s, g, tag, layer, begin, 1) || get_arrays(&s, g) || get_features(&s, g) ||
+        get_parts(&s, g) || get_points(&s, g))
         goto failed;
     for (size_t k = 0; k < g->n_repaired; k++)
         if ((g->repaired[k] = get_text(&s, g)) == GIS_RANGE_NONE) {

@@ -121,8 +121,12 @@ uint64_t gis_range_hash(const uint8_t *payload, size_t n);
  * and *g left empty. */
 int gis_range_decode(const uint8_t *bytes, size_t len, uint64_t tag, uint32_t layer,
                      int64_t begin, gis_range *g, char *why, size_t why_len);
-/* The same checks of the bytes (magic, hash, reading, counts), but only
- * the head is kept: tag, layer, fields, begin, the chain and the counts. */
+/* A range file's head, its first GIS_RANGE_HEAD bytes (or more, or the
+ * whole file): the magic, the reading, the counts against the payload
+ * length it states. Its hash and data are left for gis_range_decode, so
+ * a reader can check a chain of ranges before it reads any of them. Only
+ * tag, layer, fields, begin, the chain and the counts are kept. */
+#define GIS_RANGE_HEAD 148
 int gis_range_decode_head(const uint8_t *bytes, size_t len, uint64_t tag, uint32_t layer,
                           int64_t begin, gis_range *g, char *why, size_t why_len);
 

@@ -206,13 +206,21 @@ static void test_round_trip(void)
         else if (round < 3)
             fprintf(stderr, "round %d: %s\n", round, why);
         gis_range_free(&g);
-        /* the head alone: the same head, no data */
-        CHECK(gis_range_decode_head(b, n, m.tag, m.layer, m.begin, &g, why, sizeof why) == 0);
-        CHECK(g.n_features == 0 && g.features == NULL && g.xy == NULL);
-        CHECK(g.fid_before == m.fid_before && g.fid_last == m.fid_last &&
-              memcmp(&g.counts, &m.counts, sizeof g.counts) == 0);
-        gis_range_free(&g);
-        CHECK(gis_range_decode_head(b, n - 1, m.tag, m.layer, m.begin, &g, why, sizeof why) != 0);
+        /* the head alone, from the whole file or its first bytes: the
+         * same head, no data */
+        size_t lens[] = {GIS_RANGE_HEAD, n};
+        for (int k = 0; k < 2; k++) {
+            size_t len = lens[k];
+            CHECK(gis_range_decode_head(b, len, m.tag, m.layer, m.begin, &g, why, sizeof why) ==
+                  0);
+            CHECK(g.n_features == 0 && g.features == NULL && g.xy == NULL);
+            CHECK(g.fid_before == m.fid_before && g.fid_last == m.fid_last &&
+                  memcmp(&g.counts, &m.counts, sizeof g.counts) == 0);
+            gis_range_free(&g);
+        }
+        CHECK(gis_range_decode_head(b, GIS_RANGE_HEAD - 1, m.tag, m.layer, m.begin, &g, why,
+                                    sizeof why) != 0);
+        CHECK(gis_range_decode_head(b, n, m.tag ^ 1, m.layer, m.begin, &g, why, sizeof why) != 0);
         CHECK(gis_range_decode(b, n, m.tag ^ 1, m.layer, m.begin, &g, why, sizeof why) != 0);
         CHECK(strstr(why, "another reading") != NULL);
         CHECK(gis_range_decode(b, n, m.tag, m.layer + 1, m.begin, &g, why, sizeof why) != 0);
@@ -317,6 +325,59 @@ static void test_feature_without_parts(void)
     gis_range_free(&w);
 }
 
+static void put_le64(uint8_t *b, uint64_t v)
+{
+    for (int k = 0; k < 8; k++)
+        b[k] = (uint8_t)(v >> (8 * k));
+}
+
+/* The tightest range the format allows (features with no key or value,
+ * each one part of one point) decodes, head and whole: the head's bound
+ * on the counts is not tighter than the data. A head that counts more
+ * points, features or parts than its bytes could hold is refused by both
+ * decoders, before anything is allocated. */
+static void test_counts_against_bytes(void)
+{
+    gis_range w, g;
+    enum { N = 9 };
+    gis_range_init(&w, 7, 0, 0, 0);
+    for (uint32_t f = 0; f < N; f++) {
+        double xy[2] = {f, -1.0 * f};
+        CHECK(gis_range_add_feature(&w, f, 100 + f, NULL) == 0);
+        CHECK(gis_range_add_part(&w, f, xy, 1, 0) == 0);
+    }
+    w.counts.read = N, w.counts.lines = N;
+    w.has_last = 1, w.fid_last = 100 + N - 1;
+    uint8_t *b = NULL;
+    size_t n = 0;
+    char why[256] = "";
+    CHECK(gis_range_encode(&w, &b, &n) == 0);
+    gis_range_free(&w);
+    CHECK_EQ_INT((long long)n, GIS_RANGE_HEAD + N * (24 + 13 + 16));
+    CHECK(gis_range_decode(b, n, 7, 0, 0, &g, why, sizeof why) == 0);
+    CHECK(g.n_features == N && g.n_points == N);
+    gis_range_free(&g);
+    /* features, parts and points counts, each pushed past the bytes */
+    const size_t at[] = {120, 128, 136};
+    for (size_t k = 0; k < 3; k++) {
+        uint8_t keep[8];
+        memcpy(keep, b + at[k], 8);
+        uint64_t huge[] = {N + (n - GIS_RANGE_HEAD) / 8, UINT64_MAX / 2, UINT64_MAX};
+        for (size_t h = 0; h < 3; h++) {
+            put_le64(b + at[k], huge[h]);
+            put_le64(b + 16, gis_range_hash(b + 24, n - 24));
+            CHECK(gis_range_decode(b, n, 7, 0, 0, &g, why, sizeof why) != 0);
+            CHECK(strstr(why, "more than it holds") || strstr(why, "counts disagree"));
+            CHECK(gis_range_decode_head(b, GIS_RANGE_HEAD, 7, 0, 0, &g, why, sizeof why) != 0);
+        }
+        memcpy(b + at[k], keep, 8);
+    }
+    /* a head whose stated length is shorter than the bytes given */
+    put_le64(b + 8, GIS_RANGE_HEAD - 25);
+    CHECK(gis_range_decode_head(b, GIS_RANGE_HEAD, 7, 0, 0, &g, why, sizeof why) != 0);
+    free(b);
+}
+
 int main(void)
 {
     test_round_trip();
@@ -332,5 +393,6 @@ int main(void)
     expect_refused(chain_before_at_zero, "a FID before the first feature");
     expect_refused(chain_last_moved, "a range of no feature whose last FID moved");
     test_feature_without_parts();
+    test_counts_against_bytes();
     return check_report("gis_range");
 }
