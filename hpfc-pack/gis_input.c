@@ -843,6 +843,8 @@ static int read_range_file(reader *r, size_t k, size_t most, uint8_t **bytes, si
  * *features and *lines as read_features counts them. */
 static int load_layer(reader *r, uint64_t *features, uint64_t *lines)
 {
+    int64_t fid_last = 0;
+    int has_last = 0;
     for (size_t k = 0; k < r->n_plan; k++) {
         const gis_range_plan *p = &r->plan[k];
         if (p->layer != r->layer_index)
@@ -862,6 +864,13 @@ static int load_layer(reader *r, uint64_t *features, uint64_t *lines)
                          "counted: the layer changed while it was read",
                       r->layer_name, (unsigned long long)g.counts.read, (long long)p->begin,
                       (long long)(p->end - p->begin));
+        /* ranges_chained checked the heads; a file replaced since then
+         * must chain too */
+        if (!st && has_last && g.fid_before != fid_last)
+            st = fail(r, "%s: a range file of another reading (it does not follow the range "
+                         "before it)",
+                      name);
+        has_last = g.has_last, fid_last = g.fid_last;
         if (!st)
             st = take_range(r, &g, name);
         *features += g.counts.read;
