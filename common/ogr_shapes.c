@@ -3,6 +3,8 @@
  */
 #include "ogr_shapes.h"
 
+#include "ogr_curve.h"
+
 #include <ctype.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -171,8 +173,7 @@ void ogr_shapes_release(ogr_shapes *o)
     mapproj_free(o->plan);
     if (o->srs) /* a reference: the GDAL driver's layers may hold more */
         OSRRelease(o->srs);
-    free(o->xy);
-    o->plan = NULL, o->srs = NULL, o->xy = NULL, o->cap = 0;
+    o->plan = NULL, o->srs = NULL;
 }
 
 /* ---- geometry ---------------------------------------------------------------------- */
@@ -197,64 +198,42 @@ int ogr_shapes_point(ogr_shapes *o, int64_t x, int64_t y, double *ox, double *oy
     return 0;
 }
 
-/* Points converted a chunk at a time: through a pairs buffer that stays in
- * the cache, so a ring costs its x and y arrays and no pairs array as
- * large (16 bytes a point fewer touched; pages first touched are what a
- * large feature's read pays most for). */
+/* n lattice points (pairs) into out (pairs), in output coordinates, a chunk
+ * at a time: the scaling's and the projection's passes over a chunk find
+ * it in the cache where a pass over a whole large ring would not. */
 enum { CHUNK_POINTS = 1024 };
 
-/* o->xy: x[cap], y[cap], then the chunk's pairs. */
-static int reserve(ogr_shapes *o, size_t n)
+static int convert_points(ogr_shapes *o, const int64_t *xy, size_t n, double *out)
 {
-    if (n <= o->cap)
-        return 0;
-    size_t c = o->cap ? o->cap : 1024;
-    while (c < n)
-        c *= 2;
-    if (c > SIZE_MAX / (4 * sizeof *o->xy))
-        return fail(o, "out of memory");
-    /* nothing in it is kept across calls: free, then allocate, no copy */
-    free(o->xy);
-    o->xy = malloc((2 * c + 2 * CHUNK_POINTS) * sizeof *o->xy);
-    o->cap = o->xy ? c : 0;
-    return o->xy ? 0 : fail(o, "out of memory");
-}
-
-/* n lattice points (pairs) into o's x and y arrays, in output coordinates. */
-static int convert_points(ogr_shapes *o, const int64_t *xy, size_t n)
-{
-    double *x = o->xy, *y = x + o->cap, *pairs = y + o->cap;
     for (size_t at = 0; at < n; at += CHUNK_POINTS) {
         size_t m = n - at < CHUNK_POINTS ? n - at : CHUNK_POINTS;
-        if (ogr_shapes_points(o, xy + 2 * at, m, pairs))
+        if (ogr_shapes_points(o, xy + 2 * at, m, out + 2 * at))
             return 1;
-        for (size_t k = 0; k < m; k++)
-            x[at + k] = pairs[2 * k], y[at + k] = pairs[2 * k + 1];
     }
     return 0;
 }
 
-/* The first n points of o's x and y arrays as the points of g: OGR copies
- * an x and a y array in one loop, but sets strided points one call each
- * (four times the instructions). */
-static void set_points(ogr_shapes *o, OGRGeometryH g, size_t n)
+/* A new curve of type t for n points, converted by the caller into *out,
+ * OGR's own array (ogr_curve.h); NULL with o->why set. */
+static OGRGeometryH new_curve(ogr_shapes *o, OGRwkbGeometryType t, size_t n, double **out)
 {
-    OGR_G_SetPoints(g, (int)n, o->xy, sizeof(double), o->xy + o->cap, sizeof(double), NULL, 0);
+    OGRGeometryH g = ogr_curve_create(t, n, out);
+    if (!g)
+        fail(o, "%zu points: out of memory", n);
+    return g;
 }
 
 /* The points [a, b) of an answer as a new curve of type t. */
 static OGRGeometryH curve(ogr_shapes *o, const hpfc_polygons *p, size_t r, OGRwkbGeometryType t)
 {
     size_t a = p->ring_point[r], b = p->ring_point[r + 1];
-    if (reserve(o, b - a + 1) || convert_points(o, p->xy + 2 * a, b - a))
-        return NULL;
-    o->points += b - a;
-    OGRGeometryH g = OGR_G_CreateGeometry(t);
-    if (!g) {
-        fail(o, "out of memory");
+    double *out;
+    OGRGeometryH g = new_curve(o, t, b - a, &out);
+    if (g && convert_points(o, p->xy + 2 * a, b - a, out)) {
+        OGR_G_DestroyGeometry(g);
         return NULL;
     }
-    set_points(o, g, b - a);
+    o->points += g ? b - a : 0;
     return g;
 }
 
@@ -354,27 +333,25 @@ OGRGeometryH ogr_shapes_edge_geometry(ogr_shapes *o, hpfc_id edge)
     int st = hpfc_geometry_edge(o->f, edge, &u, &v, &n);
     if (!st && n > SIZE_MAX / 2)
         st = HPFC_E_CORRUPT;
-    if (st || reserve(o, (size_t)n)) {
-        if (st)
-            fail(o, "edge %llu: %s", (unsigned long long)edge, hpfc_strerror(st));
+    if (st) {
+        fail(o, "edge %llu: %s", (unsigned long long)edge, hpfc_strerror(st));
         return NULL;
     }
-    for (uint64_t k = 0; k < n; k++) {
+    double *out;
+    OGRGeometryH g = new_curve(o, wkbLineString, (size_t)n, &out);
+    for (uint64_t k = 0; g && k < n; k++) {
         int64_t x, y;
-        if ((st = hpfc_geometry_edge_point(o->f, edge, k, &x, &y))) {
+        if ((st = hpfc_geometry_edge_point(o->f, edge, k, &x, &y)))
             fail(o, "edge %llu: %s", (unsigned long long)edge, hpfc_strerror(st));
+        if (st || ogr_shapes_point(o, x, y, &out[2 * k], &out[2 * k + 1])) {
+            OGR_G_DestroyGeometry(g);
             return NULL;
         }
-        if (ogr_shapes_point(o, x, y, &o->xy[k], &o->xy[o->cap + k]))
-            return NULL;
     }
-    o->points += n;
-    o->lines++;
-    OGRGeometryH g = OGR_G_CreateGeometry(wkbLineString);
-    if (!g)
-        fail(o, "out of memory");
-    else
-        set_points(o, g, (size_t)n);
+    if (g) {
+        o->points += n;
+        o->lines++;
+    }
     return g;
 }
 

@@ -30,9 +30,6 @@ typedef struct ogr_shapes {
     mapproj_plan *plan;         /* back to lon/lat; NULL: user coordinates */
     OGRSpatialReferenceH srs;   /* the output's, NULL: none */
     char srs_name[160];         /* "EPSG:4326", a name, or "none" */
-    double *xy;                 /* scratch: one ring in output coordinates, its x
-                                 * and its y (cap each), then a chunk of pairs */
-    size_t cap;                 /* points */
     uint64_t polygons, rings, points, lines; /* made so far */
     uint64_t skipped_holes;     /* rings of the unbounded face's, left out */
     char why[600];              /* the last failure */

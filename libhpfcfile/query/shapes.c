@@ -238,7 +238,6 @@ void hpfc_shapes_free(hpfc_shapes *s)
     free(s->cycle);
     free(s->txy);
     free(s->rings);
-    free(s->xy);
     free(s->ring_point);
     free(s->polygon_ring);
     shapes_zeroed_free(s->edge_box, (size_t)s->edges + 1, sizeof *s->edge_box);
@@ -1077,14 +1076,17 @@ static int own_by_part(hpfc_shapes *s, size_t *rest)
     return HPFC_OK;
 }
 
-/* Ring r as the answer's next ring: copied to s->xy, or, where the answer
- * is the traced points as they lie (in_place), only numbered. */
+/* Ring r as the answer's next ring: copied to s->ept, whose darts' points
+ * are no longer needed once the rings are traced (an array of the
+ * answer's own was a third as large as the feature, its pages touched for
+ * this copy alone), or, where the answer is the traced points as they lie
+ * (in_place), only numbered. */
 static void put_ring(hpfc_shapes *s, size_t r, int in_place, size_t *rings, size_t *points)
 {
     const tring *R = &s->rings[r];
     size_t n = R->end - R->start;
     if (!in_place)
-        memcpy(s->xy + 2 * *points, s->txy + 2 * R->start, 2 * n * sizeof *s->xy);
+        memcpy(s->ept + 2 * *points, s->txy + 2 * R->start, 2 * n * sizeof *s->ept);
     s->ring_point[(*rings)++] = *points;
     *points += n;
 }
@@ -1157,7 +1159,7 @@ static int arrange(hpfc_shapes *s, hpfc_polygons *out)
             hole[fill[s->rings[h].owner == SIZE_MAX ? nr : s->rings[h].owner]++] = h;
     free(fill);
     int in_place = answer_in_place(s, first, hole);
-    if ((!in_place && array_grow((void **)&s->xy, &s->cap_xy, 2 * s->ntxy + 2, sizeof *s->xy)) ||
+    if ((!in_place && array_grow((void **)&s->ept, &s->cap_ept, 2 * s->ntxy + 2, sizeof *s->ept)) ||
         array_grow((void **)&s->ring_point, &s->cap_ring_point, nr + 1, sizeof *s->ring_point) ||
         array_grow((void **)&s->polygon_ring, &s->cap_polygon_ring, outers + 1,
                    sizeof *s->polygon_ring)) {
@@ -1183,7 +1185,7 @@ static int arrange(hpfc_shapes *s, hpfc_polygons *out)
                            .point_count = points,
                            .polygon_ring = s->polygon_ring,
                            .ring_point = s->ring_point,
-                           .xy = in_place ? s->txy : s->xy};
+                           .xy = in_place ? s->txy : s->ept};
     return HPFC_OK;
 }
 

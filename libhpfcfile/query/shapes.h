@@ -102,7 +102,9 @@ struct hpfc_shapes {
     size_t ndarts, cap_darts, cap_dsorted;
     key_item *dkeys;            /* the darts by origin, and scratch */
     size_t cap_dkeys;
-    int64_t *ept;               /* the darts' edges' points (pairs) */
+    int64_t *ept;               /* the darts' edges' points (pairs); once the rings
+                                 * are traced, the answer's points when they
+                                 * are not where tracing put them */
     size_t nept, cap_ept;
     uint32_t *part;             /* union-find over the region's faces */
     size_t nparts, cap_part;
@@ -114,8 +116,6 @@ struct hpfc_shapes {
     tring *rings;
     size_t nrings, cap_rings;
     /* the answer */
-    int64_t *xy;
-    size_t cap_xy;
     size_t *ring_point, cap_ring_point;
     size_t *polygon_ring, cap_polygon_ring;
     /* hpfc_limits, 0 fields resolved to the defaults; the points the
