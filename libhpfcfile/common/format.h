@@ -346,6 +346,15 @@ static inline uint64_t format_be64(const uint8_t *p)
            (uint64_t)p[6] << 8 | (uint64_t)p[7];
 }
 
+/* v as the int64_t of the same bits (two's complement), without the
+ * conversion of a value past INT64_MAX, which C leaves to the compiler. */
+static inline int64_t format_as_int64(uint64_t v)
+{
+    int64_t r;
+    memcpy(&r, &v, sizeof r);
+    return r;
+}
+
 /* 64 bits starting at byte `byte`, zeros past `avail`. */
 static inline uint64_t format_window(const format_bits *b, uint64_t byte)
 {

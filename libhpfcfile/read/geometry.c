@@ -484,19 +484,65 @@ int hpfc_geometry_edge_point(const hpfc_file *file, uint64_t edge, uint64_t k, i
     return point_at(file, g, GEOM_PX, r.first + k - 1, x, y);
 }
 
+/* Values q .. q + n - 1 of block b as coordinates: each below `limit`,
+ * plus `origin`, into out[0], out[2], ... A block none of whose values can
+ * reach the limit (base + 2^width - 1 below it: a writer's usual block,
+ * its base the block's least value) gets base and origin added in the
+ * unpacking loop, one pass and no test a value; any other is unpacked,
+ * then tested value by value. HPFC_E_CORRUPT as block_values, or for a
+ * value past the limit. */
+static int block_coordinates(const geom_column *c, const column_block *b, uint64_t q,
+                             uint64_t n, uint64_t limit, int64_t origin, int64_t *out)
+{
+    const format_bits *pl = &c->payload;
+    unsigned w = b->width;
+    uint64_t pos, end;
+    if (w > 64 || !format_mul(q + n, w, &end) || !format_add(b->off, end, &end) ||
+        end > pl->bits)
+        return HPFC_E_CORRUPT;
+    pos = b->off + q * w;
+    if (n && w && w <= 57 && b->base < limit && (UINT64_C(1) << w) - 1 < limit - b->base &&
+        ((pos + (n - 1) * w) >> 3) + 8 <= pl->avail) {
+        /* origin + base + value lies in the domain, which the header's
+         * checks keep within int64_t: the sum taken modulo 2^64 is it */
+        uint64_t add = b->base + (uint64_t)origin;
+        for (uint64_t k = 0; k < n; k++, pos += w)
+            out[2 * k] = format_as_int64(
+                add + ((format_be64(pl->base + (pos >> 3)) << (pos & 7)) >> (64 - w)));
+        return HPFC_OK;
+    }
+    uint64_t *v = (uint64_t *)out;
+    int st = block_values(c, b, q, n, v, 2);
+    for (uint64_t k = 0; k < n && !st; k++) {
+        if (v[2 * k] >= limit)
+            return HPFC_E_CORRUPT;
+        out[2 * k] = origin + (int64_t)v[2 * k];
+    }
+    return st;
+}
+
+int geom_coordinate_run(const geom_column *c, uint64_t i, uint64_t n, uint64_t limit,
+                        int64_t origin, int64_t *out)
+{
+    if (i > c->count || n > c->count - i)
+        return HPFC_E_CORRUPT;
+    uint64_t size = UINT64_C(1) << c->shift;
+    int st = HPFC_OK;
+    while (n && !st) {
+        uint64_t q = i & (size - 1), take = size - q < n ? size - q : n;
+        column_block b = block_entry(c, i >> c->shift);
+        st = block_coordinates(c, &b, q, take, limit, origin, out);
+        i += take, n -= take, out += 2 * take;
+    }
+    return st;
+}
+
 int geom_points(const hpfc_file *file, int column, uint64_t first, uint64_t n, int64_t *xy)
 {
     const geom_view *g = &file->geom;
-    uint64_t *d = (uint64_t *)xy; /* the offsets from the domain's corner, then made absolute */
-    int st = geom_column_run(&g->col[column], first, n, d, 2);
+    int st = geom_coordinate_run(&g->col[column], first, n, g->width, file->info.x0, xy);
     if (!st)
-        st = geom_column_run(&g->col[column + 1], first, n, d + 1, 2);
-    for (uint64_t k = 0; k < n && !st; k++) {
-        if (d[2 * k] >= g->width || d[2 * k + 1] >= g->height)
-            return HPFC_E_CORRUPT;
-        xy[2 * k] = file->info.x0 + (int64_t)d[2 * k];
-        xy[2 * k + 1] = file->info.y0 + (int64_t)d[2 * k + 1];
-    }
+        st = geom_coordinate_run(&g->col[column + 1], first, n, g->height, file->info.y0, xy + 1);
     return st;
 }
 

@@ -137,6 +137,13 @@ typedef struct geom_edge {
  * HPFC_E_ARG past the edges. The GEOM section is present. */
 int geom_edges(const hpfc_file *file, uint64_t first, uint64_t n, geom_edge *out);
 
+/* Values [i, i + n) of column c as one coordinate of n points: origin +
+ * value into out[0], out[2], ..., each value below `limit` (the domain's
+ * width or height) or HPFC_E_CORRUPT, as for a run past the column. The
+ * odd slots are not written. */
+int geom_coordinate_run(const geom_column *c, uint64_t i, uint64_t n, uint64_t limit,
+                        int64_t origin, int64_t *out);
+
 /* Points [first, first + n) of a point column, GEOM_VX (the vertices) or
  * GEOM_PX (the shape points), as lattice coordinates into xy (x, y a
  * point), read a column run at a time. HPFC_E_CORRUPT for a run past the

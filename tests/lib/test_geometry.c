@@ -443,6 +443,65 @@ static void check_column_entries(void)
     }
 }
 
+/* geom_coordinate_run (geom_points' reading of a coordinate) against
+ * geom_column_get value by value, on check_column_entries' narrow column
+ * (blocks of 4 values of width 5, bases 1000, 3 and 2^20 - 40): every run,
+ * under a limit no block can reach (each block added to as it is
+ * unpacked), and under one the last block's ceiling passes, where the
+ * values are tested one by one: a run holding a value at or past the limit
+ * is corrupt, the rest read. The odd slots stay untouched. */
+static void check_coordinate_runs(void)
+{
+    const uint32_t ob = 12, bb = 20, entry = ob + bb + GEOM_WIDTH_BITS;
+    const unsigned width = 5, shift = 2, count = 11;
+    const uint64_t base[3] = {1000, 3, (UINT64_C(1) << 20) - 40};
+    uint8_t dir[32] = {0}, payload[16] = {0};
+    for (uint64_t b = 0; b < 3; b++) {
+        format_put(dir, b * entry, ob, b * 4 * width + 1);
+        format_put(dir, b * entry + ob, bb, base[b]);
+        format_put(dir, b * entry + ob + bb, GEOM_WIDTH_BITS, width);
+    }
+    for (uint64_t i = 0; i < count; i++)
+        format_put(payload, 1 + i * width, width, (i * 7) % 32);
+    geom_column c = {.count = count, .shift = shift, .offset_bits = ob, .base_bits = bb,
+                     .entry_bits = entry,
+                     .dir = {dir, 3 * entry, sizeof dir},
+                     .payload = {payload, 1 + count * width, sizeof payload}};
+    const uint64_t limits[2] = {UINT64_C(1) << 21, (UINT64_C(1) << 20) - 40 + 20};
+    const int64_t origins[3] = {0, -5000, INT64_C(1) << 40};
+    int slow_ok = 0, slow_corrupt = 0;
+    for (int l = 0; l < 2; l++)
+        for (int o = 0; o < 3; o++)
+            for (uint64_t i = 0; i <= count; i++)
+                for (uint64_t n = 0; i + n <= count; n++) {
+                    int64_t out[2 * 12];
+                    for (int k = 0; k < 24; k++)
+                        out[k] = -1;
+                    int want = HPFC_OK;
+                    for (uint64_t k = 0; k < n; k++) {
+                        uint64_t v = 0;
+                        CHECK_EQ_INT(geom_column_get(&c, i + k, &v), HPFC_OK);
+                        if (v >= limits[l])
+                            want = HPFC_E_CORRUPT;
+                    }
+                    int st = geom_coordinate_run(&c, i, n, limits[l], origins[o], out);
+                    CHECK_EQ_INT(st, want);
+                    if (l == 1 && i + n > 8)
+                        st == HPFC_OK ? slow_ok++ : slow_corrupt++;
+                    for (uint64_t k = 0; k < n && st == HPFC_OK; k++) {
+                        uint64_t v = 0;
+                        geom_column_get(&c, i + k, &v);
+                        CHECK(out[2 * k] == origins[o] + (int64_t)v);
+                    }
+                    for (int k = 1; k < 24; k += 2)
+                        CHECK(out[k] == -1);
+                }
+    /* both outcomes of the value-by-value test were met */
+    CHECK(slow_ok > 0 && slow_corrupt > 0);
+    int64_t out[2];
+    CHECK_EQ_INT(geom_coordinate_run(&c, count, 1, limits[0], 0, out), HPFC_E_CORRUPT);
+}
+
 /* geom_column_span against every value read, on columns whose bases are
  * not their blocks' minima (hpfc's writer makes them minima; another
  * writer, or damage, need not): random bases, widths and values, so that
@@ -619,6 +678,7 @@ int main(void)
     check_streamed();
     check_use_test_layout();
     check_column_entries();
+    check_coordinate_runs();
     check_column_span();
     check_wrong_graph();
     check_worked_example();
