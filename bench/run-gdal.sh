@@ -7,8 +7,11 @@
 #   a full read of the layer and against FlatGeobuf's indexed bbox read,
 #   geopandas.read_file of world-atlas countries-10m (against FlatGeobuf
 #   with and without the SRS the .hpfc carries), as whole processes and
-#   then in one interpreter (the read alone, imports paid once).
-#   sh bench/run-gdal.sh [NODE_MODULES [RUNS]]
+#   then in one interpreter (the read alone, imports paid once);
+#   then the `ogrinfo -spat` and `geopandas.read_file` pairs against
+#   FlatGeobuf with the same SRS, back to back, PAIRS of each
+#   (bench/gdal_pairs.py: the ratio a pair, its median and quartiles).
+#   sh bench/run-gdal.sh [NODE_MODULES [RUNS [PAIRS]]]
 # NODE_MODULES holds us-atlas and world-atlas (default
 # build-bench/npm/node_modules: `cd build-bench/npm && npm install us-atlas
 # world-atlas`). The build is build-bench (release) unless HPFC_BENCH_BUILD
@@ -37,3 +40,4 @@ pack countries "$nm/world-atlas/countries-10m.json" countries
 [ -s "$dir/countries_srs.fgb" ] || ogr2ogr -f FlatGeobuf -a_srs EPSG:4326 "$dir/countries_srs.fgb" \
     "$nm/world-atlas/countries-10m.json" countries
 /usr/bin/python3 bench/gdal_bench.py "$dir" "${2:-7}"
+/usr/bin/python3 bench/gdal_pairs.py "$dir" "${3:-20}"
