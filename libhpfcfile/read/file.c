@@ -10,6 +10,7 @@
  * none of them calls back here. Nothing here allocates after open or writes
  * to the handle: any number of threads may share one.
  */
+#define _DEFAULT_SOURCE /* madvise's MADV_POPULATE_READ, beside the build's _POSIX_C_SOURCE */
 #include <errno.h>
 #include <fcntl.h>
 #include <stdlib.h>
@@ -593,6 +594,42 @@ void hpfc_close(hpfc_file *f)
     free(f);
 }
 
+/* A mapped file's pages are first touched by the checksums, one page fault
+ * per few pages (about 1.3 ms of a 3.6 MB file here, where the CRC-32C of
+ * the same bytes in memory takes 0.15 ms). Asking the kernel to map a
+ * window's pages at once (Linux 5.14's MADV_POPULATE_READ, a hint: an
+ * error changes nothing) before they are read saves most of that; a
+ * window at a time, so that a file larger than memory is not read twice. */
+enum { POPULATE_WINDOW = 8u << 20 };
+
+static void populate(const hpfc_file *f, const uint8_t *p, size_t n)
+{
+#ifdef MADV_POPULATE_READ
+    if (!f->map || !n)
+        return;
+    long ps = sysconf(_SC_PAGESIZE); /* libc's, without a system call */
+    size_t page = ps > 0 ? (size_t)ps : 4096;
+    uintptr_t a = (uintptr_t)p & ~(uintptr_t)(page - 1);
+    (void)madvise((void *)a, (uintptr_t)p + n - a, MADV_POPULATE_READ);
+#else
+    (void)f, (void)p, (void)n;
+#endif
+}
+
+/* The CRC-32C of bytes [offset, offset + length) of the file. */
+static uint32_t file_crc(const hpfc_file *f, uint64_t offset, uint64_t length)
+{
+    const uint8_t *p = f->data + offset;
+    uint32_t crc = 0;
+    for (size_t n = (size_t)length; n;) {
+        size_t take = n < POPULATE_WINDOW ? n : POPULATE_WINDOW;
+        populate(f, p, take);
+        crc = crc32c_update(crc, p, take);
+        p += take, n -= take;
+    }
+    return crc;
+}
+
 int hpfc_file_check_checksums(const hpfc_file *f, hpfc_diag *diag)
 {
     diag_clear(diag);
@@ -609,7 +646,7 @@ int hpfc_file_check_checksums(const hpfc_file *f, hpfc_diag *diag)
         const uint8_t *e = section_entry(f, k);
         uint64_t offset = sec_get_offset(e), length = sec_get_length(e);
         stored = sec_get_crc32c(e);
-        computed = crc32c_update(0, f->data + offset, (size_t)length);
+        computed = file_crc(f, offset, length);
         if (computed != stored) {
             char tag[sec_SIZE_tag + 1];
             for (size_t c = 0; c < sec_SIZE_tag; c++) /* any bytes in a damaged entry */
@@ -639,7 +676,7 @@ int hpfc_file_compute_checksum(const hpfc_file *f, uint32_t index, uint32_t *crc
         return HPFC_E_ARG;
     /* open checked every section lies inside the file */
     const uint8_t *e = section_entry(f, index);
-    *crc32c = crc32c_update(0, f->data + sec_get_offset(e), (size_t)sec_get_length(e));
+    *crc32c = file_crc(f, sec_get_offset(e), sec_get_length(e));
     return HPFC_OK;
 }
 
