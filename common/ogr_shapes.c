@@ -165,6 +165,9 @@ int ogr_shapes_init(ogr_shapes *o, const hpfc_file *f, hpfc_shapes *shapes)
     memset(o, 0, sizeof *o);
     o->f = f;
     o->shapes = shapes;
+    hpfc_file_info info;
+    hpfc_file_get_info(f, &info);
+    o->unit_exp10 = info.unit_exp10;
     return setup_srs(o);
 }
 
@@ -180,8 +183,14 @@ void ogr_shapes_release(ogr_shapes *o)
 
 int ogr_shapes_points(ogr_shapes *o, const int64_t *xy, size_t n, double *out)
 {
-    hpfc_user_points(o->f, xy, n, out);
-    size_t done = o->plan ? mapproj_inverse_points(o->plan, out, n) : n;
+    /* both steps in one pass where the projection can (the world layers'
+     * equirectangular plan), else one pass each: the same doubles */
+    size_t done = o->plan ? mapproj_inverse_lattice(o->plan, xy, n, o->unit_exp10, out)
+                          : MAPPROJ_NOT_HANDLED;
+    if (done == MAPPROJ_NOT_HANDLED) {
+        hpfc_user_points(o->f, xy, n, out);
+        done = o->plan ? mapproj_inverse_points(o->plan, out, n) : n;
+    }
     if (done < n) /* out[2 * done] is still the user point: the projection stopped there */
         return fail(o, "point (%.17g, %.17g) cannot be projected back", out[2 * done],
                     out[2 * done + 1]);

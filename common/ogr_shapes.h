@@ -28,6 +28,7 @@ typedef struct ogr_shapes {
     const hpfc_file *f;
     hpfc_shapes *shapes;        /* the caller's; one thread at a time */
     mapproj_plan *plan;         /* back to lon/lat; NULL: user coordinates */
+    int32_t unit_exp10;         /* user coordinate = lattice * 10^unit_exp10 */
     OGRSpatialReferenceH srs;   /* the output's, NULL: none */
     char srs_name[160];         /* "EPSG:4326", a name, or "none" */
     uint64_t polygons, rings, points, lines; /* made so far */

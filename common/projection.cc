@@ -312,6 +312,81 @@ static size_t eqc_inverse_points(const mapproj_plan *p, double *xy, size_t n)
     return n;
 }
 
+// mapproj_inverse_lattice's scaling: 10^|e|, exact for |e| <= 22.
+static double power_of_ten(int32_t m)
+{
+    static const double pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    return pow10[m];
+}
+
+// Whether every value is in (-2^51, 2^51), where the bias below converts
+// exactly: a pass of its own, branch-free.
+static bool all_small(const int64_t *v, size_t count)
+{
+    uint64_t out = 0;
+    for (size_t k = 0; k < count; k++)
+        out |= ((uint64_t)v[k] + (UINT64_C(1) << 51)) >> 52;
+    return out == 0;
+}
+
+// One lattice point scaled to user coordinates, as hpfc_user_points
+// scales a value below 2^51: converted exactly, then one division or
+// multiplication.
+static void scale_point(const int64_t *v, double p, bool divide, double *out)
+{
+    for (int c = 0; c < 2; c++)
+        out[c] = divide ? (double)v[c] / p : (double)v[c] * p;
+}
+
+extern "C" size_t mapproj_inverse_lattice(const mapproj_plan *p, const int64_t *xy, size_t n,
+                                          int32_t exp10, double *out)
+{
+#ifdef __SSE2__
+    if (p->kind != MAPPROJ_EQC || exp10 < -22 || exp10 > 22 || !all_small(xy, 2 * n))
+        return MAPPROJ_NOT_HANDLED;
+    const bool divide = exp10 < 0;
+    const double scale = power_of_ten(divide ? -exp10 : exp10);
+    enum { BLOCK = 64 };
+    const double unit = p->a * (M_PI / 180.0);
+    const __m128d origin = _mm_set_pd(p->y_0, p->x_0), y0 = _mm_set_pd(p->y0, 0.0),
+                  units = _mm_set1_pd(unit), lon0 = _mm_set_pd(0.0, p->lon0),
+                  globe = _mm_set_pd(90.0, 180.0), sign = _mm_set1_pd(-0.0),
+                  scales = _mm_set1_pd(scale),
+                  bias = _mm_castsi128_pd(_mm_set1_epi64x((long long)0x4338000000000000));
+    // (double)v for |v| < 2^51 two lanes at a time: v added to the bits of
+    // 2^52 + 2^51 is the double 2^52 + 2^51 + v, less 2^52 + 2^51 is v
+    const __m128i bias_bits = _mm_castpd_si128(bias);
+    size_t k = 0;
+    for (; k < n; k += BLOCK) {
+        size_t m = n - k < (size_t)BLOCK ? n - k : (size_t)BLOCK;
+        __m128d off = _mm_setzero_pd();
+        for (size_t j = 0; j < m; j++) {
+            __m128i v = _mm_loadu_si128((const __m128i *)(xy + 2 * (k + j)));
+            __m128d d = _mm_sub_pd(_mm_castsi128_pd(_mm_add_epi64(v, bias_bits)), bias);
+            d = divide ? _mm_div_pd(d, scales) : _mm_mul_pd(d, scales);
+            __m128d r = eqc_back_pair(d, origin, y0, units, lon0);
+            off = _mm_or_pd(off, _mm_cmpnle_pd(_mm_andnot_pd(sign, r), globe));
+            _mm_storeu_pd(out + 2 * (k + j), r);
+        }
+        if (!_mm_movemask_pd(off))
+            continue;
+        // a point off the globe or not finite: the block again, a point at
+        // a time, as the two passes would go
+        for (size_t j = 0; j < m; j++) {
+            scale_point(xy + 2 * (k + j), scale, divide, out + 2 * (k + j));
+            if (!eqc_inverse_point(p, out + 2 * (k + j)))
+                return k + j;
+        }
+    }
+    return n;
+#else
+    (void)p, (void)xy, (void)n, (void)exp10, (void)out;
+    return MAPPROJ_NOT_HANDLED;
+#endif
+}
+
 extern "C" size_t mapproj_inverse_points(const mapproj_plan *p, double *xy, size_t n)
 {
     if (p->kind == MAPPROJ_EQC)

@@ -10,6 +10,7 @@
 #define HPFC_PROJECTION_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -64,6 +65,17 @@ int mapproj_inverse(const mapproj_plan *plan, double x, double y, double *lon, d
  * not on the map's far side. Returns n, or the index of the first point
  * that does not project back (those before it are converted). */
 size_t mapproj_inverse_points(const mapproj_plan *plan, double *xy, size_t n);
+
+/* mapproj_inverse_points on n lattice points (integer pairs in xy) scaled
+ * to user coordinates by 10^exp10, as hpfc_user_points scales them, into
+ * out: the same doubles as the two passes, in one, where it can (the
+ * equirectangular plan, |exp10| <= 22, every value below 2^51, SSE2).
+ * Returns n, the index of the first point that does not project back (out
+ * holds its user coordinates; those before it are converted), or
+ * MAPPROJ_NOT_HANDLED, leaving the two passes to the caller. */
+#define MAPPROJ_NOT_HANDLED ((size_t)-1)
+size_t mapproj_inverse_lattice(const mapproj_plan *plan, const int64_t *xy, size_t n,
+                               int32_t exp10, double *out);
 
 /* "+proj=tmerc +lat_0=... +lon_0=... +k=1 +x_0=0 +y_0=0 +ellps=WGS84
  * +units=m +no_defs", owned by the plan. */

@@ -41,6 +41,17 @@ size_t mapproj_inverse_points(const mapproj_plan *plan, double *xy, size_t n)
     return 0; /* not one point projects back */
 }
 
+size_t mapproj_inverse_lattice(const mapproj_plan *plan, const int64_t *xy, size_t n,
+                               int32_t exp10, double *out)
+{
+    (void)plan;
+    (void)xy;
+    (void)n;
+    (void)exp10;
+    (void)out;
+    return MAPPROJ_NOT_HANDLED; /* the caller's two passes answer */
+}
+
 void mapproj_free(mapproj_plan *plan)
 {
     (void)plan;

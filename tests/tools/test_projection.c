@@ -9,6 +9,12 @@
  * arrays' lengths fall on both sides of the blocks' size, and a point that
  * does not come back (infinite or NaN) stops the batch where the reference
  * stops, with every point after it untouched.
+ * mapproj_inverse_lattice (the scaling of lattice points to user
+ * coordinates and the inverse in one pass) against the scaling as
+ * hpfc_user_points does it followed by the reference, bit for bit, on
+ * eqc plans, lattices of 10^-7 to 10^2 and points across the world's
+ * edges; it declines (MAPPROJ_NOT_HANDLED) another plan, an exponent
+ * past 22 and a value from 2^51.
  */
 #include <math.h>
 #include <stdint.h>
@@ -123,6 +129,60 @@ static void check_plan(const char *text, double scale, uint64_t seed)
     mapproj_free(p);
 }
 
+/* A lattice point for check_lattice: the user point random_point makes,
+ * at 10^exp10 a lattice step (rounded to the lattice). */
+static void random_lattice_point(uint64_t *r, double scale, int edges, int32_t exp10, int64_t *v)
+{
+    double x, y;
+    random_point(r, scale, edges, &x, &y);
+    double step = pow(10.0, exp10);
+    v[0] = (int64_t)llround(x / step);
+    v[1] = (int64_t)llround(y / step);
+}
+
+static void check_lattice(const char *text, double scale, uint64_t seed)
+{
+    char why[200];
+    mapproj_plan *p = mapproj_from_text(text, strlen(text), why, sizeof why);
+    CHECK(p != NULL);
+    if (!p)
+        return;
+    static const int32_t exps[] = {-7, -3, -1, 0, 2};
+    static const size_t sizes[] = {0, 1, 63, 64, 65, 129, 1000};
+    uint64_t r = seed;
+    for (size_t e = 0; e < sizeof exps / sizeof exps[0]; e++)
+        for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
+            size_t n = sizes[s];
+            int64_t *v = malloc((2 * n + 2) * sizeof *v);
+            double *got = malloc((2 * n + 2) * sizeof *got), *want = malloc((2 * n + 2) * sizeof *want);
+            CHECK(v && got && want);
+            if (!v || !got || !want) {
+                free(v), free(got), free(want);
+                continue;
+            }
+            for (int edges = 0; edges < 2; edges++) {
+                for (size_t k = 0; k < n; k++)
+                    random_lattice_point(&r, scale, edges, exps[e], v + 2 * k);
+                double unit = pow(10.0, exps[e] < 0 ? -exps[e] : exps[e]); /* exact to 10^22 */
+                for (size_t k = 0; k < 2 * n; k++)
+                    want[k] = exps[e] < 0 ? (double)v[k] / unit : (double)v[k] * unit;
+                size_t stop = reference_inverse(p, want, n);
+                size_t done = mapproj_inverse_lattice(p, v, n, exps[e], got);
+                CHECK_EQ_INT((long long)done, (long long)stop);
+                CHECK(memcmp(got, want, 2 * (done < n ? done + 1 : n) * sizeof *got) == 0);
+                if (n) { /* a value from 2^51, an exponent past 22: declined */
+                    int64_t keep = v[n];
+                    v[n] = INT64_C(1) << 51;
+                    CHECK(mapproj_inverse_lattice(p, v, n, exps[e], got) == MAPPROJ_NOT_HANDLED);
+                    v[n] = keep;
+                    CHECK(mapproj_inverse_lattice(p, v, n, 23, got) == MAPPROJ_NOT_HANDLED);
+                }
+            }
+            free(v), free(got), free(want);
+        }
+    mapproj_free(p);
+}
+
 int main(void)
 {
     double world = 6378137.0 * PI_DOUBLE;
@@ -136,5 +196,18 @@ int main(void)
                world / 2, 3); /* inside the globe, off the false origin: whole blocks pass */
     check_plan("+proj=tmerc +lat_0=40 +lon_0=-100 +k=1 +x_0=0 +y_0=0 +ellps=WGS84 +units=m +no_defs",
                600000.0, 4);
+    check_lattice("+proj=eqc +lat_ts=0 +lat_0=0 +lon_0=0 +x_0=0 +y_0=0 +ellps=WGS84 +units=m +no_defs",
+                  world, 5);
+    check_lattice("+proj=eqc +lat_ts=0 +lat_0=12.5 +lon_0=33 +x_0=500000 +y_0=-2500.5 +ellps=WGS84 "
+                  "+units=m +no_defs",
+                  world, 6);
+    /* another plan: the caller's two passes */
+    const char *tm = "+proj=tmerc +lat_0=40 +lon_0=-100 +k=1 +x_0=0 +y_0=0 +ellps=WGS84 +units=m +no_defs";
+    char why[200];
+    mapproj_plan *p = mapproj_from_text(tm, strlen(tm), why, sizeof why);
+    int64_t v[2] = {1, 2};
+    double out[2];
+    CHECK(p && mapproj_inverse_lattice(p, v, 1, -1, out) == MAPPROJ_NOT_HANDLED);
+    mapproj_free(p);
     return check_report("projection");
 }
