@@ -594,12 +594,13 @@ void hpfc_close(hpfc_file *f)
     free(f);
 }
 
-/* A mapped file's pages are first touched by the checksums, one page fault
- * per few pages (about 1.3 ms of a 3.6 MB file here, where the CRC-32C of
- * the same bytes in memory takes 0.15 ms). Asking the kernel to map a
- * window's pages at once (Linux 5.14's MADV_POPULATE_READ, a hint: an
- * error changes nothing) before they are read saves most of that; a
- * window at a time, so that a file larger than memory is not read twice. */
+/* A mapped file's pages are first touched by the checksums, a page fault
+ * every few pages: mapping a 3.6 MB file anew and taking its CRC-32C took
+ * 1.4 ms here, 0.4 ms with its pages asked for first, 0.15 ms for the
+ * CRC-32C of the bytes in memory. So each window's pages are asked for at
+ * once (Linux 5.14's MADV_POPULATE_READ, a hint: an error changes
+ * nothing) before they are read; a window at a time, so that a file
+ * larger than memory is not read twice. */
 enum { POPULATE_WINDOW = 8u << 20 };
 
 static void populate(const hpfc_file *f, const uint8_t *p, size_t n)

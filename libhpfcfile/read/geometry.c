@@ -231,7 +231,20 @@ int geom_column_get(const geom_column *c, uint64_t i, uint64_t *value)
     return block_values(c, &b, i & ((UINT64_C(1) << c->shift) - 1), 1, value, 1);
 }
 
-int geom_column_run(const geom_column *c, uint64_t i, uint64_t n, uint64_t *out, size_t stride)
+/* Where geom_coordinate_run's values go: each below `limit`, plus
+ * `origin` (block_coordinates). */
+typedef struct coordinate_to {
+    uint64_t limit;
+    int64_t origin;
+} coordinate_to;
+
+static int block_coordinates(const geom_column *c, const column_block *b, uint64_t q,
+                             uint64_t n, uint64_t limit, int64_t origin, int64_t *out);
+
+/* Values i .. i + n - 1 of column c a block at a time: as they are into
+ * out[0], out[stride], ..., or, with `to`, as coordinates (stride 2). */
+static int column_run(const geom_column *c, uint64_t i, uint64_t n, const coordinate_to *to,
+                      uint64_t *out, size_t stride)
 {
     if (i > c->count || n > c->count - i)
         return HPFC_E_CORRUPT;
@@ -240,10 +253,16 @@ int geom_column_run(const geom_column *c, uint64_t i, uint64_t n, uint64_t *out,
     while (n && !st) {
         uint64_t q = i & (size - 1), take = size - q < n ? size - q : n;
         column_block b = block_entry(c, i >> c->shift);
-        st = block_values(c, &b, q, take, out, stride);
+        st = to ? block_coordinates(c, &b, q, take, to->limit, to->origin, (int64_t *)out)
+                : block_values(c, &b, q, take, out, stride);
         i += take, n -= take, out += take * stride;
     }
     return st;
+}
+
+int geom_column_run(const geom_column *c, uint64_t i, uint64_t n, uint64_t *out, size_t stride)
+{
+    return column_run(c, i, n, NULL, out, stride);
 }
 
 /* ---- accessors ---------------------------------------------------------------- */
@@ -524,17 +543,8 @@ static int block_coordinates(const geom_column *c, const column_block *b, uint64
 int geom_coordinate_run(const geom_column *c, uint64_t i, uint64_t n, uint64_t limit,
                         int64_t origin, int64_t *out)
 {
-    if (i > c->count || n > c->count - i)
-        return HPFC_E_CORRUPT;
-    uint64_t size = UINT64_C(1) << c->shift;
-    int st = HPFC_OK;
-    while (n && !st) {
-        uint64_t q = i & (size - 1), take = size - q < n ? size - q : n;
-        column_block b = block_entry(c, i >> c->shift);
-        st = block_coordinates(c, &b, q, take, limit, origin, out);
-        i += take, n -= take, out += 2 * take;
-    }
-    return st;
+    const coordinate_to to = {limit, origin};
+    return column_run(c, i, n, &to, (uint64_t *)out, 2);
 }
 
 int geom_points(const hpfc_file *file, int column, uint64_t first, uint64_t n, int64_t *xy)
